@@ -1,0 +1,60 @@
+//! Where a formula comes from: the argument itself, `-f FILE`, a path ending
+//! in `.iso`, or `-` for stdin; and atomic file output.
+
+use super::CliError;
+use clap::Args;
+use isotrace::Formula;
+use std::io::Read;
+use std::path::Path;
+
+/// The formula arguments shared by every command.
+#[derive(Args, Debug, Clone)]
+pub struct FormulaArgs {
+    /// The formula (e.g. 'x^2 + y^2 + z^2 - 1'), a path ending in .iso, or - for stdin.
+    #[arg(value_name = "FORMULA", required_unless_present = "file", allow_hyphen_values = true)]
+    pub formula: Option<String>,
+    /// Read the formula from FILE.
+    #[arg(short = 'f', long = "file", value_name = "FILE", conflicts_with = "formula")]
+    pub file: Option<std::path::PathBuf>,
+}
+
+impl FormulaArgs {
+    /// Reads and compiles the formula.
+    pub fn load(&self) -> Result<Formula, CliError> {
+        let (origin, text) = self.text()?;
+        Ok(Formula::compile(&origin, &text)?)
+    }
+
+    /// The formula's origin name and text.
+    pub fn text(&self) -> Result<(String, String), CliError> {
+        if let Some(p) = &self.file {
+            return read_file(p);
+        }
+        let arg = self.formula.clone().unwrap_or_default();
+        if arg == "-" {
+            let mut s = String::new();
+            std::io::stdin()
+                .read_to_string(&mut s)
+                .map_err(|e| CliError::Input(format!("cannot read the formula from stdin: {e}")))?;
+            return Ok(("<stdin>".into(), s));
+        }
+        if arg.ends_with(".iso") {
+            return read_file(Path::new(&arg));
+        }
+        Ok(("<formula>".into(), arg))
+    }
+}
+
+fn read_file(p: &Path) -> Result<(String, String), CliError> {
+    let bytes = std::fs::read(p).map_err(|e| CliError::Input(format!("cannot read formula file '{}': {e}", p.display())))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        CliError::Input(format!("formula file '{}' is not UTF-8 text (invalid byte at offset {})", p.display(), e.utf8_error().valid_up_to()))
+    })?;
+    Ok((p.display().to_string(), text))
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory
+/// and a rename, so a failure never leaves a partial file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    isotrace::output::write_atomic(path, bytes).map_err(|e| e.to_string())
+}

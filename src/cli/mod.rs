@@ -1,0 +1,178 @@
+//! Subcommands and their arguments (clap), and the one place errors are
+//! rendered for the terminal.
+
+mod input;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use isotrace::codegen::{self, Domain};
+use isotrace::diag::Diagnostic;
+use isotrace::{FormulaError, validate};
+use std::io::{IsTerminal, Write};
+use std::process::ExitCode;
+
+pub use input::FormulaArgs;
+
+const ABOUT: &str = "Robust ray tracing of implicit surfaces f(x,y,z) = 0 on the GPU.\n\
+Formulas compile to WGSL interval / reduced-affine evaluators, validated by naga and run with wgpu.";
+
+#[derive(Parser, Debug)]
+#[command(name = "isotrace", version, about = ABOUT, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Parse and analyse a formula: normalised form, variables, parameters, degree.
+    #[command(after_help = "Examples:\n  isotrace check 'x^2 + y^2 + z^2 - 1'\n  isotrace check -f surface.iso\n  echo 'p = 2; x^p - y' | isotrace check -")]
+    Check(CheckArgs),
+    /// Print the complete generated WGSL shader (validated with naga).
+    #[command(after_help = "Examples:\n  isotrace wgsl 'x^2 + y^2 + z^2 - 1' --algebra raa\n  isotrace wgsl 'sin(x) - z' --kernel eval --algebra ia -o eval.wgsl")]
+    Wgsl(WgslArgs),
+}
+
+#[derive(Args, Debug)]
+struct CheckArgs {
+    #[command(flatten)]
+    formula: FormulaArgs,
+}
+
+/// Number domain of the generated evaluator.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AlgebraArg {
+    /// Plain f32 values (points).
+    Scalar,
+    /// Interval arithmetic.
+    Ia,
+    /// Reduced affine arithmetic (AF1).
+    Raa,
+    /// IA or RAA, chosen per formula.
+    Auto,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum KernelArg {
+    /// The render kernel (stackless interval bisection).
+    Render,
+    /// The `eval` kernel (one invocation per box).
+    Eval,
+}
+
+#[derive(Args, Debug)]
+struct WgslArgs {
+    #[command(flatten)]
+    formula: FormulaArgs,
+    /// Number domain of the inclusion function.
+    #[arg(long, value_enum, default_value = "auto")]
+    algebra: AlgebraArg,
+    /// Which kernel to generate.
+    #[arg(long, value_enum, default_value = "render")]
+    kernel: KernelArg,
+    /// Write the shader to FILE instead of stdout.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: Option<std::path::PathBuf>,
+}
+
+/// Any failure of a command, rendered once.
+#[derive(Debug)]
+pub enum CliError {
+    /// A formula diagnostic.
+    Formula(FormulaError),
+    /// Bad input that is not in a formula (a flag, a file).
+    Input(String),
+    /// An isotrace bug (naga rejected generated code, …).
+    Internal(String),
+}
+
+impl CliError {
+    pub fn render(&self) -> String {
+        let color = std::io::stderr().is_terminal();
+        match self {
+            CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
+            CliError::Input(m) => Diagnostic::plain(m.clone()).render("", "", color),
+            CliError::Internal(m) => format!("{m}\n"),
+        }
+    }
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Formula(_) | CliError::Input(_) => 1,
+            CliError::Internal(_) => 3,
+        }
+    }
+}
+
+impl From<FormulaError> for CliError {
+    fn from(e: FormulaError) -> Self {
+        CliError::Formula(e)
+    }
+}
+impl From<validate::ValidateError> for CliError {
+    fn from(e: validate::ValidateError) -> Self {
+        CliError::Internal(e.to_string())
+    }
+}
+
+/// Runs one command.
+pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
+    match cli.command {
+        Command::Check(a) => check(a),
+        Command::Wgsl(a) => wgsl(a),
+    }
+}
+
+fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
+    let f = a.formula.load()?;
+    let ir = &f.ir;
+    let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
+    let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
+    let (products, powers) = ir.nonconstant_products();
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "formula:    {}", f.normalized());
+    let _ = writeln!(out, "variables:  {}", if vars.is_empty() { "(none)".into() } else { vars.join(" ") });
+    let _ = writeln!(out, "parameters: {}", if params.is_empty() { "(none)".into() } else { params.join(" ") });
+    let _ = writeln!(out, "degree:     {}", ir.degree().map_or("not a polynomial".into(), |d| d.to_string()));
+    let _ = writeln!(out, "operations: {} ({} products of non-constant terms, {} integer powers)", ir.live().len(), products, powers);
+    let _ = writeln!(out, "algebra:    {} (auto)", domain_name(isotrace::choose_algebra(ir)));
+    Ok(ExitCode::SUCCESS)
+}
+
+fn domain_name(d: Domain) -> &'static str {
+    match d {
+        Domain::Scalar => "scalar",
+        Domain::Interval => "ia",
+        Domain::Affine => "raa",
+    }
+}
+
+/// The domain an `--algebra` value stands for with this formula.
+pub fn resolve_algebra(a: AlgebraArg, ir: &isotrace::ir::Ir) -> Domain {
+    match a {
+        AlgebraArg::Scalar => Domain::Scalar,
+        AlgebraArg::Ia => Domain::Interval,
+        AlgebraArg::Raa => Domain::Affine,
+        AlgebraArg::Auto => isotrace::choose_algebra(ir),
+    }
+}
+
+fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
+    let f = a.formula.load()?;
+    let domain = resolve_algebra(a.algebra, &f.ir);
+    let src = match a.kernel {
+        KernelArg::Eval => codegen::eval_shader(&f.ir, domain),
+        KernelArg::Render => {
+            if domain == Domain::Scalar {
+                return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
+            }
+            codegen::render_shader(&f.ir, domain)
+        }
+    };
+    validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
+    match a.output {
+        Some(path) => input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?,
+        None => {
+            let _ = std::io::stdout().lock().write_all(src.as_bytes());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,200 @@
+//! IR → WGSL. One emitter walks the IR once and writes straight-line code
+//! (`let v3 = ia_mul(v1, v2);`) against a number-domain library; the domain
+//! only decides the prefix, the type and how constants are written.
+//! [`template`] splices the result into the kernel templates.
+
+pub mod template;
+
+use crate::ir::{Display, Ir, NodeId, Op, Var};
+use std::fmt::Write;
+
+/// A number domain with its WGSL op library.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Domain {
+    /// Plain f32 (`s_*`).
+    Scalar,
+    /// Interval arithmetic, `vec2<f32>` (`ia_*`).
+    Interval,
+    /// Reduced affine arithmetic (AF1, n = 1), `vec3<f32>` (`ra_*`).
+    Affine,
+}
+
+impl Domain {
+    /// Prefix of the library's operations.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            Domain::Scalar => "s",
+            Domain::Interval => "ia",
+            Domain::Affine => "ra",
+        }
+    }
+    /// The WGSL type of a value.
+    pub fn ty(self) -> &'static str {
+        match self {
+            Domain::Scalar => "f32",
+            Domain::Interval => "vec2<f32>",
+            Domain::Affine => "vec3<f32>",
+        }
+    }
+    /// Name of the generated evaluator function.
+    pub fn eval_fn(self) -> String {
+        format!("eval_{}", self.prefix())
+    }
+    /// Source of the op library.
+    pub fn library(self) -> &'static str {
+        match self {
+            Domain::Scalar => include_str!("../../templates/domains/scalar.wgsl"),
+            Domain::Interval => include_str!("../../templates/domains/interval.wgsl"),
+            Domain::Affine => include_str!("../../templates/domains/affine.wgsl"),
+        }
+    }
+}
+
+/// The op libraries a shader using `domains` needs, each once, in
+/// dependency order (scalar helpers first; affine builds on interval).
+pub fn libraries(domains: &[Domain]) -> String {
+    let mut need = [true, domains.contains(&Domain::Interval) || domains.contains(&Domain::Affine), domains.contains(&Domain::Affine)];
+    need[0] = true; // iso_pow_pos / iso_nan live in the scalar library
+    let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
+    all.iter().zip(need).filter(|(_, n)| *n).map(|(d, _)| d.library()).collect::<Vec<_>>().join("\n")
+}
+
+/// f32 nearest to `c`, and the f32 interval enclosing it.
+fn f32_enclosure(c: f64) -> (f32, f32, f32) {
+    let n = c as f32;
+    let (mut lo, mut hi) = (n, n);
+    if (n as f64) > c {
+        lo = n.next_down();
+    } else if (n as f64) < c {
+        hi = n.next_up();
+    }
+    (n, lo, hi)
+}
+
+fn lit(c: f32) -> String {
+    let s = format!("{c:?}");
+    if s.contains(['.', 'e', 'E']) { s } else { format!("{s}.0") }
+}
+
+/// Emits `fn eval_<p>(x, y, z, t) -> T` for the formula in `domain`.
+/// Parameters are read with `iso_param(i)`, which the kernel provides.
+pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
+    let p = domain.prefix();
+    let ty = domain.ty();
+    let mut out = String::new();
+    let mut shown = format!("{}", Display(ir, ir.root));
+    if shown.len() > 160 {
+        let mut cut = 157;
+        while !shown.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        shown.truncate(cut);
+        shown.push_str("...");
+    }
+    let _ = writeln!(out, "// f = {shown}");
+    let _ = writeln!(out, "fn {}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> {ty} {{", domain.eval_fn());
+    let mut restricted: Vec<NodeId> = Vec::new();
+    for id in ir.live() {
+        let op = ir.nodes[id as usize];
+        let v = |n: NodeId| format!("v{n}");
+        let rhs = match op {
+            Op::Const(c) => {
+                let (n, lo, hi) = f32_enclosure(c);
+                match domain {
+                    Domain::Interval if lo != hi => format!("vec2<f32>({}, {})", lit(lo), lit(hi)),
+                    Domain::Affine if lo != hi => format!("ra_from_ia(vec2<f32>({}, {}))", lit(lo), lit(hi)),
+                    _ => format!("{p}_const({})", lit(n)),
+                }
+            }
+            Op::Var(var) => match var {
+                Var::X => "x".into(),
+                Var::Y => "y".into(),
+                Var::Z => "z".into(),
+                Var::T => "t".into(),
+            },
+            Op::Param(i) => format!("{p}_const(iso_param({i}u))"),
+            Op::Neg(a) => format!("{p}_neg({})", v(a)),
+            Op::Add(a, b) => format!("{p}_add({}, {})", v(a), v(b)),
+            Op::Sub(a, b) => format!("{p}_sub({}, {})", v(a), v(b)),
+            Op::Mul(a, b) => format!("{p}_mul({}, {})", v(a), v(b)),
+            Op::Div(a, b) => format!("{p}_div({}, {})", v(a), v(b)),
+            Op::PowI(a, 2) => format!("{p}_sqr({})", v(a)),
+            Op::PowI(a, n) => emit_odd_power(&mut out, p, id, a, n),
+            Op::Call1(f, a) => format!("{p}_{}({})", f.name(), v(a)),
+            Op::Call2(f, a, b) => format!("{p}_{}({}, {})", f.name(), v(a), v(b)),
+            Op::Call3(f, a, b, c) => format!("{p}_{}({}, {}, {})", f.name(), v(a), v(b), v(c)),
+        };
+        let _ = writeln!(out, "    let v{id} = {rhs};");
+        if op.restricts_domain() {
+            restricted.push(id);
+        }
+    }
+    if !restricted.is_empty() {
+        // Every operation is strict: an argument outside a domain anywhere
+        // makes the whole function undefined (empty) on this box.
+        let tests: Vec<String> = restricted.iter().map(|r| format!("{p}_is_empty(v{r})")).collect();
+        let _ = writeln!(out, "    if ({}) {{ return {p}_empty(); }}", tests.join(" || "));
+    }
+    let _ = writeln!(out, "    return v{};", ir.root);
+    out.push_str("}\n");
+    out
+}
+
+/// Odd power a^n (n ≥ 3) by square-and-multiply over the domain's power
+/// helpers; returns the final expression.
+fn emit_odd_power(out: &mut String, p: &str, id: NodeId, a: NodeId, n: u32) -> String {
+    let _ = writeln!(out, "    let w{id}_b = {p}_pw_lift(v{a});");
+    let mut cur = format!("w{id}_b");
+    let bits = 32 - n.leading_zeros();
+    for (k, bit) in (0..bits - 1).rev().enumerate() {
+        let _ = writeln!(out, "    let w{id}_s{k} = {p}_pw_sq({cur});");
+        cur = format!("w{id}_s{k}");
+        if n >> bit & 1 == 1 {
+            let _ = writeln!(out, "    let w{id}_m{k} = {p}_pw_mul({cur}, w{id}_b);");
+            cur = format!("w{id}_m{k}");
+        }
+    }
+    format!("{p}_pw_odd(v{a}, {cur})")
+}
+
+/// The body of `box_value` in the eval kernel for `domain`: lifts the box
+/// (locals `x y z t` as `vec2<f32>` intervals) into the domain and returns
+/// the enclosure as `vec2<f32>`.
+pub fn eval_call(domain: Domain) -> String {
+    let f = domain.eval_fn();
+    match domain {
+        Domain::Scalar => format!("    return s_range({f}(x.x, y.x, z.x, t.x));"),
+        Domain::Interval => format!("    return ia_range({f}(x, y, z, t));"),
+        Domain::Affine => format!("    return ra_range({f}(ra_from_ia(x), ra_from_ia(y), ra_from_ia(z), ra_from_ia(t)));"),
+    }
+}
+
+/// The complete `isotrace eval` shader for `domain`.
+pub fn eval_shader(ir: &Ir, domain: Domain) -> String {
+    let lib = libraries(&[domain]);
+    let eval = emit_evaluator(ir, domain);
+    template::splice(template::EVAL, &[("library", &lib), ("evaluator", &eval), ("call", &eval_call(domain))])
+        .expect("the eval template has its markers")
+}
+
+/// `cell_range(pe, dir, t0, t1)` for the render kernel: the enclosure of f
+/// over the ray segment pe + dir·[t0, t1]. In the affine domain t is the
+/// form (tc, tr, 0), so x, y, z are exact affine forms of the one symbol e1.
+pub fn inclusion(domain: Domain) -> String {
+    let body = match domain {
+        Domain::Interval => "    let a = pe + dir * t0;\n    let b = pe + dir * t1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
+            return ia_range(eval_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time)));",
+        Domain::Affine => "    let tc = 0.5 * (t0 + t1);\n    let tr = 0.5 * (t1 - t0);\n    let c = pe + dir * tc;\n    let r = dir * tr;\n    \
+            return ra_range(eval_ra(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time)));",
+        Domain::Scalar => unreachable!("the traversal needs an inclusion domain"),
+    };
+    format!("fn cell_range(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {{\n{body}\n}}\n")
+}
+
+/// The complete render shader with the inclusion function in `domain`.
+pub fn render_shader(ir: &Ir, domain: Domain) -> String {
+    let lib = libraries(&[Domain::Scalar, domain]);
+    let evals = format!("{}\n{}", emit_evaluator(ir, Domain::Scalar), emit_evaluator(ir, domain));
+    template::splice(template::BISECT, &[("library", &lib), ("evaluators", &evals), ("inclusion", &inclusion(domain))])
+        .expect("the render template has its markers")
+}

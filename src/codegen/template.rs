@@ -1,0 +1,38 @@
+//! Kernel templates: real `.wgsl` files with splice markers. A marker is a
+//! line holding only `//!splice:NAME`; [`splice`] replaces each with generated
+//! code and fails (an isotrace bug) if a marker is missing or left over.
+
+/// The `isotrace eval` kernel: one invocation per box.
+pub const EVAL: &str = include_str!("../../templates/kernels/eval.wgsl");
+/// The render kernel: stackless interval bisection per pixel.
+pub const BISECT: &str = include_str!("../../templates/kernels/bisect.wgsl");
+
+/// Replaces every `//!splice:NAME` line of `template` by its value.
+pub fn splice(template: &str, parts: &[(&str, &str)]) -> Result<String, String> {
+    let mut out = String::with_capacity(template.len() + parts.iter().map(|p| p.1.len()).sum::<usize>());
+    let mut used = vec![false; parts.len()];
+    for line in template.lines() {
+        match line.trim().strip_prefix("//!splice:") {
+            Some(name) => {
+                let Some(i) = parts.iter().position(|(n, _)| *n == name) else {
+                    return Err(format!("template marker '{name}' has no content"));
+                };
+                used[i] = true;
+                out.push_str(&format!("// ---- begin {name} ----\n"));
+                out.push_str(parts[i].1);
+                if !parts[i].1.ends_with('\n') {
+                    out.push('\n');
+                }
+                out.push_str(&format!("// ---- end {name} ----\n"));
+            }
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
+        }
+    }
+    if let Some(i) = used.iter().position(|u| !u) {
+        return Err(format!("no marker '//!splice:{}' in the template", parts[i].0));
+    }
+    Ok(out)
+}

@@ -1,0 +1,232 @@
+//! The compiler's intermediate form: a hash-consed DAG of operations in
+//! topological order (operands always precede their users). Shared nodes are
+//! the common sub-expressions; the code generators walk `nodes` once and emit
+//! straight-line code, one `let` per node.
+
+use crate::diag::Span;
+use std::fmt;
+
+/// Index of a node in [`Ir::nodes`].
+pub type NodeId = u32;
+
+/// The free variables of a formula.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Var {
+    /// x
+    X,
+    /// y
+    Y,
+    /// z
+    Z,
+    /// time (`t`, alias `w`)
+    T,
+}
+
+impl Var {
+    /// Its name in formulas and generated code.
+    pub fn name(self) -> &'static str {
+        match self {
+            Var::X => "x",
+            Var::Y => "y",
+            Var::Z => "z",
+            Var::T => "t",
+        }
+    }
+}
+
+/// One-argument functions.
+#[allow(missing_docs)] // variants are the function names
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Func1 {
+    Sqrt, Exp, Log, Sin, Cos, Tan, Atan, Sinh, Cosh, Tanh, Abs, Sign, Floor,
+}
+
+/// Two-argument functions.
+#[allow(missing_docs)] // variants are the function names
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Func2 {
+    /// `pow(a, b)` with a non-constant or non-integer exponent: defined for a ≥ 0.
+    Pow,
+    Atan2, Min, Max,
+}
+
+/// Three-argument functions.
+#[allow(missing_docs)] // variants are the function names
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Func3 {
+    Clamp, Mix,
+}
+
+macro_rules! names {
+    ($t:ty { $($v:ident => $n:literal),* $(,)? }) => {
+        impl $t {
+            /// Every variant.
+            pub const ALL: &'static [$t] = &[$(<$t>::$v),*];
+            /// The name users write and the suffix of the WGSL op (`op_<name>`).
+            pub fn name(self) -> &'static str { match self { $(<$t>::$v => $n),* } }
+        }
+    };
+}
+names!(Func1 { Sqrt => "sqrt", Exp => "exp", Log => "log", Sin => "sin", Cos => "cos", Tan => "tan",
+    Atan => "atan", Sinh => "sinh", Cosh => "cosh", Tanh => "tanh", Abs => "abs", Sign => "sign", Floor => "floor" });
+names!(Func2 { Pow => "pow", Atan2 => "atan2", Min => "min", Max => "max" });
+names!(Func3 { Clamp => "clamp", Mix => "mix" });
+
+/// An operation. Operands are [`NodeId`]s of earlier nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Op {
+    /// A literal (already folded).
+    Const(f64),
+    /// x, y, z or t.
+    Var(Var),
+    /// User parameter number `i` (a uniform).
+    Param(u32),
+    /// -a
+    Neg(NodeId),
+    /// a + b
+    Add(NodeId, NodeId),
+    /// a - b
+    Sub(NodeId, NodeId),
+    /// a * b
+    Mul(NodeId, NodeId),
+    /// a / b
+    Div(NodeId, NodeId),
+    /// a^n for an integer n ≥ 2 (negative exponents become 1 / a^n).
+    PowI(NodeId, u32),
+    /// f(a)
+    Call1(Func1, NodeId),
+    /// f(a, b)
+    Call2(Func2, NodeId, NodeId),
+    /// f(a, b, c)
+    Call3(Func3, NodeId, NodeId, NodeId),
+}
+
+impl Op {
+    /// The operands, in order.
+    pub fn operands(&self) -> Vec<NodeId> {
+        match *self {
+            Op::Const(_) | Op::Var(_) | Op::Param(_) => vec![],
+            Op::Neg(a) | Op::PowI(a, _) | Op::Call1(_, a) => vec![a],
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Call2(_, a, b) => vec![a, b],
+            Op::Call3(_, a, b, c) => vec![a, b, c],
+        }
+    }
+    /// True for operations whose result can be empty (argument entirely
+    /// outside the domain): sqrt, log, pow with a real exponent.
+    pub fn restricts_domain(&self) -> bool {
+        matches!(self, Op::Call1(Func1::Sqrt | Func1::Log, _) | Op::Call2(Func2::Pow, _, _))
+    }
+}
+
+/// A compiled formula.
+#[derive(Debug, Clone)]
+pub struct Ir {
+    /// Nodes in topological order.
+    pub nodes: Vec<Op>,
+    /// Source span of each node (for diagnostics and comments).
+    pub spans: Vec<Span>,
+    /// The implicit function.
+    pub root: NodeId,
+    /// Parameter names, indexed by `Op::Param`, with the first use.
+    pub params: Vec<(String, Span)>,
+}
+
+impl Ir {
+    /// Variables the formula depends on, sorted.
+    pub fn variables(&self) -> Vec<Var> {
+        let mut v: Vec<Var> = self.live().iter().filter_map(|&n| match self.nodes[n as usize] {
+            Op::Var(v) => Some(v),
+            _ => None,
+        }).collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    /// Nodes reachable from the root, in topological order.
+    pub fn live(&self) -> Vec<NodeId> {
+        let mut mark = vec![false; self.nodes.len()];
+        mark[self.root as usize] = true;
+        for i in (0..self.nodes.len()).rev() {
+            if mark[i] {
+                for o in self.nodes[i].operands() {
+                    mark[o as usize] = true;
+                }
+            }
+        }
+        (0..self.nodes.len() as u32).filter(|&i| mark[i as usize]).collect()
+    }
+
+    /// Total degree in x, y, z when the formula is a polynomial (t and
+    /// parameters count as coefficients), else `None`.
+    pub fn degree(&self) -> Option<u32> {
+        let mut deg: Vec<Option<u32>> = Vec::with_capacity(self.nodes.len());
+        for op in &self.nodes {
+            let d = |n: NodeId| deg[n as usize];
+            let v = match *op {
+                Op::Const(_) | Op::Param(_) | Op::Var(Var::T) => Some(0),
+                Op::Var(_) => Some(1),
+                Op::Neg(a) => d(a),
+                Op::Add(a, b) | Op::Sub(a, b) => d(a).zip(d(b)).map(|(a, b)| a.max(b)),
+                Op::Mul(a, b) => d(a).zip(d(b)).map(|(a, b)| a + b),
+                Op::Div(a, b) => if d(b) == Some(0) { d(a) } else { None },
+                Op::PowI(a, n) => d(a).map(|a| a * n),
+                Op::Call1(..) | Op::Call2(..) | Op::Call3(..) => {
+                    if op.operands().iter().all(|&o| d(o) == Some(0)) { Some(0) } else { None }
+                }
+            };
+            deg.push(v);
+        }
+        deg[self.root as usize]
+    }
+
+    /// Number of products of two non-constant operands (including squarings
+    /// in integer powers), the quantity `--algebra auto` looks at.
+    pub fn nonconstant_products(&self) -> (u32, u32) {
+        let mut konst = vec![false; self.nodes.len()];
+        let (mut products, mut powers) = (0, 0);
+        for &i in &self.live() {
+            let op = self.nodes[i as usize];
+            konst[i as usize] = match op {
+                Op::Const(_) | Op::Param(_) | Op::Var(Var::T) => true,
+                Op::Var(_) => false,
+                _ => op.operands().iter().all(|&o| konst[o as usize]),
+            };
+            match op {
+                Op::Mul(a, b) if !konst[a as usize] && !konst[b as usize] => products += 1,
+                Op::PowI(a, _) if !konst[a as usize] => powers += 1,
+                _ => {}
+            }
+        }
+        (products, powers)
+    }
+}
+
+/// Prints the formula with explicit parentheses (shared nodes expanded).
+pub struct Display<'a>(pub &'a Ir, pub NodeId);
+
+impl fmt::Display for Display<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let ir = self.0;
+        let sub = |n: NodeId| Display(ir, n);
+        match ir.nodes[self.1 as usize] {
+            Op::Const(c) => {
+                if c < 0.0 { write!(f, "({c})") } else { write!(f, "{c}") }
+            }
+            Op::Var(v) => f.write_str(v.name()),
+            Op::Param(p) => f.write_str(&ir.params[p as usize].0),
+            Op::Neg(a) => write!(f, "(-{})", sub(a)),
+            Op::Add(a, b) => write!(f, "({} + {})", sub(a), sub(b)),
+            Op::Sub(a, b) => write!(f, "({} - {})", sub(a), sub(b)),
+            Op::Mul(a, b) => write!(f, "({} * {})", sub(a), sub(b)),
+            Op::Div(a, b) => write!(f, "({} / {})", sub(a), sub(b)),
+            Op::PowI(a, n) => match ir.nodes[a as usize] {
+                Op::PowI(..) => write!(f, "({})^{n}", sub(a)),
+                _ => write!(f, "{}^{n}", sub(a)),
+            },
+            Op::Call1(g, a) => write!(f, "{}({})", g.name(), sub(a)),
+            Op::Call2(g, a, b) => write!(f, "{}({}, {})", g.name(), sub(a), sub(b)),
+            Op::Call3(g, a, b, c) => write!(f, "{}({}, {}, {})", g.name(), sub(a), sub(b), sub(c)),
+        }
+    }
+}

@@ -1,0 +1,105 @@
+// isotrace reduced affine domain (RAA): Knoll et al.'s AF1 with n = 1.
+// A form (x0, x1, x2) in a vec3<f32> stands for x0 + x1*e1 + x2*e2 with
+// e1, e2 in [-1, 1]. e1 is the ray parameter (x, y, z along a ray segment are
+// exact forms); e2 gathers every other error and its coefficient x2 is
+// always >= 0, which is what makes AF1 an inclusion for every composition.
+//
+// Empty: x2 < 0; the canonical form (0, 0, -1) converts to the empty interval
+// (1, -1). Operations without a safe affine rule (division, transcendental
+// functions, sqrt, real powers, floor, sign) go through the interval library
+// and convert back, as Knoll et al. do. Requires interval.wgsl.
+
+fn ra_const(c: f32) -> vec3<f32> { return vec3<f32>(c, 0.0, 0.0); }
+fn ra_empty() -> vec3<f32> { return vec3<f32>(0.0, 0.0, -1.0); }
+fn ra_is_empty(a: vec3<f32>) -> bool { return a.z < 0.0; }
+fn ra_radius(a: vec3<f32>) -> f32 { return abs(a.y) + a.z; }
+fn ra_range(a: vec3<f32>) -> vec2<f32> {
+    let r = ra_radius(a);
+    return vec2<f32>(a.x - r, a.x + r);
+}
+fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
+    if (ia_is_empty(i)) { return ra_empty(); }
+    return vec3<f32>(0.5 * (i.x + i.y), 0.0, 0.5 * (i.y - i.x));
+}
+// Of two valid enclosures keep the narrower (used where IA can beat AF1).
+fn ra_narrower(a: vec3<f32>, i: vec2<f32>) -> vec3<f32> {
+    if (i.y - i.x < 2.0 * ra_radius(a)) { return ra_from_ia(i); }
+    return a;
+}
+
+fn ra_neg(a: vec3<f32>) -> vec3<f32> { return vec3<f32>(-a.x, -a.y, a.z); }
+fn ra_add(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return a + b; }
+fn ra_sub(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return vec3<f32>(a.x - b.x, a.y - b.y, a.z + b.z); }
+// Knoll et al. eq. (14).
+fn ra_mul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(
+        a.x * b.x,
+        a.x * b.y + b.x * a.y,
+        abs(a.x * b.z) + abs(b.x * a.z) + ra_radius(a) * ra_radius(b));
+}
+// AF1 square: (x1 e1 + x2 e2)^2 lies in [0, r^2], so half of r^2 moves into
+// the centre. When the form straddles 0 the interval even-power rule is
+// tighter and is used instead.
+fn ra_sqr_affine(a: vec3<f32>) -> vec3<f32> {
+    let r = ra_radius(a);
+    let h = 0.5 * r * r;
+    return vec3<f32>(a.x * a.x + h, 2.0 * a.x * a.y, 2.0 * abs(a.x) * a.z + h);
+}
+fn ra_sqr(a: vec3<f32>) -> vec3<f32> {
+    return ra_narrower(ra_sqr_affine(a), ia_sqr(ra_range(a)));
+}
+// Odd powers: the affine chain and the interval ends are carried together and
+// the narrower result is kept at the end.
+struct RaPow { a: vec3<f32>, e: vec2<f32> }
+fn ra_pw_lift(a: vec3<f32>) -> RaPow { return RaPow(a, ra_range(a)); }
+fn ra_pw_sq(w: RaPow) -> RaPow { return RaPow(ra_sqr_affine(w.a), w.e * w.e); }
+fn ra_pw_mul(u: RaPow, v: RaPow) -> RaPow { return RaPow(ra_mul(u.a, v.a), u.e * v.e); }
+fn ra_pw_odd(a: vec3<f32>, w: RaPow) -> vec3<f32> { return ra_narrower(w.a, w.e); }
+
+fn ra_div(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let bi = ra_range(b);
+    if (bi.x > 0.0 || bi.y < 0.0) {
+        // a * (1/b) keeps a's correlation; 1/b itself is an interval.
+        return ra_mul(a, ra_from_ia(vec2<f32>(1.0 / bi.y, 1.0 / bi.x)));
+    }
+    return ra_from_ia(ia_div(ra_range(a), bi));
+}
+// abs keeps the form when the sign is known.
+fn ra_abs(a: vec3<f32>) -> vec3<f32> {
+    let i = ra_range(a);
+    if (i.x >= 0.0) { return a; }
+    if (i.y <= 0.0) { return ra_neg(a); }
+    return ra_from_ia(ia_abs(i));
+}
+// min/max keep the form when one operand is certainly smaller.
+fn ra_min(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let i = ra_range(a);
+    let j = ra_range(b);
+    if (i.y <= j.x) { return a; }
+    if (j.y <= i.x) { return b; }
+    return ra_from_ia(ia_min(i, j));
+}
+fn ra_max(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let i = ra_range(a);
+    let j = ra_range(b);
+    if (i.x >= j.y) { return a; }
+    if (j.x >= i.y) { return b; }
+    return ra_from_ia(ia_max(i, j));
+}
+fn ra_clamp(v: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec3<f32> { return ra_min(ra_max(v, lo), hi); }
+fn ra_mix(a: vec3<f32>, b: vec3<f32>, s: vec3<f32>) -> vec3<f32> { return ra_add(a, ra_mul(ra_sub(b, a), s)); }
+
+fn ra_sqrt(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_sqrt(ra_range(a))); }
+fn ra_exp(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_exp(ra_range(a))); }
+fn ra_log(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_log(ra_range(a))); }
+fn ra_sin(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_sin(ra_range(a))); }
+fn ra_cos(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_cos(ra_range(a))); }
+fn ra_tan(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_tan(ra_range(a))); }
+fn ra_atan(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_atan(ra_range(a))); }
+fn ra_sinh(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_sinh(ra_range(a))); }
+fn ra_cosh(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_cosh(ra_range(a))); }
+fn ra_tanh(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_tanh(ra_range(a))); }
+fn ra_sign(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_sign(ra_range(a))); }
+fn ra_floor(a: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_floor(ra_range(a))); }
+fn ra_pow(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_pow(ra_range(a), ra_range(b))); }
+fn ra_atan2(y: vec3<f32>, x: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_atan2(ra_range(y), ra_range(x))); }

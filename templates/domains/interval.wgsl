@@ -1,0 +1,164 @@
+// isotrace interval domain (IA): an interval [lo, hi] is a vec2<f32> (lo, hi).
+//
+// Empty interval: any value with lo > hi; the canonical one is (1, -1). It
+// comes only from sqrt, log and pow on arguments entirely outside their
+// domain. The generated evaluator ORs ia_is_empty over those results and
+// returns ia_empty() for the whole function, because every operation is
+// strict (an undefined argument makes the result undefined); so the other
+// operations need not test for it.
+//
+// NaN: lavapipe drops NaN operands in min/max and folds x != x to false, so
+// NaN ends are never compared for emptiness and the zero test used by the
+// traversal, !(lo > 0 || hi < 0), treats a NaN end as "may contain zero".
+//
+// Rounding: like Knoll et al. we do not round arithmetic outward (the
+// traversal's eps dominates f32 rounding); transcendental functions, whose
+// WGSL accuracy is only a few ulp (sin/cos 2^-11 absolute), are padded.
+
+const IA_PI: f32 = 3.14159265358979;
+const IA_TWO_PI: f32 = 6.28318530717959;
+const IA_HALF_PI: f32 = 1.57079632679490;
+
+fn ia_const(c: f32) -> vec2<f32> { return vec2<f32>(c, c); }
+fn ia_empty() -> vec2<f32> { return vec2<f32>(1.0, -1.0); }
+fn ia_is_empty(a: vec2<f32>) -> bool { return a.x > a.y; }
+fn ia_range(a: vec2<f32>) -> vec2<f32> { return a; }
+fn ia_whole() -> vec2<f32> { return vec2<f32>(-iso_inf(), iso_inf()); }
+fn ia_straddles(a: vec2<f32>) -> bool { return a.x < 0.0 && a.y > 0.0; }
+
+// Outward padding of a computed interval by an absolute and relative margin.
+fn ia_pad(r: vec2<f32>, abs_err: f32, rel_err: f32) -> vec2<f32> {
+    return vec2<f32>(r.x - abs_err - abs(r.x) * rel_err, r.y + abs_err + abs(r.y) * rel_err);
+}
+
+fn ia_neg(a: vec2<f32>) -> vec2<f32> { return -a.yx; }
+fn ia_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a + b; }
+fn ia_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a - b.yx; }
+fn ia_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let p = a.xxyy * b.xyxy;
+    return vec2<f32>(min(min(p.x, p.y), min(p.z, p.w)), max(max(p.x, p.y), max(p.z, p.w)));
+}
+// Division: a divisor that contains 0 gives a half-line when 0 is one of its
+// ends and the numerator keeps one sign, else the whole line.
+fn ia_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (b.x > 0.0 || b.y < 0.0) {
+        return ia_mul(a, vec2<f32>(1.0 / b.y, 1.0 / b.x));
+    }
+    let inf = iso_inf();
+    if (b.x == 0.0 && b.y > 0.0) {
+        if (a.x >= 0.0) { return vec2<f32>(a.x / b.y, inf); }
+        if (a.y <= 0.0) { return vec2<f32>(-inf, a.y / b.y); }
+    }
+    if (b.y == 0.0 && b.x < 0.0) {
+        if (a.x >= 0.0) { return vec2<f32>(-inf, a.x / b.x); }
+        if (a.y <= 0.0) { return vec2<f32>(a.y / b.x, inf); }
+    }
+    return ia_whole();
+}
+// Even-power rule for squares: tight when the interval straddles 0.
+fn ia_sqr(a: vec2<f32>) -> vec2<f32> {
+    let s = a * a;
+    if (ia_straddles(a)) { return vec2<f32>(0.0, max(s.x, s.y)); }
+    return vec2<f32>(min(s.x, s.y), max(s.x, s.y));
+}
+// Odd powers are monotone: raise both ends by squaring and multiplying.
+fn ia_pw_lift(a: vec2<f32>) -> vec2<f32> { return a; }
+fn ia_pw_sq(w: vec2<f32>) -> vec2<f32> { return w * w; }
+fn ia_pw_mul(u: vec2<f32>, v: vec2<f32>) -> vec2<f32> { return u * v; }
+fn ia_pw_odd(a: vec2<f32>, w: vec2<f32>) -> vec2<f32> { return w; }
+
+fn ia_sqrt(a: vec2<f32>) -> vec2<f32> {
+    if (a.y < 0.0) { return ia_empty(); }
+    return ia_pad(sqrt(vec2<f32>(max(a.x, 0.0), a.y)), 0.0, 3e-7);
+}
+fn ia_log(a: vec2<f32>) -> vec2<f32> {
+    if (a.y <= 0.0) { return ia_empty(); }
+    var lo = -iso_inf();
+    if (a.x > 0.0) { lo = log(a.x); }
+    return ia_pad(vec2<f32>(lo, log(a.y)), 2e-7, 4e-7);
+}
+fn ia_exp(a: vec2<f32>) -> vec2<f32> {
+    let r = ia_pad(exp(a), 0.0, 2e-6);
+    return vec2<f32>(max(r.x, 0.0), r.y);
+}
+fn ia_sinh(a: vec2<f32>) -> vec2<f32> { return ia_pad(sinh(a), 1e-7, 2e-6); }
+fn ia_tanh(a: vec2<f32>) -> vec2<f32> { return clamp(ia_pad(tanh(a), 1e-7, 2e-6), vec2<f32>(-1.0), vec2<f32>(1.0)); }
+fn ia_atan(a: vec2<f32>) -> vec2<f32> { return ia_pad(atan(a), 1e-7, 1e-6); }
+fn ia_cosh(a: vec2<f32>) -> vec2<f32> {
+    let c = cosh(a);
+    var r = vec2<f32>(min(c.x, c.y), max(c.x, c.y));
+    if (ia_straddles(a)) { r.x = 1.0; }
+    r = ia_pad(r, 0.0, 2e-6);
+    return vec2<f32>(max(r.x, 1.0), r.y);
+}
+fn ia_abs(a: vec2<f32>) -> vec2<f32> {
+    let m = abs(a);
+    if (ia_straddles(a)) { return vec2<f32>(0.0, max(m.x, m.y)); }
+    return vec2<f32>(min(m.x, m.y), max(m.x, m.y));
+}
+fn ia_sign(a: vec2<f32>) -> vec2<f32> { return sign(a); }
+fn ia_floor(a: vec2<f32>) -> vec2<f32> { return floor(a); }
+fn ia_min(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return min(a, b); }
+fn ia_max(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return max(a, b); }
+fn ia_clamp(v: vec2<f32>, lo: vec2<f32>, hi: vec2<f32>) -> vec2<f32> { return min(max(v, lo), hi); }
+fn ia_mix(a: vec2<f32>, b: vec2<f32>, s: vec2<f32>) -> vec2<f32> {
+    // a*(1 - s) + b*s: an inclusion for any s (not only s in [0, 1]).
+    return ia_add(ia_mul(a, ia_sub(ia_const(1.0), s)), ia_mul(b, s));
+}
+
+// cos over [lo, hi]: the ends, plus +1 if a multiple of 2*pi lies inside and
+// -1 if an odd multiple of pi does. The tests use a small slack so rounding
+// in lo / 2pi can only include an extremum, never skip one.
+fn ia_cos(a: vec2<f32>) -> vec2<f32> {
+    if (!(a.y - a.x < IA_TWO_PI) || !(abs(a.x) < 1e6) || !(abs(a.y) < 1e6)) {
+        return vec2<f32>(-1.0, 1.0);
+    }
+    let c = cos(a);
+    var r = vec2<f32>(min(c.x, c.y), max(c.x, c.y));
+    let slack = 1e-6 + abs(a.x) * 2e-7;
+    let k_max = ceil((a.x - slack) / IA_TWO_PI);
+    if (k_max * IA_TWO_PI <= a.y + slack) { r.y = 1.0; }
+    let k_min = ceil((a.x - IA_PI - slack) / IA_TWO_PI);
+    if (k_min * IA_TWO_PI + IA_PI <= a.y + slack) { r.x = -1.0; }
+    r = ia_pad(r, 2e-6 + abs(a.x) * 1e-7, 0.0);
+    return clamp(r, vec2<f32>(-1.0), vec2<f32>(1.0));
+}
+fn ia_sin(a: vec2<f32>) -> vec2<f32> {
+    if (!(a.y - a.x < IA_TWO_PI) || !(abs(a.x) < 1e6) || !(abs(a.y) < 1e6)) {
+        return vec2<f32>(-1.0, 1.0);
+    }
+    let s = sin(a);
+    var r = vec2<f32>(min(s.x, s.y), max(s.x, s.y));
+    let slack = 1e-6 + abs(a.x) * 2e-7;
+    // maxima at pi/2 + 2k*pi, minima at -pi/2 + 2k*pi
+    let k_max = ceil((a.x - IA_HALF_PI - slack) / IA_TWO_PI);
+    if (k_max * IA_TWO_PI + IA_HALF_PI <= a.y + slack) { r.y = 1.0; }
+    let k_min = ceil((a.x + IA_HALF_PI - slack) / IA_TWO_PI);
+    if (k_min * IA_TWO_PI - IA_HALF_PI <= a.y + slack) { r.x = -1.0; }
+    r = ia_pad(r, 2e-6 + abs(a.x) * 1e-7, 0.0);
+    return clamp(r, vec2<f32>(-1.0), vec2<f32>(1.0));
+}
+// tan is increasing between its poles pi/2 + k*pi; a pole inside gives the whole line.
+fn ia_tan(a: vec2<f32>) -> vec2<f32> {
+    if (!(a.y - a.x < IA_PI) || !(abs(a.x) < 1e6) || !(abs(a.y) < 1e6)) { return ia_whole(); }
+    let slack = 1e-6 + abs(a.x) * 2e-7;
+    let k = ceil((a.x - IA_HALF_PI - slack) / IA_PI);
+    if (k * IA_PI + IA_HALF_PI <= a.y + slack) { return ia_whole(); }
+    return ia_pad(tan(a), 1e-6, 4e-6);
+}
+fn ia_atan2(y: vec2<f32>, x: vec2<f32>) -> vec2<f32> {
+    if (x.x > 0.0) { return ia_atan(ia_div(y, x)); }
+    if (y.x > 0.0) { return ia_sub(ia_const(IA_HALF_PI), ia_atan(ia_div(x, y))); }
+    if (y.y < 0.0) { return ia_sub(ia_const(-IA_HALF_PI), ia_atan(ia_div(x, y))); }
+    return vec2<f32>(-IA_PI - 1e-6, IA_PI + 1e-6);
+}
+// a^b for real b, defined for a >= 0: monotone in each argument, so the
+// extremes are at the corners of the (a, b) box.
+fn ia_pow(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (a.y < 0.0) { return ia_empty(); }
+    let lo = max(a.x, 0.0);
+    let c = vec4<f32>(iso_pow_pos(lo, b.x), iso_pow_pos(lo, b.y), iso_pow_pos(a.y, b.x), iso_pow_pos(a.y, b.y));
+    let r = vec2<f32>(min(min(c.x, c.y), min(c.z, c.w)), max(max(c.x, c.y), max(c.z, c.w)));
+    let r2 = ia_pad(r, 1e-7, 1e-5);
+    return vec2<f32>(max(r2.x, 0.0), r2.y);
+}
