@@ -17,9 +17,11 @@
 
 pub mod codegen;
 pub mod diag;
+pub mod gpu;
 pub mod ir;
 pub mod output;
 pub mod reference;
+pub mod render;
 pub mod sema;
 pub mod syntax;
 pub mod validate;

@@ -86,3 +86,82 @@ pub fn write_atomic_with(
     }
     result
 }
+
+/// Linear [0, 1] → 8-bit sRGB.
+pub fn srgb8(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// The frame as 8-bit sRGB RGB bytes, row-major.
+pub fn frame_rgb8(frame: &crate::render::Frame) -> Vec<u8> {
+    frame.pixels.iter().flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2])]).collect()
+}
+
+/// Encodes RGB8 bytes as PNG into `w`.
+pub fn encode_png(w: &mut impl Write, width: u32, height: u32, rgb: &[u8]) -> Result<(), String> {
+    use image::ImageEncoder;
+    image::codecs::png::PngEncoder::new(w)
+        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| e.to_string())
+}
+
+/// Writes a PNG of RGB8 bytes atomically.
+pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), OutputError> {
+    write_atomic_with(path, |w| encode_png(w, width, height, rgb))
+}
+
+/// Writes the frame as OpenEXR: `R G B A` (linear), `Z` (distance along the
+/// unit primary ray, +inf on misses), `N.X N.Y N.Z` (unit normal) and
+/// `evals` (inclusion evaluations), all 32-bit float.
+pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), OutputError> {
+    use exr::prelude::*;
+    let px = &frame.pixels;
+    let ch = |name: &str, f: &dyn Fn(&crate::render::PixelOut) -> f32| {
+        AnyChannel::new(name, FlatSamples::F32(px.iter().map(f).collect()))
+    };
+    let channels: Vec<AnyChannel<FlatSamples>> = vec![
+        ch("R", &|p| p.color[0]),
+        ch("G", &|p| p.color[1]),
+        ch("B", &|p| p.color[2]),
+        ch("A", &|p| p.color[3]),
+        ch("Z", &|p| p.depth),
+        ch("N.X", &|p| p.normal[0]),
+        ch("N.Y", &|p| p.normal[1]),
+        ch("N.Z", &|p| p.normal[2]),
+        ch("evals", &|p| p.evals as f32),
+    ];
+    let layer = Layer::new(
+        (frame.width as usize, frame.height as usize),
+        LayerAttributes::named("isotrace"),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    let image = Image::from_layer(layer);
+    write_atomic_with(path, |w| image.write().to_buffered(w).map_err(|e| e.to_string()))
+}
+
+/// Writes the frame in the format its extension names.
+pub fn write_frame(path: &Path, frame: &crate::render::Frame) -> Result<(), OutputError> {
+    match format_of(path)? {
+        Format::Png => write_png(path, frame.width, frame.height, &frame_rgb8(frame)),
+        Format::Exr => write_exr(path, frame),
+    }
+}
+
+/// Reads the float channels of an EXR written by [`write_exr`] (tests, tools):
+/// channel name → samples, and the size.
+pub fn read_exr_channels(path: &Path) -> Result<(u32, u32, Vec<(String, Vec<f32>)>), String> {
+    use exr::prelude::*;
+    let image = read_all_flat_layers_from_file(path).map_err(|e| e.to_string())?;
+    let layer = image.layer_data.into_iter().next().ok_or("no layer")?;
+    let size = layer.size;
+    let channels = layer
+        .channel_data
+        .list
+        .into_iter()
+        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+        .collect();
+    Ok((size.0 as u32, size.1 as u32, channels))
+}

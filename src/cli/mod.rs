@@ -2,6 +2,7 @@
 //! rendered for the terminal.
 
 mod input;
+mod render;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use isotrace::codegen::{self, Domain};
@@ -30,6 +31,9 @@ enum Command {
     /// Print the complete generated WGSL shader (validated with naga).
     #[command(after_help = "Examples:\n  isotrace wgsl 'x^2 + y^2 + z^2 - 1' --algebra raa\n  isotrace wgsl 'sin(x) - z' --kernel eval --algebra ia -o eval.wgsl")]
     Wgsl(WgslArgs),
+    /// Ray trace the surface f = 0 into a PNG or EXR image.
+    #[command(after_help = "Examples:\n  isotrace render 'x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8' --box=-3,3 -o tangle.png\n  isotrace render 'x^2 + y^2 + z^2 - r^2' --param r=1.2 --size 800x600 -o sphere.exr --stats\n  isotrace render 'z - 0.1*sin(4*x + t)' --box=-4,4,-4,4,-1,1 --frames 30 --t0 0 --t1 6.28 -o frames/f_%04d.png")]
+    Render(render::RenderArgs),
 }
 
 #[derive(Args, Debug)]
@@ -83,6 +87,8 @@ pub enum CliError {
     Input(String),
     /// An isotrace bug (naga rejected generated code, …).
     Internal(String),
+    /// No usable GPU device (exit code 2).
+    NoDevice(String),
 }
 
 impl CliError {
@@ -92,12 +98,14 @@ impl CliError {
             CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
             CliError::Input(m) => Diagnostic::plain(m.clone()).render("", "", color),
             CliError::Internal(m) => format!("{m}\n"),
+            CliError::NoDevice(m) => format!("error: {m}\n"),
         }
     }
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Formula(_) | CliError::Input(_) => 1,
             CliError::Internal(_) => 3,
+            CliError::NoDevice(_) => 2,
         }
     }
 }
@@ -118,6 +126,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     match cli.command {
         Command::Check(a) => check(a),
         Command::Wgsl(a) => wgsl(a),
+        Command::Render(a) => render::run(a),
     }
 }
 
@@ -175,4 +184,26 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Maps a render error to the CLI's error kinds.
+pub fn render_error(e: isotrace::gpu::render::RenderError) -> CliError {
+    use isotrace::gpu::render::RenderError as R;
+    match e {
+        R::Validate(v) => CliError::Internal(v.to_string()),
+        R::Gpu(g) => CliError::Internal(g.to_string()),
+        R::Settings(m) => CliError::Input(m),
+    }
+}
+
+/// A progress bar on a terminal; `None` (plain lines elsewhere) otherwise.
+pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
+    if len <= 1 || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&format!("{{bar:40}} {{pos}}/{{len}} {what} {{elapsed}}")) {
+        bar.set_style(style);
+    }
+    Some(bar)
 }

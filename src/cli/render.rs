@@ -1,0 +1,291 @@
+//! `isotrace render`: flags → [`Settings`], one frame or an animation.
+
+use super::{input::FormulaArgs, resolve_algebra, AlgebraArg, CliError};
+use clap::Args;
+use glam::DVec3;
+use isotrace::gpu::render::{Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::Gpu;
+use isotrace::output;
+use isotrace::render::{parse_eps, Camera, Frame};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Flags shared by `render` and `bench`.
+#[derive(Args, Debug, Clone, Default)]
+pub struct ViewArgs {
+    /// Domain box: `x0,x1,y0,y1,z0,z1` or `-a,a` for a cube (default -2,2).
+    #[arg(long = "box", value_name = "BOX", allow_hyphen_values = true)]
+    pub bbox: Option<String>,
+    /// Eye position `x,y,z` (default: azimuth 35°, elevation 25° from the target, whole box in view).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// Point looked at (default: the box centre).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub target: Option<String>,
+    /// Up direction (default 0,0,1).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub up: Option<String>,
+    /// Vertical field of view in degrees (default 40).
+    #[arg(long, value_name = "DEG")]
+    pub fov: Option<f64>,
+    /// Termination width: absolute (0.001) or a power of two (2^-11); default 2^-11 × box diagonal.
+    #[arg(long, value_name = "EPS")]
+    pub eps: Option<String>,
+    /// Time value t.
+    #[arg(long = "t", value_name = "T", allow_hyphen_values = true)]
+    pub time: Option<f64>,
+    /// A user parameter, `name=value` (repeatable).
+    #[arg(long = "param", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub params: Vec<String>,
+    /// Inclusion algebra: interval (ia), reduced affine (raa) or chosen per formula (auto).
+    #[arg(long, value_enum)]
+    pub algebra: Option<AlgebraArg>,
+    /// Iteration budget per pixel (pixels that exceed it are reported as unresolved).
+    #[arg(long, value_name = "N")]
+    pub max_iter: Option<u32>,
+    /// Largest tile side per dispatch (renders are split so a GPU watchdog never fires).
+    #[arg(long, value_name = "PIXELS", default_value_t = 1024)]
+    pub tile: u32,
+    /// Draw pixels that exhausted the iteration budget in magenta.
+    #[arg(long)]
+    pub debug_unresolved: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    formula: FormulaArgs,
+    /// Output image: .png (8-bit sRGB) or .exr (float RGBA, Z, normals, evals). With --frames, a pattern like f_%04d.png.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: PathBuf,
+    /// Image size `WxH` or `N` for a square (default 512x512).
+    #[arg(long, value_name = "WxH")]
+    size: Option<String>,
+    #[command(flatten)]
+    view: ViewArgs,
+    /// Print statistics to stderr.
+    #[arg(long)]
+    stats: bool,
+    /// Print statistics as one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Render an animation of N frames with t from --t0 to --t1.
+    #[arg(long, value_name = "N")]
+    frames: Option<u32>,
+    /// First time value of an animation.
+    #[arg(long, value_name = "A", allow_hyphen_values = true, requires = "frames")]
+    t0: Option<f64>,
+    /// Last time value of an animation.
+    #[arg(long, value_name = "B", allow_hyphen_values = true, requires = "frames")]
+    t1: Option<f64>,
+}
+
+fn input(m: impl Into<String>) -> CliError {
+    CliError::Input(m.into())
+}
+
+/// Parses `WxH` or `N`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
+    let bad = || input(format!("invalid --size '{s}': expected WxH like 1024x768, or N for a square"));
+    let (w, h) = match s.split_once(['x', 'X']) {
+        Some((a, b)) => (a.trim().parse::<u32>().map_err(|_| bad())?, b.trim().parse::<u32>().map_err(|_| bad())?),
+        None => {
+            let n = s.trim().parse::<u32>().map_err(|_| bad())?;
+            (n, n)
+        }
+    };
+    let max = isotrace::gpu::render::MAX_SIZE;
+    if w == 0 || h == 0 || w > max || h > max {
+        return Err(input(format!("invalid --size '{s}': each side must be between 1 and {max}")));
+    }
+    Ok((w, h))
+}
+
+fn parse_floats(flag: &str, s: &str, n: &[usize]) -> Result<Vec<f64>, CliError> {
+    let v: Result<Vec<f64>, _> = s.split(',').map(|p| p.trim().parse::<f64>()).collect();
+    match v {
+        Ok(v) if n.contains(&v.len()) && v.iter().all(|x| x.is_finite()) => Ok(v),
+        _ => Err(input(format!(
+            "invalid {flag} '{s}': expected {} comma-separated numbers",
+            n.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ")
+        ))),
+    }
+}
+
+/// `--box`: 2 or 6 numbers.
+pub fn parse_box(s: &str) -> Result<[f64; 6], CliError> {
+    let v = parse_floats("--box", s, &[2, 6])?;
+    let b = if v.len() == 2 { [v[0], v[1], v[0], v[1], v[0], v[1]] } else { [v[0], v[1], v[2], v[3], v[4], v[5]] };
+    for a in 0..3 {
+        if !(b[2 * a] < b[2 * a + 1]) {
+            return Err(input(format!("invalid --box '{s}': the {} range is empty (lo must be below hi)", ["x", "y", "z"][a])));
+        }
+    }
+    Ok(b)
+}
+
+fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, CliError> {
+    let v = parse_floats(flag, s, &[3])?;
+    Ok(DVec3::new(v[0], v[1], v[2]))
+}
+
+/// `--param name=value` pairs.
+pub fn parse_params(list: &[String]) -> Result<Vec<(String, f64)>, CliError> {
+    list.iter()
+        .map(|p| {
+            let (n, v) = p.split_once('=').ok_or_else(|| input(format!("invalid --param '{p}': expected name=value")))?;
+            let v: f64 = v.trim().parse().map_err(|_| input(format!("invalid --param '{p}': '{v}' is not a number")))?;
+            Ok((n.trim().to_string(), v))
+        })
+        .collect()
+}
+
+/// Builds the frame settings from flags (validated before any GPU work).
+pub fn settings(view: &ViewArgs, size: (u32, u32), ir: &isotrace::ir::Ir, f: &isotrace::Formula) -> Result<Settings, CliError> {
+    let bbox = match &view.bbox {
+        Some(b) => parse_box(b)?,
+        None => [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0],
+    };
+    let diag = ((bbox[1] - bbox[0]).powi(2) + (bbox[3] - bbox[2]).powi(2) + (bbox[5] - bbox[4]).powi(2)).sqrt();
+    let eps = match &view.eps {
+        Some(e) => parse_eps(e).map_err(input)?,
+        None => diag * 2f64.powi(-11),
+    };
+    let fov = view.fov.unwrap_or(40.0);
+    let aspect = size.0 as f64 / size.1 as f64;
+    let mut camera = Camera::default_for(&bbox, fov, aspect);
+    if let Some(t) = &view.target {
+        let t = parse_vec3("--target", t)?;
+        let off = camera.eye - camera.target;
+        camera.target = t;
+        camera.eye = t + off;
+    }
+    if let Some(e) = &view.eye {
+        camera.eye = parse_vec3("--eye", e)?;
+    }
+    if let Some(u) = &view.up {
+        camera.up = parse_vec3("--up", u)?;
+    }
+    camera.frame().map_err(input)?;
+    let given = parse_params(&view.params)?;
+    let (params, warnings) = isotrace::sema::bind_params(ir, &given)
+        .map_err(|d| CliError::Formula(isotrace::FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic: d }))?;
+    for w in warnings {
+        eprint!("{}", w.render("", "", false));
+    }
+    Ok(Settings {
+        width: size.0,
+        height: size.1,
+        bbox,
+        camera,
+        eps,
+        time: view.time.unwrap_or(0.0),
+        params,
+        max_iter: view.max_iter.unwrap_or(DEFAULT_MAX_ITER),
+        tile: view.tile,
+        debug_unresolved: view.debug_unresolved,
+    })
+}
+
+/// Opens the device, mapping "no adapter" to exit code 2.
+pub fn open_gpu() -> Result<Gpu, CliError> {
+    Gpu::new().map_err(|e| match e {
+        isotrace::gpu::GpuError::NoAdapter => CliError::NoDevice(e.to_string()),
+        other => CliError::NoDevice(other.to_string()),
+    })
+}
+
+pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
+    let f = a.formula.load()?;
+    let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
+    let s = settings(&a.view, size, &f.ir, &f)?;
+    let domain = resolve_algebra(a.view.algebra.unwrap_or(AlgebraArg::Auto), &f.ir);
+    if domain == isotrace::codegen::Domain::Scalar {
+        return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
+    }
+    let outputs = output_paths(&a)?;
+    for p in &outputs {
+        output::format_of(p).map_err(|e| input(e.to_string()))?;
+        output::check_writable(p).map_err(|e| input(e.to_string()))?;
+    }
+    let gpu = open_gpu()?;
+    let renderer = Renderer::new(&gpu, &f.ir, domain).map_err(super::render_error)?;
+    let n = outputs.len();
+    let (t0, t1) = (a.t0.unwrap_or(s.time), a.t1.unwrap_or(s.time + 1.0));
+    let bar = super::progress(n as u64, "frames");
+    let mut last: Option<Frame> = None;
+    for (k, path) in outputs.iter().enumerate() {
+        let mut sk = s.clone();
+        if a.frames.is_some() {
+            sk.time = if n > 1 { t0 + (t1 - t0) * k as f64 / (n - 1) as f64 } else { t0 };
+        }
+        let frame = renderer.render(&sk).map_err(super::render_error)?;
+        output::write_frame(path, &frame).map_err(|e| input(e.to_string()))?;
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+        last = Some(frame);
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    if let Some(frame) = last {
+        report(&a, &frame, &s, domain, &gpu);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn output_paths(a: &RenderArgs) -> Result<Vec<PathBuf>, CliError> {
+    let Some(n) = a.frames else { return Ok(vec![a.output.clone()]) };
+    if n == 0 {
+        return Err(input("--frames must be at least 1"));
+    }
+    let pat = a.output.to_string_lossy().into_owned();
+    let Some((pre, post)) = split_pattern(&pat) else {
+        return Err(input(format!("with --frames, -o needs a frame-number pattern like frames/f_%04d.png, got '{pat}'")));
+    };
+    Ok((0..n).map(|k| PathBuf::from(format!("{pre}{}{}", post.0(k), post.1))).collect())
+}
+
+type Formatter = Box<dyn Fn(u32) -> String>;
+
+/// Splits `a%04db` into `a`, a number formatter and `b`.
+fn split_pattern(p: &str) -> Option<(String, (Formatter, String))> {
+    let i = p.find('%')?;
+    let rest = &p[i + 1..];
+    let j = rest.find('d')?;
+    let width: usize = if j == 0 { 0 } else { rest[..j].trim_start_matches('0').parse().ok().or(Some(0))? };
+    let fmt: Formatter = Box::new(move |k| format!("{k:0width$}"));
+    Some((p[..i].to_string(), (fmt, rest[j + 1..].to_string())))
+}
+
+fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu) {
+    let st = &frame.stats;
+    let algebra = super::domain_name(domain);
+    if a.stats {
+        eprintln!(
+            "size {}x{}  algebra {algebra}  eps {:.3e}  d_max {}\n\
+             gpu {:.1} ms  wall {:.1} ms  dispatches {}\n\
+             hits {} ({:.1} %)  unresolved {}\n\
+             inclusion evaluations per pixel: mean {:.2}  p99 {}  max {}\n\
+             device {} ({})",
+            frame.width, frame.height, s.eps, st.d_max, st.gpu_ms, st.wall_ms, st.dispatches, st.hits,
+            100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved, st.evals_mean, st.evals_p99, st.evals_max,
+            gpu.info.name, gpu.info.backend
+        );
+    }
+    if a.json {
+        let v = serde_json::json!({
+            "width": frame.width, "height": frame.height, "algebra": algebra, "eps": s.eps, "d_max": st.d_max,
+            "gpu_ms": st.gpu_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
+            "pixels": st.pixels, "hits": st.hits, "unresolved": st.unresolved,
+            "evals_mean": st.evals_mean, "evals_p99": st.evals_p99, "evals_max": st.evals_max,
+            "device": gpu.info,
+        });
+        let _ = writeln!(std::io::stdout().lock(), "{v}");
+    }
+}
+
+#[allow(dead_code)]
+fn _unused(_: &Path) {}

@@ -1,0 +1,100 @@
+//! Runs the `eval` kernel: the generated evaluator of one number domain over
+//! a batch of boxes, one invocation per box, all in one dispatch.
+
+use super::{pack_params, Gpu, GpuError};
+use crate::codegen::{eval_shader, Domain};
+use crate::ir::Ir;
+use crate::validate::validate;
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+/// One box: `[x0, x1, y0, y1, z0, z1, t0, t1]` (a point has lo == hi).
+pub type Box8 = [f32; 8];
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Uniforms {
+    inf: f32,
+    count: u32,
+    row: u32,
+    pad: u32,
+    params: [f32; 64],
+}
+
+/// Errors of `eval`: generated code rejected by naga (a bug) or the device.
+#[derive(Debug, thiserror::Error)]
+pub enum EvalError {
+    /// naga rejected the shader.
+    #[error(transparent)]
+    Validate(#[from] crate::validate::ValidateError),
+    /// The device failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+/// Evaluates `ir` in `domain` on every box; returns `[lo, hi]` per box
+/// (empty: lo > hi; scalar: lo == hi, at the box's low corner).
+pub fn eval_boxes(gpu: &Gpu, ir: &Ir, domain: Domain, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
+    if boxes.is_empty() {
+        return Ok(vec![]);
+    }
+    let src = eval_shader(ir, domain);
+    validate(&src)?;
+    let pipeline = gpu.pipeline("isotrace eval", &src)?;
+    let mut out = Vec::with_capacity(boxes.len());
+    // Stay within the storage binding limit: 32 bytes in, 8 bytes out per box.
+    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
+    for part in boxes.chunks(chunk) {
+        out.extend(run_chunk(gpu, &pipeline, part, params)?);
+    }
+    Ok(out)
+}
+
+fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
+    let n = boxes.len() as u32;
+    let groups = n.div_ceil(64);
+    let gx = groups.min(65_535);
+    let gy = groups.div_ceil(gx);
+    let u = Uniforms { inf: f32::INFINITY, count: n, row: gx * 64, pad: 0, params: pack_params(params)? };
+    let d = &gpu.device;
+    let result = gpu.scoped("eval dispatch", || {
+        let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("eval uniforms"),
+            contents: bytemuck::bytes_of(&u),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bbuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("eval boxes"),
+            contents: bytemuck::cast_slice(boxes),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let size = n as u64 * 8;
+        let obuf = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("eval results"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("eval"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: bbuf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: obuf.as_entire_binding() },
+            ],
+        });
+        let mut enc = d.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        let staging = gpu.read_buffer(&mut enc, &obuf, size);
+        gpu.queue.submit([enc.finish()]);
+        staging
+    })?;
+    let bytes = gpu.map_read(&result)?;
+    Ok(bytemuck::cast_slice::<u8, [f32; 2]>(&bytes).to_vec())
+}

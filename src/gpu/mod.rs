@@ -1,0 +1,194 @@
+//! Headless wgpu: getting a device, running a validated compute shader, and
+//! reading results back. Getting a device ([`Gpu::new`]) is separate from the
+//! work done with it, so tests and batch commands share one device.
+//!
+//! wgpu's default handler panics on uncaptured errors; every call that can
+//! fail runs inside an error scope and becomes a [`GpuError`].
+
+pub mod eval;
+pub mod render;
+
+use std::time::Duration;
+
+/// GPU failures.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter: no Vulkan driver installed.
+    #[error("no GPU adapter found (no Vulkan driver?)\n  = help: without a GPU, install Mesa's CPU Vulkan driver: sudo apt-get install -y mesa-vulkan-drivers libvulkan1")]
+    NoAdapter,
+    /// The adapter refused to give a device.
+    #[error("cannot open the GPU device '{adapter}': {message}")]
+    NoDevice {
+        /// Adapter name.
+        adapter: String,
+        /// Why.
+        message: String,
+    },
+    /// A request beyond the device's limits.
+    #[error("{0}")]
+    Limits(String),
+    /// A wgpu validation / out-of-memory / internal error.
+    #[error("GPU error during {during}: {message}")]
+    Device {
+        /// What isotrace was doing.
+        during: &'static str,
+        /// wgpu's message.
+        message: String,
+    },
+}
+
+/// Which device the numbers came from.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DeviceInfo {
+    /// Adapter name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
+    pub name: String,
+    /// Driver name and version.
+    pub driver: String,
+    /// Backend (Vulkan, …).
+    pub backend: String,
+    /// Device type (Cpu, DiscreteGpu, …).
+    pub device_type: String,
+}
+
+/// A headless device and queue.
+pub struct Gpu {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// What it is.
+    pub info: DeviceInfo,
+    /// Largest storage buffer binding.
+    pub max_storage_binding: u64,
+    /// Nanoseconds per timestamp tick, when timestamp queries work.
+    pub timestamp_period: Option<f32>,
+}
+
+impl Gpu {
+    /// Opens the default adapter (honouring `WGPU_ADAPTER_NAME` / `WGPU_BACKEND`
+    /// without panicking when they match nothing).
+    pub fn new() -> Result<Gpu, GpuError> {
+        // Mesa's device-select layer complains on stderr without this.
+        if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+            // SAFETY: called before any other thread of ours touches the environment.
+            unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+        }
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            desc.backends = wgpu::Backends::VULKAN;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            ..Default::default()
+        }))
+        .map_err(|_| GpuError::NoAdapter)?;
+        let ai = adapter.get_info();
+        let info = DeviceInfo {
+            name: ai.name.clone(),
+            driver: format!("{} {}", ai.driver, ai.driver_info).trim().to_string(),
+            backend: format!("{:?}", ai.backend),
+            device_type: format!("{:?}", ai.device_type),
+        };
+        let limits = adapter.limits();
+        let want_ts = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let features = if want_ts { wgpu::Features::TIMESTAMP_QUERY } else { wgpu::Features::empty() };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("isotrace"),
+            required_features: features,
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoDevice { adapter: ai.name.clone(), message: e.to_string() })?;
+        device.on_uncaptured_error(std::sync::Arc::new(|e| {
+            eprintln!("isotrace: uncaptured GPU error: {e}");
+        }));
+        let timestamp_period = want_ts.then(|| queue.get_timestamp_period());
+        Ok(Gpu { device, queue, info, max_storage_binding: limits.max_storage_buffer_binding_size as u64, timestamp_period })
+    }
+
+    /// Runs `f` inside a validation + out-of-memory error scope.
+    pub fn scoped<T>(&self, during: &'static str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let val = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let r = f();
+        let e1 = pollster::block_on(val.pop());
+        let e2 = pollster::block_on(oom.pop());
+        match e1.or(e2) {
+            Some(e) => Err(GpuError::Device { during, message: e.to_string() }),
+            None => Ok(r),
+        }
+    }
+
+    /// Creates a compute pipeline from WGSL that has passed naga validation.
+    pub fn pipeline(&self, label: &str, wgsl: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+        self.scoped("shader compilation", || {
+            let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+            self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })
+    }
+
+    /// Blocks until the queue is idle.
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(Duration::from_secs(600)) })
+            .map(|_| ())
+            .map_err(|e| GpuError::Device { during: "waiting for the GPU", message: e.to_string() })
+    }
+
+    /// Copies `size` bytes of `src` into a mappable buffer and reads them.
+    pub fn read_buffer(&self, encoder: &mut wgpu::CommandEncoder, src: &wgpu::Buffer, size: u64) -> wgpu::Buffer {
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("read-back"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        encoder.copy_buffer_to_buffer(src, 0, &staging, 0, size);
+        staging
+    }
+
+    /// Maps a read-back buffer made by [`Gpu::read_buffer`] after submission.
+    pub fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv()
+            .map_err(|e| GpuError::Device { during: "reading results", message: e.to_string() })?
+            .map_err(|e| GpuError::Device { during: "reading results", message: e.to_string() })?;
+        let view = staging
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Device { during: "reading results", message: e.to_string() })?;
+        let bytes = view.to_vec();
+        drop(view);
+        staging.unmap();
+        Ok(bytes)
+    }
+}
+
+/// Parameter values packed for the uniform `params: array<vec4<f32>, 16>`.
+pub const MAX_PARAMS: usize = 64;
+
+/// Packs parameter values into the 64-float uniform block.
+pub fn pack_params(values: &[f32]) -> Result<[f32; MAX_PARAMS], GpuError> {
+    if values.len() > MAX_PARAMS {
+        return Err(GpuError::Limits(format!("too many parameters: {} (the limit is {MAX_PARAMS})", values.len())));
+    }
+    let mut p = [0.0f32; MAX_PARAMS];
+    p[..values.len()].copy_from_slice(values);
+    Ok(p)
+}

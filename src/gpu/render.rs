@@ -1,0 +1,264 @@
+//! Runs the render kernel. A [`Renderer`] holds one compiled pipeline (a
+//! formula in one algebra); frames differ only in uniforms (camera, time,
+//! parameters), so animations and benchmarks never recompile.
+
+use super::{pack_params, Gpu, GpuError};
+use crate::codegen::{render_shader, Domain};
+use crate::ir::Ir;
+use crate::render::{Camera, Frame, PixelOut, Stats, Status};
+use crate::validate::{validate, ValidateError};
+use bytemuck::{Pod, Zeroable};
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+/// Largest image side accepted.
+pub const MAX_SIZE: u32 = 16384;
+
+/// Everything one frame needs besides the formula.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Domain box `x0, x1, y0, y1, z0, z1`.
+    pub bbox: [f64; 6],
+    /// The camera.
+    pub camera: Camera,
+    /// Absolute termination width along the ray.
+    pub eps: f64,
+    /// Time value `t`.
+    pub time: f64,
+    /// Parameter values in the formula's parameter order.
+    pub params: Vec<f32>,
+    /// Iteration budget per pixel (well below lavapipe's 65,535 loop cap).
+    pub max_iter: u32,
+    /// Largest tile side per dispatch.
+    pub tile: u32,
+    /// Draw unresolved pixels in magenta.
+    pub debug_unresolved: bool,
+}
+
+/// Default iteration budget.
+pub const DEFAULT_MAX_ITER: u32 = 8192;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Uniforms {
+    eye: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    box_min: [f32; 4],
+    box_max: [f32; 4],
+    size: [u32; 2],
+    tile_origin: [u32; 2],
+    tile_size: [u32; 2],
+    max_iter: u32,
+    flags: u32,
+    tan_half_fov: f32,
+    eps: f32,
+    inf: f32,
+    time: f32,
+    params: [f32; 64],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct RawPixel {
+    color: [f32; 4],
+    normal_depth: [f32; 4],
+    info: [u32; 4],
+}
+
+/// Render failures.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// naga rejected the generated shader (an isotrace bug).
+    #[error(transparent)]
+    Validate(#[from] ValidateError),
+    /// The device failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    /// Bad settings (size, camera, eps).
+    #[error("{0}")]
+    Settings(String),
+}
+
+/// A compiled render pipeline for one formula and algebra.
+pub struct Renderer<'g> {
+    gpu: &'g Gpu,
+    pipeline: wgpu::ComputePipeline,
+    /// The algebra of the inclusion function.
+    pub domain: Domain,
+    /// The shader source (validated).
+    pub wgsl: String,
+}
+
+impl<'g> Renderer<'g> {
+    /// Generates, validates and compiles the render kernel.
+    pub fn new(gpu: &'g Gpu, ir: &Ir, domain: Domain) -> Result<Renderer<'g>, RenderError> {
+        let wgsl = render_shader(ir, domain);
+        validate(&wgsl)?;
+        let pipeline = gpu.pipeline("isotrace render", &wgsl)?;
+        Ok(Renderer { gpu, pipeline, domain, wgsl })
+    }
+
+    /// Renders one frame, tile by tile.
+    pub fn render(&self, s: &Settings) -> Result<Frame, RenderError> {
+        check_settings(s)?;
+        let frame = s.camera.frame().map_err(RenderError::Settings)?;
+        let start = Instant::now();
+        let (w, h) = (s.width, s.height);
+        let tile = s.tile.clamp(8, MAX_SIZE);
+        let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+        let mut u = Uniforms {
+            eye: v4(s.camera.eye),
+            forward: v4(frame.forward),
+            right: v4(frame.right),
+            up: v4(frame.up),
+            box_min: [s.bbox[0] as f32, s.bbox[2] as f32, s.bbox[4] as f32, 0.0],
+            box_max: [s.bbox[1] as f32, s.bbox[3] as f32, s.bbox[5] as f32, 0.0],
+            size: [w, h],
+            tile_origin: [0, 0],
+            tile_size: [0, 0],
+            max_iter: s.max_iter.clamp(1, 60_000),
+            flags: u32::from(s.debug_unresolved),
+            tan_half_fov: frame.tan_half_fov as f32,
+            eps: s.eps as f32,
+            inf: f32::INFINITY,
+            time: s.time as f32,
+            params: pack_params(&s.params)?,
+        };
+        let mut pixels = vec![PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, status: Status::Miss }; (w * h) as usize];
+        let mut gpu_ms = 0.0;
+        let mut dispatches = 0;
+        for ty in (0..h).step_by(tile as usize) {
+            for tx in (0..w).step_by(tile as usize) {
+                let (tw, th) = (tile.min(w - tx), tile.min(h - ty));
+                u.tile_origin = [tx, ty];
+                u.tile_size = [tw, th];
+                let (raw, ms) = self.dispatch(&u, tw, th)?;
+                gpu_ms += ms;
+                dispatches += 1;
+                for (k, r) in raw.iter().enumerate() {
+                    let (i, j) = (tx + k as u32 % tw, ty + k as u32 / tw);
+                    pixels[(j * w + i) as usize] = convert(r);
+                }
+            }
+        }
+        let diag = ((s.bbox[1] - s.bbox[0]).powi(2) + (s.bbox[3] - s.bbox[2]).powi(2) + (s.bbox[5] - s.bbox[4]).powi(2)).sqrt();
+        let mut f = Frame {
+            width: w,
+            height: h,
+            pixels,
+            stats: Stats { gpu_ms, dispatches, d_max: (diag / s.eps).log2().ceil().clamp(0.0, 18.0) as u32, ..Default::default() },
+        };
+        f.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        f.summarize();
+        Ok(f)
+    }
+
+    fn dispatch(&self, u: &Uniforms, tw: u32, th: u32) -> Result<(Vec<RawPixel>, f64), RenderError> {
+        let gpu = self.gpu;
+        let d = &gpu.device;
+        let size = (tw as u64) * (th as u64) * std::mem::size_of::<RawPixel>() as u64;
+        let ts = gpu.timestamp_period.map(|_| {
+            let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("render time"), ty: wgpu::QueryType::Timestamp, count: 2 });
+            let resolve = d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            (set, resolve)
+        });
+        let t0 = Instant::now();
+        let (staging, ts_staging) = gpu.scoped("render dispatch", || {
+            let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("render uniforms"),
+                contents: bytemuck::bytes_of(u),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let obuf = d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pixels"),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("render"),
+                layout: &self.pipeline.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: obuf.as_entire_binding() },
+                ],
+            });
+            let mut enc = d.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("bisect"),
+                    timestamp_writes: ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    }),
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+            }
+            let ts_staging = ts.as_ref().map(|(set, resolve)| {
+                enc.resolve_query_set(set, 0..2, resolve, 0);
+                gpu.read_buffer(&mut enc, resolve, 16)
+            });
+            let staging = gpu.read_buffer(&mut enc, &obuf, size);
+            gpu.queue.submit([enc.finish()]);
+            (staging, ts_staging)
+        })?;
+        let bytes = gpu.map_read(&staging)?;
+        let wall = t0.elapsed().as_secs_f64() * 1e3;
+        let ms = match (ts_staging, gpu.timestamp_period) {
+            (Some(b), Some(period)) => {
+                let t = gpu.map_read(&b)?;
+                let v: &[u64] = bytemuck::cast_slice(&t);
+                let ms = v[1].saturating_sub(v[0]) as f64 * period as f64 * 1e-6;
+                if ms > 0.0 { ms } else { wall }
+            }
+            _ => wall,
+        };
+        Ok((bytemuck::cast_slice::<u8, RawPixel>(&bytes).to_vec(), ms))
+    }
+}
+
+fn convert(r: &RawPixel) -> PixelOut {
+    let status = match r.info[1] {
+        1 => Status::Hit,
+        2 => Status::Unresolved,
+        _ => Status::Miss,
+    };
+    PixelOut {
+        color: r.color,
+        normal: [r.normal_depth[0], r.normal_depth[1], r.normal_depth[2]],
+        depth: r.normal_depth[3],
+        evals: r.info[0],
+        status,
+    }
+}
+
+fn check_settings(s: &Settings) -> Result<(), RenderError> {
+    let bad = |m: String| Err(RenderError::Settings(m));
+    if s.width == 0 || s.height == 0 || s.width > MAX_SIZE || s.height > MAX_SIZE {
+        return bad(format!("invalid --size {}x{}: each side must be between 1 and {MAX_SIZE}", s.width, s.height));
+    }
+    for a in 0..3 {
+        let (lo, hi) = (s.bbox[2 * a], s.bbox[2 * a + 1]);
+        if !(lo < hi) || !lo.is_finite() || !hi.is_finite() {
+            return bad(format!("invalid --box: axis {} has [{lo}, {hi}]; each axis needs lo < hi", ["x", "y", "z"][a]));
+        }
+    }
+    if !(s.eps > 0.0 && s.eps.is_finite()) {
+        return bad(format!("invalid --eps {}: it must be a positive width", s.eps));
+    }
+    Ok(())
+}

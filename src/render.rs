@@ -1,0 +1,173 @@
+//! What a render is, independent of the device: the camera model, the
+//! settings of one frame, the per-pixel result and the statistics.
+
+use glam::DVec3;
+
+/// A pinhole camera: eye, target, up, vertical field of view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: DVec3,
+    /// Point looked at.
+    pub target: DVec3,
+    /// Approximate up direction.
+    pub up: DVec3,
+    /// Vertical field of view in degrees.
+    pub fov_deg: f64,
+}
+
+/// The orthonormal frame a [`Camera`] produces (exactly the formulas of the
+/// CLI reference, so renders compare with other tools).
+#[derive(Debug, Clone, Copy)]
+pub struct CameraFrame {
+    /// normalize(target − eye)
+    pub forward: DVec3,
+    /// normalize(cross(forward, up))
+    pub right: DVec3,
+    /// cross(right, forward)
+    pub up: DVec3,
+    /// tan(fov / 2)
+    pub tan_half_fov: f64,
+}
+
+impl Camera {
+    /// The default view of a box: looking at its centre from azimuth 35°,
+    /// elevation 25°, +z up, far enough that the whole box is in view.
+    pub fn default_for(bx: &[f64; 6], fov_deg: f64, aspect: f64) -> Camera {
+        let lo = DVec3::new(bx[0], bx[2], bx[4]);
+        let hi = DVec3::new(bx[1], bx[3], bx[5]);
+        let target = 0.5 * (lo + hi);
+        Self::orbit(target, 0.5 * (hi - lo).length(), 35.0, 25.0, fov_deg, aspect)
+    }
+
+    /// A camera on a sphere around `target` that keeps a ball of `radius` in view.
+    pub fn orbit(target: DVec3, radius: f64, azimuth_deg: f64, elevation_deg: f64, fov_deg: f64, aspect: f64) -> Camera {
+        let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+        let dir = DVec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin());
+        let half_v = 0.5 * fov_deg.to_radians();
+        let half_h = (half_v.tan() * aspect).atan();
+        let dist = radius / half_v.min(half_h).sin() * 1.02;
+        Camera { eye: target + dir * dist, target, up: DVec3::Z, fov_deg }
+    }
+
+    /// The camera frame, or an error when the view is degenerate.
+    pub fn frame(&self) -> Result<CameraFrame, String> {
+        let f = self.target - self.eye;
+        if !(f.length() > 0.0) {
+            return Err("the eye and the target are the same point".into());
+        }
+        let forward = f.normalize();
+        let r = forward.cross(self.up);
+        if !(r.length() > 1e-9) {
+            return Err("the up vector is parallel to the viewing direction: give another --up".into());
+        }
+        let right = r.normalize();
+        if !(self.fov_deg > 0.0 && self.fov_deg < 180.0) {
+            return Err(format!("--fov must be between 0 and 180 degrees, got {}", self.fov_deg));
+        }
+        Ok(CameraFrame { forward, right, up: right.cross(forward), tan_half_fov: (0.5 * self.fov_deg.to_radians()).tan() })
+    }
+
+    /// The unit primary ray direction through pixel (i, j), j = 0 the top row.
+    pub fn ray(frame: &CameraFrame, i: u32, j: u32, w: u32, h: u32) -> DVec3 {
+        let (wf, hf) = (w as f64, h as f64);
+        let sx = ((i as f64 + 0.5) / wf * 2.0 - 1.0) * frame.tan_half_fov * wf / hf;
+        let sy = (1.0 - (j as f64 + 0.5) / hf * 2.0) * frame.tan_half_fov;
+        (frame.forward + sx * frame.right + sy * frame.up).normalize()
+    }
+}
+
+/// Pixel outcome.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Status {
+    /// The ray misses the surface (or the box).
+    Miss,
+    /// A root was found.
+    Hit,
+    /// The iteration budget ran out before the traversal finished.
+    Unresolved,
+}
+
+/// One rendered pixel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PixelOut {
+    /// Linear RGB and alpha (1 on hits).
+    pub color: [f32; 4],
+    /// Unit normal (zero on misses).
+    pub normal: [f32; 3],
+    /// Distance along the unit primary ray from the eye (+inf on misses).
+    pub depth: f32,
+    /// Inclusion evaluations spent on this pixel.
+    pub evals: u32,
+    /// Outcome.
+    pub status: Status,
+}
+
+/// Per-frame statistics.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Stats {
+    /// GPU time of the dispatches (timestamp queries when the device has
+    /// them, else submit-to-idle wall time), milliseconds.
+    pub gpu_ms: f64,
+    /// Wall time of the whole frame including read-back, milliseconds.
+    pub wall_ms: f64,
+    /// Pixels in the image.
+    pub pixels: u64,
+    /// Pixels whose ray found a root.
+    pub hits: u64,
+    /// Pixels that ran out of iterations.
+    pub unresolved: u64,
+    /// Mean inclusion evaluations per pixel.
+    pub evals_mean: f64,
+    /// 99th percentile.
+    pub evals_p99: u32,
+    /// Maximum.
+    pub evals_max: u32,
+    /// Bisection depth for a segment across the whole box diagonal.
+    pub d_max: u32,
+    /// Number of dispatches (tiles).
+    pub dispatches: u32,
+}
+
+/// A rendered image.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major, top row first.
+    pub pixels: Vec<PixelOut>,
+    /// Statistics.
+    pub stats: Stats,
+}
+
+impl Frame {
+    /// Fills the statistics that follow from the pixels.
+    pub fn summarize(&mut self) {
+        let mut evals: Vec<u32> = self.pixels.iter().map(|p| p.evals).collect();
+        evals.sort_unstable();
+        let n = evals.len().max(1);
+        self.stats.pixels = self.pixels.len() as u64;
+        self.stats.hits = self.pixels.iter().filter(|p| p.status == Status::Hit).count() as u64;
+        self.stats.unresolved = self.pixels.iter().filter(|p| p.status == Status::Unresolved).count() as u64;
+        self.stats.evals_mean = evals.iter().map(|&e| e as f64).sum::<f64>() / n as f64;
+        self.stats.evals_p99 = evals.get((evals.len() * 99) / 100).copied().unwrap_or(0);
+        self.stats.evals_max = evals.last().copied().unwrap_or(0);
+    }
+}
+
+/// `--eps`: an absolute width (`0.001`) or a power of two (`2^-11`).
+pub fn parse_eps(s: &str) -> Result<f64, String> {
+    let s = s.trim();
+    let v = if let Some(e) = s.strip_prefix("2^") {
+        let k: f64 = e.parse().map_err(|_| format!("invalid eps '{s}': expected a number like 0.001 or a power of two like 2^-11"))?;
+        2f64.powf(k)
+    } else {
+        s.parse::<f64>().map_err(|_| format!("invalid eps '{s}': expected a number like 0.001 or a power of two like 2^-11"))?
+    };
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(format!("invalid eps '{s}': it must be a positive width"));
+    }
+    Ok(v)
+}
