@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs what isotrace needs on a fresh Debian/Ubuntu machine:
+#  - a Rust toolchain (cargo) new enough for edition 2024 (checked, not installed:
+#    use rustup), and
+#  - a Vulkan driver: when no Vulkan ICD is present, Mesa's CPU driver lavapipe
+#    (apt-get install mesa-vulkan-drivers libvulkan1; as root, else the exact
+#    command is printed).
+# Sourced by scripts/demo.sh and scripts/test.sh.
+set -euo pipefail
+
+if ! command -v cargo >/dev/null 2>&1; then
+    echo "isotrace setup: cargo not found. Install Rust (1.85 or newer) with rustup: https://rustup.rs" >&2
+    exit 1
+fi
+
+have_vulkan() {
+    # An installed ICD manifest means a Vulkan driver is present.
+    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1 && ldconfig -p | grep -q libvulkan.so.1
+}
+
+if ! have_vulkan; then
+    cmd="apt-get update -qq && apt-get install -y -qq mesa-vulkan-drivers libvulkan1"
+    if [ "$(id -u)" = "0" ]; then
+        echo "isotrace setup: no Vulkan driver found; installing Mesa lavapipe (CPU Vulkan)" >&2
+        DEBIAN_FRONTEND=noninteractive bash -c "$cmd" >&2
+    else
+        echo "isotrace setup: no Vulkan driver found. Install Mesa's CPU driver with:" >&2
+        echo "    sudo $cmd" >&2
+        exit 1
+    fi
+fi
+# Mesa's device-select layer warns on every start without this.
+export NODEVICE_SELECT=1
