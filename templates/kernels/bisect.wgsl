@@ -112,17 +112,30 @@ fn sign_change(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> bool {
     return (f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0);
 }
 
-// Root position inside the hit cell: scalar bisection where f changes sign,
-// else the cell's midpoint (both within eps of a root of the enclosure).
+// Root position for the hit cell [t0, t1]. An enclosure can contain 0 a
+// little before the surface (overestimation), so when f does not change sign
+// across the cell we look up to LOOKAHEAD cells further (IA overestimates most where the gradient is nearly perpendicular to the ray) for a sign change
+// (scalar evaluations only) and bisect there; without one (a tangent root or
+// a feature thinner than a cell) the cell's midpoint is the answer.
+const LOOKAHEAD: i32 = 16;
 fn refine(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> f32 {
+    let w = t1 - t0;
     var a = t0;
     var b = t1;
     var fa = f_at(pe + dir * a);
-    let fb = f_at(pe + dir * b);
-    if (!((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0))) {
-        return 0.5 * (a + b);
+    var fb = f_at(pe + dir * b);
+    var found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
+    for (var k = 0; k < LOOKAHEAD && !found && b < 1.0; k = k + 1) {
+        a = b;
+        fa = fb;
+        b = min(b + w, 1.0);
+        fb = f_at(pe + dir * b);
+        found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
     }
-    for (var i = 0; i < 10; i = i + 1) {
+    if (!found) {
+        return 0.5 * (t0 + t1);
+    }
+    for (var i = 0; i < 12; i = i + 1) {
         let m = 0.5 * (a + b);
         let fm = f_at(pe + dir * m);
         if ((fa <= 0.0) == (fm <= 0.0)) { a = m; fa = fm; } else { b = m; }

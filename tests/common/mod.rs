@@ -1,0 +1,95 @@
+//! Helpers shared by the integration tests: one GPU device per test binary,
+//! quick render settings, and a brute-force f64 CPU reference ray caster.
+#![allow(dead_code)]
+
+use glam::DVec3;
+use isotrace::gpu::render::{Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::Gpu;
+use isotrace::render::{Camera, Frame};
+use isotrace::Formula;
+use std::sync::OnceLock;
+
+/// The device shared by every test of a binary.
+pub fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| Gpu::new().expect("a Vulkan device (install mesa-vulkan-drivers)"))
+}
+
+/// Settings with the CLI's defaults for a box and size.
+pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
+    let diag = ((bbox[1] - bbox[0]).powi(2) + (bbox[3] - bbox[2]).powi(2) + (bbox[5] - bbox[4]).powi(2)).sqrt();
+    Settings {
+        width: w,
+        height: h,
+        bbox,
+        camera: Camera::default_for(&bbox, 40.0, w as f64 / h as f64),
+        eps: diag * 2f64.powi(-11),
+        time: 0.0,
+        params: vec![],
+        max_iter: DEFAULT_MAX_ITER,
+        tile: 1024,
+        debug_unresolved: false,
+    }
+}
+
+/// Compiles and renders.
+pub fn render(src: &str, domain: isotrace::codegen::Domain, s: &Settings) -> Frame {
+    let f = Formula::compile("<test>", src).unwrap();
+    Renderer::new(gpu(), &f.ir, domain).unwrap().render(s).unwrap()
+}
+
+/// A cube box.
+pub fn cube(a: f64) -> [f64; 6] {
+    [-a, a, -a, a, -a, a]
+}
+
+/// Brute-force reference: the first sign change of f along the pixel's ray
+/// inside the box, found by dense sampling (`samples` steps) and refined by
+/// f64 bisection. Returns the distance from the eye and the width of the
+/// sampling step that bracketed it.
+pub fn reference_root(f: &Formula, s: &Settings, i: u32, j: u32, samples: usize) -> Option<(f64, f64)> {
+    let frame = s.camera.frame().unwrap();
+    let d = Camera::ray(&frame, i, j, s.width, s.height);
+    let o = s.camera.eye;
+    let (t0, t1) = clip(o, d, &s.bbox)?;
+    let g = |t: f64| {
+        let p = o + d * t;
+        isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
+    };
+    let step = (t1 - t0) / samples as f64;
+    let mut a = t0;
+    let mut fa = g(a);
+    for k in 1..=samples {
+        let b = t0 + step * k as f64;
+        let fb = g(b);
+        if fa.is_finite() && fb.is_finite() && (fa < 0.0) != (fb < 0.0) && fa != 0.0 {
+            let (mut lo, mut hi, mut flo) = (a, b, fa);
+            for _ in 0..60 {
+                let m = 0.5 * (lo + hi);
+                let fm = g(m);
+                if (fm < 0.0) == (flo < 0.0) { lo = m; flo = fm; } else { hi = m; }
+            }
+            return Some((0.5 * (lo + hi), step));
+        }
+        if fa == 0.0 {
+            return Some((a, step));
+        }
+        a = b;
+        fa = fb;
+    }
+    None
+}
+
+/// Ray–box clip: entry and exit distances (entry ≥ 0).
+pub fn clip(o: DVec3, d: DVec3, b: &[f64; 6]) -> Option<(f64, f64)> {
+    let lo = DVec3::new(b[0], b[2], b[4]);
+    let hi = DVec3::new(b[1], b[3], b[5]);
+    let inv = DVec3::ONE / d;
+    let ta = (lo - o) * inv;
+    let tb = (hi - o) * inv;
+    let tmin = ta.min(tb);
+    let tmax = ta.max(tb);
+    let t0 = tmin.max_element().max(0.0);
+    let t1 = tmax.min_element();
+    (t0 < t1).then_some((t0, t1))
+}
