@@ -1,6 +1,7 @@
 //! Subcommands and their arguments (clap), and the one place errors are
 //! rendered for the terminal.
 
+mod eval;
 mod input;
 mod render;
 
@@ -34,6 +35,9 @@ enum Command {
     /// Ray trace the surface f = 0 into a PNG or EXR image.
     #[command(after_help = "Examples:\n  isotrace render 'x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8' --box=-3,3 -o tangle.png\n  isotrace render 'x^2 + y^2 + z^2 - r^2' --param r=1.2 --size 800x600 -o sphere.exr --stats\n  isotrace render 'z - 0.1*sin(4*x + t)' --box=-4,4,-4,4,-1,1 --frames 30 --t0 0 --t1 6.28 -o frames/f_%04d.png")]
     Render(render::RenderArgs),
+    /// Evaluate the generated scalar / interval / affine evaluator on boxes, on the device.
+    #[command(after_help = "Boxes are read one per line: x0 x1 y0 y1 z0 z1 [t0 t1]; with --algebra scalar a line is a point x y z [t].\nOutput: one line per box, 'lo hi' or 'empty' (scalar: the value).\n\nExamples:\n  echo '-1 1 -1 1 -1 1' | isotrace eval 'x^2 + y^2 + z^2 - 1' --algebra ia\n  isotrace eval 'sqrt(x) - y' --algebra raa --boxes boxes.txt --cpu\n  echo '0.5 0 0' | isotrace eval 'x^2 - a' --algebra scalar --param a=2")]
+    Eval(eval::EvalArgs),
 }
 
 #[derive(Args, Debug)]
@@ -127,6 +131,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Check(a) => check(a),
         Command::Wgsl(a) => wgsl(a),
         Command::Render(a) => render::run(a),
+        Command::Eval(a) => eval::run(a),
     }
 }
 
