@@ -1,0 +1,491 @@
+//! The catalog of named surfaces: `.iso` files and the built-in set.
+//!
+//! An `.iso` file is a formula file whose leading `#@ key: value` lines are a
+//! header. `#` starts a comment in the formula language, so the whole file is
+//! still a valid formula and [`Entry::formula`] is the complete file text
+//! (diagnostics then point at the file's own lines). The format is described
+//! in `examples/README.md`.
+//!
+//! ```
+//! let e = isotrace::catalog::lookup("tangle").unwrap();
+//! assert_eq!(e.header.bbox, [-3.0, 3.0, -3.0, 3.0, -3.0, 3.0]);
+//! assert_eq!(e.compile().unwrap().ir.degree(), Some(4));
+//! ```
+
+use crate::diag::closest;
+use crate::{Formula, FormulaError};
+use std::path::{Path, PathBuf};
+
+/// The box of a file that gives none: `[-2, 2]³`.
+pub const DEFAULT_BOX: [f64; 6] = [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0];
+
+/// Every header key, in the order the documentation lists them.
+pub const KEYS: &[&str] = &[
+    "name", "title", "box", "t", "eye", "target", "up", "fov", "eps", "algebra", "param", "degree", "status",
+    "source", "notes", "animate", "clip",
+];
+
+/// The built-in surfaces: file name and text of every `examples/*.iso`.
+const BUILTIN: &[(&str, &str)] = &[
+    // The 16 surfaces of Knoll et al. (Table 1), in the table's order.
+    ("sphere.iso", include_str!("../examples/sphere.iso")),
+    ("steiner.iso", include_str!("../examples/steiner.iso")),
+    ("mitchell.iso", include_str!("../examples/mitchell.iso")),
+    ("teardrop.iso", include_str!("../examples/teardrop.iso")),
+    ("4-bretzel.iso", include_str!("../examples/4-bretzel.iso")),
+    ("klein-bottle.iso", include_str!("../examples/klein-bottle.iso")),
+    ("tangle.iso", include_str!("../examples/tangle.iso")),
+    ("decocube.iso", include_str!("../examples/decocube.iso")),
+    ("barth-sextic.iso", include_str!("../examples/barth-sextic.iso")),
+    ("barth-decic.iso", include_str!("../examples/barth-decic.iso")),
+    ("superquadric.iso", include_str!("../examples/superquadric.iso")),
+    ("icos.csg.iso", include_str!("../examples/icos.csg.iso")),
+    ("sq.csg.iso", include_str!("../examples/sq.csg.iso")),
+    ("sin.blob.iso", include_str!("../examples/sin.blob.iso")),
+    ("cloth.iso", include_str!("../examples/cloth.iso")),
+    ("water.iso", include_str!("../examples/water.iso")),
+    // Further classics.
+    ("torus.iso", include_str!("../examples/torus.iso")),
+    ("heart.iso", include_str!("../examples/heart.iso")),
+    ("gyroid.iso", include_str!("../examples/gyroid.iso")),
+    ("cayley-cubic.iso", include_str!("../examples/cayley-cubic.iso")),
+    ("clebsch-cubic.iso", include_str!("../examples/clebsch-cubic.iso")),
+    ("kummer-quartic.iso", include_str!("../examples/kummer-quartic.iso")),
+    ("chmutov-octic.iso", include_str!("../examples/chmutov-octic.iso")),
+];
+
+/// One named surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry {
+    /// The `name` key, else the file stem (`icos.csg` for `icos.csg.iso`).
+    pub name: String,
+    /// The file it was loaded from; `None` for a built-in entry.
+    pub path: Option<PathBuf>,
+    /// The parsed header.
+    pub header: Header,
+    /// The whole file text (header lines included: they are comments).
+    pub formula: String,
+}
+
+/// The typed header of an `.iso` file. Every key is optional.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Header {
+    /// `title`: a human-readable name.
+    pub title: Option<String>,
+    /// `box`: `[x0, x1, y0, y1, z0, z1]`; [`DEFAULT_BOX`] when not given.
+    pub bbox: [f64; 6],
+    /// `t`: the time value.
+    pub t: Option<f64>,
+    /// `eye`: camera position.
+    pub eye: Option<[f64; 3]>,
+    /// `target`: the point the camera looks at.
+    pub target: Option<[f64; 3]>,
+    /// `up`: the camera's approximate up direction.
+    pub up: Option<[f64; 3]>,
+    /// `fov`: vertical field of view in degrees, in (0, 180).
+    pub fov: Option<f64>,
+    /// `eps`: the traversal's length tolerance, > 0.
+    pub eps: Option<f64>,
+    /// `algebra`: the inclusion algebra to use.
+    pub algebra: Option<Algebra>,
+    /// `param` lines: parameter values, in file order.
+    pub params: Vec<(String, f64)>,
+    /// `degree`: free text (`4`, `12 (the table lists 4)`, `non-algebraic`).
+    pub degree: Option<String>,
+    /// `status`: whether the formula is a published one or a reconstruction.
+    pub status: Option<Status>,
+    /// `source`: provenance.
+    pub source: Option<String>,
+    /// `notes`: free text.
+    pub notes: Option<String>,
+    /// `animate`: the `[t0, t1]` range of an animated (4D) surface, t0 < t1.
+    pub animate: Option<[f64; 2]>,
+    /// `clip`: a clipping hint for unbounded surfaces.
+    pub clip: Option<Clip>,
+}
+
+impl Default for Header {
+    fn default() -> Self {
+        Header {
+            title: None,
+            bbox: DEFAULT_BOX,
+            t: None,
+            eye: None,
+            target: None,
+            up: None,
+            fov: None,
+            eps: None,
+            algebra: None,
+            params: Vec::new(),
+            degree: None,
+            status: None,
+            source: None,
+            notes: None,
+            animate: None,
+            clip: None,
+        }
+    }
+}
+
+impl Header {
+    /// The value of parameter `name`, if the header sets it.
+    pub fn param(&self, name: &str) -> Option<f64> {
+        self.params.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
+    }
+}
+
+/// The `algebra` key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Algebra {
+    /// `ia`: interval arithmetic.
+    Ia,
+    /// `raa`: reduced affine arithmetic.
+    Raa,
+    /// `auto`: chosen per formula.
+    Auto,
+}
+
+impl Algebra {
+    /// The spelling in files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Algebra::Ia => "ia",
+            Algebra::Raa => "raa",
+            Algebra::Auto => "auto",
+        }
+    }
+}
+
+/// The `status` key: where the formula comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// The standard published form of the named surface.
+    Published,
+    /// A reconstruction: the original formula is not known.
+    Reconstruction,
+}
+
+impl Status {
+    /// The spelling in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Published => "published",
+            Status::Reconstruction => "reconstruction",
+        }
+    }
+}
+
+/// The `clip` key: a region to intersect an unbounded surface with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Clip {
+    /// `sphere:R`: the ball of radius R around the box centre.
+    Sphere(f64),
+}
+
+/// Errors of the catalog.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CatalogError {
+    /// A malformed header (or a file with no formula), with its 1-based line.
+    #[error("{file}:{line}: {message}")]
+    Parse {
+        /// The file as displayed.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A file that cannot be read.
+    #[error("{file}: {message}")]
+    Read {
+        /// The file as displayed.
+        file: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// A name that is not in the built-in catalog.
+    #[error("unknown surface '{name}'; {}", unknown_tail(.suggestions, .known))]
+    UnknownName {
+        /// The name asked for.
+        name: String,
+        /// The closest built-in names (may be empty).
+        suggestions: Vec<String>,
+        /// Every built-in name.
+        known: Vec<String>,
+    },
+}
+
+fn unknown_tail(suggestions: &[String], known: &[String]) -> String {
+    if suggestions.is_empty() {
+        format!("the catalog has: {}", known.join(", "))
+    } else {
+        format!("did you mean {}?", quote_list(suggestions))
+    }
+}
+
+fn quote_list(s: &[String]) -> String {
+    let q: Vec<String> = s.iter().map(|s| format!("'{s}'")).collect();
+    match q.len() {
+        0 | 1 => q.concat(),
+        n => format!("{} or {}", q[..n - 1].join(", "), q[n - 1]),
+    }
+}
+
+impl Entry {
+    /// Where the formula came from, for diagnostics: the file path, or
+    /// `@name` for a built-in entry.
+    pub fn origin(&self) -> String {
+        match &self.path {
+            Some(p) => p.display().to_string(),
+            None => format!("@{}", self.name),
+        }
+    }
+
+    /// Parses and analyses the formula (the whole file text).
+    pub fn compile(&self) -> Result<Formula, FormulaError> {
+        Formula::compile(&self.origin(), &self.formula)
+    }
+}
+
+/// Every built-in surface, in catalog order.
+///
+/// # Panics
+/// If an embedded file does not parse (the tests make sure they all do).
+pub fn builtin() -> Vec<Entry> {
+    BUILTIN
+        .iter()
+        .map(|(file, text)| parse_iso(&format!("examples/{file}"), text).unwrap_or_else(|e| panic!("built-in catalog: {e}")))
+        .collect()
+}
+
+/// The built-in surface called `name`. Spaces count as hyphens, case is
+/// ignored and a trailing `.iso` is dropped, so `Klein Bottle` finds
+/// `klein-bottle`. An unknown name is an error that suggests close names.
+pub fn lookup(name: &str) -> Result<Entry, CatalogError> {
+    let wanted = name.trim();
+    let wanted = wanted.strip_suffix(".iso").unwrap_or(wanted).replace(' ', "-").to_ascii_lowercase();
+    let all = builtin();
+    if let Some(e) = all.iter().find(|e| e.name.to_ascii_lowercase() == wanted) {
+        return Ok(e.clone());
+    }
+    let known: Vec<String> = all.into_iter().map(|e| e.name).collect();
+    let suggestions = closest(&wanted, known.iter().map(String::as_str)).into_iter().map(String::from).collect();
+    Err(CatalogError::UnknownName { name: name.to_string(), suggestions, known })
+}
+
+/// Reads and parses an `.iso` file.
+pub fn load_file(path: impl AsRef<Path>) -> Result<Entry, CatalogError> {
+    let path = path.as_ref();
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| CatalogError::Read { file: file.clone(), message: format!("cannot read: {e}") })?;
+    let text = String::from_utf8(bytes).map_err(|e| CatalogError::Read {
+        file: file.clone(),
+        message: format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()),
+    })?;
+    let mut entry = parse_iso(&file, &text)?;
+    entry.path = Some(path.to_path_buf());
+    Ok(entry)
+}
+
+/// Parses the text of an `.iso` file. `path_display` names the file in
+/// errors and gives the entry its name when there is no `name` key. The
+/// returned entry has `path: None`; [`load_file`] fills it in.
+pub fn parse_iso(path_display: &str, text: &str) -> Result<Entry, CatalogError> {
+    let err = |line: usize, message: String| CatalogError::Parse { file: path_display.to_string(), line, message };
+    let mut header = Header::default();
+    let mut name: Option<String> = None;
+    let mut seen: Vec<(&str, usize)> = Vec::new();
+    let mut params_seen: Vec<(String, usize)> = Vec::new();
+    let mut formula_started = false;
+    for (i, line) in text.lines().enumerate() {
+        let n = i + 1;
+        let trimmed = line.trim_start();
+        if let Some(rest) = trimmed.strip_prefix("#@") {
+            if formula_started {
+                return Err(err(n, "header line after the start of the formula (header lines must come first)".into()));
+            }
+            let (key, value) = split_header_line(rest).map_err(|m| err(n, m))?;
+            if !KEYS.contains(&key) {
+                return Err(err(n, unknown_key(key)));
+            }
+            if key != "param" {
+                if let Some(&(_, first)) = seen.iter().find(|(k, _)| *k == key) {
+                    return Err(err(n, format!("duplicate key '{key}' (first given on line {first})")));
+                }
+                seen.push((key, n));
+            }
+            let bad = |why: String| err(n, format!("bad {key} value '{value}': {why}"));
+            apply(&mut header, &mut name, key, value).map_err(bad)?;
+            if key == "param" {
+                let pname = &header.params.last().expect("apply pushed a param").0;
+                if let Some((_, first)) = params_seen.iter().find(|(p, _)| p == pname) {
+                    return Err(err(n, format!("duplicate param '{pname}' (first given on line {first})")));
+                }
+                params_seen.push((pname.clone(), n));
+            }
+        } else if !(trimmed.is_empty() || trimmed.starts_with('#')) {
+            formula_started = true;
+        }
+    }
+    if !formula_started {
+        let end = text.lines().count() + usize::from(text.is_empty() || text.ends_with('\n'));
+        return Err(err(end, "missing formula: the file has only a header".into()));
+    }
+    let name = name.unwrap_or_else(|| file_stem(path_display));
+    Ok(Entry { name, path: None, header, formula: text.to_string() })
+}
+
+/// `" key: value"` → `("key", "value")`.
+fn split_header_line(rest: &str) -> Result<(&str, &str), String> {
+    let malformed = || "malformed header line: expected '#@ key: value'".to_string();
+    let (key, value) = rest.split_once(':').ok_or_else(malformed)?;
+    let key = key.trim();
+    if key.is_empty() || !key.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_' || c == b'-') {
+        return Err(malformed());
+    }
+    let value = value.trim();
+    if value.is_empty() {
+        return Err(format!("empty value for key '{key}'"));
+    }
+    Ok((key, value))
+}
+
+fn unknown_key(key: &str) -> String {
+    match closest(key, KEYS.iter().copied()).first() {
+        Some(s) => format!("unknown key '{key}' (did you mean '{s}'?)"),
+        None => format!("unknown key '{key}' (keys: {})", KEYS.join(", ")),
+    }
+}
+
+/// Stores one `key: value` in the header; the error says why the value is bad.
+fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value: &str) -> Result<(), String> {
+    let text = || Some(value.to_string());
+    match key {
+        "name" => *name = Some(parse_name(value)?),
+        "title" => h.title = text(),
+        "box" => h.bbox = parse_box(value)?,
+        "t" => h.t = Some(number(value).ok_or("expected a number")?),
+        "eye" => h.eye = Some(parse_vec3(value)?),
+        "target" => h.target = Some(parse_vec3(value)?),
+        "up" => {
+            let v = parse_vec3(value)?;
+            if v == [0.0; 3] {
+                return Err("the up vector must not be zero".into());
+            }
+            h.up = Some(v);
+        }
+        "fov" => match number(value) {
+            Some(f) if f > 0.0 && f < 180.0 => h.fov = Some(f),
+            _ => return Err("expected an angle in degrees between 0 and 180 (exclusive)".into()),
+        },
+        "eps" => h.eps = Some(parse_eps(value)?),
+        "algebra" => {
+            h.algebra = Some(match value {
+                "ia" => Algebra::Ia,
+                "raa" => Algebra::Raa,
+                "auto" => Algebra::Auto,
+                _ => return Err("expected 'ia', 'raa' or 'auto'".into()),
+            })
+        }
+        "param" => h.params.push(parse_param(value)?),
+        "degree" => h.degree = text(),
+        "status" => {
+            h.status = Some(match value {
+                "published" => Status::Published,
+                "reconstruction" => Status::Reconstruction,
+                _ => return Err("expected 'published' or 'reconstruction'".into()),
+            })
+        }
+        "source" => h.source = text(),
+        "notes" => h.notes = text(),
+        "animate" => match numbers(value).as_deref() {
+            Some(&[t0, t1]) if t0 < t1 => h.animate = Some([t0, t1]),
+            _ => return Err("expected 't0,t1' with t0 < t1".into()),
+        },
+        "clip" => {
+            let r = value.strip_prefix("sphere:").and_then(number);
+            match r {
+                Some(r) if r > 0.0 => h.clip = Some(Clip::Sphere(r)),
+                _ => return Err("expected 'sphere:R' with a radius R > 0".into()),
+            }
+        }
+        _ => unreachable!("key checked against KEYS"),
+    }
+    Ok(())
+}
+
+fn parse_name(s: &str) -> Result<String, String> {
+    let ok = !s.starts_with(['-', '.']) && s.bytes().all(|c| c.is_ascii_alphanumeric() || matches!(c, b'-' | b'_' | b'.'));
+    if ok { Ok(s.to_string()) } else { Err("a name uses letters, digits, '-', '_' and '.' only".into()) }
+}
+
+fn parse_param(s: &str) -> Result<(String, f64), String> {
+    let (n, v) = s.split_once('=').ok_or("expected 'name=value'")?;
+    let n = n.trim();
+    let is_ident = n.bytes().next().is_some_and(|c| c.is_ascii_alphabetic() || c == b'_')
+        && n.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_');
+    if !is_ident {
+        return Err(format!("'{n}' is not a parameter name"));
+    }
+    let v = number(v).ok_or_else(|| format!("'{}' is not a number", v.trim()))?;
+    Ok((n.to_string(), v))
+}
+
+fn file_stem(path_display: &str) -> String {
+    let base = path_display.rsplit(['/', '\\']).next().unwrap_or(path_display);
+    base.strip_suffix(".iso").unwrap_or(base).to_string()
+}
+
+/// A finite number (Rust float syntax, surrounding whitespace allowed).
+fn number(s: &str) -> Option<f64> {
+    s.trim().parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// Comma-separated finite numbers.
+fn numbers(s: &str) -> Option<Vec<f64>> {
+    s.split(',').map(number).collect()
+}
+
+/// Parses a tolerance: `0.001`, `1e-3` or a power `2^-11` (`b^k` with an
+/// integer k). It must be finite and > 0.
+pub fn parse_eps(s: &str) -> Result<f64, String> {
+    let s = s.trim();
+    let value = match s.split_once('^') {
+        Some((b, k)) => match (number(b), k.trim().parse::<i32>()) {
+            (Some(b), Ok(k)) => b.powi(k),
+            _ => return Err("expected a number such as 0.001, 1e-3 or 2^-11".into()),
+        },
+        None => s.parse::<f64>().map_err(|_| "expected a number such as 0.001, 1e-3 or 2^-11".to_string())?,
+    };
+    if !value.is_finite() {
+        Err("must be a finite number".into())
+    } else if value <= 0.0 {
+        Err("must be greater than 0".into())
+    } else {
+        Ok(value)
+    }
+}
+
+/// Parses a box: `lo,hi` (the same range on every axis) or
+/// `x0,x1,y0,y1,z0,z1`, with lo < hi on every axis.
+pub fn parse_box(s: &str) -> Result<[f64; 6], String> {
+    let b = match numbers(s).as_deref() {
+        Some(&[lo, hi]) => [lo, hi, lo, hi, lo, hi],
+        Some(&[x0, x1, y0, y1, z0, z1]) => [x0, x1, y0, y1, z0, z1],
+        _ => return Err("expected 2 or 6 numbers".into()),
+    };
+    for (axis, k) in [("x", 0), ("y", 2), ("z", 4)] {
+        if b[k] >= b[k + 1] {
+            return Err(format!("empty {axis} range: {} is not below {}", b[k], b[k + 1]));
+        }
+    }
+    Ok(b)
+}
+
+/// Parses a vector `x,y,z` of three finite numbers.
+pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    match numbers(s).as_deref() {
+        Some(&[x, y, z]) => Ok([x, y, z]),
+        _ => Err("expected 3 numbers 'x,y,z'".into()),
+    }
+}
