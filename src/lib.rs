@@ -15,6 +15,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod catalog;
 pub mod codegen;
 pub mod diag;
 pub mod gpu;
