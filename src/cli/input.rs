@@ -1,8 +1,10 @@
 //! Where a formula comes from: the argument itself, `-f FILE`, a path ending
-//! in `.iso`, or `-` for stdin; and atomic file output.
+//! in `.iso` (with its header), `@name` from the catalog, or `-` for stdin;
+//! and atomic file output.
 
 use super::CliError;
 use clap::Args;
+use isotrace::catalog::{self, Header};
 use isotrace::Formula;
 use std::io::Read;
 use std::path::Path;
@@ -10,7 +12,7 @@ use std::path::Path;
 /// The formula arguments shared by every command.
 #[derive(Args, Debug, Clone)]
 pub struct FormulaArgs {
-    /// The formula (e.g. 'x^2 + y^2 + z^2 - 1'), a path ending in .iso, or - for stdin.
+    /// The formula (e.g. 'x^2 + y^2 + z^2 - 1'), @name of a catalog surface (see `isotrace list`), a path ending in .iso, or - for stdin.
     #[arg(value_name = "FORMULA", required_unless_present = "file", allow_hyphen_values = true)]
     pub formula: Option<String>,
     /// Read the formula from FILE.
@@ -18,14 +20,40 @@ pub struct FormulaArgs {
     pub file: Option<std::path::PathBuf>,
 }
 
+/// A compiled formula and, for catalog entries and `.iso` files, the
+/// header whose values are the defaults of the render flags.
+pub struct Loaded {
+    /// The formula.
+    pub formula: Formula,
+    /// The `.iso` header, if any.
+    pub header: Option<Header>,
+    /// Catalog name or file stem.
+    pub name: String,
+}
+
 impl FormulaArgs {
     /// Reads and compiles the formula.
     pub fn load(&self) -> Result<Formula, CliError> {
-        let (origin, text) = self.text()?;
-        Ok(Formula::compile(&origin, &text)?)
+        Ok(self.load_with_header()?.formula)
     }
 
-    /// The formula's origin name and text.
+    /// Reads and compiles the formula, keeping an `.iso` header.
+    pub fn load_with_header(&self) -> Result<Loaded, CliError> {
+        let entry = match (&self.file, self.formula.as_deref()) {
+            (Some(p), _) if p.extension().is_some_and(|e| e == "iso") => Some(load_iso(p)?),
+            (None, Some(a)) if a.starts_with('@') => Some(catalog::lookup(&a[1..]).map_err(|e| CliError::Input(e.to_string()))?),
+            (None, Some(a)) if a.ends_with(".iso") => Some(load_iso(Path::new(a))?),
+            _ => None,
+        };
+        if let Some(e) = entry {
+            let formula = e.compile()?;
+            return Ok(Loaded { formula, header: Some(e.header), name: e.name });
+        }
+        let (origin, text) = self.text()?;
+        Ok(Loaded { formula: Formula::compile(&origin, &text)?, header: None, name: "formula".into() })
+    }
+
+    /// The formula's origin name and text (no header handling).
     pub fn text(&self) -> Result<(String, String), CliError> {
         if let Some(p) = &self.file {
             return read_file(p);
@@ -38,11 +66,12 @@ impl FormulaArgs {
                 .map_err(|e| CliError::Input(format!("cannot read the formula from stdin: {e}")))?;
             return Ok(("<stdin>".into(), s));
         }
-        if arg.ends_with(".iso") {
-            return read_file(Path::new(&arg));
-        }
         Ok(("<formula>".into(), arg))
     }
+}
+
+fn load_iso(p: &Path) -> Result<catalog::Entry, CliError> {
+    catalog::load_file(p).map_err(|e| CliError::Input(e.to_string()))
 }
 
 fn read_file(p: &Path) -> Result<(String, String), CliError> {

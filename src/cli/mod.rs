@@ -38,6 +38,16 @@ enum Command {
     /// Evaluate the generated scalar / interval / affine evaluator on boxes, on the device.
     #[command(after_help = "Boxes are read one per line: x0 x1 y0 y1 z0 z1 [t0 t1]; with --algebra scalar a line is a point x y z [t].\nOutput: one line per box, 'lo hi' or 'empty' (scalar: the value).\n\nExamples:\n  echo '-1 1 -1 1 -1 1' | isotrace eval 'x^2 + y^2 + z^2 - 1' --algebra ia\n  isotrace eval 'sqrt(x) - y' --algebra raa --boxes boxes.txt --cpu\n  echo '0.5 0 0' | isotrace eval 'x^2 - a' --algebra scalar --param a=2")]
     Eval(eval::EvalArgs),
+    /// List the named surfaces of the catalog (render one with @name).
+    #[command(after_help = "Examples:\n  isotrace list\n  isotrace list --long\n  isotrace render @tangle -o tangle.png")]
+    List(ListArgs),
+}
+
+#[derive(Args, Debug)]
+struct ListArgs {
+    /// Also show box, degree, status and source.
+    #[arg(long)]
+    long: bool,
 }
 
 #[derive(Args, Debug)]
@@ -132,6 +142,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Wgsl(a) => wgsl(a),
         Command::Render(a) => render::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::List(a) => list(a),
     }
 }
 
@@ -211,4 +222,28 @@ pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
         bar.set_style(style);
     }
     Some(bar)
+}
+
+fn list(a: ListArgs) -> Result<ExitCode, CliError> {
+    let mut out = std::io::stdout().lock();
+    for e in isotrace::catalog::builtin() {
+        let h = &e.header;
+        let title = h.title.clone().unwrap_or_default();
+        if a.long {
+            let b = h.bbox;
+            let status = match h.status {
+                Some(isotrace::catalog::Status::Published) => "published",
+                Some(isotrace::catalog::Status::Reconstruction) => "reconstruction",
+                None => "-",
+            };
+            let _ = writeln!(out, "{:<16} {title}", e.name);
+            let _ = writeln!(out, "    box [{},{}]x[{},{}]x[{},{}]  degree {}  {status}", b[0], b[1], b[2], b[3], b[4], b[5], h.degree.as_deref().unwrap_or("-"));
+            if let Some(src) = &h.source {
+                let _ = writeln!(out, "    source: {src}");
+            }
+        } else {
+            let _ = writeln!(out, "{:<16} {title}", e.name);
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -6,9 +6,10 @@ use glam::DVec3;
 use isotrace::gpu::render::{Renderer, Settings, DEFAULT_MAX_ITER};
 use isotrace::gpu::Gpu;
 use isotrace::output;
-use isotrace::render::{parse_eps, Camera, Frame};
+use isotrace::catalog::{self, Header};
+use isotrace::render::{Camera, Frame};
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Flags shared by `render` and `bench`.
@@ -47,6 +48,9 @@ pub struct ViewArgs {
     /// Largest tile side per dispatch (renders are split so a GPU watchdog never fires).
     #[arg(long, value_name = "PIXELS", default_value_t = 1024)]
     pub tile: u32,
+    /// Clip to a ball around the box centre as well as the box: `sphere:R`.
+    #[arg(long, value_name = "sphere:R")]
+    pub clip: Option<String>,
     /// Draw pixels that exhausted the iteration budget in magenta.
     #[arg(long)]
     pub debug_unresolved: bool,
@@ -102,32 +106,21 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
     Ok((w, h))
 }
 
-fn parse_floats(flag: &str, s: &str, n: &[usize]) -> Result<Vec<f64>, CliError> {
-    let v: Result<Vec<f64>, _> = s.split(',').map(|p| p.trim().parse::<f64>()).collect();
-    match v {
-        Ok(v) if n.contains(&v.len()) && v.iter().all(|x| x.is_finite()) => Ok(v),
-        _ => Err(input(format!(
-            "invalid {flag} '{s}': expected {} comma-separated numbers",
-            n.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ")
-        ))),
-    }
-}
-
 /// `--box`: 2 or 6 numbers.
 pub fn parse_box(s: &str) -> Result<[f64; 6], CliError> {
-    let v = parse_floats("--box", s, &[2, 6])?;
-    let b = if v.len() == 2 { [v[0], v[1], v[0], v[1], v[0], v[1]] } else { [v[0], v[1], v[2], v[3], v[4], v[5]] };
-    for a in 0..3 {
-        if !(b[2 * a] < b[2 * a + 1]) {
-            return Err(input(format!("invalid --box '{s}': the {} range is empty (lo must be below hi)", ["x", "y", "z"][a])));
-        }
-    }
-    Ok(b)
+    catalog::parse_box(s).map_err(|m| input(format!("invalid --box '{s}': {m}")))
 }
 
 fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, CliError> {
-    let v = parse_floats(flag, s, &[3])?;
-    Ok(DVec3::new(v[0], v[1], v[2]))
+    catalog::parse_vec3(s).map(DVec3::from_array).map_err(|m| input(format!("invalid {flag} '{s}': {m}")))
+}
+
+/// `--clip sphere:R`.
+pub fn parse_clip(s: &str) -> Result<f64, CliError> {
+    s.strip_prefix("sphere:")
+        .and_then(|r| r.trim().parse::<f64>().ok())
+        .filter(|r| *r > 0.0 && r.is_finite())
+        .ok_or_else(|| input(format!("invalid --clip '{s}': expected sphere:R with a radius R > 0")))
 }
 
 /// `--param name=value` pairs.
@@ -141,34 +134,56 @@ pub fn parse_params(list: &[String]) -> Result<Vec<(String, f64)>, CliError> {
         .collect()
 }
 
-/// Builds the frame settings from flags (validated before any GPU work).
-pub fn settings(view: &ViewArgs, size: (u32, u32), ir: &isotrace::ir::Ir, f: &isotrace::Formula) -> Result<Settings, CliError> {
+/// Builds the frame settings from flags, with an `.iso` header's values as
+/// defaults (flags override them); validated before any GPU work.
+pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header: Option<&Header>) -> Result<Settings, CliError> {
+    let ir = &f.ir;
+    let hd = header.cloned().unwrap_or_default();
     let bbox = match &view.bbox {
         Some(b) => parse_box(b)?,
-        None => [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0],
+        None => hd.bbox,
     };
     let diag = ((bbox[1] - bbox[0]).powi(2) + (bbox[3] - bbox[2]).powi(2) + (bbox[5] - bbox[4]).powi(2)).sqrt();
     let eps = match &view.eps {
-        Some(e) => parse_eps(e).map_err(input)?,
-        None => diag * 2f64.powi(-11),
+        Some(e) => catalog::parse_eps(e).map_err(|m| input(format!("invalid --eps '{e}': {m}")))?,
+        None => hd.eps.unwrap_or(diag * 2f64.powi(-11)),
     };
-    let fov = view.fov.unwrap_or(40.0);
+    let fov = view.fov.or(hd.fov).unwrap_or(40.0);
     let aspect = size.0 as f64 / size.1 as f64;
     let mut camera = Camera::default_for(&bbox, fov, aspect);
-    if let Some(t) = &view.target {
-        let t = parse_vec3("--target", t)?;
+    let target = match &view.target {
+        Some(t) => Some(parse_vec3("--target", t)?),
+        None => hd.target.map(DVec3::from_array),
+    };
+    if let Some(t) = target {
         let off = camera.eye - camera.target;
         camera.target = t;
         camera.eye = t + off;
     }
-    if let Some(e) = &view.eye {
-        camera.eye = parse_vec3("--eye", e)?;
+    match &view.eye {
+        Some(e) => camera.eye = parse_vec3("--eye", e)?,
+        None => {
+            if let Some(e) = hd.eye {
+                camera.eye = DVec3::from_array(e);
+            }
+        }
     }
-    if let Some(u) = &view.up {
-        camera.up = parse_vec3("--up", u)?;
+    match &view.up {
+        Some(u) => camera.up = parse_vec3("--up", u)?,
+        None => {
+            if let Some(u) = hd.up {
+                camera.up = DVec3::from_array(u);
+            }
+        }
     }
     camera.frame().map_err(input)?;
-    let given = parse_params(&view.params)?;
+    let clip = match &view.clip {
+        Some(c) => Some(parse_clip(c)?),
+        None => hd.clip.map(|catalog::Clip::Sphere(r)| r),
+    };
+    // Header parameters first, flags after: the last value given wins.
+    let mut given = hd.params.clone();
+    given.extend(parse_params(&view.params)?);
     let (params, warnings) = isotrace::sema::bind_params(ir, &given)
         .map_err(|d| CliError::Formula(isotrace::FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic: d }))?;
     for w in warnings {
@@ -180,12 +195,22 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), ir: &isotrace::ir::Ir, f: &is
         bbox,
         camera,
         eps,
-        time: view.time.unwrap_or(0.0),
+        time: view.time.or(hd.t).unwrap_or(0.0),
+        clip_sphere: clip,
         params,
         max_iter: view.max_iter.unwrap_or(DEFAULT_MAX_ITER),
         tile: view.tile,
         debug_unresolved: view.debug_unresolved,
     })
+}
+
+/// The CLI value for a header's `algebra`.
+pub fn algebra_arg(a: catalog::Algebra) -> AlgebraArg {
+    match a {
+        catalog::Algebra::Ia => AlgebraArg::Ia,
+        catalog::Algebra::Raa => AlgebraArg::Raa,
+        catalog::Algebra::Auto => AlgebraArg::Auto,
+    }
 }
 
 /// Opens the device, mapping "no adapter" to exit code 2.
@@ -197,10 +222,11 @@ pub fn open_gpu() -> Result<Gpu, CliError> {
 }
 
 pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
-    let f = a.formula.load()?;
+    let loaded = a.formula.load_with_header()?;
+    let f = &loaded.formula;
     let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
-    let s = settings(&a.view, size, &f.ir, &f)?;
-    let domain = resolve_algebra(a.view.algebra.unwrap_or(AlgebraArg::Auto), &f.ir);
+    let s = settings(&a.view, size, f, loaded.header.as_ref())?;
+    let domain = resolve_algebra(a.view.algebra.or(loaded.header.as_ref().and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
     if domain == isotrace::codegen::Domain::Scalar {
         return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
     }
@@ -212,7 +238,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let gpu = open_gpu()?;
     let renderer = Renderer::new(&gpu, &f.ir, domain).map_err(super::render_error)?;
     let n = outputs.len();
-    let (t0, t1) = (a.t0.unwrap_or(s.time), a.t1.unwrap_or(s.time + 1.0));
+    let anim = loaded.header.as_ref().and_then(|h| h.animate);
+    let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
     let bar = super::progress(n as u64, "frames");
     let mut last: Option<Frame> = None;
     for (k, path) in outputs.iter().enumerate() {
@@ -287,5 +314,3 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
     }
 }
 
-#[allow(dead_code)]
-fn _unused(_: &Path) {}

@@ -37,6 +37,8 @@ pub struct Settings {
     pub tile: u32,
     /// Draw unresolved pixels in magenta.
     pub debug_unresolved: bool,
+    /// Also clip rays to the ball of this radius around the box centre.
+    pub clip_sphere: Option<f64>,
 }
 
 /// Default iteration budget.
@@ -50,7 +52,7 @@ struct Uniforms {
     right: [f32; 4],
     up: [f32; 4],
     box_min: [f32; 4],
-    box_max: [f32; 4],
+    box_max: [f32; 4], // w: clip-sphere radius (0: none)
     size: [u32; 2],
     tile_origin: [u32; 2],
     tile_size: [u32; 2],
@@ -118,7 +120,7 @@ impl<'g> Renderer<'g> {
             right: v4(frame.right),
             up: v4(frame.up),
             box_min: [s.bbox[0] as f32, s.bbox[2] as f32, s.bbox[4] as f32, 0.0],
-            box_max: [s.bbox[1] as f32, s.bbox[3] as f32, s.bbox[5] as f32, 0.0],
+            box_max: [s.bbox[1] as f32, s.bbox[3] as f32, s.bbox[5] as f32, s.clip_sphere.unwrap_or(0.0) as f32],
             size: [w, h],
             tile_origin: [0, 0],
             tile_size: [0, 0],
@@ -256,6 +258,9 @@ fn check_settings(s: &Settings) -> Result<(), RenderError> {
         if !(lo < hi) || !lo.is_finite() || !hi.is_finite() {
             return bad(format!("invalid --box: axis {} has [{lo}, {hi}]; each axis needs lo < hi", ["x", "y", "z"][a]));
         }
+    }
+    if s.clip_sphere.is_some_and(|r| !(r > 0.0 && r.is_finite())) {
+        return bad("invalid clip sphere: the radius must be positive".into());
     }
     if !(s.eps > 0.0 && s.eps.is_finite()) {
         return bad(format!("invalid --eps {}: it must be a positive width", s.eps));

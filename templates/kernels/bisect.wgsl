@@ -17,7 +17,7 @@ struct Uniforms {
     right: vec4<f32>,
     up: vec4<f32>,
     box_min: vec4<f32>,
-    box_max: vec4<f32>,
+    box_max: vec4<f32>,     // w: radius of the clip sphere around the box centre, 0 for none
     size: vec2<u32>,        // whole image, pixels
     tile_origin: vec2<u32>, // this dispatch's first pixel
     tile_size: vec2<u32>,
@@ -191,8 +191,22 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let tb = (U.box_max.xyz - o) * inv;
     let tmin = min(ta, tb);
     let tmax = max(ta, tb);
-    let t_enter = max(max(max(tmin.x, tmin.y), tmin.z), 0.0);
-    let t_exit = min(min(tmax.x, tmax.y), tmax.z);
+    var t_enter = max(max(max(tmin.x, tmin.y), tmin.z), 0.0);
+    var t_exit = min(min(tmax.x, tmax.y), tmax.z);
+    let radius = U.box_max.w;
+    if (radius > 0.0) {
+        // Intersect with the clip ball as well.
+        let oc = o - 0.5 * (U.box_min.xyz + U.box_max.xyz);
+        let b = dot(oc, dir);
+        let disc = b * b - (dot(oc, oc) - radius * radius);
+        if (disc < 0.0) {
+            t_exit = -1.0;
+        } else {
+            let q = sqrt(disc);
+            t_enter = max(t_enter, -b - q);
+            t_exit = min(t_exit, -b + q);
+        }
+    }
     if (t_enter < t_exit) {
         let pe = o + dir * t_enter;
         let seg = dir * (t_exit - t_enter);

@@ -29,6 +29,7 @@ pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
         max_iter: DEFAULT_MAX_ITER,
         tile: 1024,
         debug_unresolved: false,
+        clip_sphere: None,
     }
 }
 
