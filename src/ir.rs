@@ -180,6 +180,25 @@ impl Ir {
         deg[self.root as usize]
     }
 
+    /// The features `--algebra auto` looks at: the number of min / max /
+    /// abs / clamp operations, and the largest effective integer exponent
+    /// (x^200 normalised to repeated squares still counts as 200).
+    pub fn shape(&self) -> (u32, u32) {
+        let mut power = vec![1u32; self.nodes.len()];
+        let (mut minmax, mut max_power) = (0, 1);
+        for &i in &self.live() {
+            match self.nodes[i as usize] {
+                Op::PowI(a, n) => {
+                    power[i as usize] = power[a as usize].saturating_mul(n);
+                    max_power = max_power.max(power[i as usize]);
+                }
+                Op::Call2(Func2::Min | Func2::Max, ..) | Op::Call1(Func1::Abs, _) | Op::Call3(Func3::Clamp, ..) => minmax += 1,
+                _ => {}
+            }
+        }
+        (minmax, max_power)
+    }
+
     /// Number of products of two non-constant operands (including squarings
     /// in integer powers), the quantity `--algebra auto` looks at.
     pub fn nonconstant_products(&self) -> (u32, u32) {

@@ -99,6 +99,8 @@ pub struct PixelOut {
     pub depth: f32,
     /// Inclusion evaluations spent on this pixel.
     pub evals: u32,
+    /// Bisection depth of the hit cell (0 on misses).
+    pub level: u32,
     /// Outcome.
     pub status: Status,
 }
@@ -127,6 +129,10 @@ pub struct Stats {
     pub d_max: u32,
     /// Number of dispatches (tiles).
     pub dispatches: u32,
+    /// Work lower bound per pixel: a hit needs one evaluation per level down
+    /// to its cell (level + 1), a ray through the box that misses needs one,
+    /// a ray that misses the box none.
+    pub evals_lower_bound: f64,
 }
 
 /// A rendered image.
@@ -154,6 +160,16 @@ impl Frame {
         self.stats.evals_mean = evals.iter().map(|&e| e as f64).sum::<f64>() / n as f64;
         self.stats.evals_p99 = evals.get((evals.len() * 99) / 100).copied().unwrap_or(0);
         self.stats.evals_max = evals.last().copied().unwrap_or(0);
+        let bound: f64 = self
+            .pixels
+            .iter()
+            .map(|p| match p.status {
+                Status::Hit => p.level as f64 + 1.0,
+                _ if p.evals > 0 => 1.0,
+                _ => 0.0,
+            })
+            .sum();
+        self.stats.evals_lower_bound = bound / n as f64;
     }
 }
 

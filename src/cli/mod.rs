@@ -1,6 +1,7 @@
 //! Subcommands and their arguments (clap), and the one place errors are
 //! rendered for the terminal.
 
+mod bench;
 mod eval;
 mod input;
 mod render;
@@ -41,6 +42,9 @@ enum Command {
     /// List the named surfaces of the catalog (render one with @name).
     #[command(after_help = "Examples:\n  isotrace list\n  isotrace list --long\n  isotrace render @tangle -o tangle.png")]
     List(ListArgs),
+    /// Benchmark surfaces × algebras: Knoll-style table, JSON, Markdown, images, contact sheet.
+    #[command(after_help = "Examples:\n  isotrace bench --suite knoll --out bench-out --json bench.json --markdown bench.md\n  isotrace bench tangle barth-sextic --algebra ia,raa --size 512 --repeat 3\n  isotrace bench --suite all --shard 0/4 --json part0.json    # spread over 4 machines\n  isotrace bench sphere --find-eps")]
+    Bench(bench::BenchArgs),
 }
 
 #[derive(Args, Debug)]
@@ -143,6 +147,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Render(a) => render::run(a),
         Command::Eval(a) => eval::run(a),
         Command::List(a) => list(a),
+        Command::Bench(a) => bench::run(a),
     }
 }
 

@@ -132,7 +132,7 @@ impl<'g> Renderer<'g> {
             time: s.time as f32,
             params: pack_params(&s.params)?,
         };
-        let mut pixels = vec![PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, status: Status::Miss }; (w * h) as usize];
+        let mut pixels = vec![PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, status: Status::Miss }; (w * h) as usize];
         let mut gpu_ms = 0.0;
         let mut dispatches = 0;
         for ty in (0..h).step_by(tile as usize) {
@@ -244,6 +244,7 @@ fn convert(r: &RawPixel) -> PixelOut {
         normal: [r.normal_depth[0], r.normal_depth[1], r.normal_depth[2]],
         depth: r.normal_depth[3],
         evals: r.info[0],
+        level: if status == Status::Hit { r.info[2] } else { 0 },
         status,
     }
 }

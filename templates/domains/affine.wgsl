@@ -21,9 +21,12 @@ fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
     if (ia_is_empty(i)) { return ra_empty(); }
     return vec3<f32>(0.5 * (i.x + i.y), 0.0, 0.5 * (i.y - i.x));
 }
-// Of two valid enclosures keep the narrower (used where IA can beat AF1).
+// Of two valid enclosures, keep the affine one (its e1 term carries the
+// correlation that later cancellations need) unless the interval is less
+// than half as wide: then the affine form has lost its value (high powers,
+// the even-power rule across 0) and the interval is used.
 fn ra_narrower(a: vec3<f32>, i: vec2<f32>) -> vec3<f32> {
-    if (i.y - i.x < 2.0 * ra_radius(a)) { return ra_from_ia(i); }
+    if (i.y - i.x < ra_radius(a)) { return ra_from_ia(i); }
     return a;
 }
 
@@ -38,15 +41,18 @@ fn ra_mul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
         abs(a.x * b.z) + abs(b.x * a.z) + ra_radius(a) * ra_radius(b));
 }
 // AF1 square: (x1 e1 + x2 e2)^2 lies in [0, r^2], so half of r^2 moves into
-// the centre. When the form straddles 0 the interval even-power rule is
-// tighter and is used instead.
+// the centre. When the affine square reaches below 0 (the form straddles 0)
+// it has lost the sign: the interval even-power rule is used if it is not wider.
 fn ra_sqr_affine(a: vec3<f32>) -> vec3<f32> {
     let r = ra_radius(a);
     let h = 0.5 * r * r;
     return vec3<f32>(a.x * a.x + h, 2.0 * a.x * a.y, 2.0 * abs(a.x) * a.z + h);
 }
 fn ra_sqr(a: vec3<f32>) -> vec3<f32> {
-    return ra_narrower(ra_sqr_affine(a), ia_sqr(ra_range(a)));
+    let s = ra_sqr_affine(a);
+    let i = ia_sqr(ra_range(a));
+    if (s.x - ra_radius(s) < 0.0 && i.y - i.x <= 2.0 * ra_radius(s)) { return ra_from_ia(i); }
+    return s;
 }
 // Odd powers: the affine chain and the interval ends are carried together and
 // the narrower result is kept at the end.

@@ -1,0 +1,319 @@
+//! The benchmark suite's bookkeeping: jobs and shards, the per-job
+//! measurements, the "lowest correct eps" image comparison, the contact
+//! sheet, and the table / Markdown / JSON reports. The CLI (`isotrace bench`)
+//! renders; everything here is pure and tested.
+
+use crate::render::{Frame, Stats, Status};
+use serde::Serialize;
+
+/// One unit of work: a surface rendered with one algebra.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Job {
+    /// Position in the full job list (before sharding).
+    pub index: usize,
+    /// Surface name.
+    pub surface: String,
+    /// Algebra name (`ia`, `raa`, `auto`).
+    pub algebra: String,
+}
+
+/// All jobs: every surface with every algebra, surface-major.
+pub fn jobs(surfaces: &[String], algebras: &[String]) -> Vec<Job> {
+    let mut v = Vec::new();
+    for s in surfaces {
+        for a in algebras {
+            v.push(Job { index: v.len(), surface: s.clone(), algebra: a.clone() });
+        }
+    }
+    v
+}
+
+/// Parses `--shard i/n` (0 ≤ i < n).
+pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("invalid --shard '{s}': expected i/n with 0 <= i < n, e.g. 0/4");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+    if n == 0 || i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+/// The jobs of shard `i` of `n`: every n-th job starting at i, so shards
+/// are balanced and together cover every job exactly once.
+pub fn shard(all: &[Job], i: usize, n: usize) -> Vec<Job> {
+    all.iter().filter(|j| j.index % n == i).cloned().collect()
+}
+
+/// What one job measured.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Measure {
+    /// Median GPU time over the timed runs, ms.
+    pub gpu_ms: f64,
+    /// 1000 / gpu_ms.
+    pub fps: f64,
+    /// Median wall time of a frame (dispatch + read-back), ms.
+    pub wall_ms: f64,
+    /// Inclusion evaluations per pixel.
+    pub evals_mean: f64,
+    /// 99th percentile.
+    pub evals_p99: u32,
+    /// Maximum.
+    pub evals_max: u32,
+    /// The work lower bound per pixel (see [`Stats::evals_lower_bound`]).
+    pub lower_bound: f64,
+    /// evals_mean / lower_bound.
+    pub ratio: f64,
+    /// Pixels that ran out of iterations.
+    pub unresolved: u64,
+    /// Fraction of pixels that hit.
+    pub hit_fraction: f64,
+    /// Bisection depth for the box diagonal.
+    pub d_max: u32,
+    /// Absolute eps used.
+    pub eps: f64,
+    /// The algebra actually used (auto resolves to ia or raa).
+    pub resolved_algebra: String,
+    /// With `--find-eps`: the coarsest matching eps (relative to the box
+    /// diagonal, as a power of two exponent) and the GPU ms there.
+    pub lowest_eps: Option<LowestEps>,
+}
+
+/// Result of the "lowest correct eps" search.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct LowestEps {
+    /// k in eps = 2^k × diagonal.
+    pub exponent: i32,
+    /// GPU ms at that eps (median).
+    pub gpu_ms: f64,
+    /// Fraction of pixels that differed from the reference there.
+    pub differing: f64,
+}
+
+impl Measure {
+    /// Summarises timed runs of one job.
+    pub fn from_runs(runs: &[Stats], eps: f64, resolved_algebra: &str) -> Measure {
+        let med = |f: &dyn Fn(&Stats) -> f64| {
+            let mut v: Vec<f64> = runs.iter().map(f).collect();
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(0.0)
+        };
+        let s = runs.last().cloned().unwrap_or_default();
+        let gpu_ms = med(&|s| s.gpu_ms);
+        Measure {
+            gpu_ms,
+            fps: if gpu_ms > 0.0 { 1000.0 / gpu_ms } else { 0.0 },
+            wall_ms: med(&|s| s.wall_ms),
+            evals_mean: s.evals_mean,
+            evals_p99: s.evals_p99,
+            evals_max: s.evals_max,
+            lower_bound: s.evals_lower_bound,
+            ratio: if s.evals_lower_bound > 0.0 { s.evals_mean / s.evals_lower_bound } else { 0.0 },
+            unresolved: s.unresolved,
+            hit_fraction: s.hits as f64 / s.pixels.max(1) as f64,
+            d_max: s.d_max,
+            eps,
+            resolved_algebra: resolved_algebra.to_string(),
+            lowest_eps: None,
+        }
+    }
+}
+
+/// One row of the report.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct JobResult {
+    /// Surface name.
+    pub surface: String,
+    /// Degree as the catalog states it.
+    pub degree: String,
+    /// Algebra asked for.
+    pub algebra: String,
+    /// The measurement, or why the job failed.
+    #[serde(flatten)]
+    pub outcome: Outcome,
+}
+
+/// A job's outcome.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum Outcome {
+    /// It ran.
+    Ok(Measure),
+    /// It failed; the batch went on.
+    Failed {
+        /// The error message.
+        error: String,
+    },
+}
+
+/// Tolerance of the image comparison used by `--find-eps`: a pixel differs
+/// when a colour channel differs by more than [`PIXEL_TOLERANCE`] (8-bit
+/// sRGB) or its hit status differs; two images match when at most
+/// [`MATCH_FRACTION`] of the pixels differ.
+pub const PIXEL_TOLERANCE: u8 = 16;
+/// See [`PIXEL_TOLERANCE`].
+pub const MATCH_FRACTION: f64 = 0.005;
+
+/// Fraction of differing pixels between two frames of the same size.
+pub fn differing_fraction(a: &Frame, b: &Frame) -> f64 {
+    let rgb_a = crate::output::frame_rgb8(a);
+    let rgb_b = crate::output::frame_rgb8(b);
+    let n = a.pixels.len().max(1);
+    let diff = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .enumerate()
+        .filter(|(k, (p, q))| {
+            (p.status == Status::Hit) != (q.status == Status::Hit)
+                || (0..3).any(|c| rgb_a[3 * k + c].abs_diff(rgb_b[3 * k + c]) > PIXEL_TOLERANCE)
+        })
+        .count();
+    diff as f64 / n as f64
+}
+
+/// A grid of labelled thumbnails (RGB8), `cols` per row, each `cell` pixels
+/// square (images are resampled by nearest neighbour), with the label
+/// drawn in an 8×8 bitmap font under each cell.
+pub fn contact_sheet(images: &[(String, u32, u32, Vec<u8>)], cell: u32, cols: u32) -> (u32, u32, Vec<u8>) {
+    let cols = cols.max(1).min(images.len().max(1) as u32);
+    let rows = (images.len() as u32).div_ceil(cols).max(1);
+    let label_h = 20;
+    let (w, h) = (cols * cell, rows * (cell + label_h));
+    let mut out = vec![24u8; (w * h * 3) as usize];
+    for (k, (label, iw, ih, rgb)) in images.iter().enumerate() {
+        let (cx, cy) = ((k as u32 % cols) * cell, (k as u32 / cols) * (cell + label_h));
+        let scale = (*iw).max(*ih) as f64 / cell as f64;
+        for y in 0..cell {
+            for x in 0..cell {
+                let (sx, sy) = ((x as f64 * scale) as u32, (y as f64 * scale) as u32);
+                if sx < *iw && sy < *ih {
+                    let s = ((sy * iw + sx) * 3) as usize;
+                    let d = (((cy + y) * w + cx + x) * 3) as usize;
+                    out[d..d + 3].copy_from_slice(&rgb[s..s + 3]);
+                }
+            }
+        }
+        draw_text(&mut out, w, cx + 4, cy + cell + 6, label, cell - 8);
+    }
+    (w, h, out)
+}
+
+fn draw_text(img: &mut [u8], w: u32, x0: u32, y0: u32, text: &str, max_w: u32) {
+    for (i, ch) in text.chars().enumerate() {
+        let x = x0 + 8 * i as u32;
+        if x + 8 > x0 + max_w {
+            break;
+        }
+        let glyph = font8x8::legacy::BASIC_LEGACY.get(ch as usize).copied().unwrap_or([0; 8]);
+        for (row, bits) in glyph.iter().enumerate() {
+            for col in 0..8 {
+                if bits >> col & 1 == 1 {
+                    let d = (((y0 + row as u32) * w + x + col) * 3) as usize;
+                    if d + 3 <= img.len() {
+                        img[d..d + 3].copy_from_slice(&[235, 235, 235]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn cell(r: &JobResult) -> String {
+    match &r.outcome {
+        Outcome::Ok(m) => format!("{:.1} ms / {:.2} ev", m.gpu_ms, m.evals_mean),
+        Outcome::Failed { .. } => "FAILED".to_string(),
+    }
+}
+
+/// Rows of (surface, degree, one cell per algebra), surface order kept.
+fn grid<'a>(results: &'a [JobResult], algebras: &[String]) -> Vec<(String, String, Vec<Option<&'a JobResult>>)> {
+    let mut rows: Vec<(String, String, Vec<Option<&JobResult>>)> = Vec::new();
+    for r in results {
+        let col = algebras.iter().position(|a| *a == r.algebra).unwrap_or(0);
+        if !rows.iter().any(|(s, _, _)| *s == r.surface) {
+            rows.push((r.surface.clone(), r.degree.clone(), vec![None; algebras.len()]));
+        }
+        if let Some(row) = rows.iter_mut().find(|(s, _, _)| *s == r.surface) {
+            row.2[col] = Some(r);
+        }
+    }
+    rows
+}
+
+/// The plain-text table (Knoll et al.'s Table 1 shape: surface, degree, one
+/// column per algebra with GPU ms and evaluations per pixel).
+pub fn table_text(results: &[JobResult], algebras: &[String]) -> String {
+    let mut s = format!("{:<16} {:<10}", "surface", "degree");
+    for a in algebras {
+        s.push_str(&format!(" {:>24}", format!("{a} (ms / evals/px)")));
+    }
+    s.push('\n');
+    for (surface, degree, cells) in grid(results, algebras) {
+        let deg: String = degree.chars().take(10).collect();
+        s.push_str(&format!("{surface:<16} {deg:<10}"));
+        for c in cells {
+            s.push_str(&format!(" {:>24}", c.map(cell).unwrap_or_else(|| "-".into())));
+        }
+        s.push('\n');
+    }
+    for r in results {
+        if let Outcome::Failed { error } = &r.outcome {
+            s.push_str(&format!("FAILED {} {}: {}\n", r.surface, r.algebra, error.lines().next().unwrap_or("")));
+        }
+    }
+    s
+}
+
+/// The Markdown report: the summary table and a detail table per job.
+pub fn markdown(results: &[JobResult], algebras: &[String], machine: &str) -> String {
+    let mut s = format!("Machine: {machine}\n\n| surface | degree |");
+    for a in algebras {
+        s.push_str(&format!(" {a} ms | {a} fps | {a} evals/px |"));
+    }
+    s.push_str("\n|---|---|");
+    s.push_str(&"---:|---:|---:|".repeat(algebras.len()));
+    s.push('\n');
+    for (surface, degree, cells) in grid(results, algebras) {
+        s.push_str(&format!("| {surface} | {degree} |"));
+        for c in cells {
+            match c.map(|r| &r.outcome) {
+                Some(Outcome::Ok(m)) => s.push_str(&format!(" {:.1} | {:.1} | {:.2} |", m.gpu_ms, m.fps, m.evals_mean)),
+                Some(Outcome::Failed { .. }) => s.push_str(" FAILED | | |"),
+                None => s.push_str(" - | - | - |"),
+            }
+        }
+        s.push('\n');
+    }
+    s.push_str("\n| surface | algebra | used | GPU ms | wall ms | evals/px mean | p99 | max | lower bound | ratio | hits | unresolved | d_max | lowest eps (ms) |\n");
+    s.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+    for r in results {
+        match &r.outcome {
+            Outcome::Ok(m) => s.push_str(&format!(
+                "| {} | {} | {} | {:.1} | {:.1} | {:.2} | {} | {} | {:.2} | {:.2} | {:.1} % | {} | {} | {} |\n",
+                r.surface, r.algebra, m.resolved_algebra, m.gpu_ms, m.wall_ms, m.evals_mean, m.evals_p99, m.evals_max,
+                m.lower_bound, m.ratio, 100.0 * m.hit_fraction, m.unresolved, m.d_max,
+                m.lowest_eps.as_ref().map_or("-".to_string(), |l| format!("2^{} ({:.1} ms)", l.exponent, l.gpu_ms))
+            )),
+            Outcome::Failed { error } => s.push_str(&format!("| {} | {} | FAILED: {} |||||||||||\n", r.surface, r.algebra, error.lines().next().unwrap_or(""))),
+        }
+    }
+    s
+}
+
+/// Today's date and time in UTC, ISO 8601 (from the system clock).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    // Civil-from-days (proleptic Gregorian), H. Hinnant's algorithm.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z", rem / 3600, rem % 3600 / 60, rem % 60)
+}

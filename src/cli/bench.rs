@@ -1,0 +1,220 @@
+//! `isotrace bench`: renders surfaces × algebras with a warm-up and timed
+//! repeats, and reports a Knoll-style table, JSON and Markdown, images and a
+//! contact sheet. A failing job is reported and the batch goes on.
+
+use super::render::{algebra_arg, open_gpu, settings, ViewArgs};
+use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
+use clap::Args;
+use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome};
+use isotrace::catalog::{self, Entry};
+use isotrace::gpu::render::Renderer;
+use isotrace::gpu::Gpu;
+use isotrace::output;
+use isotrace::render::Frame;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The 16 surfaces of Knoll et al.'s Table 1, in the table's order.
+pub const KNOLL: [&str; 16] = [
+    "sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
+    "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water",
+];
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Surfaces: catalog names or .iso files (default: the Knoll suite).
+    #[arg(value_name = "NAME|FILE")]
+    surfaces: Vec<String>,
+    /// A predefined suite: knoll (Table 1 of Knoll et al.) or all (the whole catalog).
+    #[arg(long, value_name = "SUITE")]
+    suite: Option<String>,
+    /// Image size `WxH` or `N`.
+    #[arg(long, default_value = "1024")]
+    size: String,
+    /// Termination width relative to each surface's box diagonal (2^-11 = the render default).
+    #[arg(long, default_value = "2^-11")]
+    eps: String,
+    /// Comma-separated algebras: ia, raa, auto.
+    #[arg(long, default_value = "ia,raa,auto")]
+    algebra: String,
+    /// Timed runs per job (after one warm-up run); the median is reported.
+    #[arg(long, default_value_t = 5)]
+    repeat: u32,
+    /// Directory for the images and the contact sheet.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Write the results as JSON.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Write the results as Markdown.
+    #[arg(long, value_name = "FILE")]
+    markdown: Option<PathBuf>,
+    /// Also find the coarsest eps whose image matches a fine-eps reference (Knoll's last column).
+    #[arg(long)]
+    find_eps: bool,
+    /// Run only shard i of n (every n-th job starting at i, 0 <= i < n).
+    #[arg(long, value_name = "i/n")]
+    shard: Option<String>,
+}
+
+fn input(m: impl Into<String>) -> CliError {
+    CliError::Input(m.into())
+}
+
+fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
+    let mut names: Vec<String> = match a.suite.as_deref() {
+        None if a.surfaces.is_empty() => KNOLL.iter().map(|s| s.to_string()).collect(),
+        None => vec![],
+        Some("knoll") => KNOLL.iter().map(|s| s.to_string()).collect(),
+        Some("all") => catalog::builtin().into_iter().map(|e| e.name).collect(),
+        Some(other) => return Err(input(format!("unknown --suite '{other}': expected knoll or all"))),
+    };
+    names.extend(a.surfaces.iter().cloned());
+    names
+        .iter()
+        .map(|n| {
+            let r = if n.ends_with(".iso") { catalog::load_file(n) } else { catalog::lookup(n.trim_start_matches('@')) };
+            r.map_err(|e| input(e.to_string()))
+        })
+        .collect()
+}
+
+fn algebras(s: &str) -> Result<Vec<(String, AlgebraArg)>, CliError> {
+    s.split(',')
+        .map(|a| match a.trim() {
+            "ia" => Ok(("ia".to_string(), AlgebraArg::Ia)),
+            "raa" => Ok(("raa".to_string(), AlgebraArg::Raa)),
+            "auto" => Ok(("auto".to_string(), AlgebraArg::Auto)),
+            other => Err(input(format!("invalid --algebra '{other}': expected a comma-separated list of ia, raa, auto"))),
+        })
+        .collect()
+}
+
+pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
+    let surfaces = entries(&a)?;
+    let algs = algebras(&a.algebra)?;
+    let size = super::render::parse_size(&a.size)?;
+    let rel_eps = catalog::parse_eps(&a.eps).map_err(|m| input(format!("invalid --eps '{}': {m}", a.eps)))?;
+    if a.repeat == 0 {
+        return Err(input("--repeat must be at least 1"));
+    }
+    let names: Vec<String> = surfaces.iter().map(|e| e.name.clone()).collect();
+    let alg_names: Vec<String> = algs.iter().map(|(n, _)| n.clone()).collect();
+    let mut jobs = bench::jobs(&names, &alg_names);
+    if let Some(sh) = &a.shard {
+        let (i, n) = bench::parse_shard(sh).map_err(input)?;
+        jobs = bench::shard(&jobs, i, n);
+    }
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| input(format!("cannot create --out directory '{}': {e}", dir.display())))?;
+        output::check_writable(&dir.join("probe.png")).map_err(|e| input(format!("--out directory is not writable: {e}")))?;
+    }
+    for p in [&a.json, &a.markdown].into_iter().flatten() {
+        output::check_writable(p).map_err(|e| input(e.to_string()))?;
+    }
+    let gpu = open_gpu()?;
+    let bar = super::progress(jobs.len() as u64, "jobs");
+    let mut results = Vec::new();
+    let mut thumbs: Vec<(String, u32, u32, Vec<u8>)> = Vec::new();
+    for (k, job) in jobs.iter().enumerate() {
+        let entry = &surfaces[names.iter().position(|n| *n == job.surface).unwrap_or(0)];
+        let alg = algs.iter().find(|(n, _)| *n == job.algebra).map(|(_, a)| *a).unwrap_or(AlgebraArg::Auto);
+        let (outcome, frame) = match run_job(&gpu, entry, alg, size, rel_eps, &a) {
+            Ok((m, f)) => (Outcome::Ok(m), Some(f)),
+            Err(e) => (Outcome::Failed { error: e }, None),
+        };
+        let line = match &outcome {
+            Outcome::Ok(m) => format!("{:.1} ms, {:.2} evals/px ({:.2}x bound)", m.gpu_ms, m.evals_mean, m.ratio),
+            Outcome::Failed { error } => format!("FAILED: {}", error.lines().next().unwrap_or("")),
+        };
+        match &bar {
+            Some(b) => {
+                b.set_message(format!("{} {}", job.surface, job.algebra));
+                b.inc(1);
+            }
+            None => eprintln!("[{}/{}] {} {}: {line}", k + 1, jobs.len(), job.surface, job.algebra),
+        }
+        if let (Some(dir), Some(f)) = (&a.out, &frame) {
+            let rgb = output::frame_rgb8(f);
+            let path = dir.join(format!("{}_{}.png", job.surface, job.algebra));
+            output::write_png(&path, f.width, f.height, &rgb).map_err(|e| input(e.to_string()))?;
+            if !thumbs.iter().any(|t| t.0 == job.surface) {
+                thumbs.push((job.surface.clone(), f.width, f.height, rgb));
+            }
+        }
+        let degree = entry.header.degree.clone().unwrap_or_else(|| entry.compile().ok().and_then(|f| f.ir.degree()).map_or("-".into(), |d| d.to_string()));
+        results.push(JobResult { surface: job.surface.clone(), degree, algebra: job.algebra.clone(), outcome });
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let _ = std::io::stdout().lock().write_all(bench::table_text(&results, &alg_names).as_bytes());
+    let machine = format!("{} ({}, {}), {} CPU threads", gpu.info.name, gpu.info.backend, gpu.info.driver, std::thread::available_parallelism().map_or(0, |n| n.get()));
+    if let Some(dir) = &a.out {
+        if !thumbs.is_empty() {
+            let (w, h, rgb) = bench::contact_sheet(&thumbs, 256, 4);
+            output::write_png(&dir.join("contact-sheet.png"), w, h, &rgb).map_err(|e| input(e.to_string()))?;
+        }
+    }
+    if let Some(p) = &a.markdown {
+        output::write_atomic(p, bench::markdown(&results, &alg_names, &machine).as_bytes()).map_err(|e| input(e.to_string()))?;
+    }
+    if let Some(p) = &a.json {
+        let v = serde_json::json!({
+            "isotrace_version": env!("CARGO_PKG_VERSION"),
+            "date": bench::utc_now(),
+            "device": gpu.info,
+            "cpu_threads": std::thread::available_parallelism().map_or(0, |n| n.get()),
+            "settings": { "size": [size.0, size.1], "eps_relative": rel_eps, "repeat": a.repeat, "algebras": alg_names, "shard": a.shard, "find_eps": a.find_eps },
+            "results": results,
+        });
+        let text = serde_json::to_string_pretty(&v).unwrap_or_default();
+        output::write_atomic(p, text.as_bytes()).map_err(|e| input(e.to_string()))?;
+    }
+    let failed = results.iter().any(|r| matches!(r.outcome, Outcome::Failed { .. }));
+    Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// Renders one job: warm-up, `repeat` timed runs, optional eps search.
+fn run_job(gpu: &Gpu, entry: &Entry, alg: AlgebraArg, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
+    let f = entry.compile().map_err(|e| e.to_string())?;
+    let b = entry.header.bbox;
+    let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
+    let view = ViewArgs { eps: Some(format!("{}", rel_eps * diag)), tile: 1024, ..Default::default() };
+    let s = settings(&view, size, &f, Some(&entry.header)).map_err(|e| format!("{e:?}"))?;
+    let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
+    let domain = resolve_algebra(alg, &f.ir);
+    let r = Renderer::new(gpu, &f.ir, domain).map_err(|e| e.to_string())?;
+    let timed = |s: &isotrace::gpu::render::Settings| -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
+        r.render(s).map_err(|e| e.to_string())?; // warm-up: shader compile, caches
+        let mut runs = Vec::new();
+        let mut last = None;
+        for _ in 0..a.repeat {
+            let fr = r.render(s).map_err(|e| e.to_string())?;
+            runs.push(fr.stats.clone());
+            last = Some(fr);
+        }
+        Ok((runs, last.ok_or("no run")?))
+    };
+    let (runs, frame) = timed(&s)?;
+    let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
+    if a.find_eps {
+        let mut fine = s.clone();
+        fine.eps = diag * 2f64.powi(-14);
+        let reference = r.render(&fine).map_err(|e| e.to_string())?;
+        for k in -5..=-13 {
+            let mut sk = s.clone();
+            sk.eps = diag * 2f64.powi(k);
+            let fr = r.render(&sk).map_err(|e| e.to_string())?;
+            let diff = bench::differing_fraction(&fr, &reference);
+            if diff <= bench::MATCH_FRACTION {
+                let (runs, _) = timed(&sk)?;
+                let ms = Measure::from_runs(&runs, sk.eps, "").gpu_ms;
+                m.lowest_eps = Some(LowestEps { exponent: k, gpu_ms: ms, differing: diff });
+                break;
+            }
+        }
+    }
+    Ok((m, frame))
+}
