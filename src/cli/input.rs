@@ -27,8 +27,6 @@ pub struct Loaded {
     pub formula: Formula,
     /// The `.iso` header, if any.
     pub header: Option<Header>,
-    /// Catalog name or file stem.
-    pub name: String,
 }
 
 impl FormulaArgs {
@@ -47,10 +45,10 @@ impl FormulaArgs {
         };
         if let Some(e) = entry {
             let formula = e.compile()?;
-            return Ok(Loaded { formula, header: Some(e.header), name: e.name });
+            return Ok(Loaded { formula, header: Some(e.header) });
         }
         let (origin, text) = self.text()?;
-        Ok(Loaded { formula: Formula::compile(&origin, &text)?, header: None, name: "formula".into() })
+        Ok(Loaded { formula: Formula::compile(&origin, &text)?, header: None })
     }
 
     /// The formula's origin name and text (no header handling).

@@ -8,7 +8,6 @@ mod render;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use isotrace::codegen::{self, Domain};
-use isotrace::diag::Diagnostic;
 use isotrace::{FormulaError, validate};
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
@@ -114,7 +113,8 @@ impl CliError {
         let color = std::io::stderr().is_terminal();
         match self {
             CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
-            CliError::Input(m) => Diagnostic::plain(m.clone()).render("", "", color),
+            CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {m}\n"),
+            CliError::Input(m) => format!("error: {m}\n"),
             CliError::Internal(m) => format!("{m}\n"),
             CliError::NoDevice(m) => format!("error: {m}\n"),
         }

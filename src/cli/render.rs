@@ -31,7 +31,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "DEG")]
     pub fov: Option<f64>,
     /// Termination width: absolute (0.001) or a power of two (2^-11); default 2^-11 × box diagonal.
-    #[arg(long, value_name = "EPS")]
+    #[arg(long, value_name = "EPS", allow_hyphen_values = true)]
     pub eps: Option<String>,
     /// Time value t.
     #[arg(long = "t", value_name = "T", allow_hyphen_values = true)]

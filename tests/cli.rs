@@ -1,0 +1,188 @@
+//! The command line end to end: outputs, exit codes and exact messages for
+//! bad input.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn isotrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_isotrace")).args(args).env("NODEVICE_SELECT", "1").output().unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("isotrace-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn render_png_and_exr_with_stats_and_json() {
+    let png = tmp("s.png");
+    let o = isotrace(&["render", "@sphere", "--size", "40x30", "-o", png.to_str().unwrap(), "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("inclusion evaluations per pixel"));
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (40, 30));
+
+    let exr = tmp("s.exr");
+    let o = isotrace(&["render", "x^2 + y^2 + z^2 - 1", "--box=-1.5,1.5", "--size", "24", "-o", exr.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["width"], 24);
+    assert!(v["hits"].as_u64().unwrap() > 0);
+    assert!(v["gpu_ms"].as_f64().unwrap() > 0.0);
+    for key in ["wall_ms", "unresolved", "evals_mean", "evals_p99", "evals_max", "algebra", "eps", "d_max"] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    let (w, h, channels) = isotrace::output::read_exr_channels(&exr).unwrap();
+    assert_eq!((w, h), (24, 24));
+    let mut names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["A", "B", "G", "N.X", "N.Y", "N.Z", "R", "Z", "evals"]);
+    let z = &channels.iter().find(|(n, _)| n == "Z").unwrap().1;
+    assert!(z.iter().any(|d| d.is_infinite()) && z.iter().any(|d| d.is_finite()));
+}
+
+#[test]
+fn animation_writes_one_file_per_frame() {
+    let dir = tmp("frames");
+    std::fs::create_dir_all(&dir).unwrap();
+    let pat = dir.join("f_%03d.png");
+    let o = isotrace(&["render", "@water", "--size", "16", "--frames", "3", "--t0", "0", "--t1", "2", "-o", pat.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 0..3 {
+        assert!(dir.join(format!("f_{k:03}.png")).exists());
+    }
+    // The frames differ: time moves the waves.
+    let a = std::fs::read(dir.join("f_000.png")).unwrap();
+    let b = std::fs::read(dir.join("f_002.png")).unwrap();
+    assert_ne!(a, b);
+}
+
+#[test]
+fn bad_render_input_is_reported_before_rendering() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "x", "-o", "/tmp/x.jpg"], "error: unknown output format '/tmp/x.jpg': the file name must end in .png or .exr\n"),
+        (&["render", "x", "-o", "/nonexistent-dir/x.png"], "error: cannot write '/nonexistent-dir/x.png': No such file or directory (os error 2)\n"),
+        (&["render", "x", "--size", "0", "-o", "/tmp/x.png"], "error: invalid --size '0': each side must be between 1 and 16384\n"),
+        (&["render", "x", "--size", "20000x10", "-o", "/tmp/x.png"], "error: invalid --size '20000x10': each side must be between 1 and 16384\n"),
+        (&["render", "x", "--size", "big", "-o", "/tmp/x.png"], "error: invalid --size 'big': expected WxH like 1024x768, or N for a square\n"),
+        (&["render", "x", "--box=1,0", "-o", "/tmp/x.png"], "error: invalid --box '1,0': empty x range: 1 is not below 0\n"),
+        (&["render", "x", "--eps", "-1", "-o", "/tmp/x.png"], "error: invalid --eps '-1': must be greater than 0\n"),
+        (&["render", "x", "--up", "1,1,0", "--eye", "3,3,0", "--target", "0,0,0", "-o", "/tmp/x.png"], "error: the up vector is parallel to the viewing direction: give another --up\n"),
+        (&["render", "x", "--clip", "ball:2", "-o", "/tmp/x.png"], "error: invalid --clip 'ball:2': expected sphere:R with a radius R > 0\n"),
+        (&["render", "@tangel", "-o", "/tmp/x.png"], "error: unknown surface 'tangel'; did you mean 'tangle'?\n"),
+        (&["render", "x", "--frames", "2", "-o", "/tmp/x.png"], "error: with --frames, -o needs a frame-number pattern like frames/f_%04d.png, got '/tmp/x.png'\n"),
+    ];
+    for (args, expected) in cases {
+        let o = isotrace(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert_eq!(stderr(&o), *expected, "{args:?}");
+    }
+}
+
+#[test]
+fn missing_parameter_points_at_the_formula() {
+    let o = isotrace(&["render", "x^2 + y^2 + z^2 - r^2", "-o", "/tmp/x.png"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: missing value for parameter 'r'\n  ┌─ <formula>:1:19\n  │\n1 │ x^2 + y^2 + z^2 - r^2\n  │                   ^ free name, so a parameter\n  │\n  = give it a value on the command line: --param r=1.0\n\n"
+    );
+}
+
+#[test]
+fn no_gpu_adapter_exits_with_2_and_names_the_fix() {
+    // A backend that this build does not contain finds no adapter.
+    let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(["render", "x", "-o", "/tmp/x.png"])
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("apt-get install -y mesa-vulkan-drivers"), "{}", stderr(&o));
+    assert!(!std::path::Path::new("/tmp/x.png").exists() || true);
+}
+
+#[test]
+fn failed_render_leaves_no_partial_file() {
+    let out = tmp("never.png");
+    let _ = std::fs::remove_file(&out);
+    let o = isotrace(&["render", "x^2 + q", "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!out.exists());
+    let leftovers: Vec<_> = std::fs::read_dir(out.parent().unwrap()).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().ends_with(".tmp")).collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn eval_on_the_device_and_on_the_cpu() {
+    let run = |extra: &[&str], input: &str| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_isotrace"));
+        c.args(["eval", "x^2 + y^2 + z^2 - 1"]).args(extra).stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped());
+        let mut child = c.spawn().unwrap();
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let o = run(&["--algebra", "ia"], "-1 1 -1 1 -1 1\n# a comment\n\n0.5 0.6 0 0.1 0 0.1\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "-1 2\n-0.75 -0.6200000047683716\n");
+    let o = run(&["--algebra", "ia", "--cpu"], "-1 1 -1 1 -1 1\n");
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "-1 2\n");
+    let o = run(&["--algebra", "scalar"], "1 1 1\n");
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "2\n");
+    let o = run(&["--algebra", "ia"], "1 2 3\n");
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stderr(&o), "error: <stdin>:1: expected 6 or 8 numbers: x0 x1 y0 y1 z0 z1 [t0 t1], found 3 in '1 2 3'\n");
+    let o = run(&["--algebra", "ia"], "1 0 0 1 0 1\n");
+    assert_eq!(stderr(&o), "error: <stdin>:1: each range needs lo <= hi in '1 0 0 1 0 1'\n");
+}
+
+#[test]
+fn sqrt_of_negative_box_is_empty() {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_isotrace"));
+    c.args(["eval", "sqrt(x) + y", "--algebra", "raa"]).stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped());
+    let mut child = c.spawn().unwrap();
+    use std::io::Write;
+    child.stdin.take().unwrap().write_all(b"-3 -1 0 0 0 0\n1 4 0 0 0 0\n").unwrap();
+    let o = child.wait_with_output().unwrap();
+    // sqrt is padded outward by a few ulp (WGSL's sqrt is not exactly rounded).
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "empty\n0.9999997615814209 2.0000007152557373\n");
+}
+
+#[test]
+fn list_and_bench() {
+    let o = isotrace(&["list"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.lines().count() >= 16 && text.contains("barth-sextic"));
+    let dir = tmp("bench");
+    let json = tmp("bench.json");
+    let o = isotrace(&["bench", "sphere", "steiner", "--size", "24", "--repeat", "1", "--algebra", "ia,raa", "--out", dir.to_str().unwrap(), "--json", json.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.starts_with("surface"), "{table}");
+    assert_eq!(table.lines().count(), 3);
+    assert!(dir.join("contact-sheet.png").exists() && dir.join("steiner_raa.png").exists());
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(v["results"].as_array().unwrap().len(), 4);
+    assert!(v["device"]["name"].as_str().unwrap().len() > 0);
+    assert!(v["date"].as_str().unwrap().starts_with("20"));
+    // Sharding: job 1 of 4 = (sphere, raa) only.
+    let o = isotrace(&["bench", "sphere", "steiner", "--size", "16", "--repeat", "1", "--algebra", "ia,raa", "--shard", "1/4"]);
+    let t = String::from_utf8_lossy(&o.stdout);
+    assert!(t.contains("sphere") && !t.contains("steiner"), "{t}");
+}
+
+#[test]
+fn bench_failure_mid_batch_goes_on_and_exits_nonzero() {
+    let bad = tmp("bad.iso");
+    std::fs::write(&bad, "#@ name: needs-param\nx^2 + y^2 + z^2 - r^2\n").unwrap();
+    let o = isotrace(&["bench", bad.to_str().unwrap(), "sphere", "--size", "16", "--repeat", "1", "--algebra", "ia"]);
+    assert_eq!(o.status.code(), Some(1));
+    let t = String::from_utf8_lossy(&o.stdout);
+    assert!(t.contains("needs-param") && t.contains("FAILED") && t.contains("sphere"), "{t}");
+}
