@@ -99,7 +99,8 @@ pub struct PixelOut {
     pub depth: f32,
     /// Inclusion evaluations spent on this pixel.
     pub evals: u32,
-    /// Bisection depth of the hit cell (0 on misses).
+    /// d_max of the ray's whole segment through the domain,
+    /// ceil(log2(length / eps)) (0 when the ray misses the domain).
     pub level: u32,
     /// Outcome.
     pub status: Status,
@@ -130,9 +131,13 @@ pub struct Stats {
     /// Number of dispatches (tiles).
     pub dispatches: u32,
     /// Work lower bound per pixel: a hit needs one evaluation per level down
-    /// to its cell (level + 1), a ray through the box that misses needs one,
-    /// a ray that misses the box none.
+    /// to an eps cell of its ray's segment (d_max + 1), a ray through the
+    /// domain that misses needs one, a ray that misses the domain none.
     pub evals_lower_bound: f64,
+    /// Mean evaluations of hit pixels.
+    pub evals_hit_mean: f64,
+    /// Mean evaluations of pixels whose ray crosses the domain and misses.
+    pub evals_miss_mean: f64,
 }
 
 /// A rendered image.
@@ -165,11 +170,17 @@ impl Frame {
             .iter()
             .map(|p| match p.status {
                 Status::Hit => p.level as f64 + 1.0,
-                _ if p.evals > 0 => 1.0,
+                _ if p.level > 0 => 1.0,
                 _ => 0.0,
             })
             .sum();
         self.stats.evals_lower_bound = bound / n as f64;
+        let mean_of = |keep: &dyn Fn(&PixelOut) -> bool| {
+            let (sum, cnt) = self.pixels.iter().filter(|p| keep(p)).fold((0.0, 0u64), |(s, c), p| (s + p.evals as f64, c + 1));
+            if cnt > 0 { sum / cnt as f64 } else { 0.0 }
+        };
+        self.stats.evals_hit_mean = mean_of(&|p| p.status == Status::Hit);
+        self.stats.evals_miss_mean = mean_of(&|p| p.status == Status::Miss && p.level > 0);
     }
 }
 

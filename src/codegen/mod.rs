@@ -177,18 +177,40 @@ pub fn eval_shader(ir: &Ir, domain: Domain) -> String {
         .expect("the eval template has its markers")
 }
 
-/// `cell_range(pe, dir, t0, t1)` for the render kernel: the enclosure of f
-/// over the ray segment pe + dir·[t0, t1]. In the affine domain t is the
-/// form (tc, tr, 0), so x, y, z are exact affine forms of the one symbol e1.
+/// The render kernel's two inclusion functions for `domain`:
+/// `cell_range(o, dir, s0, s1)`, the enclosure of f over the ray segment
+/// o + dir·[s0, s1]; and `slab_range(eye, f, r, u, s, su, sv)`, the enclosure
+/// over the frustum slab eye + s·(f + su·r + sv·u), s, su, sv in ranges.
+/// In the affine domain the ray depth s is the symbol e1, so x, y, z along a
+/// ray are exact affine forms; across a slab su and sv go into e2.
 pub fn inclusion(domain: Domain) -> String {
-    let body = match domain {
-        Domain::Interval => "    let a = pe + dir * t0;\n    let b = pe + dir * t1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
-            return ia_range(eval_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time)));",
-        Domain::Affine => "    let tc = 0.5 * (t0 + t1);\n    let tr = 0.5 * (t1 - t0);\n    let c = pe + dir * tc;\n    let r = dir * tr;\n    \
-            return ra_range(eval_ra(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time)));",
+    let p = domain.prefix();
+    let (cell, lift) = match domain {
+        Domain::Interval => (
+            "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
+             return ia_range(eval_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time)));",
+            "vec2<f32>",
+        ),
+        Domain::Affine => (
+            "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
+             return ra_range(eval_ra(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time)));",
+            "ra_from_ia",
+        ),
         Domain::Scalar => unreachable!("the traversal needs an inclusion domain"),
     };
-    format!("fn cell_range(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {{\n{body}\n}}\n")
+    let s_form = match domain {
+        Domain::Affine => "vec3<f32>(0.5 * (s.x + s.y), 0.5 * (s.y - s.x), 0.0)".to_string(),
+        _ => "s".to_string(),
+    };
+    format!(
+        "fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{cell}\n}}\n\n\
+fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
+let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
+let x = {p}_add({p}_const(eye.x), {p}_mul(S, {p}_add({p}_const(f.x), {p}_add({p}_mul(U_, {p}_const(r.x)), {p}_mul(V_, {p}_const(u.x))))));\n    \
+let y = {p}_add({p}_const(eye.y), {p}_mul(S, {p}_add({p}_const(f.y), {p}_add({p}_mul(U_, {p}_const(r.y)), {p}_mul(V_, {p}_const(u.y))))));\n    \
+let z = {p}_add({p}_const(eye.z), {p}_mul(S, {p}_add({p}_const(f.z), {p}_add({p}_mul(U_, {p}_const(r.z)), {p}_mul(V_, {p}_const(u.z))))));\n    \
+return {p}_range(eval_{p}(x, y, z, {p}_const(U.time)));\n}}\n"
+    )
 }
 
 /// The complete render shader with the inclusion function in `domain`.

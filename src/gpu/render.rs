@@ -65,12 +65,28 @@ struct Uniforms {
     params: [f32; 64],
 }
 
+/// The kernel's packed `Pixel` (colour and normal as f16 pairs).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct RawPixel {
-    color: [f32; 4],
-    normal_depth: [f32; 4],
-    info: [u32; 4],
+    color_rg: u32,
+    color_ba: u32,
+    normal_xy: u32,
+    normal_z: u32,
+    depth: f32,
+    evals: u32,
+    info: u32,
+}
+
+/// `unpack2x16unorm`.
+fn unorm2(v: u32) -> [f32; 2] {
+    [(v & 0xffff) as f32 / 65535.0, (v >> 16) as f32 / 65535.0]
+}
+
+/// `unpack2x16snorm`.
+fn snorm2(v: u32) -> [f32; 2] {
+    let c = |x: u16| (x as i16 as f32 / 32767.0).max(-1.0);
+    [c(v as u16), c((v >> 16) as u16)]
 }
 
 /// Render failures.
@@ -234,19 +250,16 @@ impl<'g> Renderer<'g> {
 }
 
 fn convert(r: &RawPixel) -> PixelOut {
-    let status = match r.info[1] {
+    let status = match r.info & 0xff {
         1 => Status::Hit,
         2 => Status::Unresolved,
         _ => Status::Miss,
     };
-    PixelOut {
-        color: r.color,
-        normal: [r.normal_depth[0], r.normal_depth[1], r.normal_depth[2]],
-        depth: r.normal_depth[3],
-        evals: r.info[0],
-        level: if status == Status::Hit { r.info[2] } else { 0 },
-        status,
-    }
+    let [cr, cg] = unorm2(r.color_rg);
+    let [cb, ca] = unorm2(r.color_ba);
+    let [nx, ny] = snorm2(r.normal_xy);
+    let [nz, _] = snorm2(r.normal_z);
+    PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.evals, level: r.info >> 8, status }
 }
 
 fn check_settings(s: &Settings) -> Result<(), RenderError> {

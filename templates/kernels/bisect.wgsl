@@ -30,10 +30,16 @@ struct Uniforms {
     params: array<vec4<f32>, 16>,
 }
 
+// One pixel's result, packed to 28 bytes (colour and normal as 16-bit
+// fixed point: linear colour in [0, 1], normal components in [-1, 1]).
 struct Pixel {
-    color: vec4<f32>,        // linear RGB, alpha = 1 on hits
-    normal_depth: vec4<f32>, // unit normal, distance from the eye along the unit ray
-    info: vec4<u32>,         // inclusion evaluations, status, depth reached, 0
+    color_rg: u32,  // pack2x16unorm(r, g), linear
+    color_ba: u32,  // pack2x16unorm(b, a); a = 1 on hits
+    normal_xy: u32, // pack2x16snorm(n.x, n.y)
+    normal_z: u32,  // pack2x16snorm(n.z, 0)
+    depth: f32,     // distance from the eye along the unit ray; +inf on misses
+    evals: u32,     // inclusion evaluations (the pixel's share of the tile pass included)
+    info: u32,      // status | d_ray << 8 (bisection depth for the ray's whole box segment)
 }
 
 const STATUS_MISS: u32 = 0u;
@@ -43,9 +49,15 @@ const STATUS_UNRESOLVED: u32 = 2u;
 // finite (division by an interval containing 0): such a cell is a hit only
 // once it is this much smaller than eps and the scalar function changes sign.
 const EXTRA_LEVELS: u32 = 6u;
+// The tile pass cuts the tile's view frustum into this many depth slabs, one
+// per invocation of the 8x8 workgroup.
+const SLABS: u32 = 64u;
 
 @group(0) @binding(0) var<uniform> U: Uniforms;
 @group(0) @binding(1) var<storage, read_write> pixels: array<Pixel>;
+
+// Bit k set: slab k of this tile's frustum may contain the surface.
+var<workgroup> wg_slabs: array<atomic<u32>, 2>;
 
 fn iso_inf() -> f32 { return U.inf; }
 fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
@@ -62,28 +74,46 @@ fn f_at(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, U.time); }
 fn may_contain_zero(r: vec2<f32>) -> bool { return !(r.x > 0.0 || r.y < 0.0); }
 fn is_finite_range(r: vec2<f32>) -> bool { return abs(r.x) < U.inf && abs(r.y) < U.inf; }
 
-struct Hit { t: f32, status: u32, evals: u32, depth: u32 }
+// The ray: points o + s * dir, where dir is the unnormalised pixel direction
+// (forward component 1), so s is the depth along the camera's forward axis.
+struct Ray { o: vec3<f32>, dir: vec3<f32>, s_exit: f32 }
+struct Hit { s: f32, status: u32, evals: u32, iters: u32 }
 
-fn traverse(pe: vec3<f32>, dir: vec3<f32>, d_max: u32) -> Hit {
+fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
+    let w = exp2(-f32(d));
+    let t0 = f32(k) * w;
+    return vec2<f32>(lo + len * t0, lo + len * (t0 + w));
+}
+
+// Stackless bisection of the ray between depths s_lo and s_hi. Cells (d, k)
+// cover [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
+// finished level at once (the trailing one bits of k) and steps right.
+fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
     var h = Hit(0.0, STATUS_MISS, 0u, 0u);
     var d = 0u;
     var k = 0u;
+    let len = s_hi - s_lo;
     let d_last = d_max + EXTRA_LEVELS;
-    for (var it = 0u; it < U.max_iter; it = it + 1u) {
-        let w = exp2(-f32(d));
-        let t0 = f32(k) * w;
-        let t1 = t0 + w;
-        let r = cell_range(pe, dir, t0, t1);
+    loop {
+        if (h.iters >= budget) {
+            // Budget exhausted: report it, and keep the nearest cell that may
+            // still hold the surface as the best guess.
+            h.status = STATUS_UNRESOLVED;
+            h.s = cell_s(s_lo, len, d, k).x;
+            return h;
+        }
+        h.iters = h.iters + 1u;
+        let c = cell_s(s_lo, len, d, k);
+        let r = cell_range(ray.o, ray.dir, c.x, c.y);
         h.evals = h.evals + 1u;
         var descend = false;
         if (may_contain_zero(r)) {
             let finite = is_finite_range(r);
             if (d < d_max || (!finite && d < d_last)) {
                 descend = true;
-            } else if (finite || sign_change(pe, dir, t0, t1)) {
-                h.t = refine(pe, dir, t0, t1);
+            } else if (finite || sign_change(ray, c.x, c.y)) {
+                h.s = refine(ray, c.x, c.y);
                 h.status = STATUS_HIT;
-                h.depth = d;
                 return h;
             }
         }
@@ -91,45 +121,40 @@ fn traverse(pe: vec3<f32>, dir: vec3<f32>, d_max: u32) -> Hit {
             d = d + 1u;
             k = k * 2u;
         } else {
-            // Climb over every finished level (trailing ones of k), then step right.
             let up = countTrailingZeros(~k);
             if (up >= d) { return h; } // the whole segment is done
             d = d - up;
             k = (k >> up) + 1u;
         }
     }
-    // Iteration budget exhausted: report it, and keep the nearest cell that
-    // may still hold the surface as the best guess.
-    h.status = STATUS_UNRESOLVED;
-    h.t = f32(k) * exp2(-f32(d));
-    h.depth = d;
     return h;
 }
 
-fn sign_change(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> bool {
-    let f0 = f_at(pe + dir * t0);
-    let f1 = f_at(pe + dir * t1);
+fn sign_change(ray: Ray, t0: f32, t1: f32) -> bool {
+    let f0 = f_at(ray.o + ray.dir * t0);
+    let f1 = f_at(ray.o + ray.dir * t1);
     return (f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0);
 }
 
 // Root position for the hit cell [t0, t1]. An enclosure can contain 0 a
 // little before the surface (overestimation), so when f does not change sign
-// across the cell we look up to LOOKAHEAD cells further (IA overestimates most where the gradient is nearly perpendicular to the ray) for a sign change
-// (scalar evaluations only) and bisect there; without one (a tangent root or
+// across the cell we look up to LOOKAHEAD cells further for a sign change
+// (IA overestimates most where the gradient is nearly perpendicular to the
+// ray; scalar evaluations only) and bisect there; without one (a tangent root or
 // a feature thinner than a cell) the cell's midpoint is the answer.
 const LOOKAHEAD: i32 = 16;
-fn refine(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> f32 {
+fn refine(ray: Ray, t0: f32, t1: f32) -> f32 {
     let w = t1 - t0;
     var a = t0;
     var b = t1;
-    var fa = f_at(pe + dir * a);
-    var fb = f_at(pe + dir * b);
+    var fa = f_at(ray.o + ray.dir * a);
+    var fb = f_at(ray.o + ray.dir * b);
     var found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
-    for (var k = 0; k < LOOKAHEAD && !found && b < 1.0; k = k + 1) {
+    for (var k = 0; k < LOOKAHEAD && !found && b < ray.s_exit; k = k + 1) {
         a = b;
         fa = fb;
-        b = min(b + w, 1.0);
-        fb = f_at(pe + dir * b);
+        b = min(b + w, ray.s_exit);
+        fb = f_at(ray.o + ray.dir * b);
         found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
     }
     if (!found) {
@@ -137,7 +162,7 @@ fn refine(pe: vec3<f32>, dir: vec3<f32>, t0: f32, t1: f32) -> f32 {
     }
     for (var i = 0; i < 12; i = i + 1) {
         let m = 0.5 * (a + b);
-        let fm = f_at(pe + dir * m);
+        let fm = f_at(ray.o + ray.dir * m);
         if ((fa <= 0.0) == (fm <= 0.0)) { a = m; fa = fm; } else { b = m; }
     }
     return 0.5 * (a + b);
@@ -172,60 +197,156 @@ fn shade(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>) -> vec3<f32> {
     return base * (0.12 + 0.70 * diff + fill) + vec3<f32>(0.35 * spec);
 }
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= U.tile_size.x || gid.y >= U.tile_size.y) { return; }
-    let px = U.tile_origin + gid.xy;
-    let idx = gid.y * U.tile_size.x + gid.x;
+fn pixel_dir(px: vec2<u32>) -> vec2<f32> {
     let W = f32(U.size.x);
     let H = f32(U.size.y);
-    let sx = ((f32(px.x) + 0.5) / W * 2.0 - 1.0) * U.tan_half_fov * W / H;
-    let sy = (1.0 - (f32(px.y) + 0.5) / H * 2.0) * U.tan_half_fov;
-    let dir = normalize(U.forward.xyz + sx * U.right.xyz + sy * U.up.xyz);
-    let o = U.eye.xyz;
+    return vec2<f32>(((f32(px.x) + 0.5) / W * 2.0 - 1.0) * U.tan_half_fov * W / H,
+                     (1.0 - (f32(px.y) + 0.5) / H * 2.0) * U.tan_half_fov);
+}
 
-    var out = Pixel(vec4<f32>(background(dir), 0.0), vec4<f32>(0.0, 0.0, 0.0, U.inf), vec4<u32>(0u));
-    // Slab test against the domain box.
+// Depth range [s_near, s_far] of the domain (box, or box and clip ball)
+// along the forward axis.
+fn depth_range() -> vec2<f32> {
+    var lo = U.inf;
+    var hi = -U.inf;
+    for (var c = 0u; c < 8u; c = c + 1u) {
+        let corner = select(U.box_min.xyz, U.box_max.xyz, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+        let s = dot(corner - U.eye.xyz, U.forward.xyz);
+        lo = min(lo, s);
+        hi = max(hi, s);
+    }
+    let radius = U.box_max.w;
+    if (radius > 0.0) {
+        let s = dot(0.5 * (U.box_min.xyz + U.box_max.xyz) - U.eye.xyz, U.forward.xyz);
+        lo = max(lo, s - radius);
+        hi = min(hi, s + radius);
+    }
+    return vec2<f32>(max(lo, 1e-6 * max(hi, 1.0)), hi);
+}
+
+// Entry and exit depth of a ray in the domain (box, and clip ball if any).
+fn clip_ray(o: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
     let inv = 1.0 / dir;
     let ta = (U.box_min.xyz - o) * inv;
     let tb = (U.box_max.xyz - o) * inv;
     let tmin = min(ta, tb);
     let tmax = max(ta, tb);
-    var t_enter = max(max(max(tmin.x, tmin.y), tmin.z), 0.0);
-    var t_exit = min(min(tmax.x, tmax.y), tmax.z);
+    var s0 = max(max(max(tmin.x, tmin.y), tmin.z), 0.0);
+    var s1 = min(min(tmax.x, tmax.y), tmax.z);
     let radius = U.box_max.w;
     if (radius > 0.0) {
-        // Intersect with the clip ball as well.
         let oc = o - 0.5 * (U.box_min.xyz + U.box_max.xyz);
-        let b = dot(oc, dir);
-        let disc = b * b - (dot(oc, oc) - radius * radius);
+        let a = dot(dir, dir);
+        let b = dot(oc, dir) / a;
+        let disc = b * b - (dot(oc, oc) - radius * radius) / a;
         if (disc < 0.0) {
-            t_exit = -1.0;
+            s1 = -1.0;
         } else {
             let q = sqrt(disc);
-            t_enter = max(t_enter, -b - q);
-            t_exit = min(t_exit, -b + q);
+            s0 = max(s0, -b - q);
+            s1 = min(s1, -b + q);
         }
     }
-    if (t_enter < t_exit) {
-        let pe = o + dir * t_enter;
-        let seg = dir * (t_exit - t_enter);
-        let len = t_exit - t_enter;
-        let d_max = u32(clamp(ceil(log2(len / U.eps)), 0.0, 18.0));
-        let h = traverse(pe, seg, d_max);
-        out.info = vec4<u32>(h.evals, h.status, h.depth, 0u);
-        if (h.status != STATUS_MISS) {
-            let p = pe + seg * h.t;
+    return vec2<f32>(s0, s1);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>,
+        @builtin(local_invocation_index) li: u32,
+        @builtin(workgroup_id) wid: vec3<u32>) {
+    // ---- Tile pass: which depth slabs of this tile's frustum may hold the
+    // surface. Each invocation encloses f over one slab of the frustum
+    // through the tile's pixel centres; slabs proven root-free are skipped
+    // by every ray of the tile.
+    if (li == 0u) {
+        atomicStore(&wg_slabs[0], 0u);
+        atomicStore(&wg_slabs[1], 0u);
+    }
+    workgroupBarrier();
+    let t_lo = U.tile_origin + wid.xy * 8u;
+    let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
+    let a = pixel_dir(t_lo);
+    let b = pixel_dir(t_hi);
+    let dr = depth_range();
+    let ds = (dr.y - dr.x) / f32(SLABS);
+    let s0 = dr.x + ds * f32(li);
+    let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
+                          vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
+                          vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
+    if (dr.x < dr.y && may_contain_zero(slab)) {
+        atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
+    }
+    workgroupBarrier();
+    let mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
+
+    // ---- Per-pixel traversal of the candidate slabs, nearest first.
+    if (gid.x >= U.tile_size.x || gid.y >= U.tile_size.y) { return; }
+    let px = U.tile_origin + gid.xy;
+    let idx = gid.y * U.tile_size.x + gid.x;
+    let sxy = pixel_dir(px);
+    let dir = U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
+    let inv_len = 1.0 / length(dir);
+    let unit = dir * inv_len;
+    let o = U.eye.xyz;
+
+    var color = vec4<f32>(background(unit), 0.0);
+    var normal = vec3<f32>(0.0);
+    var depth = U.inf;
+    var evals = 1u; // this pixel's share of the tile pass
+    var status = STATUS_MISS;
+    var d_ray = 0u;
+    let seg = clip_ray(o, dir);
+    if (seg.x < seg.y) {
+        let ray = Ray(o, dir, seg.y);
+        // d_max for the whole box segment; slab segments use their own, smaller one.
+        d_ray = u32(clamp(ceil(log2((seg.y - seg.x) / (U.eps * inv_len))), 0.0, 18.0));
+        var budget = U.max_iter;
+        var m = mask;
+        var hit = Hit(0.0, STATUS_MISS, 0u, 0u);
+        loop {
+            if (m.x == 0u && m.y == 0u) { break; }
+            // Next candidate slab k (lowest set bit), merged with the run of
+            // candidate slabs that follow it.
+            var k = 0u;
+            if (m.x != 0u) { k = countTrailingZeros(m.x); } else { k = 32u + countTrailingZeros(m.y); }
+            var k_end = k;
+            loop {
+                let nxt = k_end + 1u;
+                if (nxt >= SLABS) { break; }
+                var bit = false;
+                if (nxt < 32u) { bit = ((m.x >> nxt) & 1u) != 0u; } else { bit = ((m.y >> (nxt - 32u)) & 1u) != 0u; }
+                if (!bit) { break; }
+                k_end = nxt;
+            }
+            // Clear bits k..k_end.
+            for (var j = k; j <= k_end; j = j + 1u) {
+                if (j < 32u) { m.x = m.x & ~(1u << j); } else { m.y = m.y & ~(1u << (j - 32u)); }
+            }
+            var lo = max(seg.x, dr.x + ds * f32(k));
+            var hi = min(seg.y, select(dr.x + ds * f32(k_end + 1u), dr.y, k_end == SLABS - 1u));
+            if (!(lo < hi)) { continue; }
+            let len = (hi - lo) / inv_len;
+            let d_max = u32(clamp(ceil(log2(len / U.eps)), 0.0, 18.0));
+            hit = traverse(ray, lo, hi, d_max, budget);
+            evals = evals + hit.evals;
+            budget = budget - min(budget, hit.iters);
+            if (hit.status != STATUS_MISS) { break; }
+        }
+        status = hit.status;
+        if (status != STATUS_MISS) {
+            let p = o + dir * hit.s;
             let g = gradient(p, 0.5 * U.eps);
-            var c = shade(p, dir, g);
-            if (h.status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
+            var c = shade(p, unit, g);
+            if (status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
                 c = vec3<f32>(1.0, 0.0, 1.0);
             }
-            var n = normalize(g);
-            if (!(dot(g, g) > 0.0)) { n = -dir; }
-            out.color = vec4<f32>(c, 1.0);
-            out.normal_depth = vec4<f32>(n, t_enter + h.t * len);
+            normal = normalize(g);
+            if (!(dot(g, g) > 0.0)) { normal = -unit; }
+            color = vec4<f32>(c, 1.0);
+            depth = hit.s / inv_len;
         }
     }
-    pixels[idx] = out;
+    let cl = clamp(color, vec4<f32>(0.0), vec4<f32>(1.0));
+    pixels[idx] = Pixel(pack2x16unorm(cl.xy), pack2x16unorm(cl.zw), pack2x16snorm(normal.xy),
+                        pack2x16snorm(vec2<f32>(normal.z, 0.0)), depth, evals, status | (d_ray << 8u));
 }
