@@ -5,7 +5,7 @@
 //! exponents into [`Op::PowI`], and shares common sub-expressions by
 //! hash-consing every node, so a repeated `x^2` is computed once.
 
-use crate::diag::{closest, Diagnostic, Span};
+use crate::diag::{levenshtein, Diagnostic, Span};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use crate::reference::scalar_op;
 use crate::syntax::{BinOp, Expr, ExprKind, Program};
@@ -32,10 +32,14 @@ pub enum SemaError {
     Redefinition { name: String, previous: Span, current: Span },
     /// A definition that uses a name defined after it.
     UseBeforeDefinition { name: String, used: Span, defined: Span },
+    /// A definition that uses its own name (`a = a + 1;`).
+    SelfReference { name: String, used: Span, defined: Span },
     /// Defining a reserved name (variable, constant, function).
     Reserved { name: String, span: Span },
     /// A constant sub-expression that is not a finite number.
     NotFinite { span: Span, value: f64 },
+    /// A number literal beyond the f32 range (`1e39`).
+    NumberOutOfRange { span: Span, value: f64 },
     /// An integer exponent beyond [`MAX_EXPONENT`].
     ExponentTooLarge { span: Span, exponent: f64 },
     /// More than [`MAX_NODES`] operations.
@@ -49,13 +53,15 @@ impl SemaError {
             SemaError::UnknownFunction { name, span, suggestions } => {
                 let d = Diagnostic::error(format!("unknown function '{name}'"), *span, "not a function");
                 match suggestions.as_slice() {
-                    [] => d.with_note(format!("functions: {}", function_names().join(" "))),
+                    [] => d
+                        .with_note(format!("functions: {}", function_names().join(" ")))
+                        .with_note(format!("for a product write `{name}*(...)`")),
                     s => d.with_note(format!("did you mean {}?", quote_list(s))),
                 }
             }
             SemaError::NotAFunction { name, span } => {
                 Diagnostic::error(format!("'{name}' is not a function"), *span, "called here")
-                    .with_note("write `*` for a product: `a*(x + 1)`")
+                    .with_note(format!("for a product write `{name}*(...)`"))
             }
             SemaError::FunctionAsValue { name, span } => {
                 Diagnostic::error(format!("function '{name}' used without arguments"), *span, "expected '(' after this")
@@ -75,18 +81,35 @@ impl SemaError {
                     .with_label(*defined, "defined here")
                     .with_note("move the definition above its first use")
             }
+            SemaError::SelfReference { name, used, defined } => {
+                Diagnostic::error(format!("'{name}' is used in its own definition"), *used, "used here")
+                    .with_label(*defined, "defined here")
+                    .with_note("a definition can only use names defined above it")
+            }
             SemaError::Reserved { name, span } => {
                 Diagnostic::error(format!("cannot define '{name}': the name is reserved"), *span, "reserved name")
                     .with_note("x y z t w pi e and the function names cannot be redefined")
             }
             SemaError::NotFinite { span, value } => Diagnostic::error(
-                format!("constant expression evaluates to {}", if value.is_nan() { "NaN".to_string() } else { format!("{value}") }),
+                format!("constant expression evaluates to {}", show_value(*value)),
                 *span,
-                "not a finite 32-bit float",
+                if value.is_finite() { "beyond the 32-bit float range" } else { "not a finite number" },
             )
             .with_note("constants must be finite and within the f32 range (|c| < 3.4e38)"),
+            SemaError::NumberOutOfRange { span, value } => Diagnostic::error(
+                match value.is_finite() {
+                    true => format!("number {} is too large for a 32-bit float", show_value(*value)),
+                    false => "number too large for a 32-bit float".to_string(),
+                },
+                *span,
+                "out of range",
+            )
+            .with_note("the largest 32-bit float is about 3.4e38"),
             SemaError::ExponentTooLarge { span, exponent } => Diagnostic::error(
-                format!("exponent {exponent} is too large (the limit is {MAX_EXPONENT})"),
+                match *exponent < 0.0 {
+                    false => format!("exponent {exponent} is too large (the limit is {MAX_EXPONENT})"),
+                    true => format!("exponent {exponent} is too large (the limit is {MAX_EXPONENT} in absolute value)"),
+                },
                 *span,
                 "exponent too large",
             ),
@@ -94,6 +117,22 @@ impl SemaError {
                 "formula too large: {nodes} operations (the limit is {MAX_NODES})"
             )),
         }
+    }
+}
+
+/// A value for a message: `NaN`, `infinity`, `1e39`, `0.5`.
+fn show_value(v: f64) -> String {
+    if v.is_nan() {
+        "NaN".into()
+    } else if v.is_infinite() {
+        if v > 0.0 { "infinity".into() } else { "-infinity".into() }
+    } else if v != 0.0 && (v.abs() >= 1e16 || v.abs() < 1e-5) {
+        // Five significant digits: 2.6881e43, 1e39.
+        let s = format!("{v:.4e}");
+        let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        format!("{}e{exp}", mant.trim_end_matches('0').trim_end_matches('.'))
+    } else {
+        format!("{v}")
     }
 }
 
@@ -136,6 +175,32 @@ pub fn function_names() -> Vec<&'static str> {
     v
 }
 
+/// Names other languages use for a built-in function.
+const ALIASES: &[(&str, &str)] = &[
+    ("ln", "log"), ("sgn", "sign"), ("fabs", "abs"), ("arctan", "atan"), ("atn", "atan"),
+    ("arctan2", "atan2"), ("power", "pow"), ("lerp", "mix"),
+];
+
+/// "Did you mean" candidates for an unknown function: a known alias, else
+/// the built-ins within a small edit distance (1 for names up to 5 letters,
+/// so `foo` does not suggest `cos`) or related by a prefix of at least three
+/// letters (`cosine` → `cos`); at most three, closest first.
+fn suggest_function(name: &str) -> Vec<String> {
+    if let Some((_, f)) = ALIASES.iter().find(|(a, _)| a.eq_ignore_ascii_case(name)) {
+        return vec![f.to_string()];
+    }
+    let lower = name.to_ascii_lowercase();
+    let limit = (name.len() / 3).max(1);
+    let common = |a: &str, b: &str| a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
+    let mut scored: Vec<(usize, std::cmp::Reverse<usize>, &str)> = function_names()
+        .into_iter()
+        .map(|f| (levenshtein(&lower, f), std::cmp::Reverse(common(&lower, f)), f))
+        .filter(|&(d, std::cmp::Reverse(c), f)| d <= limit || (c >= 3 && (c == f.len() || c == lower.len())))
+        .collect();
+    scored.sort();
+    scored.into_iter().take(3).map(|(_, _, f)| f.to_string()).collect()
+}
+
 const VARIABLES: &[(&str, Var)] = &[("x", Var::X), ("y", Var::Y), ("z", Var::Z), ("t", Var::T), ("w", Var::T)];
 
 /// Lowers a parsed program to IR.
@@ -153,11 +218,49 @@ pub fn analyze(program: &Program) -> Result<Ir, SemaError> {
         def_at.insert(&d.name, d.name_span);
     }
     for d in &program.definitions {
+        b.current = Some(d.name.clone());
         let v = b.expr(&d.value, &def_at)?;
         b.defs.insert(d.name.clone(), v);
     }
+    b.current = None;
     let root = b.expr(&program.body, &def_at)?;
-    Ok(Ir { nodes: b.nodes, spans: b.spans, root, params: b.params })
+    Ok(compact(Ir { nodes: b.nodes, spans: b.spans, root, params: b.params }))
+}
+
+/// Drops the nodes the root does not use (unused definitions, constants
+/// folded away) and the parameters only they used, renumbering both, so
+/// `params` lists exactly the parameters that need a value.
+fn compact(ir: Ir) -> Ir {
+    let live = ir.live();
+    let mut new_id = vec![NodeId::MAX; ir.nodes.len()];
+    let mut param_id: Vec<Option<u32>> = vec![None; ir.params.len()];
+    let mut params = Vec::new();
+    let mut nodes = Vec::with_capacity(live.len());
+    let mut spans = Vec::with_capacity(live.len());
+    for &old in &live {
+        let m = |n: NodeId| new_id[n as usize];
+        let op = match ir.nodes[old as usize] {
+            Op::Param(p) => Op::Param(*param_id[p as usize].get_or_insert_with(|| {
+                params.push(ir.params[p as usize].clone());
+                (params.len() - 1) as u32
+            })),
+            Op::Const(c) => Op::Const(c),
+            Op::Var(v) => Op::Var(v),
+            Op::Neg(a) => Op::Neg(m(a)),
+            Op::Add(a, b) => Op::Add(m(a), m(b)),
+            Op::Sub(a, b) => Op::Sub(m(a), m(b)),
+            Op::Mul(a, b) => Op::Mul(m(a), m(b)),
+            Op::Div(a, b) => Op::Div(m(a), m(b)),
+            Op::PowI(a, n) => Op::PowI(m(a), n),
+            Op::Call1(f, a) => Op::Call1(f, m(a)),
+            Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
+            Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
+        };
+        new_id[old as usize] = nodes.len() as NodeId;
+        nodes.push(op);
+        spans.push(ir.spans[old as usize]);
+    }
+    Ir { root: new_id[ir.root as usize], nodes, spans, params }
 }
 
 #[derive(Default)]
@@ -167,6 +270,8 @@ struct Builder {
     dedup: HashMap<Key, NodeId>,
     defs: HashMap<String, NodeId>,
     params: Vec<(String, Span)>,
+    /// The definition being lowered.
+    current: Option<String>,
 }
 
 /// Hashable form of [`Op`] (constants by their bits).
@@ -235,32 +340,69 @@ impl Builder {
         Ok(id)
     }
 
-    fn expr(&mut self, e: &Expr, def_at: &HashMap<&str, Span>) -> Result<NodeId, SemaError> {
-        match &e.kind {
-            ExprKind::Number(v) if !(*v as f32).is_finite() => Err(SemaError::NotFinite { span: e.span, value: *v }),
-            ExprKind::Number(v) => self.push(Op::Const(*v), e.span),
-            ExprKind::Name(name) => self.name(name, e.span, def_at),
-            ExprKind::Neg(a) => {
-                let a = self.expr(a, def_at)?;
-                self.push(Op::Neg(a), e.span)
-            }
-            ExprKind::Binary(op, a, bx) => {
-                let a = self.expr(a, def_at)?;
-                if *op == BinOp::Pow {
-                    return self.power(a, bx, e.span, def_at);
-                }
-                let b = self.expr(bx, def_at)?;
-                let op = match op {
-                    BinOp::Add => Op::Add(a, b),
-                    BinOp::Sub => Op::Sub(a, b),
-                    BinOp::Mul => Op::Mul(a, b),
-                    BinOp::Div => Op::Div(a, b),
-                    BinOp::Pow => unreachable!("handled above"),
-                };
-                self.push(op, e.span)
-            }
-            ExprKind::Call { name, name_span, args } => self.call(name, *name_span, args, e.span, def_at),
+    /// Lowers an expression. Iterative (an explicit work stack, operands
+    /// left to right, calls checked before their arguments) so that a long
+    /// chain like `x + x + … + x`, which the parser builds without recursion,
+    /// cannot overflow the stack here either.
+    fn expr(&mut self, root: &Expr, def_at: &HashMap<&str, Span>) -> Result<NodeId, SemaError> {
+        enum Work<'e> {
+            Enter(&'e Expr),
+            Exit(&'e Expr),
         }
+        let mut work = vec![Work::Enter(root)];
+        let mut values: Vec<NodeId> = Vec::new();
+        while let Some(item) = work.pop() {
+            match item {
+                Work::Enter(e) => match &e.kind {
+                    ExprKind::Number(v) if !(*v as f32).is_finite() => {
+                        return Err(SemaError::NumberOutOfRange { span: e.span, value: *v });
+                    }
+                    ExprKind::Number(v) => values.push(self.push(Op::Const(*v), e.span)?),
+                    ExprKind::Name(name) => values.push(self.name(name, e.span, def_at)?),
+                    ExprKind::Neg(a) => {
+                        work.push(Work::Exit(e));
+                        work.push(Work::Enter(a));
+                    }
+                    ExprKind::Binary(_, a, b) => {
+                        work.push(Work::Exit(e));
+                        work.push(Work::Enter(b));
+                        work.push(Work::Enter(a));
+                    }
+                    ExprKind::Call(c) => {
+                        self.check_call(&c.name, c.name_span, c.args.len(), e.span)?;
+                        work.push(Work::Exit(e));
+                        work.extend(c.args.iter().rev().map(Work::Enter));
+                    }
+                },
+                Work::Exit(e) => {
+                    let id = match &e.kind {
+                        ExprKind::Neg(_) => {
+                            let a = values.pop().expect("operand lowered");
+                            self.push(Op::Neg(a), e.span)?
+                        }
+                        ExprKind::Binary(op, _, bx) => {
+                            let b = values.pop().expect("operand lowered");
+                            let a = values.pop().expect("operand lowered");
+                            match op {
+                                BinOp::Add => self.push(Op::Add(a, b), e.span)?,
+                                BinOp::Sub => self.push(Op::Sub(a, b), e.span)?,
+                                BinOp::Mul => self.push(Op::Mul(a, b), e.span)?,
+                                BinOp::Div => self.push(Op::Div(a, b), e.span)?,
+                                BinOp::Pow => self.pow_nodes(a, b, bx.span, e.span)?,
+                            }
+                        }
+                        ExprKind::Call(c) => {
+                            let v = values.split_off(values.len() - c.args.len());
+                            self.finish_call(&c.name, &v, &c.args, e.span)?
+                        }
+                        ExprKind::Number(_) | ExprKind::Name(_) => unreachable!("leaves have no exit step"),
+                    };
+                    values.push(id);
+                }
+            }
+        }
+        debug_assert_eq!(values.len(), 1);
+        Ok(values[0])
     }
 
     fn name(&mut self, name: &str, span: Span, def_at: &HashMap<&str, Span>) -> Result<NodeId, SemaError> {
@@ -276,6 +418,9 @@ impl Builder {
             return Ok(id);
         }
         if let Some(&defined) = def_at.get(name) {
+            if self.current.as_deref() == Some(name) {
+                return Err(SemaError::SelfReference { name: name.to_string(), used: span, defined });
+            }
             return Err(SemaError::UseBeforeDefinition { name: name.to_string(), used: span, defined });
         }
         if builtin(name).is_some() {
@@ -293,11 +438,6 @@ impl Builder {
 
     /// `a ^ b`: integer constant exponents become [`Op::PowI`] (negative ones
     /// `1 / a^n`), anything else `pow(a, b)` defined for a ≥ 0.
-    fn power(&mut self, a: NodeId, bx: &Expr, span: Span, def_at: &HashMap<&str, Span>) -> Result<NodeId, SemaError> {
-        let b = self.expr(bx, def_at)?;
-        self.pow_nodes(a, b, bx.span, span)
-    }
-
     fn pow_nodes(&mut self, a: NodeId, b: NodeId, exp_span: Span, span: Span) -> Result<NodeId, SemaError> {
         match self.konst(b) {
             Some(n) if n.fract() == 0.0 => {
@@ -327,7 +467,7 @@ impl Builder {
         match n {
             1 => Ok(a),
             2 => self.push(Op::PowI(a, 2), span),
-            _ if n % 2 == 0 => {
+            _ if n.is_multiple_of(2) => {
                 let sq = self.push(Op::PowI(a, 2), span)?;
                 self.powi(sq, n / 2, span)
             }
@@ -335,28 +475,30 @@ impl Builder {
         }
     }
 
-    fn call(&mut self, name: &str, name_span: Span, args: &[Expr], span: Span, def_at: &HashMap<&str, Span>) -> Result<NodeId, SemaError> {
+    /// Checks that `name(…)` with `nargs` arguments is a valid call (before
+    /// its arguments are lowered, so the first error in reading order wins).
+    fn check_call(&self, name: &str, name_span: Span, nargs: usize, span: Span) -> Result<(), SemaError> {
         let Some(f) = builtin(name) else {
             if VARIABLES.iter().any(|(n, _)| *n == name) || self.defs.contains_key(name) || matches!(name, "pi" | "e") {
                 return Err(SemaError::NotAFunction { name: name.to_string(), span: name_span });
             }
-            let suggestions = closest(name, function_names()).into_iter().map(String::from).collect();
-            return Err(SemaError::UnknownFunction { name: name.to_string(), span: name_span, suggestions });
+            return Err(SemaError::UnknownFunction { name: name.to_string(), span: name_span, suggestions: suggest_function(name) });
         };
         let (expected, ok) = match f {
-            Builtin::F1(_) => ("1", args.len() == 1),
-            Builtin::F2(_) => ("2", args.len() == 2),
-            Builtin::F3(_) => ("3", args.len() == 3),
-            Builtin::Variadic(_) => ("2 or more", args.len() >= 2),
+            Builtin::F1(_) => ("1", nargs == 1),
+            Builtin::F2(_) => ("2", nargs == 2),
+            Builtin::F3(_) => ("3", nargs == 3),
+            Builtin::Variadic(_) => ("2 or more", nargs >= 2),
         };
         if !ok {
-            return Err(SemaError::Arity { name: name.to_string(), expected: expected.to_string(), found: args.len(), span });
+            return Err(SemaError::Arity { name: name.to_string(), expected: expected.to_string(), found: nargs, span });
         }
-        let mut v = Vec::with_capacity(args.len());
-        for a in args {
-            v.push(self.expr(a, def_at)?);
-        }
-        match f {
+        Ok(())
+    }
+
+    /// Builds a checked call from its lowered arguments `v`.
+    fn finish_call(&mut self, name: &str, v: &[NodeId], args: &[Expr], span: Span) -> Result<NodeId, SemaError> {
+        match builtin(name).expect("checked by check_call") {
             Builtin::F1(g) => self.push(Op::Call1(g, v[0]), span),
             Builtin::F2(Func2::Pow) => self.pow_nodes(v[0], v[1], args[1].span, span),
             Builtin::F2(g) => self.push(Op::Call2(g, v[0], v[1]), span),
@@ -374,25 +516,57 @@ impl Builder {
 
 /// Binds `--param name=value` pairs to the formula's parameters. Returns the
 /// values in parameter order, plus warnings for values that are not used.
+/// A parameter given twice takes its last value.
 pub fn bind_params(ir: &Ir, given: &[(String, f64)]) -> Result<(Vec<f32>, Vec<Diagnostic>), Diagnostic> {
     let mut values = Vec::with_capacity(ir.params.len());
     for (name, span) in &ir.params {
         match given.iter().rev().find(|(n, _)| n == name) {
-            Some((_, v)) => values.push(*v as f32),
+            Some(&(_, v)) if v.is_finite() && (v as f32).is_finite() => values.push(v as f32),
+            Some(&(_, v)) => {
+                return Err(Diagnostic::error(
+                    format!("value {} of parameter '{name}' is not a finite 32-bit float", show_value(v)),
+                    *span,
+                    "parameter used here",
+                )
+                .with_note("parameter values must be finite and within the f32 range (|v| < 3.4e38)"));
+            }
             None => {
-                return Err(Diagnostic::error(format!("missing value for parameter '{name}'"), *span, "free name")
-                    .with_note(format!("give it on the command line: --param {name}=1.0 (or did you mean one of x y z t?)")));
+                let mut d = Diagnostic::error(format!("missing value for parameter '{name}'"), *span, "free name, so a parameter")
+                    .with_note(format!("give it a value on the command line: --param {name}=1.0"));
+                let lower = name.to_ascii_lowercase();
+                if lower != *name && (VARIABLES.iter().any(|(v, _)| *v == lower) || matches!(lower.as_str(), "pi" | "e")) {
+                    d = d.with_note(format!("did you mean '{lower}'? names are case-sensitive"));
+                }
+                return Err(d);
             }
         }
     }
-    let warnings = given
-        .iter()
-        .filter(|(n, _)| !ir.params.iter().any(|(p, _)| p == n))
-        .map(|(n, _)| {
-            let mut d = Diagnostic::plain(format!("parameter '{n}' is given with --param but the formula does not use it"));
-            d.severity = crate::diag::Severity::Warning;
-            d
-        })
-        .collect();
+    let names: Vec<&str> = ir.params.iter().map(|(p, _)| p.as_str()).collect();
+    let mut warnings: Vec<Diagnostic> = Vec::new();
+    let mut warned: Vec<&str> = Vec::new();
+    for (n, _) in given {
+        if names.contains(&n.as_str()) || warned.contains(&n.as_str()) {
+            continue;
+        }
+        warned.push(n);
+        let mut d = Diagnostic::plain(format!("parameter '{n}' is given with --param but the formula does not use it"));
+        d.severity = crate::diag::Severity::Warning;
+        let near: Vec<String> = names
+            .iter()
+            .filter(|p| {
+                let d = levenshtein(n, p);
+                d <= 1.max(n.len() / 3) && d < n.len().max(p.len())
+            })
+            .map(|p| p.to_string())
+            .collect();
+        d = if !near.is_empty() {
+            d.with_note(format!("did you mean {}?", quote_list(&near)))
+        } else if names.is_empty() {
+            d.with_note("the formula has no parameters")
+        } else {
+            d.with_note(format!("the formula's parameters: {}", names.join(" ")))
+        };
+        warnings.push(d);
+    }
     Ok((values, warnings))
 }

@@ -72,6 +72,43 @@ pub enum ExprKind {
     Neg(Box<Expr>),
     /// `a op b`
     Binary(BinOp, Box<Expr>, Box<Expr>),
-    /// `name(args…)`; `name_span` points at the name only.
-    Call { name: String, name_span: Span, args: Vec<Expr> },
+    /// `name(args…)` (boxed: keeps [`Expr`] small, and with it the
+    /// parser's stack frames).
+    Call(Box<Call>),
+}
+
+/// A call `name(args…)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Call {
+    /// The function name.
+    pub name: String,
+    /// Where the name is written (the name only).
+    pub name_span: Span,
+    /// The arguments, in order.
+    pub args: Vec<Expr>,
+}
+
+/// Dropped with an explicit stack: `x + x + … + x` is a left-deep tree as
+/// tall as the chain is long, and the default recursive drop would overflow
+/// a small thread stack on it.
+impl Drop for Expr {
+    fn drop(&mut self) {
+        let leaf = |k: &ExprKind| matches!(k, ExprKind::Number(_) | ExprKind::Name(_));
+        if leaf(&self.kind) {
+            return;
+        }
+        let take = |e: &mut Expr| std::mem::replace(&mut e.kind, ExprKind::Number(0.0));
+        let mut stack = vec![std::mem::replace(&mut self.kind, ExprKind::Number(0.0))];
+        while let Some(kind) = stack.pop() {
+            match kind {
+                ExprKind::Number(_) | ExprKind::Name(_) => {}
+                ExprKind::Neg(mut a) => stack.push(take(&mut a)),
+                ExprKind::Binary(_, mut a, mut b) => {
+                    stack.push(take(&mut a));
+                    stack.push(take(&mut b));
+                }
+                ExprKind::Call(mut c) => stack.extend(c.args.iter_mut().map(take)),
+            }
+        }
+    }
 }

@@ -72,16 +72,19 @@ pub fn lex(src: &str) -> Result<Vec<Token>, LexError> {
     let mut i = 0;
     while i < bytes.len() {
         let c = bytes[i];
-        if !c.is_ascii() || (c.is_ascii_control() && !matches!(c, b' ' | b'\t' | b'\n' | b'\r')) {
-            let ch = src[i..].chars().next().unwrap_or('\u{fffd}');
-            return Err(LexError::BadChar { ch, span: Span::new(i, i + ch.len_utf8()) });
+        if let Some(e) = bad_char(src, i) {
+            return Err(e);
         }
         let start = i;
         let single = |t: Tok| Token { tok: t, span: Span::new(start, start + 1) };
         match c {
             b' ' | b'\t' | b'\n' | b'\r' => i += 1,
             b'#' => {
+                // Comments are checked like the rest: printable ASCII only.
                 while i < bytes.len() && bytes[i] != b'\n' {
+                    if let Some(e) = bad_char(src, i) {
+                        return Err(e);
+                    }
                     i += 1;
                 }
             }
@@ -89,8 +92,10 @@ pub fn lex(src: &str) -> Result<Vec<Token>, LexError> {
                 i = number_end(bytes, i);
                 let text = &src[start..i];
                 let span = Span::new(start, i);
+                // A well-formed literal beyond the f64 range parses to
+                // infinity; the semantic pass reports it as out of range.
                 match text.parse::<f64>() {
-                    Ok(v) if v.is_finite() && valid_number_shape(text) => out.push(Token { tok: Tok::Number(v), span }),
+                    Ok(v) if valid_number_shape(text) => out.push(Token { tok: Tok::Number(v), span }),
                     _ => return Err(LexError::InvalidNumber { text: text.to_string(), span }),
                 }
             }
@@ -121,6 +126,17 @@ pub fn lex(src: &str) -> Result<Vec<Token>, LexError> {
     }
     out.push(Token { tok: Tok::Eof, span: Span::new(src.len(), src.len()) });
     Ok(out)
+}
+
+/// The error for the character at byte `i` if it is not printable ASCII
+/// or whitespace (space, tab, CR, LF).
+fn bad_char(src: &str, i: usize) -> Option<LexError> {
+    let c = src.as_bytes()[i];
+    if c.is_ascii() && (!c.is_ascii_control() || matches!(c, b'\t' | b'\n' | b'\r')) {
+        return None;
+    }
+    let ch = src[i..].chars().next().unwrap_or('\u{fffd}');
+    Some(LexError::BadChar { ch, span: Span::new(i, i + ch.len_utf8()) })
 }
 
 /// Greedy end of a number-like run: digits, dots, and an exponent with sign.

@@ -5,5 +5,5 @@ pub mod ast;
 pub mod lexer;
 pub mod parser;
 
-pub use ast::{BinOp, Definition, Expr, ExprKind, Program};
+pub use ast::{BinOp, Call, Definition, Expr, ExprKind, Program};
 pub use parser::{parse, SyntaxError};

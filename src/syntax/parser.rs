@@ -4,7 +4,7 @@
 //! diagnostic beats a cascade). Nesting is bounded by [`MAX_DEPTH`] so that
 //! 100,000 nested parentheses give an error, not a stack overflow.
 
-use super::ast::{BinOp, Definition, Expr, ExprKind, Program};
+use super::ast::{BinOp, Call, Definition, Expr, ExprKind, Program};
 use super::lexer::{lex, LexError, Tok, Token};
 use crate::diag::{Diagnostic, Span};
 
@@ -38,12 +38,27 @@ impl SyntaxError {
     pub fn to_diagnostic(&self) -> Diagnostic {
         match self {
             SyntaxError::Lex(LexError::BadChar { ch, span }) => {
-                let what = if ch.is_ascii_control() { "control character" } else { "non-ASCII character" };
-                Diagnostic::error(format!("{what} {:?} in formula", ch), *span, "not allowed here")
-                    .with_note("formulas are plain ASCII: use `pi` for π, `*` for ×, `^2` for ²")
+                let code = format!("U+{:04X}", *ch as u32);
+                if ch.is_control() {
+                    Diagnostic::error(format!("control character {code} in formula"), *span, "not allowed here")
+                        .with_note("besides printable ASCII only spaces, tabs and line breaks may appear in a formula")
+                } else {
+                    Diagnostic::error(format!("non-ASCII character '{ch}' ({code}) in formula"), *span, "not allowed here")
+                        .with_note(ascii_hint(*ch))
+                }
             }
             SyntaxError::Lex(LexError::Unexpected { ch, span }) => {
-                Diagnostic::error(format!("unexpected character '{ch}'"), *span, "no token starts with this")
+                let d = Diagnostic::error(format!("unexpected character '{ch}'"), *span, "no token starts with this");
+                let hint = match ch {
+                    '[' | ']' | '{' | '}' => Some("group with `(` and `)`"),
+                    '|' => Some("write `abs(x)` for |x|"),
+                    '<' | '>' | '!' => Some("the surface is where the formula is 0: write `lhs - (rhs)`, not a comparison"),
+                    _ => None,
+                };
+                match hint {
+                    Some(h) => d.with_note(h),
+                    None => d,
+                }
             }
             SyntaxError::Lex(LexError::InvalidNumber { text, span }) => {
                 Diagnostic::error(format!("invalid number '{text}'"), *span, "not a number")
@@ -76,6 +91,23 @@ impl SyntaxError {
     }
 }
 
+/// What to write instead of a non-ASCII character.
+fn ascii_hint(ch: char) -> String {
+    let instead = match ch {
+        '²' => Some("^2"),
+        '³' => Some("^3"),
+        'π' => Some("pi"),
+        '×' | '·' | '⋅' | '∙' => Some("*"),
+        '÷' | '∕' => Some("/"),
+        '−' | '–' | '—' => Some("-"),
+        _ => None,
+    };
+    match instead {
+        Some(a) => format!("formulas are plain ASCII: write `{a}` for {ch}"),
+        None => "formulas are plain ASCII: use `pi` for π, `*` for ×, `^2` for ²".to_string(),
+    }
+}
+
 /// Parses a whole program.
 pub fn parse(src: &str) -> Result<Program, SyntaxError> {
     if src.len() > MAX_SOURCE_BYTES {
@@ -83,8 +115,12 @@ pub fn parse(src: &str) -> Result<Program, SyntaxError> {
     }
     let tokens = lex(src).map_err(SyntaxError::Lex)?;
     let mut p = Parser { src, tokens, pos: 0, depth: 0 };
-    p.program()
+    p.program().map_err(|e| *e)
 }
+
+/// Errors are boxed inside the parser: a small `Result` keeps the frames of
+/// the recursive rules small, so [`MAX_DEPTH`] levels fit in a small stack.
+type PResult<T> = Result<T, Box<SyntaxError>>;
 
 struct Parser<'a> {
     src: &'a str,
@@ -103,70 +139,91 @@ impl Parser<'_> {
     fn nth(&self, n: usize) -> &Tok {
         &self.tokens[(self.pos + n).min(self.tokens.len() - 1)].tok
     }
-    fn bump(&mut self) -> Token {
-        let t = self.tokens[self.pos].clone();
+    /// Moves past the current token and returns its span.
+    fn bump(&mut self) -> Span {
+        let span = self.tokens[self.pos].span;
         if self.pos + 1 < self.tokens.len() {
             self.pos += 1;
         }
-        t
+        span
     }
     fn found(&self) -> String {
         let t = self.current();
         t.tok.describe(&self.src[t.span.range()])
     }
-    fn expected(&self, what: &str) -> SyntaxError {
+    /// `expected X, found 'Y'` at the current token. Out of line (and cold)
+    /// so that building messages costs the recursive rules no stack.
+    #[cold]
+    #[inline(never)]
+    fn expected(&self, what: &str) -> Box<SyntaxError> {
         let t = self.current();
         if t.tok == Tok::RParen && what != "')'" {
             // A stray ')' is reported as an unbalanced parenthesis only when
             // nothing is open; inside a group the generic message is clearer.
             if self.depth == 0 {
-                return SyntaxError::UnmatchedClose { span: t.span };
+                return Box::new(SyntaxError::UnmatchedClose { span: t.span });
             }
         }
-        let hint = match (&t.tok, what) {
-            (Tok::Ident(_) | Tok::Number(_) | Tok::LParen, "an operator or end of formula") => {
+        Box::new(SyntaxError::Expected { expected: what.to_string(), found: self.found(), span: t.span, hint: self.hint(what) })
+    }
+    /// A note for common mistakes at the current token.
+    fn hint(&self, what: &str) -> Option<String> {
+        let prev = self.pos.checked_sub(1).map(|i| &self.tokens[i].tok);
+        let after_operand = what.contains("an operator");
+        match (&self.current().tok, prev) {
+            (Tok::Ident(_) | Tok::Number(_) | Tok::LParen, Some(Tok::Ident(f)))
+                if after_operand && crate::sema::function_names().contains(&f.as_str()) =>
+            {
+                Some(format!("arguments go in parentheses: `{f}(x)`"))
+            }
+            (Tok::Ident(_) | Tok::Number(_) | Tok::LParen, _) if after_operand => {
                 Some("write `*` for a product: `2*x`, not `2x`".to_string())
             }
+            (Tok::Star, Some(Tok::Star)) => Some("write `^` for a power: `x^2`, not `x**2`".to_string()),
+            (Tok::Eq, _) if what == "an operator or end of formula" => Some(
+                "the surface is where the formula is 0: write `lhs - (rhs)` instead of an equation `lhs = rhs`".to_string(),
+            ),
             (Tok::Eq, _) => Some("definitions look like `name = expression;` before the formula".to_string()),
+            (Tok::Eof, _) if what == "an expression" => Some("the formula ends after an operator".to_string()),
             _ => None,
-        };
-        SyntaxError::Expected { expected: what.to_string(), found: self.found(), span: t.span, hint }
+        }
     }
-    fn enter(&mut self) -> Result<(), SyntaxError> {
+    /// An error with a fixed hint at the current token.
+    #[cold]
+    #[inline(never)]
+    fn expected_hint(&self, what: &str, hint: String) -> Box<SyntaxError> {
+        let t = self.current();
+        Box::new(SyntaxError::Expected { expected: what.to_string(), found: self.found(), span: t.span, hint: Some(hint) })
+    }
+    /// One nesting level deeper; `at` is the token that opens it (an
+    /// operator or a '(') and is where a too-deep error points.
+    fn enter(&mut self, at: Span) -> PResult<()> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(SyntaxError::TooDeep { span: self.current().span });
+            return Err(Box::new(SyntaxError::TooDeep { span: at }));
         }
         Ok(())
     }
 
     /// program = { definition } expression EOF
-    fn program(&mut self) -> Result<Program, SyntaxError> {
+    fn program(&mut self) -> PResult<Program> {
         if self.at(&Tok::Eof) {
-            return Err(SyntaxError::Empty { span: self.current().span });
+            return Err(Box::new(SyntaxError::Empty { span: self.current().span }));
         }
         let mut definitions = Vec::new();
         while matches!(self.current().tok, Tok::Ident(_)) && *self.nth(1) == Tok::Eq {
             definitions.push(self.definition()?);
         }
         if self.at(&Tok::Eof) {
-            return Err(SyntaxError::Expected {
-                expected: "an expression after the definitions".into(),
-                found: self.found(),
-                span: self.current().span,
-                hint: Some("the last part of a formula is the function to draw, without `name =` and `;`".into()),
-            });
+            return Err(self.expected_hint(
+                "an expression after the definitions",
+                "the last part of a formula is the function to draw, without `name =` and `;`".into(),
+            ));
         }
         let body = self.expression()?;
         if !self.at(&Tok::Eof) {
             if self.at(&Tok::Semi) {
-                let t = self.current();
-                return Err(SyntaxError::Expected {
-                    expected: "end of formula".into(),
-                    found: "';'".into(),
-                    span: t.span,
-                    hint: Some("only definitions `name = expression;` end with ';'".into()),
-                });
+                return Err(self.expected_hint("end of formula", "only definitions `name = expression;` end with ';'".into()));
             }
             return Err(self.expected("an operator or end of formula"));
         }
@@ -174,50 +231,64 @@ impl Parser<'_> {
     }
 
     /// definition = IDENT "=" expression ";"
-    fn definition(&mut self) -> Result<Definition, SyntaxError> {
-        let name_tok = self.bump();
-        let Tok::Ident(name) = name_tok.tok else { unreachable!("definition starts with a name") };
+    fn definition(&mut self) -> PResult<Definition> {
+        let Tok::Ident(name) = self.current().tok.clone() else { unreachable!("definition starts with a name") };
+        let name_span = self.bump();
         self.bump(); // '='
         let value = self.expression()?;
         if !self.at(&Tok::Semi) {
             return Err(if self.at(&Tok::Eof) {
-                SyntaxError::Expected {
-                    expected: "';' after the definition".into(),
-                    found: self.found(),
-                    span: self.current().span,
-                    hint: Some(format!("`{name} = ...;` defines a name; the formula to draw follows it")),
-                }
+                let hint = match name.as_str() {
+                    "x" | "y" | "z" => format!(
+                        "the surface is where the formula is 0: write `{name} - (...)` to draw `{name} = ...`"
+                    ),
+                    _ => format!("`{name} = ...;` defines a name; the formula to draw follows it"),
+                };
+                self.expected_hint("';' after the definition", hint)
             } else {
                 self.expected("an operator or ';'")
             });
         }
         self.bump();
-        Ok(Definition { name, name_span: name_tok.span, value })
+        Ok(Definition { name, name_span, value })
     }
 
     /// expression = sum
-    fn expression(&mut self) -> Result<Expr, SyntaxError> {
+    #[inline(always)]
+    fn expression(&mut self) -> PResult<Expr> {
         self.sum()
     }
 
     /// sum = product { ("+" | "-") product }
-    fn sum(&mut self) -> Result<Expr, SyntaxError> {
-        self.left_assoc(&[(Tok::Plus, BinOp::Add), (Tok::Minus, BinOp::Sub)], Self::product)
+    fn sum(&mut self) -> PResult<Expr> {
+        self.left_assoc(
+            |t| match t {
+                Tok::Plus => Some(BinOp::Add),
+                Tok::Minus => Some(BinOp::Sub),
+                _ => None,
+            },
+            Self::product,
+        )
     }
 
     /// product = unary { ("*" | "/") unary }
-    fn product(&mut self) -> Result<Expr, SyntaxError> {
-        self.left_assoc(&[(Tok::Star, BinOp::Mul), (Tok::Slash, BinOp::Div)], Self::unary)
+    fn product(&mut self) -> PResult<Expr> {
+        self.left_assoc(
+            |t| match t {
+                Tok::Star => Some(BinOp::Mul),
+                Tok::Slash => Some(BinOp::Div),
+                _ => None,
+            },
+            Self::unary,
+        )
     }
 
-    /// One left-associative precedence level.
-    fn left_assoc(
-        &mut self,
-        ops: &[(Tok, BinOp)],
-        next: fn(&mut Self) -> Result<Expr, SyntaxError>,
-    ) -> Result<Expr, SyntaxError> {
+    /// One left-associative precedence level (a loop: a long chain
+    /// `a + b + c + …` costs no stack).
+    #[inline(always)]
+    fn left_assoc(&mut self, op: impl Fn(&Tok) -> Option<BinOp>, next: impl Fn(&mut Self) -> PResult<Expr>) -> PResult<Expr> {
         let mut lhs = next(self)?;
-        while let Some(op) = ops.iter().find(|(t, _)| *t == self.current().tok).map(|(_, o)| *o) {
+        while let Some(op) = op(&self.current().tok) {
             self.bump();
             let rhs = next(self)?;
             let span = lhs.span.to(rhs.span);
@@ -227,26 +298,28 @@ impl Parser<'_> {
     }
 
     /// unary = ("-" | "+") unary | power
-    fn unary(&mut self) -> Result<Expr, SyntaxError> {
-        if self.at(&Tok::Minus) || self.at(&Tok::Plus) {
-            self.enter()?;
+    fn unary(&mut self) -> PResult<Expr> {
+        let minus = self.at(&Tok::Minus);
+        if minus || self.at(&Tok::Plus) {
+            self.enter(self.current().span)?;
             let op = self.bump();
             let inner = self.unary()?;
             self.depth -= 1;
-            if op.tok == Tok::Plus {
+            if !minus {
                 return Ok(inner);
             }
-            let span = op.span.to(inner.span);
+            let span = op.to(inner.span);
             return Ok(Expr { kind: ExprKind::Neg(Box::new(inner)), span });
         }
         self.power()
     }
 
     /// power = primary [ "^" unary ]
-    fn power(&mut self) -> Result<Expr, SyntaxError> {
+    #[inline(always)]
+    fn power(&mut self) -> PResult<Expr> {
         let base = self.primary()?;
         if self.at(&Tok::Caret) {
-            self.enter()?;
+            self.enter(self.current().span)?;
             self.bump();
             let exp = self.unary()?;
             self.depth -= 1;
@@ -257,45 +330,42 @@ impl Parser<'_> {
     }
 
     /// primary = NUMBER | IDENT [ "(" arguments ")" ] | "(" expression ")"
-    fn primary(&mut self) -> Result<Expr, SyntaxError> {
-        let t = self.current().clone();
-        match t.tok {
-            Tok::Number(v) => {
+    fn primary(&mut self) -> PResult<Expr> {
+        let span = self.current().span;
+        match &self.current().tok {
+            &Tok::Number(v) => {
                 self.bump();
-                Ok(Expr { kind: ExprKind::Number(v), span: t.span })
+                Ok(Expr { kind: ExprKind::Number(v), span })
             }
             Tok::Ident(name) => {
+                let name = name.clone();
                 self.bump();
                 if !self.at(&Tok::LParen) {
-                    return Ok(Expr { kind: ExprKind::Name(name), span: t.span });
+                    return Ok(Expr { kind: ExprKind::Name(name), span });
                 }
-                let open = self.bump().span;
-                self.enter()?;
+                let open = self.bump();
+                self.enter(open)?;
                 let args = self.arguments()?;
                 let close = self.close_paren(open)?;
                 self.depth -= 1;
-                Ok(Expr { kind: ExprKind::Call { name, name_span: t.span, args }, span: t.span.to(close) })
+                Ok(Expr { kind: ExprKind::Call(Box::new(Call { name, name_span: span, args })), span: span.to(close) })
             }
             Tok::LParen => {
-                let open = self.bump().span;
-                self.enter()?;
-                let inner = self.expression()?;
+                let open = self.bump();
+                self.enter(open)?;
+                let mut inner = self.expression()?;
                 let close = self.close_paren(open)?;
                 self.depth -= 1;
-                Ok(Expr { kind: inner.kind, span: open.to(close) })
+                // The group's span includes its parentheses.
+                inner.span = open.to(close);
+                Ok(inner)
             }
-            Tok::Eof => Err(SyntaxError::Expected {
-                expected: "an expression".into(),
-                found: "end of formula".into(),
-                span: t.span,
-                hint: Some("the formula ends after an operator".into()),
-            }),
             _ => Err(self.expected("an expression")),
         }
     }
 
     /// arguments = expression { "," expression }
-    fn arguments(&mut self) -> Result<Vec<Expr>, SyntaxError> {
+    fn arguments(&mut self) -> PResult<Vec<Expr>> {
         let mut args = vec![self.expression()?];
         while self.at(&Tok::Comma) {
             self.bump();
@@ -304,19 +374,21 @@ impl Parser<'_> {
         Ok(args)
     }
 
-    fn close_paren(&mut self, open: Span) -> Result<Span, SyntaxError> {
+    fn close_paren(&mut self, open: Span) -> PResult<Span> {
         if self.at(&Tok::RParen) {
-            return Ok(self.bump().span);
+            return Ok(self.bump());
         }
+        Err(self.unclosed(open))
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn unclosed(&self, open: Span) -> Box<SyntaxError> {
         let t = self.current();
         if t.tok == Tok::Eof || t.tok == Tok::Semi {
-            return Err(SyntaxError::Unclosed { open, found: self.found(), span: t.span });
+            return Box::new(SyntaxError::Unclosed { open, found: self.found(), span: t.span });
         }
-        Err(SyntaxError::Expected {
-            expected: "')' or an operator".into(),
-            found: self.found(),
-            span: t.span,
-            hint: None,
-        })
+        let what = "')' or an operator";
+        Box::new(SyntaxError::Expected { expected: what.into(), found: self.found(), span: t.span, hint: self.hint(what) })
     }
 }
