@@ -222,7 +222,29 @@ impl Ir {
 }
 
 /// Prints the formula with explicit parentheses (shared nodes expanded).
+/// Expansion can grow exponentially with chained definitions; use
+/// [`display_limited`] for anything shown to a user.
 pub struct Display<'a>(pub &'a Ir, pub NodeId);
+
+/// The formula as [`Display`] prints it, cut after about `limit` bytes
+/// (with `...`). The cut also bounds the time and the recursion depth.
+pub fn display_limited(ir: &Ir, root: NodeId, limit: usize) -> String {
+    struct Budget(String, usize);
+    impl fmt::Write for Budget {
+        fn write_str(&mut self, s: &str) -> fmt::Result {
+            if self.0.len() + s.len() > self.1 {
+                return Err(fmt::Error);
+            }
+            self.0.push_str(s);
+            Ok(())
+        }
+    }
+    let mut b = Budget(String::new(), limit);
+    if fmt::write(&mut b, format_args!("{}", Display(ir, root))).is_err() {
+        b.0.push_str("...");
+    }
+    b.0
+}
 
 impl fmt::Display for Display<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

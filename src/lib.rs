@@ -62,9 +62,10 @@ impl Formula {
         Ok(Formula { origin: origin.to_string(), source: source.to_string(), ir })
     }
 
-    /// The formula with definitions inlined and every operation parenthesised.
+    /// The formula with definitions inlined and every operation
+    /// parenthesised (cut after 4000 bytes: inlining can grow exponentially).
     pub fn normalized(&self) -> String {
-        format!("{}", ir::Display(&self.ir, self.ir.root))
+        ir::display_limited(&self.ir, self.ir.root, 4000)
     }
 }
 

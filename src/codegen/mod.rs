@@ -5,7 +5,7 @@
 
 pub mod template;
 
-use crate::ir::{Display, Ir, NodeId, Op, Var};
+use crate::ir::{display_limited, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
 /// A number domain with its WGSL op library.
@@ -82,15 +82,7 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     let p = domain.prefix();
     let ty = domain.ty();
     let mut out = String::new();
-    let mut shown = format!("{}", Display(ir, ir.root));
-    if shown.len() > 160 {
-        let mut cut = 157;
-        while !shown.is_char_boundary(cut) {
-            cut -= 1;
-        }
-        shown.truncate(cut);
-        shown.push_str("...");
-    }
+    let shown = display_limited(ir, ir.root, 160);
     let _ = writeln!(out, "// f = {shown}");
     let _ = writeln!(out, "fn {}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> {ty} {{", domain.eval_fn());
     let mut restricted: Vec<NodeId> = Vec::new();
