@@ -1,14 +1,33 @@
 //! CPU reference evaluation of the IR in f64: the test oracle and the
 //! backend of `isotrace eval --cpu`.
 //!
+//! Three number domains, each with the same rules as its WGSL library in
+//! `templates/domains/` (so device and CPU results agree up to f32
+//! rounding), but computed in f64 without the libraries' padding:
+//!
+//! * scalar ([`eval_scalar`]): a point value, NaN where the formula is undefined;
+//! * interval ([`eval_interval`], module [`interval`]): mirrors `interval.wgsl`;
+//! * reduced affine ([`eval_affine`], module [`affine`]): mirrors `affine.wgsl`.
+//!
+//! Every domain is *strict* like the generated evaluators: when a sqrt, log
+//! or real-power node is undefined (NaN, or an empty enclosure), the whole
+//! formula is undefined, even if that node's value is later discarded (by
+//! `min`, `0 * …`, `sign`, …).
+//!
 //! [`scalar_op`] is also the constant folder of the semantic pass, so folding
 //! and evaluation can never disagree.
 
-use crate::ir::{Func1, Func2, Func3, Ir, Op, Var};
+pub mod affine;
+pub mod interval;
+
+pub use affine::{affine_from_interval, affine_range, eval_affine, Form};
+pub use interval::{eval_interval, Interval};
+
+use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 
 /// Applies one operation to scalar arguments (in operand order).
-/// Undefined points (sqrt of a negative, log of ≤ 0, a real power of a
-/// negative) give NaN.
+/// Undefined points (sqrt of a negative, log of a negative, a real power of
+/// a negative) give NaN; `log(0)` is −∞.
 pub fn scalar_op(op: &Op, a: &[f64]) -> f64 {
     match *op {
         Op::Const(c) => c,
@@ -58,21 +77,12 @@ pub fn pow_pos(a: f64, b: f64) -> f64 {
     if a < 0.0 { f64::NAN } else { a.powf(b) }
 }
 
-/// Evaluates the formula at a point. `params` in parameter order.
+/// Evaluates the formula at a point `[x, y, z, t]`; `params` in parameter
+/// order. Strict: NaN when any live sqrt / log / real-power node is NaN
+/// (the point is outside that function's domain), matching the generated
+/// evaluators, which return empty in that case.
 pub fn eval_scalar(ir: &Ir, p: [f64; 4], params: &[f64]) -> f64 {
-    let mut v: Vec<f64> = Vec::with_capacity(ir.nodes.len());
-    for op in &ir.nodes {
-        let r = match *op {
-            Op::Var(var) => p[var_index(var)],
-            Op::Param(i) => params.get(i as usize).copied().unwrap_or(f64::NAN),
-            _ => {
-                let args: Vec<f64> = op.operands().iter().map(|&o| v[o as usize]).collect();
-                scalar_op(op, &args)
-            }
-        };
-        v.push(r);
-    }
-    v[ir.root as usize]
+    evaluate::<f64>(ir, p, params)
 }
 
 /// Position of a variable in `[x, y, z, t]`.
@@ -82,5 +92,92 @@ pub fn var_index(v: Var) -> usize {
         Var::Y => 1,
         Var::Z => 2,
         Var::T => 3,
+    }
+}
+
+/// A number domain of the reference evaluator.
+pub(crate) trait Value: Copy {
+    /// A literal or parameter value.
+    fn constant(c: f64) -> Self;
+    /// One operation on already computed operands (in operand order).
+    fn apply(op: &Op, args: &[Self]) -> Self;
+    /// Undefined: NaN for points, empty for enclosures.
+    fn is_undefined(&self) -> bool;
+    /// The canonical undefined value.
+    fn undefined() -> Self;
+}
+
+impl Value for f64 {
+    fn constant(c: f64) -> f64 {
+        c
+    }
+    fn apply(op: &Op, args: &[f64]) -> f64 {
+        scalar_op(op, args)
+    }
+    fn is_undefined(&self) -> bool {
+        self.is_nan()
+    }
+    fn undefined() -> f64 {
+        f64::NAN
+    }
+}
+
+/// The operands of `op`, copied out of `vals` without allocating.
+pub(crate) fn operands<V: Value>(op: &Op, vals: &[V]) -> ([V; 3], usize) {
+    let g = |n: NodeId| vals[n as usize];
+    let u = V::undefined();
+    match *op {
+        Op::Const(_) | Op::Var(_) | Op::Param(_) => ([u, u, u], 0),
+        Op::Neg(a) | Op::PowI(a, _) | Op::Call1(_, a) => ([g(a), u, u], 1),
+        Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Call2(_, a, b) => ([g(a), g(b), u], 2),
+        Op::Call3(_, a, b, c) => ([g(a), g(b), g(c)], 3),
+    }
+}
+
+/// Walks the live nodes once in `V`, with the generated evaluators'
+/// strictness rule.
+pub(crate) fn evaluate<V: Value>(ir: &Ir, vars: [V; 4], params: &[f64]) -> V {
+    let mut vals: Vec<V> = vec![V::undefined(); ir.nodes.len()];
+    let mut undefined = false;
+    for id in ir.live() {
+        let op = &ir.nodes[id as usize];
+        let r = match *op {
+            Op::Const(c) => V::constant(c),
+            Op::Var(v) => vars[var_index(v)],
+            Op::Param(i) => V::constant(params.get(i as usize).copied().unwrap_or(f64::NAN)),
+            _ => {
+                let (args, n) = operands(op, &vals);
+                V::apply(op, &args[..n])
+            }
+        };
+        undefined |= op.restricts_domain() && r.is_undefined();
+        vals[id as usize] = r;
+    }
+    if undefined { V::undefined() } else { vals[ir.root as usize] }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ir(src: &str) -> Ir {
+        crate::Formula::compile("<test>", src).unwrap().ir
+    }
+
+    #[test]
+    fn scalar_is_strict() {
+        // min discards the undefined operand, but the formula is still undefined.
+        let f = ir("min(sqrt(x), 1)");
+        assert!(eval_scalar(&f, [-1.0, 0.0, 0.0, 0.0], &[]).is_nan());
+        assert_eq!(eval_scalar(&f, [4.0, 0.0, 0.0, 0.0], &[]), 1.0);
+        let g = ir("0 * log(x) + y");
+        assert!(eval_scalar(&g, [-1.0, 2.0, 0.0, 0.0], &[]).is_nan());
+        assert_eq!(eval_scalar(&g, [1.0, 2.0, 0.0, 0.0], &[]), 2.0);
+    }
+
+    #[test]
+    fn scalar_uses_params() {
+        let f = ir("x^2 + r");
+        assert_eq!(eval_scalar(&f, [3.0, 0.0, 0.0, 0.0], &[0.5]), 9.5);
     }
 }

@@ -15,10 +15,23 @@ fn ra_is_empty(a: vec3<f32>) -> bool { return a.z < 0.0; }
 fn ra_radius(a: vec3<f32>) -> f32 { return abs(a.y) + a.z; }
 fn ra_range(a: vec3<f32>) -> vec2<f32> {
     let r = ra_radius(a);
-    return vec2<f32>(a.x - r, a.x + r);
+    let i = vec2<f32>(a.x - r, a.x + r);
+    // A NaN end (0 * inf or inf - inf in a form that overflowed or is
+    // unbounded) means unbounded: lavapipe's min/max would silently drop it.
+    if (iso_is_nan(i.x) || iso_is_nan(i.y)) { return ia_whole(); }
+    return i;
 }
+// The whole line: an unbounded interval has no centre.
+fn ra_whole() -> vec3<f32> { return vec3<f32>(0.0, 0.0, iso_inf()); }
+// Neither infinite nor NaN (tested on the bits: lavapipe folds NaN compares).
+fn ra_finite(a: f32) -> bool { return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u; }
 fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
     if (ia_is_empty(i)) { return ra_empty(); }
+    // A point is exact, also an overflowed one (inf, inf).
+    if (i.x == i.y) { return vec3<f32>(i.x, 0.0, 0.0); }
+    // (-inf + inf) / 2 would be a NaN centre, and [1, inf] an infinite one:
+    // both used to turn into wrong finite bounds downstream (NaN dropped by min/max).
+    if (!ra_finite(i.x) || !ra_finite(i.y)) { return ra_whole(); }
     return vec3<f32>(0.5 * (i.x + i.y), 0.0, 0.5 * (i.y - i.x));
 }
 // Of two valid enclosures, keep the affine one (its e1 term carries the
@@ -51,6 +64,8 @@ fn ra_sqr_affine(a: vec3<f32>) -> vec3<f32> {
 fn ra_sqr(a: vec3<f32>) -> vec3<f32> {
     let s = ra_sqr_affine(a);
     let i = ia_sqr(ra_range(a));
+    // An overflowed affine square (inf centre or radius) has lost everything.
+    if (!ra_finite(s.x) || !ra_finite(s.z)) { return ra_from_ia(i); }
     if (s.x - ra_radius(s) < 0.0 && i.y - i.x <= 2.0 * ra_radius(s)) { return ra_from_ia(i); }
     return s;
 }

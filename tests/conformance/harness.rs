@@ -1,0 +1,479 @@
+//! Shared harness of the conformance suites: random boxes, the checking loop
+//! and the backends' interface; the sampling oracle and the rounding margin
+//! are in `oracle.rs`, the formula tables and generators in `formulas.rs`.
+//! `tests/conformance.rs` runs it against the CPU reference
+//! (`isotrace::reference`) and `tests/conformance_device.rs` against the
+//! generated WGSL on the device; both include it with `#[path]`.
+//!
+//! The property checked: for every box, every *finite* value of the strict
+//! f64 scalar function ([`reference::eval_scalar`]) at a sample point of the
+//! box (corners, random interior points, known extrema) lies within the
+//! enclosure computed for the box, up to [`margin`]. An empty enclosure is
+//! accepted only when no sample has a finite value (and no sample is
+//! certainly inside every function's domain). NaN ends of an enclosure mean
+//! "unbounded on that side".
+#![allow(dead_code)]
+
+#[path = "formulas.rs"]
+mod formulas;
+#[path = "oracle.rs"]
+mod oracle;
+
+pub use formulas::*;
+pub use oracle::*;
+
+use isotrace::codegen::Domain;
+use isotrace::ir::Ir;
+use isotrace::reference;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::fmt::Write;
+
+/// A box as the eval kernel takes it: `[x0, x1, y0, y1, z0, z1, t0, t1]`.
+pub type Box8 = [f32; 8];
+
+// ---------------------------------------------------------------- RNG ----
+
+/// xorshift64* — small, seeded, reproducible.
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from a seed (any value; 0 is remapped).
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Uniform in [a, b).
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unit()
+    }
+    /// Uniform in 0..n.
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+    /// Log-uniform in [a, b] (a, b > 0).
+    pub fn log_range(&mut self, a: f64, b: f64) -> f64 {
+        (a.ln() + (b.ln() - a.ln()) * self.unit()).exp()
+    }
+    /// True with probability p.
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+    /// ±1.
+    pub fn sign(&mut self) -> f64 {
+        if self.chance(0.5) { 1.0 } else { -1.0 }
+    }
+    /// One element of a slice.
+    pub fn pick<'a, T>(&mut self, s: &'a [T]) -> &'a T {
+        &s[self.below(s.len())]
+    }
+}
+
+// -------------------------------------------------------------- boxes ----
+
+/// Kinds of intervals the generator draws for each variable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// Moderate centre, width up to 16.
+    Wide,
+    /// Relative width 1e-7 .. 1e-3 around an interesting centre.
+    Tiny,
+    /// [-a, b] with a, b > 0.
+    Straddle,
+    /// [0, b], [-a, 0] or [0, 0]: the edge of sqrt / log / pow.
+    TouchZero,
+    /// lo == hi.
+    Point,
+    /// Near or across a pole π/2 + kπ of tan.
+    TanPole,
+    /// Near or across an extremum kπ/2 of sin / cos.
+    TrigExtremum,
+    /// |values| up to 1e30.
+    Huge,
+    /// One or both ends infinite.
+    Infinite,
+    /// 0 < lo < hi.
+    Positive,
+}
+
+/// Every kind.
+pub const KINDS: [Kind; 10] = [
+    Kind::Wide, Kind::Tiny, Kind::Straddle, Kind::TouchZero, Kind::Point,
+    Kind::TanPole, Kind::TrigExtremum, Kind::Huge, Kind::Infinite, Kind::Positive,
+];
+
+/// An interesting centre: a moderate value, an integer, a multiple of π/2.
+fn centre(rng: &mut Rng) -> f64 {
+    match rng.below(4) {
+        0 => rng.range(-8.0, 8.0),
+        1 => rng.below(17) as f64 - 8.0,
+        2 => (rng.below(13) as f64 - 6.0) * FRAC_PI_2,
+        _ => rng.sign() * rng.log_range(1e-6, 1.0),
+    }
+}
+
+/// One interval of the given kind, rounded to f32.
+pub fn interval(rng: &mut Rng, kind: Kind) -> [f32; 2] {
+    let inf = f64::INFINITY;
+    let (lo, hi) = match kind {
+        Kind::Wide => {
+            let c = rng.range(-8.0, 8.0);
+            let h = rng.log_range(0.01, 8.0);
+            (c - h, c + h)
+        }
+        Kind::Tiny => {
+            let c = centre(rng);
+            let h = rng.log_range(1e-7, 1e-3) * c.abs().max(1.0);
+            (c - h * rng.unit(), c + h * rng.unit())
+        }
+        Kind::Straddle => (-rng.log_range(1e-4, 10.0), rng.log_range(1e-4, 10.0)),
+        Kind::TouchZero => match rng.below(3) {
+            0 => (0.0, rng.log_range(1e-6, 10.0)),
+            1 => (-rng.log_range(1e-6, 10.0), 0.0),
+            _ => (0.0, 0.0),
+        },
+        Kind::Point => {
+            let c = if rng.chance(0.8) { centre(rng) } else { rng.sign() * rng.log_range(1e-3, 1e6) };
+            (c, c)
+        }
+        Kind::TanPole => {
+            let pole = FRAC_PI_2 + (rng.below(11) as f64 - 5.0) * PI;
+            let d = rng.log_range(1e-7, 0.5);
+            let w = rng.log_range(1e-7, 1.0);
+            match rng.below(3) {
+                0 => (pole - d - w, pole - d),
+                1 => (pole + d, pole + d + w),
+                _ => (pole - d, pole + w),
+            }
+        }
+        Kind::TrigExtremum => {
+            let m = (rng.below(13) as f64 - 6.0) * FRAC_PI_2;
+            let a = if rng.chance(0.3) { 0.0 } else { rng.log_range(1e-7, 1.0) };
+            let b = if rng.chance(0.3) { 0.0 } else { rng.log_range(1e-7, 1.0) };
+            if rng.chance(0.5) { (m - a, m + b) } else { (m + a.min(b), m + a.max(b)) }
+        }
+        Kind::Huge => {
+            let c = rng.sign() * rng.log_range(1e3, 1e30);
+            let h = c.abs() * rng.log_range(1e-7, 1.0);
+            (c - h * rng.unit(), c + h * rng.unit())
+        }
+        Kind::Infinite => match rng.below(3) {
+            0 => (-inf, rng.range(-4.0, 4.0)),
+            1 => (rng.range(-4.0, 4.0), inf),
+            _ => (-inf, inf),
+        },
+        Kind::Positive => {
+            let a = rng.log_range(1e-6, 10.0);
+            (a, a + rng.log_range(1e-6, 10.0))
+        }
+    };
+    let (lo, hi) = (lo as f32, hi as f32);
+    if lo <= hi { [lo, hi] } else { [hi, lo] }
+}
+
+/// `n` boxes, each side of an independently drawn kind.
+pub fn random_boxes(rng: &mut Rng, n: usize) -> Vec<Box8> {
+    random_boxes_of(rng, n, &KINDS)
+}
+
+/// `n` boxes, each side of a kind drawn from `kinds`.
+pub fn random_boxes_of(rng: &mut Rng, n: usize, kinds: &[Kind]) -> Vec<Box8> {
+    (0..n)
+        .map(|_| {
+            let mut b = [0.0f32; 8];
+            for v in 0..4 {
+                let kind = *rng.pick(kinds);
+                let i = interval(rng, kind);
+                b[2 * v] = i[0];
+                b[2 * v + 1] = i[1];
+            }
+            b
+        })
+        .collect()
+}
+
+/// `n` cells of a traversal-like subdivision of `domain` (x0 x1 y0 y1 z0 z1)
+/// at random depths 0..12, with t a point or a short interval.
+pub fn domain_cells(rng: &mut Rng, domain: [f64; 6], n: usize) -> Vec<Box8> {
+    (0..n)
+        .map(|_| {
+            let mut b = [0.0f32; 8];
+            let depth = rng.below(13) as i32;
+            let cells = 2f64.powi(depth);
+            for v in 0..3 {
+                let (lo, hi) = (domain[2 * v], domain[2 * v + 1]);
+                let k = rng.below(cells as usize) as f64;
+                let w = (hi - lo) / cells;
+                b[2 * v] = (lo + k * w) as f32;
+                b[2 * v + 1] = (lo + (k + 1.0) * w) as f32;
+            }
+            let t = rng.range(-1.0, 4.0);
+            b[6] = t as f32;
+            b[7] = if rng.chance(0.5) { t as f32 } else { (t + rng.log_range(1e-4, 1.0)) as f32 };
+            b
+        })
+        .collect()
+}
+
+// ------------------------------------------------------------ checking ----
+
+/// The two inclusion algebras.
+pub const ALGEBRAS: [Domain; 2] = [Domain::Interval, Domain::Affine];
+
+/// Something that computes enclosures over boxes.
+pub trait Backend: Sync {
+    /// For messages.
+    fn name(&self) -> &'static str;
+    /// Precision of its arithmetic.
+    fn precision(&self) -> Precision;
+    /// Enclosures `[lo, hi]` of `ir` in `domain` over every box (one
+    /// dispatch on the device). Empty: lo > hi.
+    fn eval(&self, ir: &Ir, domain: Domain, boxes: &[Box8], params: &[f32]) -> Vec<[f64; 2]>;
+}
+
+/// The CPU reference: `reference::eval_interval` / `eval_affine` on the
+/// same f32 boxes, each side lifted with `affine_from_interval` like the
+/// device's eval kernel does.
+pub struct Cpu;
+
+impl Backend for Cpu {
+    fn name(&self) -> &'static str {
+        "cpu reference"
+    }
+    fn precision(&self) -> Precision {
+        Precision::F64
+    }
+    fn eval(&self, ir: &Ir, domain: Domain, boxes: &[Box8], params: &[f32]) -> Vec<[f64; 2]> {
+        let params: Vec<f64> = params.iter().map(|&p| f64::from(p)).collect();
+        boxes
+            .iter()
+            .map(|b| {
+                let iv: [[f64; 2]; 4] = std::array::from_fn(|v| [f64::from(b[2 * v]), f64::from(b[2 * v + 1])]);
+                match domain {
+                    Domain::Interval => reference::eval_interval(ir, iv, &params),
+                    Domain::Affine => {
+                        let forms = iv.map(reference::affine_from_interval);
+                        reference::affine_range(reference::eval_affine(ir, forms, &params))
+                    }
+                    Domain::Scalar => unreachable!("not an inclusion algebra"),
+                }
+            })
+            .collect()
+    }
+}
+
+/// A formula under test.
+pub struct Case {
+    /// Short name for messages.
+    pub name: String,
+    /// The source text.
+    pub source: String,
+    /// Compiled.
+    pub ir: Ir,
+    /// Parameter values (f32: the device's uniforms are f32).
+    pub params: Vec<f32>,
+}
+
+impl Case {
+    /// Compiles `source`; panics on a front-end error (the tables are fixed).
+    pub fn new(name: &str, source: &str) -> Case {
+        Case::try_new(name, source).unwrap_or_else(|e| panic!("{name}: {e}"))
+    }
+    /// Compiles `source`.
+    pub fn try_new(name: &str, source: &str) -> Result<Case, isotrace::FormulaError> {
+        let f = isotrace::Formula::compile(name, source)?;
+        Ok(Case { name: name.to_string(), source: source.to_string(), ir: f.ir, params: vec![] })
+    }
+    /// With parameter values.
+    pub fn with_params(mut self, p: &[f32]) -> Case {
+        self.params = p.to_vec();
+        self
+    }
+}
+
+fn show_box(b: &Box8) -> String {
+    format!("x∈[{:e}, {:e}] y∈[{:e}, {:e}] z∈[{:e}, {:e}] t∈[{:e}, {:e}]", b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7])
+}
+
+/// Counters of one check.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Stats {
+    /// Boxes evaluated (per algebra).
+    pub boxes: usize,
+    /// Finite samples compared.
+    pub samples: usize,
+    /// Empty results seen.
+    pub empty: usize,
+}
+
+/// Evaluates `case` on `boxes` in both algebras (one call each) and checks
+/// every box against its samples. Returns the failure messages (at most a
+/// few per algebra) and counters.
+pub fn check(backend: &dyn Backend, case: &Case, boxes: &[Box8], seed: u64) -> (Vec<String>, Stats) {
+    let prec = backend.precision();
+    let results: Vec<Vec<[f64; 2]>> = ALGEBRAS.iter().map(|&d| backend.eval(&case.ir, d, boxes, &case.params)).collect();
+    let params: Vec<f64> = case.params.iter().map(|&p| f64::from(p)).collect();
+    let mut rng = Rng::new(seed);
+    let mut fails = Vec::new();
+    let mut counts = [0usize; 2];
+    let mut stats = Stats { boxes: boxes.len(), ..Stats::default() };
+    for (bi, b) in boxes.iter().enumerate() {
+        let scale = node_scales(&case.ir, b, &params);
+        let samples: Vec<Sample> = sample_points(&mut rng, &case.ir, b).into_iter().map(|p| sample(&case.ir, p, &params, &scale, prec)).collect();
+        for (k, &domain) in ALGEBRAS.iter().enumerate() {
+            let [lo, hi] = results[k][bi];
+            let (lo, hi) = (if lo.is_nan() { f64::NEG_INFINITY } else { lo }, if hi.is_nan() { f64::INFINITY } else { hi });
+            // An end that overflowed to the far infinity ([inf, inf]) stands
+            // for "beyond the largest finite number": without outward
+            // rounding that is all f32 can say about 1e46.
+            let (lo, hi) = if lo <= hi { (lo.min(prec.max()), hi.max(-prec.max())) } else { (lo, hi) };
+            let problem = if lo > hi {
+                stats.empty += 1;
+                samples.iter().find(|s| s.v.is_finite() && !s.marginal).map(|s| {
+                    format!("empty enclosure [{lo:e}, {hi:e}], but f({:?}) = {:e} is defined", s.p, s.v)
+                })
+            } else {
+                samples.iter().filter(|s| s.v.is_finite()).find_map(|s| {
+                    stats.samples += 1;
+                    let m = margin(s, lo, hi, prec);
+                    (s.v < lo - m || s.v > hi + m).then(|| {
+                        format!("f({:?}) = {:e} escapes the enclosure [{lo:e}, {hi:e}] (margin {m:.3e}, error bound {:.3e})", s.p, s.v, s.err)
+                    })
+                })
+            };
+            if let Some(p) = problem {
+                counts[k] += 1;
+                if counts[k] <= 4 {
+                    fails.push(format!("[{}] {} `{}` {:?}, box {}: {p}", backend.name(), case.name, case.source, domain, show_box(b)));
+                }
+            }
+        }
+    }
+    for (k, &c) in counts.iter().enumerate() {
+        if c > 4 {
+            fails.push(format!("[{}] {} {:?}: {} more failing boxes", backend.name(), case.name, ALGEBRAS[k], c - 4));
+        }
+    }
+    (fails, stats)
+}
+
+/// Runs `check` over many cases and panics with every failure.
+pub fn check_all(backend: &dyn Backend, cases: &[Case], boxes_for: &mut dyn FnMut(&Case, &mut Rng) -> Vec<Box8>, seed: u64) {
+    let mut rng = Rng::new(seed);
+    let mut all = Vec::new();
+    let mut total = Stats::default();
+    for (i, case) in cases.iter().enumerate() {
+        let boxes = boxes_for(case, &mut rng);
+        let (f, s) = check(backend, case, &boxes, seed.wrapping_add(i as u64 * 7919));
+        total.boxes += s.boxes;
+        total.samples += s.samples;
+        total.empty += s.empty;
+        all.extend(f);
+    }
+    eprintln!(
+        "[{}] {} formulas, {} boxes x 2 algebras, {} samples compared, {} empty results",
+        backend.name(), cases.len(), total.boxes, total.samples, total.empty
+    );
+    if !all.is_empty() {
+        let mut msg = format!("{} conformance failures:\n", all.len());
+        for f in &all {
+            let _ = writeln!(msg, "  {f}");
+        }
+        panic!("{msg}");
+    }
+}
+
+/// Checks that every box gives an empty result in each of `domains`.
+pub fn check_all_empty(backend: &dyn Backend, cases: &[Case], boxes: &[Box8], domains: &[Domain]) {
+    let mut fails = Vec::new();
+    for case in cases {
+        for &d in domains {
+            let r = backend.eval(&case.ir, d, boxes, &case.params);
+            if let Some((i, r)) = r.iter().enumerate().find(|(_, r)| !(r[0] > r[1])) {
+                fails.push(format!("[{}] `{}` {d:?}: box {} gives [{:e}, {:e}], expected empty", backend.name(), case.source, show_box(&boxes[i]), r[0], r[1]));
+            }
+        }
+    }
+    assert!(fails.is_empty(), "{} formulas are not empty:\n  {}", fails.len(), fails.join("\n  "));
+}
+
+/// The emptiness check: every operation applied to an undefined argument
+/// is empty, in IA on every kind of box and in RAA on bounded boxes. (On an
+/// unbounded box RAA cannot prove `-1 - x^2 < 0`: an unbounded interval
+/// becomes the whole-line form (0, 0, inf), which forgets that x^2 ≥ 0, so
+/// sqrt(-1 - x^2) is merely unbounded there, a valid if loose enclosure.)
+pub fn check_emptiness(backend: &dyn Backend, cases: &[Case], seed: u64) {
+    let mut rng = Rng::new(seed);
+    let all = random_boxes(&mut rng, 300);
+    let bounded: Vec<Kind> = KINDS.iter().copied().filter(|&k| k != Kind::Infinite).collect();
+    let finite = random_boxes_of(&mut rng, 300, &bounded);
+    check_all_empty(backend, cases, &all, &[Domain::Interval]);
+    check_all_empty(backend, cases, &finite, &[Domain::Affine]);
+}
+
+// ------------------------------------------------------- self-tests ----
+
+#[cfg(test)]
+mod self_tests {
+    use super::*;
+
+    /// A backend that is wrong on purpose: it shrinks every enclosure.
+    struct Shrunk(f64);
+    impl Backend for Shrunk {
+        fn name(&self) -> &'static str {
+            "shrunk cpu"
+        }
+        fn precision(&self) -> Precision {
+            Precision::F32
+        }
+        fn eval(&self, ir: &Ir, d: Domain, boxes: &[Box8], params: &[f32]) -> Vec<[f64; 2]> {
+            Cpu.eval(ir, d, boxes, params)
+                .into_iter()
+                .map(|[lo, hi]| if lo.is_finite() && hi.is_finite() && lo < hi { let c = 0.5 * (lo + hi); let h = 0.5 * (hi - lo) * (1.0 - self.0); [c - h, c + h] } else { [lo, hi] })
+                .collect()
+        }
+    }
+
+    #[test]
+    fn the_checker_catches_shrunk_enclosures() {
+        let mut rng = Rng::new(5);
+        let boxes: Vec<Box8> = (0..200).map(|_| {
+            let i = interval(&mut rng, Kind::Wide);
+            [i[0], i[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        }).collect();
+        for (name, src) in [("cube", "x^3"), ("sin", "sin(x)"), ("sum", "x + 1")] {
+            let c = Case::new(name, src);
+            let (f, _) = check(&Shrunk(1e-3), &c, &boxes, 1);
+            assert!(!f.is_empty(), "{name}: a 0.1% shrink went unnoticed");
+            let (f, _) = check(&Cpu, &c, &boxes, 1);
+            assert!(f.is_empty(), "{f:?}");
+        }
+    }
+
+    #[test]
+    fn margin_follows_cancellation() {
+        let c = Case::new("c", "x^2 - y^2");
+        let b = [1000.0, 1000.0, 1000.0, 1000.0, 0.0, 0.0, 0.0, 0.0];
+        let s = sample(&c.ir, [1000.0, 1000.0, 0.0, 0.0], &[], &node_scales(&c.ir, &b, &[]), Precision::F32);
+        assert_eq!(s.v, 0.0);
+        assert!(s.err > 0.05 && s.err < 1.0, "{}", s.err);
+        let b = [1.0, 1.0, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0];
+        let s = sample(&c.ir, [1.0, 0.5, 0.0, 0.0], &[], &node_scales(&c.ir, &b, &[]), Precision::F64);
+        assert!(s.err < 1e-14);
+    }
+
+    #[test]
+    fn rng_is_reproducible() {
+        let (mut a, mut b) = (Rng::new(42), Rng::new(42));
+        assert!((0..100).all(|_| a.next_u64() == b.next_u64()));
+    }
+}
