@@ -93,7 +93,7 @@ fn tiled_and_untiled_renders_are_identical() {
 #[test]
 fn unresolved_pixels_are_counted_and_flagged() {
     let mut s = settings(cube(3.0), 40, 40);
-    s.max_iter = 6; // a hit needs at least d_max + 1 = 13 evaluations
+    s.max_iter = 2; // a hit needs at least 4 iterations (3 levels, then a monotone cell)
     let frame = render("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", Domain::Interval, &s);
     assert!(frame.stats.unresolved > 0);
     assert_eq!(frame.stats.hits, 0);
@@ -143,4 +143,62 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
             assert_no_missed_roots(src, *bbox, domain, 48);
         }
     }
+}
+
+/// Every optimisation only skips work that is proven unnecessary: with and
+/// without each, every Knoll surface gives the same hits at the same depth
+/// (within eps, plus the step of refinement that differs: the monotone path
+/// solves to eps, the bisection path refines the first eps cell).
+#[test]
+fn optimisations_do_not_change_the_picture() {
+    use isotrace::gpu::render::{Optimizations, Renderer};
+    let variants = [
+        Optimizations { tile_culling: false, monotone: false, ..Default::default() },
+        Optimizations { tile_culling: true, monotone: false, ..Default::default() },
+        Optimizations { tile_culling: false, monotone: true, ..Default::default() },
+    ];
+    for e in isotrace::catalog::builtin().into_iter().take(16) {
+        let f = e.compile().unwrap();
+        let mut s = settings(e.header.bbox, 40, 40);
+        s.time = e.header.t.unwrap_or(0.0);
+        s.clip_sphere = e.header.clip.map(|isotrace::catalog::Clip::Sphere(r)| r);
+        s.params = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
+        let mut r = Renderer::new(gpu(), &f.ir, isotrace::choose_algebra(&f.ir)).unwrap();
+        let all = r.render(&s).unwrap();
+        for o in variants {
+            r.optimizations = o;
+            let other = r.render(&s).unwrap();
+            let mut bad = vec![];
+            for (k, (a, b)) in all.pixels.iter().zip(&other.pixels).enumerate() {
+                let same = match (a.status, b.status) {
+                    (Status::Hit, Status::Hit) => {
+                        let (da, db) = (a.depth as f64, b.depth as f64);
+                        // Without the monotonicity proof, an eps cell whose
+                        // enclosure contains 0 before the surface is a hit
+                        // (Knoll's rule); with it such a cell is rejected
+                        // unless f changes sign. So `other` may only be
+                        // earlier, at a point where f does not change sign.
+                        (da - db).abs() <= 2.0 * s.eps || (db < da && !sign_change_near(&f, &s, k as u32, db))
+                    }
+                    (x, y) => x == y,
+                };
+                if !same {
+                    bad.push(format!("px {k}: {:?} {} vs {:?} {}", a.status, a.depth, b.status, b.depth));
+                }
+            }
+            assert!(bad.len() <= 1, "{} with {o:?}: {} pixels differ: {:?}", e.name, bad.len(), &bad[..bad.len().min(6)]);
+        }
+    }
+}
+
+/// Whether f changes sign within 2 eps of distance `t` along pixel k's ray.
+fn sign_change_near(f: &isotrace::Formula, s: &isotrace::gpu::render::Settings, k: u32, t: f64) -> bool {
+    let cf = s.camera.frame().unwrap();
+    let d = Camera::ray(&cf, k % s.width, k / s.width, s.width, s.height);
+    let g = |t: f64| {
+        let p = s.camera.eye + d * t;
+        isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
+    };
+    let (a, b) = (g(t - 2.0 * s.eps), g(t + 2.0 * s.eps));
+    (a <= 0.0) != (b <= 0.0)
 }

@@ -3,6 +3,7 @@
 //! only decides the prefix, the type and how constants are written.
 //! [`template`] splices the result into the kernel templates.
 
+pub mod derivative;
 pub mod template;
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};
@@ -88,34 +89,7 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     let mut restricted: Vec<NodeId> = Vec::new();
     for id in ir.live() {
         let op = ir.nodes[id as usize];
-        let v = |n: NodeId| format!("v{n}");
-        let rhs = match op {
-            Op::Const(c) => {
-                let (n, lo, hi) = f32_enclosure(c);
-                match domain {
-                    Domain::Interval if lo != hi => format!("vec2<f32>({}, {})", lit(lo), lit(hi)),
-                    Domain::Affine if lo != hi => format!("ra_from_ia(vec2<f32>({}, {}))", lit(lo), lit(hi)),
-                    _ => format!("{p}_const({})", lit(n)),
-                }
-            }
-            Op::Var(var) => match var {
-                Var::X => "x".into(),
-                Var::Y => "y".into(),
-                Var::Z => "z".into(),
-                Var::T => "t".into(),
-            },
-            Op::Param(i) => format!("{p}_const(iso_param({i}u))"),
-            Op::Neg(a) => format!("{p}_neg({})", v(a)),
-            Op::Add(a, b) => format!("{p}_add({}, {})", v(a), v(b)),
-            Op::Sub(a, b) => format!("{p}_sub({}, {})", v(a), v(b)),
-            Op::Mul(a, b) => format!("{p}_mul({}, {})", v(a), v(b)),
-            Op::Div(a, b) => format!("{p}_div({}, {})", v(a), v(b)),
-            Op::PowI(a, 2) => format!("{p}_sqr({})", v(a)),
-            Op::PowI(a, n) => emit_odd_power(&mut out, p, id, a, n),
-            Op::Call1(f, a) => format!("{p}_{}({})", f.name(), v(a)),
-            Op::Call2(f, a, b) => format!("{p}_{}({}, {})", f.name(), v(a), v(b)),
-            Op::Call3(f, a, b, c) => format!("{p}_{}({}, {}, {})", f.name(), v(a), v(b), v(c)),
-        };
+        let rhs = value_rhs(&mut out, domain, id, op);
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(id);
@@ -132,21 +106,55 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     out
 }
 
+/// The right-hand side of `let v{id} = …;` for one node (odd powers first
+/// write their square-and-multiply chain into `out`).
+pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op) -> String {
+    let p = domain.prefix();
+    let v = |n: NodeId| format!("v{n}");
+    match op {
+        Op::Const(c) => {
+            let (n, lo, hi) = f32_enclosure(c);
+            match domain {
+                Domain::Interval if lo != hi => format!("vec2<f32>({}, {})", lit(lo), lit(hi)),
+                Domain::Affine if lo != hi => format!("ra_from_ia(vec2<f32>({}, {}))", lit(lo), lit(hi)),
+                _ => format!("{p}_const({})", lit(n)),
+            }
+        }
+        Op::Var(var) => match var {
+            Var::X => "x".into(),
+            Var::Y => "y".into(),
+            Var::Z => "z".into(),
+            Var::T => "t".into(),
+        },
+        Op::Param(i) => format!("{p}_const(iso_param({i}u))"),
+        Op::Neg(a) => format!("{p}_neg({})", v(a)),
+        Op::Add(a, b) => format!("{p}_add({}, {})", v(a), v(b)),
+        Op::Sub(a, b) => format!("{p}_sub({}, {})", v(a), v(b)),
+        Op::Mul(a, b) => format!("{p}_mul({}, {})", v(a), v(b)),
+        Op::Div(a, b) => format!("{p}_div({}, {})", v(a), v(b)),
+        Op::PowI(a, 2) => format!("{p}_sqr({})", v(a)),
+        Op::PowI(a, n) => emit_odd_power(out, p, &format!("w{id}"), &v(a), n),
+        Op::Call1(f, a) => format!("{p}_{}({})", f.name(), v(a)),
+        Op::Call2(f, a, b) => format!("{p}_{}({}, {})", f.name(), v(a), v(b)),
+        Op::Call3(f, a, b, c) => format!("{p}_{}({}, {}, {})", f.name(), v(a), v(b), v(c)),
+    }
+}
+
 /// Odd power a^n (n ≥ 3) by square-and-multiply over the domain's power
 /// helpers; returns the final expression.
-fn emit_odd_power(out: &mut String, p: &str, id: NodeId, a: NodeId, n: u32) -> String {
-    let _ = writeln!(out, "    let w{id}_b = {p}_pw_lift(v{a});");
-    let mut cur = format!("w{id}_b");
+pub(crate) fn emit_odd_power(out: &mut String, p: &str, id: &str, a: &str, n: u32) -> String {
+    let _ = writeln!(out, "    let {id}_b = {p}_pw_lift({a});");
+    let mut cur = format!("{id}_b");
     let bits = 32 - n.leading_zeros();
     for (k, bit) in (0..bits - 1).rev().enumerate() {
-        let _ = writeln!(out, "    let w{id}_s{k} = {p}_pw_sq({cur});");
-        cur = format!("w{id}_s{k}");
+        let _ = writeln!(out, "    let {id}_s{k} = {p}_pw_sq({cur});");
+        cur = format!("{id}_s{k}");
         if n >> bit & 1 == 1 {
-            let _ = writeln!(out, "    let w{id}_m{k} = {p}_pw_mul({cur}, w{id}_b);");
-            cur = format!("w{id}_m{k}");
+            let _ = writeln!(out, "    let {id}_m{k} = {p}_pw_mul({cur}, {id}_b);");
+            cur = format!("{id}_m{k}");
         }
     }
-    format!("{p}_pw_odd(v{a}, {cur})")
+    format!("{p}_pw_odd({a}, {cur})")
 }
 
 /// The body of `box_value` in the eval kernel for `domain`: lifts the box
@@ -194,8 +202,15 @@ pub fn inclusion(domain: Domain) -> String {
         Domain::Affine => "vec3<f32>(0.5 * (s.x + s.y), 0.5 * (s.y - s.x), 0.0)".to_string(),
         _ => "s".to_string(),
     };
+    let cell_d = match domain {
+        Domain::Interval => "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
+            return evald_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time), ia_const(dir.x), ia_const(dir.y), ia_const(dir.z));",
+        _ => "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
+            return evald_ra(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time), ra_const(dir.x), ra_const(dir.y), ra_const(dir.z));",
+    };
     format!(
         "fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{cell}\n}}\n\n\
+fn cell_range_d(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {{\n{cell_d}\n}}\n\n\
 fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
 let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
 let x = {p}_add({p}_const(eye.x), {p}_mul(S, {p}_add({p}_const(f.x), {p}_add({p}_mul(U_, {p}_const(r.x)), {p}_mul(V_, {p}_const(u.x))))));\n    \
@@ -207,8 +222,13 @@ return {p}_range(eval_{p}(x, y, z, {p}_const(U.time)));\n}}\n"
 
 /// The complete render shader with the inclusion function in `domain`.
 pub fn render_shader(ir: &Ir, domain: Domain) -> String {
-    let lib = libraries(&[Domain::Scalar, domain]);
-    let evals = format!("{}\n{}", emit_evaluator(ir, Domain::Scalar), emit_evaluator(ir, domain));
+    let lib = format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain));
+    let evals = format!(
+        "{}\n{}\n{}",
+        emit_evaluator(ir, Domain::Scalar),
+        emit_evaluator(ir, domain),
+        derivative::emit_evaluator_d(ir, domain)
+    );
     template::splice(template::BISECT, &[("library", &lib), ("evaluators", &evals), ("inclusion", &inclusion(domain))])
         .expect("the render template has its markers")
 }

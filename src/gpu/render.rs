@@ -62,6 +62,8 @@ struct Uniforms {
     eps: f32,
     inf: f32,
     time: f32,
+    mono_depth: u32,
+    pad: [u32; 3],
     params: [f32; 64],
 }
 
@@ -103,6 +105,27 @@ pub enum RenderError {
     Settings(String),
 }
 
+/// Switches for the traversal's optimisations, so their effect can be
+/// measured and their results compared (every combination is exact: each
+/// only skips work that is proven unnecessary).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Optimizations {
+    /// Tile pass: enclose f over depth slabs of each 8×8 tile's frustum and
+    /// let rays skip the slabs proven empty.
+    pub tile_culling: bool,
+    /// Derivative enclosures from depth [`Optimizations::monotone_depth`] on:
+    /// monotone cells are rejected or solved by scalar root finding.
+    pub monotone: bool,
+    /// First bisection depth at which the derivative is evaluated.
+    pub monotone_depth: u32,
+}
+
+impl Default for Optimizations {
+    fn default() -> Self {
+        Optimizations { tile_culling: true, monotone: true, monotone_depth: 3 }
+    }
+}
+
 /// A compiled render pipeline for one formula and algebra.
 pub struct Renderer<'g> {
     gpu: &'g Gpu,
@@ -111,6 +134,8 @@ pub struct Renderer<'g> {
     pub domain: Domain,
     /// The shader source (validated).
     pub wgsl: String,
+    /// Optimisation switches (uniforms: changing them never recompiles).
+    pub optimizations: Optimizations,
 }
 
 impl<'g> Renderer<'g> {
@@ -119,7 +144,7 @@ impl<'g> Renderer<'g> {
         let wgsl = render_shader(ir, domain);
         validate(&wgsl)?;
         let pipeline = gpu.pipeline("isotrace render", &wgsl)?;
-        Ok(Renderer { gpu, pipeline, domain, wgsl })
+        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default() })
     }
 
     /// Renders one frame, tile by tile.
@@ -141,11 +166,13 @@ impl<'g> Renderer<'g> {
             tile_origin: [0, 0],
             tile_size: [0, 0],
             max_iter: s.max_iter.clamp(1, 60_000),
-            flags: u32::from(s.debug_unresolved),
+            flags: u32::from(s.debug_unresolved) | (u32::from(!self.optimizations.tile_culling) << 1),
+            mono_depth: if self.optimizations.monotone { self.optimizations.monotone_depth } else { u32::MAX },
             tan_half_fov: frame.tan_half_fov as f32,
             eps: s.eps as f32,
             inf: f32::INFINITY,
             time: s.time as f32,
+            pad: [0; 3],
             params: pack_params(&s.params)?,
         };
         let mut pixels = vec![PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, status: Status::Miss }; (w * h) as usize];

@@ -22,11 +22,15 @@ struct Uniforms {
     tile_origin: vec2<u32>, // this dispatch's first pixel
     tile_size: vec2<u32>,
     max_iter: u32,
-    flags: u32,             // bit 0: debug-unresolved colour
+    flags: u32,             // bit 0: debug-unresolved colour; bit 1: no tile culling
     tan_half_fov: f32,
     eps: f32,
     inf: f32,
     time: f32,
+    mono_depth: u32,        // first depth with derivative enclosures (huge: off)
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
     params: array<vec4<f32>, 16>,
 }
 
@@ -76,7 +80,7 @@ fn is_finite_range(r: vec2<f32>) -> bool { return abs(r.x) < U.inf && abs(r.y) <
 
 // The ray: points o + s * dir, where dir is the unnormalised pixel direction
 // (forward component 1), so s is the depth along the camera's forward axis.
-struct Ray { o: vec3<f32>, dir: vec3<f32>, s_exit: f32 }
+struct Ray { o: vec3<f32>, dir: vec3<f32>, s_exit: f32, eps_s: f32 }
 struct Hit { s: f32, status: u32, evals: u32, iters: u32 }
 
 fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
@@ -104,12 +108,38 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         }
         h.iters = h.iters + 1u;
         let c = cell_s(s_lo, len, d, k);
-        let r = cell_range(ray.o, ray.dir, c.x, c.y);
+        var r: vec2<f32>;
+        var monotone = false;
+        // From depth U.mono_depth on, cells are evaluated together with the
+        // enclosure of f's derivative along the ray: where it excludes 0, f
+        // is monotone on the cell, which then holds a root iff f changes
+        // sign across it, and that root is unique (found by scalar solving).
+        if (d >= U.mono_depth) {
+            let q = cell_range_d(ray.o, ray.dir, c.x, c.y);
+            r = q.xy;
+            monotone = q.z > 0.0 || q.w < 0.0;
+        } else {
+            r = cell_range(ray.o, ray.dir, c.x, c.y);
+        }
         h.evals = h.evals + 1u;
         var descend = false;
         if (may_contain_zero(r)) {
             let finite = is_finite_range(r);
-            if (d < d_max || (!finite && d < d_last)) {
+            var f0 = 0.0;
+            var f1 = 0.0;
+            if (monotone) {
+                f0 = f_at(ray.o + ray.dir * c.x);
+                f1 = f_at(ray.o + ray.dir * c.y);
+                monotone = abs(f0) < U.inf && abs(f1) < U.inf;
+            }
+            if (monotone) {
+                // At most one root, and one exactly when f changes sign.
+                if ((f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0)) {
+                    h.s = solve(ray, c.x, c.y, f0, f1);
+                    h.status = STATUS_HIT;
+                    return h;
+                }
+            } else if (d < d_max || (!finite && d < d_last)) {
                 descend = true;
             } else if (finite || sign_change(ray, c.x, c.y)) {
                 h.s = refine(ray, c.x, c.y);
@@ -128,6 +158,35 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         }
     }
     return h;
+}
+
+// The unique root of a monotone f in [a, b] (fa, fb of opposite signs or
+// zero): Illinois regula falsi down to the eps width along the ray.
+fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32) -> f32 {
+    var a = s0;
+    var b = s1;
+    var fa = f0;
+    var fb = f1;
+    if (fa == 0.0) { return a; }
+    if (fb == 0.0) { return b; }
+    var side = 0;
+    for (var i = 0; i < 40 && b - a > ray.eps_s; i = i + 1) {
+        var m = (a * fb - b * fa) / (fb - fa);
+        if (!(m > a && m < b)) { m = 0.5 * (a + b); }
+        let fm = f_at(ray.o + ray.dir * m);
+        if ((fm <= 0.0) == (fa <= 0.0)) {
+            a = m;
+            fa = fm;
+            if (side == -1) { fb = 0.5 * fb; }
+            side = -1;
+        } else {
+            b = m;
+            fb = fm;
+            if (side == 1) { fa = 0.5 * fa; }
+            side = 1;
+        }
+    }
+    return 0.5 * (a + b);
 }
 
 fn sign_change(ray: Ray, t0: f32, t1: f32) -> bool {
@@ -273,7 +332,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
                           vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
                           vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
-    if (dr.x < dr.y && may_contain_zero(slab)) {
+    if (dr.x < dr.y && (may_contain_zero(slab) || (U.flags & 2u) != 0u)) {
         atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
     }
     workgroupBarrier();
@@ -297,7 +356,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     var d_ray = 0u;
     let seg = clip_ray(o, dir);
     if (seg.x < seg.y) {
-        let ray = Ray(o, dir, seg.y);
+        let ray = Ray(o, dir, seg.y, U.eps * inv_len);
         // d_max for the whole box segment; slab segments use their own, smaller one.
         d_ray = u32(clamp(ceil(log2((seg.y - seg.x) / (U.eps * inv_len))), 0.0, 18.0));
         var budget = U.max_iter;

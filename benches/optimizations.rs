@@ -1,0 +1,74 @@
+//! Measures each traversal optimisation on the Knoll suite: GPU time and
+//! inclusion evaluations per pixel with every switch on, and with each one
+//! off, alternating the variants run by run so machine load hits all alike.
+//!
+//! cargo bench --bench optimizations [-- SIZE [REPEAT [NAME...]]]
+
+use isotrace::catalog;
+use isotrace::gpu::render::{Optimizations, Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::Gpu;
+use isotrace::render::Camera;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let size: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(512);
+    let repeat: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let names: Vec<String> = if args.len() > 2 {
+        args[2..].to_vec()
+    } else {
+        ["sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
+         "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water"].iter().map(|s| s.to_string()).collect()
+    };
+    let gpu = Gpu::new().expect("GPU");
+    let md: u32 = std::env::var("MONO_DEPTH").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
+    let variants: [(&str, Optimizations); 4] = [
+        ("all", Optimizations { monotone_depth: md, ..Default::default() }),
+        ("no-tile", Optimizations { tile_culling: false, ..Default::default() }),
+        ("no-mono", Optimizations { monotone: false, ..Default::default() }),
+        ("none", Optimizations { tile_culling: false, monotone: false, ..Default::default() }),
+    ];
+    println!("{size}x{size}, median of {repeat}; ms / evals per pixel");
+    println!("{:<14} {:>18} {:>18} {:>18} {:>18}", "surface", variants[0].0, variants[1].0, variants[2].0, variants[3].0);
+    for name in names {
+        let e = catalog::lookup(&name).expect("catalog name");
+        let f = e.compile().expect("compiles");
+        let b = e.header.bbox;
+        let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
+        let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).expect("params");
+        let s = Settings {
+            width: size,
+            height: size,
+            bbox: b,
+            camera: Camera::default_for(&b, 40.0, 1.0),
+            eps: diag * 2f64.powi(-11),
+            time: e.header.t.unwrap_or(0.0),
+            params,
+            max_iter: DEFAULT_MAX_ITER,
+            tile: 1024,
+            debug_unresolved: false,
+            clip_sphere: e.header.clip.map(|catalog::Clip::Sphere(r)| r),
+        };
+        let mut r = Renderer::new(&gpu, &f.ir, isotrace::choose_algebra(&f.ir)).expect("renderer");
+        let mut times = vec![Vec::new(); variants.len()];
+        let mut evals = vec![0.0; variants.len()];
+        for run in 0..=repeat {
+            for (k, (_, o)) in variants.iter().enumerate() {
+                r.optimizations = *o;
+                let fr = r.render(&s).expect("render");
+                if run > 0 {
+                    times[k].push(fr.stats.gpu_ms);
+                }
+                evals[k] = fr.stats.evals_mean;
+            }
+        }
+        let cells: Vec<String> = times
+            .iter_mut()
+            .zip(&evals)
+            .map(|(t, e)| {
+                t.sort_by(f64::total_cmp);
+                format!("{:.1} / {:.2}", t[t.len() / 2], e)
+            })
+            .collect();
+        println!("{:<14} {:>18} {:>18} {:>18} {:>18}", name, cells[0], cells[1], cells[2], cells[3]);
+    }
+}

@@ -1,0 +1,40 @@
+// isotrace derivative helpers for the interval (ia_) and affine (ra_)
+// domains: the pieces of forward-mode differentiation that are not plain
+// arithmetic. The generated `evald_*` functions carry, for every node, an
+// enclosure of its value and of its derivative along the ray (d/ds); the
+// traversal uses the derivative to prove a cell monotone. Requires
+// interval.wgsl (and affine.wgsl for the ra_ helpers).
+
+fn ia_hull(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return vec2<f32>(min(a.x, b.x), max(a.y, b.y)); }
+// min(a, b)' is a' where a is certainly the smaller, b' where b is, else
+// either (min is continuous, so the hull of both slopes bounds it).
+fn ia_dmin(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32> {
+    if (a.y <= b.x) { return da; }
+    if (b.y <= a.x) { return db; }
+    return ia_hull(da, db);
+}
+fn ia_dmax(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32> {
+    if (a.x >= b.y) { return da; }
+    if (b.x >= a.y) { return db; }
+    return ia_hull(da, db);
+}
+// sign and floor are flat between jumps; a jump inside the range makes the
+// function non-monotone in the worst way (it can cross 0 without a root of
+// any continuous piece), so the slope is then the whole line.
+fn ia_dsign(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
+    if (a.x > 0.0 || a.y < 0.0) { return vec2<f32>(0.0); }
+    return ia_whole();
+}
+fn ia_dfloor(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
+    if (floor(a.x) == floor(a.y)) { return vec2<f32>(0.0); }
+    return ia_whole();
+}
+//!affine
+fn ra_dmin(a: vec3<f32>, b: vec3<f32>, da: vec3<f32>, db: vec3<f32>) -> vec3<f32> {
+    return ra_from_ia(ia_dmin(ra_range(a), ra_range(b), ra_range(da), ra_range(db)));
+}
+fn ra_dmax(a: vec3<f32>, b: vec3<f32>, da: vec3<f32>, db: vec3<f32>) -> vec3<f32> {
+    return ra_from_ia(ia_dmax(ra_range(a), ra_range(b), ra_range(da), ra_range(db)));
+}
+fn ra_dsign(a: vec3<f32>, da: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_dsign(ra_range(a), ra_range(da))); }
+fn ra_dfloor(a: vec3<f32>, da: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_dfloor(ra_range(a), ra_range(da))); }
