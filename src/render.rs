@@ -102,6 +102,8 @@ pub struct PixelOut {
     /// d_max of the ray's whole segment through the domain,
     /// ceil(log2(length / eps)) (0 when the ray misses the domain).
     pub level: u32,
+    /// Index of the isovalue hit (0 without `--iso`).
+    pub iso: u32,
     /// Outcome.
     pub status: Status,
 }

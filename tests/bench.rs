@@ -79,7 +79,7 @@ fn markdown_and_json_carry_every_job() {
 fn frame(colors: &[[f32; 4]]) -> Frame {
     let pixels = colors
         .iter()
-        .map(|c| PixelOut { color: *c, normal: [0.0; 3], depth: 1.0, evals: 1, level: 0, status: if c[3] > 0.0 { Status::Hit } else { Status::Miss } })
+        .map(|c| PixelOut { color: *c, normal: [0.0; 3], depth: 1.0, evals: 1, level: 0, iso: 0, status: if c[3] > 0.0 { Status::Hit } else { Status::Miss } })
         .collect();
     Frame { width: colors.len() as u32, height: 1, pixels, stats: Stats::default() }
 }

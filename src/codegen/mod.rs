@@ -220,8 +220,37 @@ return {p}_range(eval_{p}(x, y, z, {p}_const(U.time)));\n}}\n"
     )
 }
 
+/// Compile-time choices of the render kernel (Knoll et al.'s modalities):
+/// each generates code only when asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderConfig {
+    /// Shadow rays towards the point light.
+    pub shadows: bool,
+    /// Surface layers per pixel (1: opaque; more: transparency).
+    pub layers: u32,
+    /// Reflection bounces.
+    pub reflect: u32,
+    /// Number of isovalues (1: just f = 0).
+    pub iso_count: u32,
+    /// Colour mode: 0 Phong, 1 gradient magnitude, 2 depth, 3 normal, 4 evaluations.
+    pub color_mode: u32,
+    /// Environment: 0 sky, 1 checkered ground, 2 image.
+    pub env_mode: u32,
+}
+
+impl Default for RenderConfig {
+    fn default() -> Self {
+        RenderConfig { shadows: false, layers: 1, reflect: 0, iso_count: 1, color_mode: 0, env_mode: 0 }
+    }
+}
+
 /// The complete render shader with the inclusion function in `domain`.
 pub fn render_shader(ir: &Ir, domain: Domain) -> String {
+    render_shader_with(ir, domain, &RenderConfig::default())
+}
+
+/// The render shader for `domain` with the modalities of `cfg`.
+pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig) -> String {
     let lib = format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain));
     let evals = format!(
         "{}\n{}\n{}",
@@ -229,6 +258,29 @@ pub fn render_shader(ir: &Ir, domain: Domain) -> String {
         emit_evaluator(ir, domain),
         derivative::emit_evaluator_d(ir, domain)
     );
-    template::splice(template::BISECT, &[("library", &lib), ("evaluators", &evals), ("inclusion", &inclusion(domain))])
-        .expect("the render template has its markers")
+    let layers = cfg.layers.max(1);
+    let config = format!(
+        "const SHADOWS: bool = {};\nconst LAYERS: u32 = {layers}u;\nconst REFLECT: u32 = {}u;\n\
+         const ISO_COUNT: u32 = {}u;\nconst COLOR_MODE: u32 = {}u;\nconst ENV_MODE: u32 = {}u;\n",
+        cfg.shadows,
+        cfg.reflect,
+        cfg.iso_count.clamp(1, 8),
+        cfg.color_mode,
+        cfg.env_mode
+    );
+    let mut modalities = String::new();
+    modalities.push_str(template::part(template::MODALITIES, if cfg.shadows { "shadows" } else { "no_shadows" }));
+    modalities.push_str(template::part(template::MODALITIES, if cfg.reflect > 0 { "reflections" } else { "no_reflections" }));
+    template::splice(
+        template::BISECT,
+        &[
+            ("library", &lib),
+            ("evaluators", &evals),
+            ("inclusion", &inclusion(domain)),
+            ("config", &config),
+            ("shading", template::SHADE),
+            ("modalities", &modalities),
+        ],
+    )
+    .expect("the render template has its markers")
 }

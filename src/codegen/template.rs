@@ -7,6 +7,20 @@ pub const EVAL: &str = include_str!("../../templates/kernels/eval.wgsl");
 /// The render kernel: stackless interval bisection per pixel.
 pub const BISECT: &str = include_str!("../../templates/kernels/bisect.wgsl");
 
+/// Shading, colour modes and the environment of the render kernel.
+pub const SHADE: &str = include_str!("../../templates/kernels/shade.wgsl");
+/// The optional modalities (shadows, reflections) and their stubs.
+pub const MODALITIES: &str = include_str!("../../templates/kernels/modalities.wgsl");
+
+/// The section of a parts file that starts at the line `//!part:NAME` and
+/// runs to the next `//!part:` line (empty if there is none such).
+pub fn part<'a>(text: &'a str, name: &str) -> &'a str {
+    let marker = format!("//!part:{name}\n");
+    let Some(start) = text.find(&marker).map(|i| i + marker.len()) else { return "" };
+    let end = text[start..].find("//!part:").map_or(text.len(), |i| start + i);
+    &text[start..end]
+}
+
 /// Replaces every `//!splice:NAME` line of `template` by its value.
 pub fn splice(template: &str, parts: &[(&str, &str)]) -> Result<String, String> {
     let mut out = String::with_capacity(template.len() + parts.iter().map(|p| p.1.len()).sum::<usize>());

@@ -3,7 +3,7 @@
 //! parameters), so animations and benchmarks never recompile.
 
 use super::{pack_params, Gpu, GpuError};
-use crate::codegen::{render_shader, Domain};
+use crate::codegen::{render_shader_with, Domain};
 use crate::ir::Ir;
 use crate::render::{Camera, Frame, PixelOut, Stats, Status};
 use crate::validate::{validate, ValidateError};
@@ -63,7 +63,13 @@ struct Uniforms {
     inf: f32,
     time: f32,
     mono_depth: u32,
-    pad: [u32; 3],
+    iso_count: u32,
+    env_size: [u32; 2],
+    light: [f32; 4],
+    iso: [f32; 8],
+    opacity: f32,
+    reflectivity: f32,
+    pad: [u32; 2],
     params: [f32; 64],
 }
 
@@ -136,15 +142,108 @@ pub struct Renderer<'g> {
     pub wgsl: String,
     /// Optimisation switches (uniforms: changing them never recompiles).
     pub optimizations: Optimizations,
+    /// The modalities it was compiled for, with their values.
+    pub modalities: Modalities,
+    env: wgpu::Buffer,
+}
+
+/// An environment image (equirectangular), rgba8 packed per texel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvImage {
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// Row-major rgba8 texels (`u32::from_le_bytes([r, g, b, a])`).
+    pub texels: Vec<u32>,
+}
+
+/// Knoll et al.'s visualisation modalities. Structural choices (which code
+/// exists) are compiled in; values are uniforms.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Modalities {
+    /// Shadow rays from the point light.
+    pub shadows: bool,
+    /// Point light (default: above and left of the eye).
+    pub light: Option<glam::DVec3>,
+    /// eps of shadow rays (default 4 × eps).
+    pub shadow_eps: Option<f64>,
+    /// Surface layers per pixel (1: opaque).
+    pub layers: u32,
+    /// Per-layer opacity when layers > 1.
+    pub opacity: f64,
+    /// Isovalues (empty: just 0). At most 8.
+    pub isovalues: Vec<f64>,
+    /// Reflection bounces.
+    pub reflect: u32,
+    /// Weight of each reflection.
+    pub reflectivity: f64,
+    /// Colour mode (see [`crate::codegen::RenderConfig::color_mode`]).
+    pub color_mode: u32,
+    /// Procedural environment: 0 sky, 1 checkered ground (ignored with an image).
+    pub env_mode: u32,
+    /// Environment image.
+    pub env: Option<EnvImage>,
+}
+
+impl Default for Modalities {
+    fn default() -> Self {
+        Modalities {
+            shadows: false,
+            light: None,
+            shadow_eps: None,
+            layers: 1,
+            opacity: 1.0,
+            isovalues: vec![],
+            reflect: 0,
+            reflectivity: 0.35,
+            color_mode: 0,
+            env_mode: 0,
+            env: None,
+        }
+    }
+}
+
+impl Modalities {
+    /// The compile-time part.
+    pub fn config(&self) -> crate::codegen::RenderConfig {
+        crate::codegen::RenderConfig {
+            shadows: self.shadows,
+            layers: self.layers.max(1),
+            reflect: self.reflect,
+            iso_count: self.isovalues.len().clamp(1, 8) as u32,
+            color_mode: self.color_mode,
+            env_mode: if self.env.is_some() { 2 } else { self.env_mode },
+        }
+    }
 }
 
 impl<'g> Renderer<'g> {
     /// Generates, validates and compiles the render kernel.
     pub fn new(gpu: &'g Gpu, ir: &Ir, domain: Domain) -> Result<Renderer<'g>, RenderError> {
-        let wgsl = render_shader(ir, domain);
+        Self::with_modalities(gpu, ir, domain, Modalities::default())
+    }
+
+    /// Like [`Renderer::new`], with modalities.
+    pub fn with_modalities(gpu: &'g Gpu, ir: &Ir, domain: Domain, modalities: Modalities) -> Result<Renderer<'g>, RenderError> {
+        if modalities.isovalues.len() > 8 {
+            return Err(RenderError::Settings(format!("at most 8 isovalues, got {}", modalities.isovalues.len())));
+        }
+        if modalities.layers > 8 {
+            return Err(RenderError::Settings(format!("at most 8 layers, got {}", modalities.layers)));
+        }
+        let wgsl = render_shader_with(ir, domain, &modalities.config());
         validate(&wgsl)?;
         let pipeline = gpu.pipeline("isotrace render", &wgsl)?;
-        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default() })
+        let texels: Vec<u32> = modalities.env.as_ref().map_or(vec![0], |e| e.texels.clone());
+        let env = gpu.scoped("environment upload", || {
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("environment"),
+                contents: bytemuck::cast_slice(&texels),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        })?;
+        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default(), modalities, env })
     }
 
     /// Renders one frame, tile by tile.
@@ -155,6 +254,13 @@ impl<'g> Renderer<'g> {
         let (w, h) = (s.width, s.height);
         let tile = s.tile.clamp(8, MAX_SIZE);
         let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+        let m = &self.modalities;
+        let dist = (s.camera.eye - s.camera.target).length();
+        let light = m.light.unwrap_or(s.camera.eye + (0.6 * frame.up - 0.4 * frame.right) * dist);
+        let mut iso = [0.0f32; 8];
+        for (k, v) in m.isovalues.iter().take(8).enumerate() {
+            iso[k] = *v as f32;
+        }
         let mut u = Uniforms {
             eye: v4(s.camera.eye),
             forward: v4(frame.forward),
@@ -172,10 +278,16 @@ impl<'g> Renderer<'g> {
             eps: s.eps as f32,
             inf: f32::INFINITY,
             time: s.time as f32,
-            pad: [0; 3],
+            iso_count: m.isovalues.len().clamp(1, 8) as u32,
+            env_size: m.env.as_ref().map_or([0, 0], |e| [e.width, e.height]),
+            light: [light.x as f32, light.y as f32, light.z as f32, m.shadow_eps.unwrap_or(4.0 * s.eps) as f32],
+            iso,
+            opacity: m.opacity as f32,
+            reflectivity: m.reflectivity as f32,
+            pad: [0; 2],
             params: pack_params(&s.params)?,
         };
-        let mut pixels = vec![PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, status: Status::Miss }; (w * h) as usize];
+        let mut pixels = vec![PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, iso: 0, status: Status::Miss }; (w * h) as usize];
         let mut gpu_ms = 0.0;
         let mut dispatches = 0;
         for ty in (0..h).step_by(tile as usize) {
@@ -237,6 +349,7 @@ impl<'g> Renderer<'g> {
                 entries: &[
                     wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 1, resource: obuf.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 2, resource: self.env.as_entire_binding() },
                 ],
             });
             let mut enc = d.create_command_encoder(&Default::default());
@@ -286,7 +399,7 @@ fn convert(r: &RawPixel) -> PixelOut {
     let [cb, ca] = unorm2(r.color_ba);
     let [nx, ny] = snorm2(r.normal_xy);
     let [nz, _] = snorm2(r.normal_z);
-    PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.evals, level: r.info >> 8, status }
+    PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.evals, level: r.info >> 8, iso: (r.normal_z >> 16) & 0xff, status }
 }
 
 fn check_settings(s: &Settings) -> Result<(), RenderError> {

@@ -28,9 +28,14 @@ struct Uniforms {
     inf: f32,
     time: f32,
     mono_depth: u32,        // first depth with derivative enclosures (huge: off)
+    iso_count: u32,         // number of isovalues in `iso` (1: just f = 0)
+    env_size: vec2<u32>,    // environment image size (0 when procedural)
+    light: vec4<f32>,       // xyz: point light; w: shadow-ray eps
+    iso: array<vec4<f32>, 2>,
+    opacity: f32,           // per-layer opacity with transparency
+    reflectivity: f32,      // weight of each reflection bounce
     pad0: u32,
     pad1: u32,
-    pad2: u32,
     params: array<vec4<f32>, 16>,
 }
 
@@ -40,7 +45,7 @@ struct Pixel {
     color_rg: u32,  // pack2x16unorm(r, g), linear
     color_ba: u32,  // pack2x16unorm(b, a); a = 1 on hits
     normal_xy: u32, // pack2x16snorm(n.x, n.y)
-    normal_z: u32,  // pack2x16snorm(n.z, 0)
+    normal_z: u32,  // low 16 bits: snorm n.z; high 16 bits: isovalue index
     depth: f32,     // distance from the eye along the unit ray; +inf on misses
     evals: u32,     // inclusion evaluations (the pixel's share of the tile pass included)
     info: u32,      // status | d_ray << 8 (bisection depth for the ray's whole box segment)
@@ -59,6 +64,9 @@ const SLABS: u32 = 64u;
 
 @group(0) @binding(0) var<uniform> U: Uniforms;
 @group(0) @binding(1) var<storage, read_write> pixels: array<Pixel>;
+// Environment image for reflections and the background (equirectangular,
+// rgba8 packed; one dummy texel when the environment is procedural).
+@group(0) @binding(2) var<storage, read> env_image: array<u32>;
 
 // Bit k set: slab k of this tile's frustum may contain the surface.
 var<workgroup> wg_slabs: array<atomic<u32>, 2>;
@@ -72,16 +80,37 @@ fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
 
 //!splice:inclusion
 
+// Compile-time configuration of the modalities (shadows, layers,
+// reflections, colour mode): code for a modality is only generated when it
+// is asked for.
+//!splice:config
+
 fn f_at(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, U.time); }
 
 // Zero test that stays conservative when an end is NaN.
 fn may_contain_zero(r: vec2<f32>) -> bool { return !(r.x > 0.0 || r.y < 0.0); }
+fn iso_value(i: u32) -> f32 { return U.iso[i / 4u][i % 4u]; }
+// The rejection test with several isovalues: does the enclosure contain any?
+fn may_contain_iso(r: vec2<f32>) -> bool {
+    for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+        if (may_contain_zero(r - vec2<f32>(iso_value(i)))) { return true; }
+    }
+    return false;
+}
+// The first isovalue the enclosure contains.
+fn first_iso(r: vec2<f32>) -> u32 {
+    for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+        if (may_contain_zero(r - vec2<f32>(iso_value(i)))) { return i; }
+    }
+    return 0u;
+}
+fn brackets(f0: f32, f1: f32) -> bool { return (f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0); }
 fn is_finite_range(r: vec2<f32>) -> bool { return abs(r.x) < U.inf && abs(r.y) < U.inf; }
 
 // The ray: points o + s * dir, where dir is the unnormalised pixel direction
 // (forward component 1), so s is the depth along the camera's forward axis.
 struct Ray { o: vec3<f32>, dir: vec3<f32>, s_exit: f32, eps_s: f32 }
-struct Hit { s: f32, status: u32, evals: u32, iters: u32 }
+struct Hit { s: f32, status: u32, evals: u32, iters: u32, iso: u32 }
 
 fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
     let w = exp2(-f32(d));
@@ -93,7 +122,7 @@ fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
 // cover [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
 // finished level at once (the trailing one bits of k) and steps right.
 fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
-    var h = Hit(0.0, STATUS_MISS, 0u, 0u);
+    var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
     var d = 0u;
     var k = 0u;
     let len = s_hi - s_lo;
@@ -123,7 +152,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         }
         h.evals = h.evals + 1u;
         var descend = false;
-        if (may_contain_zero(r)) {
+        if (may_contain_iso(r)) {
             let finite = is_finite_range(r);
             var f0 = 0.0;
             var f1 = 0.0;
@@ -133,18 +162,31 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
                 monotone = abs(f0) < U.inf && abs(f1) < U.inf;
             }
             if (monotone) {
-                // At most one root, and one exactly when f changes sign.
-                if ((f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0)) {
-                    h.s = solve(ray, c.x, c.y, f0, f1);
+                // At most one root per isovalue, and one exactly when f - c
+                // changes sign; the nearest of them is the hit.
+                var best = U.inf;
+                for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+                    let c_i = iso_value(i);
+                    if (brackets(f0 - c_i, f1 - c_i)) {
+                        let s_i = solve(ray, c.x, c.y, f0 - c_i, f1 - c_i, c_i);
+                        if (s_i < best) { best = s_i; h.iso = i; }
+                    }
+                }
+                if (best < U.inf) {
+                    h.s = best;
                     h.status = STATUS_HIT;
                     return h;
                 }
             } else if (d < d_max || (!finite && d < d_last)) {
                 descend = true;
-            } else if (finite || sign_change(ray, c.x, c.y)) {
-                h.s = refine(ray, c.x, c.y);
-                h.status = STATUS_HIT;
-                return h;
+            } else {
+                let i = first_iso(r);
+                if (finite || sign_change(ray, c.x, c.y, iso_value(i))) {
+                    h.iso = i;
+                    h.s = refine(ray, c.x, c.y, iso_value(i));
+                    h.status = STATUS_HIT;
+                    return h;
+                }
             }
         }
         if (descend) {
@@ -162,7 +204,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
 
 // The unique root of a monotone f in [a, b] (fa, fb of opposite signs or
 // zero): Illinois regula falsi down to the eps width along the ray.
-fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32) -> f32 {
+fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32, c: f32) -> f32 {
     var a = s0;
     var b = s1;
     var fa = f0;
@@ -173,7 +215,7 @@ fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32) -> f32 {
     for (var i = 0; i < 40 && b - a > ray.eps_s; i = i + 1) {
         var m = (a * fb - b * fa) / (fb - fa);
         if (!(m > a && m < b)) { m = 0.5 * (a + b); }
-        let fm = f_at(ray.o + ray.dir * m);
+        let fm = f_at(ray.o + ray.dir * m) - c;
         if ((fm <= 0.0) == (fa <= 0.0)) {
             a = m;
             fa = fm;
@@ -189,10 +231,8 @@ fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32) -> f32 {
     return 0.5 * (a + b);
 }
 
-fn sign_change(ray: Ray, t0: f32, t1: f32) -> bool {
-    let f0 = f_at(ray.o + ray.dir * t0);
-    let f1 = f_at(ray.o + ray.dir * t1);
-    return (f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0);
+fn sign_change(ray: Ray, t0: f32, t1: f32, c: f32) -> bool {
+    return brackets(f_at(ray.o + ray.dir * t0) - c, f_at(ray.o + ray.dir * t1) - c);
 }
 
 // Root position for the hit cell [t0, t1]. An enclosure can contain 0 a
@@ -202,59 +242,32 @@ fn sign_change(ray: Ray, t0: f32, t1: f32) -> bool {
 // ray; scalar evaluations only) and bisect there; without one (a tangent root or
 // a feature thinner than a cell) the cell's midpoint is the answer.
 const LOOKAHEAD: i32 = 16;
-fn refine(ray: Ray, t0: f32, t1: f32) -> f32 {
+fn refine(ray: Ray, t0: f32, t1: f32, c: f32) -> f32 {
     let w = t1 - t0;
     var a = t0;
     var b = t1;
-    var fa = f_at(ray.o + ray.dir * a);
-    var fb = f_at(ray.o + ray.dir * b);
+    var fa = f_at(ray.o + ray.dir * a) - c;
+    var fb = f_at(ray.o + ray.dir * b) - c;
     var found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
     for (var k = 0; k < LOOKAHEAD && !found && b < ray.s_exit; k = k + 1) {
         a = b;
         fa = fb;
         b = min(b + w, ray.s_exit);
-        fb = f_at(ray.o + ray.dir * b);
+        fb = f_at(ray.o + ray.dir * b) - c;
         found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
     }
     if (!found) {
         return 0.5 * (t0 + t1);
     }
-    for (var i = 0; i < 12; i = i + 1) {
+    for (var i = 0; i < 10; i = i + 1) {
         let m = 0.5 * (a + b);
-        let fm = f_at(ray.o + ray.dir * m);
+        let fm = f_at(ray.o + ray.dir * m) - c;
         if ((fa <= 0.0) == (fm <= 0.0)) { a = m; fa = fm; } else { b = m; }
     }
     return 0.5 * (a + b);
 }
 
-fn gradient(p: vec3<f32>, h: f32) -> vec3<f32> {
-    let dx = vec3<f32>(h, 0.0, 0.0);
-    let dy = vec3<f32>(0.0, h, 0.0);
-    let dz = vec3<f32>(0.0, 0.0, h);
-    return vec3<f32>(f_at(p + dx) - f_at(p - dx), f_at(p + dy) - f_at(p - dy), f_at(p + dz) - f_at(p - dz)) / (2.0 * h);
-}
-
-fn background(dir: vec3<f32>) -> vec3<f32> {
-    let s = 0.5 + 0.5 * dot(dir, U.up.xyz);
-    return mix(vec3<f32>(0.055, 0.06, 0.075), vec3<f32>(0.16, 0.18, 0.23), s);
-}
-
-// Two-sided Phong: the side the gradient points to (f > 0, "outside") is
-// warm, the other side cool, so open surfaces read clearly.
-fn shade(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>) -> vec3<f32> {
-    var n = normalize(g);
-    var base = vec3<f32>(0.90, 0.55, 0.25);
-    if (dot(n, dir) > 0.0) {
-        n = -n;
-        base = vec3<f32>(0.30, 0.52, 0.90);
-    }
-    let l = normalize(-dir + 0.6 * U.up.xyz - 0.4 * U.right.xyz);
-    let diff = max(dot(n, l), 0.0);
-    let r = reflect(-l, n);
-    let spec = pow(max(dot(r, -dir), 0.0), 40.0);
-    let fill = 0.25 * max(dot(n, -dir), 0.0);
-    return base * (0.12 + 0.70 * diff + fill) + vec3<f32>(0.35 * spec);
-}
+//!splice:shading
 
 fn pixel_dir(px: vec2<u32>) -> vec2<f32> {
     let W = f32(U.size.x);
@@ -309,6 +322,77 @@ fn clip_ray(o: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(s0, s1);
 }
 
+// Per-invocation bookkeeping shared by primary and secondary rays.
+var<private> g_budget: u32;
+var<private> g_evals: u32;
+
+// The d_max of a segment of world length `len`.
+fn depth_for(len: f32) -> u32 {
+    return u32(clamp(ceil(log2(len / U.eps)), 0.0, 18.0));
+}
+
+// Primary ray from depth s_from on: the candidate slab runs of the tile,
+// nearest first.
+fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec2<f32>, inv_len: f32) -> Hit {
+    let ds = (dr.y - dr.x) / f32(SLABS);
+    var m = mask;
+    var hit = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
+    loop {
+        if (m.x == 0u && m.y == 0u) { break; }
+        // Next candidate slab k (lowest set bit) and the run that follows it.
+        var k = 0u;
+        if (m.x != 0u) { k = countTrailingZeros(m.x); } else { k = 32u + countTrailingZeros(m.y); }
+        var k_end = k;
+        loop {
+            let nxt = k_end + 1u;
+            if (nxt >= SLABS) { break; }
+            var bit = false;
+            if (nxt < 32u) { bit = ((m.x >> nxt) & 1u) != 0u; } else { bit = ((m.y >> (nxt - 32u)) & 1u) != 0u; }
+            if (!bit) { break; }
+            k_end = nxt;
+        }
+        for (var j = k; j <= k_end; j = j + 1u) {
+            if (j < 32u) { m.x = m.x & ~(1u << j); } else { m.y = m.y & ~(1u << (j - 32u)); }
+        }
+        let lo = max(max(seg.x, s_from), dr.x + ds * f32(k));
+        let hi = min(seg.y, select(dr.x + ds * f32(k_end + 1u), dr.y, k_end == SLABS - 1u));
+        if (!(lo < hi)) { continue; }
+        hit = traverse(ray, lo, hi, depth_for((hi - lo) / inv_len), g_budget);
+        g_evals = g_evals + hit.evals;
+        g_budget = g_budget - min(g_budget, hit.iters);
+        if (hit.status != STATUS_MISS) { break; }
+    }
+    return hit;
+}
+
+// A secondary ray (shadow, reflection) from point o along unit direction
+// u, clipped to the domain, from depth s_from up to s_to.
+fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32) -> Hit {
+    let seg = clip_ray(o, u);
+    let lo = max(seg.x, s_from);
+    let hi = min(seg.y, s_to);
+    if (!(lo < hi)) { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u); }
+    let ray = Ray(o, u, hi, eps);
+    let h = traverse(ray, lo, hi, u32(clamp(ceil(log2((hi - lo) / eps)), 0.0, 18.0)), g_budget);
+    g_evals = g_evals + h.evals;
+    g_budget = g_budget - min(g_budget, h.iters);
+    return h;
+}
+
+//!splice:modalities
+
+// Shading of a hit: colour mode, point light, shadow, reflections.
+fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, depth: f32, iso: u32, dr: vec2<f32>) -> vec3<f32> {
+    let g = gradient(p, 0.5 * U.eps);
+    var n = normalize(g);
+    if (!(dot(g, g) > 0.0)) { n = -unit; }
+    if (dot(n, unit) > 0.0) { n = -n; }
+    let depth01 = clamp((depth - dr.x) / max(dr.y - dr.x, 1e-20), 0.0, 1.0);
+    var c = shade(p, unit, g, depth01, iso, shadow_visibility(p, n));
+    let refl = reflection(p, n, unit);
+    return c * (1.0 - refl.w) + refl.xyz;
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>,
         @builtin(local_invocation_index) li: u32,
@@ -332,13 +416,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
                           vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
                           vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
-    if (dr.x < dr.y && (may_contain_zero(slab) || (U.flags & 2u) != 0u)) {
+    if (dr.x < dr.y && (may_contain_iso(slab) || (U.flags & 2u) != 0u)) {
         atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
     }
     workgroupBarrier();
     let mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
 
-    // ---- Per-pixel traversal of the candidate slabs, nearest first.
+    // ---- Per-pixel traversal of the candidate slabs, nearest first; with
+    // transparency, continued after each hit for up to LAYERS surfaces.
     if (gid.x >= U.tile_size.x || gid.y >= U.tile_size.y) { return; }
     let px = U.tile_origin + gid.xy;
     let idx = gid.y * U.tile_size.x + gid.x;
@@ -348,64 +433,50 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     let unit = dir * inv_len;
     let o = U.eye.xyz;
 
-    var color = vec4<f32>(background(unit), 0.0);
+    g_budget = U.max_iter;
+    g_evals = 1u; // this pixel's share of the tile pass
+    var acc = vec3<f32>(0.0);
+    var transmit = 1.0;
     var normal = vec3<f32>(0.0);
     var depth = U.inf;
-    var evals = 1u; // this pixel's share of the tile pass
     var status = STATUS_MISS;
+    var first_iso = 0u;
     var d_ray = 0u;
     let seg = clip_ray(o, dir);
     if (seg.x < seg.y) {
         let ray = Ray(o, dir, seg.y, U.eps * inv_len);
-        // d_max for the whole box segment; slab segments use their own, smaller one.
-        d_ray = u32(clamp(ceil(log2((seg.y - seg.x) / (U.eps * inv_len))), 0.0, 18.0));
-        var budget = U.max_iter;
-        var m = mask;
-        var hit = Hit(0.0, STATUS_MISS, 0u, 0u);
-        loop {
-            if (m.x == 0u && m.y == 0u) { break; }
-            // Next candidate slab k (lowest set bit), merged with the run of
-            // candidate slabs that follow it.
-            var k = 0u;
-            if (m.x != 0u) { k = countTrailingZeros(m.x); } else { k = 32u + countTrailingZeros(m.y); }
-            var k_end = k;
-            loop {
-                let nxt = k_end + 1u;
-                if (nxt >= SLABS) { break; }
-                var bit = false;
-                if (nxt < 32u) { bit = ((m.x >> nxt) & 1u) != 0u; } else { bit = ((m.y >> (nxt - 32u)) & 1u) != 0u; }
-                if (!bit) { break; }
-                k_end = nxt;
-            }
-            // Clear bits k..k_end.
-            for (var j = k; j <= k_end; j = j + 1u) {
-                if (j < 32u) { m.x = m.x & ~(1u << j); } else { m.y = m.y & ~(1u << (j - 32u)); }
-            }
-            var lo = max(seg.x, dr.x + ds * f32(k));
-            var hi = min(seg.y, select(dr.x + ds * f32(k_end + 1u), dr.y, k_end == SLABS - 1u));
-            if (!(lo < hi)) { continue; }
-            let len = (hi - lo) / inv_len;
-            let d_max = u32(clamp(ceil(log2(len / U.eps)), 0.0, 18.0));
-            hit = traverse(ray, lo, hi, d_max, budget);
-            evals = evals + hit.evals;
-            budget = budget - min(budget, hit.iters);
-            if (hit.status != STATUS_MISS) { break; }
-        }
-        status = hit.status;
-        if (status != STATUS_MISS) {
+        d_ray = depth_for((seg.y - seg.x) / inv_len);
+        var s_from = seg.x;
+        for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
+            let hit = trace_primary(ray, mask, s_from, seg, dr, inv_len);
+            if (hit.status == STATUS_MISS) { break; }
             let p = o + dir * hit.s;
-            let g = gradient(p, 0.5 * U.eps);
-            var c = shade(p, unit, g);
-            if (status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
+            let dist = hit.s / inv_len;
+            var c = shade_hit(o, unit, p, hit.s, hit.iso, dr);
+            if (hit.status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
                 c = vec3<f32>(1.0, 0.0, 1.0);
             }
-            normal = normalize(g);
-            if (!(dot(g, g) > 0.0)) { normal = -unit; }
-            color = vec4<f32>(c, 1.0);
-            depth = hit.s / inv_len;
+            if (layer == 0u) {
+                status = hit.status;
+                depth = dist;
+                first_iso = hit.iso;
+                let g = gradient(p, 0.5 * U.eps);
+                normal = select(-unit, normalize(g), dot(g, g) > 0.0);
+            }
+            let alpha = select(1.0, U.opacity, LAYERS > 1u);
+            acc = acc + transmit * alpha * c;
+            transmit = transmit * (1.0 - alpha);
+            if (hit.status == STATUS_UNRESOLVED) { break; }
+            // Continue behind this surface, past its eps cell.
+            s_from = hit.s + 2.0 * ray.eps_s;
         }
+    }
+    var color = vec4<f32>(acc + transmit * background(unit), select(0.0, 1.0, status != STATUS_MISS));
+    if (COLOR_MODE == COLOR_EVALS) {
+        color = vec4<f32>(evals_color(g_evals), color.w);
     }
     let cl = clamp(color, vec4<f32>(0.0), vec4<f32>(1.0));
     pixels[idx] = Pixel(pack2x16unorm(cl.xy), pack2x16unorm(cl.zw), pack2x16snorm(normal.xy),
-                        pack2x16snorm(vec2<f32>(normal.z, 0.0)), depth, evals, status | (d_ray << 8u));
+                        (pack2x16snorm(vec2<f32>(normal.z, 0.0)) & 0xffffu) | (first_iso << 16u), depth, g_evals,
+                        status | (d_ray << 8u));
 }
