@@ -125,13 +125,21 @@ pub struct Ir {
     pub nodes: Vec<Op>,
     /// Source span of each node (for diagnostics and comments).
     pub spans: Vec<Span>,
-    /// The implicit function.
+    /// The implicit function (the first surface's).
     pub root: NodeId,
+    /// Every surface drawn: the first is `root`; with `where` clauses each
+    /// carries the level-set conditions that restrict it.
+    pub surfaces: Vec<SurfaceIr>,
     /// Parameter names, indexed by `Op::Param`, with the first use.
     pub params: Vec<(String, Span)>,
 }
 
 impl Ir {
+    /// True when the formula has several surfaces or level-set conditions.
+    pub fn is_csg(&self) -> bool {
+        self.surfaces.len() > 1 || self.surfaces.iter().any(|s| !s.conditions.is_empty())
+    }
+
     /// Variables the formula depends on, sorted.
     pub fn variables(&self) -> Vec<Var> {
         let mut v: Vec<Var> = self.live().iter().filter_map(|&n| match self.nodes[n as usize] {
@@ -143,10 +151,17 @@ impl Ir {
         v
     }
 
-    /// Nodes reachable from the root, in topological order.
+    /// Nodes reachable from the surfaces and their conditions, in
+    /// topological order.
     pub fn live(&self) -> Vec<NodeId> {
         let mut mark = vec![false; self.nodes.len()];
         mark[self.root as usize] = true;
+        for s in &self.surfaces {
+            mark[s.f as usize] = true;
+            for &(g, _) in &s.conditions {
+                mark[g as usize] = true;
+            }
+        }
         for i in (0..self.nodes.len()).rev() {
             if mark[i] {
                 for o in self.nodes[i].operands() {
@@ -218,6 +233,23 @@ impl Ir {
             }
         }
         (products, powers)
+    }
+}
+
+/// One surface: f = 0 where every condition g holds (`g < 0` when
+/// `less`, else `g > 0`; g is lhs − rhs of the written condition).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceIr {
+    /// The function.
+    pub f: NodeId,
+    /// `(g, less)` pairs.
+    pub conditions: Vec<(NodeId, bool)>,
+}
+
+impl SurfaceIr {
+    /// A surface without conditions.
+    pub fn plain(f: NodeId) -> SurfaceIr {
+        SurfaceIr { f, conditions: vec![] }
     }
 }
 

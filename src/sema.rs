@@ -209,7 +209,7 @@ pub fn analyze(program: &Program) -> Result<Ir, SemaError> {
     // Pass 1: where each definition is, so a forward use can say so.
     let mut def_at: HashMap<&str, Span> = HashMap::new();
     for d in &program.definitions {
-        if VARIABLES.iter().any(|(n, _)| *n == d.name) || matches!(d.name.as_str(), "pi" | "e") || builtin(&d.name).is_some() {
+        if VARIABLES.iter().any(|(n, _)| *n == d.name) || matches!(d.name.as_str(), "pi" | "e" | "where" | "and") || builtin(&d.name).is_some() {
             return Err(SemaError::Reserved { name: d.name.clone(), span: d.name_span });
         }
         if let Some(&prev) = def_at.get(d.name.as_str()) {
@@ -223,8 +223,19 @@ pub fn analyze(program: &Program) -> Result<Ir, SemaError> {
         b.defs.insert(d.name.clone(), v);
     }
     b.current = None;
-    let root = b.expr(&program.body, &def_at)?;
-    Ok(compact(Ir { nodes: b.nodes, spans: b.spans, root, params: b.params }))
+    let mut surfaces = Vec::new();
+    for sf in &program.surfaces {
+        let f = b.expr(&sf.expr, &def_at)?;
+        let mut conditions = Vec::new();
+        for c in &sf.conditions {
+            let l = b.expr(&c.lhs, &def_at)?;
+            let r = b.expr(&c.rhs, &def_at)?;
+            conditions.push((b.push(Op::Sub(l, r), c.span)?, c.less));
+        }
+        surfaces.push(crate::ir::SurfaceIr { f, conditions });
+    }
+    let root = surfaces[0].f;
+    Ok(compact(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params }))
 }
 
 /// Drops the nodes the root does not use (unused definitions, constants
@@ -260,7 +271,15 @@ fn compact(ir: Ir) -> Ir {
         nodes.push(op);
         spans.push(ir.spans[old as usize]);
     }
-    Ir { root: new_id[ir.root as usize], nodes, spans, params }
+    let surfaces = ir
+        .surfaces
+        .iter()
+        .map(|sf| crate::ir::SurfaceIr {
+            f: new_id[sf.f as usize],
+            conditions: sf.conditions.iter().map(|&(g, less)| (new_id[g as usize], less)).collect(),
+        })
+        .collect();
+    Ir { root: new_id[ir.root as usize], surfaces, nodes, spans, params }
 }
 
 #[derive(Default)]

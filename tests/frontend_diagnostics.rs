@@ -684,13 +684,13 @@ fn square_brackets() {
 #[test]
 fn comparison() {
     check("x < 1", concat!(
-        "error: unexpected character '<'\n",
+        "error: expected an operator or end of formula, found '<'\n",
         "  ┌─ <formula>:1:3\n",
         "  │\n",
         "1 │ x < 1\n",
-        "  │   ^ no token starts with this\n",
+        "  │   ^ expected an operator or end of formula\n",
         "  │\n",
-        "  = the surface is where the formula is 0: write `lhs - (rhs)`, not a comparison\n",
+        "  = comparisons belong in level-set conditions (`f where g < 0`); the surface itself is where the formula is 0: write `lhs - (rhs)`\n",
         "\n",
     ));
 }

@@ -9,7 +9,7 @@ use isotrace::syntax::{self, BinOp, Expr, ExprKind};
 /// The body of a parsed formula as an s-expression.
 fn sx(src: &str) -> String {
     let p = syntax::parse(src).unwrap_or_else(|e| panic!("{src:?}: {}", e.to_diagnostic().message));
-    show(&p.body)
+    show(p.body())
 }
 
 fn show(e: &Expr) -> String {
@@ -110,14 +110,14 @@ fn spans_cover_the_source() {
     let p = syntax::parse(src).unwrap();
     assert_eq!(p.definitions[0].name, "a");
     assert_eq!(&src[p.definitions[0].name_span.range()], "a");
-    assert_eq!(&src[p.body.span.range()], "(x + y) * sin(z)");
-    let ExprKind::Binary(BinOp::Mul, a, b) = &p.body.kind else { panic!("{:?}", p.body) };
+    assert_eq!(&src[p.body().span.range()], "(x + y) * sin(z)");
+    let ExprKind::Binary(BinOp::Mul, a, b) = &p.body().kind else { panic!("{:?}", p.body()) };
     assert_eq!(&src[a.span.range()], "(x + y)");
     assert_eq!(&src[b.span.range()], "sin(z)");
     let ExprKind::Call(c) = &b.kind else { panic!() };
     assert_eq!(&src[c.name_span.range()], "sin");
     let p = syntax::parse("-x^2").unwrap();
-    assert_eq!((p.body.span.start, p.body.span.end), (0, 4));
+    assert_eq!((p.body().span.start, p.body().span.end), (0, 4));
 }
 
 // ---- tokens -------------------------------------------------------------
@@ -138,7 +138,7 @@ fn number_forms() {
         ("1e-50", 1e-50),
     ] {
         let p = syntax::parse(text).unwrap_or_else(|e| panic!("{text}: {e:?}"));
-        assert_eq!(p.body.kind, ExprKind::Number(value), "{text}");
+        assert_eq!(p.body().kind, ExprKind::Number(value), "{text}");
     }
     assert_eq!(sx("2*.5"), "(* 2 0.5)");
     assert_eq!(sx("x^2e1"), "(^ x 20)");
@@ -325,4 +325,21 @@ fn degrees() {
     assert_eq!(ir("a*x^3 + sin(t)*y").degree(), Some(3));
     assert_eq!(ir("sqrt(2)*x*y*z").degree(), Some(3));
     assert_eq!(ir("5").degree(), Some(0));
+}
+
+#[test]
+fn where_clauses_and_several_surfaces() {
+    let f = isotrace::Formula::compile("<t>", "a = 2; x^2 + y^2 + z^2 - 1 where z > 0 and x < a; z where x^2 + y^2 < 1;").unwrap();
+    assert_eq!(f.ir.surfaces.len(), 2);
+    assert_eq!(f.ir.surfaces[0].conditions.len(), 2);
+    assert!(!f.ir.surfaces[0].conditions[0].1 && f.ir.surfaces[0].conditions[1].1);
+    assert!(f.ir.is_csg());
+    assert!(!isotrace::Formula::compile("<t>", "x - 1").unwrap().ir.is_csg());
+    // `;` only follows a surface with a where clause.
+    let e = isotrace::Formula::compile("<t>", "x; y where z < 0").unwrap_err();
+    assert_eq!(e.diagnostic.message, "expected end of formula, found ';'");
+    let e = isotrace::Formula::compile("<t>", "x where y").unwrap_err();
+    assert_eq!(e.diagnostic.message, "expected '<' or '>', found end of formula");
+    let e = isotrace::Formula::compile("<t>", "where = 1; x").unwrap_err();
+    assert_eq!(e.diagnostic.message, "cannot define 'where': the name is reserved");
 }

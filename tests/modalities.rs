@@ -89,3 +89,50 @@ fn isovalues_are_identified() {
     }
     assert!(seen[2] > 0 && seen[1] > 0, "{seen:?}");
 }
+
+#[test]
+fn level_set_conditions_cut_and_colour_surfaces() {
+    // A dome (sphere where z > 0) closed by a disc (z = 0 inside the sphere),
+    // seen from below: the centre shows the disc (surface 1) at the plane's depth.
+    let src = "x^2 + y^2 + z^2 - 1 where z > 0; z where x^2 + y^2 + z^2 - 1 < 0";
+    let mut s = settings(cube(1.5), 32, 32);
+    s.camera.eye = glam::DVec3::new(0.5, 0.3, -4.0);
+    s.camera.target = glam::DVec3::ZERO;
+    let frame = render_with(src, &s, Modalities::default());
+    let cf = s.camera.frame().unwrap();
+    let centre = (16 * 32 + 16) as usize;
+    let p = frame.pixels[centre];
+    assert_eq!((p.status, p.iso), (Status::Hit, 1));
+    let d = isotrace::render::Camera::ray(&cf, 16, 16, 32, 32);
+    let t = -s.camera.eye.z / d.z;
+    assert!((p.depth as f64 - t).abs() <= s.eps, "disc depth {} vs {t}", p.depth);
+    // Every hit lies on one of the two pieces, inside its condition (to eps).
+    for (k, px) in frame.pixels.iter().enumerate().filter(|(_, p)| p.status == Status::Hit) {
+        let d = isotrace::render::Camera::ray(&cf, k as u32 % 32, k as u32 / 32, 32, 32);
+        let q = s.camera.eye + d * px.depth as f64;
+        match px.iso {
+            0 => assert!(q.z > -2.0 * s.eps && (q.length() - 1.0).abs() < 0.02, "dome pixel {k} at {q}"),
+            1 => assert!(q.z.abs() < 0.02 && q.length() < 1.0 + 2.0 * s.eps, "disc pixel {k} at {q}"),
+            other => panic!("surface {other}"),
+        }
+    }
+    // From above only the dome is seen.
+    s.camera.eye = glam::DVec3::new(0.5, 0.3, 4.0);
+    let top = render_with(src, &s, Modalities::default());
+    assert!(top.pixels.iter().all(|p| p.status != Status::Hit || p.iso == 0));
+}
+
+#[test]
+fn a_condition_removes_part_of_a_surface() {
+    let s = settings(cube(1.5), 32, 32);
+    let whole = render_with("x^2 + y^2 + z^2 - 1", &s, Modalities::default());
+    let cut = render_with("x^2 + y^2 + z^2 - 1 where x > 0.3", &s, Modalities::default());
+    let count = |f: &Frame| f.pixels.iter().filter(|p| p.status == Status::Hit).count();
+    assert!(count(&cut) < count(&whole) && count(&cut) > 0);
+    let cf = s.camera.frame().unwrap();
+    for (k, px) in cut.pixels.iter().enumerate().filter(|(_, p)| p.status == Status::Hit) {
+        let d = isotrace::render::Camera::ray(&cf, k as u32 % 32, k as u32 / 32, 32, 32);
+        let q = s.camera.eye + d * px.depth as f64;
+        assert!(q.x > 0.3 - 2.0 * s.eps, "pixel {k} at {q} violates x > 0.3");
+    }
+}

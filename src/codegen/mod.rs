@@ -4,7 +4,10 @@
 //! [`template`] splices the result into the kernel templates.
 
 pub mod derivative;
+pub mod render;
 pub mod template;
+
+pub use render::{inclusion, render_shader, render_shader_with, RenderConfig};
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};
 use std::fmt::Write;
@@ -106,6 +109,35 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     out
 }
 
+/// Emits `fn eval_<p>_all(x, y, z, t) -> array<T, N>` returning the values
+/// of `outputs` (several surfaces and their conditions share one pass and
+/// its common sub-expressions).
+pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String {
+    let p = domain.prefix();
+    let ty = domain.ty();
+    let n = outputs.len();
+    let mut out = String::new();
+    let _ = writeln!(out, "fn eval_{p}_all(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> array<{ty}, {n}> {{");
+    let mut restricted: Vec<NodeId> = Vec::new();
+    for id in ir.live() {
+        let op = ir.nodes[id as usize];
+        let rhs = value_rhs(&mut out, domain, id, op);
+        let _ = writeln!(out, "    let v{id} = {rhs};");
+        if op.restricts_domain() {
+            restricted.push(id);
+        }
+    }
+    if !restricted.is_empty() {
+        let tests: Vec<String> = restricted.iter().map(|r| format!("{p}_is_empty(v{r})")).collect();
+        let empties = vec![format!("{p}_empty()"); n].join(", ");
+        let _ = writeln!(out, "    if ({}) {{ return array<{ty}, {n}>({empties}); }}", tests.join(" || "));
+    }
+    let vals: Vec<String> = outputs.iter().map(|o| format!("v{o}")).collect();
+    let _ = writeln!(out, "    return array<{ty}, {n}>({});", vals.join(", "));
+    out.push_str("}\n");
+    out
+}
+
 /// The right-hand side of `let v{id} = …;` for one node (odd powers first
 /// write their square-and-multiply chain into `out`).
 pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op) -> String {
@@ -177,110 +209,3 @@ pub fn eval_shader(ir: &Ir, domain: Domain) -> String {
         .expect("the eval template has its markers")
 }
 
-/// The render kernel's two inclusion functions for `domain`:
-/// `cell_range(o, dir, s0, s1)`, the enclosure of f over the ray segment
-/// o + dir·[s0, s1]; and `slab_range(eye, f, r, u, s, su, sv)`, the enclosure
-/// over the frustum slab eye + s·(f + su·r + sv·u), s, su, sv in ranges.
-/// In the affine domain the ray depth s is the symbol e1, so x, y, z along a
-/// ray are exact affine forms; across a slab su and sv go into e2.
-pub fn inclusion(domain: Domain) -> String {
-    let p = domain.prefix();
-    let (cell, lift) = match domain {
-        Domain::Interval => (
-            "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
-             return ia_range(eval_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time)));",
-            "vec2<f32>",
-        ),
-        Domain::Affine => (
-            "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
-             return ra_range(eval_ra(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time)));",
-            "ra_from_ia",
-        ),
-        Domain::Scalar => unreachable!("the traversal needs an inclusion domain"),
-    };
-    let s_form = match domain {
-        Domain::Affine => "vec3<f32>(0.5 * (s.x + s.y), 0.5 * (s.y - s.x), 0.0)".to_string(),
-        _ => "s".to_string(),
-    };
-    let cell_d = match domain {
-        Domain::Interval => "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
-            return evald_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time), ia_const(dir.x), ia_const(dir.y), ia_const(dir.z));",
-        _ => "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
-            return evald_ra(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time), ra_const(dir.x), ra_const(dir.y), ra_const(dir.z));",
-    };
-    format!(
-        "fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{cell}\n}}\n\n\
-fn cell_range_d(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {{\n{cell_d}\n}}\n\n\
-fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
-let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
-let x = {p}_add({p}_const(eye.x), {p}_mul(S, {p}_add({p}_const(f.x), {p}_add({p}_mul(U_, {p}_const(r.x)), {p}_mul(V_, {p}_const(u.x))))));\n    \
-let y = {p}_add({p}_const(eye.y), {p}_mul(S, {p}_add({p}_const(f.y), {p}_add({p}_mul(U_, {p}_const(r.y)), {p}_mul(V_, {p}_const(u.y))))));\n    \
-let z = {p}_add({p}_const(eye.z), {p}_mul(S, {p}_add({p}_const(f.z), {p}_add({p}_mul(U_, {p}_const(r.z)), {p}_mul(V_, {p}_const(u.z))))));\n    \
-return {p}_range(eval_{p}(x, y, z, {p}_const(U.time)));\n}}\n"
-    )
-}
-
-/// Compile-time choices of the render kernel (Knoll et al.'s modalities):
-/// each generates code only when asked for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct RenderConfig {
-    /// Shadow rays towards the point light.
-    pub shadows: bool,
-    /// Surface layers per pixel (1: opaque; more: transparency).
-    pub layers: u32,
-    /// Reflection bounces.
-    pub reflect: u32,
-    /// Number of isovalues (1: just f = 0).
-    pub iso_count: u32,
-    /// Colour mode: 0 Phong, 1 gradient magnitude, 2 depth, 3 normal, 4 evaluations.
-    pub color_mode: u32,
-    /// Environment: 0 sky, 1 checkered ground, 2 image.
-    pub env_mode: u32,
-}
-
-impl Default for RenderConfig {
-    fn default() -> Self {
-        RenderConfig { shadows: false, layers: 1, reflect: 0, iso_count: 1, color_mode: 0, env_mode: 0 }
-    }
-}
-
-/// The complete render shader with the inclusion function in `domain`.
-pub fn render_shader(ir: &Ir, domain: Domain) -> String {
-    render_shader_with(ir, domain, &RenderConfig::default())
-}
-
-/// The render shader for `domain` with the modalities of `cfg`.
-pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig) -> String {
-    let lib = format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain));
-    let evals = format!(
-        "{}\n{}\n{}",
-        emit_evaluator(ir, Domain::Scalar),
-        emit_evaluator(ir, domain),
-        derivative::emit_evaluator_d(ir, domain)
-    );
-    let layers = cfg.layers.max(1);
-    let config = format!(
-        "const SHADOWS: bool = {};\nconst LAYERS: u32 = {layers}u;\nconst REFLECT: u32 = {}u;\n\
-         const ISO_COUNT: u32 = {}u;\nconst COLOR_MODE: u32 = {}u;\nconst ENV_MODE: u32 = {}u;\n",
-        cfg.shadows,
-        cfg.reflect,
-        cfg.iso_count.clamp(1, 8),
-        cfg.color_mode,
-        cfg.env_mode
-    );
-    let mut modalities = String::new();
-    modalities.push_str(template::part(template::MODALITIES, if cfg.shadows { "shadows" } else { "no_shadows" }));
-    modalities.push_str(template::part(template::MODALITIES, if cfg.reflect > 0 { "reflections" } else { "no_reflections" }));
-    template::splice(
-        template::BISECT,
-        &[
-            ("library", &lib),
-            ("evaluators", &evals),
-            ("inclusion", &inclusion(domain)),
-            ("config", &config),
-            ("shading", template::SHADE),
-            ("modalities", &modalities),
-        ],
-    )
-    .expect("the render template has its markers")
-}

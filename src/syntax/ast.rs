@@ -3,13 +3,43 @@
 
 use crate::diag::Span;
 
-/// A whole formula: definitions, then the implicit function.
+/// A whole formula: definitions, then one or more surfaces.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Program {
     /// `name = expr;` lines, in order.
     pub definitions: Vec<Definition>,
+    /// The surfaces drawn, in order (at least one).
+    pub surfaces: Vec<Surface>,
+}
+
+impl Program {
+    /// The first surface's function (the only one in most formulas).
+    pub fn body(&self) -> &Expr {
+        &self.surfaces[0].expr
+    }
+}
+
+/// `expr [where cond {and cond}]`: the part of expr = 0 where every
+/// condition holds (CSG by level-set conditions, Knoll et al. Fig. 9).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Surface {
     /// The function whose zero set is drawn.
-    pub body: Expr,
+    pub expr: Expr,
+    /// Conditions that restrict it.
+    pub conditions: Vec<Condition>,
+}
+
+/// `lhs < rhs` or `lhs > rhs`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Condition {
+    /// Left side.
+    pub lhs: Expr,
+    /// True for `<`, false for `>`.
+    pub less: bool,
+    /// Right side.
+    pub rhs: Expr,
+    /// The whole condition.
+    pub span: Span,
 }
 
 /// `name = value;`

@@ -30,6 +30,10 @@ pub enum Tok {
     Semi,
     /// `=`
     Eq,
+    /// `<`
+    Lt,
+    /// `>`
+    Gt,
     /// End of input.
     Eof,
 }
@@ -117,6 +121,8 @@ pub fn lex(src: &str) -> Result<Vec<Token>, LexError> {
                     b',' => Tok::Comma,
                     b';' => Tok::Semi,
                     b'=' => Tok::Eq,
+                    b'<' => Tok::Lt,
+                    b'>' => Tok::Gt,
                     _ => return Err(LexError::Unexpected { ch: c as char, span: Span::new(start, start + 1) }),
                 };
                 out.push(single(tok));

@@ -4,7 +4,7 @@
 //! diagnostic beats a cascade). Nesting is bounded by [`MAX_DEPTH`] so that
 //! 100,000 nested parentheses give an error, not a stack overflow.
 
-use super::ast::{BinOp, Call, Definition, Expr, ExprKind, Program};
+use super::ast::{BinOp, Call, Condition, Definition, Expr, ExprKind, Program, Surface};
 use super::lexer::{lex, LexError, Tok, Token};
 use crate::diag::{Diagnostic, Span};
 
@@ -179,6 +179,9 @@ impl Parser<'_> {
             (Tok::Ident(_) | Tok::Number(_) | Tok::LParen, _) if after_operand => {
                 Some("write `*` for a product: `2*x`, not `2x`".to_string())
             }
+            (Tok::Lt | Tok::Gt, _) if after_operand => Some(
+                "comparisons belong in level-set conditions (`f where g < 0`); the surface itself is where the formula is 0: write `lhs - (rhs)`".to_string(),
+            ),
             (Tok::Star, Some(Tok::Star)) => Some("write `^` for a power: `x^2`, not `x**2`".to_string()),
             (Tok::Eq, _) if what == "an operator or end of formula" => Some(
                 "the surface is where the formula is 0: write `lhs - (rhs)` instead of an equation `lhs = rhs`".to_string(),
@@ -205,7 +208,7 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// program = { definition } expression EOF
+    /// program = { definition } surface { ";" surface } [ ";" ] EOF
     fn program(&mut self) -> PResult<Program> {
         if self.at(&Tok::Eof) {
             return Err(Box::new(SyntaxError::Empty { span: self.current().span }));
@@ -220,14 +223,56 @@ impl Parser<'_> {
                 "the last part of a formula is the function to draw, without `name =` and `;`".into(),
             ));
         }
-        let body = self.expression()?;
+        let mut surfaces = vec![self.surface()?];
+        // `;` separates surfaces, each after a `where` clause (elsewhere only
+        // definitions end with ';').
+        while self.at(&Tok::Semi) && !surfaces[surfaces.len() - 1].conditions.is_empty() {
+            self.bump();
+            if self.at(&Tok::Eof) {
+                break;
+            }
+            surfaces.push(self.surface()?);
+        }
         if !self.at(&Tok::Eof) {
             if self.at(&Tok::Semi) {
                 return Err(self.expected_hint("end of formula", "only definitions `name = expression;` end with ';'".into()));
             }
             return Err(self.expected("an operator or end of formula"));
         }
-        Ok(Program { definitions, body })
+        Ok(Program { definitions, surfaces })
+    }
+
+    /// surface = expression [ "where" condition { "and" condition } ]
+    fn surface(&mut self) -> PResult<Surface> {
+        let expr = self.expression()?;
+        let mut conditions = Vec::new();
+        if self.at_keyword("where") {
+            self.bump();
+            conditions.push(self.condition()?);
+            while self.at_keyword("and") {
+                self.bump();
+                conditions.push(self.condition()?);
+            }
+        }
+        Ok(Surface { expr, conditions })
+    }
+
+    /// condition = expression ( "<" | ">" ) expression
+    fn condition(&mut self) -> PResult<Condition> {
+        let lhs = self.expression()?;
+        let less = match self.current().tok {
+            Tok::Lt => true,
+            Tok::Gt => false,
+            _ => return Err(self.expected("'<' or '>'")),
+        };
+        self.bump();
+        let rhs = self.expression()?;
+        let span = lhs.span.to(rhs.span);
+        Ok(Condition { lhs, less, rhs, span })
+    }
+
+    fn at_keyword(&self, k: &str) -> bool {
+        matches!(&self.current().tok, Tok::Ident(n) if n == k)
     }
 
     /// definition = IDENT "=" expression ";"

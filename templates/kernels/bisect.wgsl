@@ -70,6 +70,9 @@ const SLABS: u32 = 64u;
 
 // Bit k set: slab k of this tile's frustum may contain the surface.
 var<workgroup> wg_slabs: array<atomic<u32>, 2>;
+// With several surfaces (CSG by level-set conditions): the surface of the
+// cell last accepted, which f_at() evaluates.
+var<private> g_surface: u32;
 
 fn iso_inf() -> f32 { return U.inf; }
 fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
@@ -85,7 +88,6 @@ fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
 // is asked for.
 //!splice:config
 
-fn f_at(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, U.time); }
 
 // Zero test that stays conservative when an end is NaN.
 fn may_contain_zero(r: vec2<f32>) -> bool { return !(r.x > 0.0 || r.y < 0.0); }
@@ -450,16 +452,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
         for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
             let hit = trace_primary(ray, mask, s_from, seg, dr, inv_len);
             if (hit.status == STATUS_MISS) { break; }
+            let surface = g_surface;
             let p = o + dir * hit.s;
             let dist = hit.s / inv_len;
-            var c = shade_hit(o, unit, p, hit.s, hit.iso, dr);
+            var c = shade_hit(o, unit, p, hit.s, hit.iso + surface, dr);
+            g_surface = surface;
             if (hit.status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
                 c = vec3<f32>(1.0, 0.0, 1.0);
             }
             if (layer == 0u) {
                 status = hit.status;
                 depth = dist;
-                first_iso = hit.iso;
+                first_iso = hit.iso + surface;
                 let g = gradient(p, 0.5 * U.eps);
                 normal = select(-unit, normalize(g), dot(g, g) > 0.0);
             }

@@ -80,7 +80,7 @@ fn base_color(g: vec3<f32>, n: vec3<f32>, depth01: f32, iso: u32, front: bool) -
     }
     if (COLOR_MODE == COLOR_DEPTH) { return ramp(1.0 - depth01); }
     if (COLOR_MODE == COLOR_NORMAL) { return 0.5 + 0.5 * n; }
-    if (ISO_COUNT > 1u || iso > 0u) { return select(0.6 * iso_color(iso), iso_color(iso), front); }
+    if (ISO_COUNT > 1u || iso > 0u || CSG_COLORS) { return select(0.6 * iso_color(iso), iso_color(iso), front); }
     return select(vec3<f32>(0.30, 0.52, 0.90), vec3<f32>(0.90, 0.55, 0.25), front);
 }
 

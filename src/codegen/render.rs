@@ -1,0 +1,198 @@
+//! The render kernel's generated parts: the inclusion functions the
+//! traversal calls (`cell_range`, `cell_range_d`, `slab_range`), the scalar
+//! `f_at`, level-set CSG selection, and the modality configuration.
+//!
+//! The traversal in `templates/kernels/bisect.wgsl` only ever sees ranges
+//! (`vec2<f32>`): which number domain produced them, and how several
+//! surfaces with `where` conditions were combined, is decided here.
+
+use super::{derivative, emit_evaluator, emit_evaluator_all, libraries, template, Domain};
+use crate::ir::{Ir, NodeId};
+use std::fmt::Write;
+
+/// Compile-time choices of the render kernel (Knoll et al.'s modalities):
+/// each generates code only when asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderConfig {
+    /// Shadow rays towards the point light.
+    pub shadows: bool,
+    /// Surface layers per pixel (1: opaque; more: transparency).
+    pub layers: u32,
+    /// Reflection bounces.
+    pub reflect: u32,
+    /// Number of isovalues (1: just f = 0).
+    pub iso_count: u32,
+    /// Colour mode: 0 Phong, 1 gradient magnitude, 2 depth, 3 normal, 4 evaluations.
+    pub color_mode: u32,
+    /// Environment: 0 sky, 1 checkered ground, 2 image.
+    pub env_mode: u32,
+}
+
+impl Default for RenderConfig {
+    fn default() -> Self {
+        RenderConfig { shadows: false, layers: 1, reflect: 0, iso_count: 1, color_mode: 0, env_mode: 0 }
+    }
+}
+
+/// The layout of a CSG formula's outputs: every surface's f and its
+/// conditions, in one array.
+struct Csg {
+    outputs: Vec<NodeId>,
+    /// Per surface: index of f, and (index of g, less) per condition.
+    surfaces: Vec<(usize, Vec<(usize, bool)>)>,
+}
+
+fn csg_layout(ir: &Ir) -> Csg {
+    let mut outputs = Vec::new();
+    let mut surfaces = Vec::new();
+    for s in &ir.surfaces {
+        outputs.push(s.f);
+        let fi = outputs.len() - 1;
+        let conds = s
+            .conditions
+            .iter()
+            .map(|&(g, less)| {
+                outputs.push(g);
+                (outputs.len() - 1, less)
+            })
+            .collect();
+        surfaces.push((fi, conds));
+    }
+    Csg { outputs, surfaces }
+}
+
+/// `surf_<p>(x, y, z, t) -> vec2<f32>`: the enclosure the traversal tests.
+/// With CSG it is the range of the first surface whose f may reach an
+/// isovalue and whose conditions are not excluded (g's enclosure entirely
+/// on the wrong side rejects the surface); it records that surface in
+/// `g_surface`; empty when none qualifies.
+fn surface_fn(ir: &Ir, domain: Domain) -> String {
+    let p = domain.prefix();
+    let ty = domain.ty();
+    if !ir.is_csg() {
+        return format!("fn surf_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{\n    return {p}_range(eval_{p}(x, y, z, t));\n}}\n");
+    }
+    let csg = csg_layout(ir);
+    let mut out = emit_evaluator_all(ir, domain, &csg.outputs);
+    let _ = writeln!(out, "fn surf_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{");
+    let _ = writeln!(out, "    let a = eval_{p}_all(x, y, z, t);");
+    for (k, (fi, conds)) in csg.surfaces.iter().enumerate() {
+        let mut test = format!("may_contain_iso({p}_range(a[{fi}]))");
+        for &(gi, less) in conds {
+            // Keep unless the condition is certainly false (NaN keeps).
+            let _ = if less {
+                write!(test, " && !({p}_range(a[{gi}]).x >= 0.0)")
+            } else {
+                write!(test, " && !({p}_range(a[{gi}]).y <= 0.0)")
+            };
+        }
+        let _ = writeln!(out, "    if ({test}) {{ g_surface = {k}u; return {p}_range(a[{fi}]); }}");
+    }
+    out.push_str("    return vec2<f32>(1.0, -1.0);\n}\n");
+    out
+}
+
+/// `f_at(p)`: the scalar function of the current surface (`g_surface`).
+fn scalar_fn(ir: &Ir) -> String {
+    if !ir.is_csg() {
+        return "fn f_at(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, U.time); }\n".into();
+    }
+    let csg = csg_layout(ir);
+    let mut out = emit_evaluator_all(ir, Domain::Scalar, &csg.outputs);
+    out.push_str("fn f_at(p: vec3<f32>) -> f32 {\n    let a = eval_s_all(p.x, p.y, p.z, U.time);\n    switch (g_surface) {\n");
+    for (k, (fi, _)) in csg.surfaces.iter().enumerate().skip(1) {
+        let _ = writeln!(out, "        case {k}u: {{ return a[{fi}]; }}");
+    }
+    let _ = writeln!(out, "        default: {{ return a[{}]; }}\n    }}\n}}", csg.surfaces[0].0);
+    out
+}
+
+/// The render kernel's inclusion functions for `domain`:
+/// `cell_range(o, dir, s0, s1)`, the enclosure of f over the ray segment
+/// o + dir·[s0, s1]; `cell_range_d`, the same with the enclosure of the
+/// derivative along the ray; and `slab_range(eye, f, r, u, s, su, sv)`, the
+/// enclosure over the frustum slab eye + s·(f + su·r + sv·u).
+/// In the affine domain the ray depth s is the symbol e1, so x, y, z along a
+/// ray are exact affine forms; across a slab su and sv go into e2.
+pub fn inclusion(ir: &Ir, domain: Domain) -> String {
+    let p = domain.prefix();
+    let (forms, lift) = match domain {
+        Domain::Interval => (
+            "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
+             let X = vec2<f32>(lo.x, hi.x);\n    let Y = vec2<f32>(lo.y, hi.y);\n    let Z = vec2<f32>(lo.z, hi.z);",
+            "vec2<f32>",
+        ),
+        Domain::Affine => (
+            "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
+             let X = vec3<f32>(c.x, r.x, 0.0);\n    let Y = vec3<f32>(c.y, r.y, 0.0);\n    let Z = vec3<f32>(c.z, r.z, 0.0);",
+            "ra_from_ia",
+        ),
+        Domain::Scalar => unreachable!("the traversal needs an inclusion domain"),
+    };
+    let s_form = match domain {
+        Domain::Affine => "vec3<f32>(0.5 * (s.x + s.y), 0.5 * (s.y - s.x), 0.0)",
+        _ => "s",
+    };
+    // Several surfaces: no single derivative; such cells are never treated as monotone.
+    let cell_d = if ir.is_csg() {
+        "    return vec4<f32>(cell_range(o, dir, s0, s1), -U.inf, U.inf);".to_string()
+    } else {
+        format!("{forms}\n    return evald_{p}(X, Y, Z, {p}_const(U.time), {p}_const(dir.x), {p}_const(dir.y), {p}_const(dir.z));")
+    };
+    let axis = |c: &str| {
+        format!("{p}_add({p}_const(eye.{c}), {p}_mul(S, {p}_add({p}_const(f.{c}), {p}_add({p}_mul(U_, {p}_const(r.{c})), {p}_mul(V_, {p}_const(u.{c}))))))")
+    };
+    format!(
+        "{surf}\n{scalar}\n\
+fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(U.time));\n}}\n\n\
+fn cell_range_d(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {{\n{cell_d}\n}}\n\n\
+fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
+let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
+return surf_{p}({}, {}, {}, {p}_const(U.time));\n}}\n",
+        axis("x"),
+        axis("y"),
+        axis("z"),
+        surf = surface_fn(ir, domain),
+        scalar = scalar_fn(ir),
+    )
+}
+
+/// The complete render shader with the inclusion function in `domain`.
+pub fn render_shader(ir: &Ir, domain: Domain) -> String {
+    render_shader_with(ir, domain, &RenderConfig::default())
+}
+
+/// The render shader for `domain` with the modalities of `cfg`.
+pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig) -> String {
+    let lib = format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain));
+    let mut evals = format!("{}\n{}\n", emit_evaluator(ir, Domain::Scalar), emit_evaluator(ir, domain));
+    if !ir.is_csg() {
+        evals.push_str(&derivative::emit_evaluator_d(ir, domain));
+    }
+    let config = format!(
+        "const SHADOWS: bool = {};\nconst LAYERS: u32 = {}u;\nconst REFLECT: u32 = {}u;\n\
+         const ISO_COUNT: u32 = {}u;\nconst COLOR_MODE: u32 = {}u;\nconst ENV_MODE: u32 = {}u;\nconst CSG_COLORS: bool = {};\n",
+        cfg.shadows,
+        cfg.layers.max(1),
+        cfg.reflect,
+        cfg.iso_count.clamp(1, 8),
+        cfg.color_mode,
+        cfg.env_mode,
+        ir.surfaces.len() > 1
+    );
+    let mut modalities = String::new();
+    modalities.push_str(template::part(template::MODALITIES, if cfg.shadows { "shadows" } else { "no_shadows" }));
+    modalities.push_str(template::part(template::MODALITIES, if cfg.reflect > 0 { "reflections" } else { "no_reflections" }));
+    template::splice(
+        template::BISECT,
+        &[
+            ("library", &lib),
+            ("evaluators", &evals),
+            ("inclusion", &inclusion(ir, domain)),
+            ("config", &config),
+            ("shading", template::SHADE),
+            ("modalities", &modalities),
+        ],
+    )
+    .expect("the render template has its markers")
+}
