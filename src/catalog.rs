@@ -13,6 +13,7 @@
 //! ```
 
 use crate::diag::closest;
+pub use crate::render::{Bound, Method};
 use crate::{Formula, FormulaError};
 use std::path::{Path, PathBuf};
 
@@ -22,7 +23,7 @@ pub const DEFAULT_BOX: [f64; 6] = [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0];
 /// Every header key, in the order the documentation lists them.
 pub const KEYS: &[&str] = &[
     "name", "title", "box", "t", "eye", "target", "up", "fov", "eps", "algebra", "param", "degree", "status",
-    "source", "notes", "animate", "clip",
+    "source", "notes", "animate", "clip", "method", "lipschitz", "bound",
 ];
 
 /// The built-in surfaces: file name and text of every `examples/*.iso`.
@@ -52,6 +53,10 @@ const BUILTIN: &[(&str, &str)] = &[
     ("clebsch-cubic.iso", include_str!("../examples/clebsch-cubic.iso")),
     ("kummer-quartic.iso", include_str!("../examples/kummer-quartic.iso")),
     ("chmutov-octic.iso", include_str!("../examples/chmutov-octic.iso")),
+    // Distance-field scenes for sphere tracing (`method: sphere`).
+    ("jewel.iso", include_str!("../examples/jewel.iso")),
+    ("city.iso", include_str!("../examples/city.iso")),
+    ("creature.iso", include_str!("../examples/creature.iso")),
 ];
 
 /// One named surface.
@@ -102,6 +107,14 @@ pub struct Header {
     pub animate: Option<[f64; 2]>,
     /// `clip`: a clipping hint for unbounded surfaces.
     pub clip: Option<Clip>,
+    /// `method`: the traversal to render with (`sphere` for distance fields).
+    pub method: Option<Method>,
+    /// `lipschitz`: a Lipschitz bound L >= 1 of the formula (sphere tracing
+    /// divides the field by it).
+    pub lipschitz: Option<f64>,
+    /// `bound`: a convex volume holding a convex object (sphere tracing's
+    /// technique 5).
+    pub bound: Option<Bound>,
 }
 
 impl Default for Header {
@@ -123,6 +136,9 @@ impl Default for Header {
             notes: None,
             animate: None,
             clip: None,
+            method: None,
+            lipschitz: None,
+            bound: None,
         }
     }
 }
@@ -409,6 +425,12 @@ fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value: &str) -> R
                 _ => return Err("expected 'sphere:R' with a radius R > 0".into()),
             }
         }
+        "method" => h.method = Some(Method::parse(value)?),
+        "lipschitz" => match number(value) {
+            Some(l) if l >= 1.0 => h.lipschitz = Some(l),
+            _ => return Err("expected a Lipschitz bound L >= 1".into()),
+        },
+        "bound" => h.bound = Some(Bound::parse(value)?),
         _ => unreachable!("key checked against KEYS"),
     }
     Ok(())

@@ -24,6 +24,7 @@ pub mod ir;
 pub mod output;
 pub mod reference;
 pub mod render;
+pub mod sdf;
 pub mod sema;
 pub mod syntax;
 pub mod validate;

@@ -114,7 +114,8 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
 
 /// Writes the frame as OpenEXR: `R G B A` (linear), `Z` (distance along the
 /// unit primary ray, +inf on misses), `N.X N.Y N.Z` (unit normal) and
-/// `evals` (inclusion evaluations), all 32-bit float.
+/// `evals` (inclusion evaluations) for bisection or `steps` (sphere tracing
+/// steps) for sphere tracing, all 32-bit float.
 pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), OutputError> {
     use exr::prelude::*;
     let px = &frame.pixels;
@@ -130,7 +131,7 @@ pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), Output
         ch("N.X", &|p| p.normal[0]),
         ch("N.Y", &|p| p.normal[1]),
         ch("N.Z", &|p| p.normal[2]),
-        ch("evals", &|p| p.evals as f32),
+        ch(work_channel(frame), &|p| p.evals as f32),
     ];
     let layer = Layer::new(
         (frame.width as usize, frame.height as usize),
@@ -140,6 +141,89 @@ pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), Output
     );
     let image = Image::from_layer(layer);
     write_atomic_with(path, |w| image.write().to_buffered(w).map_err(|e| e.to_string()))
+}
+
+/// Name of the per-pixel work channel: what `evals` counts depends on the
+/// traversal.
+pub fn work_channel(frame: &crate::render::Frame) -> &'static str {
+    match frame.stats.method {
+        crate::render::Method::Bisect => "evals",
+        crate::render::Method::Sphere => "steps",
+    }
+}
+
+/// What the colour channels of an image show (`--color`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ColorMode {
+    /// The shaded surface.
+    #[default]
+    Shade,
+    /// The pixel's work (sphere tracing steps or inclusion evaluations) as
+    /// a heat map from 0 to `max` (default: the frame's 99th percentile).
+    Steps {
+        /// The value drawn white.
+        max: Option<u32>,
+    },
+    /// The unit normal as 0.5 + 0.5·n.
+    Normal,
+    /// Sphere tracing only: f(p) / err(t) at the hit point (drawn by the kernel).
+    Field,
+}
+
+/// Parses `shade`, `steps`, `steps:MAX`, `normal` or `field`.
+pub fn parse_color(s: &str) -> Result<ColorMode, String> {
+    match s.trim() {
+        "shade" => Ok(ColorMode::Shade),
+        "steps" => Ok(ColorMode::Steps { max: None }),
+        "normal" => Ok(ColorMode::Normal),
+        "field" => Ok(ColorMode::Field),
+        other => match other.strip_prefix("steps:").map(|m| m.trim().parse::<u32>()) {
+            Some(Ok(m)) if m > 0 => Ok(ColorMode::Steps { max: Some(m) }),
+            _ => Err("expected shade, steps, steps:MAX (MAX > 0), normal or field".into()),
+        },
+    }
+}
+
+/// A heat map colour (linear RGB) for v in [0, 1]: black, purple, red,
+/// orange, pale yellow, monotone in brightness so the picture reads in grey too.
+pub fn heat(v: f64) -> [f32; 3] {
+    const STOPS: [[f64; 3]; 5] = [[0.0, 0.0, 0.02], [0.27, 0.03, 0.45], [0.78, 0.13, 0.30], [0.98, 0.55, 0.05], [1.0, 1.0, 0.75]];
+    let x = if v.is_finite() { v.clamp(0.0, 1.0) } else { 1.0 } * 4.0;
+    let k = (x.floor() as usize).min(3);
+    let f = x - k as f64;
+    let c = |i: usize| (STOPS[k][i] + (STOPS[k + 1][i] - STOPS[k][i]) * f).powf(2.2) as f32;
+    [c(0), c(1), c(2)]
+}
+
+/// Recolours a frame for `mode` (`Shade` and `Field` leave it as the
+/// kernel drew it). Returns the heat map's full-scale value for `Steps`.
+pub fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32> {
+    match mode {
+        ColorMode::Shade | ColorMode::Field => None,
+        ColorMode::Steps { max } => {
+            let max = max.unwrap_or_else(|| {
+                let mut v: Vec<u32> = frame.pixels.iter().map(|p| p.evals).collect();
+                v.sort_unstable();
+                v.get(v.len() * 99 / 100).copied().unwrap_or(1).max(1)
+            });
+            for p in &mut frame.pixels {
+                let [r, g, b] = heat(p.evals as f64 / max as f64);
+                p.color = [r, g, b, p.color[3]];
+            }
+            Some(max)
+        }
+        ColorMode::Normal => {
+            for p in &mut frame.pixels {
+                if p.color[3] > 0.0 {
+                    let n = p.normal;
+                    p.color = [0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2], 1.0].map(|c| c.powf(2.2));
+                } else {
+                    p.color = [0.0, 0.0, 0.0, 0.0];
+                }
+            }
+            None
+        }
+    }
 }
 
 /// Writes the frame in the format its extension names.

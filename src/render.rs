@@ -77,6 +77,77 @@ impl Camera {
     }
 }
 
+/// The traversal that made a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Interval / affine bisection: robust for any formula.
+    #[default]
+    Bisect,
+    /// Sphere tracing: only for distance bounds, fast.
+    Sphere,
+}
+
+impl Method {
+    /// The spelling on the command line and in `.iso` headers.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Bisect => "bisect",
+            Method::Sphere => "sphere",
+        }
+    }
+
+    /// Parses `sphere` or `bisect`.
+    pub fn parse(s: &str) -> Result<Method, String> {
+        match s.trim() {
+            "bisect" => Ok(Method::Bisect),
+            "sphere" => Ok(Method::Sphere),
+            _ => Err("expected 'sphere' or 'bisect'".into()),
+        }
+    }
+}
+
+/// A convex volume declared to contain a convex object: sphere tracing
+/// clips rays to it, and traces rays that start inside the object
+/// backwards from its far side (Keinert et al.'s technique 5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Bound {
+    /// `sphere:cx,cy,cz,r`
+    Sphere {
+        /// Centre.
+        center: [f64; 3],
+        /// Radius, > 0.
+        radius: f64,
+    },
+    /// `box:x0,x1,y0,y1,z0,z1`
+    Box([f64; 6]),
+}
+
+impl Bound {
+    /// Parses `sphere:cx,cy,cz,r` or `box:x0,x1,y0,y1,z0,z1`.
+    pub fn parse(s: &str) -> Result<Bound, String> {
+        let nums = |v: &str| -> Option<Vec<f64>> { v.split(',').map(|n| n.trim().parse::<f64>().ok().filter(|x| x.is_finite())).collect() };
+        let s = s.trim();
+        if let Some(v) = s.strip_prefix("sphere:") {
+            if let Some(&[cx, cy, cz, r]) = nums(v).as_deref() {
+                if r > 0.0 {
+                    return Ok(Bound::Sphere { center: [cx, cy, cz], radius: r });
+                }
+            }
+            return Err("expected sphere:cx,cy,cz,r with a radius r > 0".into());
+        }
+        if let Some(v) = s.strip_prefix("box:") {
+            if let Some(&[x0, x1, y0, y1, z0, z1]) = nums(v).as_deref() {
+                if x0 < x1 && y0 < y1 && z0 < z1 {
+                    return Ok(Bound::Box([x0, x1, y0, y1, z0, z1]));
+                }
+            }
+            return Err("expected box:x0,x1,y0,y1,z0,z1 with lo < hi on every axis".into());
+        }
+        Err("expected sphere:cx,cy,cz,r or box:x0,x1,y0,y1,z0,z1".into())
+    }
+}
+
 /// Pixel outcome.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum Status {
@@ -104,7 +175,8 @@ pub struct PixelOut {
     pub level: u32,
     /// Index of the isovalue hit (0 without `--iso`).
     pub iso: u32,
-    /// Outcome.
+    /// Outcome. For sphere tracing, `Unresolved` means the step budget
+    /// ran out before the ray converged ("unconverged").
     pub status: Status,
 }
 
@@ -140,6 +212,12 @@ pub struct Stats {
     pub evals_hit_mean: f64,
     /// Mean evaluations of pixels whose ray crosses the domain and misses.
     pub evals_miss_mean: f64,
+    /// The traversal. With sphere tracing every `evals` figure counts field
+    /// evaluations of all rays of a pixel (steps), and there is no lower bound.
+    pub method: Method,
+    /// Sphere tracing: over-relaxed steps that failed the overlap test and
+    /// fell back (summed over the pixels).
+    pub sor_fallbacks: u64,
 }
 
 /// A rendered image.

@@ -4,10 +4,14 @@
 //! arities, folds constants (`sqrt(5)` becomes a literal), turns integer
 //! exponents into [`Op::PowI`], and shares common sub-expressions by
 //! hash-consing every node, so a repeated `x^2` is computed once.
+//! Distance-field forms (`sphere(r)`, `translate(…, shape)`, …) expand here
+//! into ordinary nodes ([`crate::sdf`]); transforms rebuild their lowered
+//! shape over substituted x, y, z nodes.
 
 use crate::diag::{levenshtein, Diagnostic, Span};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use crate::reference::scalar_op;
+use crate::sdf;
 use crate::syntax::{BinOp, Expr, ExprKind, Program};
 use std::collections::HashMap;
 
@@ -44,6 +48,9 @@ pub enum SemaError {
     ExponentTooLarge { span: Span, exponent: f64 },
     /// More than [`MAX_NODES`] operations.
     TooLarge { nodes: usize },
+    /// A distance-field argument that cannot work (`scale(0, …)`, a zero
+    /// plane normal, a blend range k ≤ 0), pointing at the argument.
+    BadArgument { name: String, message: String, span: Span },
 }
 
 impl SemaError {
@@ -116,6 +123,11 @@ impl SemaError {
             SemaError::TooLarge { nodes } => Diagnostic::plain(format!(
                 "formula too large: {nodes} operations (the limit is {MAX_NODES})"
             )),
+            SemaError::BadArgument { name, message, span } => {
+                let sig = sdf::lookup(name).map_or(name.as_str(), |i| i.signature);
+                Diagnostic::error(format!("invalid argument to '{name}': {message}"), *span, "this argument")
+                    .with_note(format!("usage: {sig}"))
+            }
         }
     }
 }
@@ -151,6 +163,8 @@ enum Builtin {
     F3(Func3),
     /// min / max with two or more arguments
     Variadic(Func2),
+    /// A distance-field primitive, transform or operator.
+    Sdf(&'static sdf::Info),
 }
 
 fn builtin(name: &str) -> Option<Builtin> {
@@ -164,11 +178,12 @@ fn builtin(name: &str) -> Option<Builtin> {
         "max" => Some(Builtin::Variadic(Func2::Max)),
         "clamp" => Some(Builtin::F3(Func3::Clamp)),
         "mix" => Some(Builtin::F3(Func3::Mix)),
-        _ => None,
+        _ => sdf::lookup(name).map(Builtin::Sdf),
     }
 }
 
-/// All function names, for suggestions and help.
+/// The names of the numeric functions, for suggestions and help (the
+/// distance-field forms are listed by [`sdf::FORMS`]).
 pub fn function_names() -> Vec<&'static str> {
     let mut v: Vec<&str> = Func1::ALL.iter().map(|f| f.name()).collect();
     v.extend(["pow", "atan2", "min", "max", "clamp", "mix"]);
@@ -194,6 +209,7 @@ fn suggest_function(name: &str) -> Vec<String> {
     let common = |a: &str, b: &str| a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
     let mut scored: Vec<(usize, std::cmp::Reverse<usize>, &str)> = function_names()
         .into_iter()
+        .chain(sdf::names())
         .map(|f| (levenshtein(&lower, f), std::cmp::Reverse(common(&lower, f)), f))
         .filter(|&(d, std::cmp::Reverse(c), f)| d <= limit || (c >= 3 && (c == f.len() || c == lower.len())))
         .collect();
@@ -504,13 +520,17 @@ impl Builder {
             return Err(SemaError::UnknownFunction { name: name.to_string(), span: name_span, suggestions: suggest_function(name) });
         };
         let (expected, ok) = match f {
-            Builtin::F1(_) => ("1", nargs == 1),
-            Builtin::F2(_) => ("2", nargs == 2),
-            Builtin::F3(_) => ("3", nargs == 3),
-            Builtin::Variadic(_) => ("2 or more", nargs >= 2),
+            Builtin::F1(_) => ("1".to_string(), nargs == 1),
+            Builtin::F2(_) => ("2".to_string(), nargs == 2),
+            Builtin::F3(_) => ("3".to_string(), nargs == 3),
+            Builtin::Variadic(_) => ("2 or more".to_string(), nargs >= 2),
+            Builtin::Sdf(info) => match info.arity {
+                sdf::Arity::Exactly(n) => (n.to_string(), nargs == n),
+                sdf::Arity::AtLeast(n) => (format!("{n} or more"), nargs >= n),
+            },
         };
         if !ok {
-            return Err(SemaError::Arity { name: name.to_string(), expected: expected.to_string(), found: nargs, span });
+            return Err(SemaError::Arity { name: name.to_string(), expected, found: nargs, span });
         }
         Ok(())
     }
@@ -529,7 +549,80 @@ impl Builder {
                 }
                 Ok(acc)
             }
+            Builtin::Sdf(info) => {
+                let mut sink = SdfSink { b: self, span, name: info.name, args };
+                sdf::lower(&mut sink, info.form, v)
+            }
         }
+    }
+
+    /// `root` rebuilt with x, y, z replaced by `xyz` (a transform's
+    /// coordinate substitution). Only the nodes `root` depends on are
+    /// visited, in id order (which is topological); the rebuilt nodes fold
+    /// and share through [`Builder::push`] like any other, and the old
+    /// subgraph, if nothing else uses it, is dropped by [`compact`].
+    fn substitute(&mut self, root: NodeId, xyz: [NodeId; 3]) -> Result<NodeId, SemaError> {
+        let mut seen: HashMap<NodeId, NodeId> = HashMap::new();
+        let mut stack = vec![root];
+        let mut order = Vec::new();
+        while let Some(n) = stack.pop() {
+            if seen.insert(n, n).is_none() {
+                order.push(n);
+                stack.extend(self.nodes[n as usize].operands());
+            }
+        }
+        order.sort_unstable();
+        for n in order {
+            let m = |k: NodeId| seen[&k];
+            let op = match self.nodes[n as usize] {
+                Op::Var(Var::X) => { seen.insert(n, xyz[0]); continue; }
+                Op::Var(Var::Y) => { seen.insert(n, xyz[1]); continue; }
+                Op::Var(Var::Z) => { seen.insert(n, xyz[2]); continue; }
+                Op::Var(Var::T) | Op::Const(_) | Op::Param(_) => continue,
+                Op::Neg(a) => Op::Neg(m(a)),
+                Op::Add(a, b) => Op::Add(m(a), m(b)),
+                Op::Sub(a, b) => Op::Sub(m(a), m(b)),
+                Op::Mul(a, b) => Op::Mul(m(a), m(b)),
+                Op::Div(a, b) => Op::Div(m(a), m(b)),
+                Op::PowI(a, k) => Op::PowI(m(a), k),
+                Op::Call1(f, a) => Op::Call1(f, m(a)),
+                Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
+                Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
+            };
+            let span = self.spans[n as usize];
+            let id = self.push(op, span)?;
+            seen.insert(n, id);
+        }
+        Ok(seen[&root])
+    }
+}
+
+/// The semantic pass seen by [`sdf::lower`]: new nodes carry the call's
+/// span, and a bad argument points at that argument.
+struct SdfSink<'b, 'e> {
+    b: &'b mut Builder,
+    span: Span,
+    name: &'static str,
+    args: &'e [Expr],
+}
+
+impl sdf::Sink for SdfSink<'_, '_> {
+    type Error = SemaError;
+    fn push(&mut self, op: Op) -> Result<NodeId, SemaError> {
+        self.b.push(op, self.span)
+    }
+    fn konst(&self, n: NodeId) -> Option<f64> {
+        self.b.konst(n)
+    }
+    fn op(&self, n: NodeId) -> Op {
+        self.b.nodes[n as usize]
+    }
+    fn substitute(&mut self, shape: NodeId, xyz: [NodeId; 3]) -> Result<NodeId, SemaError> {
+        self.b.substitute(shape, xyz)
+    }
+    fn bad_argument(&self, index: usize, message: String) -> SemaError {
+        let span = self.args.get(index).map_or(self.span, |a| a.span);
+        SemaError::BadArgument { name: self.name.to_string(), message, span }
     }
 }
 

@@ -59,7 +59,10 @@ fn the_16_knoll_surfaces_are_present_and_fully_described() {
     for e in catalog::builtin() {
         let h = &e.header;
         assert!(h.title.is_some() && h.degree.is_some() && h.source.is_some() && h.notes.is_some(), "{}", e.name);
-        assert!(h.status.is_some(), "{}: no status", e.name);
+        // A status says whether a named surface's formula is the published
+        // one; the distance-field scenes are isotrace's own and have none.
+        let scene = h.method == Some(catalog::Method::Sphere);
+        assert!(h.status.is_some() != scene, "{}: status {:?}, method {:?}", e.name, h.status, h.method);
     }
     let status = |n: &str| catalog::lookup(n).unwrap().header.status.unwrap();
     for n in ["teardrop", "4-bretzel", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water"] {
@@ -177,7 +180,7 @@ fn a_full_header_parses() {
 #[test]
 fn error_unknown_key() {
     let r = parse_iso("examples/x.iso", "#@ name: x\n#@ colour: red\nx\n");
-    assert_eq!(err_text(r), "examples/x.iso:2: unknown key 'colour' (keys: name, title, box, t, eye, target, up, fov, eps, algebra, param, degree, status, source, notes, animate, clip)");
+    assert_eq!(err_text(r), "examples/x.iso:2: unknown key 'colour' (keys: name, title, box, t, eye, target, up, fov, eps, algebra, param, degree, status, source, notes, animate, clip, method, lipschitz, bound)");
     let r = parse_iso("examples/x.iso", "#@ bx: -1,1\nx\n");
     assert_eq!(err_text(r), "examples/x.iso:1: unknown key 'bx' (did you mean 'box'?)");
 }
@@ -233,6 +236,11 @@ fn other_header_errors() {
         ("#@ up: 0,0,0\nx\n", "f.iso:1: bad up value '0,0,0': the up vector must not be zero"),
         ("#@ animate: 2,1\nx\n", "f.iso:1: bad animate value '2,1': expected 't0,t1' with t0 < t1"),
         ("#@ clip: cube:2\nx\n", "f.iso:1: bad clip value 'cube:2': expected 'sphere:R' with a radius R > 0"),
+        ("#@ method: march\nx\n", "f.iso:1: bad method value 'march': expected 'sphere' or 'bisect'"),
+        ("#@ lipschitz: 0.5\nx\n", "f.iso:1: bad lipschitz value '0.5': expected a Lipschitz bound L >= 1"),
+        ("#@ bound: sphere:0,0,0\nx\n", "f.iso:1: bad bound value 'sphere:0,0,0': expected sphere:cx,cy,cz,r with a radius r > 0"),
+        ("#@ bound: box:0,1,0,1,1,0\nx\n", "f.iso:1: bad bound value 'box:0,1,0,1,1,0': expected box:x0,x1,y0,y1,z0,z1 with lo < hi on every axis"),
+        ("#@ bound: cone:1\nx\n", "f.iso:1: bad bound value 'cone:1': expected sphere:cx,cy,cz,r or box:x0,x1,y0,y1,z0,z1"),
         ("#@ name: a b\nx\n", "f.iso:1: bad name value 'a b': a name uses letters, digits, '-', '_' and '.' only"),
         ("#@ title:\nx\n", "f.iso:1: empty value for key 'title'"),
         ("#@ just words\nx\n", "f.iso:1: malformed header line: expected '#@ key: value'"),
@@ -271,4 +279,44 @@ fn lookup_normalises_names_and_load_file_reports_io_errors() {
     let missing = catalog::load_file("no/such/file.iso").unwrap_err();
     assert!(matches!(&missing, CatalogError::Read { file, .. } if file == "no/such/file.iso"), "{missing:?}");
     assert!(missing.to_string().starts_with("no/such/file.iso: cannot read: "), "{missing}");
+}
+
+#[test]
+fn sphere_tracing_keys_parse() {
+    let text = "#@ method: sphere\n#@ lipschitz: 1.5\n#@ bound: sphere:0,0,-0.1,1.2\nsphere(1)\n";
+    let h = parse_iso("s.iso", text).unwrap().header;
+    assert_eq!(h.method, Some(catalog::Method::Sphere));
+    assert_eq!(h.lipschitz, Some(1.5));
+    assert_eq!(h.bound, Some(catalog::Bound::Sphere { center: [0.0, 0.0, -0.1], radius: 1.2 }));
+    let h = parse_iso("b.iso", "#@ method: bisect\n#@ bound: box:-1,1,-2,2,-3,3\nx\n").unwrap().header;
+    assert_eq!(h.method, Some(catalog::Method::Bisect));
+    assert_eq!(h.bound, Some(catalog::Bound::Box([-1.0, 1.0, -2.0, 2.0, -3.0, 3.0])));
+}
+
+/// The distance-field scenes ask for sphere tracing, and a declared bound
+/// holds every point of the object the grid finds (f <= 0), so the
+/// convex-object trick never cuts the object.
+#[test]
+fn sdf_scenes_use_sphere_tracing_and_their_bounds_hold_the_object() {
+    for name in ["jewel", "city", "creature"] {
+        let e = catalog::lookup(name).unwrap();
+        assert_eq!(e.header.method, Some(catalog::Method::Sphere), "{name}");
+        let Some(catalog::Bound::Sphere { center: c, radius }) = e.header.bound else { continue };
+        let ir = e.compile().unwrap().ir;
+        let b = e.header.bbox;
+        const N: usize = 41;
+        let at = |lo: f64, hi: f64, n: usize| lo + (hi - lo) * n as f64 / (N - 1) as f64;
+        for i in 0..N {
+            for j in 0..N {
+                for k in 0..N {
+                    let p = [at(b[0], b[1], i), at(b[2], b[3], j), at(b[4], b[5], k), 0.0];
+                    if isotrace::reference::eval_scalar(&ir, p, &[]) <= 0.0 {
+                        let r = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt();
+                        assert!(r <= radius, "{name}: inside point {p:?} is outside the bound ({r} > {radius})");
+                    }
+                }
+            }
+        }
+    }
+    assert!(catalog::lookup("jewel").unwrap().header.bound.is_some());
 }

@@ -1,13 +1,15 @@
-//! `isotrace render`: flags → [`Settings`], one frame or an animation.
+//! `isotrace render`: flags → [`Settings`] (and [`SphereOptions`] for
+//! `--method sphere`), one frame or an animation.
 
 use super::{input::FormulaArgs, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use glam::DVec3;
-use isotrace::gpu::render::{Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::render::{RenderError, Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::sphere::{Shading, SphereOptions, SphereRenderer};
 use isotrace::gpu::Gpu;
-use isotrace::output;
+use isotrace::output::{self, ColorMode};
 use isotrace::catalog::{self, Header};
-use isotrace::render::{Camera, Frame};
+use isotrace::render::{Bound, Camera, Frame, Method};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -56,6 +58,135 @@ pub struct ViewArgs {
     pub debug_unresolved: bool,
 }
 
+/// Sphere tracing flags (`--method sphere`); every technique of Keinert
+/// et al. can be switched off to measure it.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SphereArgs {
+    /// Traversal: bisect (interval / affine bisection, any formula) or sphere (sphere tracing, distance bounds only). Default: the .iso header's method, else bisect.
+    #[arg(long, value_name = "METHOD")]
+    pub method: Option<String>,
+    /// Sphere tracing: a Lipschitz bound L >= 1 of the formula; the field is divided by it (needed when the formula is not 1-Lipschitz, e.g. a displaced distance field).
+    #[arg(long, value_name = "L", allow_hyphen_values = true)]
+    pub lipschitz: Option<f64>,
+    /// Sphere tracing: over-relaxation factor in [1, 2) (technique 1; 1 switches it off; default 1.2).
+    #[arg(long, value_name = "W", allow_hyphen_values = true)]
+    pub omega: Option<f64>,
+    /// Sphere tracing: terminate at |f| < eps and keep the last point on an exhausted budget, instead of the screen-space criterion and best candidate (technique 2 off).
+    #[arg(long)]
+    pub no_screen_space: bool,
+    /// Sphere tracing: offset secondary rays by a fixed eps-min instead of 2 max(eps-min, |f(p)|) (technique 3 off).
+    #[arg(long)]
+    pub no_dynamic_eps: bool,
+    /// Sphere tracing: technique 3's minimum offset and the secondary rays' threshold (default: eps).
+    #[arg(long, value_name = "E")]
+    pub eps_min: Option<String>,
+    /// Sphere tracing: fixed-point iterations that reduce discontinuities (technique 4; 0 switches it off; default 3).
+    #[arg(long, value_name = "N")]
+    pub fixpoint: Option<u32>,
+    /// Sphere tracing: the object is convex and inside this convex volume, sphere:cx,cy,cz,r or box:x0,x1,y0,y1,z0,z1 (technique 5; default: the .iso header's bound).
+    #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
+    pub bound: Option<String>,
+    /// Sphere tracing: ignore the header's bound (technique 5 off).
+    #[arg(long, conflicts_with = "bound")]
+    pub no_bound: bool,
+    /// Sphere tracing: step budget per ray (default 512); pixels that exhaust it are reported as unconverged.
+    #[arg(long, value_name = "N")]
+    pub max_steps: Option<u32>,
+    /// Sphere tracing: smallest forward step in world units (default 0: none).
+    #[arg(long, value_name = "S")]
+    pub min_step: Option<f64>,
+    /// Sphere tracing: cast shadow rays towards the key light.
+    #[arg(long)]
+    pub shadows: bool,
+    /// Sphere tracing: render the object as absorbing glass (a refraction ray through it).
+    #[arg(long)]
+    pub glass: bool,
+}
+
+impl SphereArgs {
+    /// The sphere tracing flags that were given (for "only with --method sphere").
+    fn given(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        let flags: [(&str, bool); 12] = [
+            ("--lipschitz", self.lipschitz.is_some()),
+            ("--omega", self.omega.is_some()),
+            ("--no-screen-space", self.no_screen_space),
+            ("--no-dynamic-eps", self.no_dynamic_eps),
+            ("--eps-min", self.eps_min.is_some()),
+            ("--fixpoint", self.fixpoint.is_some()),
+            ("--bound", self.bound.is_some()),
+            ("--no-bound", self.no_bound),
+            ("--max-steps", self.max_steps.is_some()),
+            ("--min-step", self.min_step.is_some()),
+            ("--shadows", self.shadows),
+            ("--glass", self.glass),
+        ];
+        for (name, on) in flags {
+            if on {
+                v.push(name);
+            }
+        }
+        v
+    }
+}
+
+/// The traversal: `--method`, else the header's, else bisection.
+pub fn method(arg: Option<&str>, header: Option<&Header>) -> Result<Method, CliError> {
+    match arg {
+        Some(m) => Method::parse(m).map_err(|e| input(format!("invalid --method '{m}': {e}"))),
+        None => Ok(header.and_then(|h| h.method).unwrap_or(Method::Bisect)),
+    }
+}
+
+/// The sphere tracing options from flags, with the header's `lipschitz`
+/// and `bound` as defaults; checked before any GPU work.
+pub fn sphere_options(a: &SphereArgs, header: Option<&Header>) -> Result<SphereOptions, CliError> {
+    let d = SphereOptions::default();
+    let bound = match (&a.bound, a.no_bound) {
+        (_, true) => None,
+        (Some(b), _) => Some(Bound::parse(b).map_err(|m| input(format!("invalid --bound '{b}': {m}")))?),
+        (None, false) => header.and_then(|h| h.bound),
+    };
+    let eps_min = match &a.eps_min {
+        Some(e) => Some(catalog::parse_eps(e).map_err(|m| input(format!("invalid --eps-min '{e}': {m}")))?),
+        None => None,
+    };
+    let o = SphereOptions {
+        lipschitz: a.lipschitz.or(header.and_then(|h| h.lipschitz)).unwrap_or(1.0),
+        omega: a.omega.unwrap_or(d.omega),
+        screen_space: !a.no_screen_space,
+        dynamic_eps: !a.no_dynamic_eps,
+        eps_min,
+        fixpoint: a.fixpoint.unwrap_or(d.fixpoint),
+        bound,
+        max_steps: a.max_steps.unwrap_or(d.max_steps),
+        min_step: a.min_step.unwrap_or(0.0),
+        shadows: a.shadows,
+        glass: a.glass,
+        shading: Shading::Shade,
+    };
+    o.check().map_err(input)?;
+    Ok(o)
+}
+
+/// A compiled renderer of either traversal.
+pub enum AnyRenderer<'g> {
+    /// Interval / affine bisection.
+    Bisect(Renderer<'g>),
+    /// Sphere tracing with its options.
+    Sphere(SphereRenderer<'g>, SphereOptions),
+}
+
+impl AnyRenderer<'_> {
+    /// Renders one frame.
+    pub fn render(&self, s: &Settings) -> Result<Frame, RenderError> {
+        match self {
+            AnyRenderer::Bisect(r) => r.render(s),
+            AnyRenderer::Sphere(r, o) => r.render(s, o),
+        }
+    }
+}
+
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     #[command(flatten)]
@@ -68,6 +199,11 @@ pub struct RenderArgs {
     size: Option<String>,
     #[command(flatten)]
     view: ViewArgs,
+    #[command(flatten)]
+    sphere: SphereArgs,
+    /// What the colours show: shade, steps (the pixel's work as a heat map, scaled to the 99th percentile; steps:MAX for a fixed scale), normal, or field (sphere tracing: f(p) / err(t) at the hit).
+    #[arg(long, value_name = "MODE", default_value = "shade")]
+    color: String,
     /// Print statistics to stderr.
     #[arg(long)]
     stats: bool,
@@ -226,9 +362,36 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let f = &loaded.formula;
     let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
     let s = settings(&a.view, size, f, loaded.header.as_ref())?;
-    let domain = resolve_algebra(a.view.algebra.or(loaded.header.as_ref().and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
-    if domain == isotrace::codegen::Domain::Scalar {
-        return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
+    let header = loaded.header.as_ref();
+    let method = method(a.sphere.method.as_deref(), header)?;
+    let color = output::parse_color(&a.color).map_err(|m| input(format!("invalid --color '{}': {m}", a.color)))?;
+    let domain = resolve_algebra(a.view.algebra.or(header.and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
+    let mut sphere = None;
+    match method {
+        Method::Bisect => {
+            if let Some(flag) = a.sphere.given().first() {
+                return Err(input(format!("{flag} applies to --method sphere only")));
+            }
+            if color == ColorMode::Field {
+                return Err(input("--color field applies to --method sphere only"));
+            }
+            if domain == isotrace::codegen::Domain::Scalar {
+                return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
+            }
+        }
+        Method::Sphere => {
+            if a.view.algebra.is_some() {
+                return Err(input("--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)"));
+            }
+            if a.view.max_iter.is_some() {
+                return Err(input("--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps"));
+            }
+            let mut o = sphere_options(&a.sphere, header)?;
+            if color == ColorMode::Field {
+                o.shading = Shading::Field;
+            }
+            sphere = Some(o);
+        }
     }
     let outputs = output_paths(&a)?;
     for p in &outputs {
@@ -236,18 +399,23 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         output::check_writable(p).map_err(|e| input(e.to_string()))?;
     }
     let gpu = open_gpu()?;
-    let renderer = Renderer::new(&gpu, &f.ir, domain).map_err(super::render_error)?;
+    let renderer = match sphere {
+        Some(o) => AnyRenderer::Sphere(SphereRenderer::new(&gpu, &f.ir).map_err(super::render_error)?, o),
+        None => AnyRenderer::Bisect(Renderer::new(&gpu, &f.ir, domain).map_err(super::render_error)?),
+    };
     let n = outputs.len();
     let anim = loaded.header.as_ref().and_then(|h| h.animate);
     let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
     let bar = super::progress(n as u64, "frames");
     let mut last: Option<Frame> = None;
+    let mut heat_max = None;
     for (k, path) in outputs.iter().enumerate() {
         let mut sk = s.clone();
         if a.frames.is_some() {
             sk.time = if n > 1 { t0 + (t1 - t0) * k as f64 / (n - 1) as f64 } else { t0 };
         }
-        let frame = renderer.render(&sk).map_err(super::render_error)?;
+        let mut frame = renderer.render(&sk).map_err(super::render_error)?;
+        heat_max = output::recolor(&mut frame, color);
         output::write_frame(path, &frame).map_err(|e| input(e.to_string()))?;
         if let Some(b) = &bar {
             b.inc(1);
@@ -258,7 +426,13 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         b.finish_and_clear();
     }
     if let Some(frame) = last {
-        report(&a, &frame, &s, domain, &gpu);
+        match &renderer {
+            AnyRenderer::Bisect(_) => report(&a, &frame, &s, domain, &gpu),
+            AnyRenderer::Sphere(_, o) => report_sphere(&a, &frame, &s, o, &gpu),
+        }
+        if let (Some(m), true) = (heat_max, a.stats) {
+            eprintln!("--color steps: white = {m} {}", output::work_channel(&frame));
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -304,7 +478,7 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
     }
     if a.json {
         let v = serde_json::json!({
-            "width": frame.width, "height": frame.height, "algebra": algebra, "eps": s.eps, "d_max": st.d_max,
+            "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "eps": s.eps, "d_max": st.d_max,
             "gpu_ms": st.gpu_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
             "pixels": st.pixels, "hits": st.hits, "unresolved": st.unresolved,
             "evals_mean": st.evals_mean, "evals_p99": st.evals_p99, "evals_max": st.evals_max,
@@ -315,3 +489,42 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
     }
 }
 
+
+/// Statistics of a sphere traced frame: steps instead of inclusion
+/// evaluations, unconverged pixels, and which techniques were on.
+fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions, gpu: &Gpu) {
+    let st = &frame.stats;
+    let bound = match o.bound {
+        None => "none".to_string(),
+        Some(Bound::Sphere { center: c, radius }) => format!("sphere:{},{},{},{radius}", c[0], c[1], c[2]),
+        Some(Bound::Box(b)) => format!("box:{},{},{},{},{},{}", b[0], b[1], b[2], b[3], b[4], b[5]),
+    };
+    let on = |b: bool| if b { "on" } else { "off" };
+    if a.stats {
+        eprintln!(
+            "size {}x{}  method sphere  lipschitz {}  eps {:.3e}  max steps {}\n\
+             techniques: omega {}  screen-space {}  dynamic eps {}  fixpoint {}  bound {bound}\n\
+             gpu {:.1} ms  wall {:.1} ms  dispatches {}\n\
+             hits {} ({:.1} %)  unconverged {}\n\
+             steps per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}); over-relaxation fallbacks {}\n\
+             device {} ({})",
+            frame.width, frame.height, o.lipschitz, s.eps, o.max_steps, o.omega, on(o.screen_space), on(o.dynamic_eps), o.fixpoint,
+            st.gpu_ms, st.wall_ms, st.dispatches, st.hits, 100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved,
+            st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sor_fallbacks, gpu.info.name, gpu.info.backend
+        );
+    }
+    if a.json {
+        let v = serde_json::json!({
+            "width": frame.width, "height": frame.height, "method": "sphere", "eps": s.eps,
+            "lipschitz": o.lipschitz, "omega": o.omega, "screen_space": o.screen_space, "dynamic_eps": o.dynamic_eps,
+            "fixpoint": o.fixpoint, "bound": bound, "max_steps": o.max_steps, "min_step": o.min_step,
+            "shadows": o.shadows, "glass": o.glass,
+            "gpu_ms": st.gpu_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
+            "pixels": st.pixels, "hits": st.hits, "unconverged": st.unresolved, "unresolved": st.unresolved,
+            "steps_mean": st.evals_mean, "steps_p99": st.evals_p99, "steps_max": st.evals_max,
+            "steps_hit_mean": st.evals_hit_mean, "steps_miss_mean": st.evals_miss_mean, "sor_fallbacks": st.sor_fallbacks,
+            "device": gpu.info,
+        });
+        let _ = writeln!(std::io::stdout().lock(), "{v}");
+    }
+}

@@ -6,6 +6,7 @@
 pub const EVAL: &str = include_str!("../../templates/kernels/eval.wgsl");
 /// The render kernel: stackless interval bisection per pixel.
 pub const BISECT: &str = include_str!("../../templates/kernels/bisect.wgsl");
+#[doc = "The sphere tracing kernel for distance bounds (Keinert et al.'s five techniques)."] pub const SPHERE: &str = include_str!("../../templates/kernels/sphere.wgsl");
 
 /// Shading, colour modes and the environment of the render kernel.
 pub const SHADE: &str = include_str!("../../templates/kernels/shade.wgsl");

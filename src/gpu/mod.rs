@@ -7,6 +7,7 @@
 
 pub mod eval;
 pub mod render;
+pub mod sphere;
 
 use std::time::Duration;
 

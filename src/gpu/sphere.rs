@@ -1,0 +1,397 @@
+//! Runs the sphere tracing kernel (`templates/kernels/sphere.wgsl`). A
+//! [`SphereRenderer`] holds one compiled pipeline for a formula; the
+//! techniques of Keinert et al. are uniforms ([`SphereOptions`]), so
+//! switching one on or off for a measurement never recompiles.
+//!
+//! It takes the same [`Settings`] as the bisection renderer and returns the
+//! same [`Frame`]; a pixel's `evals` are its sphere tracing steps (field
+//! evaluations of the primary, shadow and refraction rays) and its
+//! `Unresolved` status means "unconverged". Images are split into tiles
+//! exactly like the bisection renderer's.
+
+use super::render::{RenderError, Settings, MAX_SIZE};
+use super::{pack_params, Gpu};
+use crate::codegen::{emit_evaluator, libraries, template, Domain};
+use crate::ir::Ir;
+use crate::render::{Bound, Frame, Method, PixelOut, Stats, Status};
+use crate::validate::validate;
+use bytemuck::{Pod, Zeroable};
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+/// Largest `max_steps`: the primary, shadow and refraction rays each get
+/// the budget, and lavapipe silently stops any invocation after 65,535 loop
+/// iterations in total.
+pub const MAX_STEPS_LIMIT: u32 = 16_000;
+/// Default step budget per ray.
+pub const DEFAULT_MAX_STEPS: u32 = 512;
+/// Default over-relaxation factor (Keinert et al.: ω ≈ 1.2 was best).
+pub const DEFAULT_OMEGA: f64 = 1.2;
+/// Default fixed-point iterations of the discontinuity reduction (the
+/// paper's final renders use 3).
+pub const DEFAULT_FIXPOINT: u32 = 3;
+/// Largest `fixpoint`.
+pub const MAX_FIXPOINT: u32 = 64;
+
+/// What a pixel's colour shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Shading {
+    /// Phong shading (with shadows or glass when asked for).
+    #[default]
+    Shade,
+    /// f(p) / err(t) at the hit point as a heat map: technique 4 makes it flat.
+    Field,
+}
+
+/// Sphere tracing settings beyond [`Settings`]; every technique can be
+/// switched off so its effect can be measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereOptions {
+    /// The field is divided by this (≥ 1) to make it 1-Lipschitz.
+    pub lipschitz: f64,
+    /// Technique 1: over-relaxation factor in [1, 2); 1 is off.
+    pub omega: f64,
+    /// Technique 2: half-pixel termination and best-candidate choice; off:
+    /// terminate at |f| < eps and keep the last point.
+    pub screen_space: bool,
+    /// Technique 3: secondary rays start 2·max(eps_min, |f(p)|) off the
+    /// surface; off: eps_min.
+    pub dynamic_eps: bool,
+    /// Technique 3's minimum offset and the secondary rays' threshold
+    /// (default: the frame's eps).
+    pub eps_min: Option<f64>,
+    /// Technique 4: fixed-point iterations after a hit; 0 is off.
+    pub fixpoint: u32,
+    /// Technique 5: a convex bound of a convex object; `None` is off.
+    pub bound: Option<Bound>,
+    /// Step budget per ray.
+    pub max_steps: u32,
+    /// Smallest forward step (world units; 0: none).
+    pub min_step: f64,
+    /// Cast a shadow ray towards the key light.
+    pub shadows: bool,
+    /// Render the object as absorbing glass (one refraction through it).
+    pub glass: bool,
+    /// What the colour shows.
+    pub shading: Shading,
+}
+
+impl Default for SphereOptions {
+    fn default() -> Self {
+        SphereOptions {
+            lipschitz: 1.0,
+            omega: DEFAULT_OMEGA,
+            screen_space: true,
+            dynamic_eps: true,
+            eps_min: None,
+            fixpoint: DEFAULT_FIXPOINT,
+            bound: None,
+            max_steps: DEFAULT_MAX_STEPS,
+            min_step: 0.0,
+            shadows: false,
+            glass: false,
+            shading: Shading::Shade,
+        }
+    }
+}
+
+impl SphereOptions {
+    /// Checks the values a user can get wrong; the message names the flag.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.lipschitz >= 1.0 && self.lipschitz.is_finite()) {
+            return Err(format!(
+                "invalid --lipschitz {}: a Lipschitz bound must be at least 1 (sphere tracing divides the field by it; \
+                 a smaller value would step further than a distance field allows)",
+                self.lipschitz
+            ));
+        }
+        if !(self.omega >= 1.0 && self.omega < 2.0) {
+            return Err(format!("invalid --omega {}: the over-relaxation factor must be in [1, 2) (1 switches it off)", self.omega));
+        }
+        if self.max_steps == 0 || self.max_steps > MAX_STEPS_LIMIT {
+            return Err(format!("invalid --max-steps {}: it must be between 1 and {MAX_STEPS_LIMIT}", self.max_steps));
+        }
+        if self.fixpoint > MAX_FIXPOINT {
+            return Err(format!("invalid --fixpoint {}: at most {MAX_FIXPOINT} iterations", self.fixpoint));
+        }
+        if !(self.min_step >= 0.0 && self.min_step.is_finite()) {
+            return Err(format!("invalid --min-step {}: it must be a width >= 0", self.min_step));
+        }
+        if self.eps_min.is_some_and(|e| !(e > 0.0 && e.is_finite())) {
+            return Err("invalid --eps-min: it must be a positive width".into());
+        }
+        Ok(())
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Uniforms {
+    eye: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    box_min: [f32; 4],
+    box_max: [f32; 4],
+    bound_a: [f32; 4],
+    bound_b: [f32; 4],
+    light: [f32; 4],
+    size: [u32; 2],
+    tile_origin: [u32; 2],
+    tile_size: [u32; 2],
+    max_steps: u32,
+    flags: u32,
+    fixpoint: u32,
+    bound_kind: u32,
+    tan_half_fov: f32,
+    eps: f32,
+    inf: f32,
+    time: f32,
+    omega: f32,
+    inv_lipschitz: f32,
+    pixel_radius: f32,
+    min_step: f32,
+    eps_min: f32,
+    color_mode: u32,
+    params: [f32; 64],
+}
+
+const FLAG_DEBUG: u32 = 1;
+const FLAG_SCREEN: u32 = 2;
+const FLAG_DYNAMIC_EPS: u32 = 4;
+const FLAG_SHADOWS: u32 = 8;
+const FLAG_GLASS: u32 = 16;
+
+/// The kernel's packed `Pixel` (the bisection kernel's layout).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct RawPixel {
+    color_rg: u32,
+    color_ba: u32,
+    normal_xy: u32,
+    normal_z: u32,
+    depth: f32,
+    steps: u32,
+    info: u32,
+}
+
+/// The complete sphere tracing shader for a formula: the scalar op
+/// library and evaluator spliced into the template. The traversal calls
+/// nothing but `eval_s`.
+pub fn sphere_shader(ir: &Ir) -> String {
+    let lib = libraries(&[Domain::Scalar]);
+    let eval = emit_evaluator(ir, Domain::Scalar);
+    template::splice(template::SPHERE, &[("library", &lib), ("evaluator", &eval)]).expect("the sphere template has its markers")
+}
+
+/// A compiled sphere tracing pipeline for one formula.
+pub struct SphereRenderer<'g> {
+    gpu: &'g Gpu,
+    pipeline: wgpu::ComputePipeline,
+    /// The shader source (validated).
+    pub wgsl: String,
+}
+
+impl<'g> SphereRenderer<'g> {
+    /// Generates, validates (naga) and compiles the kernel.
+    pub fn new(gpu: &'g Gpu, ir: &Ir) -> Result<SphereRenderer<'g>, RenderError> {
+        let wgsl = sphere_shader(ir);
+        validate(&wgsl)?;
+        let pipeline = gpu.pipeline("isotrace sphere", &wgsl)?;
+        Ok(SphereRenderer { gpu, pipeline, wgsl })
+    }
+
+    /// Renders one frame, tile by tile.
+    pub fn render(&self, s: &Settings, o: &SphereOptions) -> Result<Frame, RenderError> {
+        check_settings(s)?;
+        o.check().map_err(RenderError::Settings)?;
+        let frame = s.camera.frame().map_err(RenderError::Settings)?;
+        let start = Instant::now();
+        let (w, h) = (s.width, s.height);
+        let tile = s.tile.clamp(8, MAX_SIZE);
+        let mut u = uniforms(s, o, &frame)?;
+        let blank = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, iso: 0, status: Status::Miss };
+        let mut pixels = vec![blank; (w * h) as usize];
+        let (mut gpu_ms, mut dispatches, mut fallbacks) = (0.0, 0, 0u64);
+        for ty in (0..h).step_by(tile as usize) {
+            for tx in (0..w).step_by(tile as usize) {
+                let (tw, th) = (tile.min(w - tx), tile.min(h - ty));
+                u.tile_origin = [tx, ty];
+                u.tile_size = [tw, th];
+                let (raw, ms) = self.dispatch(&u, tw, th)?;
+                gpu_ms += ms;
+                dispatches += 1;
+                for (k, r) in raw.iter().enumerate() {
+                    let (i, j) = (tx + k as u32 % tw, ty + k as u32 / tw);
+                    fallbacks += (r.info >> 8) as u64;
+                    pixels[(j * w + i) as usize] = convert(r);
+                }
+            }
+        }
+        let stats = Stats { gpu_ms, dispatches, method: Method::Sphere, sor_fallbacks: fallbacks, ..Default::default() };
+        let mut f = Frame { width: w, height: h, pixels, stats };
+        f.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        f.summarize();
+        f.stats.evals_lower_bound = 0.0; // bisection's bound; sphere tracing has none
+        Ok(f)
+    }
+
+    fn dispatch(&self, u: &Uniforms, tw: u32, th: u32) -> Result<(Vec<RawPixel>, f64), RenderError> {
+        let gpu = self.gpu;
+        let d = &gpu.device;
+        let size = (tw as u64) * (th as u64) * std::mem::size_of::<RawPixel>() as u64;
+        let ts = gpu.timestamp_period.map(|_| {
+            let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("sphere time"), ty: wgpu::QueryType::Timestamp, count: 2 });
+            let resolve = d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            (set, resolve)
+        });
+        let t0 = Instant::now();
+        let (staging, ts_staging) = gpu.scoped("sphere tracing dispatch", || {
+            let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sphere uniforms"),
+                contents: bytemuck::bytes_of(u),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let obuf = d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pixels"),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sphere"),
+                layout: &self.pipeline.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: obuf.as_entire_binding() },
+                ],
+            });
+            let mut enc = d.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("sphere"),
+                    timestamp_writes: ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    }),
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+            }
+            let ts_staging = ts.as_ref().map(|(set, resolve)| {
+                enc.resolve_query_set(set, 0..2, resolve, 0);
+                gpu.read_buffer(&mut enc, resolve, 16)
+            });
+            let staging = gpu.read_buffer(&mut enc, &obuf, size);
+            gpu.queue.submit([enc.finish()]);
+            (staging, ts_staging)
+        })?;
+        let bytes = gpu.map_read(&staging)?;
+        let wall = t0.elapsed().as_secs_f64() * 1e3;
+        let ms = match (ts_staging, gpu.timestamp_period) {
+            (Some(b), Some(period)) => {
+                let t = gpu.map_read(&b)?;
+                let v: &[u64] = bytemuck::cast_slice(&t);
+                let ms = v[1].saturating_sub(v[0]) as f64 * period as f64 * 1e-6;
+                if ms > 0.0 { ms } else { wall }
+            }
+            _ => wall,
+        };
+        Ok((bytemuck::cast_slice::<u8, RawPixel>(&bytes).to_vec(), ms))
+    }
+}
+
+/// The frame's uniforms (tile fields are filled per dispatch).
+fn uniforms(s: &Settings, o: &SphereOptions, frame: &crate::render::CameraFrame) -> Result<Uniforms, RenderError> {
+    let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+    let f4 = |a: f64, b: f64, c: f64, d: f64| [a as f32, b as f32, c as f32, d as f32];
+    let (bound_kind, bound_a, bound_b) = match o.bound {
+        None => (0, [0.0; 4], [0.0; 4]),
+        Some(Bound::Sphere { center: c, radius }) => (1, f4(c[0], c[1], c[2], radius), [0.0; 4]),
+        Some(Bound::Box(b)) => (2, f4(b[0], b[2], b[4], 0.0), f4(b[1], b[3], b[5], 0.0)),
+    };
+    let flags = u32::from(s.debug_unresolved) * FLAG_DEBUG
+        | u32::from(o.screen_space) * FLAG_SCREEN
+        | u32::from(o.dynamic_eps) * FLAG_DYNAMIC_EPS
+        | u32::from(o.shadows) * FLAG_SHADOWS
+        | u32::from(o.glass) * FLAG_GLASS;
+    Ok(Uniforms {
+        eye: v4(s.camera.eye),
+        forward: v4(frame.forward),
+        right: v4(frame.right),
+        up: v4(frame.up),
+        box_min: f4(s.bbox[0], s.bbox[2], s.bbox[4], 0.0),
+        box_max: f4(s.bbox[1], s.bbox[3], s.bbox[5], s.clip_sphere.unwrap_or(0.0)),
+        bound_a,
+        bound_b,
+        // A key light from the upper left and in front, so that shadows fall
+        // visibly behind and beside the objects.
+        light: v4((0.8 * frame.up - 0.2 * frame.forward - 0.7 * frame.right).normalize()),
+        size: [s.width, s.height],
+        tile_origin: [0, 0],
+        tile_size: [0, 0],
+        max_steps: o.max_steps,
+        flags,
+        fixpoint: o.fixpoint,
+        bound_kind,
+        tan_half_fov: frame.tan_half_fov as f32,
+        eps: s.eps as f32,
+        inf: f32::INFINITY,
+        time: s.time as f32,
+        omega: o.omega as f32,
+        inv_lipschitz: (1.0 / o.lipschitz) as f32,
+        // Half a pixel at unit distance: the screen-space error bound.
+        pixel_radius: (frame.tan_half_fov / s.height as f64) as f32,
+        min_step: o.min_step as f32,
+        eps_min: o.eps_min.unwrap_or(s.eps) as f32,
+        color_mode: match o.shading {
+            Shading::Shade => 0,
+            Shading::Field => 1,
+        },
+        params: pack_params(&s.params)?,
+    })
+}
+
+fn convert(r: &RawPixel) -> PixelOut {
+    let status = match r.info & 0xff {
+        1 => Status::Hit,
+        2 => Status::Unresolved,
+        _ => Status::Miss,
+    };
+    let unorm = |v: u32| [(v & 0xffff) as f32 / 65535.0, (v >> 16) as f32 / 65535.0];
+    let snorm = |v: u32| {
+        let c = |x: u16| (x as i16 as f32 / 32767.0).max(-1.0);
+        [c(v as u16), c((v >> 16) as u16)]
+    };
+    let [cr, cg] = unorm(r.color_rg);
+    let [cb, ca] = unorm(r.color_ba);
+    let [nx, ny] = snorm(r.normal_xy);
+    let [nz, _] = snorm(r.normal_z);
+    // `level` marks rays that cross the domain (at least one step), so the
+    // hit / miss means of the statistics count the same pixels as bisection's.
+    PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.steps, level: u32::from(r.steps > 0), iso: 0, status }
+}
+
+fn check_settings(s: &Settings) -> Result<(), RenderError> {
+    let bad = |m: String| Err(RenderError::Settings(m));
+    if s.width == 0 || s.height == 0 || s.width > MAX_SIZE || s.height > MAX_SIZE {
+        return bad(format!("invalid --size {}x{}: each side must be between 1 and {MAX_SIZE}", s.width, s.height));
+    }
+    for a in 0..3 {
+        let (lo, hi) = (s.bbox[2 * a], s.bbox[2 * a + 1]);
+        if !(lo < hi) || !lo.is_finite() || !hi.is_finite() {
+            return bad(format!("invalid --box: axis {} has [{lo}, {hi}]; each axis needs lo < hi", ["x", "y", "z"][a]));
+        }
+    }
+    if !(s.eps > 0.0 && s.eps.is_finite()) {
+        return bad(format!("invalid --eps {}: it must be a positive width", s.eps));
+    }
+    Ok(())
+}
