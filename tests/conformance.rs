@@ -38,6 +38,16 @@ fn random_trees_enclose() {
     check_all(&Cpu, &random_cases(13, 400), &mut |_, rng| random_boxes(rng, 200), 13);
 }
 
+/// Ray segments lifted as the render kernel lifts them (RAA: x, y, z affine
+/// in the one shared symbol e1, which boxes never exercise).
+#[test]
+fn ray_segments_enclose() {
+    let mut cases = op_cases();
+    cases.extend(knoll_cases());
+    cases.extend(random_cases(17, 200));
+    check_all_segments(&Cpu, &cases, 1000, 16);
+}
+
 #[test]
 fn emptiness_propagates() {
     check_emptiness(&Cpu, &empty_cases(), 14);

@@ -57,7 +57,7 @@ pub fn affine_from_interval(i: [f64; 2]) -> [f64; 3] {
     if !(i[0].is_finite() && i[1].is_finite()) {
         return WHOLE_FORM;
     }
-    fix([0.5 * (i[0] + i[1]), 0.0, 0.5 * (i[1] - i[0])])
+    fix([0.5 * i[0] + 0.5 * i[1], 0.0, 0.5 * i[1] - 0.5 * i[0]])
 }
 
 /// True for an empty form.

@@ -32,7 +32,12 @@ fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
     // (-inf + inf) / 2 would be a NaN centre, and [1, inf] an infinite one:
     // both used to turn into wrong finite bounds downstream (NaN dropped by min/max).
     if (!ra_finite(i.x) || !ra_finite(i.y)) { return ra_whole(); }
-    return vec3<f32>(0.5 * (i.x + i.y), 0.0, 0.5 * (i.y - i.x));
+    // i.x + i.y overflows when both ends are beyond f32::MAX / 2; halving
+    // first does not help (lavapipe refactors 0.5 x + 0.5 y into 0.5 (x + y)),
+    // but the difference of two ends of one sign cannot overflow.
+    let d = 0.5 * (i.y - i.x);
+    let c = select(0.5 * (i.x + i.y), i.x + d, i.x > 0.0 || i.y < 0.0);
+    return vec3<f32>(c, 0.0, d);
 }
 // Of two valid enclosures, keep the affine one (its e1 term carries the
 // correlation that later cancellations need) unless the interval is less

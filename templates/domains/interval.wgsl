@@ -96,13 +96,24 @@ fn ia_exp(a: vec2<f32>) -> vec2<f32> {
     let r = ia_pad_exp(exp(a), a, 0.0);
     return vec2<f32>(max(r.x, 0.0), r.y);
 }
-fn ia_sinh(a: vec2<f32>) -> vec2<f32> { return ia_pad_exp(sinh(a), a, 2.5e-7); }
+// sinh and cosh for |x| > 80 as 0.5 e^(x/2) e^(x/2): lavapipe's builtins
+// overflow to inf from |x| = 88.72 on, where exp(x) does, although the
+// results stay finite up to 89.41.
+fn iso_sinh(x: vec2<f32>) -> vec2<f32> {
+    let h = exp(0.5 * abs(x));
+    return select(sinh(x), sign(x) * (0.5 * h) * h, abs(x) > vec2<f32>(80.0));
+}
+fn iso_cosh(x: vec2<f32>) -> vec2<f32> {
+    let h = exp(0.5 * abs(x));
+    return select(cosh(x), (0.5 * h) * h, abs(x) > vec2<f32>(80.0));
+}
+fn ia_sinh(a: vec2<f32>) -> vec2<f32> { return ia_pad_exp(iso_sinh(a), a, 2.5e-7); }
 fn ia_tanh(a: vec2<f32>) -> vec2<f32> { return clamp(ia_pad(tanh(a), 2.5e-7, 2e-6), vec2<f32>(-1.0), vec2<f32>(1.0)); }
 fn ia_atan(a: vec2<f32>) -> vec2<f32> {
     return clamp(ia_pad(atan(a), 6.5e-6, 0.0), vec2<f32>(-IA_HALF_PI), vec2<f32>(IA_HALF_PI));
 }
 fn ia_cosh(a: vec2<f32>) -> vec2<f32> {
-    let c = cosh(a);
+    let c = iso_cosh(a);
     var r = vec2<f32>(min(c.x, c.y), max(c.x, c.y));
     var m = vec2<f32>(max(abs(a.x), abs(a.y)));
     if (ia_straddles(a)) { r.x = 1.0; }

@@ -5,13 +5,15 @@
 //! (`isotrace::reference`) and `tests/conformance_device.rs` against the
 //! generated WGSL on the device; both include it with `#[path]`.
 //!
-//! The property checked: for every box, every *finite* value of the strict
-//! f64 scalar function ([`reference::eval_scalar`]) at a sample point of the
-//! box (corners, random interior points, known extrema) lies within the
-//! enclosure computed for the box, up to [`margin`]. An empty enclosure is
-//! accepted only when no sample has a finite value (and no sample is
-//! certainly inside every function's domain). NaN ends of an enclosure mean
-//! "unbounded on that side".
+//! The property checked: for every box (or ray segment), every *finite*
+//! value of the strict f64 scalar function ([`reference::eval_scalar`]) at a
+//! sample point of it (corners, random interior points, known extrema) lies
+//! within the enclosure computed for it, up to [`margin`]. An empty
+//! enclosure is accepted only when the scalar function is undefined (NaN) at
+//! every sample, not counting samples whose definedness rounding could
+//! decide (a sqrt / log / pow argument within its error bound of the domain's
+//! edge, a division by an exact 0, an overflow). NaN ends of an enclosure
+//! mean "unbounded on that side".
 #![allow(dead_code)]
 
 #[path = "formulas.rs"]
@@ -97,6 +99,8 @@ pub enum Kind {
     TanPole,
     /// Near or across an extremum kπ/2 of sin / cos.
     TrigExtremum,
+    /// |values| 8 .. 120: where exp, sinh, cosh and powers approach the f32 limit.
+    Large,
     /// |values| up to 1e30.
     Huge,
     /// One or both ends infinite.
@@ -106,9 +110,9 @@ pub enum Kind {
 }
 
 /// Every kind.
-pub const KINDS: [Kind; 10] = [
+pub const KINDS: [Kind; 11] = [
     Kind::Wide, Kind::Tiny, Kind::Straddle, Kind::TouchZero, Kind::Point,
-    Kind::TanPole, Kind::TrigExtremum, Kind::Huge, Kind::Infinite, Kind::Positive,
+    Kind::TanPole, Kind::TrigExtremum, Kind::Large, Kind::Huge, Kind::Infinite, Kind::Positive,
 ];
 
 /// An interesting centre: a moderate value, an integer, a multiple of π/2.
@@ -160,6 +164,11 @@ pub fn interval(rng: &mut Rng, kind: Kind) -> [f32; 2] {
             let a = if rng.chance(0.3) { 0.0 } else { rng.log_range(1e-7, 1.0) };
             let b = if rng.chance(0.3) { 0.0 } else { rng.log_range(1e-7, 1.0) };
             if rng.chance(0.5) { (m - a, m + b) } else { (m + a.min(b), m + a.max(b)) }
+        }
+        Kind::Large => {
+            let c = rng.sign() * rng.log_range(8.0, 120.0);
+            let h = rng.log_range(1e-6, 2.0);
+            (c - h * rng.unit(), c + h * rng.unit())
         }
         Kind::Huge => {
             let c = rng.sign() * rng.log_range(1e3, 1e30);
@@ -238,6 +247,10 @@ pub trait Backend: Sync {
     /// Enclosures `[lo, hi]` of `ir` in `domain` over every box (one
     /// dispatch on the device). Empty: lo > hi.
     fn eval(&self, ir: &Ir, domain: Domain, boxes: &[Box8], params: &[f32]) -> Vec<[f64; 2]>;
+    /// Enclosures over ray segments lifted as the render kernel lifts them
+    /// (IA: the segment's bounding box; RAA: x, y, z affine in the one
+    /// symbol e1), with t = [`SEG_TIME`].
+    fn eval_segments(&self, ir: &Ir, domain: Domain, segs: &[Seg], params: &[f32]) -> Vec<[f64; 2]>;
 }
 
 /// The CPU reference: `reference::eval_interval` / `eval_affine` on the
@@ -268,6 +281,134 @@ impl Backend for Cpu {
                 }
             })
             .collect()
+    }
+    fn eval_segments(&self, ir: &Ir, domain: Domain, segs: &[Seg], params: &[f32]) -> Vec<[f64; 2]> {
+        let params: Vec<f64> = params.iter().map(|&p| f64::from(p)).collect();
+        let t = f64::from(SEG_TIME);
+        segs.iter()
+            .map(|s| {
+                let s = s.map(f64::from);
+                let (sc, sr) = (0.5 * (s[6] + s[7]), 0.5 * (s[7] - s[6]));
+                match domain {
+                    Domain::Interval => {
+                        let b = segment_box(&s);
+                        reference::eval_interval(ir, [[b[0], b[1]], [b[2], b[3]], [b[4], b[5]], [t, t]], &params)
+                    }
+                    Domain::Affine => {
+                        let f = |i: usize| [s[i] + s[3 + i] * sc, s[3 + i] * sr, 0.0];
+                        reference::affine_range(reference::eval_affine(ir, [f(0), f(1), f(2), [t, 0.0, 0.0]], &params))
+                    }
+                    Domain::Scalar => unreachable!("not an inclusion algebra"),
+                }
+            })
+            .collect()
+    }
+}
+
+// ------------------------------------------------------------ segments ----
+
+/// A ray segment o + d·[s0, s1]: `[ox, oy, oz, dx, dy, dz, s0, s1]`.
+pub type Seg = [f32; 8];
+
+/// The time at which segments are evaluated.
+pub const SEG_TIME: f32 = 0.7;
+
+/// Bounding box of a segment (x0 x1 y0 y1 z0 z1).
+fn segment_box(s: &[f64; 8]) -> [f64; 6] {
+    let mut b = [0.0; 6];
+    for i in 0..3 {
+        let (a, c) = (s[i] + s[3 + i] * s[6], s[i] + s[3 + i] * s[7]);
+        b[2 * i] = a.min(c);
+        b[2 * i + 1] = a.max(c);
+    }
+    b
+}
+
+/// `n` segments: origins at moderate or (a fifth) large coordinates,
+/// random directions, lengths from 1e-4 to 4.
+pub fn random_segments(rng: &mut Rng, n: usize) -> Vec<Seg> {
+    (0..n)
+        .map(|_| {
+            let big = rng.chance(0.2);
+            let mut s = [0.0f32; 8];
+            for i in 0..3 {
+                s[i] = if big { (rng.sign() * rng.log_range(10.0, 1e5)) as f32 } else { rng.range(-4.0, 4.0) as f32 };
+                s[3 + i] = rng.range(-1.0, 1.0) as f32;
+            }
+            let s0 = if rng.chance(0.5) { 0.0 } else { rng.range(-2.0, 2.0) };
+            s[6] = s0 as f32;
+            s[7] = (s0 + rng.log_range(1e-4, 4.0)) as f32;
+            s
+        })
+        .collect()
+}
+
+/// Sample points of a segment: its ends, random points, and the points where
+/// a coordinate crosses one of its special values (0, ±1, kπ/2, integers).
+fn segment_points(rng: &mut Rng, s: &Seg) -> Vec<[f64; 4]> {
+    let s = s.map(f64::from);
+    let at = |u: f64| [s[0] + s[3] * u, s[1] + s[4] * u, s[2] + s[5] * u, f64::from(SEG_TIME)];
+    let mut ts = vec![s[6], s[7]];
+    for _ in 0..8 {
+        ts.push(rng.range(s[6], s[7]));
+    }
+    let b = segment_box(&s);
+    for i in 0..3 {
+        if s[3 + i] != 0.0 {
+            for v in specials(b[2 * i], b[2 * i + 1]) {
+                ts.push(((v - s[i]) / s[3 + i]).clamp(s[6], s[7]));
+            }
+        }
+    }
+    ts.into_iter().map(at).collect()
+}
+
+// ------------------------------------------------------------ checking ----
+
+/// What the enclosures of one check are computed over.
+#[derive(Clone, Copy)]
+pub enum Regions<'a> {
+    /// Boxes, each side an interval.
+    Boxes(&'a [Box8]),
+    /// Ray segments.
+    Segments(&'a [Seg]),
+}
+
+impl Regions<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Regions::Boxes(b) => b.len(),
+            Regions::Segments(s) => s.len(),
+        }
+    }
+    fn eval(&self, backend: &dyn Backend, case: &Case, d: Domain) -> Vec<[f64; 2]> {
+        match self {
+            Regions::Boxes(b) => backend.eval(&case.ir, d, b, &case.params),
+            Regions::Segments(s) => backend.eval_segments(&case.ir, d, s, &case.params),
+        }
+    }
+    /// Sample points, a box around the region and the magnitudes the inputs
+    /// are computed from (for the node scales).
+    fn points(&self, i: usize, rng: &mut Rng, ir: &Ir) -> (Vec<[f64; 4]>, Box8, [f64; 4]) {
+        match self {
+            Regions::Boxes(b) => (sample_points(rng, ir, &b[i]), b[i], [0.0; 4]),
+            Regions::Segments(s) => {
+                let f = s[i].map(f64::from);
+                let b = segment_box(&f).map(|v| v as f32);
+                let reach = f[6].abs().max(f[7].abs());
+                let mag = [f[0].abs() + f[3].abs() * reach, f[1].abs() + f[4].abs() * reach, f[2].abs() + f[5].abs() * reach, 0.0];
+                (segment_points(rng, &s[i]), [b[0], b[1], b[2], b[3], b[4], b[5], SEG_TIME, SEG_TIME], mag)
+            }
+        }
+    }
+    fn describe(&self, i: usize) -> String {
+        match self {
+            Regions::Boxes(b) => format!("box {}", show_box(&b[i])),
+            Regions::Segments(s) => {
+                let s = s[i];
+                format!("segment ({:e}, {:e}, {:e}) + ({:e}, {:e}, {:e})·[{:e}, {:e}] at t = {SEG_TIME}", s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7])
+            }
+        }
     }
 }
 
@@ -315,55 +456,77 @@ pub struct Stats {
     pub empty: usize,
 }
 
+impl Stats {
+    fn add(&mut self, s: Stats) {
+        self.boxes += s.boxes;
+        self.samples += s.samples;
+        self.empty += s.empty;
+    }
+}
+
 /// Evaluates `case` on `boxes` in both algebras (one call each) and checks
 /// every box against its samples. Returns the failure messages (at most a
 /// few per algebra) and counters.
 pub fn check(backend: &dyn Backend, case: &Case, boxes: &[Box8], seed: u64) -> (Vec<String>, Stats) {
+    check_regions(backend, case, Regions::Boxes(boxes), seed)
+}
+
+/// [`check`] over boxes or ray segments.
+pub fn check_regions(backend: &dyn Backend, case: &Case, regions: Regions, seed: u64) -> (Vec<String>, Stats) {
     let prec = backend.precision();
-    let results: Vec<Vec<[f64; 2]>> = ALGEBRAS.iter().map(|&d| backend.eval(&case.ir, d, boxes, &case.params)).collect();
+    let results: Vec<Vec<[f64; 2]>> = ALGEBRAS.iter().map(|&d| regions.eval(backend, case, d)).collect();
     let params: Vec<f64> = case.params.iter().map(|&p| f64::from(p)).collect();
     let mut rng = Rng::new(seed);
     let mut fails = Vec::new();
     let mut counts = [0usize; 2];
-    let mut stats = Stats { boxes: boxes.len(), ..Stats::default() };
-    for (bi, b) in boxes.iter().enumerate() {
-        let scale = node_scales(&case.ir, b, &params);
-        let samples: Vec<Sample> = sample_points(&mut rng, &case.ir, b).into_iter().map(|p| sample(&case.ir, p, &params, &scale, prec)).collect();
+    let mut stats = Stats { boxes: regions.len(), ..Stats::default() };
+    for bi in 0..regions.len() {
+        let (points, b, inputs) = regions.points(bi, &mut rng, &case.ir);
+        let scale = node_scales(&case.ir, &b, &params, inputs);
+        let segments = matches!(regions, Regions::Segments(_));
+        let exact: Vec<Sample> = if segments { vec![] } else { points.iter().map(|&p| sample(&case.ir, p, &params, &scale, prec, false)).collect() };
+        let lifted: Vec<Sample> = points.iter().map(|&p| sample(&case.ir, p, &params, &scale, prec, true)).collect();
         for (k, &domain) in ALGEBRAS.iter().enumerate() {
             let [lo, hi] = results[k][bi];
-            let (lo, hi) = (if lo.is_nan() { f64::NEG_INFINITY } else { lo }, if hi.is_nan() { f64::INFINITY } else { hi });
-            // An end that overflowed to the far infinity ([inf, inf]) stands
-            // for "beyond the largest finite number": without outward
-            // rounding that is all f32 can say about 1e46.
-            let (lo, hi) = if lo <= hi { (lo.min(prec.max()), hi.max(-prec.max())) } else { (lo, hi) };
-            let problem = if lo > hi {
-                stats.empty += 1;
-                samples.iter().find(|s| s.v.is_finite() && !s.marginal).map(|s| {
-                    format!("empty enclosure [{lo:e}, {hi:e}], but f({:?}) = {:e} is defined", s.p, s.v)
-                })
-            } else {
-                samples.iter().filter(|s| s.v.is_finite()).find_map(|s| {
-                    stats.samples += 1;
-                    let m = margin(s, lo, hi, prec);
-                    (s.v < lo - m || s.v > hi + m).then(|| {
-                        format!("f({:?}) = {:e} escapes the enclosure [{lo:e}, {hi:e}] (margin {m:.3e}, error bound {:.3e})", s.p, s.v, s.err)
-                    })
-                })
-            };
-            if let Some(p) = problem {
+            let samples = if domain == Domain::Interval && !segments { &exact } else { &lifted };
+            if let Some(p) = judge(samples, lo, hi, prec, &mut stats) {
                 counts[k] += 1;
                 if counts[k] <= 4 {
-                    fails.push(format!("[{}] {} `{}` {:?}, box {}: {p}", backend.name(), case.name, case.source, domain, show_box(b)));
+                    fails.push(format!("[{}] {} `{}` {:?}, {}: {p}", backend.name(), case.name, case.source, domain, regions.describe(bi)));
                 }
             }
         }
     }
     for (k, &c) in counts.iter().enumerate() {
         if c > 4 {
-            fails.push(format!("[{}] {} {:?}: {} more failing boxes", backend.name(), case.name, ALGEBRAS[k], c - 4));
+            fails.push(format!("[{}] {} {:?}: {} more failing regions", backend.name(), case.name, ALGEBRAS[k], c - 4));
         }
     }
     (fails, stats)
+}
+
+/// Compares one enclosure with the samples of its region; the problem, if any.
+fn judge(samples: &[Sample], lo: f64, hi: f64, prec: Precision, stats: &mut Stats) -> Option<String> {
+    let (lo, hi) = (if lo.is_nan() { f64::NEG_INFINITY } else { lo }, if hi.is_nan() { f64::INFINITY } else { hi });
+    // An end that overflowed to the far infinity ([inf, inf]) stands for
+    // "beyond the largest finite number": without outward rounding that is
+    // all f32 can say about 1e46.
+    let (lo, hi) = if lo <= hi { (lo.min(prec.max()), hi.max(-prec.max())) } else { (lo, hi) };
+    if lo > hi {
+        stats.empty += 1;
+        // Only trustworthy samples witness that f is defined: not at the edge
+        // of a domain, not past an overflow or a division by an exact 0.
+        return samples.iter().find(|s| s.v.is_finite() && !s.marginal && s.err.is_finite()).map(|s| {
+            format!("empty enclosure [{lo:e}, {hi:e}], but f({:?}) = {:e} is defined", s.p, s.v)
+        });
+    }
+    samples.iter().filter(|s| s.v.is_finite()).find_map(|s| {
+        stats.samples += 1;
+        let m = margin(s, lo, hi, prec);
+        (s.v < lo - m || s.v > hi + m).then(|| {
+            format!("f({:?}) = {:e} escapes the enclosure [{lo:e}, {hi:e}] (margin {m:.3e}, error bound {:.3e})", s.p, s.v, s.err)
+        })
+    })
 }
 
 /// Runs `check` over many cases and panics with every failure.
@@ -374,14 +537,31 @@ pub fn check_all(backend: &dyn Backend, cases: &[Case], boxes_for: &mut dyn FnMu
     for (i, case) in cases.iter().enumerate() {
         let boxes = boxes_for(case, &mut rng);
         let (f, s) = check(backend, case, &boxes, seed.wrapping_add(i as u64 * 7919));
-        total.boxes += s.boxes;
-        total.samples += s.samples;
-        total.empty += s.empty;
+        total.add(s);
         all.extend(f);
     }
+    report(backend, cases.len(), "boxes", total, all);
+}
+
+/// Runs `check_regions` on `n` random ray segments per case and panics with
+/// every failure.
+pub fn check_all_segments(backend: &dyn Backend, cases: &[Case], n: usize, seed: u64) {
+    let mut rng = Rng::new(seed);
+    let mut all = Vec::new();
+    let mut total = Stats::default();
+    for (i, case) in cases.iter().enumerate() {
+        let segs = random_segments(&mut rng, n);
+        let (f, s) = check_regions(backend, case, Regions::Segments(&segs), seed.wrapping_add(i as u64 * 7919));
+        total.add(s);
+        all.extend(f);
+    }
+    report(backend, cases.len(), "ray segments", total, all);
+}
+
+fn report(backend: &dyn Backend, cases: usize, what: &str, total: Stats, all: Vec<String>) {
     eprintln!(
-        "[{}] {} formulas, {} boxes x 2 algebras, {} samples compared, {} empty results",
-        backend.name(), cases.len(), total.boxes, total.samples, total.empty
+        "[{}] {} formulas, {} {what} x 2 algebras, {} samples compared, {} empty results",
+        backend.name(), cases, total.boxes, total.samples, total.empty
     );
     if !all.is_empty() {
         let mut msg = format!("{} conformance failures:\n", all.len());
@@ -435,6 +615,9 @@ mod self_tests {
         fn precision(&self) -> Precision {
             Precision::F32
         }
+        fn eval_segments(&self, ir: &Ir, d: Domain, segs: &[Seg], params: &[f32]) -> Vec<[f64; 2]> {
+            Cpu.eval_segments(ir, d, segs, params)
+        }
         fn eval(&self, ir: &Ir, d: Domain, boxes: &[Box8], params: &[f32]) -> Vec<[f64; 2]> {
             Cpu.eval(ir, d, boxes, params)
                 .into_iter()
@@ -463,11 +646,11 @@ mod self_tests {
     fn margin_follows_cancellation() {
         let c = Case::new("c", "x^2 - y^2");
         let b = [1000.0, 1000.0, 1000.0, 1000.0, 0.0, 0.0, 0.0, 0.0];
-        let s = sample(&c.ir, [1000.0, 1000.0, 0.0, 0.0], &[], &node_scales(&c.ir, &b, &[]), Precision::F32);
+        let s = sample(&c.ir, [1000.0, 1000.0, 0.0, 0.0], &[], &node_scales(&c.ir, &b, &[], [0.0; 4]), Precision::F32, false);
         assert_eq!(s.v, 0.0);
         assert!(s.err > 0.05 && s.err < 1.0, "{}", s.err);
         let b = [1.0, 1.0, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0];
-        let s = sample(&c.ir, [1.0, 0.5, 0.0, 0.0], &[], &node_scales(&c.ir, &b, &[]), Precision::F64);
+        let s = sample(&c.ir, [1.0, 0.5, 0.0, 0.0], &[], &node_scales(&c.ir, &b, &[], [0.0; 4]), Precision::F64, false);
         assert!(s.err < 1e-14);
     }
 

@@ -137,7 +137,9 @@ fn deviation(op: &Op, args: &[f64], errs: &[f64], val: f64) -> (f64, bool) {
 /// these, not to the node's value at one sample: an enclosure end of
 /// `sinh` over [-4, 0.002] converted to an RAA form and back loses
 /// u·sinh(4), however small sinh(0.002) is.
-pub fn node_scales(ir: &Ir, b: &Box8, params: &[f64]) -> Vec<f64> {
+/// `inputs` are extra magnitudes of x, y, z, t: a ray segment's coordinates
+/// are computed from |o| + |d·s|, however small they are on the segment.
+pub fn node_scales(ir: &Ir, b: &Box8, params: &[f64], inputs: [f64; 4]) -> Vec<f64> {
     let mut iv = vec![[0.0; 2]; ir.nodes.len()];
     let mut af = vec![[0.0; 3]; ir.nodes.len()];
     let mut scale = vec![0.0; ir.nodes.len()];
@@ -161,7 +163,8 @@ pub fn node_scales(ir: &Ir, b: &Box8, params: &[f64]) -> Vec<f64> {
             }
         };
         let r = reference::affine_range(a);
-        scale[id as usize] = [i[0], i[1], r[0], r[1]].iter().filter(|e| e.is_finite()).fold(0.0f64, |m, e| m.max(e.abs()));
+        let extra = if let Op::Var(v) = op { inputs[var_index(v)] } else { 0.0 };
+        scale[id as usize] = [i[0], i[1], r[0], r[1]].iter().filter(|e| e.is_finite()).fold(extra, |m, e| m.max(e.abs()));
         iv[id as usize] = i;
         af[id as usize] = a;
     }
@@ -170,7 +173,9 @@ pub fn node_scales(ir: &Ir, b: &Box8, params: &[f64]) -> Vec<f64> {
 
 /// Evaluates the scalar function at `p` and bounds the error the backend's
 /// arithmetic can make there (see [`margin`]); `scale` from [`node_scales`].
-pub fn sample(ir: &Ir, p: [f64; 4], params: &[f64], scale: &[f64], prec: Precision) -> Sample {
+/// `lifted`: the inputs x, y, z, t are rounded on the way in (RAA's centre ±
+/// radius of a box side; o + d·s of a ray segment), not exact box ends.
+pub fn sample(ir: &Ir, p: [f64; 4], params: &[f64], scale: &[f64], prec: Precision, lifted: bool) -> Sample {
     let (u, tiny, max) = (prec.unit(), prec.tiny(), prec.max());
     let mut val = vec![f64::NAN; ir.nodes.len()];
     let mut err = vec![0.0; ir.nodes.len()];
@@ -182,8 +187,9 @@ pub fn sample(ir: &Ir, p: [f64; 4], params: &[f64], scale: &[f64], prec: Precisi
         let errs: Vec<f64> = o.iter().map(|&i| err[i as usize]).collect();
         let (v, mut e) = match op {
             Op::Const(c) => (c, u * c.abs()),
-            // RAA lifts a box side to centre ± radius: two roundings.
-            Op::Var(x) => (p[var_index(x)], 2.0 * u * scale[id as usize]),
+            // RAA lifts a box side to centre ± radius, a segment computes
+            // o + d·s: two roundings. IA takes box ends as they are.
+            Op::Var(x) => (p[var_index(x)], if lifted { 2.0 * u * scale[id as usize] } else { 0.0 }),
             Op::Param(i) => (params[i as usize], 0.0),
             _ => {
                 let v = scalar_op(&op, &args);
@@ -222,6 +228,9 @@ pub fn sample(ir: &Ir, p: [f64; 4], params: &[f64], scale: &[f64], prec: Precisi
 ///   the sample, because the device computes enclosure ends, and RAA's
 ///   centre ± radius conversions lose u·|end| however small the sample's
 ///   value is;
+/// * the inputs are exact for IA on a box; RAA's centre ± radius of a box
+///   side and a ray segment's o + d·s round twice relative to the
+///   coordinates' magnitude;
 /// * plus the smallest normal f32 (lavapipe flushes subnormals to 0);
 /// * arguments' errors propagate through the operation's variation over the
 ///   arguments' error box, so cancellation, poles and the jumps of floor /
@@ -242,7 +251,7 @@ pub fn margin(s: &Sample, lo: f64, hi: f64, prec: Precision) -> f64 {
 
 /// Special values of one coordinate inside [lo, hi]: 0, ±1, multiples of
 /// π/2 (extrema of sin/cos, poles of tan), a few integers (jumps of floor).
-fn specials(lo: f64, hi: f64) -> Vec<f64> {
+pub(super) fn specials(lo: f64, hi: f64) -> Vec<f64> {
     let mut s: Vec<f64> = [0.0, 1.0, -1.0].into_iter().filter(|v| (lo..=hi).contains(v)).collect();
     // Enumerate multiples of `step` in [lo, hi] when there are only a few
     // (and they are still distinct numbers).
