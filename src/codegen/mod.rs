@@ -165,6 +165,13 @@ pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op) ->
         Op::Mul(a, b) => format!("{p}_mul({}, {})", v(a), v(b)),
         Op::Div(a, b) => format!("{p}_div({}, {})", v(a), v(b)),
         Op::PowI(a, 2) => format!("{p}_sqr({})", v(a)),
+        // sema writes even powers as powers of the square; an even n > 2
+        // reaching here is still handled exactly: (a^2)^(n/2) of a
+        // non-negative base.
+        Op::PowI(a, n) if n % 2 == 0 => {
+            let _ = writeln!(out, "    let w{id}_q = {p}_sqr({});", v(a));
+            if n == 4 { format!("{p}_sqr(w{id}_q)") } else { emit_odd_power(out, p, &format!("w{id}"), &format!("w{id}_q"), n / 2) }
+        }
         Op::PowI(a, n) => emit_odd_power(out, p, &format!("w{id}"), &v(a), n),
         Op::Call1(f, a) => format!("{p}_{}({})", f.name(), v(a)),
         Op::Call2(f, a, b) => format!("{p}_{}({}, {})", f.name(), v(a), v(b)),
