@@ -20,6 +20,7 @@ pub mod catalog;
 pub mod codegen;
 pub mod diag;
 pub mod gpu;
+pub mod inline;
 pub mod ir;
 pub mod output;
 pub mod reference;

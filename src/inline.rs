@@ -1,0 +1,158 @@
+//! `--inline FILE.wgsl`: user WGSL spliced into the generated shaders
+//! (Knoll et al. §4.1, §4.6).
+//!
+//! The file may define
+//! - functions callable from the formula: a function `foo` of n arguments
+//!   is written three times, `s_foo` (f32), `ia_foo` (vec2<f32> intervals)
+//!   and `ra_foo` (vec3<f32> affine forms), like the built-in op libraries;
+//! - hooks that replace parts of the traversal:
+//!   `fn hook_reject(r: vec2<f32>) -> bool` (true: the cell with enclosure r
+//!   may hold the surface; replaces the zero test),
+//!   `fn hook_hit(p: vec3<f32>) -> bool` (false: drop this hit and go on),
+//!   `fn hook_shade(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32>`
+//!   (the final colour of a hit).
+//!
+//! The text is validated by naga as part of every shader it goes into; an
+//! error inside it is reported against the user's file.
+
+use crate::diag::{Diagnostic, Span};
+
+/// A parsed inline file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InlineWgsl {
+    /// The file as named on the command line.
+    pub path: String,
+    /// Its text.
+    pub text: String,
+    /// User functions: name and number of arguments.
+    pub functions: Vec<(String, usize)>,
+    /// `hook_reject` is defined.
+    pub reject: bool,
+    /// `hook_hit` is defined.
+    pub hit: bool,
+    /// `hook_shade` is defined.
+    pub shade: bool,
+}
+
+/// A `fn` found in the text: name, number of parameters, span of the name.
+struct FnDecl {
+    name: String,
+    arity: usize,
+    span: Span,
+}
+
+/// Finds `fn name(params)` declarations (a light scan, not a parser: naga
+/// parses the file for real once it is spliced).
+fn declarations(text: &str) -> Vec<FnDecl> {
+    let b = text.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    let mut in_comment = false;
+    while i + 3 < b.len() {
+        if !in_comment && b[i] == b'/' && b[i + 1] == b'/' {
+            while i < b.len() && b[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        if b[i] == b'/' && b[i + 1] == b'*' {
+            in_comment = true;
+        }
+        if in_comment && b[i] == b'*' && b[i + 1] == b'/' {
+            in_comment = false;
+        }
+        let boundary = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
+        if !in_comment && boundary && text[i..].starts_with("fn") && b.get(i + 2).is_some_and(|c| c.is_ascii_whitespace()) {
+            let mut j = i + 2;
+            while j < b.len() && b[j].is_ascii_whitespace() {
+                j += 1;
+            }
+            let start = j;
+            while j < b.len() && (b[j].is_ascii_alphanumeric() || b[j] == b'_') {
+                j += 1;
+            }
+            let name = text[start..j].to_string();
+            while j < b.len() && b[j].is_ascii_whitespace() {
+                j += 1;
+            }
+            if j < b.len() && b[j] == b'(' && !name.is_empty() {
+                let (mut depth, mut angle, mut commas, mut any) = (0i32, 0i32, 0usize, false);
+                let mut k = j;
+                while k < b.len() {
+                    match b[k] {
+                        b'(' => depth += 1,
+                        b')' => {
+                            depth -= 1;
+                            if depth == 0 {
+                                break;
+                            }
+                        }
+                        b'<' => angle += 1,
+                        b'>' => angle -= 1,
+                        b',' if depth == 1 && angle == 0 => commas += 1,
+                        c if !c.is_ascii_whitespace() && depth >= 1 => any = true,
+                        _ => {}
+                    }
+                    k += 1;
+                }
+                // A trailing comma does not add a parameter.
+                let inner = text[j + 1..k.min(text.len())].trim_end();
+                let arity = if !any { 0 } else if inner.ends_with(',') { commas } else { commas + 1 };
+                out.push(FnDecl { name, arity, span: Span::new(start, j) });
+            }
+            i = j;
+            continue;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// Reads the declarations of an inline file and checks that every user
+/// function exists in all three domains with one arity.
+pub fn parse_inline(path: &str, text: &str) -> Result<InlineWgsl, Diagnostic> {
+    let decls = declarations(text);
+    let mut functions: Vec<(String, usize)> = Vec::new();
+    for d in &decls {
+        let Some(base) = d.name.strip_prefix("s_").or(d.name.strip_prefix("ia_")).or(d.name.strip_prefix("ra_")) else { continue };
+        if functions.iter().any(|(n, _)| n == base) {
+            continue;
+        }
+        for prefix in ["s_", "ia_", "ra_"] {
+            let want = format!("{prefix}{base}");
+            match decls.iter().find(|e| e.name == want) {
+                None => {
+                    return Err(Diagnostic::error(
+                        format!("inline function '{base}' has no {prefix} version"),
+                        d.span,
+                        "declared here",
+                    )
+                    .with_note(format!("a function callable from the formula needs s_{base} (f32), ia_{base} (vec2<f32>) and ra_{base} (vec3<f32>) with the same arguments")));
+                }
+                Some(e) if e.arity != d.arity => {
+                    return Err(Diagnostic::error(
+                        format!("'{want}' takes {} arguments but '{}' takes {}", e.arity, d.name, d.arity),
+                        e.span,
+                        "different number of arguments",
+                    )
+                    .with_label(d.span, "compared with this"));
+                }
+                Some(_) => {}
+            }
+        }
+        if d.arity == 0 || d.arity > 4 {
+            return Err(Diagnostic::error(format!("inline function '{base}' takes {} arguments; 1 to 4 are supported", d.arity), d.span, "here"));
+        }
+        functions.push((base.to_string(), d.arity));
+    }
+    let has = |n: &str| decls.iter().any(|d| d.name == n);
+    Ok(InlineWgsl { path: path.to_string(), text: text.to_string(), functions, reject: has("hook_reject"), hit: has("hook_hit"), shade: has("hook_shade") })
+}
+
+/// The user's arity for function `name`, if the file defines it.
+impl InlineWgsl {
+    /// Arity of user function `name`.
+    pub fn arity(&self, name: &str) -> Option<usize> {
+        self.functions.iter().find(|(n, _)| n == name).map(|&(_, a)| a)
+    }
+}
