@@ -218,6 +218,14 @@ pub struct Stats {
     /// Sphere tracing: over-relaxed steps that failed the overlap test and
     /// fell back (summed over the pixels).
     pub sor_fallbacks: u64,
+    /// Sphere tracing: pixels whose primary ray saw f / L change faster
+    /// than the distance between two samples, i.e. evidence that the formula
+    /// is not an L-Lipschitz distance bound (surfaces may be missed).
+    pub lipschitz_violations: u64,
+    /// Sphere tracing: the largest |Δf| / |Δp| seen along any primary ray
+    /// (for f itself, before the division by L): a lower estimate of the
+    /// Lipschitz bound `--lipschitz` needs.
+    pub lipschitz_seen: f64,
 }
 
 /// A rendered image.

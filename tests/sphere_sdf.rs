@@ -166,9 +166,15 @@ fn every_kernel_validates_for_the_scenes() {
             validate(&codegen::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));
         }
         validate(&codegen::render_shader(&ir, Domain::Interval)).unwrap_or_else(|e| panic!("{name} bisect: {e}"));
-        let wgsl = isotrace::gpu::sphere::sphere_shader(&ir);
-        validate(&wgsl).unwrap_or_else(|e| panic!("{name} sphere: {e}"));
-        // The traversal only sees the scalar evaluator.
-        assert!(wgsl.contains("fn eval_s(") && !wgsl.contains("fn eval_ia(") && !wgsl.contains("fn eval_ra("));
+        for (shadows, glass) in [(false, false), (true, false), (false, true), (true, true)] {
+            let wgsl = isotrace::gpu::sphere::sphere_shader(&ir, isotrace::gpu::sphere::Features { shadows, glass });
+            validate(&wgsl).unwrap_or_else(|e| panic!("{name} sphere (shadows {shadows}, glass {glass}): {e}"));
+            // The traversal only sees the scalar evaluator; unused rays are not compiled.
+            assert!(wgsl.contains("fn eval_s(") && !wgsl.contains("fn eval_ia(") && !wgsl.contains("fn eval_ra("));
+            assert_eq!(wgsl.contains("fn glass("), glass);
+            assert_eq!(wgsl.matches("march(").count(), 2 + usize::from(shadows), "{name}: march definition and call sites");
+            assert_eq!(wgsl.matches("trace(").count(), 2 + usize::from(glass), "{name}: trace definition and call sites");
+            assert!(!wgsl.lines().any(|l| l.trim().starts_with("//!")), "{name}: a section marker is left");
+        }
     }
 }

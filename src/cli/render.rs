@@ -400,7 +400,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     }
     let gpu = open_gpu()?;
     let renderer = match sphere {
-        Some(o) => AnyRenderer::Sphere(SphereRenderer::new(&gpu, &f.ir).map_err(super::render_error)?, o),
+        Some(o) => AnyRenderer::Sphere(SphereRenderer::new(&gpu, &f.ir, o.features()).map_err(super::render_error)?, o),
         None => AnyRenderer::Bisect(Renderer::new(&gpu, &f.ir, domain).map_err(super::render_error)?),
     };
     let n = outputs.len();
@@ -507,11 +507,23 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
              gpu {:.1} ms  wall {:.1} ms  dispatches {}\n\
              hits {} ({:.1} %)  unconverged {}\n\
              steps per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}); over-relaxation fallbacks {}\n\
+             largest rate of change of f seen along a ray: {:.3}\n\
              device {} ({})",
             frame.width, frame.height, o.lipschitz, s.eps, o.max_steps, o.omega, on(o.screen_space), on(o.dynamic_eps), o.fixpoint,
             st.gpu_ms, st.wall_ms, st.dispatches, st.hits, 100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved,
-            st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sor_fallbacks, gpu.info.name, gpu.info.backend
+            st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sor_fallbacks, st.lipschitz_seen,
+            gpu.info.name, gpu.info.backend
         );
+        if st.unresolved > 0 {
+            eprintln!("warning: {} pixels did not converge within --max-steps {} (shown at their best candidate; --debug-unresolved draws them magenta)", st.unresolved, o.max_steps);
+        }
+        if st.lipschitz_violations > 0 {
+            eprintln!(
+                "warning: on {} pixels f / {} changed faster than the distance along the ray (up to {:.3} per unit): the formula is not a distance bound \
+                 with this Lipschitz bound, and sphere tracing can miss surfaces; give --lipschitz {:.3} or more, or use --method bisect",
+                st.lipschitz_violations, o.lipschitz, st.lipschitz_seen, st.lipschitz_seen
+            );
+        }
     }
     if a.json {
         let v = serde_json::json!({
@@ -523,6 +535,7 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
             "pixels": st.pixels, "hits": st.hits, "unconverged": st.unresolved, "unresolved": st.unresolved,
             "steps_mean": st.evals_mean, "steps_p99": st.evals_p99, "steps_max": st.evals_max,
             "steps_hit_mean": st.evals_hit_mean, "steps_miss_mean": st.evals_miss_mean, "sor_fallbacks": st.sor_fallbacks,
+            "lipschitz_violations": st.lipschitz_violations, "lipschitz_seen": st.lipschitz_seen,
             "device": gpu.info,
         });
         let _ = writeln!(std::io::stdout().lock(), "{v}");

@@ -17,6 +17,10 @@
 //
 // The traversal only calls the scalar evaluator eval_s (spliced in below);
 // it never sees how the formula was written.
+//
+// Sections between `//!if:NAME`, `//!else` and `//!end` lines are kept or
+// dropped by src/gpu/sphere.rs: shadow and refraction rays are compiled in
+// only when asked for, because lavapipe pays for inlined code that never runs.
 
 struct Uniforms {
     eye: vec4<f32>,
@@ -55,8 +59,9 @@ struct Pixel {
     normal_xy: u32, // pack2x16snorm(n.x, n.y)
     normal_z: u32,  // pack2x16snorm(n.z, 0)
     depth: f32,     // distance from the eye along the unit ray; +inf on misses
-    steps: u32,     // field evaluations of every ray of the pixel (normals excluded)
+    steps: u32,     // marching steps of every ray of the pixel (fixed-point iterations and normals are not counted)
     info: u32,      // status | sor_fallbacks << 8
+    ratio: f32,     // largest |f(p_i+1) - f(p_i)| / |p_i+1 - p_i| seen on the primary ray (> 1: not a distance bound)
 }
 
 const STATUS_MISS: u32 = 0u;
@@ -91,7 +96,7 @@ fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, U.time) * U.inv_lip
 // distance; otherwise a fixed width. `best` returns the best candidate, not
 // the last point, when the budget runs out.
 struct Crit { e0: f32, e1: f32, best: bool }
-struct March { t: f32, status: u32, steps: u32, fallbacks: u32, f: f32 }
+struct March { t: f32, status: u32, steps: u32, fallbacks: u32, f: f32, ratio: f32 }
 
 fn threshold(c: Crit, t: f32) -> f32 { return max(c.e0 + c.e1 * t, 1e-30); }
 
@@ -111,7 +116,8 @@ fn bracket(o: vec3<f32>, d: vec3<f32>, a0: f32, b0: f32) -> f32 {
 // Listing 2) with the screen-space candidate, the fixed-point
 // post-process, a minimum step and a sign-change bracket.
 fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> March {
-    var m = March(t0, STATUS_MISS, 0u, 0u, 0.0);
+    var m = March(t0, STATUS_MISS, 0u, 0u, 0.0, 0.0);
+    var f_safe = 0.0;
     var omega = U.omega;
     var t = t0;
     var fsign = 1.0;
@@ -147,12 +153,16 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
                 m.status = STATUS_HIT;
                 break;
             }
+            // How fast f changed since the last accepted point: a distance
+            // bound changes no faster than the distance (ratio <= 1).
+            if (m.steps > 1u && t != t_safe) { m.ratio = max(m.ratio, abs(signed - f_safe) / abs(t - t_safe)); }
             // The spheres overlap, so [t_safe, t] holds no surface: beyond
             // t1 the ray has left the domain. (After a failed over-relaxed
             // step the fallback comes first, even beyond t1.)
             if (t > t1) { break; }
             stride = max(signed * omega, U.min_step);
             t_safe = t;
+            f_safe = signed;
             let err = radius / threshold(c, t);
             if (err < cand_err) {
                 cand_err = err;
@@ -172,7 +182,6 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
         // smoothly over the screen, instead of wherever the march stopped.
         for (var i = 0u; i < U.fixpoint; i = i + 1u) {
             m.t = clamp(m.t + (fsign * field(o + d * m.t) - threshold(c, m.t)), t0, max(t1, t0));
-            m.steps = m.steps + 1u;
         }
         m.f = fsign * field(o + d * m.t);
     }
@@ -224,17 +233,27 @@ fn clip_ray(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 // bound) instead of through the interior (technique 5). `c` is given for
 // the forward direction.
 fn trace(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, c: Crit) -> March {
-    if (U.bound_kind != 0u && t1 > t0 && field(o + d * t0) < 0.0) {
-        let back = march(o + d * t1, -d, 0.0, t1 - t0, U.max_steps, Crit(c.e0 + c.e1 * t1, -c.e1, c.best));
-        if (back.status != STATUS_MISS) {
-            var m = back;
-            m.steps = m.steps + 1u;
-            m.t = t1 - back.t;
-            return m;
-        }
-        // Only rounding can get here (the start point is inside): march forward.
+    // One call of march either way (lavapipe inlines every call site).
+    let back = U.bound_kind != 0u && t1 > t0 && field(o + d * t0) < 0.0;
+    var o2 = o;
+    var d2 = d;
+    var r = vec2<f32>(t0, t1);
+    var c2 = c;
+    if (back) {
+        o2 = o + d * t1;
+        d2 = -d;
+        r = vec2<f32>(0.0, t1 - t0);
+        c2 = Crit(c.e0 + c.e1 * t1, -c.e1, c.best);
     }
-    return march(o, d, t0, t1, U.max_steps, c);
+    var m = march(o2, d2, r.x, r.y, U.max_steps, c2);
+    if (back) {
+        m.steps = m.steps + 1u;
+        // A backward miss can only come from rounding (the start is inside):
+        // then the far bound itself is the answer.
+        m.t = select(t1 - m.t, t0, m.status == STATUS_MISS);
+        if (m.status == STATUS_MISS) { m.status = STATUS_HIT; }
+    }
+    return m;
 }
 
 fn gradient(p: vec3<f32>, h: f32) -> vec3<f32> {
@@ -249,16 +268,6 @@ fn background(dir: vec3<f32>) -> vec3<f32> {
     return mix(vec3<f32>(0.055, 0.06, 0.075), vec3<f32>(0.16, 0.18, 0.23), s);
 }
 
-// What refracted and reflected rays see: the background with a bright sky
-// and stripes around the up axis, so that refraction is visible.
-fn environment(dir: vec3<f32>) -> vec3<f32> {
-    let h = dot(dir, U.up.xyz);
-    let a = atan2(dot(dir, U.right.xyz), dot(dir, U.forward.xyz));
-    let stripes = 0.5 + 0.5 * sin(10.0 * a);
-    let sky = mix(vec3<f32>(0.25, 0.28, 0.35), vec3<f32>(0.85, 0.9, 1.0), smoothstep(-0.1, 0.6, h));
-    return background(dir) + sky * (0.35 + 0.65 * stripes) * smoothstep(-0.3, 0.1, h);
-}
-
 // Technique 3: a secondary ray starts 2 max(eps_min, |f(p)|) away from the
 // surface point p along n (a fixed eps_min when switched off).
 fn offset(p: vec3<f32>, n: vec3<f32>, fp: f32) -> vec3<f32> {
@@ -268,6 +277,20 @@ fn offset(p: vec3<f32>, n: vec3<f32>, fp: f32) -> vec3<f32> {
 }
 
 struct Shade { color: vec3<f32>, steps: u32 }
+struct Lit { lit: f32, steps: u32 }
+
+//!if:shadows
+// A shadow ray towards the key light from p offset along n (technique 3).
+fn shadow(p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, fp: f32) -> Lit {
+    if ((U.flags & FLAG_SHADOWS) == 0u || dot(n, l) <= 0.0) { return Lit(1.0, 0u); }
+    let q = offset(p, n, fp);
+    let r = clip_ray(q, l);
+    let s = march(q, l, 0.0, max(r.y, 0.0), U.max_steps, Crit(U.eps_min, 0.0, false));
+    return Lit(select(1.0, 0.0, s.status == STATUS_HIT), s.steps);
+}
+//!else
+fn shadow(p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, fp: f32) -> Lit { return Lit(1.0, 0u); }
+//!end
 
 // Two-sided Phong as in the bisect kernel (f > 0 side warm, the other cool),
 // with an optional shadow ray towards the key light.
@@ -280,20 +303,26 @@ fn shade(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, fp: f32) -> Shade {
         base = vec3<f32>(0.30, 0.52, 0.90);
     }
     let l = U.light.xyz;
-    var lit = 1.0;
-    if ((U.flags & FLAG_SHADOWS) != 0u && dot(n, l) > 0.0) {
-        let q = offset(p, n, fp);
-        let r = clip_ray(q, l);
-        let s = march(q, l, 0.0, max(r.y, 0.0), U.max_steps, Crit(U.eps_min, 0.0, false));
-        out.steps = s.steps;
-        if (s.status == STATUS_HIT) { lit = 0.0; }
-    }
+    let sh = shadow(p, n, l, fp);
+    out.steps = sh.steps;
+    let lit = sh.lit;
     let diff = max(dot(n, l), 0.0) * lit;
     let r = reflect(-l, n);
     let spec = pow(max(dot(r, -dir), 0.0), 40.0) * lit;
     let fill = 0.15 * max(dot(n, -dir), 0.0);
     out.color = base * (0.10 + 0.80 * diff + fill) + vec3<f32>(0.35 * spec);
     return out;
+}
+
+//!if:glass
+// What refracted and reflected rays see: the background with a bright sky
+// and stripes around the up axis, so that refraction is visible.
+fn environment(dir: vec3<f32>) -> vec3<f32> {
+    let h = dot(dir, U.up.xyz);
+    let a = atan2(dot(dir, U.right.xyz), dot(dir, U.forward.xyz));
+    let stripes = 0.5 + 0.5 * sin(10.0 * a);
+    let sky = mix(vec3<f32>(0.25, 0.28, 0.35), vec3<f32>(0.85, 0.9, 1.0), smoothstep(-0.1, 0.6, h));
+    return background(dir) + sky * (0.35 + 0.65 * stripes) * smoothstep(-0.3, 0.1, h);
 }
 
 // Absorbing glass: refract into the object (origin offset inwards by
@@ -323,6 +352,14 @@ fn glass(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, fp: f32) -> Shade {
     return out;
 }
 
+fn surface(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, fp: f32) -> Shade {
+    if ((U.flags & FLAG_GLASS) != 0u) { return glass(p, dir, g, fp); }
+    return shade(p, dir, g, fp);
+}
+//!else
+fn surface(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, fp: f32) -> Shade { return shade(p, dir, g, fp); }
+//!end
+
 fn heat(v: f32) -> vec3<f32> {
     let x = clamp(v, 0.0, 1.0);
     return clamp(vec3<f32>(1.5 * x, 1.5 * x - 0.5, 3.0 * x - 2.0) + vec3<f32>(0.0, 0.0, 0.4 * (1.0 - x)), vec3<f32>(0.0), vec3<f32>(1.0));
@@ -350,6 +387,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var steps = 0u;
     var status = STATUS_MISS;
     var fallbacks = 0u;
+    var ratio = 0.0;
     let seg = clip_ray(o, d);
     if (seg.x < seg.y) {
         let screen = (U.flags & FLAG_SCREEN) != 0u;
@@ -358,12 +396,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let h = trace(o, d, seg.x, seg.y, c);
         steps = h.steps;
         fallbacks = h.fallbacks;
+        ratio = h.ratio;
         status = h.status;
         if (status != STATUS_MISS) {
             let p = o + d * h.t;
             let g = gradient(p, 0.5 * U.eps);
-            var s = Shade(vec3<f32>(0.0), 0u);
-            if ((U.flags & FLAG_GLASS) != 0u) { s = glass(p, d, g, h.f); } else { s = shade(p, d, g, h.f); }
+            let s = surface(p, d, g, h.f);
             steps = steps + s.steps;
             var col = s.color;
             if (U.color_mode == 1u) { col = heat(h.f / threshold(c, h.t)); }
@@ -376,5 +414,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let cl = clamp(color, vec4<f32>(0.0), vec4<f32>(1.0));
     pixels[idx] = Pixel(pack2x16unorm(cl.xy), pack2x16unorm(cl.zw), pack2x16snorm(normal.xy),
-                        pack2x16snorm(vec2<f32>(normal.z, 0.0)), depth, steps, status | (min(fallbacks, 0xffffffu) << 8u));
+                        pack2x16snorm(vec2<f32>(normal.z, 0.0)), depth, steps, status | (min(fallbacks, 0xffffffu) << 8u), ratio);
 }

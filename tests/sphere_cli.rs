@@ -1,0 +1,108 @@
+//! `--method sphere` from the command line: outputs, statistics, the
+//! heat map, bad input with exact messages, and bench with methods.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn isotrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_isotrace")).args(args).env("NODEVICE_SELECT", "1").output().unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("isotrace-sphere-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn sphere_exr_has_a_steps_channel_and_json_counts_unconverged_pixels() {
+    let exr = tmp("jewel.exr");
+    // The jewel's header asks for sphere tracing.
+    let o = isotrace(&["render", "@jewel", "--size", "32x24", "-o", exr.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["method"], "sphere");
+    for key in ["unconverged", "steps_mean", "steps_p99", "steps_max", "omega", "fixpoint", "bound", "sor_fallbacks", "lipschitz_violations", "gpu_ms"] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["unconverged"], 0);
+    assert_eq!(v["bound"], "sphere:0,0,-0.15,1.1");
+    let (w, h, channels) = isotrace::output::read_exr_channels(&exr).unwrap();
+    assert_eq!((w, h), (32, 24));
+    let mut names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["A", "B", "G", "N.X", "N.Y", "N.Z", "R", "Z", "steps"]);
+    let steps = &channels.iter().find(|(n, _)| n == "steps").unwrap().1;
+    assert!(steps.iter().any(|s| *s > 2.0));
+}
+
+#[test]
+fn stats_heat_map_and_the_techniques_switched_off() {
+    let shade = tmp("city.png");
+    let heat = tmp("city-steps.png");
+    let o = isotrace(&["render", "@city", "--size", "48x32", "-o", shade.to_str().unwrap(), "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("method sphere") && e.contains("unconverged 0") && e.contains("steps per pixel: mean"), "{e}");
+    assert!(e.contains("techniques: omega 1.2  screen-space on  dynamic eps on  fixpoint 3  bound none"), "{e}");
+    let o = isotrace(&[
+        "render", "@city", "--size", "48x32", "-o", heat.to_str().unwrap(), "--stats", "--color", "steps:40", "--omega", "1",
+        "--no-screen-space", "--fixpoint", "0", "--no-dynamic-eps", "--shadows",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("techniques: omega 1  screen-space off  dynamic eps off  fixpoint 0  bound none"), "{e}");
+    assert!(e.contains("--color steps: white = 40 steps"), "{e}");
+    assert_ne!(std::fs::read(&shade).unwrap(), std::fs::read(&heat).unwrap());
+    // The header's bound can be overridden and switched off.
+    let o = isotrace(&["render", "@jewel", "--size", "16", "-o", shade.to_str().unwrap(), "--json", "--no-bound", "--glass"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!((v["bound"].as_str(), v["glass"].as_bool()), (Some("none"), Some(true)));
+}
+
+/// A formula that is not a distance bound still terminates; --stats says
+/// how many pixels did not converge, or that f changes faster than distance.
+#[test]
+fn non_distance_formulas_terminate_and_are_reported() {
+    let out = tmp("bad.png");
+    let o = isotrace(&["render", "0.05*(x^2 + y^2 + z^2 - 1)", "--method", "sphere", "--max-steps", "8", "--size", "32", "-o", out.to_str().unwrap(), "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    let n: u64 = e.split("unconverged ").nth(1).and_then(|r| r.split_whitespace().next()).and_then(|n| n.parse().ok()).unwrap_or(0);
+    assert!(n > 20, "{e}");
+    assert!(e.contains(&format!("warning: {n} pixels did not converge within --max-steps 8")), "{e}");
+    let o = isotrace(&["render", "x^2 + y^2 + z^2 - 1", "--method", "sphere", "--size", "32", "-o", out.to_str().unwrap(), "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("changed faster than the distance along the ray") && e.contains("or use --method bisect"), "{e}");
+}
+
+#[test]
+fn bad_sphere_input_is_reported_before_rendering() {
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["render", "sphere(1)", "--method", "sphere", "--lipschitz", "0.5", "-o", "/tmp/x.png"],
+            "error: invalid --lipschitz 0.5: a Lipschitz bound must be at least 1 (sphere tracing divides the field by it; a smaller value would step further than a distance field allows)\n",
+        ),
+        (&["render", "sphere(1)", "--method", "sphere", "--omega", "2", "-o", "/tmp/x.png"], "error: invalid --omega 2: the over-relaxation factor must be in [1, 2) (1 switches it off)\n"),
+        (&["render", "sphere(1)", "--method", "sphere", "--max-steps", "0", "-o", "/tmp/x.png"], "error: invalid --max-steps 0: it must be between 1 and 16000\n"),
+        (&["render", "sphere(1)", "--method", "march", "-o", "/tmp/x.png"], "error: invalid --method 'march': expected 'sphere' or 'bisect'\n"),
+        (&["render", "sphere(1)", "--omega", "1.2", "-o", "/tmp/x.png"], "error: --omega applies to --method sphere only\n"),
+        (&["render", "@jewel", "--method", "bisect", "--glass", "-o", "/tmp/x.png"], "error: --glass applies to --method sphere only\n"),
+        (&["render", "sphere(1)", "--color", "field", "-o", "/tmp/x.png"], "error: --color field applies to --method sphere only\n"),
+        (&["render", "sphere(1)", "--color", "pink", "-o", "/tmp/x.png"], "error: invalid --color 'pink': expected shade, steps, steps:MAX (MAX > 0), normal or field\n"),
+        (&["render", "@jewel", "--algebra", "ia", "-o", "/tmp/x.png"], "error: --algebra applies to --method bisect only (sphere tracing evaluates the scalar field)\n"),
+        (&["render", "@jewel", "--max-iter", "9", "-o", "/tmp/x.png"], "error: --max-iter applies to --method bisect only; sphere tracing's budget is --max-steps\n"),
+        (&["render", "@jewel", "--bound", "cone:1", "-o", "/tmp/x.png"], "error: invalid --bound 'cone:1': expected sphere:cx,cy,cz,r or box:x0,x1,y0,y1,z0,z1\n"),
+    ];
+    for (args, expected) in cases {
+        let o = isotrace(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert_eq!(stderr(&o), *expected, "{args:?}");
+    }
+}
