@@ -1,4 +1,5 @@
-//! The benchmark suite's bookkeeping: jobs and shards, the per-job
+//! The benchmark suite's bookkeeping: jobs, variants (method × algebra or
+//! over-relaxation factor) and shards, the per-job
 //! measurements, the "lowest correct eps" image comparison, the contact
 //! sheet, and the table / Markdown / JSON reports. The CLI (`isotrace bench`)
 //! renders; everything here is pure and tested.
@@ -6,15 +7,68 @@
 use crate::render::{Frame, Stats, Status};
 use serde::Serialize;
 
-/// One unit of work: a surface rendered with one algebra.
+/// One unit of work: a surface rendered with one variant.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Job {
     /// Position in the full job list (before sharding).
     pub index: usize,
     /// Surface name.
     pub surface: String,
-    /// Algebra name (`ia`, `raa`, `auto`).
+    /// The variant's label ([`Variant::label`]): the algebra name (`ia`,
+    /// `raa`, `auto`) for bisection, `sphere…` for sphere tracing.
     pub algebra: String,
+}
+
+/// How one job renders: bisection with an algebra, or sphere tracing with
+/// an over-relaxation factor.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Variant {
+    /// `--method bisect` with this algebra name (`ia`, `raa`, `auto`).
+    Bisect(String),
+    /// `--method sphere` with this ω (1 = no over-relaxation).
+    Sphere(f64),
+}
+
+impl Variant {
+    /// The job label (a table column, a file name part): the algebra for
+    /// bisection; `sphere`, or `sphere-w1.2` when several ω are compared.
+    pub fn label(&self, several_omegas: bool) -> String {
+        match self {
+            Variant::Bisect(a) => a.clone(),
+            Variant::Sphere(w) if several_omegas => format!("sphere-w{w}"),
+            Variant::Sphere(_) => "sphere".into(),
+        }
+    }
+}
+
+/// The variants of `--method M,… --algebra A,… --omega W,…`: for each
+/// method in order, every algebra (bisect) or every ω (sphere); the
+/// algebra only matters for bisection. Unknown names are errors.
+pub fn variants(methods: &str, algebras: &str, omegas: &str) -> Result<Vec<Variant>, String> {
+    let list = |s: &str| s.split(',').map(str::trim).map(str::to_string).collect::<Vec<_>>();
+    let mut v = Vec::new();
+    for m in list(methods) {
+        match m.as_str() {
+            "bisect" => {
+                for a in list(algebras) {
+                    if !matches!(a.as_str(), "ia" | "raa" | "auto") {
+                        return Err(format!("invalid --algebra '{a}': expected a comma-separated list of ia, raa, auto"));
+                    }
+                    v.push(Variant::Bisect(a));
+                }
+            }
+            "sphere" => {
+                for w in list(omegas) {
+                    match w.parse::<f64>() {
+                        Ok(x) if (1.0..2.0).contains(&x) => v.push(Variant::Sphere(x)),
+                        _ => return Err(format!("invalid --omega '{w}': expected a comma-separated list of factors in [1, 2)")),
+                    }
+                }
+            }
+            other => return Err(format!("invalid --method '{other}': expected a comma-separated list of sphere, bisect")),
+        }
+    }
+    Ok(v)
 }
 
 /// All jobs: every surface with every algebra, surface-major.
@@ -77,6 +131,15 @@ pub struct Measure {
     /// With `--find-eps`: the coarsest matching eps (relative to the box
     /// diagonal, as a power of two exponent) and the GPU ms there.
     pub lowest_eps: Option<LowestEps>,
+    /// `bisect` or `sphere`. With sphere tracing the `evals` figures are
+    /// marching steps per pixel and there is no lower bound (0).
+    pub method: String,
+    /// Sphere tracing: the over-relaxation factor.
+    pub omega: Option<f64>,
+    /// Mean evaluations (steps) of the pixels that hit.
+    pub evals_hit_mean: f64,
+    /// Sphere tracing: failed over-relaxed steps that fell back, per pixel.
+    pub sor_fallbacks_per_pixel: f64,
 }
 
 /// Result of the "lowest correct eps" search.
@@ -115,6 +178,10 @@ impl Measure {
             eps,
             resolved_algebra: resolved_algebra.to_string(),
             lowest_eps: None,
+            method: s.method.name().to_string(),
+            omega: None,
+            evals_hit_mean: s.evals_hit_mean,
+            sor_fallbacks_per_pixel: s.sor_fallbacks as f64 / s.pixels.max(1) as f64,
         }
     }
 }
@@ -241,12 +308,18 @@ fn grid<'a>(results: &'a [JobResult], algebras: &[String]) -> Vec<(String, Strin
     rows
 }
 
+/// What a column's work figure counts: sphere tracing columns count steps.
+fn unit(label: &str) -> &'static str {
+    if label.starts_with("sphere") { "steps/px" } else { "evals/px" }
+}
+
 /// The plain-text table (Knoll et al.'s Table 1 shape: surface, degree, one
-/// column per algebra with GPU ms and evaluations per pixel).
+/// column per algebra with GPU ms and evaluations per pixel; sphere tracing
+/// columns give steps per pixel).
 pub fn table_text(results: &[JobResult], algebras: &[String]) -> String {
     let mut s = format!("{:<16} {:<10}", "surface", "degree");
     for a in algebras {
-        s.push_str(&format!(" {:>24}", format!("{a} (ms / evals/px)")));
+        s.push_str(&format!(" {:>24}", format!("{a} (ms / {})", unit(a))));
     }
     s.push('\n');
     for (surface, degree, cells) in grid(results, algebras) {
@@ -269,7 +342,7 @@ pub fn table_text(results: &[JobResult], algebras: &[String]) -> String {
 pub fn markdown(results: &[JobResult], algebras: &[String], machine: &str) -> String {
     let mut s = format!("Machine: {machine}\n\n| surface | degree |");
     for a in algebras {
-        s.push_str(&format!(" {a} ms | {a} fps | {a} evals/px |"));
+        s.push_str(&format!(" {a} ms | {a} fps | {a} {} |", unit(a)));
     }
     s.push_str("\n|---|---|");
     s.push_str(&"---:|---:|---:|".repeat(algebras.len()));

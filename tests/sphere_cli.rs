@@ -106,3 +106,34 @@ fn bad_sphere_input_is_reported_before_rendering() {
         assert_eq!(stderr(&o), *expected, "{args:?}");
     }
 }
+
+#[test]
+fn bench_variants_are_methods_times_algebras_or_omegas() {
+    use isotrace::bench::{variants, Variant};
+    let v = variants("sphere,bisect", "ia,raa", "1,1.2").unwrap();
+    assert_eq!(v, [Variant::Sphere(1.0), Variant::Sphere(1.2), Variant::Bisect("ia".into()), Variant::Bisect("raa".into())]);
+    assert_eq!(v.iter().map(|x| x.label(true)).collect::<Vec<_>>(), ["sphere-w1", "sphere-w1.2", "ia", "raa"]);
+    assert_eq!(Variant::Sphere(1.2).label(false), "sphere");
+    // The algebra only matters for bisection.
+    assert_eq!(variants("sphere", "ia,raa,auto", "1.2").unwrap(), [Variant::Sphere(1.2)]);
+    assert_eq!(variants("march", "ia", "1").unwrap_err(), "invalid --method 'march': expected a comma-separated list of sphere, bisect");
+    assert_eq!(variants("sphere", "ia", "2").unwrap_err(), "invalid --omega '2': expected a comma-separated list of factors in [1, 2)");
+    assert_eq!(variants("bisect", "fast", "1").unwrap_err(), "invalid --algebra 'fast': expected a comma-separated list of ia, raa, auto");
+}
+
+#[test]
+fn bench_compares_methods_and_over_relaxation() {
+    let json = tmp("bench.json");
+    let o = isotrace(&["bench", "jewel", "--method", "sphere,bisect", "--omega", "1,1.2", "--algebra", "ia", "--size", "24", "--repeat", "1", "--json", json.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("sphere-w1 (ms / steps/px)") && table.contains("sphere-w1.2 (ms / steps/px)") && table.contains("ia (ms / evals/px)"), "{table}");
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let r = v["results"].as_array().unwrap();
+    assert_eq!(r.len(), 3);
+    assert_eq!((r[0]["algebra"].as_str(), r[0]["method"].as_str(), r[0]["omega"].as_f64()), (Some("sphere-w1"), Some("sphere"), Some(1.0)));
+    assert_eq!((r[1]["method"].as_str(), r[1]["omega"].as_f64()), (Some("sphere"), Some(1.2)));
+    assert_eq!((r[2]["method"].as_str(), r[2]["resolved_algebra"].as_str()), (Some("bisect"), Some("ia")));
+    assert!(r[0]["unresolved"].as_u64() == Some(0) && r[0]["evals_mean"].as_f64().unwrap() > 0.0);
+    assert_eq!(v["settings"]["methods"], "sphere,bisect");
+}

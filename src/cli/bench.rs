@@ -1,13 +1,15 @@
-//! `isotrace bench`: renders surfaces × algebras with a warm-up and timed
+//! `isotrace bench`: renders surfaces × methods × algebras (bisection) or
+//! over-relaxation factors (sphere tracing) with a warm-up and timed
 //! repeats, and reports a Knoll-style table, JSON and Markdown, images and a
 //! contact sheet. A failing job is reported and the batch goes on.
 
-use super::render::{algebra_arg, open_gpu, settings, ViewArgs};
+use super::render::{algebra_arg, open_gpu, settings, sphere_options, SphereArgs, ViewArgs};
 use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
-use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome};
+use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
 use isotrace::catalog::{self, Entry};
 use isotrace::gpu::render::Renderer;
+use isotrace::gpu::sphere::SphereRenderer;
 use isotrace::gpu::Gpu;
 use isotrace::output;
 use isotrace::render::Frame;
@@ -21,12 +23,15 @@ pub const KNOLL: [&str; 16] = [
     "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water",
 ];
 
+/// The distance-field scenes made for sphere tracing.
+pub const SDF: [&str; 3] = ["jewel", "city", "creature"];
+
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// Surfaces: catalog names or .iso files (default: the Knoll suite).
     #[arg(value_name = "NAME|FILE")]
     surfaces: Vec<String>,
-    /// A predefined suite: knoll (Table 1 of Knoll et al.) or all (the whole catalog).
+    /// A predefined suite: knoll (Table 1 of Knoll et al.), sdf (the distance-field scenes) or all (the whole catalog).
     #[arg(long, value_name = "SUITE")]
     suite: Option<String>,
     /// Image size `WxH` or `N`.
@@ -35,9 +40,18 @@ pub struct BenchArgs {
     /// Termination width relative to each surface's box diagonal (2^-11 = the render default).
     #[arg(long, default_value = "2^-11")]
     eps: String,
-    /// Comma-separated algebras: ia, raa, auto.
+    /// Comma-separated algebras for --method bisect: ia, raa, auto.
     #[arg(long, default_value = "ia,raa,auto")]
     algebra: String,
+    /// Comma-separated traversals: bisect, sphere (jobs = surfaces x methods x algebras or omegas).
+    #[arg(long, default_value = "bisect")]
+    method: String,
+    /// Comma-separated over-relaxation factors for --method sphere, e.g. 1,1.2 (1 is off).
+    #[arg(long, default_value = "1.2")]
+    omega: String,
+    /// Step budget per ray for --method sphere (default 512).
+    #[arg(long, value_name = "N")]
+    max_steps: Option<u32>,
     /// Timed runs per job (after one warm-up run); the median is reported.
     #[arg(long, default_value_t = 5)]
     repeat: u32,
@@ -68,7 +82,8 @@ fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
         None => vec![],
         Some("knoll") => KNOLL.iter().map(|s| s.to_string()).collect(),
         Some("all") => catalog::builtin().into_iter().map(|e| e.name).collect(),
-        Some(other) => return Err(input(format!("unknown --suite '{other}': expected knoll or all"))),
+        Some("sdf") => SDF.iter().map(|s| s.to_string()).collect(),
+        Some(other) => return Err(input(format!("unknown --suite '{other}': expected knoll, sdf or all"))),
     };
     names.extend(a.surfaces.iter().cloned());
     names
@@ -80,27 +95,29 @@ fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
         .collect()
 }
 
-fn algebras(s: &str) -> Result<Vec<(String, AlgebraArg)>, CliError> {
-    s.split(',')
-        .map(|a| match a.trim() {
-            "ia" => Ok(("ia".to_string(), AlgebraArg::Ia)),
-            "raa" => Ok(("raa".to_string(), AlgebraArg::Raa)),
-            "auto" => Ok(("auto".to_string(), AlgebraArg::Auto)),
-            other => Err(input(format!("invalid --algebra '{other}': expected a comma-separated list of ia, raa, auto"))),
-        })
-        .collect()
+fn algebra(a: &str) -> AlgebraArg {
+    match a {
+        "ia" => AlgebraArg::Ia,
+        "raa" => AlgebraArg::Raa,
+        _ => AlgebraArg::Auto,
+    }
 }
 
 pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     let surfaces = entries(&a)?;
-    let algs = algebras(&a.algebra)?;
+    let variants = bench::variants(&a.method, &a.algebra, &a.omega).map_err(input)?;
+    let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
+    let labelled: Vec<(String, Variant)> = variants.iter().map(|v| (v.label(several), v.clone())).collect();
+    if let Some(n) = a.max_steps {
+        isotrace::gpu::sphere::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(input)?;
+    }
     let size = super::render::parse_size(&a.size)?;
     let rel_eps = catalog::parse_eps(&a.eps).map_err(|m| input(format!("invalid --eps '{}': {m}", a.eps)))?;
     if a.repeat == 0 {
         return Err(input("--repeat must be at least 1"));
     }
     let names: Vec<String> = surfaces.iter().map(|e| e.name.clone()).collect();
-    let alg_names: Vec<String> = algs.iter().map(|(n, _)| n.clone()).collect();
+    let alg_names: Vec<String> = labelled.iter().map(|(n, _)| n.clone()).collect();
     let mut jobs = bench::jobs(&names, &alg_names);
     if let Some(sh) = &a.shard {
         let (i, n) = bench::parse_shard(sh).map_err(input)?;
@@ -119,12 +136,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     let mut thumbs: Vec<(String, u32, u32, Vec<u8>)> = Vec::new();
     for (k, job) in jobs.iter().enumerate() {
         let entry = &surfaces[names.iter().position(|n| *n == job.surface).unwrap_or(0)];
-        let alg = algs.iter().find(|(n, _)| *n == job.algebra).map(|(_, a)| *a).unwrap_or(AlgebraArg::Auto);
-        let (outcome, frame) = match run_job(&gpu, entry, alg, size, rel_eps, &a) {
+        let variant = labelled.iter().find(|(n, _)| *n == job.algebra).map(|(_, v)| v.clone()).unwrap_or(Variant::Bisect("auto".into()));
+        let (outcome, frame) = match run_job(&gpu, entry, &variant, size, rel_eps, &a) {
             Ok((m, f)) => (Outcome::Ok(m), Some(f)),
             Err(e) => (Outcome::Failed { error: e }, None),
         };
         let line = match &outcome {
+            Outcome::Ok(m) if m.method == "sphere" => format!("{:.1} ms, {:.2} steps/px ({:.2} per hit), {} unconverged", m.gpu_ms, m.evals_mean, m.evals_hit_mean, m.unresolved),
             Outcome::Ok(m) => format!("{:.1} ms, {:.2} evals/px ({:.2}x bound)", m.gpu_ms, m.evals_mean, m.ratio),
             Outcome::Failed { error } => format!("FAILED: {}", error.lines().next().unwrap_or("")),
         };
@@ -166,7 +184,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
             "date": bench::utc_now(),
             "device": gpu.info,
             "cpu_threads": std::thread::available_parallelism().map_or(0, |n| n.get()),
-            "settings": { "size": [size.0, size.1], "eps_relative": rel_eps, "repeat": a.repeat, "algebras": alg_names, "shard": a.shard, "find_eps": a.find_eps },
+            "settings": { "size": [size.0, size.1], "eps_relative": rel_eps, "repeat": a.repeat, "algebras": alg_names, "methods": a.method, "omegas": a.omega, "shard": a.shard, "find_eps": a.find_eps },
             "results": results,
         });
         let text = serde_json::to_string_pretty(&v).unwrap_or_default();
@@ -176,27 +194,47 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
-/// Renders one job: warm-up, `repeat` timed runs, optional eps search.
-fn run_job(gpu: &Gpu, entry: &Entry, alg: AlgebraArg, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
+/// Warm-up (shader compile, caches), then `repeat` timed renders.
+fn timed(repeat: u32, render: &dyn Fn() -> Result<Frame, String>) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
+    render()?;
+    let mut runs = Vec::new();
+    let mut last = None;
+    for _ in 0..repeat {
+        let fr = render()?;
+        runs.push(fr.stats.clone());
+        last = Some(fr);
+    }
+    Ok((runs, last.ok_or("no run")?))
+}
+
+/// Renders one job: warm-up, `repeat` timed runs, optional eps search
+/// (bisection only).
+fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
     let f = entry.compile().map_err(|e| e.to_string())?;
     let b = entry.header.bbox;
     let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
     let view = ViewArgs { eps: Some(format!("{}", rel_eps * diag)), tile: 1024, ..Default::default() };
     let s = settings(&view, size, &f, Some(&entry.header)).map_err(|e| format!("{e:?}"))?;
+    let alg = match variant {
+        Variant::Bisect(name) => algebra(name),
+        Variant::Sphere(omega) => {
+            // The header's Lipschitz bound and convex bound, every technique on.
+            let args = SphereArgs { omega: Some(*omega), max_steps: a.max_steps, ..Default::default() };
+            let o = sphere_options(&args, Some(&entry.header)).map_err(|e| match e {
+                CliError::Input(m) => m,
+                other => format!("{other:?}"),
+            })?;
+            let r = SphereRenderer::new(gpu, &f.ir, o.features()).map_err(|e| e.to_string())?;
+            let (runs, frame) = timed(a.repeat, &|| r.render(&s, &o).map_err(|e| e.to_string()))?;
+            let mut m = Measure::from_runs(&runs, s.eps, "-");
+            m.omega = Some(*omega);
+            return Ok((m, frame));
+        }
+    };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let r = Renderer::new(gpu, &f.ir, domain).map_err(|e| e.to_string())?;
-    let timed = |s: &isotrace::gpu::render::Settings| -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
-        r.render(s).map_err(|e| e.to_string())?; // warm-up: shader compile, caches
-        let mut runs = Vec::new();
-        let mut last = None;
-        for _ in 0..a.repeat {
-            let fr = r.render(s).map_err(|e| e.to_string())?;
-            runs.push(fr.stats.clone());
-            last = Some(fr);
-        }
-        Ok((runs, last.ok_or("no run")?))
-    };
+    let timed = |s: &isotrace::gpu::render::Settings| timed(a.repeat, &|| r.render(s).map_err(|e| e.to_string()));
     let (runs, frame) = timed(&s)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     if a.find_eps {
