@@ -95,7 +95,6 @@ fn bad_sphere_input_is_reported_before_rendering() {
         (&["render", "sphere(1)", "--omega", "1.2", "-o", "/tmp/x.png"], "error: --omega applies to --method sphere only\n"),
         (&["render", "@jewel", "--method", "bisect", "--glass", "-o", "/tmp/x.png"], "error: --glass applies to --method sphere only\n"),
         (&["render", "sphere(1)", "--color", "field", "-o", "/tmp/x.png"], "error: --color field applies to --method sphere only\n"),
-        (&["render", "sphere(1)", "--color", "pink", "-o", "/tmp/x.png"], "error: invalid --color 'pink': expected shade, steps, steps:MAX (MAX > 0), normal or field\n"),
         (&["render", "@jewel", "--algebra", "ia", "-o", "/tmp/x.png"], "error: --algebra applies to --method bisect only (sphere tracing evaluates the scalar field)\n"),
         (&["render", "@jewel", "--max-iter", "9", "-o", "/tmp/x.png"], "error: --max-iter applies to --method bisect only; sphere tracing's budget is --max-steps\n"),
         (&["render", "@jewel", "--bound", "cone:1", "-o", "/tmp/x.png"], "error: invalid --bound 'cone:1': expected sphere:cx,cy,cz,r or box:x0,x1,y0,y1,z0,z1\n"),
@@ -105,6 +104,10 @@ fn bad_sphere_input_is_reported_before_rendering() {
         assert_eq!(o.status.code(), Some(1), "{args:?}");
         assert_eq!(stderr(&o), *expected, "{args:?}");
     }
+    // The list of colour modes grows with the bisection kernel's; only its start is fixed here.
+    let o = isotrace(&["render", "sphere(1)", "--color", "pink", "-o", "/tmp/x.png"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).starts_with("error: invalid --color 'pink': expected shade"), "{}", stderr(&o));
 }
 
 #[test]

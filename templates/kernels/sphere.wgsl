@@ -398,6 +398,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         fallbacks = h.fallbacks;
         ratio = h.ratio;
         status = h.status;
+        // On an exhausted budget the best candidate (technique 2) or the last
+        // point is drawn as a best guess, and counted as unconverged.
         if (status != STATUS_MISS) {
             let p = o + d * h.t;
             let g = gradient(p, 0.5 * U.eps);
@@ -405,13 +407,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             steps = steps + s.steps;
             var col = s.color;
             if (U.color_mode == 1u) { col = heat(h.f / threshold(c, h.t)); }
-            if (status == STATUS_UNCONVERGED && (U.flags & FLAG_DEBUG) != 0u) { col = vec3<f32>(1.0, 0.0, 1.0); }
             normal = normalize(g);
             if (!(dot(g, g) > 0.0)) { normal = -d; }
             color = vec4<f32>(col, 1.0);
             depth = h.t;
         }
     }
+    if (status == STATUS_UNCONVERGED && (U.flags & FLAG_DEBUG) != 0u) { color = vec4<f32>(1.0, 0.0, 1.0, 1.0); }
     let cl = clamp(color, vec4<f32>(0.0), vec4<f32>(1.0));
     pixels[idx] = Pixel(pack2x16unorm(cl.xy), pack2x16unorm(cl.zw), pack2x16snorm(normal.xy),
                         pack2x16snorm(vec2<f32>(normal.z, 0.0)), depth, steps, status | (min(fallbacks, 0xffffffu) << 8u), ratio);
