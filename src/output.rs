@@ -122,7 +122,7 @@ pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), Output
     let ch = |name: &str, f: &dyn Fn(&crate::render::PixelOut) -> f32| {
         AnyChannel::new(name, FlatSamples::F32(px.iter().map(f).collect()))
     };
-    let channels: Vec<AnyChannel<FlatSamples>> = vec![
+    let mut channels: Vec<AnyChannel<FlatSamples>> = vec![
         ch("R", &|p| p.color[0]),
         ch("G", &|p| p.color[1]),
         ch("B", &|p| p.color[2]),
@@ -133,6 +133,10 @@ pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), Output
         ch("N.Z", &|p| p.normal[2]),
         ch(work_channel(frame), &|p| p.evals as f32),
     ];
+    if frame.stats.iso_channel {
+        // Which isovalue (or CSG surface) each hit is: its index, -1 on misses.
+        channels.push(ch("iso", &|p| if p.status == crate::render::Status::Miss { -1.0 } else { p.iso as f32 }));
+    }
     let layer = Layer::new(
         (frame.width as usize, frame.height as usize),
         LayerAttributes::named("isotrace"),
@@ -168,18 +172,25 @@ pub enum ColorMode {
     Normal,
     /// Sphere tracing only: f(p) / err(t) at the hit point (drawn by the kernel).
     Field,
+    /// Bisection only: |grad f| on a log scale (Knoll et al. Fig. 5; drawn by the kernel).
+    Gradient,
+    /// Bisection only: depth as a colour ramp (drawn by the kernel).
+    Depth,
 }
 
-/// Parses `shade`, `steps`, `steps:MAX`, `normal` or `field`.
+/// Parses `shade` (alias `phong`), `steps` (alias `evals`), `steps:MAX`,
+/// `normal`, `gradient`, `depth` or `field`.
 pub fn parse_color(s: &str) -> Result<ColorMode, String> {
     match s.trim() {
-        "shade" => Ok(ColorMode::Shade),
-        "steps" => Ok(ColorMode::Steps { max: None }),
+        "shade" | "phong" => Ok(ColorMode::Shade),
+        "steps" | "evals" => Ok(ColorMode::Steps { max: None }),
+        "gradient" => Ok(ColorMode::Gradient),
+        "depth" => Ok(ColorMode::Depth),
         "normal" => Ok(ColorMode::Normal),
         "field" => Ok(ColorMode::Field),
         other => match other.strip_prefix("steps:").map(|m| m.trim().parse::<u32>()) {
             Some(Ok(m)) if m > 0 => Ok(ColorMode::Steps { max: Some(m) }),
-            _ => Err("expected shade, steps, steps:MAX (MAX > 0), normal or field".into()),
+            _ => Err("expected shade, steps (or evals), steps:MAX (MAX > 0), normal, gradient, depth or field".into()),
         },
     }
 }
@@ -199,7 +210,7 @@ pub fn heat(v: f64) -> [f32; 3] {
 /// kernel drew it). Returns the heat map's full-scale value for `Steps`.
 pub fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32> {
     match mode {
-        ColorMode::Shade | ColorMode::Field => None,
+        ColorMode::Shade | ColorMode::Field | ColorMode::Gradient | ColorMode::Depth => None,
         ColorMode::Steps { max } => {
             let max = max.unwrap_or_else(|| {
                 let mut v: Vec<u32> = frame.pixels.iter().map(|p| p.evals).collect();

@@ -215,6 +215,9 @@ pub struct Stats {
     /// The traversal. With sphere tracing every `evals` figure counts field
     /// evaluations of all rays of a pixel (steps), and there is no lower bound.
     pub method: Method,
+    /// The frame was rendered with several isovalues or CSG surfaces: the
+    /// pixels' `iso` field says which one each hit is (EXR channel `iso`).
+    pub iso_channel: bool,
     /// Sphere tracing: over-relaxed steps that failed the overlap test and
     /// fell back (summed over the pixels).
     pub sor_fallbacks: u64,

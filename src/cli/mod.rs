@@ -4,6 +4,7 @@
 mod bench;
 mod eval;
 mod input;
+mod modality;
 mod render;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};

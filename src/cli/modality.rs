@@ -12,9 +12,6 @@ use std::path::PathBuf;
 /// Modality flags.
 #[derive(Args, Debug, Clone, Default)]
 pub struct ModalityArgs {
-    /// Cast shadow rays from the point light (both methods).
-    #[arg(long)]
-    pub shadows: bool,
     /// Point light position x,y,z (default: above and left of the eye).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub light: Option<String>,
@@ -39,25 +36,10 @@ pub struct ModalityArgs {
     /// Environment seen by reflections and the background: sky, checker, or an equirectangular PNG.
     #[arg(long, value_name = "sky|checker|FILE")]
     pub env: Option<String>,
-    /// Colouring: phong (two-sided), gradient (|grad f|), depth, normal, evals (work heat map).
-    #[arg(long, value_name = "MODE")]
-    pub color: Option<String>,
 }
 
 fn input(m: impl Into<String>) -> CliError {
     CliError::Input(m.into())
-}
-
-/// The colour mode number of a `--color` value.
-pub fn color_mode(s: &str) -> Result<u32, CliError> {
-    match s {
-        "phong" => Ok(0),
-        "gradient" => Ok(1),
-        "depth" => Ok(2),
-        "normal" => Ok(3),
-        "evals" => Ok(4),
-        other => Err(input(format!("invalid --color '{other}': expected phong, gradient, depth, normal or evals"))),
-    }
 }
 
 /// Reads an environment PNG as rgba8 texels.
@@ -69,16 +51,17 @@ fn load_env(path: &PathBuf) -> Result<EnvImage, CliError> {
     Ok(EnvImage { width, height, texels })
 }
 
-/// Builds the modalities from the flags (validated before any GPU work).
-pub fn modalities(a: &ModalityArgs) -> Result<Modalities, CliError> {
-    let mut m = Modalities { shadows: a.shadows, ..Default::default() };
+/// Builds the modalities from the flags (validated before any GPU work);
+/// `shadows` and the kernel's colour mode come from the shared flags.
+pub fn modalities(a: &ModalityArgs, shadows: bool, color_mode: u32) -> Result<Modalities, CliError> {
+    let mut m = Modalities { shadows, color_mode, ..Default::default() };
     if let Some(l) = &a.light {
         let v = catalog::parse_vec3(l).map_err(|e| input(format!("invalid --light '{l}': {e}")))?;
         m.light = Some(glam::DVec3::from_array(v));
     }
     if let Some(e) = &a.shadow_eps {
         m.shadow_eps = Some(catalog::parse_eps(e).map_err(|x| input(format!("invalid --shadow-eps '{e}': {x}")))?);
-        if !a.shadows {
+        if !shadows {
             return Err(input("--shadow-eps needs --shadows"));
         }
     }
@@ -114,8 +97,25 @@ pub fn modalities(a: &ModalityArgs) -> Result<Modalities, CliError> {
         Some("checker") => m.env_mode = 1,
         Some(path) => m.env = Some(load_env(&PathBuf::from(path))?),
     }
-    if let Some(c) = &a.color {
-        m.color_mode = color_mode(c)?;
-    }
     Ok(m)
+}
+
+impl ModalityArgs {
+    /// The bisection-only flags that were given.
+    pub fn given(&self) -> Vec<&'static str> {
+        [
+            ("--light", self.light.is_some()),
+            ("--shadow-eps", self.shadow_eps.is_some()),
+            ("--opacity", self.opacity.is_some()),
+            ("--layers", self.layers.is_some()),
+            ("--iso", self.iso.is_some()),
+            ("--reflect", self.reflect.is_some()),
+            ("--reflectivity", self.reflectivity.is_some()),
+            ("--env", self.env.is_some()),
+        ]
+        .into_iter()
+        .filter(|(_, on)| *on)
+        .map(|(n, _)| n)
+        .collect()
+    }
 }

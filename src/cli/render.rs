@@ -95,7 +95,7 @@ pub struct SphereArgs {
     /// Sphere tracing: smallest forward step in world units (default 0: none).
     #[arg(long, value_name = "S")]
     pub min_step: Option<f64>,
-    /// Sphere tracing: cast shadow rays towards the key light.
+    /// Cast shadow rays towards the light (both methods; with bisection see also --light and --shadow-eps).
     #[arg(long)]
     pub shadows: bool,
     /// Sphere tracing: render the object as absorbing glass (a refraction ray through it).
@@ -107,7 +107,7 @@ impl SphereArgs {
     /// The sphere tracing flags that were given (for "only with --method sphere").
     fn given(&self) -> Vec<&'static str> {
         let mut v = Vec::new();
-        let flags: [(&str, bool); 12] = [
+        let flags: [(&str, bool); 11] = [
             ("--lipschitz", self.lipschitz.is_some()),
             ("--omega", self.omega.is_some()),
             ("--no-screen-space", self.no_screen_space),
@@ -118,7 +118,6 @@ impl SphereArgs {
             ("--no-bound", self.no_bound),
             ("--max-steps", self.max_steps.is_some()),
             ("--min-step", self.min_step.is_some()),
-            ("--shadows", self.shadows),
             ("--glass", self.glass),
         ];
         for (name, on) in flags {
@@ -201,7 +200,9 @@ pub struct RenderArgs {
     view: ViewArgs,
     #[command(flatten)]
     sphere: SphereArgs,
-    /// What the colours show: shade, steps (the pixel's work as a heat map, scaled to the 99th percentile; steps:MAX for a fixed scale), normal, or field (sphere tracing: f(p) / err(t) at the hit).
+    #[command(flatten)]
+    modal: super::modality::ModalityArgs,
+    /// What the colours show: shade (alias phong), steps (alias evals: the pixel's work as a heat map, scaled to the 99th percentile; steps:MAX for a fixed scale), normal, gradient (bisection: |grad f|, Knoll's Fig. 5), depth (bisection), or field (sphere tracing: f(p) / err(t) at the hit).
     #[arg(long, value_name = "MODE", default_value = "shade")]
     color: String,
     /// Print statistics to stderr.
@@ -367,11 +368,18 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let color = output::parse_color(&a.color).map_err(|m| input(format!("invalid --color '{}': {m}", a.color)))?;
     let domain = resolve_algebra(a.view.algebra.or(header.and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
     let mut sphere = None;
+    let mut modal = None;
     match method {
         Method::Bisect => {
             if let Some(flag) = a.sphere.given().first() {
                 return Err(input(format!("{flag} applies to --method sphere only")));
             }
+            let kernel_color = match color {
+                ColorMode::Gradient => 1,
+                ColorMode::Depth => 2,
+                _ => 0,
+            };
+            modal = Some(super::modality::modalities(&a.modal, a.sphere.shadows, kernel_color)?);
             if color == ColorMode::Field {
                 return Err(input("--color field applies to --method sphere only"));
             }
@@ -380,6 +388,12 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             }
         }
         Method::Sphere => {
+            if let Some(flag) = a.modal.given().first() {
+                return Err(input(format!("{flag} applies to --method bisect only")));
+            }
+            if matches!(color, ColorMode::Gradient | ColorMode::Depth) {
+                return Err(input(format!("--color {} applies to --method bisect only", a.color)));
+            }
             if a.view.algebra.is_some() {
                 return Err(input("--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)"));
             }
@@ -401,7 +415,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let gpu = open_gpu()?;
     let renderer = match sphere {
         Some(o) => AnyRenderer::Sphere(SphereRenderer::new(&gpu, &f.ir, o.features()).map_err(super::render_error)?, o),
-        None => AnyRenderer::Bisect(Renderer::new(&gpu, &f.ir, domain).map_err(super::render_error)?),
+        None => AnyRenderer::Bisect(Renderer::with_modalities(&gpu, &f.ir, domain, modal.unwrap_or_default()).map_err(super::render_error)?),
     };
     let n = outputs.len();
     let anim = loaded.header.as_ref().and_then(|h| h.animate);

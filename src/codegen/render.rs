@@ -22,7 +22,7 @@ pub struct RenderConfig {
     pub reflect: u32,
     /// Number of isovalues (1: just f = 0).
     pub iso_count: u32,
-    /// Colour mode: 0 Phong, 1 gradient magnitude, 2 depth, 3 normal, 4 evaluations.
+    /// Colour mode: 0 Phong, 1 gradient magnitude, 2 depth.
     pub color_mode: u32,
     /// Environment: 0 sky, 1 checkered ground, 2 image.
     pub env_mode: u32,

@@ -145,6 +145,7 @@ pub struct Renderer<'g> {
     /// The modalities it was compiled for, with their values.
     pub modalities: Modalities,
     env: wgpu::Buffer,
+    csg_surfaces: usize,
 }
 
 /// An environment image (equirectangular), rgba8 packed per texel.
@@ -178,7 +179,7 @@ pub struct Modalities {
     pub reflect: u32,
     /// Weight of each reflection.
     pub reflectivity: f64,
-    /// Colour mode (see [`crate::codegen::RenderConfig::color_mode`]).
+    /// Colour mode drawn by the kernel: 0 Phong, 1 |grad f|, 2 depth.
     pub color_mode: u32,
     /// Procedural environment: 0 sky, 1 checkered ground (ignored with an image).
     pub env_mode: u32,
@@ -243,7 +244,7 @@ impl<'g> Renderer<'g> {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         })?;
-        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default(), modalities, env })
+        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default(), modalities, env, csg_surfaces: ir.surfaces.len() })
     }
 
     /// Renders one frame, tile by tile.
@@ -309,7 +310,13 @@ impl<'g> Renderer<'g> {
             width: w,
             height: h,
             pixels,
-            stats: Stats { gpu_ms, dispatches, d_max: (diag / s.eps).log2().ceil().clamp(0.0, 18.0) as u32, ..Default::default() },
+            stats: Stats {
+                gpu_ms,
+                dispatches,
+                d_max: (diag / s.eps).log2().ceil().clamp(0.0, 18.0) as u32,
+                iso_channel: self.modalities.isovalues.len() > 1 || self.csg_surfaces > 1,
+                ..Default::default()
+            },
         };
         f.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         f.summarize();

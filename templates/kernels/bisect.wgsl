@@ -476,9 +476,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
         }
     }
     var color = vec4<f32>(acc + transmit * background(unit), select(0.0, 1.0, status != STATUS_MISS));
-    if (COLOR_MODE == COLOR_EVALS) {
-        color = vec4<f32>(evals_color(g_evals), color.w);
-    }
     let cl = clamp(color, vec4<f32>(0.0), vec4<f32>(1.0));
     pixels[idx] = Pixel(pack2x16unorm(cl.xy), pack2x16unorm(cl.zw), pack2x16snorm(normal.xy),
                         (pack2x16snorm(vec2<f32>(normal.z, 0.0)) & 0xffffu) | (first_iso << 16u), depth, g_evals,

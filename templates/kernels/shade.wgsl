@@ -1,12 +1,11 @@
 // isotrace shading for the render kernel: normals, lights, colour modes and
 // the environment. Spliced into bisect.wgsl; COLOR_MODE, SHADOWS, ENV_MODE
-// come from the generated configuration.
+// come from the generated configuration. (Normal and work heat-map colours
+// are made on the CPU from the EXR channels: `--color normal|steps`.)
 
 const COLOR_PHONG: u32 = 0u;
 const COLOR_GRADIENT: u32 = 1u;
 const COLOR_DEPTH: u32 = 2u;
-const COLOR_NORMAL: u32 = 3u;
-const COLOR_EVALS: u32 = 4u;
 
 fn gradient(p: vec3<f32>, h: f32) -> vec3<f32> {
     let dx = vec3<f32>(h, 0.0, 0.0);
@@ -79,7 +78,6 @@ fn base_color(g: vec3<f32>, n: vec3<f32>, depth01: f32, iso: u32, front: bool) -
         return ramp((log2(max(length(g), 1e-30)) * 0.30103 + 2.0) / 5.0);
     }
     if (COLOR_MODE == COLOR_DEPTH) { return ramp(1.0 - depth01); }
-    if (COLOR_MODE == COLOR_NORMAL) { return 0.5 + 0.5 * n; }
     if (ISO_COUNT > 1u || iso > 0u || CSG_COLORS) { return select(0.6 * iso_color(iso), iso_color(iso), front); }
     return select(vec3<f32>(0.30, 0.52, 0.90), vec3<f32>(0.90, 0.55, 0.25), front);
 }
@@ -90,7 +88,6 @@ fn shade(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, depth01: f32, iso: u32, vis
     let front = !(dot(n, dir) > 0.0);
     if (!front) { n = -n; }
     let base = base_color(g, normalize(g), depth01, iso, front);
-    if (COLOR_MODE == COLOR_NORMAL) { return base; }
     let l = normalize(U.light.xyz - p);
     let diff = max(dot(n, l), 0.0) * visible;
     let r = reflect(-l, n);
@@ -99,7 +96,3 @@ fn shade(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, depth01: f32, iso: u32, vis
     return base * (0.12 + 0.70 * diff + fill) + vec3<f32>(0.35 * spec);
 }
 
-// Heat map of the work spent on a pixel (inclusion evaluations), log scale.
-fn evals_color(evals: u32) -> vec3<f32> {
-    return ramp(log2(f32(evals) + 1.0) / log2(f32(U.max_iter) + 1.0) * 1.6);
-}
