@@ -64,7 +64,7 @@ pub struct BenchArgs {
     /// Write the results as Markdown.
     #[arg(long, value_name = "FILE")]
     markdown: Option<PathBuf>,
-    /// Also find the coarsest eps whose image matches a fine-eps reference (Knoll's last column).
+    /// Also find the coarsest eps whose image matches a fine-eps reference (Knoll's last column; bisection jobs only).
     #[arg(long)]
     find_eps: bool,
     /// Run only shard i of n (every n-th job starting at i, 0 <= i < n).

@@ -1,6 +1,7 @@
 // isotrace sphere tracing kernel: one invocation per pixel, for formulas
-// that are signed distance bounds (|f(p)| <= distance to f = 0, i.e. f is
-// 1-Lipschitz after the division by U.inv_lipschitz's inverse).
+// that are signed distance bounds: |f(p)| / L <= the distance from p to
+// f = 0, which holds when f is L-Lipschitz (L = --lipschitz, applied as
+// U.inv_lipschitz).
 //
 // Enhanced sphere tracing after Keinert et al. 2014, every technique
 // switchable through the uniforms so its effect can be measured:
