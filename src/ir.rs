@@ -99,6 +99,9 @@ pub enum Op {
     Call2(Func2, NodeId, NodeId),
     /// f(a, b, c)
     Call3(Func3, NodeId, NodeId, NodeId),
+    /// User function number `f` of `--inline` WGSL with its first `n`
+    /// arguments (at most 4).
+    User(u16, [NodeId; 4], u8),
 }
 
 impl Op {
@@ -109,6 +112,7 @@ impl Op {
             Op::Neg(a) | Op::PowI(a, _) | Op::Call1(_, a) => vec![a],
             Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Call2(_, a, b) => vec![a, b],
             Op::Call3(_, a, b, c) => vec![a, b, c],
+            Op::User(_, args, n) => args[..n as usize].to_vec(),
         }
     }
     /// True for operations whose result can be empty (argument entirely
@@ -132,6 +136,8 @@ pub struct Ir {
     pub surfaces: Vec<SurfaceIr>,
     /// Parameter names, indexed by `Op::Param`, with the first use.
     pub params: Vec<(String, Span)>,
+    /// User functions (`--inline` WGSL), indexed by `Op::User`: name, arity.
+    pub externs: Vec<(String, usize)>,
 }
 
 impl Ir {
@@ -186,6 +192,7 @@ impl Ir {
                 Op::Mul(a, b) => d(a).zip(d(b)).map(|(a, b)| a + b),
                 Op::Div(a, b) => if d(b) == Some(0) { d(a) } else { None },
                 Op::PowI(a, n) => d(a).map(|a| a * n),
+                Op::User(..) => None,
                 Op::Call1(..) | Op::Call2(..) | Op::Call3(..) => {
                     if op.operands().iter().all(|&o| d(o) == Some(0)) { Some(0) } else { None }
                 }
@@ -300,6 +307,13 @@ impl fmt::Display for Display<'_> {
             Op::Call1(g, a) => write!(f, "{}({})", g.name(), sub(a)),
             Op::Call2(g, a, b) => write!(f, "{}({}, {})", g.name(), sub(a), sub(b)),
             Op::Call3(g, a, b, c) => write!(f, "{}({}, {}, {})", g.name(), sub(a), sub(b), sub(c)),
+            Op::User(u, args, n) => {
+                write!(f, "{}(", ir.externs[u as usize].0)?;
+                for (k, a) in args[..n as usize].iter().enumerate() {
+                    write!(f, "{}{}", if k > 0 { ", " } else { "" }, sub(*a))?;
+                }
+                f.write_str(")")
+            }
         }
     }
 }

@@ -58,9 +58,15 @@ pub struct FormulaError {
 impl Formula {
     /// Parses and analyses `source`.
     pub fn compile(origin: &str, source: &str) -> Result<Formula, FormulaError> {
+        Self::compile_with(origin, source, &[])
+    }
+
+    /// Like [`Formula::compile`], with user functions from `--inline` WGSL
+    /// (name, arity) callable from the formula.
+    pub fn compile_with(origin: &str, source: &str, externs: &[(String, usize)]) -> Result<Formula, FormulaError> {
         let err = |diagnostic| FormulaError { origin: origin.to_string(), text: source.to_string(), diagnostic };
         let program = syntax::parse(source).map_err(|e| err(e.to_diagnostic()))?;
-        let ir = sema::analyze(&program).map_err(|e| err(e.to_diagnostic()))?;
+        let ir = sema::analyze_with(&program, externs).map_err(|e| err(e.to_diagnostic()))?;
         Ok(Formula { origin: origin.to_string(), source: source.to_string(), ir })
     }
 

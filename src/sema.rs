@@ -221,7 +221,13 @@ const VARIABLES: &[(&str, Var)] = &[("x", Var::X), ("y", Var::Y), ("z", Var::Z),
 
 /// Lowers a parsed program to IR.
 pub fn analyze(program: &Program) -> Result<Ir, SemaError> {
-    let mut b = Builder::default();
+    analyze_with(program, &[])
+}
+
+/// [`analyze`] with user functions from `--inline` WGSL (name, arity):
+/// they can be called like built-ins and become [`Op::User`] nodes.
+pub fn analyze_with(program: &Program, externs: &[(String, usize)]) -> Result<Ir, SemaError> {
+    let mut b = Builder { externs: externs.to_vec(), ..Builder::default() };
     // Pass 1: where each definition is, so a forward use can say so.
     let mut def_at: HashMap<&str, Span> = HashMap::new();
     for d in &program.definitions {
@@ -251,7 +257,7 @@ pub fn analyze(program: &Program) -> Result<Ir, SemaError> {
         surfaces.push(crate::ir::SurfaceIr { f, conditions });
     }
     let root = surfaces[0].f;
-    Ok(compact(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params }))
+    Ok(compact(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params, externs: b.externs }))
 }
 
 /// Drops the nodes the root does not use (unused definitions, constants
@@ -282,6 +288,7 @@ fn compact(ir: Ir) -> Ir {
             Op::Call1(f, a) => Op::Call1(f, m(a)),
             Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
             Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
+            Op::User(u, args, n) => Op::User(u, args.map(m_or_self(&new_id)), n),
         };
         new_id[old as usize] = nodes.len() as NodeId;
         nodes.push(op);
@@ -295,7 +302,7 @@ fn compact(ir: Ir) -> Ir {
             conditions: sf.conditions.iter().map(|&(g, less)| (new_id[g as usize], less)).collect(),
         })
         .collect();
-    Ir { root: new_id[ir.root as usize], surfaces, nodes, spans, params }
+    Ir { root: new_id[ir.root as usize], surfaces, nodes, spans, params, externs: ir.externs }
 }
 
 #[derive(Default)]
@@ -307,11 +314,18 @@ struct Builder {
     params: Vec<(String, Span)>,
     /// The definition being lowered.
     current: Option<String>,
+    /// User functions (`--inline`): name, arity.
+    externs: Vec<(String, usize)>,
+}
+
+/// Maps an operand through `new_id`, leaving unused argument slots (0) alone.
+fn m_or_self(new_id: &[NodeId]) -> impl Fn(NodeId) -> NodeId + '_ {
+    move |n| new_id.get(n as usize).copied().filter(|&v| v != NodeId::MAX).unwrap_or(0)
 }
 
 /// Hashable form of [`Op`] (constants by their bits).
 #[derive(PartialEq, Eq, Hash)]
-struct Key(u8, u64, u64, u64, u64);
+struct Key(u8, u64, u64, u64, u64, u64);
 
 fn key(op: &Op) -> Key {
     let o = op.operands();
@@ -329,8 +343,9 @@ fn key(op: &Op) -> Key {
         Op::Call1(f, _) => (9, f as u64),
         Op::Call2(f, ..) => (10, f as u64),
         Op::Call3(f, ..) => (11, f as u64),
+        Op::User(u, _, n) => (12, ((u as u64) << 8) | n as u64),
     };
-    Key(tag, extra, g(0), g(1), g(2))
+    Key(tag, extra, g(0), g(1), g(2), g(3))
 }
 
 impl Builder {
@@ -344,7 +359,8 @@ impl Builder {
     /// Adds (or finds) a node, folding it when every operand is constant.
     fn push(&mut self, op: Op, span: Span) -> Result<NodeId, SemaError> {
         let ops = op.operands();
-        let op = if !ops.is_empty() && ops.iter().all(|&o| self.konst(o).is_some()) {
+        // User functions (inline WGSL) cannot run on the CPU: never folded.
+        let op = if !ops.is_empty() && !matches!(op, Op::User(..)) && ops.iter().all(|&o| self.konst(o).is_some()) {
             let args: Vec<f64> = ops.iter().map(|&o| self.konst(o).unwrap_or(0.0)).collect();
             let v = scalar_op(&op, &args);
             if !v.is_finite() || !(v as f32).is_finite() {
@@ -513,6 +529,15 @@ impl Builder {
     /// Checks that `name(…)` with `nargs` arguments is a valid call (before
     /// its arguments are lowered, so the first error in reading order wins).
     fn check_call(&self, name: &str, name_span: Span, nargs: usize, span: Span) -> Result<(), SemaError> {
+        if builtin(name).is_none() {
+            if let Some(k) = self.externs.iter().position(|(n, _)| n == name) {
+                let arity = self.externs[k].1;
+                if nargs != arity {
+                    return Err(SemaError::Arity { name: name.to_string(), expected: arity.to_string(), found: nargs, span });
+                }
+                return Ok(());
+            }
+        }
         let Some(f) = builtin(name) else {
             if VARIABLES.iter().any(|(n, _)| *n == name) || self.defs.contains_key(name) || matches!(name, "pi" | "e") {
                 return Err(SemaError::NotAFunction { name: name.to_string(), span: name_span });
@@ -537,6 +562,13 @@ impl Builder {
 
     /// Builds a checked call from its lowered arguments `v`.
     fn finish_call(&mut self, name: &str, v: &[NodeId], args: &[Expr], span: Span) -> Result<NodeId, SemaError> {
+        if builtin(name).is_none() {
+            if let Some(k) = self.externs.iter().position(|(n, _)| n == name) {
+                let mut a = [0; 4];
+                a[..v.len()].copy_from_slice(v);
+                return self.push(Op::User(k as u16, a, v.len() as u8), span);
+            }
+        }
         match builtin(name).expect("checked by check_call") {
             Builtin::F1(g) => self.push(Op::Call1(g, v[0]), span),
             Builtin::F2(Func2::Pow) => self.pow_nodes(v[0], v[1], args[1].span, span),
@@ -588,6 +620,13 @@ impl Builder {
                 Op::Call1(f, a) => Op::Call1(f, m(a)),
                 Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
                 Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
+                Op::User(u, args, k) => {
+                    let mut a = [0; 4];
+                    for i in 0..k as usize {
+                        a[i] = m(args[i]);
+                    }
+                    Op::User(u, a, k)
+                }
             };
             let span = self.spans[n as usize];
             let id = self.push(op, span)?;

@@ -4,7 +4,7 @@
 use super::{input::FormulaArgs, render::parse_params, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use isotrace::codegen::Domain;
-use isotrace::gpu::eval::{eval_boxes, Box8};
+use isotrace::gpu::eval::{eval_boxes_with, Box8};
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -76,7 +76,8 @@ pub fn parse_boxes(name: &str, lines: &[String], scalar: bool, time: f64) -> Res
 }
 
 pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
-    let f = a.formula.load()?;
+    let loaded = a.formula.load_with_header()?;
+    let f = &loaded.formula;
     let domain = match a.algebra {
         AlgebraArg::Auto => resolve_algebra(AlgebraArg::Auto, &f.ir),
         other => resolve_algebra(other, &f.ir),
@@ -89,13 +90,19 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     }
     let (name, lines) = read_lines(&a.boxes)?;
     let boxes = parse_boxes(&name, &lines, domain == Domain::Scalar, a.time)?;
+    if a.cpu && loaded.inline.is_some() {
+        return Err(CliError::Input("--cpu cannot evaluate --inline WGSL functions (they run on the device only)".into()));
+    }
     let results: Vec<[f64; 2]> = if a.cpu {
         let p64: Vec<f64> = params.iter().map(|&v| v as f64).collect();
         boxes.iter().map(|b| cpu_eval(&f.ir, domain, b, &p64)).collect()
     } else {
         let gpu = super::render::open_gpu()?;
-        eval_boxes(&gpu, &f.ir, domain, &boxes, &params)
-            .map_err(|e| CliError::Internal(e.to_string()))?
+        eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref())
+            .map_err(|e| match e {
+                isotrace::gpu::eval::EvalError::Inline(m) => CliError::Rendered(m),
+                other => CliError::Internal(other.to_string()),
+            })?
             .into_iter()
             .map(|[lo, hi]| [lo as f64, hi as f64])
             .collect()

@@ -18,6 +18,9 @@ pub struct FormulaArgs {
     /// Read the formula from FILE.
     #[arg(short = 'f', long = "file", value_name = "FILE", conflicts_with = "formula")]
     pub file: Option<std::path::PathBuf>,
+    /// User WGSL: functions callable from the formula (s_NAME, ia_NAME, ra_NAME versions) and hooks (hook_reject, hook_hit, hook_shade).
+    #[arg(long, value_name = "FILE.wgsl")]
+    pub inline: Option<std::path::PathBuf>,
 }
 
 /// A compiled formula and, for catalog entries and `.iso` files, the
@@ -27,6 +30,8 @@ pub struct Loaded {
     pub formula: Formula,
     /// The `.iso` header, if any.
     pub header: Option<Header>,
+    /// The `--inline` file, if any.
+    pub inline: Option<isotrace::inline::InlineWgsl>,
 }
 
 impl FormulaArgs {
@@ -37,6 +42,15 @@ impl FormulaArgs {
 
     /// Reads and compiles the formula, keeping an `.iso` header.
     pub fn load_with_header(&self) -> Result<Loaded, CliError> {
+        let inline = match &self.inline {
+            None => None,
+            Some(p) => {
+                let text = std::fs::read_to_string(p).map_err(|e| CliError::Input(format!("cannot read --inline file '{}': {e}", p.display())))?;
+                let path = p.display().to_string();
+                Some(isotrace::inline::parse_inline(&path, &text).map_err(|d| CliError::Rendered(d.render(&path, &text, false)))?)
+            }
+        };
+        let externs = inline.as_ref().map_or(vec![], |i| i.functions.clone());
         let entry = match (&self.file, self.formula.as_deref()) {
             (Some(p), _) if p.extension().is_some_and(|e| e == "iso") => Some(load_iso(p)?),
             (None, Some(a)) if a.starts_with('@') => Some(catalog::lookup(&a[1..]).map_err(|e| CliError::Input(e.to_string()))?),
@@ -44,11 +58,11 @@ impl FormulaArgs {
             _ => None,
         };
         if let Some(e) = entry {
-            let formula = e.compile()?;
-            return Ok(Loaded { formula, header: Some(e.header) });
+            let formula = Formula::compile_with(&e.origin(), &e.formula, &externs)?;
+            return Ok(Loaded { formula, header: Some(e.header), inline });
         }
         let (origin, text) = self.text()?;
-        Ok(Loaded { formula: Formula::compile(&origin, &text)?, header: None })
+        Ok(Loaded { formula: Formula::compile_with(&origin, &text, &externs)?, header: None, inline })
     }
 
     /// The formula's origin name and text (no header handling).

@@ -107,6 +107,8 @@ pub enum CliError {
     Internal(String),
     /// No usable GPU device (exit code 2).
     NoDevice(String),
+    /// Bad input with a diagnostic already rendered (exit code 1).
+    Rendered(String),
 }
 
 impl CliError {
@@ -118,11 +120,12 @@ impl CliError {
             CliError::Input(m) => format!("error: {m}\n"),
             CliError::Internal(m) => format!("{m}\n"),
             CliError::NoDevice(m) => format!("error: {m}\n"),
+            CliError::Rendered(m) => m.clone(),
         }
     }
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Formula(_) | CliError::Input(_) => 1,
+            CliError::Formula(_) | CliError::Input(_) | CliError::Rendered(_) => 1,
             CliError::Internal(_) => 3,
             CliError::NoDevice(_) => 2,
         }
@@ -187,18 +190,31 @@ pub fn resolve_algebra(a: AlgebraArg, ir: &isotrace::ir::Ir) -> Domain {
 }
 
 fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
-    let f = a.formula.load()?;
+    let loaded = a.formula.load_with_header()?;
+    let f = &loaded.formula;
+    let inline = loaded.inline.as_ref();
     let domain = resolve_algebra(a.algebra, &f.ir);
     let src = match a.kernel {
-        KernelArg::Eval => codegen::eval_shader(&f.ir, domain),
+        KernelArg::Eval => codegen::eval_shader_with(&f.ir, domain, inline),
         KernelArg::Render => {
             if domain == Domain::Scalar {
                 return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
             }
-            codegen::render_shader(&f.ir, domain)
+            codegen::render_shader_with(&f.ir, domain, &codegen::RenderConfig::default(), inline)
         }
     };
-    validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
+    match inline {
+        Some(user) => {
+            let start = src.find(&user.text).unwrap_or(0);
+            validate::validate_with_inline(&src, start..start + user.text.len(), &user.path, &user.text).map_err(|e| match e {
+                validate::InlineError::User(m) => CliError::Rendered(m),
+                validate::InlineError::Bug(b) => CliError::Internal(format!("{b}\nformula ({}): {}", f.origin, f.source.trim())),
+            })?;
+        }
+        None => {
+            validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
+        }
+    }
     match a.output {
         Some(path) => input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?,
         None => {
@@ -215,6 +231,7 @@ pub fn render_error(e: isotrace::gpu::render::RenderError) -> CliError {
         R::Validate(v) => CliError::Internal(v.to_string()),
         R::Gpu(g) => CliError::Internal(g.to_string()),
         R::Settings(m) => CliError::Input(m),
+        R::Inline(m) => CliError::Rendered(m),
     }
 }
 

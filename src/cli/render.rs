@@ -379,7 +379,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
                 ColorMode::Depth => 2,
                 _ => 0,
             };
-            modal = Some(super::modality::modalities(&a.modal, a.sphere.shadows, kernel_color)?);
+            let mut m = super::modality::modalities(&a.modal, a.sphere.shadows, kernel_color)?;
+            m.inline = loaded.inline.clone();
+            modal = Some(m);
             if color == ColorMode::Field {
                 return Err(input("--color field applies to --method sphere only"));
             }
@@ -388,6 +390,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             }
         }
         Method::Sphere => {
+            if loaded.inline.is_some() {
+                return Err(input("--inline applies to --method bisect only"));
+            }
             if let Some(flag) = a.modal.given().first() {
                 return Err(input(format!("{flag} applies to --method bisect only")));
             }

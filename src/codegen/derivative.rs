@@ -33,7 +33,7 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let mut restricted = Vec::new();
     for id in ir.live() {
         let op = ir.nodes[id as usize];
-        let rhs = value_rhs(&mut out, domain, id, op);
+        let rhs = value_rhs(&mut out, domain, id, op, &ir.externs);
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(id);
@@ -167,6 +167,10 @@ fn derivative(out: &mut String, p: &str, id: NodeId, op: Op, zero: &[bool]) -> O
                 }
             }
         }
+        // The slope of a user function is unknown: the whole line (so a
+        // cell that depends on one is never taken for monotone).
+        Op::User(_, args, n) if args[..n as usize].iter().all(|&a| z(a)) => return None,
+        Op::User(..) => format!("{p}_whole()"),
         _ => return None,
     })
 }

@@ -92,7 +92,7 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     let mut restricted: Vec<NodeId> = Vec::new();
     for id in ir.live() {
         let op = ir.nodes[id as usize];
-        let rhs = value_rhs(&mut out, domain, id, op);
+        let rhs = value_rhs(&mut out, domain, id, op, &ir.externs);
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(id);
@@ -121,7 +121,7 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
     let mut restricted: Vec<NodeId> = Vec::new();
     for id in ir.live() {
         let op = ir.nodes[id as usize];
-        let rhs = value_rhs(&mut out, domain, id, op);
+        let rhs = value_rhs(&mut out, domain, id, op, &ir.externs);
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(id);
@@ -140,7 +140,7 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
 
 /// The right-hand side of `let v{id} = …;` for one node (odd powers first
 /// write their square-and-multiply chain into `out`).
-pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op) -> String {
+pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, names: &[(String, usize)]) -> String {
     let p = domain.prefix();
     let v = |n: NodeId| format!("v{n}");
     match op {
@@ -176,6 +176,10 @@ pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op) ->
         Op::Call1(f, a) => format!("{p}_{}({})", f.name(), v(a)),
         Op::Call2(f, a, b) => format!("{p}_{}({}, {})", f.name(), v(a), v(b)),
         Op::Call3(f, a, b, c) => format!("{p}_{}({}, {}, {})", f.name(), v(a), v(b), v(c)),
+        Op::User(u, args, n) => {
+            let a: Vec<String> = args[..n as usize].iter().map(|&x| v(x)).collect();
+            format!("{p}_{}({})", names[u as usize].0, a.join(", "))
+        }
     }
 }
 
@@ -210,9 +214,19 @@ pub fn eval_call(domain: Domain) -> String {
 
 /// The complete `isotrace eval` shader for `domain`.
 pub fn eval_shader(ir: &Ir, domain: Domain) -> String {
-    let lib = libraries(&[domain]);
+    eval_shader_with(ir, domain, None)
+}
+
+/// [`eval_shader`] with user WGSL (`--inline`). Its three versions of each
+/// function need every op library, so all are included then.
+pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::InlineWgsl>) -> String {
+    let lib = match inline {
+        Some(_) => libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]),
+        None => libraries(&[domain]),
+    };
     let eval = emit_evaluator(ir, domain);
-    template::splice(template::EVAL, &[("library", &lib), ("evaluator", &eval), ("call", &eval_call(domain))])
+    let user = inline.map_or(String::new(), |i| i.text.clone());
+    template::splice(template::EVAL, &[("library", &lib), ("inline", &user), ("evaluator", &eval), ("call", &eval_call(domain))])
         .expect("the eval template has its markers")
 }
 

@@ -7,6 +7,7 @@
 //! surfaces with `where` conditions were combined, is decided here.
 
 use super::{derivative, emit_evaluator, emit_evaluator_all, libraries, template, Domain};
+use crate::inline::InlineWgsl;
 use crate::ir::{Ir, NodeId};
 use std::fmt::Write;
 
@@ -159,12 +160,35 @@ return surf_{p}({}, {}, {}, {p}_const(U.time));\n}}\n",
 
 /// The complete render shader with the inclusion function in `domain`.
 pub fn render_shader(ir: &Ir, domain: Domain) -> String {
-    render_shader_with(ir, domain, &RenderConfig::default())
+    render_shader_with(ir, domain, &RenderConfig::default(), None)
 }
 
-/// The render shader for `domain` with the modalities of `cfg`.
-pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig) -> String {
-    let lib = format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain));
+/// The user's text and the three hook functions the traversal calls:
+/// the user's hooks where the file defines them, else the defaults.
+fn inline_part(inline: Option<&InlineWgsl>) -> String {
+    let mut s = inline.map_or(String::new(), |i| format!("{}\n", i.text));
+    let (reject, hit, shade) = inline.map_or((false, false, false), |i| (i.reject, i.hit, i.shade));
+    s.push_str(if reject {
+        "fn keep_cell(r: vec2<f32>) -> bool { return hook_reject(r); }\n"
+    } else {
+        "fn keep_cell(r: vec2<f32>) -> bool { return may_contain_iso(r); }\n"
+    });
+    s.push_str(if hit { "fn accept_hit(p: vec3<f32>) -> bool { return hook_hit(p); }\n" } else { "fn accept_hit(p: vec3<f32>) -> bool { return true; }\n" });
+    s.push_str(if shade {
+        "fn final_color(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32> { return hook_shade(p, dir, n, c); }\n"
+    } else {
+        "fn final_color(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32> { return c; }\n"
+    });
+    s
+}
+
+/// The render shader for `domain` with the modalities of `cfg` and
+/// optional user WGSL.
+pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig, inline: Option<&InlineWgsl>) -> String {
+    let lib = match inline {
+        Some(_) => format!("{}\n{}", libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]), derivative::library(domain)),
+        None => format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain)),
+    };
     let mut evals = format!("{}\n{}\n", emit_evaluator(ir, Domain::Scalar), emit_evaluator(ir, domain));
     if !ir.is_csg() {
         evals.push_str(&derivative::emit_evaluator_d(ir, domain));
@@ -187,6 +211,7 @@ pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig) -> String
         template::BISECT,
         &[
             ("library", &lib),
+            ("inline", &inline_part(inline)),
             ("evaluators", &evals),
             ("inclusion", &inclusion(ir, domain)),
             ("config", &config),

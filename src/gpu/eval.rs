@@ -2,7 +2,7 @@
 //! a batch of boxes, one invocation per box, all in one dispatch.
 
 use super::{pack_params, Gpu, GpuError};
-use crate::codegen::{eval_shader, Domain};
+use crate::codegen::Domain;
 use crate::ir::Ir;
 use crate::validate::validate;
 use bytemuck::{Pod, Zeroable};
@@ -30,16 +30,42 @@ pub enum EvalError {
     /// The device failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// The user's inline WGSL does not validate.
+    #[error("{0}")]
+    Inline(String),
 }
 
 /// Evaluates `ir` in `domain` on every box; returns `[lo, hi]` per box
 /// (empty: lo > hi; scalar: lo == hi, at the box's low corner).
 pub fn eval_boxes(gpu: &Gpu, ir: &Ir, domain: Domain, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
+    eval_boxes_with(gpu, ir, domain, boxes, params, None)
+}
+
+/// [`eval_boxes`] with user WGSL (`--inline`).
+pub fn eval_boxes_with(
+    gpu: &Gpu,
+    ir: &Ir,
+    domain: Domain,
+    boxes: &[Box8],
+    params: &[f32],
+    inline: Option<&crate::inline::InlineWgsl>,
+) -> Result<Vec<[f32; 2]>, EvalError> {
     if boxes.is_empty() {
         return Ok(vec![]);
     }
-    let src = eval_shader(ir, domain);
-    validate(&src)?;
+    let src = crate::codegen::eval_shader_with(ir, domain, inline);
+    match inline {
+        Some(user) => {
+            let start = src.find(&user.text).unwrap_or(0);
+            crate::validate::validate_with_inline(&src, start..start + user.text.len(), &user.path, &user.text).map_err(|e| match e {
+                crate::validate::InlineError::User(m) => EvalError::Inline(m),
+                crate::validate::InlineError::Bug(b) => EvalError::Validate(b),
+            })?;
+        }
+        None => {
+            validate(&src)?;
+        }
+    }
     let pipeline = gpu.pipeline("isotrace eval", &src)?;
     let mut out = Vec::with_capacity(boxes.len());
     // Stay within the storage binding limit: 32 bytes in, 8 bytes out per box.

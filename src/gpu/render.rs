@@ -109,6 +109,9 @@ pub enum RenderError {
     /// Bad settings (size, camera, eps).
     #[error("{0}")]
     Settings(String),
+    /// The user's inline WGSL does not validate (rendered against their file).
+    #[error("{0}")]
+    Inline(String),
 }
 
 /// Switches for the traversal's optimisations, so their effect can be
@@ -185,6 +188,8 @@ pub struct Modalities {
     pub env_mode: u32,
     /// Environment image.
     pub env: Option<EnvImage>,
+    /// User WGSL (`--inline`): functions and hooks.
+    pub inline: Option<crate::inline::InlineWgsl>,
 }
 
 impl Default for Modalities {
@@ -201,6 +206,7 @@ impl Default for Modalities {
             color_mode: 0,
             env_mode: 0,
             env: None,
+            inline: None,
         }
     }
 }
@@ -233,8 +239,19 @@ impl<'g> Renderer<'g> {
         if modalities.layers > 8 {
             return Err(RenderError::Settings(format!("at most 8 layers, got {}", modalities.layers)));
         }
-        let wgsl = render_shader_with(ir, domain, &modalities.config());
-        validate(&wgsl)?;
+        let wgsl = render_shader_with(ir, domain, &modalities.config(), modalities.inline.as_ref());
+        match &modalities.inline {
+            Some(user) => {
+                let start = wgsl.find(&user.text).unwrap_or(0);
+                crate::validate::validate_with_inline(&wgsl, start..start + user.text.len(), &user.path, &user.text).map_err(|e| match e {
+                    crate::validate::InlineError::User(m) => RenderError::Inline(m),
+                    crate::validate::InlineError::Bug(b) => RenderError::Validate(b),
+                })?;
+            }
+            None => {
+                validate(&wgsl)?;
+            }
+        }
         let pipeline = gpu.pipeline("isotrace render", &wgsl)?;
         let texels: Vec<u32> = modalities.env.as_ref().map_or(vec![0], |e| e.texels.clone());
         let env = gpu.scoped("environment upload", || {

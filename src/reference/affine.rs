@@ -109,7 +109,7 @@ impl Value for Af {
 pub fn affine_op(op: &Op, a: &[Form]) -> Form {
     let r = match *op {
         Op::Const(c) => [c, 0.0, 0.0],
-        Op::Var(_) | Op::Param(_) => WHOLE_FORM,
+        Op::Var(_) | Op::Param(_) | Op::User(..) => WHOLE_FORM,
         Op::Neg(_) => neg(a[0]),
         Op::Add(..) => [a[0][0] + a[1][0], a[0][1] + a[1][1], a[0][2] + a[1][2]],
         Op::Sub(..) => [a[0][0] - a[1][0], a[0][1] - a[1][1], a[0][2] + a[1][2]],

@@ -75,7 +75,7 @@ fn norm(a: Iv) -> Iv {
 pub fn interval_op(op: &Op, a: &[Interval]) -> Interval {
     let r = match *op {
         Op::Const(c) => [c, c],
-        Op::Var(_) | Op::Param(_) => WHOLE,
+        Op::Var(_) | Op::Param(_) | Op::User(..) => WHOLE,
         Op::Neg(_) => neg(a[0]),
         Op::Add(..) => [a[0][0] + a[1][0], a[0][1] + a[1][1]],
         Op::Sub(..) => [a[0][0] - a[1][1], a[0][1] - a[1][0]],

@@ -31,7 +31,8 @@ use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 pub fn scalar_op(op: &Op, a: &[f64]) -> f64 {
     match *op {
         Op::Const(c) => c,
-        Op::Var(_) | Op::Param(_) => f64::NAN,
+        // Inline WGSL functions exist only on the device.
+        Op::Var(_) | Op::Param(_) | Op::User(..) => f64::NAN,
         Op::Neg(_) => -a[0],
         Op::Add(..) => a[0] + a[1],
         Op::Sub(..) => a[0] - a[1],
@@ -131,6 +132,7 @@ pub(crate) fn operands<V: Value>(op: &Op, vals: &[V]) -> ([V; 3], usize) {
         Op::Neg(a) | Op::PowI(a, _) | Op::Call1(_, a) => ([g(a), u, u], 1),
         Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Call2(_, a, b) => ([g(a), g(b), u], 2),
         Op::Call3(_, a, b, c) => ([g(a), g(b), g(c)], 3),
+        Op::User(..) => ([u, u, u], 0),
     }
 }
 

@@ -79,6 +79,9 @@ fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
 
 //!splice:library
 
+// User WGSL (--inline): functions callable from the formula and hooks.
+//!splice:inline
+
 //!splice:evaluators
 
 //!splice:inclusion
@@ -154,7 +157,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         }
         h.evals = h.evals + 1u;
         var descend = false;
-        if (may_contain_iso(r)) {
+        if (keep_cell(r)) {
             let finite = is_finite_range(r);
             var f0 = 0.0;
             var f1 = 0.0;
@@ -174,7 +177,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
                         if (s_i < best) { best = s_i; h.iso = i; }
                     }
                 }
-                if (best < U.inf) {
+                if (best < U.inf && accept_hit(ray.o + ray.dir * best)) {
                     h.s = best;
                     h.status = STATUS_HIT;
                     return h;
@@ -184,10 +187,13 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
             } else {
                 let i = first_iso(r);
                 if (finite || sign_change(ray, c.x, c.y, iso_value(i))) {
-                    h.iso = i;
-                    h.s = refine(ray, c.x, c.y, iso_value(i));
-                    h.status = STATUS_HIT;
-                    return h;
+                    let s_hit = refine(ray, c.x, c.y, iso_value(i));
+                    if (accept_hit(ray.o + ray.dir * s_hit)) {
+                        h.iso = i;
+                        h.s = s_hit;
+                        h.status = STATUS_HIT;
+                        return h;
+                    }
                 }
             }
         }
@@ -392,7 +398,7 @@ fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, depth: f32, iso: u32, 
     let depth01 = clamp((depth - dr.x) / max(dr.y - dr.x, 1e-20), 0.0, 1.0);
     var c = shade(p, unit, g, depth01, iso, shadow_visibility(p, n));
     let refl = reflection(p, n, unit);
-    return c * (1.0 - refl.w) + refl.xyz;
+    return final_color(p, unit, n, c * (1.0 - refl.w) + refl.xyz);
 }
 
 @compute @workgroup_size(8, 8)
@@ -418,7 +424,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
                           vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
                           vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
-    if (dr.x < dr.y && (may_contain_iso(slab) || (U.flags & 2u) != 0u)) {
+    if (dr.x < dr.y && (keep_cell(slab) || (U.flags & 2u) != 0u)) {
         atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
     }
     workgroupBarrier();

@@ -22,6 +22,8 @@ fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
 
 //!splice:library
 
+//!splice:inline
+
 //!splice:evaluator
 
 fn box_value(i: u32) -> vec2<f32> {
