@@ -24,6 +24,8 @@ pub const DEFAULT_BOX: [f64; 6] = [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0];
 pub const KEYS: &[&str] = &[
     "name", "title", "box", "t", "eye", "target", "up", "fov", "eps", "algebra", "param", "degree", "status",
     "source", "notes", "animate", "clip", "method", "lipschitz", "bound",
+    // Knoll et al.'s modalities, as defaults of the render flags of the same names.
+    "shadows", "light", "shadow-eps", "opacity", "layers", "iso", "reflect", "reflectivity", "env", "color",
 ];
 
 /// The built-in surfaces: file name and text of every `examples/*.iso`.
@@ -57,6 +59,7 @@ const BUILTIN: &[(&str, &str)] = &[
     ("jewel.iso", include_str!("../examples/jewel.iso")),
     ("city.iso", include_str!("../examples/city.iso")),
     ("creature.iso", include_str!("../examples/creature.iso")),
+    ("onion.iso", include_str!("../examples/onion.iso")),
 ];
 
 /// One named surface.
@@ -115,6 +118,10 @@ pub struct Header {
     /// `bound`: a convex volume holding a convex object (sphere tracing's
     /// technique 5).
     pub bound: Option<Bound>,
+    /// Modality keys (`shadows`, `light`, `shadow-eps`, `opacity`,
+    /// `layers`, `iso`, `reflect`, `reflectivity`, `env`, `color`): checked
+    /// here, applied as defaults of the `render` flags of the same names.
+    pub modalities: Vec<(String, String)>,
 }
 
 impl Default for Header {
@@ -139,6 +146,7 @@ impl Default for Header {
             method: None,
             lipschitz: None,
             bound: None,
+            modalities: Vec::new(),
         }
     }
 }
@@ -431,6 +439,31 @@ fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value: &str) -> R
             _ => return Err("expected a Lipschitz bound L >= 1".into()),
         },
         "bound" => h.bound = Some(Bound::parse(value)?),
+        "shadows" => match value {
+            "true" | "false" => h.modalities.push((key.to_string(), value.to_string())),
+            _ => return Err("expected true or false".into()),
+        },
+        "light" => {
+            parse_vec3(value)?;
+            h.modalities.push((key.to_string(), value.to_string()));
+        }
+        "shadow-eps" => {
+            parse_eps(value)?;
+            h.modalities.push((key.to_string(), value.to_string()));
+        }
+        "opacity" | "reflectivity" => match number(value) {
+            Some(v) if v > 0.0 && v <= 1.0 => h.modalities.push((key.to_string(), value.to_string())),
+            _ => return Err("expected a number in (0, 1]".into()),
+        },
+        "layers" | "reflect" => match value.parse::<u32>() {
+            Ok(n) if n <= 8 => h.modalities.push((key.to_string(), value.to_string())),
+            _ => return Err("expected a whole number from 0 to 8".into()),
+        },
+        "iso" => match numbers(value) {
+            Some(v) if !v.is_empty() && v.len() <= 8 => h.modalities.push((key.to_string(), value.to_string())),
+            _ => return Err("expected 1 to 8 comma-separated numbers".into()),
+        },
+        "env" | "color" => h.modalities.push((key.to_string(), value.to_string())),
         _ => unreachable!("key checked against KEYS"),
     }
     Ok(())

@@ -180,7 +180,9 @@ fn a_full_header_parses() {
 #[test]
 fn error_unknown_key() {
     let r = parse_iso("examples/x.iso", "#@ name: x\n#@ colour: red\nx\n");
-    assert_eq!(err_text(r), "examples/x.iso:2: unknown key 'colour' (keys: name, title, box, t, eye, target, up, fov, eps, algebra, param, degree, status, source, notes, animate, clip, method, lipschitz, bound)");
+    assert_eq!(err_text(r), "examples/x.iso:2: unknown key 'colour' (did you mean 'color'?)");
+    let r = parse_iso("examples/x.iso", "#@ name: x\n#@ zzzzzz: red\nx\n");
+    assert!(err_text(r).starts_with("examples/x.iso:2: unknown key 'zzzzzz' (keys: name, title, box,"));
     let r = parse_iso("examples/x.iso", "#@ bx: -1,1\nx\n");
     assert_eq!(err_text(r), "examples/x.iso:1: unknown key 'bx' (did you mean 'box'?)");
 }

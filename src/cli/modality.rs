@@ -101,6 +101,31 @@ pub fn modalities(a: &ModalityArgs, shadows: bool, color_mode: u32) -> Result<Mo
 }
 
 impl ModalityArgs {
+    /// These flags with an `.iso` header's modality keys filling the ones
+    /// not given (flags override the header). Also returns the header's
+    /// `shadows` and `color` values.
+    pub fn with_header(&self, header: Option<&isotrace::catalog::Header>) -> (ModalityArgs, Option<bool>, Option<String>) {
+        let mut a = self.clone();
+        let (mut shadows, mut color) = (None, None);
+        for (k, v) in header.map_or(&[][..], |h| &h.modalities[..]) {
+            let v = v.clone();
+            match k.as_str() {
+                "shadows" => shadows = Some(v == "true"),
+                "color" => color = Some(v),
+                "light" => a.light = a.light.or(Some(v)),
+                "shadow-eps" => a.shadow_eps = a.shadow_eps.or(Some(v)),
+                "opacity" => a.opacity = a.opacity.or(v.parse().ok()),
+                "layers" => a.layers = a.layers.or(v.parse().ok()),
+                "iso" => a.iso = a.iso.or(Some(v)),
+                "reflect" => a.reflect = a.reflect.or(v.parse().ok()),
+                "reflectivity" => a.reflectivity = a.reflectivity.or(v.parse().ok()),
+                "env" => a.env = a.env.or(Some(v)),
+                _ => {}
+            }
+        }
+        (a, shadows, color)
+    }
+
     /// The bisection-only flags that were given.
     pub fn given(&self) -> Vec<&'static str> {
         [

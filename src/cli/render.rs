@@ -365,7 +365,11 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let s = settings(&a.view, size, f, loaded.header.as_ref())?;
     let header = loaded.header.as_ref();
     let method = method(a.sphere.method.as_deref(), header)?;
-    let color = output::parse_color(&a.color).map_err(|m| input(format!("invalid --color '{}': {m}", a.color)))?;
+    let (modal_args, header_shadows, header_color) = a.modal.with_header(header);
+    // --color defaults to "shade"; a header's colour applies unless the flag was given.
+    let color_text = if a.color == "shade" { header_color.unwrap_or_else(|| a.color.clone()) } else { a.color.clone() };
+    let color = output::parse_color(&color_text).map_err(|m| input(format!("invalid --color '{color_text}': {m}")))?;
+    let shadows = a.sphere.shadows || header_shadows.unwrap_or(false);
     let domain = resolve_algebra(a.view.algebra.or(header.and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
     let mut sphere = None;
     let mut modal = None;
@@ -379,7 +383,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
                 ColorMode::Depth => 2,
                 _ => 0,
             };
-            let mut m = super::modality::modalities(&a.modal, a.sphere.shadows, kernel_color)?;
+            let mut m = super::modality::modalities(&modal_args, shadows, kernel_color)?;
             m.inline = loaded.inline.clone();
             modal = Some(m);
             if color == ColorMode::Field {
