@@ -12,7 +12,7 @@ use isotrace::render::Camera;
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     let size: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(512);
-    let repeat: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let repeat: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(2);
     let names: Vec<String> = if args.len() > 2 {
         args[2..].to_vec()
     } else {
@@ -20,7 +20,7 @@ fn main() {
          "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water"].iter().map(|s| s.to_string()).collect()
     };
     let gpu = Gpu::new().expect("GPU");
-    let md: u32 = std::env::var("MONO_DEPTH").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
+    let md: u32 = std::env::var("MONO_DEPTH").ok().and_then(|v| v.parse().ok()).unwrap_or(2);
     let variants: [(&str, Optimizations); 4] = [
         ("all", Optimizations { monotone_depth: md, ..Default::default() }),
         ("no-tile", Optimizations { tile_culling: false, ..Default::default() }),

@@ -79,16 +79,22 @@ impl Formula {
 
 /// The inclusion algebra `--algebra auto` picks for a formula.
 ///
-/// Reduced affine arithmetic keeps the ray parameter as a symbol, so sums
-/// and products of correlated terms cancel (x² + y² + z² along a ray, the
-/// factors of the Barth and Mitchell surfaces); measured on the Knoll suite
-/// it needs 1.5-3x fewer evaluations than IA on every polynomial of moderate
-/// degree. It loses where the interval rules are exact and cheap: very high
-/// powers (the superquadric x^200: 15x more evaluations with RAA, as Knoll
-/// et al. also found) and min/max/abs-heavy CSG formulas, whose affine
-/// versions fall back to intervals at extra cost. The README's benchmark
-/// table is the evidence.
+/// Reduced affine arithmetic keeps the ray depth as a symbol, so correlated
+/// terms cancel (x^4 - 5x^2 of the tangle cube, the factors of the Barth
+/// and Mitchell surfaces). Measured on the Knoll suite at 1024² (README),
+/// RAA is faster for polynomials of degree 4 to 10: 1.2-1.7x (Barth decic
+/// 483 → 287 ms). It loses elsewhere:
+/// - degree 2: fewer evaluations (1.42 vs 1.53 per pixel on the sphere)
+///   but each costs more, 75 vs 64 ms;
+/// - degree 12 and up, or a power of 16 and up: its error terms grow
+///   (decocube 141 → 179 ms, 4-bretzel 93 → 104 ms, superquadric x^200
+///   156 ms → 6.6 s, as Knoll et al. also found);
+/// - transcendental functions, division, min/max/abs (CSG): RAA goes
+///   through IA for them at extra cost (cloth 210 → 239 ms, sq.csg
+///   96 → 164 ms).
 pub fn choose_algebra(ir: &ir::Ir) -> codegen::Domain {
     let (minmax, max_power) = ir.shape();
-    if max_power >= 16 || minmax >= 2 { codegen::Domain::Interval } else { codegen::Domain::Affine }
+    let degree = ir.degree();
+    let polynomial_mid = matches!(degree, Some(4..=10));
+    if polynomial_mid && max_power < 16 && minmax == 0 && !ir.is_csg() { codegen::Domain::Affine } else { codegen::Domain::Interval }
 }

@@ -131,7 +131,7 @@ pub struct Optimizations {
 
 impl Default for Optimizations {
     fn default() -> Self {
-        Optimizations { tile_culling: true, monotone: true, monotone_depth: 3 }
+        Optimizations { tile_culling: true, monotone: true, monotone_depth: 2 }
     }
 }
 
