@@ -186,3 +186,15 @@ fn bench_failure_mid_batch_goes_on_and_exits_nonzero() {
     let t = String::from_utf8_lossy(&o.stdout);
     assert!(t.contains("needs-param") && t.contains("FAILED") && t.contains("sphere"), "{t}");
 }
+
+#[test]
+fn bench_find_eps_reports_the_coarsest_matching_eps() {
+    let json = tmp("eps.json");
+    let o = isotrace(&["bench", "sphere", "--size", "64", "--repeat", "1", "--algebra", "ia", "--find-eps", "--json", json.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let l = &v["results"][0]["lowest_eps"];
+    let k = l["exponent"].as_i64().expect("an exponent");
+    assert!((-13..=-5).contains(&k), "{l}");
+    assert!(l["differing"].as_f64().unwrap() <= 0.005);
+}

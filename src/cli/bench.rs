@@ -241,7 +241,8 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
         let mut fine = s.clone();
         fine.eps = diag * 2f64.powi(-14);
         let reference = r.render(&fine).map_err(|e| e.to_string())?;
-        for k in -5..=-13 {
+        // Coarse to fine: the first match is the coarsest correct eps.
+        for k in (-13..=-5).rev() {
             let mut sk = s.clone();
             sk.eps = diag * 2f64.powi(k);
             let fr = r.render(&sk).map_err(|e| e.to_string())?;
