@@ -161,6 +161,23 @@ impl Gpu {
         staging
     }
 
+    /// Maps a read-back buffer made by [`Gpu::read_buffer`] and hands its
+    /// bytes to `f` without copying them first.
+    pub fn map_read_with<T>(&self, staging: &wgpu::Buffer, f: impl FnOnce(&[u8]) -> T) -> Result<T, GpuError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        let err = |m: String| GpuError::Device { during: "reading results", message: m };
+        rx.recv().map_err(|e| err(e.to_string()))?.map_err(|e| err(e.to_string()))?;
+        let view = staging.get_mapped_range(..).map_err(|e| err(e.to_string()))?;
+        let out = f(&view);
+        drop(view);
+        staging.unmap();
+        Ok(out)
+    }
+
     /// Maps a read-back buffer made by [`Gpu::read_buffer`] after submission.
     pub fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
