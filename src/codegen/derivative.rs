@@ -10,7 +10,7 @@
 //! Nodes whose derivative is identically 0 (constants, parameters, time)
 //! are tracked so their terms are not emitted.
 
-use super::{emit_odd_power, value_rhs, Domain};
+use super::{emit_body, emit_odd_power, Domain};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
@@ -30,22 +30,14 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "fn evald_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: {ty}, dy: {ty}, dz: {ty}) -> vec4<f32> {{");
     let mut zero = vec![true; ir.nodes.len()];
-    let mut restricted = Vec::new();
-    for id in ir.live() {
-        let op = ir.nodes[id as usize];
-        let rhs = value_rhs(&mut out, domain, id, op, &ir.externs);
-        let _ = writeln!(out, "    let v{id} = {rhs};");
-        if op.restricts_domain() {
-            restricted.push(id);
-        }
-        if let Some(d) = derivative(&mut out, p, id, op, &zero) {
+    let empty = emit_body(&mut out, ir, domain, |out, id, op| {
+        if let Some(d) = derivative(out, p, id, op, &zero) {
             let _ = writeln!(out, "    let d{id} = {d};");
             zero[id as usize] = false;
         }
-    }
-    if !restricted.is_empty() {
-        let tests: Vec<String> = restricted.iter().map(|r| format!("{p}_is_empty(v{r})")).collect();
-        let _ = writeln!(out, "    if ({}) {{ return vec4<f32>({p}_range({p}_empty()), 0.0, 0.0); }}", tests.join(" || "));
+    });
+    if let Some(empty) = empty {
+        let _ = writeln!(out, "    if ({empty}) {{ return vec4<f32>({p}_range({p}_empty()), 0.0, 0.0); }}");
     }
     let r = ir.root;
     let d = if zero[r as usize] { format!("{p}_const(0.0)") } else { format!("d{r}") };

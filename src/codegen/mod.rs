@@ -89,20 +89,8 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     let shown = display_limited(ir, ir.root, 160);
     let _ = writeln!(out, "// f = {shown}");
     let _ = writeln!(out, "fn {}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> {ty} {{", domain.eval_fn());
-    let mut restricted: Vec<NodeId> = Vec::new();
-    for id in ir.live() {
-        let op = ir.nodes[id as usize];
-        let rhs = value_rhs(&mut out, domain, id, op, &ir.externs);
-        let _ = writeln!(out, "    let v{id} = {rhs};");
-        if op.restricts_domain() {
-            restricted.push(id);
-        }
-    }
-    if !restricted.is_empty() {
-        // Every operation is strict: an argument outside a domain anywhere
-        // makes the whole function undefined (empty) on this box.
-        let tests: Vec<String> = restricted.iter().map(|r| format!("{p}_is_empty(v{r})")).collect();
-        let _ = writeln!(out, "    if ({}) {{ return {p}_empty(); }}", tests.join(" || "));
+    if let Some(empty) = emit_body(&mut out, ir, domain, |_, _, _| {}) {
+        let _ = writeln!(out, "    if ({empty}) {{ return {p}_empty(); }}");
     }
     let _ = writeln!(out, "    return v{};", ir.root);
     out.push_str("}\n");
@@ -118,24 +106,34 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
     let n = outputs.len();
     let mut out = String::new();
     let _ = writeln!(out, "fn eval_{p}_all(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> array<{ty}, {n}> {{");
-    let mut restricted: Vec<NodeId> = Vec::new();
-    for id in ir.live() {
-        let op = ir.nodes[id as usize];
-        let rhs = value_rhs(&mut out, domain, id, op, &ir.externs);
-        let _ = writeln!(out, "    let v{id} = {rhs};");
-        if op.restricts_domain() {
-            restricted.push(id);
-        }
-    }
-    if !restricted.is_empty() {
-        let tests: Vec<String> = restricted.iter().map(|r| format!("{p}_is_empty(v{r})")).collect();
+    if let Some(empty) = emit_body(&mut out, ir, domain, |_, _, _| {}) {
         let empties = vec![format!("{p}_empty()"); n].join(", ");
-        let _ = writeln!(out, "    if ({}) {{ return array<{ty}, {n}>({empties}); }}", tests.join(" || "));
+        let _ = writeln!(out, "    if ({empty}) {{ return array<{ty}, {n}>({empties}); }}");
     }
     let vals: Vec<String> = outputs.iter().map(|o| format!("v{o}")).collect();
     let _ = writeln!(out, "    return array<{ty}, {n}>({});", vals.join(", "));
     out.push_str("}\n");
     out
+}
+
+/// Writes `let v{id} = …;` for every live node, calling `after` after each
+/// (the derivative emitter adds its `d{id}` there). Returns the test that is
+/// true when the function is undefined on the box: every operation is
+/// strict, so a sqrt/log/pow node that is empty makes the whole function
+/// empty; `None` when the formula has no such node.
+pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, mut after: impl FnMut(&mut String, NodeId, Op)) -> Option<String> {
+    let p = domain.prefix();
+    let mut restricted: Vec<String> = Vec::new();
+    for id in ir.live() {
+        let op = ir.nodes[id as usize];
+        let rhs = value_rhs(out, domain, id, op, &ir.externs);
+        let _ = writeln!(out, "    let v{id} = {rhs};");
+        if op.restricts_domain() {
+            restricted.push(format!("{p}_is_empty(v{id})"));
+        }
+        after(out, id, op);
+    }
+    (!restricted.is_empty()).then(|| restricted.join(" || "))
 }
 
 /// The right-hand side of `let v{id} = …;` for one node (odd powers first
