@@ -198,6 +198,110 @@ impl Gpu {
     }
 }
 
+/// The output buffer of a tiled kernel and its read-back copy, kept between
+/// frames and tiles of the same size (allocating ~30 MB per frame cost
+/// ~15 ms on lavapipe).
+#[derive(Default)]
+pub struct TileBuffers(std::sync::Mutex<Option<(u64, wgpu::Buffer, wgpu::Buffer)>>);
+
+impl TileBuffers {
+    fn get(&self, d: &wgpu::Device, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+        let mut cache = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if cache.as_ref().is_none_or(|(s, _, _)| *s != size) {
+            let out = d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pixels"),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let staging = d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pixels read-back"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            *cache = Some((size, out, staging));
+        }
+        let (_, out, staging) = cache.as_ref().expect("just filled");
+        (out.clone(), staging.clone())
+    }
+}
+
+/// One timed dispatch of a per-pixel kernel over a `tw × th` tile: the
+/// uniforms at binding 0, the pixel records (`record` bytes each) at binding
+/// 1, `extra` bindings after them, 8×8 workgroups. `unpack` gets the
+/// records straight from the mapped read-back buffer. Returns the GPU
+/// milliseconds (timestamp queries when the device has them, else the
+/// submit-to-read-back wall time).
+#[allow(clippy::too_many_arguments)]
+pub fn dispatch_tile(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    label: &'static str,
+    uniforms: &[u8],
+    extra: &[(u32, &wgpu::Buffer)],
+    buffers: &TileBuffers,
+    (tw, th, record): (u32, u32, u64),
+    unpack: impl FnOnce(&[u8]),
+) -> Result<f64, GpuError> {
+    use wgpu::util::DeviceExt;
+    let d = &gpu.device;
+    let size = tw as u64 * th as u64 * record;
+    let ts = gpu.timestamp_period.map(|_| {
+        let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some(label), ty: wgpu::QueryType::Timestamp, count: 2 });
+        let resolve = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size: 16,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        (set, resolve)
+    });
+    let t0 = std::time::Instant::now();
+    let (staging, ts_staging) = gpu.scoped(label, || {
+        let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: uniforms, usage: wgpu::BufferUsages::UNIFORM });
+        let (out, staging) = buffers.get(d, size);
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: out.as_entire_binding() },
+        ];
+        entries.extend(extra.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }));
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &pipeline.get_bind_group_layout(0), entries: &entries });
+        let mut enc = d.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                }),
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+        }
+        let ts_staging = ts.as_ref().map(|(set, resolve)| {
+            enc.resolve_query_set(set, 0..2, resolve, 0);
+            gpu.read_buffer(&mut enc, resolve, 16)
+        });
+        enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
+        gpu.queue.submit([enc.finish()]);
+        (staging, ts_staging)
+    })?;
+    gpu.map_read_with(&staging, unpack)?;
+    let wall = t0.elapsed().as_secs_f64() * 1e3;
+    Ok(match (ts_staging, gpu.timestamp_period) {
+        (Some(b), Some(period)) => {
+            let t = gpu.map_read(&b)?;
+            let v: &[u64] = bytemuck::cast_slice(&t);
+            let ms = v[1].saturating_sub(v[0]) as f64 * period as f64 * 1e-6;
+            if ms > 0.0 { ms } else { wall }
+        }
+        _ => wall,
+    })
+}
+
 /// Parameter values packed for the uniform `params: array<vec4<f32>, 16>`.
 pub const MAX_PARAMS: usize = 64;
 

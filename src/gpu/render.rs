@@ -149,9 +149,8 @@ pub struct Renderer<'g> {
     pub modalities: Modalities,
     env: wgpu::Buffer,
     csg_surfaces: usize,
-    /// The pixel buffer and its read-back copy, reused by every frame and
-    /// tile of the same size (allocating 30 MB per frame cost ~15 ms).
-    buffers: std::sync::Mutex<Option<(u64, wgpu::Buffer, wgpu::Buffer)>>,
+    /// The pixel buffer and its read-back copy, reused between frames.
+    buffers: super::TileBuffers,
 }
 
 /// An environment image (equirectangular), rgba8 packed per texel.
@@ -264,7 +263,7 @@ impl<'g> Renderer<'g> {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         })?;
-        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default(), modalities, env, csg_surfaces: ir.surfaces.len(), buffers: std::sync::Mutex::new(None) })
+        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default(), modalities, env, csg_surfaces: ir.surfaces.len(), buffers: super::TileBuffers::default() })
     }
 
     /// Renders one frame, tile by tile.
@@ -350,88 +349,17 @@ impl<'g> Renderer<'g> {
     /// Runs one tile and hands its packed pixels to `unpack`; returns the
     /// GPU milliseconds.
     fn dispatch(&self, u: &Uniforms, tw: u32, th: u32, unpack: impl FnOnce(&[RawPixel])) -> Result<f64, RenderError> {
-        let gpu = self.gpu;
-        let d = &gpu.device;
-        let size = (tw as u64) * (th as u64) * std::mem::size_of::<RawPixel>() as u64;
-        let ts = gpu.timestamp_period.map(|_| {
-            let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("render time"), ty: wgpu::QueryType::Timestamp, count: 2 });
-            let resolve = d.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (set, resolve)
-        });
-        let t0 = Instant::now();
-        let (staging, ts_staging) = gpu.scoped("render dispatch", || {
-            let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("render uniforms"),
-                contents: bytemuck::bytes_of(u),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-            let mut cache = self.buffers.lock().unwrap_or_else(|e| e.into_inner());
-            if cache.as_ref().is_none_or(|(s, _, _)| *s != size) {
-                let obuf = d.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("pixels"),
-                    size,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                });
-                let staging = d.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("pixels read-back"),
-                    size,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                *cache = Some((size, obuf, staging));
-            }
-            let (_, obuf, staging) = cache.as_ref().expect("just filled");
-            let (obuf, staging) = (obuf.clone(), staging.clone());
-            drop(cache);
-            let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("render"),
-                layout: &self.pipeline.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: obuf.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 2, resource: self.env.as_entire_binding() },
-                ],
-            });
-            let mut enc = d.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("bisect"),
-                    timestamp_writes: ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    }),
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
-            }
-            let ts_staging = ts.as_ref().map(|(set, resolve)| {
-                enc.resolve_query_set(set, 0..2, resolve, 0);
-                gpu.read_buffer(&mut enc, resolve, 16)
-            });
-            enc.copy_buffer_to_buffer(&obuf, 0, &staging, 0, size);
-            gpu.queue.submit([enc.finish()]);
-            (staging, ts_staging)
-        })?;
-        gpu.map_read_with(&staging, |bytes| unpack(bytemuck::cast_slice::<u8, RawPixel>(bytes)))?;
-        let wall = t0.elapsed().as_secs_f64() * 1e3;
-        let ms = match (ts_staging, gpu.timestamp_period) {
-            (Some(b), Some(period)) => {
-                let t = gpu.map_read(&b)?;
-                let v: &[u64] = bytemuck::cast_slice(&t);
-                let ms = v[1].saturating_sub(v[0]) as f64 * period as f64 * 1e-6;
-                if ms > 0.0 { ms } else { wall }
-            }
-            _ => wall,
-        };
-        Ok(ms)
+        let record = std::mem::size_of::<RawPixel>() as u64;
+        Ok(super::dispatch_tile(
+            self.gpu,
+            &self.pipeline,
+            "render dispatch",
+            bytemuck::bytes_of(u),
+            &[(2, &self.env)],
+            &self.buffers,
+            (tw, th, record),
+            |bytes| unpack(bytemuck::cast_slice::<u8, RawPixel>(bytes)),
+        )?)
     }
 }
 

@@ -18,7 +18,6 @@ use crate::render::{Bound, Frame, Method, PixelOut, Stats, Status};
 use crate::validate::validate;
 use bytemuck::{Pod, Zeroable};
 use std::time::Instant;
-use wgpu::util::DeviceExt;
 
 /// Largest `max_steps`: the primary, shadow and refraction rays each get
 /// the budget, and lavapipe silently stops any invocation after 65,535 loop
@@ -245,6 +244,7 @@ pub struct SphereRenderer<'g> {
     pub features: Features,
     /// The shader source (validated).
     pub wgsl: String,
+    buffers: super::TileBuffers,
 }
 
 impl<'g> SphereRenderer<'g> {
@@ -254,7 +254,7 @@ impl<'g> SphereRenderer<'g> {
         let wgsl = sphere_shader(ir, features);
         validate(&wgsl)?;
         let pipeline = gpu.pipeline("isotrace sphere", &wgsl)?;
-        Ok(SphereRenderer { gpu, pipeline, features, wgsl })
+        Ok(SphereRenderer { gpu, pipeline, features, wgsl, buffers: super::TileBuffers::default() })
     }
 
     /// Renders one frame, tile by tile. `o` may ask only for the secondary
@@ -311,74 +311,12 @@ impl<'g> SphereRenderer<'g> {
     }
 
     fn dispatch(&self, u: &Uniforms, tw: u32, th: u32) -> Result<(Vec<RawPixel>, f64), RenderError> {
-        let gpu = self.gpu;
-        let d = &gpu.device;
-        let size = (tw as u64) * (th as u64) * std::mem::size_of::<RawPixel>() as u64;
-        let ts = gpu.timestamp_period.map(|_| {
-            let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("sphere time"), ty: wgpu::QueryType::Timestamp, count: 2 });
-            let resolve = d.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (set, resolve)
-        });
-        let t0 = Instant::now();
-        let (staging, ts_staging) = gpu.scoped("sphere tracing dispatch", || {
-            let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sphere uniforms"),
-                contents: bytemuck::bytes_of(u),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-            let obuf = d.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pixels"),
-                size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("sphere"),
-                layout: &self.pipeline.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: obuf.as_entire_binding() },
-                ],
-            });
-            let mut enc = d.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("sphere"),
-                    timestamp_writes: ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    }),
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
-            }
-            let ts_staging = ts.as_ref().map(|(set, resolve)| {
-                enc.resolve_query_set(set, 0..2, resolve, 0);
-                gpu.read_buffer(&mut enc, resolve, 16)
-            });
-            let staging = gpu.read_buffer(&mut enc, &obuf, size);
-            gpu.queue.submit([enc.finish()]);
-            (staging, ts_staging)
+        let record = std::mem::size_of::<RawPixel>() as u64;
+        let mut raw = Vec::new();
+        let ms = super::dispatch_tile(self.gpu, &self.pipeline, "sphere tracing dispatch", bytemuck::bytes_of(u), &[], &self.buffers, (tw, th, record), |b| {
+            raw = bytemuck::cast_slice::<u8, RawPixel>(b).to_vec()
         })?;
-        let bytes = gpu.map_read(&staging)?;
-        let wall = t0.elapsed().as_secs_f64() * 1e3;
-        let ms = match (ts_staging, gpu.timestamp_period) {
-            (Some(b), Some(period)) => {
-                let t = gpu.map_read(&b)?;
-                let v: &[u64] = bytemuck::cast_slice(&t);
-                let ms = v[1].saturating_sub(v[0]) as f64 * period as f64 * 1e-6;
-                if ms > 0.0 { ms } else { wall }
-            }
-            _ => wall,
-        };
-        Ok((bytemuck::cast_slice::<u8, RawPixel>(&bytes).to_vec(), ms))
+        Ok((raw, ms))
     }
 }
 
