@@ -409,26 +409,29 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     // surface. Each invocation encloses f over one slab of the frustum
     // through the tile's pixel centres; slabs proven root-free are skipped
     // by every ray of the tile.
-    if (li == 0u) {
-        atomicStore(&wg_slabs[0], 0u);
-        atomicStore(&wg_slabs[1], 0u);
-    }
-    workgroupBarrier();
-    let t_lo = U.tile_origin + wid.xy * 8u;
-    let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
-    let a = pixel_dir(t_lo);
-    let b = pixel_dir(t_hi);
     let dr = depth_range();
     let ds = (dr.y - dr.x) / f32(SLABS);
-    let s0 = dr.x + ds * f32(li);
-    let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
-                          vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
-                          vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
-    if (dr.x < dr.y && (keep_cell(slab) || (U.flags & 2u) != 0u)) {
-        atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
+    var mask = vec2<u32>(0xffffffffu, 0xffffffffu);
+    if ((U.flags & 2u) == 0u) {
+        if (li == 0u) {
+            atomicStore(&wg_slabs[0], 0u);
+            atomicStore(&wg_slabs[1], 0u);
+        }
+        workgroupBarrier();
+        let t_lo = U.tile_origin + wid.xy * 8u;
+        let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
+        let a = pixel_dir(t_lo);
+        let b = pixel_dir(t_hi);
+        let s0 = dr.x + ds * f32(li);
+        let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
+                              vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
+                              vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
+        if (dr.x < dr.y && keep_cell(slab)) {
+            atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
+        }
+        workgroupBarrier();
+        mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
     }
-    workgroupBarrier();
-    let mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
     // transparency, continued after each hit for up to LAYERS surfaces.
@@ -442,7 +445,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>,
     let o = U.eye.xyz;
 
     g_budget = U.max_iter;
-    g_evals = 1u; // this pixel's share of the tile pass
+    g_evals = select(0u, 1u, (U.flags & 2u) == 0u); // this pixel's share of the tile pass
     var acc = vec3<f32>(0.0);
     var transmit = 1.0;
     var normal = vec3<f32>(0.0);
