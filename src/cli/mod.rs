@@ -79,6 +79,8 @@ enum KernelArg {
     Render,
     /// The `eval` kernel (one invocation per box).
     Eval,
+    /// The sphere tracing kernel (`render --method sphere`).
+    Sphere,
 }
 
 #[derive(Args, Debug)]
@@ -196,6 +198,8 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
     let domain = resolve_algebra(a.algebra, &f.ir);
     let src = match a.kernel {
         KernelArg::Eval => codegen::eval_shader_with(&f.ir, domain, inline),
+        KernelArg::Sphere if inline.is_some() => return Err(CliError::Input("--inline applies to the render and eval kernels, not to --kernel sphere".into())),
+        KernelArg::Sphere => isotrace::gpu::sphere::sphere_shader(&f.ir, Default::default()),
         KernelArg::Render => {
             if domain == Domain::Scalar {
                 return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
