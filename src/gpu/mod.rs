@@ -125,19 +125,29 @@ impl Gpu {
 
     /// Creates a compute pipeline from WGSL that has passed naga validation.
     pub fn pipeline(&self, label: &str, wgsl: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+        Ok(self.pipelines(label, wgsl, &["main"])?.remove(0))
+    }
+
+    /// One pipeline per entry point of one validated WGSL module.
+    pub fn pipelines(&self, label: &str, wgsl: &str, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
         self.scoped("shader compilation", || {
             let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
                 source: wgpu::ShaderSource::Wgsl(wgsl.into()),
             });
-            self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: None,
-                module: &module,
-                entry_point: Some("main"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            entries
+                .iter()
+                .map(|e| {
+                    self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some(label),
+                        layout: None,
+                        module: &module,
+                        entry_point: Some(e),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
+                })
+                .collect()
         })
     }
 
@@ -227,16 +237,23 @@ impl TileBuffers {
     }
 }
 
+/// A pipeline run over the same workgroups before the per-pixel kernel
+/// (the render kernel's tile pass), with the bindings its layout uses
+/// besides the uniforms at 0.
+pub type PrePass<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, &'a wgpu::Buffer)]);
+
 /// One timed dispatch of a per-pixel kernel over a `tw × th` tile: the
 /// uniforms at binding 0, the pixel records (`record` bytes each) at binding
-/// 1, `extra` bindings after them, 8×8 workgroups. `unpack` gets the
-/// records straight from the mapped read-back buffer. Returns the GPU
-/// milliseconds (timestamp queries when the device has them, else the
+/// 1, `extra` bindings after them, 8×8 workgroups, optionally after a
+/// `pre` pass in the same submission. `unpack` gets the records straight
+/// from the mapped read-back buffer. Returns the GPU milliseconds (timestamp
+/// queries around both passes when the device has them, else the
 /// submit-to-read-back wall time).
 #[allow(clippy::too_many_arguments)]
 pub fn dispatch_tile(
     gpu: &Gpu,
     pipeline: &wgpu::ComputePipeline,
+    pre: Option<PrePass<'_>>,
     label: &'static str,
     uniforms: &[u8],
     extra: &[(u32, &wgpu::Buffer)],
@@ -267,6 +284,11 @@ pub fn dispatch_tile(
         ];
         entries.extend(extra.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }));
         let bind = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &pipeline.get_bind_group_layout(0), entries: &entries });
+        let pre_bind = pre.map(|(p, extra)| {
+            let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() }];
+            entries.extend(extra.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }));
+            (p, d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &p.get_bind_group_layout(0), entries: &entries }))
+        });
         let mut enc = d.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -277,6 +299,11 @@ pub fn dispatch_tile(
                     end_of_pass_write_index: Some(1),
                 }),
             });
+            if let Some((p, b)) = &pre_bind {
+                pass.set_pipeline(p);
+                pass.set_bind_group(0, b, &[]);
+                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+            }
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);

@@ -139,6 +139,8 @@ impl Default for Optimizations {
 pub struct Renderer<'g> {
     gpu: &'g Gpu,
     pipeline: wgpu::ComputePipeline,
+    /// The tile pass (entry point `tiles`).
+    tiles: wgpu::ComputePipeline,
     /// The algebra of the inclusion function.
     pub domain: Domain,
     /// The shader source (validated).
@@ -254,7 +256,9 @@ impl<'g> Renderer<'g> {
                 validate(&wgsl)?;
             }
         }
-        let pipeline = gpu.pipeline("isotrace render", &wgsl)?;
+        let mut pipelines = gpu.pipelines("isotrace render", &wgsl, &["main", "tiles"])?;
+        let tiles = pipelines.pop().expect("two entry points");
+        let pipeline = pipelines.pop().expect("two entry points");
         let texels: Vec<u32> = modalities.env.as_ref().map_or(vec![0], |e| e.texels.clone());
         let env = gpu.scoped("environment upload", || {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -263,7 +267,7 @@ impl<'g> Renderer<'g> {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         })?;
-        Ok(Renderer { gpu, pipeline, domain, wgsl, optimizations: Optimizations::default(), modalities, env, csg_surfaces: ir.surfaces.len(), buffers: super::TileBuffers::default() })
+        Ok(Renderer { gpu, pipeline, tiles, domain, wgsl, optimizations: Optimizations::default(), modalities, env, csg_surfaces: ir.surfaces.len(), buffers: super::TileBuffers::default() })
     }
 
     /// Renders one frame, tile by tile.
@@ -350,12 +354,22 @@ impl<'g> Renderer<'g> {
     /// GPU milliseconds.
     fn dispatch(&self, u: &Uniforms, tw: u32, th: u32, unpack: impl FnOnce(&[RawPixel])) -> Result<f64, RenderError> {
         let record = std::mem::size_of::<RawPixel>() as u64;
+        // One candidate-slab mask (2 × u32) per 8×8 tile, written by the tile pass.
+        let masks = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tile masks"),
+            size: (tw.div_ceil(8) as u64 * th.div_ceil(8) as u64 * 8).max(8),
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let pre_extra = [(3, &masks)];
+        let pre = self.optimizations.tile_culling.then_some((&self.tiles, &pre_extra[..]));
         Ok(super::dispatch_tile(
             self.gpu,
             &self.pipeline,
+            pre,
             "render dispatch",
             bytemuck::bytes_of(u),
-            &[(2, &self.env)],
+            &[(2, &self.env), (3, &masks)],
             &self.buffers,
             (tw, th, record),
             |bytes| unpack(bytemuck::cast_slice::<u8, RawPixel>(bytes)),

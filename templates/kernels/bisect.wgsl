@@ -67,6 +67,8 @@ const SLABS: u32 = 64u;
 // Environment image for reflections and the background (equirectangular,
 // rgba8 packed; one dummy texel when the environment is procedural).
 @group(0) @binding(2) var<storage, read> env_image: array<u32>;
+// The tile pass's result: the candidate slabs of each 8x8 tile.
+@group(0) @binding(3) var<storage, read_write> tile_masks: array<vec2<u32>>;
 
 // Bit k set: slab k of this tile's frustum may contain the surface.
 var<workgroup> wg_slabs: array<atomic<u32>, 2>;
@@ -401,36 +403,49 @@ fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, depth: f32, iso: u32, 
     return final_color(p, unit, n, c * (1.0 - refl.w) + refl.xyz);
 }
 
+// ---- Tile pass (its own dispatch, before `main`): which depth slabs of
+// each 8x8 tile's view frustum may hold the surface. Each invocation
+// encloses f over one of the 64 slabs of the frustum through the tile's
+// pixel centres; slabs proven root-free are skipped by every ray of the
+// tile. It is a separate entry point, dispatched over the same workgroups
+// just before `main`: the per-pixel kernel then has no barriers, and
+// switching the tile pass off skips it entirely.
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>,
-        @builtin(local_invocation_index) li: u32,
-        @builtin(workgroup_id) wid: vec3<u32>) {
-    // ---- Tile pass: which depth slabs of this tile's frustum may hold the
-    // surface. Each invocation encloses f over one slab of the frustum
-    // through the tile's pixel centres; slabs proven root-free are skipped
-    // by every ray of the tile.
+fn tiles(@builtin(local_invocation_index) li: u32,
+         @builtin(workgroup_id) wid: vec3<u32>,
+         @builtin(num_workgroups) groups: vec3<u32>) {
+    if (li == 0u) {
+        atomicStore(&wg_slabs[0], 0u);
+        atomicStore(&wg_slabs[1], 0u);
+    }
+    workgroupBarrier();
     let dr = depth_range();
     let ds = (dr.y - dr.x) / f32(SLABS);
+    let t_lo = U.tile_origin + wid.xy * 8u;
+    let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
+    let a = pixel_dir(t_lo);
+    let b = pixel_dir(t_hi);
+    let s0 = dr.x + ds * f32(li);
+    let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
+                          vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
+                          vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
+    if (dr.x < dr.y && keep_cell(slab)) {
+        atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
+    }
+    workgroupBarrier();
+    if (li == 0u) {
+        tile_masks[wid.y * groups.x + wid.x] = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>,
+        @builtin(workgroup_id) wid: vec3<u32>,
+        @builtin(num_workgroups) groups: vec3<u32>) {
+    let dr = depth_range();
     var mask = vec2<u32>(0xffffffffu, 0xffffffffu);
     if ((U.flags & 2u) == 0u) {
-        if (li == 0u) {
-            atomicStore(&wg_slabs[0], 0u);
-            atomicStore(&wg_slabs[1], 0u);
-        }
-        workgroupBarrier();
-        let t_lo = U.tile_origin + wid.xy * 8u;
-        let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
-        let a = pixel_dir(t_lo);
-        let b = pixel_dir(t_hi);
-        let s0 = dr.x + ds * f32(li);
-        let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
-                              vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
-                              vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
-        if (dr.x < dr.y && keep_cell(slab)) {
-            atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
-        }
-        workgroupBarrier();
-        mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
+        mask = tile_masks[wid.y * groups.x + wid.x];
     }
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
