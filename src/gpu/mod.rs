@@ -128,8 +128,20 @@ impl Gpu {
         Ok(self.pipelines(label, wgsl, &["main"])?.remove(0))
     }
 
-    /// One pipeline per entry point of one validated WGSL module.
+    /// One pipeline per entry point of one validated WGSL module, all with
+    /// `layout` (or each with its own derived layout when `None`).
     pub fn pipelines(&self, label: &str, wgsl: &str, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
+        self.pipelines_with_layout(label, wgsl, entries, None)
+    }
+
+    /// See [`Gpu::pipelines`].
+    pub fn pipelines_with_layout(
+        &self,
+        label: &str,
+        wgsl: &str,
+        entries: &[&str],
+        layout: Option<&wgpu::PipelineLayout>,
+    ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
         self.scoped("shader compilation", || {
             let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
@@ -140,7 +152,7 @@ impl Gpu {
                 .map(|e| {
                     self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                         label: Some(label),
-                        layout: None,
+                        layout,
                         module: &module,
                         entry_point: Some(e),
                         compilation_options: Default::default(),
@@ -237,10 +249,12 @@ impl TileBuffers {
     }
 }
 
-/// A pipeline run over the same workgroups before the per-pixel kernel
-/// (the render kernel's tile pass), with the bindings its layout uses
-/// besides the uniforms at 0.
-pub type PrePass<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, &'a wgpu::Buffer)]);
+/// A tile pass that runs over the grid of 8×8 workgroups before the
+/// per-pixel kernel and queues the workgroups the kernel must run: the
+/// kernel is then dispatched indirectly with the counts the pass leaves at
+/// the start of `list` (reset to (0, 1, 1) first). Both pipelines share
+/// the bind group layout.
+pub type PrePass<'a> = (&'a wgpu::ComputePipeline, &'a wgpu::Buffer);
 
 /// One timed dispatch of a per-pixel kernel over a `tw × th` tile: the
 /// uniforms at binding 0, the pixel records (`record` bytes each) at binding
@@ -284,29 +298,46 @@ pub fn dispatch_tile(
         ];
         entries.extend(extra.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }));
         let bind = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &pipeline.get_bind_group_layout(0), entries: &entries });
-        let pre_bind = pre.map(|(p, extra)| {
-            let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() }];
-            entries.extend(extra.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }));
-            (p, d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &p.get_bind_group_layout(0), entries: &entries }))
-        });
+        if let Some((_, indirect)) = pre {
+            gpu.queue.write_buffer(indirect, 0, bytemuck::cast_slice(&[0u32, 1, 1]));
+        }
         let mut enc = d.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: Some(0),
-                    end_of_pass_write_index: Some(1),
-                }),
-            });
-            if let Some((p, b)) = &pre_bind {
-                pass.set_pipeline(p);
-                pass.set_bind_group(0, b, &[]);
+        let stamp = |begin: bool, end: bool| {
+            ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: begin.then_some(0),
+                end_of_pass_write_index: end.then_some(1),
+            })
+        };
+        match pre {
+            Some((tiles, list)) => {
+                // The tile pass queues tiles in `list` (a storage buffer); it
+                // cannot also be the indirect buffer of the next dispatch, so
+                // its counts are copied to `args` between the two passes.
+                let args = d.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("indirect dispatch"),
+                    size: 16,
+                    usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(true, false) });
+                    pass.set_bind_group(0, &bind, &[]);
+                    pass.set_pipeline(tiles);
+                    pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+                }
+                enc.copy_buffer_to_buffer(list, 0, &args, 0, 12);
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(false, true) });
+                pass.set_bind_group(0, &bind, &[]);
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups_indirect(&args, 0);
+            }
+            None => {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(true, true) });
+                pass.set_bind_group(0, &bind, &[]);
+                pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
             }
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
         }
         let ts_staging = ts.as_ref().map(|(set, resolve)| {
             enc.resolve_query_set(set, 0..2, resolve, 0);

@@ -256,7 +256,8 @@ impl<'g> Renderer<'g> {
                 validate(&wgsl)?;
             }
         }
-        let mut pipelines = gpu.pipelines("isotrace render", &wgsl, &["main", "tiles"])?;
+        let layout = render_layout(&gpu.device);
+        let mut pipelines = gpu.pipelines_with_layout("isotrace render", &wgsl, &["main", "tiles"], Some(&layout))?;
         let tiles = pipelines.pop().expect("two entry points");
         let pipeline = pipelines.pop().expect("two entry points");
         let texels: Vec<u32> = modalities.env.as_ref().map_or(vec![0], |e| e.texels.clone());
@@ -354,27 +355,51 @@ impl<'g> Renderer<'g> {
     /// GPU milliseconds.
     fn dispatch(&self, u: &Uniforms, tw: u32, th: u32, unpack: impl FnOnce(&[RawPixel])) -> Result<f64, RenderError> {
         let record = std::mem::size_of::<RawPixel>() as u64;
-        // One candidate-slab mask (2 × u32) per 8×8 tile, written by the tile pass.
-        let masks = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tile masks"),
-            size: (tw.div_ceil(8) as u64 * th.div_ceil(8) as u64 * 8).max(8),
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let pre_extra = [(3, &masks)];
-        let pre = self.optimizations.tile_culling.then_some((&self.tiles, &pre_extra[..]));
+        // Per 8×8 tile: its candidate-slab mask (2 × u32), and the list of
+        // tiles with candidates with the indirect dispatch counts of `main`.
+        let tiles = tw.div_ceil(8) as u64 * th.div_ceil(8) as u64;
+        let buffer = |label, size: u64, usage| {
+            self.gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
+        };
+        let masks = buffer("tile masks", tiles * 8, wgpu::BufferUsages::STORAGE);
+        let list = buffer("tile list", 16, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
+        let ids = buffer("tile ids", tiles * 4, wgpu::BufferUsages::STORAGE);
+        let pre = self.optimizations.tile_culling.then_some((&self.tiles, &list));
         Ok(super::dispatch_tile(
             self.gpu,
             &self.pipeline,
             pre,
             "render dispatch",
             bytemuck::bytes_of(u),
-            &[(2, &self.env), (3, &masks)],
+            &[(2, &self.env), (3, &masks), (4, &list), (5, &ids)],
             &self.buffers,
             (tw, th, record),
             |bytes| unpack(bytemuck::cast_slice::<u8, RawPixel>(bytes)),
         )?)
     }
+}
+
+/// The bind group layout both entry points of the render kernel share:
+/// uniforms, pixels, environment, tile masks, tile list, tile ids.
+fn render_layout(d: &wgpu::Device) -> wgpu::PipelineLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+    let storage = |read_only| wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    };
+    let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("render"),
+        entries: &[
+            entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+            entry(1, storage(false)),
+            entry(2, storage(true)),
+            entry(3, storage(false)),
+            entry(4, storage(false)),
+            entry(5, storage(false)),
+        ],
+    });
+    d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("render"), bind_group_layouts: &[Some(&bgl)], immediate_size: 0 })
 }
 
 fn convert(r: &RawPixel) -> PixelOut {

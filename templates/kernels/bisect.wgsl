@@ -69,6 +69,11 @@ const SLABS: u32 = 64u;
 @group(0) @binding(2) var<storage, read> env_image: array<u32>;
 // The tile pass's result: the candidate slabs of each 8x8 tile.
 @group(0) @binding(3) var<storage, read_write> tile_masks: array<vec2<u32>>;
+// The tiles that have candidate slabs, and the indirect dispatch of `main`
+// over them: (count, 1, 1).
+struct TileList { x: atomic<u32>, y: u32, z: u32 }
+@group(0) @binding(4) var<storage, read_write> tile_list: TileList;
+@group(0) @binding(5) var<storage, read_write> tile_ids: array<u32>;
 
 // Bit k set: slab k of this tile's frustum may contain the surface.
 var<workgroup> wg_slabs: array<atomic<u32>, 2>;
@@ -433,20 +438,48 @@ fn tiles(@builtin(local_invocation_index) li: u32,
         atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
     }
     workgroupBarrier();
-    if (li == 0u) {
-        tile_masks[wid.y * groups.x + wid.x] = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
+    let mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
+    let t = wid.y * groups.x + wid.x;
+    if (mask.x != 0u || mask.y != 0u) {
+        // Rays of this tile may meet the surface: queue it for `main`.
+        if (li == 0u) {
+            tile_masks[t] = mask;
+            tile_ids[atomicAdd(&tile_list.x, 1u)] = t;
+        }
+        return;
     }
+    // No slab of this tile holds the surface: its pixels are background,
+    // written here, and the large per-pixel kernel never runs for them.
+    let lid = vec2<u32>(li % 8u, li / 8u);
+    let g = wid.xy * 8u + lid;
+    if (g.x >= U.tile_size.x || g.y >= U.tile_size.y) { return; }
+    let sxy = pixel_dir(U.tile_origin + g);
+    let dir = U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
+    let inv_len = 1.0 / length(dir);
+    let seg = clip_ray(U.eye.xyz, dir);
+    var d_ray = 0u;
+    if (seg.x < seg.y) { d_ray = depth_for((seg.y - seg.x) / inv_len); }
+    let bg = clamp(background(dir * inv_len), vec3<f32>(0.0), vec3<f32>(1.0));
+    pixels[g.y * U.tile_size.x + g.x] = Pixel(pack2x16unorm(bg.xy), pack2x16unorm(vec2<f32>(bg.z, 0.0)), 0u, 0u, U.inf, 1u,
+                                              STATUS_MISS | (d_ray << 8u));
 }
 
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>,
+fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         @builtin(workgroup_id) wid: vec3<u32>,
         @builtin(num_workgroups) groups: vec3<u32>) {
     let dr = depth_range();
     var mask = vec2<u32>(0xffffffffu, 0xffffffffu);
+    // With the tile pass, `main` runs once per queued tile (indirect
+    // dispatch); without it, over the whole grid.
+    var tile = wid.xy;
     if ((U.flags & 2u) == 0u) {
-        mask = tile_masks[wid.y * groups.x + wid.x];
+        let t = tile_ids[wid.x];
+        let tiles_x = (U.tile_size.x + 7u) / 8u;
+        tile = vec2<u32>(t % tiles_x, t / tiles_x);
+        mask = tile_masks[t];
     }
+    let gid = tile * 8u + lid.xy;
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
     // transparency, continued after each hit for up to LAYERS surfaces.
