@@ -63,6 +63,8 @@ pub struct Gpu {
     pub max_storage_binding: u64,
     /// Nanoseconds per timestamp tick, when timestamp queries work.
     pub timestamp_period: Option<f32>,
+    /// Storage buffers can be mapped directly (CPU devices).
+    pub map_in_place: bool,
 }
 
 impl Gpu {
@@ -95,7 +97,13 @@ impl Gpu {
         };
         let limits = adapter.limits();
         let want_ts = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let features = if want_ts { wgpu::Features::TIMESTAMP_QUERY } else { wgpu::Features::empty() };
+        let mut features = if want_ts { wgpu::Features::TIMESTAMP_QUERY } else { wgpu::Features::empty() };
+        // On a CPU device the kernels' output can be mapped in place instead
+        // of being copied to a read-back buffer first (30 MB per 1024² frame).
+        let map_in_place = ai.device_type == wgpu::DeviceType::Cpu && adapter.features().contains(wgpu::Features::MAPPABLE_PRIMARY_BUFFERS);
+        if map_in_place {
+            features |= wgpu::Features::MAPPABLE_PRIMARY_BUFFERS;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("isotrace"),
             required_features: features,
@@ -107,7 +115,7 @@ impl Gpu {
             eprintln!("isotrace: uncaptured GPU error: {e}");
         }));
         let timestamp_period = want_ts.then(|| queue.get_timestamp_period());
-        Ok(Gpu { device, queue, info, max_storage_binding: limits.max_storage_buffer_binding_size as u64, timestamp_period })
+        Ok(Gpu { device, queue, info, max_storage_binding: limits.max_storage_buffer_binding_size as u64, timestamp_period, map_in_place })
     }
 
     /// Runs `f` inside a validation + out-of-memory error scope.
@@ -227,26 +235,35 @@ impl Gpu {
 pub struct TileBuffers(std::sync::Mutex<Option<(u64, wgpu::Buffer, wgpu::Buffer)>>);
 
 impl TileBuffers {
-    fn get(&self, d: &wgpu::Device, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+    /// The output buffer and the buffer to map: the same one when the
+    /// device maps storage buffers in place.
+    fn get(&self, gpu: &Gpu, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+        let d = &gpu.device;
         let mut cache = self.0.lock().unwrap_or_else(|e| e.into_inner());
         if cache.as_ref().is_none_or(|(s, _, _)| *s != size) {
+            let map = if gpu.map_in_place { wgpu::BufferUsages::MAP_READ } else { wgpu::BufferUsages::COPY_SRC };
             let out = d.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("pixels"),
                 size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                usage: wgpu::BufferUsages::STORAGE | map,
                 mapped_at_creation: false,
             });
-            let staging = d.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pixels read-back"),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
+            let staging = if gpu.map_in_place {
+                out.clone()
+            } else {
+                d.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("pixels read-back"),
+                    size,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
             *cache = Some((size, out, staging));
         }
         let (_, out, staging) = cache.as_ref().expect("just filled");
         (out.clone(), staging.clone())
     }
+
 }
 
 /// A tile pass that runs over the grid of 8×8 workgroups before the
@@ -291,7 +308,7 @@ pub fn dispatch_tile(
     let t0 = std::time::Instant::now();
     let (staging, ts_staging) = gpu.scoped(label, || {
         let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: uniforms, usage: wgpu::BufferUsages::UNIFORM });
-        let (out, staging) = buffers.get(d, size);
+        let (out, staging) = buffers.get(gpu, size);
         let mut entries = vec![
             wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: out.as_entire_binding() },
@@ -343,7 +360,9 @@ pub fn dispatch_tile(
             enc.resolve_query_set(set, 0..2, resolve, 0);
             gpu.read_buffer(&mut enc, resolve, 16)
         });
-        enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
+        if !gpu.map_in_place {
+            enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
+        }
         gpu.queue.submit([enc.finish()]);
         (staging, ts_staging)
     })?;
