@@ -87,12 +87,12 @@ struct RawPixel {
 }
 
 /// `unpack2x16unorm`.
-fn unorm2(v: u32) -> [f32; 2] {
+pub(crate) fn unorm2(v: u32) -> [f32; 2] {
     [(v & 0xffff) as f32 / 65535.0, (v >> 16) as f32 / 65535.0]
 }
 
 /// `unpack2x16snorm`.
-fn snorm2(v: u32) -> [f32; 2] {
+pub(crate) fn snorm2(v: u32) -> [f32; 2] {
     let c = |x: u16| (x as i16 as f32 / 32767.0).max(-1.0);
     [c(v as u16), c((v >> 16) as u16)]
 }
@@ -415,7 +415,9 @@ fn convert(r: &RawPixel) -> PixelOut {
     PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.evals, level: r.info >> 8, iso: (r.normal_z >> 16) & 0xff, status }
 }
 
-fn check_settings(s: &Settings) -> Result<(), RenderError> {
+/// Size, box, clip ball and eps of a frame, checked before any GPU work
+/// (shared by both traversals).
+pub(crate) fn check_settings(s: &Settings) -> Result<(), RenderError> {
     let bad = |m: String| Err(RenderError::Settings(m));
     if s.width == 0 || s.height == 0 || s.width > MAX_SIZE || s.height > MAX_SIZE {
         return bad(format!("invalid --size {}x{}: each side must be between 1 and {MAX_SIZE}", s.width, s.height));

@@ -10,7 +10,7 @@
 //! its `Unresolved` status means "unconverged". Images are split into tiles
 //! exactly like the bisection renderer's.
 
-use super::render::{RenderError, Settings, MAX_SIZE};
+use super::render::{check_settings, snorm2, unorm2, RenderError, Settings, MAX_SIZE};
 use super::{pack_params, Gpu};
 use crate::codegen::{emit_evaluator, libraries, template, Domain};
 use crate::ir::Ir;
@@ -377,33 +377,12 @@ fn convert(r: &RawPixel) -> PixelOut {
         2 => Status::Unresolved,
         _ => Status::Miss,
     };
-    let unorm = |v: u32| [(v & 0xffff) as f32 / 65535.0, (v >> 16) as f32 / 65535.0];
-    let snorm = |v: u32| {
-        let c = |x: u16| (x as i16 as f32 / 32767.0).max(-1.0);
-        [c(v as u16), c((v >> 16) as u16)]
-    };
-    let [cr, cg] = unorm(r.color_rg);
-    let [cb, ca] = unorm(r.color_ba);
-    let [nx, ny] = snorm(r.normal_xy);
-    let [nz, _] = snorm(r.normal_z);
+    let [cr, cg] = unorm2(r.color_rg);
+    let [cb, ca] = unorm2(r.color_ba);
+    let [nx, ny] = snorm2(r.normal_xy);
+    let [nz, _] = snorm2(r.normal_z);
     // `level` marks rays that cross the domain (at least one step), so the
     // hit / miss means of the statistics count the same pixels as bisection's.
     PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.steps, level: u32::from(r.steps > 0), iso: 0, status }
 }
 
-fn check_settings(s: &Settings) -> Result<(), RenderError> {
-    let bad = |m: String| Err(RenderError::Settings(m));
-    if s.width == 0 || s.height == 0 || s.width > MAX_SIZE || s.height > MAX_SIZE {
-        return bad(format!("invalid --size {}x{}: each side must be between 1 and {MAX_SIZE}", s.width, s.height));
-    }
-    for a in 0..3 {
-        let (lo, hi) = (s.bbox[2 * a], s.bbox[2 * a + 1]);
-        if !(lo < hi) || !lo.is_finite() || !hi.is_finite() {
-            return bad(format!("invalid --box: axis {} has [{lo}, {hi}]; each axis needs lo < hi", ["x", "y", "z"][a]));
-        }
-    }
-    if !(s.eps > 0.0 && s.eps.is_finite()) {
-        return bad(format!("invalid --eps {}: it must be a positive width", s.eps));
-    }
-    Ok(())
-}
