@@ -277,7 +277,9 @@ impl<'g> Renderer<'g> {
         let frame = s.camera.frame().map_err(RenderError::Settings)?;
         let start = Instant::now();
         let (w, h) = (s.width, s.height);
-        let tile = s.tile.clamp(8, MAX_SIZE);
+        // A tile's pixel records must fit the device's largest storage binding.
+        let fit = ((self.gpu.max_storage_binding / std::mem::size_of::<RawPixel>() as u64) as f64).sqrt() as u32 / 8 * 8;
+        let tile = s.tile.clamp(8, MAX_SIZE).min(fit.max(8));
         let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
         let m = &self.modalities;
         let dist = (s.camera.eye - s.camera.target).length();

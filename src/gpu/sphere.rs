@@ -268,7 +268,9 @@ impl<'g> SphereRenderer<'g> {
         let frame = s.camera.frame().map_err(RenderError::Settings)?;
         let start = Instant::now();
         let (w, h) = (s.width, s.height);
-        let tile = s.tile.clamp(8, MAX_SIZE);
+        // A tile's pixel records must fit the device's largest storage binding.
+        let fit = ((self.gpu.max_storage_binding / std::mem::size_of::<RawPixel>() as u64) as f64).sqrt() as u32 / 8 * 8;
+        let tile = s.tile.clamp(8, MAX_SIZE).min(fit.max(8));
         let mut u = uniforms(s, o, &frame)?;
         let blank = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, iso: 0, status: Status::Miss };
         let mut pixels = vec![blank; (w * h) as usize];
