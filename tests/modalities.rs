@@ -73,13 +73,16 @@ fn isovalues_are_identified() {
     let s = settings(cube(1.2), 40, 40);
     let m = Modalities { isovalues: vec![0.25, 1.0, 2.25], ..Default::default() };
     let frame = render_with("x^2 + y^2 + z^2", &s, m);
+    // Which isovalue each hit is, as the EXR `iso` channel tells it.
+    let iso_channel = exr_channel(&frame, "iso");
     let cf = s.camera.frame().unwrap();
     let mut seen = [0; 3];
     for (k, p) in frame.pixels.iter().enumerate() {
         if p.status != Status::Hit {
+            assert_eq!(iso_channel[k], -1.0);
             continue;
         }
-        let iso = p.iso as usize;
+        let iso = iso_channel[k] as usize;
         seen[iso] += 1;
         // The hit point lies on the sphere of that isovalue.
         let d = isotrace::render::Camera::ray(&cf, k as u32 % 40, k as u32 / 40, 40, 40);

@@ -21,11 +21,14 @@ fn sphere_depth_within_eps_and_silhouette_within_a_pixel() {
     for domain in [Domain::Interval, Domain::Affine] {
         let s = settings(cube(1.5), 96, 64);
         let frame = render("x^2 + y^2 + z^2 - 1", domain, &s);
+        // Depth as a user gets it: the EXR Z channel.
+        let z = exr_channel(&frame, "Z");
         let cf = s.camera.frame().unwrap();
         let mut worst = 0.0f64;
         for j in 0..s.height {
             for i in 0..s.width {
-                let p = frame.pixels[(j * s.width + i) as usize];
+                let mut p = frame.pixels[(j * s.width + i) as usize];
+                p.depth = z[(j * s.width + i) as usize];
                 let d = Camera::ray(&cf, i, j, s.width, s.height);
                 let exact = sphere_hit(s.camera.eye, d, 1.0);
                 match (p.status, exact) {
@@ -56,11 +59,13 @@ fn sphere_depth_within_eps_and_silhouette_within_a_pixel() {
 fn plane_depth_within_eps() {
     let s = settings([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0], 48, 48);
     let frame = render("z - 0.3 + 0*x", Domain::Interval, &s);
+    let z = exr_channel(&frame, "Z");
     let cf = s.camera.frame().unwrap();
     let (mut hits, mut expected) = (0, 0);
     for j in 0..s.height {
         for i in 0..s.width {
-            let p = frame.pixels[(j * s.width + i) as usize];
+            let mut p = frame.pixels[(j * s.width + i) as usize];
+            p.depth = z[(j * s.width + i) as usize];
             let d = Camera::ray(&cf, i, j, s.width, s.height);
             let t = (0.3 - s.camera.eye.z) / d.z;
             let q = s.camera.eye + d * t;

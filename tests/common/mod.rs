@@ -94,3 +94,16 @@ pub fn clip(o: DVec3, d: DVec3, b: &[f64; 6]) -> Option<(f64, f64)> {
     let t1 = tmax.min_element();
     (t0 < t1).then_some((t0, t1))
 }
+
+/// Writes the frame as EXR and reads the named channel back (tests that
+/// check depth or isovalues through the file a user gets).
+pub fn exr_channel(frame: &Frame, name: &str) -> Vec<f32> {
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let path = std::env::temp_dir().join(format!("isotrace-test-{}-{k}.exr", std::process::id()));
+    isotrace::output::write_exr(&path, frame).unwrap();
+    let (w, h, channels) = isotrace::output::read_exr_channels(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    assert_eq!((w, h), (frame.width, frame.height));
+    channels.into_iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no EXR channel {name}")).1
+}
