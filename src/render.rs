@@ -204,9 +204,9 @@ pub struct Stats {
     pub d_max: u32,
     /// Number of dispatches (tiles).
     pub dispatches: u32,
-    /// Work lower bound per pixel: a hit needs one evaluation per level down
-    /// to an eps cell of its ray's segment (d_max + 1), a ray through the
-    /// domain that misses needs one, a ray that misses the domain none.
+    /// Work lower bound per pixel, as issue 8 defines it: a hit needs one
+    /// evaluation per level down to an eps cell of its ray's segment
+    /// (d_max + 1, with the ray's own d_max), a miss one.
     pub evals_lower_bound: f64,
     /// Mean evaluations of hit pixels.
     pub evals_hit_mean: f64,
@@ -263,8 +263,7 @@ impl Frame {
             .iter()
             .map(|p| match p.status {
                 Status::Hit => p.level as f64 + 1.0,
-                _ if p.level > 0 => 1.0,
-                _ => 0.0,
+                _ => 1.0,
             })
             .sum();
         self.stats.evals_lower_bound = bound / n as f64;
