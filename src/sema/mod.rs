@@ -410,7 +410,14 @@ impl Builder {
             if VARIABLES.iter().any(|(n, _)| *n == name) || self.defs.contains_key(name) || matches!(name, "pi" | "e") {
                 return Err(SemaError::NotAFunction { name: name.to_string(), span: name_span });
             }
-            return Err(SemaError::UnknownFunction { name: name.to_string(), span: name_span, suggestions: suggest_function(name) });
+            let mut suggestions = suggest_function(name);
+            // Inline WGSL functions are candidates too.
+            for (f, _) in &self.externs {
+                if crate::diag::levenshtein(&name.to_ascii_lowercase(), f) <= (name.len() / 3).max(1) && suggestions.len() < 3 {
+                    suggestions.push(f.clone());
+                }
+            }
+            return Err(SemaError::UnknownFunction { name: name.to_string(), span: name_span, suggestions });
         };
         let (expected, ok) = match f {
             Builtin::F1(_) => ("1".to_string(), nargs == 1),
