@@ -404,17 +404,22 @@ fn render_layout(d: &wgpu::Device) -> wgpu::PipelineLayout {
     d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("render"), bind_group_layouts: &[Some(&bgl)], immediate_size: 0 })
 }
 
-fn convert(r: &RawPixel) -> PixelOut {
-    let status = match r.info & 0xff {
+/// The parts both kernels pack alike: status (low byte of `info`), colour
+/// (2 × unorm16 pairs) and normal (snorm16 pairs).
+pub(crate) fn decode_common(info: u32, color: [u32; 2], normal: [u32; 2]) -> (Status, [f32; 4], [f32; 3]) {
+    let status = match info & 0xff {
         1 => Status::Hit,
         2 => Status::Unresolved,
         _ => Status::Miss,
     };
-    let [cr, cg] = unorm2(r.color_rg);
-    let [cb, ca] = unorm2(r.color_ba);
-    let [nx, ny] = snorm2(r.normal_xy);
-    let [nz, _] = snorm2(r.normal_z);
-    PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.evals, level: r.info >> 8, iso: (r.normal_z >> 16) & 0xff, status }
+    let ([cr, cg], [cb, ca]) = (unorm2(color[0]), unorm2(color[1]));
+    let ([nx, ny], [nz, _]) = (snorm2(normal[0]), snorm2(normal[1]));
+    (status, [cr, cg, cb, ca], [nx, ny, nz])
+}
+
+fn convert(r: &RawPixel) -> PixelOut {
+    let (status, color, normal) = decode_common(r.info, [r.color_rg, r.color_ba], [r.normal_xy, r.normal_z]);
+    PixelOut { color, normal, depth: r.depth, evals: r.evals, level: r.info >> 8, iso: (r.normal_z >> 16) & 0xff, status }
 }
 
 /// Size, box, clip ball and eps of a frame, checked before any GPU work

@@ -10,7 +10,7 @@
 //! its `Unresolved` status means "unconverged". Images are split into tiles
 //! exactly like the bisection renderer's.
 
-use super::render::{check_settings, snorm2, unorm2, RenderError, Settings, MAX_SIZE};
+use super::render::{check_settings, decode_common, RenderError, Settings, MAX_SIZE};
 use super::{pack_params, Gpu};
 use crate::codegen::{emit_evaluator, libraries, template, Domain};
 use crate::ir::Ir;
@@ -374,15 +374,7 @@ fn uniforms(s: &Settings, o: &SphereOptions, frame: &crate::render::CameraFrame)
 }
 
 fn convert(r: &RawPixel) -> PixelOut {
-    let status = match r.info & 0xff {
-        1 => Status::Hit,
-        2 => Status::Unresolved,
-        _ => Status::Miss,
-    };
-    let [cr, cg] = unorm2(r.color_rg);
-    let [cb, ca] = unorm2(r.color_ba);
-    let [nx, ny] = snorm2(r.normal_xy);
-    let [nz, _] = snorm2(r.normal_z);
+    let (status, [cr, cg, cb, ca], [nx, ny, nz]) = decode_common(r.info, [r.color_rg, r.color_ba], [r.normal_xy, r.normal_z]);
     // `level` marks rays that cross the domain (at least one step), so the
     // hit / miss means of the statistics count the same pixels as bisection's.
     PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.steps, level: u32::from(r.steps > 0), iso: 0, status }
