@@ -5,9 +5,8 @@
 //! cargo bench --bench optimizations [-- SIZE [REPEAT [NAME...]]]
 
 use isotrace::catalog;
-use isotrace::gpu::render::{Optimizations, Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::render::{Optimizations, Renderer, Settings};
 use isotrace::gpu::Gpu;
-use isotrace::render::Camera;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
@@ -33,20 +32,12 @@ fn main() {
         let e = catalog::lookup(&name).expect("catalog name");
         let f = e.compile().expect("compiles");
         let b = e.header.bbox;
-        let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
         let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).expect("params");
         let s = Settings {
-            width: size,
-            height: size,
-            bbox: b,
-            camera: Camera::default_for(&b, 40.0, 1.0),
-            eps: diag * 2f64.powi(-11),
             time: e.header.t.unwrap_or(0.0),
             params,
-            max_iter: DEFAULT_MAX_ITER,
-            tile: 1024,
-            debug_unresolved: false,
             clip_sphere: e.header.clip.map(|catalog::Clip::Sphere(r)| r),
+            ..Settings::for_box(b, size, size)
         };
         let mut r = Renderer::new(&gpu, &f.ir, isotrace::choose_algebra(&f.ir)).expect("renderer");
         let mut times = vec![Vec::new(); variants.len()];

@@ -148,6 +148,12 @@ impl Bound {
     }
 }
 
+/// Length of a box's diagonal (`x0, x1, y0, y1, z0, z1`): the default eps
+/// is 2^-11 of it.
+pub fn box_diagonal(b: &[f64; 6]) -> f64 {
+    ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt()
+}
+
 /// Pixel outcome.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum Status {

@@ -8,7 +8,7 @@ use common::gpu;
 use glam::DVec3;
 use isotrace::catalog;
 use isotrace::codegen::Domain;
-use isotrace::gpu::render::{Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::render::{Renderer, Settings};
 use isotrace::gpu::sphere::{SphereOptions, SphereRenderer};
 use isotrace::render::{Camera, Frame, Status};
 use isotrace::Formula;
@@ -18,27 +18,14 @@ fn scene(name: &str, w: u32, h: u32) -> (Formula, Settings, catalog::Header) {
     let e = catalog::lookup(name).unwrap();
     let hd = e.header.clone();
     let b = hd.bbox;
-    let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
-    let mut camera = Camera::default_for(&b, hd.fov.unwrap_or(40.0), w as f64 / h as f64);
+    let mut s = Settings::for_box(b, w, h);
+    s.camera = Camera::default_for(&b, hd.fov.unwrap_or(40.0), w as f64 / h as f64);
     if let Some(t) = hd.target {
-        camera.target = DVec3::from_array(t);
+        s.camera.target = DVec3::from_array(t);
     }
     if let Some(eye) = hd.eye {
-        camera.eye = DVec3::from_array(eye);
+        s.camera.eye = DVec3::from_array(eye);
     }
-    let s = Settings {
-        width: w,
-        height: h,
-        bbox: b,
-        camera,
-        eps: diag * 2f64.powi(-11),
-        time: 0.0,
-        params: vec![],
-        max_iter: DEFAULT_MAX_ITER,
-        tile: 1024,
-        debug_unresolved: false,
-        clip_sphere: None,
-    };
     (e.compile().unwrap(), s, hd)
 }
 

@@ -212,7 +212,7 @@ fn timed(repeat: u32, render: &dyn Fn() -> Result<Frame, String>) -> Result<(Vec
 fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
     let f = entry.compile().map_err(|e| e.to_string())?;
     let b = entry.header.bbox;
-    let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
+    let diag = isotrace::render::box_diagonal(&b);
     let view = ViewArgs { eps: Some(format!("{}", rel_eps * diag)), tile: 1024, ..Default::default() };
     let s = settings(&view, size, &f, Some(&entry.header)).map_err(|e| format!("{e:?}"))?;
     let alg = match variant {

@@ -280,7 +280,7 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
         Some(b) => parse_box(b)?,
         None => hd.bbox,
     };
-    let diag = ((bbox[1] - bbox[0]).powi(2) + (bbox[3] - bbox[2]).powi(2) + (bbox[5] - bbox[4]).powi(2)).sqrt();
+    let diag = isotrace::render::box_diagonal(&bbox);
     let eps = match &view.eps {
         Some(e) => catalog::parse_eps(e).map_err(|m| input(format!("invalid --eps '{e}': {m}")))?,
         None => hd.eps.unwrap_or(diag * 2f64.powi(-11)),

@@ -41,6 +41,26 @@ pub struct Settings {
     pub clip_sphere: Option<f64>,
 }
 
+impl Settings {
+    /// The CLI's defaults for a box and an image size: the default camera,
+    /// eps = 2^-11 × the box diagonal, t = 0, no parameters, no clip ball.
+    pub fn for_box(bbox: [f64; 6], width: u32, height: u32) -> Settings {
+        Settings {
+            width,
+            height,
+            bbox,
+            camera: Camera::default_for(&bbox, 40.0, width as f64 / height as f64),
+            eps: crate::render::box_diagonal(&bbox) * 2f64.powi(-11),
+            time: 0.0,
+            params: vec![],
+            max_iter: DEFAULT_MAX_ITER,
+            tile: 1024,
+            debug_unresolved: false,
+            clip_sphere: None,
+        }
+    }
+}
+
 /// Default iteration budget.
 pub const DEFAULT_MAX_ITER: u32 = 8192;
 
@@ -335,7 +355,7 @@ impl<'g> Renderer<'g> {
                 dispatches += 1;
             }
         }
-        let diag = ((s.bbox[1] - s.bbox[0]).powi(2) + (s.bbox[3] - s.bbox[2]).powi(2) + (s.bbox[5] - s.bbox[4]).powi(2)).sqrt();
+        let diag = crate::render::box_diagonal(&s.bbox);
         let mut f = Frame {
             width: w,
             height: h,

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use isotrace::gpu::render::{Renderer, Settings, DEFAULT_MAX_ITER};
+use isotrace::gpu::render::{Renderer, Settings};
 use isotrace::gpu::Gpu;
 use isotrace::render::{Camera, Frame};
 use isotrace::Formula;
@@ -17,20 +17,7 @@ pub fn gpu() -> &'static Gpu {
 
 /// Settings with the CLI's defaults for a box and size.
 pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
-    let diag = ((bbox[1] - bbox[0]).powi(2) + (bbox[3] - bbox[2]).powi(2) + (bbox[5] - bbox[4]).powi(2)).sqrt();
-    Settings {
-        width: w,
-        height: h,
-        bbox,
-        camera: Camera::default_for(&bbox, 40.0, w as f64 / h as f64),
-        eps: diag * 2f64.powi(-11),
-        time: 0.0,
-        params: vec![],
-        max_iter: DEFAULT_MAX_ITER,
-        tile: 1024,
-        debug_unresolved: false,
-        clip_sphere: None,
-    }
+    Settings::for_box(bbox, w, h)
 }
 
 /// Compiles and renders.

@@ -26,7 +26,7 @@ use fidget::raster::voxel::{self, GeometryPixel, RenderConfig};
 use fidget::render::{ThreadPool, VoxelSize};
 use isotrace::catalog::{self, Clip};
 use isotrace::gpu::Gpu;
-use isotrace::gpu::render::{DEFAULT_MAX_ITER, Renderer, Settings};
+use isotrace::gpu::render::{Renderer, Settings};
 use isotrace::ir::{Func1, Func2, Func3, Ir, Op, Var};
 use isotrace::render::{Camera, CameraFrame, Frame, Status};
 use nalgebra::{Matrix4, Vector3};
@@ -517,24 +517,12 @@ fn bench_one(gpu: &Gpu, name: &str, args: &Args) -> Result<Row, String> {
     let e = catalog::lookup(name).map_err(|e| e.to_string())?;
     let f = e.compile().map_err(|e| e.to_string())?;
     let b = e.header.bbox;
-    let diag = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
     let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).map_err(|d| d.message.clone())?;
     let clip = e.header.clip.map(|Clip::Sphere(r)| r);
     let time = e.header.t.unwrap_or(0.0);
-    let camera = Camera::default_for(&b, 40.0, 1.0);
-    let s = Settings {
-        width: size,
-        height: size,
-        bbox: b,
-        camera,
-        eps: diag * 2f64.powi(-11),
-        time,
-        params: params.clone(),
-        max_iter: DEFAULT_MAX_ITER,
-        tile: 1024,
-        debug_unresolved: false,
-        clip_sphere: clip,
-    };
+    let s = Settings { time, params: params.clone(), clip_sphere: clip, ..Settings::for_box(b, size, size) };
+    let camera = s.camera;
+    let diag = isotrace::render::box_diagonal(&b);
     let domain_alg = isotrace::choose_algebra(&f.ir);
     let r = Renderer::new(gpu, &f.ir, domain_alg).map_err(|e| e.to_string())?;
     let algebra = match domain_alg {
