@@ -104,6 +104,8 @@ pub fn shard(all: &[Job], i: usize, n: usize) -> Vec<Job> {
 pub struct Measure {
     /// Median GPU time over the timed runs, ms.
     pub gpu_ms: f64,
+    /// Median GPU time of the tile pass alone (part of `gpu_ms`), ms.
+    pub tile_ms: f64,
     /// 1000 / gpu_ms.
     pub fps: f64,
     /// Median wall time of a frame (dispatch + read-back), ms.
@@ -165,6 +167,7 @@ impl Measure {
         let gpu_ms = med(&|s| s.gpu_ms);
         Measure {
             gpu_ms,
+            tile_ms: med(&|s| s.tile_ms),
             fps: if gpu_ms > 0.0 { 1000.0 / gpu_ms } else { 0.0 },
             wall_ms: med(&|s| s.wall_ms),
             evals_mean: s.evals_mean,

@@ -194,17 +194,20 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
-/// Warm-up (shader compile, caches), then `repeat` timed renders.
-fn timed(repeat: u32, render: &dyn Fn() -> Result<Frame, String>) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
-    render()?;
+/// Warm-up (shader compile, caches), then `repeat` timed renders into the
+/// same frame (as a viewer or an animation would).
+fn timed(repeat: u32, render: &dyn Fn(&mut Frame) -> Result<(), String>) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
+    let mut frame = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Default::default() };
+    render(&mut frame)?;
     let mut runs = Vec::new();
-    let mut last = None;
     for _ in 0..repeat {
-        let fr = render()?;
-        runs.push(fr.stats.clone());
-        last = Some(fr);
+        render(&mut frame)?;
+        runs.push(frame.stats.clone());
     }
-    Ok((runs, last.ok_or("no run")?))
+    if runs.is_empty() {
+        return Err("no run".into());
+    }
+    Ok((runs, frame))
 }
 
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
@@ -225,7 +228,10 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 other => format!("{other:?}"),
             })?;
             let r = SphereRenderer::new(gpu, &f.ir, o.features()).map_err(|e| e.to_string())?;
-            let (runs, frame) = timed(a.repeat, &|| r.render(&s, &o).map_err(|e| e.to_string()))?;
+            let (runs, frame) = timed(a.repeat, &|f: &mut Frame| {
+                *f = r.render(&s, &o).map_err(|e| e.to_string())?;
+                Ok(())
+            })?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             return Ok((m, frame));
@@ -234,7 +240,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let r = Renderer::new(gpu, &f.ir, domain).map_err(|e| e.to_string())?;
-    let timed = |s: &isotrace::gpu::render::Settings| timed(a.repeat, &|| r.render(s).map_err(|e| e.to_string()));
+    let timed = |s: &isotrace::gpu::render::Settings| timed(a.repeat, &|f: &mut Frame| r.render_into(s, f).map_err(|e| e.to_string()));
     let (runs, frame) = timed(&s)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     if a.find_eps {

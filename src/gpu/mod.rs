@@ -266,20 +266,21 @@ impl TileBuffers {
 
 }
 
-/// A tile pass that runs over the grid of 8×8 workgroups before the
-/// per-pixel kernel and queues the workgroups the kernel must run: the
-/// kernel is then dispatched indirectly with the counts the pass leaves at
-/// the start of `list` (reset to (0, 1, 1) first). Both pipelines share
-/// the bind group layout.
+/// A tile pass that runs one invocation per 8×8 pixel tile (8×8 tiles a
+/// workgroup) before the per-pixel kernel and queues the tiles the kernel
+/// must run: the kernel is then dispatched indirectly with the counts the
+/// pass leaves at the start of `list` (reset to (0, 1, 1, 0) first). Both
+/// pipelines share the bind group layout.
 pub type PrePass<'a> = (&'a wgpu::ComputePipeline, &'a wgpu::Buffer);
 
 /// One timed dispatch of a per-pixel kernel over a `tw × th` tile: the
 /// uniforms at binding 0, the pixel records (`record` bytes each) at binding
-/// 1, `extra` bindings after them, 8×8 workgroups, optionally after a
+/// 1, `extra` bindings after them, workgroups of `group` 8×8 pixel tiles
+/// stacked in z (the kernel maps them to pixels), optionally after a
 /// `pre` pass in the same submission. `unpack` gets the records straight
-/// from the mapped read-back buffer. Returns the GPU milliseconds (timestamp
-/// queries around both passes when the device has them, else the
-/// submit-to-read-back wall time).
+/// from the mapped read-back buffer. Returns the GPU milliseconds of both
+/// passes and of the `pre` pass alone (timestamp queries when the device
+/// has them, else the submit-to-read-back wall time and 0).
 #[allow(clippy::too_many_arguments)]
 pub fn dispatch_tile(
     gpu: &Gpu,
@@ -289,22 +290,23 @@ pub fn dispatch_tile(
     uniforms: &[u8],
     extra: &[(u32, &wgpu::Buffer)],
     buffers: &TileBuffers,
-    (tw, th, record): (u32, u32, u64),
+    (tw, th, record, group): (u32, u32, u64, u32),
     unpack: impl FnOnce(&[u8]),
-) -> Result<f64, GpuError> {
+) -> Result<(f64, f64), GpuError> {
     use wgpu::util::DeviceExt;
     let d = &gpu.device;
     let size = tw as u64 * th as u64 * record;
     let ts = gpu.timestamp_period.map(|_| {
-        let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some(label), ty: wgpu::QueryType::Timestamp, count: 2 });
+        let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some(label), ty: wgpu::QueryType::Timestamp, count: 3 });
         let resolve = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("timestamps"),
-            size: 16,
+            size: 24,
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         (set, resolve)
     });
+    let last = if pre.is_some() { 2 } else { 1 };
     let t0 = std::time::Instant::now();
     let (staging, ts_staging) = gpu.scoped(label, || {
         let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: uniforms, usage: wgpu::BufferUsages::UNIFORM });
@@ -316,15 +318,12 @@ pub fn dispatch_tile(
         entries.extend(extra.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }));
         let bind = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &pipeline.get_bind_group_layout(0), entries: &entries });
         if let Some((_, indirect)) = pre {
-            gpu.queue.write_buffer(indirect, 0, bytemuck::cast_slice(&[0u32, 1, 1]));
+            gpu.queue.write_buffer(indirect, 0, bytemuck::cast_slice(&[0u32, 1, 1, 0]));
         }
         let mut enc = d.create_command_encoder(&Default::default());
-        let stamp = |begin: bool, end: bool| {
-            ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: begin.then_some(0),
-                end_of_pass_write_index: end.then_some(1),
-            })
+        // Query 0: start; 1: end of the pre pass, if any; `last`: end.
+        let stamp = |begin: Option<u32>, end: u32| {
+            ts.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites { query_set: set, beginning_of_pass_write_index: begin, end_of_pass_write_index: Some(end) })
         };
         match pre {
             Some((tiles, list)) => {
@@ -338,27 +337,27 @@ pub fn dispatch_tile(
                     mapped_at_creation: false,
                 });
                 {
-                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(true, false) });
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(Some(0), 1) });
                     pass.set_bind_group(0, &bind, &[]);
                     pass.set_pipeline(tiles);
-                    pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+                    pass.dispatch_workgroups(tw.div_ceil(64), th.div_ceil(64), 1);
                 }
                 enc.copy_buffer_to_buffer(list, 0, &args, 0, 12);
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(false, true) });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(None, last) });
                 pass.set_bind_group(0, &bind, &[]);
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups_indirect(&args, 0);
             }
             None => {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(true, true) });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: stamp(Some(0), last) });
                 pass.set_bind_group(0, &bind, &[]);
                 pass.set_pipeline(pipeline);
-                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8), 1);
+                pass.dispatch_workgroups(tw.div_ceil(8), th.div_ceil(8).div_ceil(group), 1);
             }
         }
         let ts_staging = ts.as_ref().map(|(set, resolve)| {
-            enc.resolve_query_set(set, 0..2, resolve, 0);
-            gpu.read_buffer(&mut enc, resolve, 16)
+            enc.resolve_query_set(set, 0..last + 1, resolve, 0);
+            gpu.read_buffer(&mut enc, resolve, 8 * (last as u64 + 1))
         });
         if !gpu.map_in_place {
             enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
@@ -372,10 +371,11 @@ pub fn dispatch_tile(
         (Some(b), Some(period)) => {
             let t = gpu.map_read(&b)?;
             let v: &[u64] = bytemuck::cast_slice(&t);
-            let ms = v[1].saturating_sub(v[0]) as f64 * period as f64 * 1e-6;
-            if ms > 0.0 { ms } else { wall }
+            let ms = |a: u64, b: u64| b.saturating_sub(a) as f64 * period as f64 * 1e-6;
+            let total = ms(v[0], v[last as usize]);
+            if total > 0.0 { (total, if pre.is_some() { ms(v[0], v[1]) } else { 0.0 }) } else { (wall, 0.0) }
         }
-        _ => wall,
+        _ => (wall, 0.0),
     })
 }
 

@@ -315,7 +315,7 @@ impl<'g> SphereRenderer<'g> {
     fn dispatch(&self, u: &Uniforms, tw: u32, th: u32) -> Result<(Vec<RawPixel>, f64), RenderError> {
         let record = std::mem::size_of::<RawPixel>() as u64;
         let mut raw = Vec::new();
-        let ms = super::dispatch_tile(self.gpu, &self.pipeline, None, "sphere tracing dispatch", bytemuck::bytes_of(u), &[], &self.buffers, (tw, th, record), |b| {
+        let (ms, _) = super::dispatch_tile(self.gpu, &self.pipeline, None, "sphere tracing dispatch", bytemuck::bytes_of(u), &[], &self.buffers, (tw, th, record, 1), |b| {
             raw = bytemuck::cast_slice::<u8, RawPixel>(b).to_vec()
         })?;
         Ok((raw, ms))

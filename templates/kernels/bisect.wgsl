@@ -58,8 +58,7 @@ const STATUS_UNRESOLVED: u32 = 2u;
 // finite (division by an interval containing 0): such a cell is a hit only
 // once it is this much smaller than eps and the scalar function changes sign.
 const EXTRA_LEVELS: u32 = 6u;
-// The tile pass cuts the tile's view frustum into this many depth slabs, one
-// per invocation of the 8x8 workgroup.
+// The tile pass cuts each tile's view frustum into this many depth slabs.
 const SLABS: u32 = 64u;
 
 @group(0) @binding(0) var<uniform> U: Uniforms;
@@ -68,15 +67,15 @@ const SLABS: u32 = 64u;
 // rgba8 packed; one dummy texel when the environment is procedural).
 @group(0) @binding(2) var<storage, read> env_image: array<u32>;
 // The tile pass's result: the candidate slabs of each 8x8 tile.
-@group(0) @binding(3) var<storage, read_write> tile_masks: array<vec2<u32>>;
+// xy: slab bits, z: enclosures the tile pass spent on the tile.
+@group(0) @binding(3) var<storage, read_write> tile_masks: array<vec4<u32>>;
 // The tiles that have candidate slabs, and the indirect dispatch of `main`
 // over them: (count, 1, 1).
-struct TileList { x: atomic<u32>, y: u32, z: u32 }
+// `count` tiles are queued; x = ceil(count / TILES_PER_GROUP) workgroups.
+struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
 @group(0) @binding(4) var<storage, read_write> tile_list: TileList;
 @group(0) @binding(5) var<storage, read_write> tile_ids: array<u32>;
 
-// Bit k set: slab k of this tile's frustum may contain the surface.
-var<workgroup> wg_slabs: array<atomic<u32>, 2>;
 // With several surfaces (CSG by level-set conditions): the surface of the
 // cell last accepted, which f_at() evaluates.
 var<private> g_surface: u32;
@@ -409,76 +408,109 @@ fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, depth: f32, iso: u32, 
 }
 
 // ---- Tile pass (its own dispatch, before `main`): which depth slabs of
-// each 8x8 tile's view frustum may hold the surface. Each invocation
-// encloses f over one of the 64 slabs of the frustum through the tile's
-// pixel centres; slabs proven root-free are skipped by every ray of the
-// tile. It is a separate entry point, dispatched over the same workgroups
-// just before `main`: the per-pixel kernel then has no barriers, and
-// switching the tile pass off skips it entirely.
+// each 8x8 tile's view frustum may hold the surface. One invocation per
+// tile encloses f over the frustum through the tile's pixel centres, cut
+// into SLABS depth slabs, coarse to fine: 8 slabs of 8 first, and the 8 fine
+// slabs only inside a coarse slab that may hold the surface (an empty tile
+// costs 8 enclosures, not 64). Slabs proven root-free are skipped by every
+// ray of the tile. Tiles with a candidate slab are queued for `main`, the
+// others get their background here.
+//
+// One invocation per tile, not per slab, because on lavapipe every
+// workgroup costs about a microsecond however little it does: the per-slab
+// form needed 16384 workgroups at 1024² and ~20 ms before any work.
+const COARSE: u32 = 8u;
+// Tiles per workgroup of `main` (its workgroup is 8x8xTILES_PER_GROUP).
+const TILES_PER_GROUP: u32 = 4u;
+
+fn tiles_x() -> u32 { return (U.tile_size.x + 7u) / 8u; }
+fn tiles_y() -> u32 { return (U.tile_size.y + 7u) / 8u; }
+
+// Pixel `li` (0..63) of a tile's share of the tile pass's `n` enclosures.
+fn tile_share(n: u32, li: u32) -> u32 { return n / 64u + select(0u, 1u, li < n % 64u); }
+
 @compute @workgroup_size(8, 8)
-fn tiles(@builtin(local_invocation_index) li: u32,
-         @builtin(workgroup_id) wid: vec3<u32>,
-         @builtin(num_workgroups) groups: vec3<u32>) {
-    if (li == 0u) {
-        atomicStore(&wg_slabs[0], 0u);
-        atomicStore(&wg_slabs[1], 0u);
-    }
-    workgroupBarrier();
+fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let tile = gid.xy;
+    if (tile.x >= tiles_x() || tile.y >= tiles_y()) { return; }
+    let t = tile.y * tiles_x() + tile.x;
     let dr = depth_range();
-    let ds = (dr.y - dr.x) / f32(SLABS);
-    let t_lo = U.tile_origin + wid.xy * 8u;
+    let t_lo = U.tile_origin + tile * 8u;
     let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
     let a = pixel_dir(t_lo);
     let b = pixel_dir(t_hi);
-    let s0 = dr.x + ds * f32(li);
-    let slab = slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz,
-                          vec2<f32>(s0, select(s0 + ds, dr.y, li == SLABS - 1u)),
-                          vec2<f32>(a.x, b.x), vec2<f32>(b.y, a.y));
-    if (dr.x < dr.y && keep_cell(slab)) {
-        atomicOr(&wg_slabs[li / 32u], 1u << (li % 32u));
-    }
-    workgroupBarrier();
-    let mask = vec2<u32>(atomicLoad(&wg_slabs[0]), atomicLoad(&wg_slabs[1]));
-    let t = wid.y * groups.x + wid.x;
-    if (mask.x != 0u || mask.y != 0u) {
-        // Rays of this tile may meet the surface: queue it for `main`.
-        if (li == 0u) {
-            tile_masks[t] = mask;
-            tile_ids[atomicAdd(&tile_list.x, 1u)] = t;
+    let su = vec2<f32>(a.x, b.x);
+    let sv = vec2<f32>(b.y, a.y);
+    let fine = SLABS / COARSE;
+    let ds = (dr.y - dr.x) / f32(SLABS);
+    var mask = vec2<u32>(0u);
+    var n = 0u;
+    if (dr.x < dr.y) {
+        for (var c = 0u; c < COARSE; c = c + 1u) {
+            let c0 = dr.x + ds * f32(c * fine);
+            let c1 = select(dr.x + ds * f32((c + 1u) * fine), dr.y, c == COARSE - 1u);
+            n = n + 1u;
+            if (!keep_cell(slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz, vec2<f32>(c0, c1), su, sv))) { continue; }
+            for (var j = 0u; j < fine; j = j + 1u) {
+                let k = c * fine + j;
+                let s0 = dr.x + ds * f32(k);
+                let s1 = select(s0 + ds, dr.y, k == SLABS - 1u);
+                n = n + 1u;
+                if (keep_cell(slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz, vec2<f32>(s0, s1), su, sv))) {
+                    if (k < 32u) { mask.x = mask.x | (1u << k); } else { mask.y = mask.y | (1u << (k - 32u)); }
+                }
+            }
         }
+    }
+    if (mask.x != 0u || mask.y != 0u) {
+        // Rays of this tile may meet the surface: queue it for `main`, and
+        // count a workgroup of `main` for every TILES_PER_GROUP tiles.
+        tile_masks[t] = vec4<u32>(mask, n, 0u);
+        let slot = atomicAdd(&tile_list.count, 1u);
+        tile_ids[slot] = t;
+        if (slot % TILES_PER_GROUP == 0u) { atomicAdd(&tile_list.x, 1u); }
         return;
     }
     // No slab of this tile holds the surface: its pixels are background,
     // written here, and the large per-pixel kernel never runs for them.
-    let lid = vec2<u32>(li % 8u, li / 8u);
-    let g = wid.xy * 8u + lid;
-    if (g.x >= U.tile_size.x || g.y >= U.tile_size.y) { return; }
-    let sxy = pixel_dir(U.tile_origin + g);
-    let dir = U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
-    let inv_len = 1.0 / length(dir);
-    let seg = clip_ray(U.eye.xyz, dir);
-    var d_ray = 0u;
-    if (seg.x < seg.y) { d_ray = depth_for((seg.y - seg.x) / inv_len); }
-    let bg = clamp(background(dir * inv_len), vec3<f32>(0.0), vec3<f32>(1.0));
-    pixels[g.y * U.tile_size.x + g.x] = Pixel(pack2x16unorm(bg.xy), pack2x16unorm(vec2<f32>(bg.z, 0.0)), 0u, 0u, U.inf, 1u,
-                                              STATUS_MISS | (d_ray << 8u));
+    for (var li = 0u; li < 64u; li = li + 1u) {
+        let g = tile * 8u + vec2<u32>(li % 8u, li / 8u);
+        if (g.x >= U.tile_size.x || g.y >= U.tile_size.y) { continue; }
+        let sxy = pixel_dir(U.tile_origin + g);
+        let dir = U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
+        let inv_len = 1.0 / length(dir);
+        let seg = clip_ray(U.eye.xyz, dir);
+        var d_ray = 0u;
+        if (seg.x < seg.y) { d_ray = depth_for((seg.y - seg.x) / inv_len); }
+        let bg = clamp(background(dir * inv_len), vec3<f32>(0.0), vec3<f32>(1.0));
+        pixels[g.y * U.tile_size.x + g.x] = Pixel(pack2x16unorm(bg.xy), pack2x16unorm(vec2<f32>(bg.z, 0.0)), 0u, 0u, U.inf,
+                                                  tile_share(n, li), STATUS_MISS | (d_ray << 8u));
+    }
 }
 
-@compute @workgroup_size(8, 8)
+// One invocation per pixel; a workgroup runs TILES_PER_GROUP 8x8 tiles
+// (fewer, larger workgroups: see the tile pass).
+@compute @workgroup_size(8, 8, 4)
 fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         @builtin(workgroup_id) wid: vec3<u32>,
         @builtin(num_workgroups) groups: vec3<u32>) {
     let dr = depth_range();
     var mask = vec2<u32>(0xffffffffu, 0xffffffffu);
-    // With the tile pass, `main` runs once per queued tile (indirect
-    // dispatch); without it, over the whole grid.
-    var tile = wid.xy;
+    var share = 0u;
+    // With the tile pass, `main` runs over the queued tiles (indirect
+    // dispatch); without it, over all tiles.
+    let slot = (wid.y * groups.x + wid.x) * TILES_PER_GROUP + lid.z;
+    var t = slot;
     if ((U.flags & 2u) == 0u) {
-        let t = tile_ids[wid.x];
-        let tiles_x = (U.tile_size.x + 7u) / 8u;
-        tile = vec2<u32>(t % tiles_x, t / tiles_x);
-        mask = tile_masks[t];
+        if (slot >= atomicLoad(&tile_list.count)) { return; }
+        t = tile_ids[slot];
+        let m = tile_masks[t];
+        mask = m.xy;
+        share = tile_share(m.z, lid.y * 8u + lid.x);
+    } else if (slot >= tiles_x() * tiles_y()) {
+        return;
     }
+    let tile = vec2<u32>(t % tiles_x(), t / tiles_x());
     let gid = tile * 8u + lid.xy;
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
@@ -493,7 +525,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     let o = U.eye.xyz;
 
     g_budget = U.max_iter;
-    g_evals = select(0u, 1u, (U.flags & 2u) == 0u); // this pixel's share of the tile pass
+    g_evals = share; // this pixel's share of the tile pass
     var acc = vec3<f32>(0.0);
     var transmit = 1.0;
     var normal = vec3<f32>(0.0);
