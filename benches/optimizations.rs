@@ -19,7 +19,7 @@ fn main() {
          "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water"].iter().map(|s| s.to_string()).collect()
     };
     let gpu = Gpu::new().expect("GPU");
-    let md: u32 = std::env::var("MONO_DEPTH").ok().and_then(|v| v.parse().ok()).unwrap_or(2);
+    let md: u32 = std::env::var("MONO_DEPTH").ok().and_then(|v| v.parse().ok()).unwrap_or(Optimizations::default().monotone_depth);
     let variants: [(&str, Optimizations); 4] = [
         ("all", Optimizations { monotone_depth: md, ..Default::default() }),
         ("no-tile", Optimizations { tile_culling: false, ..Default::default() }),

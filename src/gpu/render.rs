@@ -152,13 +152,15 @@ pub struct Optimizations {
     /// Derivative enclosures from depth [`Optimizations::monotone_depth`] on:
     /// monotone cells are rejected or solved by scalar root finding.
     pub monotone: bool,
-    /// First bisection depth at which the derivative is evaluated.
+    /// First bisection depth at which the derivative is evaluated. 0 (the
+    /// whole segment) measured fastest: 11 % on the geometric mean of eight
+    /// Knoll surfaces against depth 2, up to 36 % on cloth.
     pub monotone_depth: u32,
 }
 
 impl Default for Optimizations {
     fn default() -> Self {
-        Optimizations { tile_culling: true, monotone: true, monotone_depth: 2 }
+        Optimizations { tile_culling: true, monotone: true, monotone_depth: 0 }
     }
 }
 
