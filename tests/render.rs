@@ -34,9 +34,15 @@ fn sphere_depth_within_eps_and_silhouette_within_a_pixel() {
                 match (p.status, exact) {
                     (Status::Hit, Some(t)) => {
                         if (p.depth as f64 - t).abs() > s.eps { eprintln!("{domain:?} ({i},{j}) depth {} exact {t}", p.depth); }
-                        worst = worst.max((p.depth as f64 - t).abs())
+                        worst = worst.max((p.depth as f64 - t).abs());
+                        // The normal (packed octahedrally by the kernel) is
+                        // the sphere's, facing the eye.
+                        let n = glam::DVec3::from_array(p.normal.map(f64::from));
+                        let exact_n = (s.camera.eye + d * t).normalize();
+                        assert!((n - exact_n).length() < 2e-3, "{domain:?} ({i},{j}): normal {n} exact {exact_n}");
+                        assert!(p.color[3] == 1.0 && p.color[..3].iter().all(|c| (0.0..=1.0).contains(c)), "{:?}", p.color);
                     }
-                    (Status::Miss, None) => {}
+                    (Status::Miss, None) => assert!(p.normal == [0.0; 3] && p.color[3] == 0.0 && p.depth.is_infinite()),
                     (Status::Unresolved, _) => panic!("{domain:?}: unresolved pixel ({i},{j})"),
                     (got, exact) => {
                         // Disagreement only at the silhouette: a neighbour ray must

@@ -100,16 +100,13 @@ struct Uniforms {
     params: [f32; 64],
 }
 
-/// The kernel's packed `Pixel` (colour and normal as f16 pairs).
+/// The kernel's packed 16-byte `Pixel` (bisect.wgsl says how it packs).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct RawPixel {
-    color_rg: u32,
-    color_ba: u32,
-    normal_xy: u32,
-    normal_z: u32,
+    color: u32,
+    normal: u32,
     depth: f32,
-    evals: u32,
     info: u32,
 }
 
@@ -465,18 +462,6 @@ fn render_layout(d: &wgpu::Device) -> wgpu::PipelineLayout {
     d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("render"), bind_group_layouts: &[Some(&bgl)], immediate_size: 0 })
 }
 
-/// The parts both kernels pack alike: status (low byte of `info`), colour
-/// (2 × unorm16 pairs) and normal (snorm16 pairs).
-pub(crate) fn decode_common(info: u32, color: [u32; 2], normal: [u32; 2]) -> (Status, [f32; 4], [f32; 3]) {
-    let status = match info & 0xff {
-        1 => Status::Hit,
-        2 => Status::Unresolved,
-        _ => Status::Miss,
-    };
-    let ([cr, cg], [cb, ca]) = (unorm2(color[0]), unorm2(color[1]));
-    let ([nx, ny], [nz, _]) = (snorm2(normal[0]), snorm2(normal[1]));
-    (status, [cr, cg, cb, ca], [nx, ny, nz])
-}
 
 const MISS_PIXEL: PixelOut = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, iso: 0, status: Status::Miss };
 
@@ -511,8 +496,36 @@ fn convert_all(raw: &[RawPixel], dst: &mut [MaybeUninit<PixelOut>]) -> StatsAcc 
 }
 
 fn convert(r: &RawPixel) -> PixelOut {
-    let (status, color, normal) = decode_common(r.info, [r.color_rg, r.color_ba], [r.normal_xy, r.normal_z]);
-    PixelOut { color, normal, depth: r.depth, evals: r.evals, level: r.info >> 8, iso: (r.normal_z >> 16) & 0xff, status }
+    let status = match r.color >> 30 {
+        1 => Status::Hit,
+        2 => Status::Unresolved,
+        _ => Status::Miss,
+    };
+    let c = |shift: u32| {
+        let v = ((r.color >> shift) & 0x3ff) as f32 / 1023.0;
+        v * v
+    };
+    let alpha = if status == Status::Miss { 0.0 } else { 1.0 };
+    PixelOut {
+        color: [c(0), c(10), c(20), alpha],
+        normal: if status == Status::Miss { [0.0; 3] } else { octahedral(r.normal) },
+        depth: r.depth,
+        evals: r.info & 0xffff,
+        level: (r.info >> 16) & 0x1f,
+        iso: r.info >> 21,
+        status,
+    }
+}
+
+/// The unit vector of an octahedral-encoded normal (two snorm16).
+fn octahedral(v: u32) -> [f32; 3] {
+    let [mut x, mut y] = snorm2(v);
+    let z = 1.0 - x.abs() - y.abs();
+    if z < 0.0 {
+        (x, y) = ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum());
+    }
+    let l = (x * x + y * y + z * z).sqrt();
+    if l > 0.0 { [x / l, y / l, z / l] } else { [0.0, 0.0, 1.0] }
 }
 
 /// Size, box, clip ball and eps of a frame, checked before any GPU work

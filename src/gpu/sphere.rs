@@ -10,7 +10,7 @@
 //! its `Unresolved` status means "unconverged". Images are split into tiles
 //! exactly like the bisection renderer's.
 
-use super::render::{check_settings, decode_common, RenderError, Settings, MAX_SIZE};
+use super::render::{check_settings, snorm2, unorm2, RenderError, Settings, MAX_SIZE};
 use super::{pack_params, Gpu};
 use crate::codegen::{emit_evaluator, libraries, template, Domain};
 use crate::ir::Ir;
@@ -380,3 +380,15 @@ fn convert(r: &RawPixel) -> PixelOut {
     PixelOut { color: [cr, cg, cb, ca], normal: [nx, ny, nz], depth: r.depth, evals: r.steps, level: u32::from(r.steps > 0), iso: 0, status }
 }
 
+/// The sphere tracer's packed status (low byte of `info`), colour (2 ×
+/// unorm16 pairs) and normal (snorm16 pairs).
+fn decode_common(info: u32, color: [u32; 2], normal: [u32; 2]) -> (Status, [f32; 4], [f32; 3]) {
+    let status = match info & 0xff {
+        1 => Status::Hit,
+        2 => Status::Unresolved,
+        _ => Status::Miss,
+    };
+    let ([cr, cg], [cb, ca]) = (unorm2(color[0]), unorm2(color[1]));
+    let ([nx, ny], [nz, _]) = (snorm2(normal[0]), snorm2(normal[1]));
+    (status, [cr, cg, cb, ca], [nx, ny, nz])
+}
