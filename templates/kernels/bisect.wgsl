@@ -432,9 +432,10 @@ fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, depth: f32, iso: u32, 
 // ray of the tile. Tiles with a candidate slab are queued for `main`, the
 // others get their background here.
 //
-// One invocation per tile, not per slab, because on lavapipe every
-// workgroup costs about a microsecond however little it does: the per-slab
-// form needed 16384 workgroups at 1024² and ~20 ms before any work.
+// One invocation per tile, not per slab: the per-slab form (a workgroup per
+// tile sharing its mask through workgroup memory and barriers) cost ~20 ms
+// at 1024² on lavapipe before doing any work, its price for 16384
+// workgroups with barriers; this form has neither.
 const COARSE: u32 = 8u;
 // Tiles per workgroup of `main` (its workgroup is 8x8xTILES_PER_GROUP).
 const TILES_PER_GROUP: u32 = 4u;
@@ -503,8 +504,8 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// One invocation per pixel; a workgroup runs TILES_PER_GROUP 8x8 tiles
-// (fewer, larger workgroups: see the tile pass).
+// One invocation per pixel; a workgroup runs TILES_PER_GROUP queued 8x8
+// tiles.
 @compute @workgroup_size(8, 8, 4)
 fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         @builtin(workgroup_id) wid: vec3<u32>,
