@@ -87,7 +87,7 @@ fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params
         let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("eval uniforms"),
             contents: bytemuck::bytes_of(&u),
-            usage: wgpu::BufferUsages::UNIFORM,
+            usage: wgpu::BufferUsages::STORAGE,
         });
         let bbuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("eval boxes"),

@@ -274,8 +274,9 @@ impl TileBuffers {
 pub type PrePass<'a> = (&'a wgpu::ComputePipeline, &'a wgpu::Buffer);
 
 /// One timed dispatch of a per-pixel kernel over a `tw × th` tile: the
-/// uniforms at binding 0, the pixel records (`record` bytes each) at binding
-/// 1, `extra` bindings after them, workgroups of `group` 8×8 pixel tiles
+/// uniforms at binding 0 (a read-only storage buffer: see bisect.wgsl), the
+/// pixel records (`record` bytes each) at binding 1, `extra` bindings after
+/// them, workgroups of `group` 8×8 pixel tiles
 /// stacked in z (the kernel maps them to pixels), optionally after a
 /// `pre` pass in the same submission. `unpack` gets the records straight
 /// from the mapped read-back buffer. Returns the GPU milliseconds of both
@@ -309,7 +310,7 @@ pub fn dispatch_tile(
     let last = if pre.is_some() { 2 } else { 1 };
     let t0 = std::time::Instant::now();
     let (staging, ts_staging) = gpu.scoped(label, || {
-        let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: uniforms, usage: wgpu::BufferUsages::UNIFORM });
+        let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: uniforms, usage: wgpu::BufferUsages::STORAGE });
         let (out, staging) = buffers.get(gpu, size);
         let mut entries = vec![
             wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },

@@ -451,7 +451,7 @@ fn render_layout(d: &wgpu::Device) -> wgpu::PipelineLayout {
     let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("render"),
         entries: &[
-            entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+            entry(0, storage(true)),
             entry(1, storage(false)),
             entry(2, storage(true)),
             entry(3, storage(false)),

@@ -11,7 +11,11 @@ struct Uniforms {
     params: array<vec4<f32>, 16>,
 }
 
-@group(0) @binding(0) var<uniform> U: Uniforms;
+// The uniforms arrive in a read-only storage buffer and are copied to a
+// private variable first: lavapipe re-inlines the values of a uniform buffer
+// into the shader on every dispatch (~5 ms each, whatever the dispatch size).
+@group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
+var<private> U: Uniforms;
 // 8 floats per box: x0 x1 y0 y1 z0 z1 t0 t1 (a point has lo == hi).
 @group(0) @binding(1) var<storage, read> boxes: array<f32>;
 // lo, hi per box (empty: lo > hi; a scalar result: lo == hi).
@@ -37,6 +41,7 @@ fn box_value(i: u32) -> vec2<f32> {
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    U = Ubuf;
     let i = gid.x + gid.y * U.row;
     if (i >= U.count) { return; }
     results[i] = box_value(i);

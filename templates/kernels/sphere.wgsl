@@ -79,7 +79,11 @@ const FLAG_GLASS: u32 = 16u;
 // formula that is not a distance bound, or --min-step, can do that).
 const BRACKET_STEPS: i32 = 24;
 
-@group(0) @binding(0) var<uniform> U: Uniforms;
+// The uniforms arrive in a read-only storage buffer and are copied to a
+// private variable first: lavapipe re-inlines the values of a uniform buffer
+// into the shader on every dispatch (~5 ms each, whatever the dispatch size).
+@group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
+var<private> U: Uniforms;
 @group(0) @binding(1) var<storage, read_write> pixels: array<Pixel>;
 
 fn iso_inf() -> f32 { return U.inf; }
@@ -375,6 +379,7 @@ fn pixel_dir(px: vec2<u32>) -> vec2<f32> {
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    U = Ubuf;
     if (gid.x >= U.tile_size.x || gid.y >= U.tile_size.y) { return; }
     let px = U.tile_origin + gid.xy;
     let idx = gid.y * U.tile_size.x + gid.x;
