@@ -417,9 +417,9 @@ fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32)
 
 //!splice:modalities
 
-// Shading of a hit: colour mode, point light, shadow, reflections.
-fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, depth: f32, iso: u32, dr: vec2<f32>) -> vec3<f32> {
-    let g = gradient(p, 0.5 * U.eps);
+// Shading of a hit with gradient g: colour mode, point light, shadow,
+// reflections.
+fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, g: vec3<f32>, depth: f32, iso: u32, dr: vec2<f32>) -> vec3<f32> {
     var n = normalize(g);
     if (!(dot(g, g) > 0.0)) { n = -unit; }
     if (dot(n, unit) > 0.0) { n = -n; }
@@ -568,7 +568,9 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             let surface = g_surface;
             let p = o + dir * hit.s;
             let dist = hit.s / inv_len;
-            var c = shade_hit(o, unit, p, hit.s, hit.iso + surface, dr);
+            // One gradient (six evaluations of f) for the shading and the normal.
+            let g = gradient(p, 0.5 * U.eps);
+            var c = shade_hit(o, unit, p, g, hit.s, hit.iso + surface, dr);
             g_surface = surface;
             if (hit.status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
                 c = vec3<f32>(1.0, 0.0, 1.0);
@@ -577,7 +579,6 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
                 status = hit.status;
                 depth = dist;
                 first_iso = hit.iso + surface;
-                let g = gradient(p, 0.5 * U.eps);
                 normal = select(-unit, normalize(g), dot(g, g) > 0.0);
             }
             let alpha = select(1.0, U.opacity, LAYERS > 1u);
