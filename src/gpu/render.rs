@@ -5,8 +5,8 @@
 use super::{pack_params, Gpu, GpuError};
 use crate::codegen::{render_shader_with, Domain};
 use crate::ir::Ir;
-use crate::render::{Camera, Frame, PixelOut, Stats, StatsAcc, Status};
-use std::mem::MaybeUninit;
+use super::pixels::{convert, convert_all, copy_all, PackedFrame, RawPixel, MISS_PIXEL};
+use crate::render::{Camera, Frame, Stats, StatsAcc};
 use crate::validate::{validate, ValidateError};
 use bytemuck::{Pod, Zeroable};
 use std::time::Instant;
@@ -100,15 +100,6 @@ struct Uniforms {
     params: [f32; 64],
 }
 
-/// The kernel's packed 16-byte `Pixel` (bisect.wgsl says how it packs).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct RawPixel {
-    color: u32,
-    normal: u32,
-    depth: f32,
-    info: u32,
-}
 
 /// `unpack2x16unorm`.
 pub(crate) fn unorm2(v: u32) -> [f32; 2] {
@@ -309,8 +300,75 @@ impl<'g> Renderer<'g> {
     /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
     pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
         check_settings(s)?;
-        let frame = s.camera.frame().map_err(RenderError::Settings)?;
         let start = Instant::now();
+        let (w, h) = (s.width, s.height);
+        let n = (w * h) as usize;
+        let mut pixels = std::mem::take(&mut out.pixels);
+        pixels.clear();
+        let mut acc = StatsAcc::default();
+        let stats = self.run(s, |(tx, ty, tw, th), raw| {
+            if (tw, th) == (w, h) {
+                // The usual case, one dispatch for the frame: convert
+                // straight into the (reused) memory, without filling it first.
+                pixels.reserve(n);
+                acc.merge(convert_all(raw, &mut pixels.spare_capacity_mut()[..n]));
+                // SAFETY: convert_all initialised all n elements.
+                unsafe { pixels.set_len(n) };
+                return;
+            }
+            pixels.resize(n, MISS_PIXEL);
+            for (row, chunk) in raw.chunks_exact(tw as usize).enumerate() {
+                let start = ((ty + row as u32) * w + tx) as usize;
+                for (dst, r) in pixels[start..start + tw as usize].iter_mut().zip(chunk) {
+                    *dst = convert(r);
+                    acc.add(dst);
+                }
+            }
+        })?;
+        *out = Frame { width: w, height: h, pixels, stats };
+        acc.finish(&mut out.stats);
+        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(())
+    }
+
+    /// Renders one frame into `out` and keeps the kernel's records packed
+    /// (see [`PackedFrame`]), with the same statistics as [`Renderer::render_into`].
+    pub fn render_packed(&self, s: &Settings, out: &mut PackedFrame) -> Result<(), RenderError> {
+        check_settings(s)?;
+        let start = Instant::now();
+        let (w, h) = (s.width, s.height);
+        let n = (w * h) as usize;
+        let mut records = std::mem::take(&mut out.records);
+        records.clear();
+        let mut acc = StatsAcc::default();
+        let stats = self.run(s, |(tx, ty, tw, th), raw| {
+            if (tw, th) == (w, h) {
+                records.reserve(n);
+                acc.merge(copy_all(raw, &mut records.spare_capacity_mut()[..n]));
+                // SAFETY: copy_all initialised all n elements.
+                unsafe { records.set_len(n) };
+                return;
+            }
+            records.resize(n, RawPixel::zeroed());
+            for (row, chunk) in raw.chunks_exact(tw as usize).enumerate() {
+                let start = ((ty + row as u32) * w + tx) as usize;
+                records[start..start + tw as usize].copy_from_slice(chunk);
+                for r in chunk {
+                    acc.add(&convert(r));
+                }
+            }
+        })?;
+        *out = PackedFrame { width: w, height: h, stats, records };
+        acc.finish(&mut out.stats);
+        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(())
+    }
+
+    /// Runs the dispatches of one frame, tile by tile, and hands each
+    /// tile's records to `sink` with its rectangle (x, y, width, height).
+    /// Returns the statistics that do not depend on the pixels.
+    fn run(&self, s: &Settings, mut sink: impl FnMut((u32, u32, u32, u32), &[RawPixel])) -> Result<Stats, RenderError> {
+        let frame = s.camera.frame().map_err(RenderError::Settings)?;
         let (w, h) = (s.width, s.height);
         // A tile's pixel records must fit the device's largest storage binding.
         let fit = ((self.gpu.max_storage_binding / std::mem::size_of::<RawPixel>() as u64) as f64).sqrt() as u32 / 8 * 8;
@@ -351,19 +409,6 @@ impl<'g> Renderer<'g> {
             pad: [0; 2],
             params: pack_params(&s.params)?,
         };
-        let n = (w * h) as usize;
-        // One dispatch covers the frame in the usual case: the records are
-        // then converted straight into fresh memory, without filling the
-        // 1024² frame first.
-        let whole = tile >= w && tile >= h;
-        let mut pixels = std::mem::take(&mut out.pixels);
-        pixels.clear();
-        if whole {
-            pixels.reserve(n);
-        } else {
-            pixels.resize(n, MISS_PIXEL);
-        }
-        let mut acc = StatsAcc::default();
         let (mut gpu_ms, mut tile_ms) = (0.0, 0.0);
         let mut dispatches = 0;
         for ty in (0..h).step_by(tile as usize) {
@@ -371,44 +416,21 @@ impl<'g> Renderer<'g> {
                 let (tw, th) = (tile.min(w - tx), tile.min(h - ty));
                 u.tile_origin = [tx, ty];
                 u.tile_size = [tw, th];
-                let (ms, pre_ms) = self.dispatch(&u, tw, th, |raw| {
-                    if whole {
-                        acc.merge(convert_all(raw, &mut pixels.spare_capacity_mut()[..n]));
-                        // SAFETY: convert_all initialised all n elements.
-                        unsafe { pixels.set_len(n) };
-                        return;
-                    }
-                    // Unpack straight from the mapped buffer, row by row.
-                    for (row, chunk) in raw.chunks_exact(tw as usize).enumerate() {
-                        let start = ((ty + row as u32) * w + tx) as usize;
-                        for (dst, r) in pixels[start..start + tw as usize].iter_mut().zip(chunk) {
-                            *dst = convert(r);
-                            acc.add(dst);
-                        }
-                    }
-                })?;
+                let (ms, pre_ms) = self.dispatch(&u, tw, th, |raw| sink((tx, ty, tw, th), raw))?;
                 gpu_ms += ms;
                 tile_ms += pre_ms;
                 dispatches += 1;
             }
         }
         let diag = crate::render::box_diagonal(&s.bbox);
-        *out = Frame {
-            width: w,
-            height: h,
-            pixels,
-            stats: Stats {
-                gpu_ms,
-                tile_ms,
-                dispatches,
-                d_max: (diag / s.eps).log2().ceil().clamp(0.0, 18.0) as u32,
-                iso_channel: self.modalities.isovalues.len() > 1 || self.csg_surfaces > 1,
-                ..Default::default()
-            },
-        };
-        acc.finish(&mut out.stats);
-        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(())
+        Ok(Stats {
+            gpu_ms,
+            tile_ms,
+            dispatches,
+            d_max: (diag / s.eps).log2().ceil().clamp(0.0, 18.0) as u32,
+            iso_channel: self.modalities.isovalues.len() > 1 || self.csg_surfaces > 1,
+            ..Default::default()
+        })
     }
 
     /// Runs one tile and hands its packed pixels to `unpack`; returns the
@@ -463,70 +485,6 @@ fn render_layout(d: &wgpu::Device) -> wgpu::PipelineLayout {
 }
 
 
-const MISS_PIXEL: PixelOut = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: f32::INFINITY, evals: 0, level: 0, iso: 0, status: Status::Miss };
-
-/// Converts a whole frame's records on every core (one slice each) and
-/// returns their statistics: at 1024² this is ~30 MB in, ~50 MB out, and
-/// one thread took ~8 ms of each frame.
-fn convert_all(raw: &[RawPixel], dst: &mut [MaybeUninit<PixelOut>]) -> StatsAcc {
-    if raw.is_empty() {
-        return StatsAcc::default();
-    }
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, 8);
-    let chunk = raw.len().div_ceil(threads).max(1 << 14);
-    let work = |src: &[RawPixel], out: &mut [MaybeUninit<PixelOut>]| {
-        let mut acc = StatsAcc::default();
-        for (d, r) in out.iter_mut().zip(src) {
-            let p = convert(r);
-            acc.add(&p);
-            d.write(p);
-        }
-        acc
-    };
-    std::thread::scope(|scope| {
-        let mut jobs: Vec<_> = raw.chunks(chunk).zip(dst.chunks_mut(chunk)).collect();
-        let first = jobs.remove(0);
-        let handles: Vec<_> = jobs.into_iter().map(|(src, out)| scope.spawn(move || work(src, out))).collect();
-        let mut acc = work(first.0, first.1);
-        for h in handles {
-            acc.merge(h.join().expect("pixel conversion panicked"));
-        }
-        acc
-    })
-}
-
-fn convert(r: &RawPixel) -> PixelOut {
-    let status = match r.color >> 30 {
-        1 => Status::Hit,
-        2 => Status::Unresolved,
-        _ => Status::Miss,
-    };
-    let c = |shift: u32| {
-        let v = ((r.color >> shift) & 0x3ff) as f32 / 1023.0;
-        v * v
-    };
-    let alpha = if status == Status::Miss { 0.0 } else { 1.0 };
-    PixelOut {
-        color: [c(0), c(10), c(20), alpha],
-        normal: if status == Status::Miss { [0.0; 3] } else { octahedral(r.normal) },
-        depth: r.depth,
-        evals: r.info & 0xffff,
-        level: (r.info >> 16) & 0x1f,
-        iso: r.info >> 21,
-        status,
-    }
-}
-
-/// The unit vector of an octahedral-encoded normal (two snorm16).
-fn octahedral(v: u32) -> [f32; 3] {
-    let [mut x, mut y] = snorm2(v);
-    let z = 1.0 - x.abs() - y.abs();
-    if z < 0.0 {
-        (x, y) = ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum());
-    }
-    let l = (x * x + y * y + z * z).sqrt();
-    if l > 0.0 { [x / l, y / l, z / l] } else { [0.0, 0.0, 1.0] }
-}
 
 /// Size, box, clip ball and eps of a frame, checked before any GPU work
 /// (shared by both traversals).

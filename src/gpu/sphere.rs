@@ -331,11 +331,12 @@ fn uniforms(s: &Settings, o: &SphereOptions, frame: &crate::render::CameraFrame)
         Some(Bound::Sphere { center: c, radius }) => (1, f4(c[0], c[1], c[2], radius), [0.0; 4]),
         Some(Bound::Box(b)) => (2, f4(b[0], b[2], b[4], 0.0), f4(b[1], b[3], b[5], 0.0)),
     };
-    let flags = u32::from(s.debug_unresolved) * FLAG_DEBUG
-        | u32::from(o.screen_space) * FLAG_SCREEN
-        | u32::from(o.dynamic_eps) * FLAG_DYNAMIC_EPS
-        | u32::from(o.shadows) * FLAG_SHADOWS
-        | u32::from(o.glass) * FLAG_GLASS;
+    let flag = |on: bool, bit: u32| if on { bit } else { 0 };
+    let flags = flag(s.debug_unresolved, FLAG_DEBUG)
+        | flag(o.screen_space, FLAG_SCREEN)
+        | flag(o.dynamic_eps, FLAG_DYNAMIC_EPS)
+        | flag(o.shadows, FLAG_SHADOWS)
+        | flag(o.glass, FLAG_GLASS);
     Ok(Uniforms {
         eye: v4(s.camera.eye),
         forward: v4(frame.forward),

@@ -569,11 +569,13 @@ fn bench_one(gpu: &Gpu, name: &str, args: &Args) -> Result<Row, String> {
     let (agree, flipped, shape, fid_img, depth_err) = best.unwrap();
 
     let (mut ti, mut tg, mut tf) = (Vec::new(), Vec::new(), Vec::new());
-    // isotrace renders into one frame, reused as a viewer would.
-    let mut fr = r.render(&s).map_err(|e| e.to_string())?;
+    // isotrace renders into one frame, reused and kept packed as a viewer
+    // would (its 16-byte records: colour, normal, depth, status, evaluations).
+    let mut fr = isotrace::gpu::pixels::PackedFrame::default();
+    r.render_packed(&s, &mut fr).map_err(|e| e.to_string())?;
     for _ in 0..args.repeat {
         let t0 = Instant::now();
-        r.render_into(&s, &mut fr).map_err(|e| e.to_string())?;
+        r.render_packed(&s, &mut fr).map_err(|e| e.to_string())?;
         ti.push(t0.elapsed().as_secs_f64() * 1e3);
         tg.push(fr.stats.gpu_ms);
         let t0 = Instant::now();
