@@ -34,6 +34,8 @@ fn render_png_and_exr_with_stats_and_json() {
     assert_eq!(v["width"], 24);
     assert!(v["hits"].as_u64().unwrap() > 0);
     assert!(v["gpu_ms"].as_f64().unwrap() > 0.0);
+    // The tile pass is part of the GPU time.
+    assert!(v["tile_ms"].as_f64().unwrap() > 0.0 && v["tile_ms"].as_f64().unwrap() < v["gpu_ms"].as_f64().unwrap());
     for key in ["wall_ms", "unresolved", "evals_mean", "evals_p99", "evals_max", "algebra", "eps", "d_max"] {
         assert!(v.get(key).is_some(), "missing {key}");
     }

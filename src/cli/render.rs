@@ -490,11 +490,11 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
     if a.stats {
         eprintln!(
             "size {}x{}  algebra {algebra}  eps {:.3e}  d_max {}\n\
-             gpu {:.1} ms  wall {:.1} ms  dispatches {}\n\
+             gpu {:.1} ms (tile pass {:.1})  wall {:.1} ms  dispatches {}\n\
              hits {} ({:.1} %)  unresolved {}\n\
              inclusion evaluations per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}; lower bound {:.2})\n\
              device {} ({})",
-            frame.width, frame.height, s.eps, st.d_max, st.gpu_ms, st.wall_ms, st.dispatches, st.hits,
+            frame.width, frame.height, s.eps, st.d_max, st.gpu_ms, st.tile_ms, st.wall_ms, st.dispatches, st.hits,
             100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved, st.evals_mean, st.evals_p99, st.evals_max,
             st.evals_hit_mean, st.evals_miss_mean, st.evals_lower_bound, gpu.info.name, gpu.info.backend
         );
@@ -502,7 +502,7 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
     if a.json {
         let v = serde_json::json!({
             "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "eps": s.eps, "d_max": st.d_max,
-            "gpu_ms": st.gpu_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
+            "gpu_ms": st.gpu_ms, "tile_ms": st.tile_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
             "pixels": st.pixels, "hits": st.hits, "unresolved": st.unresolved,
             "evals_mean": st.evals_mean, "evals_p99": st.evals_p99, "evals_max": st.evals_max,
             "evals_hit_mean": st.evals_hit_mean, "evals_miss_mean": st.evals_miss_mean, "evals_lower_bound": st.evals_lower_bound,
