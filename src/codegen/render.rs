@@ -217,6 +217,7 @@ pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig, inline: O
             ("config", &config),
             ("shading", template::SHADE),
             ("modalities", &modalities),
+            ("tiles", template::TILES),
         ],
     )
     .expect("the render template has its markers")

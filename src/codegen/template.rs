@@ -8,6 +8,8 @@ pub const EVAL: &str = include_str!("../../templates/kernels/eval.wgsl");
 pub const BISECT: &str = include_str!("../../templates/kernels/bisect.wgsl");
 #[doc = "The sphere tracing kernel for distance bounds (Keinert et al.'s five techniques)."] pub const SPHERE: &str = include_str!("../../templates/kernels/sphere.wgsl");
 
+/// The render kernel's tile pass (entry point `tiles`).
+pub const TILES: &str = include_str!("../../templates/kernels/tiles.wgsl");
 /// Shading, colour modes and the environment of the render kernel.
 pub const SHADE: &str = include_str!("../../templates/kernels/shade.wgsl");
 /// The optional modalities (shadows, reflections) and their stubs.
