@@ -8,7 +8,7 @@ use crate::render::{Frame, PixelOut, Stats, StatsAcc, Status};
 use bytemuck::{Pod, Zeroable};
 use std::mem::MaybeUninit;
 
-/// The kernel's packed 16-byte `Pixel` (bisect.wgsl says how it packs).
+/// One pixel as the render kernel packs it (`pixel_record` in bisect.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct RawPixel {
