@@ -3,8 +3,8 @@
 //!
 //! The file may define
 //! - functions callable from the formula: a function `foo` of n arguments
-//!   is written three times, `s_foo` (f32), `ia_foo` (vec2<f32> intervals)
-//!   and `ra_foo` (vec3<f32> affine forms), like the built-in op libraries;
+//!   is written three times, `s_foo` (f32), `ia_foo` (`vec2<f32>` intervals)
+//!   and `ra_foo` (`vec3<f32>` affine forms), like the built-in op libraries;
 //! - hooks that replace parts of the traversal:
 //!   `fn hook_reject(r: vec2<f32>) -> bool` (true: the cell with enclosure r
 //!   may hold the surface; replaces the zero test),
