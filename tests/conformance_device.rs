@@ -140,16 +140,7 @@ fn every_operation_encloses() {
 
 #[test]
 fn knoll_surfaces_enclose() {
-    check_all(
-        &Device,
-        &knoll_cases(),
-        &mut |c, rng| {
-            let mut b = domain_cells(rng, knoll_box(&c.name), 1000);
-            b.extend(random_boxes(rng, 500));
-            b
-        },
-        12,
-    );
+    check_all(&Device, &knoll_cases(), &mut knoll_boxes, 12);
 }
 
 #[test]

@@ -195,20 +195,15 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
-/// Warm-up (shader compile, caches), then `repeat` timed renders into the
-/// same frame (as a viewer or an animation would); returns each run's
-/// statistics and the last frame decoded.
-fn timed<F>(repeat: u32, mut frame: F, render: &dyn Fn(&mut F) -> Result<(), String>, stats: fn(&F) -> &isotrace::render::Stats, decode: fn(F) -> Frame) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
-    render(&mut frame)?;
-    let mut runs = Vec::new();
-    for _ in 0..repeat {
-        render(&mut frame)?;
-        runs.push(stats(&frame).clone());
-    }
+/// Warm-up (shader compile, caches), then `repeat` timed renders; `render`
+/// keeps its frame and returns the frame's statistics.
+fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<Vec<isotrace::render::Stats>, String> {
+    render()?;
+    let runs = (0..repeat).map(|_| render()).collect::<Result<Vec<_>, _>>()?;
     if runs.is_empty() {
         return Err("no run".into());
     }
-    Ok((runs, decode(frame)))
+    Ok(runs)
 }
 
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
@@ -229,12 +224,11 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 other => format!("{other:?}"),
             })?;
             let r = SphereRenderer::new(gpu, &f.ir, o.features()).map_err(|e| e.to_string())?;
-            let empty = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Default::default() };
-            let render = |f: &mut Frame| {
-                *f = r.render(&s, &o).map_err(|e| e.to_string())?;
-                Ok(())
-            };
-            let (runs, frame) = timed(a.repeat, empty, &render, |f| &f.stats, |f| f)?;
+            let mut frame = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Default::default() };
+            let runs = timed(a.repeat, &mut || {
+                frame = r.render(&s, &o).map_err(|e| e.to_string())?;
+                Ok(frame.stats.clone())
+            })?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             return Ok((m, frame));
@@ -244,10 +238,14 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     let domain = resolve_algebra(alg, &f.ir);
     let r = Renderer::new(gpu, &f.ir, domain).map_err(|e| e.to_string())?;
     // Timed as a viewer renders: the kernel's records kept packed (decoding
-    // 1024² pixels into `Frame` pixels would add ~4 ms a frame).
+    // 1024² pixels into `Frame` pixels would add ~3.5 ms a frame).
     let timed = |s: &isotrace::gpu::render::Settings| {
-        let render = |f: &mut PackedFrame| r.render_packed(s, f).map_err(|e| e.to_string());
-        timed(a.repeat, PackedFrame::default(), &render, |f| &f.stats, |f| f.decode())
+        let mut frame = PackedFrame::default();
+        let runs = timed(a.repeat, &mut || {
+            r.render_packed(s, &mut frame).map_err(|e| e.to_string())?;
+            Ok(frame.stats.clone())
+        })?;
+        Ok::<_, String>((runs, frame.decode()))
     };
     let (runs, frame) = timed(&s)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));

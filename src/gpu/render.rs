@@ -5,7 +5,7 @@
 use super::{pack_params, Gpu, GpuError};
 use crate::codegen::{render_shader_with, Domain};
 use crate::ir::Ir;
-use super::pixels::{convert, convert_all, copy_all, PackedFrame, RawPixel, MISS_PIXEL};
+use super::pixels::{convert, map_all, PackedFrame, RawPixel};
 use crate::render::{Camera, Frame, Stats, StatsAcc};
 use crate::validate::{validate, ValidateError};
 use bytemuck::{Pod, Zeroable};
@@ -100,7 +100,6 @@ struct Uniforms {
     params: [f32; 64],
 }
 
-
 /// `unpack2x16unorm`.
 pub(crate) fn unorm2(v: u32) -> [f32; 2] {
     [(v & 0xffff) as f32 / 65535.0, (v >> 16) as f32 / 65535.0]
@@ -138,7 +137,8 @@ pub struct Optimizations {
     /// let rays skip the slabs proven empty.
     pub tile_culling: bool,
     /// Derivative enclosures from depth [`Optimizations::monotone_depth`] on:
-    /// monotone cells are rejected or solved by scalar root finding.
+    /// monotone cells are rejected or solved by scalar root finding, the
+    /// others are also bounded by the mean-value form.
     pub monotone: bool,
     /// First bisection depth at which the derivative is evaluated. 0 (the
     /// whole segment) measured fastest: 11 % on the geometric mean of eight
@@ -299,34 +299,9 @@ impl<'g> Renderer<'g> {
     /// or an animation renders every frame into the same one. (Touching
     /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
     pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
-        check_settings(s)?;
         let start = Instant::now();
-        let (w, h) = (s.width, s.height);
-        let n = (w * h) as usize;
-        let mut pixels = std::mem::take(&mut out.pixels);
-        pixels.clear();
-        let mut acc = StatsAcc::default();
-        let stats = self.run(s, |(tx, ty, tw, th), raw| {
-            if (tw, th) == (w, h) {
-                // The usual case, one dispatch for the frame: convert
-                // straight into the (reused) memory, without filling it first.
-                pixels.reserve(n);
-                acc.merge(convert_all(raw, &mut pixels.spare_capacity_mut()[..n]));
-                // SAFETY: convert_all initialised all n elements.
-                unsafe { pixels.set_len(n) };
-                return;
-            }
-            pixels.resize(n, MISS_PIXEL);
-            for (row, chunk) in raw.chunks_exact(tw as usize).enumerate() {
-                let start = ((ty + row as u32) * w + tx) as usize;
-                for (dst, r) in pixels[start..start + tw as usize].iter_mut().zip(chunk) {
-                    *dst = convert(r);
-                    acc.add(dst);
-                }
-            }
-        })?;
-        *out = Frame { width: w, height: h, pixels, stats };
-        acc.finish(&mut out.stats);
+        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), convert)?;
+        *out = Frame { width: s.width, height: s.height, pixels, stats };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }
@@ -334,34 +309,45 @@ impl<'g> Renderer<'g> {
     /// Renders one frame into `out` and keeps the kernel's records packed
     /// (see [`PackedFrame`]), with the same statistics as [`Renderer::render_into`].
     pub fn render_packed(&self, s: &Settings, out: &mut PackedFrame) -> Result<(), RenderError> {
-        check_settings(s)?;
         let start = Instant::now();
+        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), |r| *r)?;
+        *out = PackedFrame { width: s.width, height: s.height, stats, records };
+        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(())
+    }
+
+    /// Renders one frame and writes `f` of each record, row-major, into
+    /// `buf` (its memory reused), gathering the statistics on the way.
+    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, f: fn(&RawPixel) -> T) -> Result<(Vec<T>, Stats), RenderError> {
+        check_settings(s)?;
         let (w, h) = (s.width, s.height);
         let n = (w * h) as usize;
-        let mut records = std::mem::take(&mut out.records);
-        records.clear();
+        buf.clear();
         let mut acc = StatsAcc::default();
-        let stats = self.run(s, |(tx, ty, tw, th), raw| {
+        let mut stats = self.run(s, |(tx, ty, tw, th), raw| {
             if (tw, th) == (w, h) {
-                records.reserve(n);
-                acc.merge(copy_all(raw, &mut records.spare_capacity_mut()[..n]));
-                // SAFETY: copy_all initialised all n elements.
-                unsafe { records.set_len(n) };
+                // The usual case, one dispatch for the frame: write straight
+                // into the (reused) memory, on every core, without filling it
+                // first.
+                buf.reserve(n);
+                acc.merge(map_all(raw, &mut buf.spare_capacity_mut()[..n], f));
+                // SAFETY: map_all initialised all n elements.
+                unsafe { buf.set_len(n) };
                 return;
             }
-            records.resize(n, RawPixel::zeroed());
+            if buf.is_empty() {
+                buf.resize(n, f(&RawPixel::zeroed()));
+            }
             for (row, chunk) in raw.chunks_exact(tw as usize).enumerate() {
                 let start = ((ty + row as u32) * w + tx) as usize;
-                records[start..start + tw as usize].copy_from_slice(chunk);
-                for r in chunk {
-                    acc.add(&convert(r));
+                for (dst, r) in buf[start..start + tw as usize].iter_mut().zip(chunk) {
+                    *dst = f(r);
+                    r.count(&mut acc);
                 }
             }
         })?;
-        *out = PackedFrame { width: w, height: h, stats, records };
-        acc.finish(&mut out.stats);
-        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(())
+        acc.finish(&mut stats);
+        Ok((buf, stats))
     }
 
     /// Runs the dispatches of one frame, tile by tile, and hands each

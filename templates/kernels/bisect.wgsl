@@ -95,9 +95,9 @@ var<private> U: Uniforms;
 // The tile pass's result: the candidate slabs of each 8x8 tile.
 // xy: slab bits, z: enclosures the tile pass spent on the tile.
 @group(0) @binding(3) var<storage, read_write> tile_masks: array<vec4<u32>>;
-// The tiles that have candidate slabs, and the indirect dispatch of `main`
-// over them: (count, 1, 1).
-// `count` tiles are queued; x = ceil(count / TILES_PER_GROUP) workgroups.
+// The tiles that have candidate slabs (`count` of them, ids in tile_ids),
+// and the indirect dispatch of `main` over them: (x, 1, 1) with
+// x = ceil(count / TILES_PER_GROUP).
 struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
 @group(0) @binding(4) var<storage, read_write> tile_list: TileList;
 @group(0) @binding(5) var<storage, read_write> tile_ids: array<u32>;
@@ -247,9 +247,9 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
 // with m its midpoint, h its half width and D the enclosure of f's slope
 // along the ray, which the monotonicity test computed anyway (the mean
 // value theorem; min, max and abs have slopes in the hull D, jumps and
-// poles give D the whole line). Its width shrinks with h² where the natural
-// enclosure's shrinks with h, so it rejects cells that merely pass near the
-// surface in far fewer levels. The result is intersected with the natural
+// poles give D the whole line). Its excess over f's true range shrinks with
+// h² where the natural enclosure's shrinks with h, so it rejects cells that
+// merely pass near the surface in far fewer levels. The result is intersected with the natural
 // enclosure `r`, padded by the f32 error of f(m).
 fn mean_value(ray: Ray, c: vec2<f32>, r: vec2<f32>, D: vec2<f32>) -> vec2<f32> {
     let m = 0.5 * (c.x + c.y);
@@ -333,6 +333,20 @@ fn pixel_dir(px: vec2<u32>) -> vec2<f32> {
                      (1.0 - (f32(px.y) + 0.5) / H * 2.0) * U.tan_half_fov);
 }
 
+// The primary ray direction through pixel px, unnormalised (its forward
+// component is 1, so the ray parameter is the depth).
+fn primary_dir(px: vec2<u32>) -> vec3<f32> {
+    let sxy = pixel_dir(px);
+    return U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
+}
+
+// Depths from the start of slab k0 to the end of slab k1 of the depth range
+// dr (the last slab ends exactly at dr.y).
+fn slab_span(dr: vec2<f32>, k0: u32, k1: u32) -> vec2<f32> {
+    let ds = (dr.y - dr.x) / f32(SLABS);
+    return vec2<f32>(dr.x + ds * f32(k0), select(dr.x + ds * f32(k1 + 1u), dr.y, k1 == SLABS - 1u));
+}
+
 // Depth range [s_near, s_far] of the domain (box, or box and clip ball)
 // along the forward axis.
 fn depth_range() -> vec2<f32> {
@@ -391,7 +405,6 @@ fn depth_for(len: f32) -> u32 {
 // Primary ray from depth s_from on: the candidate slab runs of the tile,
 // nearest first.
 fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec2<f32>, inv_len: f32) -> Hit {
-    let ds = (dr.y - dr.x) / f32(SLABS);
     var m = mask;
     var hit = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
     loop {
@@ -411,8 +424,9 @@ fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec
         for (var j = k; j <= k_end; j = j + 1u) {
             if (j < 32u) { m.x = m.x & ~(1u << j); } else { m.y = m.y & ~(1u << (j - 32u)); }
         }
-        let lo = max(max(seg.x, s_from), dr.x + ds * f32(k));
-        let hi = min(seg.y, select(dr.x + ds * f32(k_end + 1u), dr.y, k_end == SLABS - 1u));
+        let span = slab_span(dr, k, k_end);
+        let lo = max(max(seg.x, s_from), span.x);
+        let hi = min(seg.y, span.y);
         if (!(lo < hi)) { continue; }
         hit = traverse(ray, lo, hi, depth_for((hi - lo) / inv_len), g_budget);
         g_evals = g_evals + hit.evals;
@@ -483,8 +497,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     if (gid.x >= U.tile_size.x || gid.y >= U.tile_size.y) { return; }
     let px = U.tile_origin + gid.xy;
     let idx = gid.y * U.tile_size.x + gid.x;
-    let sxy = pixel_dir(px);
-    let dir = U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
+    let dir = primary_dir(px);
     let inv_len = 1.0 / length(dir);
     let unit = dir * inv_len;
     let o = U.eye.xyz;

@@ -11,9 +11,8 @@ struct Uniforms {
     params: array<vec4<f32>, 16>,
 }
 
-// The uniforms arrive in a read-only storage buffer and are copied to a
-// private variable first: lavapipe re-inlines the values of a uniform buffer
-// into the shader on every dispatch (~5 ms each, whatever the dispatch size).
+// Uniforms from a read-only storage buffer, copied to a private variable at
+// the entry point (why: see bisect.wgsl).
 @group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
 var<private> U: Uniforms;
 // 8 floats per box: x0 x1 y0 y1 z0 z1 t0 t1 (a point has lo == hi).

@@ -79,9 +79,8 @@ const FLAG_GLASS: u32 = 16u;
 // formula that is not a distance bound, or --min-step, can do that).
 const BRACKET_STEPS: i32 = 24;
 
-// The uniforms arrive in a read-only storage buffer and are copied to a
-// private variable first: lavapipe re-inlines the values of a uniform buffer
-// into the shader on every dispatch (~5 ms each, whatever the dispatch size).
+// Uniforms from a read-only storage buffer, copied to a private variable at
+// the entry point (why: see bisect.wgsl).
 @group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
 var<private> U: Uniforms;
 @group(0) @binding(1) var<storage, read_write> pixels: array<Pixel>;

@@ -21,6 +21,12 @@ const TILES_PER_GROUP: u32 = 4u;
 fn tiles_x() -> u32 { return (U.tile_size.x + 7u) / 8u; }
 fn tiles_y() -> u32 { return (U.tile_size.y + 7u) / 8u; }
 
+// Can the surface be in the part [s.x, s.y] of the frustum through pixel
+// directions su × sv?
+fn slab_may_hold(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
+    return keep_cell(slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz, s, su, sv));
+}
+
 // Pixel `li` (0..63) of a tile's share of the tile pass's `n` enclosures.
 fn tile_share(n: u32, li: u32) -> u32 { return n / 64u + select(0u, 1u, li < n % 64u); }
 
@@ -38,21 +44,16 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
     let su = vec2<f32>(a.x, b.x);
     let sv = vec2<f32>(b.y, a.y);
     let fine = SLABS / COARSE;
-    let ds = (dr.y - dr.x) / f32(SLABS);
     var mask = vec2<u32>(0u);
     var n = 0u;
     if (dr.x < dr.y) {
         for (var c = 0u; c < COARSE; c = c + 1u) {
-            let c0 = dr.x + ds * f32(c * fine);
-            let c1 = select(dr.x + ds * f32((c + 1u) * fine), dr.y, c == COARSE - 1u);
             n = n + 1u;
-            if (!keep_cell(slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz, vec2<f32>(c0, c1), su, sv))) { continue; }
+            if (!slab_may_hold(slab_span(dr, c * fine, c * fine + fine - 1u), su, sv)) { continue; }
             for (var j = 0u; j < fine; j = j + 1u) {
                 let k = c * fine + j;
-                let s0 = dr.x + ds * f32(k);
-                let s1 = select(s0 + ds, dr.y, k == SLABS - 1u);
                 n = n + 1u;
-                if (keep_cell(slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz, vec2<f32>(s0, s1), su, sv))) {
+                if (slab_may_hold(slab_span(dr, k, k), su, sv)) {
                     if (k < 32u) { mask.x = mask.x | (1u << k); } else { mask.y = mask.y | (1u << (k - 32u)); }
                 }
             }
@@ -72,8 +73,7 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var li = 0u; li < 64u; li = li + 1u) {
         let g = tile * 8u + vec2<u32>(li % 8u, li / 8u);
         if (g.x >= U.tile_size.x || g.y >= U.tile_size.y) { continue; }
-        let sxy = pixel_dir(U.tile_origin + g);
-        let dir = U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
+        let dir = primary_dir(U.tile_origin + g);
         let inv_len = 1.0 / length(dir);
         let seg = clip_ray(U.eye.xyz, dir);
         var d_ray = 0u;

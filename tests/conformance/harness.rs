@@ -321,6 +321,14 @@ fn judge(samples: &[Sample], lo: f64, hi: f64, prec: Precision, stats: &mut Stat
     })
 }
 
+/// The boxes a Knoll surface is checked on, by both suites: 1000 cells of
+/// its own domain and 500 random boxes.
+pub fn knoll_boxes(c: &Case, rng: &mut Rng) -> Vec<Box8> {
+    let mut b = domain_cells(rng, knoll_box(&c.name), 1000);
+    b.extend(random_boxes(rng, 500));
+    b
+}
+
 /// Runs `check` over many cases and panics with every failure.
 pub fn check_all(backend: &dyn Backend, cases: &[Case], boxes_for: &mut dyn FnMut(&Case, &mut Rng) -> Vec<Box8>, seed: u64) {
     let mut rng = Rng::new(seed);
