@@ -5,7 +5,8 @@
 //! cargo bench --bench optimizations [-- SIZE [REPEAT [NAME...]]]
 
 use isotrace::catalog;
-use isotrace::gpu::render::{Optimizations, Renderer, Settings};
+use isotrace::gpu::Renderer;
+use isotrace::render::{Optimizations, Settings};
 use isotrace::gpu::Gpu;
 
 fn main() {
@@ -39,12 +40,12 @@ fn main() {
             clip_sphere: e.header.clip.map(|catalog::Clip::Sphere(r)| r),
             ..Settings::for_box(b, size, size)
         };
-        let mut r = Renderer::new(&gpu, &f.ir, isotrace::choose_algebra(&f.ir)).expect("renderer");
+        let mut r = Renderer::bisect(&gpu, &f.ir, isotrace::choose_algebra(&f.ir)).expect("renderer");
         let mut times = vec![Vec::new(); variants.len()];
         let mut evals = vec![0.0; variants.len()];
         for run in 0..=repeat {
             for (k, (_, o)) in variants.iter().enumerate() {
-                r.optimizations = *o;
+                *r.optimizations_mut().expect("bisection") = *o;
                 let fr = r.render(&s).expect("render");
                 if run > 0 {
                     times[k].push(fr.stats.gpu_ms);

@@ -173,18 +173,18 @@ impl Measure {
             evals_mean: s.evals_mean,
             evals_p99: s.evals_p99,
             evals_max: s.evals_max,
-            lower_bound: s.evals_lower_bound,
-            ratio: if s.evals_lower_bound > 0.0 { s.evals_mean / s.evals_lower_bound } else { 0.0 },
+            lower_bound: s.bisect.evals_lower_bound,
+            ratio: if s.bisect.evals_lower_bound > 0.0 { s.evals_mean / s.bisect.evals_lower_bound } else { 0.0 },
             unresolved: s.unresolved,
             hit_fraction: s.hits as f64 / s.pixels.max(1) as f64,
-            d_max: s.d_max,
+            d_max: s.bisect.d_max,
             eps,
             resolved_algebra: resolved_algebra.to_string(),
             lowest_eps: None,
             method: s.method.name().to_string(),
             omega: None,
             evals_hit_mean: s.evals_hit_mean,
-            sor_fallbacks_per_pixel: s.sor_fallbacks as f64 / s.pixels.max(1) as f64,
+            sor_fallbacks_per_pixel: s.sphere.sor_fallbacks as f64 / s.pixels.max(1) as f64,
         }
     }
 }

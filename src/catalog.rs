@@ -18,7 +18,7 @@ use crate::{Formula, FormulaError};
 use std::path::{Path, PathBuf};
 
 /// The box of a file that gives none: `[-2, 2]³`.
-pub const DEFAULT_BOX: [f64; 6] = [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0];
+pub use crate::render::view::DEFAULT_BOX;
 
 /// Every header key, in the order the documentation lists them.
 pub const KEYS: &[&str] = &[
@@ -152,6 +152,23 @@ impl Default for Header {
 }
 
 impl Header {
+    /// The view the header describes (box, camera, eps, time, parameters,
+    /// clip ball): the defaults that flags override.
+    pub fn view(&self) -> crate::render::View {
+        let v3 = |v: Option<[f64; 3]>| v.map(glam::DVec3::from_array);
+        crate::render::View {
+            bbox: self.bbox,
+            eye: v3(self.eye),
+            target: v3(self.target),
+            up: v3(self.up),
+            fov: self.fov,
+            eps: self.eps,
+            time: self.t,
+            params: self.params.clone(),
+            clip: self.clip.map(|Clip::Sphere(r)| r),
+        }
+    }
+
     /// The value of parameter `name`, if the header sets it.
     pub fn param(&self, name: &str) -> Option<f64> {
         self.params.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
@@ -170,6 +187,26 @@ pub enum Algebra {
 }
 
 impl Algebra {
+    /// The number domain this algebra stands for with formula `ir` (auto:
+    /// [`crate::choose_algebra`]).
+    pub fn domain(self, ir: &crate::ir::Ir) -> crate::codegen::Domain {
+        match self {
+            Algebra::Ia => crate::codegen::Domain::Interval,
+            Algebra::Raa => crate::codegen::Domain::Affine,
+            Algebra::Auto => crate::choose_algebra(ir),
+        }
+    }
+
+    /// Parses `ia`, `raa` or `auto`.
+    pub fn parse(s: &str) -> Option<Algebra> {
+        match s.trim() {
+            "ia" => Some(Algebra::Ia),
+            "raa" => Some(Algebra::Raa),
+            "auto" => Some(Algebra::Auto),
+            _ => None,
+        }
+    }
+
     /// The spelling in files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -268,6 +305,24 @@ impl Entry {
     /// Parses and analyses the formula (the whole file text).
     pub fn compile(&self) -> Result<Formula, FormulaError> {
         Formula::compile(&self.origin(), &self.formula)
+    }
+
+    /// The settings of a `width × height` frame of this entry's formula
+    /// `f` (from [`Entry::compile`]) with the header's view.
+    pub fn settings(&self, f: &Formula, width: u32, height: u32) -> Result<crate::render::Settings, crate::render::ViewError> {
+        Ok(self.header.view().settings(f, width, height)?.0)
+    }
+
+    /// The traversal the header asks for (`method`, `algebra`, and for
+    /// sphere tracing `lipschitz` and `bound`), every technique and
+    /// optimisation at its default, no modalities.
+    pub fn traversal(&self, f: &Formula) -> crate::render::Traversal {
+        use crate::render::{BisectOptions, SphereOptions, Traversal};
+        let h = &self.header;
+        match h.method.unwrap_or_default() {
+            Method::Sphere => Traversal::Sphere(SphereOptions { lipschitz: h.lipschitz.unwrap_or(1.0), bound: h.bound, ..Default::default() }),
+            Method::Bisect => Traversal::Bisect(BisectOptions::new(h.algebra.unwrap_or(Algebra::Auto).domain(&f.ir))),
+        }
     }
 }
 

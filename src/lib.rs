@@ -22,6 +22,7 @@ pub mod diag;
 pub mod gpu;
 pub mod inline;
 pub mod ir;
+pub mod layout;
 pub mod output;
 pub mod reference;
 pub mod render;

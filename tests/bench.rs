@@ -34,7 +34,7 @@ fn shard_syntax() {
 }
 
 fn measure(ms: f64, evals: f64) -> Measure {
-    let stats = Stats { gpu_ms: ms, wall_ms: ms + 1.0, pixels: 100, hits: 25, evals_mean: evals, evals_p99: 9, evals_max: 12, d_max: 11, evals_lower_bound: 4.0, ..Default::default() };
+    let stats = Stats { gpu_ms: ms, wall_ms: ms + 1.0, pixels: 100, hits: 25, evals_mean: evals, evals_p99: 9, evals_max: 12, bisect: isotrace::render::BisectStats { d_max: 11, evals_lower_bound: 4.0 }, ..Default::default() };
     Measure::from_runs(&[stats.clone(), Stats { gpu_ms: ms * 3.0, ..stats.clone() }, Stats { gpu_ms: ms * 0.5, ..stats }], 0.01, "ia")
 }
 

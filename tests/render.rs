@@ -103,9 +103,10 @@ fn tiled_and_untiled_renders_are_identical() {
 
 #[test]
 fn packed_frames_hold_the_same_pixels_and_statistics() {
-    use isotrace::gpu::{pixels::PackedFrame, render::Renderer};
+    use isotrace::gpu::Renderer;
+use isotrace::render::record::PackedFrame;
     let f = isotrace::Formula::compile("<test>", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8").unwrap();
-    let r = Renderer::new(gpu(), &f.ir, Domain::Affine).unwrap();
+    let r = Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap();
     for tile in [1024, 24] {
         let mut s = settings(cube(3.0), 72, 48);
         s.tile = tile;
@@ -117,7 +118,7 @@ fn packed_frames_hold_the_same_pixels_and_statistics() {
         assert_eq!(packed.pixel(72 * 20 + 30), frame.pixels[72 * 20 + 30]);
         let (a, b) = (&packed.stats, &frame.stats);
         assert_eq!((a.hits, a.unresolved, a.evals_p99, a.evals_max, a.dispatches), (b.hits, b.unresolved, b.evals_p99, b.evals_max, b.dispatches));
-        assert_eq!((a.evals_mean, a.evals_lower_bound, a.evals_hit_mean, a.evals_miss_mean), (b.evals_mean, b.evals_lower_bound, b.evals_hit_mean, b.evals_miss_mean));
+        assert_eq!((a.evals_mean, a.bisect.evals_lower_bound, a.evals_hit_mean, a.evals_miss_mean), (b.evals_mean, b.bisect.evals_lower_bound, b.evals_hit_mean, b.evals_miss_mean));
         assert!(b.hits > 0 && b.hits < 72 * 48);
     }
 }
@@ -183,7 +184,8 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
 /// solves to eps, the bisection path refines the first eps cell).
 #[test]
 fn optimisations_do_not_change_the_picture() {
-    use isotrace::gpu::render::{Optimizations, Renderer};
+    use isotrace::gpu::Renderer;
+use isotrace::render::Optimizations;
     let variants = [
         Optimizations { tile_culling: false, monotone: false, ..Default::default() },
         Optimizations { tile_culling: true, monotone: false, ..Default::default() },
@@ -195,10 +197,10 @@ fn optimisations_do_not_change_the_picture() {
         s.time = e.header.t.unwrap_or(0.0);
         s.clip_sphere = e.header.clip.map(|isotrace::catalog::Clip::Sphere(r)| r);
         s.params = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
-        let mut r = Renderer::new(gpu(), &f.ir, isotrace::choose_algebra(&f.ir)).unwrap();
+        let mut r = Renderer::bisect(gpu(), &f.ir, isotrace::choose_algebra(&f.ir)).unwrap();
         let all = r.render(&s).unwrap();
         for o in variants {
-            r.optimizations = o;
+            *r.optimizations_mut().unwrap() = o;
             let other = r.render(&s).unwrap();
             let mut bad = vec![];
             for (k, (a, b)) in all.pixels.iter().zip(&other.pixels).enumerate() {
@@ -224,7 +226,7 @@ fn optimisations_do_not_change_the_picture() {
 }
 
 /// Whether f changes sign within 2 eps of distance `t` along pixel k's ray.
-fn sign_change_near(f: &isotrace::Formula, s: &isotrace::gpu::render::Settings, k: u32, t: f64) -> bool {
+fn sign_change_near(f: &isotrace::Formula, s: &isotrace::render::Settings, k: u32, t: f64) -> bool {
     let cf = s.camera.frame().unwrap();
     let d = Camera::ray(&cf, k % s.width, k / s.width, s.width, s.height);
     let g = |t: f64| {

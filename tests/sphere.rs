@@ -8,8 +8,9 @@ use common::gpu;
 use glam::DVec3;
 use isotrace::catalog;
 use isotrace::codegen::Domain;
-use isotrace::gpu::render::{Renderer, Settings};
-use isotrace::gpu::sphere::{SphereOptions, SphereRenderer};
+use isotrace::gpu::Renderer;
+use isotrace::render::Settings;
+use isotrace::render::SphereOptions;
 use isotrace::render::{Camera, Frame, Status};
 use isotrace::Formula;
 
@@ -30,11 +31,11 @@ fn scene(name: &str, w: u32, h: u32) -> (Formula, Settings, catalog::Header) {
 }
 
 fn sphere(f: &Formula, s: &Settings, o: &SphereOptions) -> Frame {
-    SphereRenderer::new(gpu(), &f.ir, o.features()).unwrap().render(s, o).unwrap()
+    Renderer::sphere(gpu(), &f.ir, o.clone()).unwrap().render(s).unwrap()
 }
 
 fn bisect(f: &Formula, s: &Settings) -> Frame {
-    Renderer::new(gpu(), &f.ir, Domain::Interval).unwrap().render(s).unwrap()
+    Renderer::bisect(gpu(), &f.ir, Domain::Interval).unwrap().render(s).unwrap()
 }
 
 fn options(h: &catalog::Header) -> SphereOptions {
@@ -208,8 +209,8 @@ fn over_relaxation_saves_steps_and_keeps_the_picture() {
         let (f, s, hd) = scene(name, 96, 64);
         let plain = sphere(&f, &s, &SphereOptions { omega: 1.0, ..options(&hd) });
         let relaxed = sphere(&f, &s, &options(&hd));
-        assert_eq!(plain.stats.sor_fallbacks, 0);
-        assert!(relaxed.stats.sor_fallbacks > 0);
+        assert_eq!(plain.stats.sphere.sor_fallbacks, 0);
+        assert!(relaxed.stats.sphere.sor_fallbacks > 0);
         assert!(relaxed.stats.evals_mean < 0.97 * plain.stats.evals_mean, "{name}: {} vs {} steps", relaxed.stats.evals_mean, plain.stats.evals_mean);
         let differ = plain.pixels.iter().zip(&relaxed.pixels).filter(|(a, b)| a.status != b.status).count();
         assert!(differ * 200 < plain.pixels.len(), "{name}: {differ} pixels change status");
@@ -312,13 +313,14 @@ fn lipschitz_bound_divides_the_field() {
     let twice = Formula::compile("<t>", "2*sphere(1)").unwrap();
     let fixed = sphere(&twice, &s, &SphereOptions { lipschitz: 2.0, ..Default::default() });
     assert!(exact.pixels == fixed.pixels);
-    assert_eq!(exact.stats.lipschitz_violations, 0);
+    assert_eq!(exact.stats.sphere.lipschitz_violations, 0);
     let wrong = sphere(&twice, &s, &SphereOptions::default());
-    assert!(wrong.stats.lipschitz_violations > 100, "{:?}", wrong.stats);
+    assert!(wrong.stats.sphere.lipschitz_violations > 100, "{:?}", wrong.stats);
     // A lower estimate of the true bound 2, from the samples the rays took.
-    assert!(wrong.stats.lipschitz_seen > 1.5 && wrong.stats.lipschitz_seen < 2.01, "{}", wrong.stats.lipschitz_seen);
+    assert!(wrong.stats.sphere.lipschitz_seen > 1.5 && wrong.stats.sphere.lipschitz_seen < 2.01, "{}", wrong.stats.sphere.lipschitz_seen);
     let err = SphereOptions { lipschitz: 0.5, ..Default::default() }.check().unwrap_err();
-    assert!(err.starts_with("invalid --lipschitz 0.5: a Lipschitz bound must be at least 1"), "{err}");
+    assert_eq!((err.field, err.value.as_str()), (isotrace::render::SettingsField::Lipschitz, "0.5"));
+    assert!(err.reason.starts_with("a Lipschitz bound must be at least 1"), "{err}");
 }
 
 /// Bad input: formulas that are not distance bounds still terminate. A
@@ -333,7 +335,7 @@ fn non_distance_formulas_terminate_and_are_reported() {
     assert!(fr.stats.evals_max <= 16);
     let fast = Formula::compile("<t>", "sin(8*x)*sin(8*y)*sin(8*z) + 0.2").unwrap();
     let fr = sphere(&fast, &s, &SphereOptions::default());
-    assert!(fr.stats.lipschitz_violations > 100 && fr.stats.lipschitz_seen > 2.0, "{:?}", fr.stats);
+    assert!(fr.stats.sphere.lipschitz_violations > 100 && fr.stats.sphere.lipschitz_seen > 2.0, "{:?}", fr.stats);
     assert!(fr.stats.evals_max <= SphereOptions::default().max_steps + 24);
 }
 

@@ -3,15 +3,15 @@
 //! repeats, and reports a Knoll-style table, JSON and Markdown, images and a
 //! contact sheet. A failing job is reported and the batch goes on.
 
-use super::render::{algebra_arg, open_gpu, settings, sphere_options, SphereArgs, ViewArgs};
+use super::render::{algebra_arg, open_gpu, sphere_options, SphereArgs};
 use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
 use isotrace::catalog::{self, Entry};
-use isotrace::gpu::pixels::PackedFrame;
-use isotrace::gpu::render::Renderer;
-use isotrace::gpu::sphere::SphereRenderer;
-use isotrace::gpu::Gpu;
+use isotrace::codegen::FieldSource;
+use isotrace::gpu::{Gpu, Renderer};
+use isotrace::render::record::PackedFrame;
+use isotrace::render::{BisectOptions, Settings, Traversal};
 use isotrace::output;
 use isotrace::render::Frame;
 use std::io::Write;
@@ -110,7 +110,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
     let labelled: Vec<(String, Variant)> = variants.iter().map(|v| (v.label(several), v.clone())).collect();
     if let Some(n) = a.max_steps {
-        isotrace::gpu::sphere::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(input)?;
+        isotrace::render::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(|e| input(super::settings_message(&e)))?;
     }
     let size = super::render::parse_size(&a.size)?;
     let rel_eps = catalog::parse_eps(&a.eps).map_err(|m| input(format!("invalid --eps '{}': {m}", a.eps)))?;
@@ -195,6 +195,18 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
+/// The timed runs of one renderer and settings, and the last frame. Timed
+/// as a viewer renders: the kernel's records kept packed (decoding 1024²
+/// pixels into `Frame` pixels would add ~3.5 ms a frame).
+fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
+    let mut frame = PackedFrame::default();
+    let runs = timed(repeat, &mut || {
+        r.render_packed(s, &mut frame).map_err(|e| e.to_string())?;
+        Ok(frame.stats.clone())
+    })?;
+    Ok((runs, frame.decode()))
+}
+
 /// Warm-up (shader compile, caches), then `repeat` timed renders; `render`
 /// keeps its frame and returns the frame's statistics.
 fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<Vec<isotrace::render::Stats>, String> {
@@ -212,8 +224,9 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     let f = entry.compile().map_err(|e| e.to_string())?;
     let b = entry.header.bbox;
     let diag = isotrace::render::box_diagonal(&b);
-    let view = ViewArgs { eps: Some(format!("{}", rel_eps * diag)), tile: 1024, ..Default::default() };
-    let s = settings(&view, size, &f, Some(&entry.header)).map_err(|e| format!("{e:?}"))?;
+    let mut view = entry.header.view();
+    view.eps = Some(rel_eps * diag);
+    let s = view.settings(&f, size.0, size.1).map_err(|e| e.to_string())?.0;
     let alg = match variant {
         Variant::Bisect(name) => algebra(name),
         Variant::Sphere(omega) => {
@@ -223,12 +236,8 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 CliError::Input(m) => m,
                 other => format!("{other:?}"),
             })?;
-            let r = SphereRenderer::new(gpu, &f.ir, o.features()).map_err(|e| e.to_string())?;
-            let mut frame = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Default::default() };
-            let runs = timed(a.repeat, &mut || {
-                frame = r.render(&s, &o).map_err(|e| e.to_string())?;
-                Ok(frame.stats.clone())
-            })?;
+            let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Sphere(o)).map_err(|e| e.to_string())?;
+            let (runs, frame) = timed_packed(&r, &s, a.repeat)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             return Ok((m, frame));
@@ -236,18 +245,8 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
-    let r = Renderer::new(gpu, &f.ir, domain).map_err(|e| e.to_string())?;
-    // Timed as a viewer renders: the kernel's records kept packed (decoding
-    // 1024² pixels into `Frame` pixels would add ~3.5 ms a frame).
-    let timed = |s: &isotrace::gpu::render::Settings| {
-        let mut frame = PackedFrame::default();
-        let runs = timed(a.repeat, &mut || {
-            r.render_packed(s, &mut frame).map_err(|e| e.to_string())?;
-            Ok(frame.stats.clone())
-        })?;
-        Ok::<_, String>((runs, frame.decode()))
-    };
-    let (runs, frame) = timed(&s)?;
+    let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(domain))).map_err(|e| e.to_string())?;
+    let (runs, frame) = timed_packed(&r, &s, a.repeat)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     if a.find_eps {
         let mut fine = s.clone();
@@ -260,7 +259,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             let fr = r.render(&sk).map_err(|e| e.to_string())?;
             let diff = bench::differing_fraction(&fr, &reference);
             if diff <= bench::MATCH_FRACTION {
-                let (runs, _) = timed(&sk)?;
+                let (runs, _) = timed_packed(&r, &sk, a.repeat)?;
                 let ms = Measure::from_runs(&runs, sk.eps, "").gpu_ms;
                 m.lowest_eps = Some(LowestEps { exponent: k, gpu_ms: ms, differing: diff });
                 break;

@@ -199,12 +199,14 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
     let src = match a.kernel {
         KernelArg::Eval => codegen::eval_shader_with(&f.ir, domain, inline),
         KernelArg::Sphere if inline.is_some() => return Err(CliError::Input("--inline applies to the render and eval kernels, not to --kernel sphere".into())),
-        KernelArg::Sphere => isotrace::gpu::sphere::sphere_shader(&f.ir, Default::default()),
+        KernelArg::Sphere => codegen::sphere_shader(&f.ir, Default::default()),
         KernelArg::Render => {
             if domain == Domain::Scalar {
                 return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
             }
-            codegen::render_shader_with(&f.ir, domain, &codegen::RenderConfig::default(), inline)
+            let m = isotrace::render::Modalities { inline: inline.cloned(), ..Default::default() };
+            let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
+            codegen::assemble(codegen::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl
         }
     };
     match inline {
@@ -229,13 +231,55 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
 }
 
 /// Maps a render error to the CLI's error kinds.
-pub fn render_error(e: isotrace::gpu::render::RenderError) -> CliError {
-    use isotrace::gpu::render::RenderError as R;
+pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
+    use isotrace::gpu::RenderError as R;
     match e {
         R::Validate(v) => CliError::Internal(v.to_string()),
         R::Gpu(g) => CliError::Internal(g.to_string()),
-        R::Settings(m) => CliError::Input(m),
+        R::Settings(s) => CliError::Input(settings_message(&s)),
         R::Inline(m) => CliError::Rendered(m),
+    }
+}
+
+/// The flag a setting is given with on the command line.
+fn flag(field: isotrace::render::SettingsField) -> &'static str {
+    use isotrace::render::SettingsField as F;
+    match field {
+        F::Size => "--size",
+        F::Box => "--box",
+        F::Eye => "--eye",
+        F::Target => "--target",
+        F::Up => "--up",
+        F::Fov => "--fov",
+        F::Eps => "--eps",
+        F::Time => "--t",
+        F::Params => "--param",
+        F::Clip => "--clip",
+        F::MaxIter => "--max-iter",
+        F::Isovalues => "--iso",
+        F::Layers => "--layers",
+        F::Opacity => "--opacity",
+        F::Reflect => "--reflect",
+        F::Reflectivity => "--reflectivity",
+        F::Lipschitz => "--lipschitz",
+        F::Omega => "--omega",
+        F::MaxSteps => "--max-steps",
+        F::Fixpoint => "--fixpoint",
+        F::MinStep => "--min-step",
+        F::EpsMin => "--eps-min",
+        F::Features => "--method",
+    }
+}
+
+/// A settings error in the words of the command line: the flag that sets
+/// the value (flags and `.iso` header keys share their names).
+pub fn settings_message(e: &isotrace::render::SettingsError) -> String {
+    use isotrace::render::SettingsField as F;
+    match (e.field, e.value.is_empty()) {
+        (F::Up, true) => format!("{}: give another --up", e.reason),
+        (F::Eye, true) => format!("{}: give another --eye or --target", e.reason),
+        (_, true) => format!("invalid {}: {}", flag(e.field), e.reason),
+        (_, false) => format!("invalid {} {}: {}", flag(e.field), e.value, e.reason),
     }
 }
 

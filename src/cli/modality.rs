@@ -6,7 +6,8 @@
 use super::CliError;
 use clap::Args;
 use isotrace::catalog;
-use isotrace::gpu::render::{EnvImage, Modalities};
+use isotrace::layout::KernelColor;
+use isotrace::render::{EnvImage, Environment, Modalities};
 use std::path::PathBuf;
 
 /// Modality flags.
@@ -53,8 +54,8 @@ fn load_env(path: &PathBuf) -> Result<EnvImage, CliError> {
 
 /// Builds the modalities from the flags (validated before any GPU work);
 /// `shadows` and the kernel's colour mode come from the shared flags.
-pub fn modalities(a: &ModalityArgs, shadows: bool, color_mode: u32) -> Result<Modalities, CliError> {
-    let mut m = Modalities { shadows, color_mode, ..Default::default() };
+pub fn modalities(a: &ModalityArgs, shadows: bool, color: KernelColor) -> Result<Modalities, CliError> {
+    let mut m = Modalities { shadows, color, ..Default::default() };
     if let Some(l) = &a.light {
         let v = catalog::parse_vec3(l).map_err(|e| input(format!("invalid --light '{l}': {e}")))?;
         m.light = Some(glam::DVec3::from_array(v));
@@ -94,8 +95,8 @@ pub fn modalities(a: &ModalityArgs, shadows: bool, color_mode: u32) -> Result<Mo
     }
     match a.env.as_deref() {
         None | Some("sky") => {}
-        Some("checker") => m.env_mode = 1,
-        Some(path) => m.env = Some(load_env(&PathBuf::from(path))?),
+        Some("checker") => m.env = Environment::Checker,
+        Some(path) => m.env = Environment::Image(load_env(&PathBuf::from(path))?),
     }
     Ok(m)
 }

@@ -4,12 +4,14 @@
 use super::{input::FormulaArgs, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use glam::DVec3;
-use isotrace::gpu::render::{RenderError, Renderer, Settings, DEFAULT_MAX_ITER};
-use isotrace::gpu::sphere::{Shading, SphereOptions, SphereRenderer};
-use isotrace::gpu::Gpu;
+use isotrace::codegen::FieldSource;
+use isotrace::gpu::{Gpu, Renderer};
+use isotrace::layout::KernelColor;
+use isotrace::render::settings::DEFAULT_MAX_ITER;
+use isotrace::render::{BisectOptions, Settings, Shading, SphereOptions, Traversal, View};
 use isotrace::output::{self, ColorMode};
 use isotrace::catalog::{self, Header};
-use isotrace::render::{Bound, Camera, Frame, Method};
+use isotrace::render::{Bound, Frame, Method};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -164,26 +166,8 @@ pub fn sphere_options(a: &SphereArgs, header: Option<&Header>) -> Result<SphereO
         glass: a.glass,
         shading: Shading::Shade,
     };
-    o.check().map_err(input)?;
+    o.check().map_err(|e| input(super::settings_message(&e)))?;
     Ok(o)
-}
-
-/// A compiled renderer of either traversal.
-pub enum AnyRenderer<'g> {
-    /// Interval / affine bisection.
-    Bisect(Renderer<'g>),
-    /// Sphere tracing with its options.
-    Sphere(SphereRenderer<'g>, SphereOptions),
-}
-
-impl AnyRenderer<'_> {
-    /// Renders one frame.
-    pub fn render(&self, s: &Settings) -> Result<Frame, RenderError> {
-        match self {
-            AnyRenderer::Bisect(r) => r.render(s),
-            AnyRenderer::Sphere(r, o) => r.render(s, o),
-        }
-    }
 }
 
 #[derive(Args, Debug)]
@@ -236,7 +220,7 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
             (n, n)
         }
     };
-    let max = isotrace::gpu::render::MAX_SIZE;
+    let max = isotrace::render::settings::MAX_SIZE;
     if w == 0 || h == 0 || w > max || h > max {
         return Err(input(format!("invalid --size '{s}': each side must be between 1 and {max}")));
     }
@@ -271,74 +255,44 @@ pub fn parse_params(list: &[String]) -> Result<Vec<(String, f64)>, CliError> {
         .collect()
 }
 
-/// Builds the frame settings from flags, with an `.iso` header's values as
-/// defaults (flags override them); validated before any GPU work.
+/// Builds the frame settings from flags, with an `.iso` header's view as
+/// defaults (flags override it); validated before any GPU work.
 pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header: Option<&Header>) -> Result<Settings, CliError> {
-    let ir = &f.ir;
-    let hd = header.cloned().unwrap_or_default();
-    let bbox = match &view.bbox {
-        Some(b) => parse_box(b)?,
-        None => hd.bbox,
-    };
-    let diag = isotrace::render::box_diagonal(&bbox);
-    let eps = match &view.eps {
-        Some(e) => catalog::parse_eps(e).map_err(|m| input(format!("invalid --eps '{e}': {m}")))?,
-        None => hd.eps.unwrap_or(diag * 2f64.powi(-11)),
-    };
-    let fov = view.fov.or(hd.fov).unwrap_or(40.0);
-    let aspect = size.0 as f64 / size.1 as f64;
-    let mut camera = Camera::default_for(&bbox, fov, aspect);
-    let target = match &view.target {
-        Some(t) => Some(parse_vec3("--target", t)?),
-        None => hd.target.map(DVec3::from_array),
-    };
-    if let Some(t) = target {
-        let off = camera.eye - camera.target;
-        camera.target = t;
-        camera.eye = t + off;
+    let mut v = header.map_or_else(View::default, Header::view);
+    if let Some(b) = &view.bbox {
+        v.bbox = parse_box(b)?;
     }
-    match &view.eye {
-        Some(e) => camera.eye = parse_vec3("--eye", e)?,
-        None => {
-            if let Some(e) = hd.eye {
-                camera.eye = DVec3::from_array(e);
-            }
-        }
+    if let Some(e) = &view.eps {
+        v.eps = Some(catalog::parse_eps(e).map_err(|m| input(format!("invalid --eps '{e}': {m}")))?);
     }
-    match &view.up {
-        Some(u) => camera.up = parse_vec3("--up", u)?,
-        None => {
-            if let Some(u) = hd.up {
-                camera.up = DVec3::from_array(u);
-            }
-        }
+    v.fov = view.fov.or(v.fov);
+    if let Some(t) = &view.target {
+        v.target = Some(parse_vec3("--target", t)?);
     }
-    camera.frame().map_err(input)?;
-    let clip = match &view.clip {
-        Some(c) => Some(parse_clip(c)?),
-        None => hd.clip.map(|catalog::Clip::Sphere(r)| r),
-    };
+    if let Some(e) = &view.eye {
+        v.eye = Some(parse_vec3("--eye", e)?);
+    }
+    if let Some(u) = &view.up {
+        v.up = Some(parse_vec3("--up", u)?);
+    }
+    if let Some(c) = &view.clip {
+        v.clip = Some(parse_clip(c)?);
+    }
+    v.time = view.time.or(v.time);
     // Header parameters first, flags after: the last value given wins.
-    let mut given = hd.params.clone();
-    given.extend(parse_params(&view.params)?);
-    let (params, warnings) = isotrace::sema::bind_params(ir, &given)
-        .map_err(|d| CliError::Formula(isotrace::FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic: d }))?;
+    v.params.extend(parse_params(&view.params)?);
+    let (mut s, warnings) = v.settings(f, size.0, size.1).map_err(|e| match e {
+        isotrace::render::ViewError::Settings(e) => input(super::settings_message(&e)),
+        isotrace::render::ViewError::Param(e) => CliError::Formula(e),
+    })?;
     for w in warnings {
         eprint!("{}", w.render("", "", false));
     }
-    Ok(Settings {
-        width: size.0,
-        height: size.1,
-        bbox,
-        camera,
-        eps,
-        time: view.time.or(hd.t).unwrap_or(0.0),
-        clip_sphere: clip,
-        params,
-        max_iter: view.max_iter.unwrap_or(DEFAULT_MAX_ITER),
-        tile: view.tile,
-        debug_unresolved: view.debug_unresolved,
-    })
+    s.max_iter = view.max_iter.unwrap_or(DEFAULT_MAX_ITER);
+    s.tile = view.tile;
+    s.debug_unresolved = view.debug_unresolved;
+    s.check().map_err(|e| input(super::settings_message(&e)))?;
+    Ok(s)
 }
 
 /// The CLI value for a header's `algebra`.
@@ -379,9 +333,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
                 return Err(input(format!("{flag} applies to --method sphere only")));
             }
             let kernel_color = match color {
-                ColorMode::Gradient => 1,
-                ColorMode::Depth => 2,
-                _ => 0,
+                ColorMode::Gradient => KernelColor::Gradient,
+                ColorMode::Depth => KernelColor::Depth,
+                _ => KernelColor::Phong,
             };
             let mut m = super::modality::modalities(&modal_args, shadows, kernel_color)?;
             m.inline = loaded.inline.clone();
@@ -422,10 +376,11 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         output::check_writable(p).map_err(|e| input(e.to_string()))?;
     }
     let gpu = open_gpu()?;
-    let renderer = match sphere {
-        Some(o) => AnyRenderer::Sphere(SphereRenderer::new(&gpu, &f.ir, o.features()).map_err(super::render_error)?, o),
-        None => AnyRenderer::Bisect(Renderer::with_modalities(&gpu, &f.ir, domain, modal.unwrap_or_default()).map_err(super::render_error)?),
+    let traversal = match sphere {
+        Some(o) => Traversal::Sphere(o),
+        None => Traversal::Bisect(BisectOptions { modalities: modal.unwrap_or_default(), ..BisectOptions::new(domain) }),
     };
+    let renderer = Renderer::new(&gpu, FieldSource::Compiled(&f.ir), traversal).map_err(super::render_error)?;
     let n = outputs.len();
     let anim = loaded.header.as_ref().and_then(|h| h.animate);
     let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
@@ -449,9 +404,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         b.finish_and_clear();
     }
     if let Some(frame) = last {
-        match &renderer {
-            AnyRenderer::Bisect(_) => report(&a, &frame, &s, domain, &gpu),
-            AnyRenderer::Sphere(_, o) => report_sphere(&a, &frame, &s, o, &gpu),
+        match renderer.traversal() {
+            Traversal::Bisect(_) => report(&a, &frame, &s, domain, &gpu),
+            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, &gpu),
         }
         if let (Some(m), true) = (heat_max, a.stats) {
             eprintln!("--color steps: white = {m} {}", output::work_channel(&frame));
@@ -494,18 +449,18 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
              hits {} ({:.1} %)  unresolved {}\n\
              inclusion evaluations per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}; lower bound {:.2})\n\
              device {} ({})",
-            frame.width, frame.height, s.eps, st.d_max, st.gpu_ms, st.tile_ms, st.wall_ms, st.dispatches, st.hits,
+            frame.width, frame.height, s.eps, st.bisect.d_max, st.gpu_ms, st.tile_ms, st.wall_ms, st.dispatches, st.hits,
             100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved, st.evals_mean, st.evals_p99, st.evals_max,
-            st.evals_hit_mean, st.evals_miss_mean, st.evals_lower_bound, gpu.info.name, gpu.info.backend
+            st.evals_hit_mean, st.evals_miss_mean, st.bisect.evals_lower_bound, gpu.info.name, gpu.info.backend
         );
     }
     if a.json {
         let v = serde_json::json!({
-            "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "eps": s.eps, "d_max": st.d_max,
+            "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "eps": s.eps, "d_max": st.bisect.d_max,
             "gpu_ms": st.gpu_ms, "tile_ms": st.tile_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
             "pixels": st.pixels, "hits": st.hits, "unresolved": st.unresolved,
             "evals_mean": st.evals_mean, "evals_p99": st.evals_p99, "evals_max": st.evals_max,
-            "evals_hit_mean": st.evals_hit_mean, "evals_miss_mean": st.evals_miss_mean, "evals_lower_bound": st.evals_lower_bound,
+            "evals_hit_mean": st.evals_hit_mean, "evals_miss_mean": st.evals_miss_mean, "evals_lower_bound": st.bisect.evals_lower_bound,
             "device": gpu.info,
         });
         let _ = writeln!(std::io::stdout().lock(), "{v}");
@@ -534,17 +489,17 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
              device {} ({})",
             frame.width, frame.height, o.lipschitz, s.eps, o.max_steps, o.omega, on(o.screen_space), on(o.dynamic_eps), o.fixpoint,
             st.gpu_ms, st.wall_ms, st.dispatches, st.hits, 100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved,
-            st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sor_fallbacks, st.lipschitz_seen,
+            st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sphere.sor_fallbacks, st.sphere.lipschitz_seen,
             gpu.info.name, gpu.info.backend
         );
         if st.unresolved > 0 {
             eprintln!("warning: {} pixels did not converge within --max-steps {} (shown at their best candidate; --debug-unresolved draws them magenta)", st.unresolved, o.max_steps);
         }
-        if st.lipschitz_violations > 0 {
+        if st.sphere.lipschitz_violations > 0 {
             eprintln!(
                 "warning: on {} pixels f / {} changed faster than the distance along the ray (up to {:.3} per unit): the formula is not a distance bound \
                  with this Lipschitz bound, and sphere tracing can miss surfaces; give --lipschitz {:.3} or more, or use --method bisect",
-                st.lipschitz_violations, o.lipschitz, st.lipschitz_seen, st.lipschitz_seen
+                st.sphere.lipschitz_violations, o.lipschitz, st.sphere.lipschitz_seen, st.sphere.lipschitz_seen
             );
         }
     }
@@ -557,8 +512,8 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
             "gpu_ms": st.gpu_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
             "pixels": st.pixels, "hits": st.hits, "unconverged": st.unresolved, "unresolved": st.unresolved,
             "steps_mean": st.evals_mean, "steps_p99": st.evals_p99, "steps_max": st.evals_max,
-            "steps_hit_mean": st.evals_hit_mean, "steps_miss_mean": st.evals_miss_mean, "sor_fallbacks": st.sor_fallbacks,
-            "lipschitz_violations": st.lipschitz_violations, "lipschitz_seen": st.lipschitz_seen,
+            "steps_hit_mean": st.evals_hit_mean, "steps_miss_mean": st.evals_miss_mean, "sor_fallbacks": st.sphere.sor_fallbacks,
+            "lipschitz_violations": st.sphere.lipschitz_violations, "lipschitz_seen": st.sphere.lipschitz_seen,
             "device": gpu.info,
         });
         let _ = writeln!(std::io::stdout().lock(), "{v}");

@@ -14,12 +14,13 @@ use super::{emit_body, emit_odd_power, Domain};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
-/// The derivative helper library for `domain` (interval or affine).
-pub fn library(domain: Domain) -> &'static str {
-    let all = include_str!("../../templates/domains/derivative.wgsl");
+/// The derivative helper library for `domain` (interval or affine: the
+/// affine helpers build on the interval ones).
+pub fn library(domain: Domain) -> String {
+    let base = include_str!("../../templates/domains/derivative.wgsl");
     match domain {
-        Domain::Affine => all,
-        _ => all.split("//!affine").next().unwrap_or(all),
+        Domain::Affine => format!("{base}\n{}", include_str!("../../templates/domains/derivative_affine.wgsl")),
+        _ => base.to_string(),
     }
 }
 

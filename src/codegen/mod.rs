@@ -1,15 +1,20 @@
 //! IR → WGSL. One emitter walks the IR once and writes straight-line code
 //! (`let v3 = ia_mul(v1, v2);`) against a number-domain library; the domain
 //! only decides the prefix, the type and how constants are written.
-//! [`template`] splices the result into the kernel templates.
+//! [`compiled`] makes a formula a field source; [`kernel`] assembles a
+//! render kernel from a traversal and a field source; [`template`] is the
+//! one splicing mechanism both use.
 
+pub mod compiled;
 pub mod derivative;
-pub mod render;
+pub mod kernel;
 pub mod template;
 
-pub use render::{inclusion, render_shader, render_shader_with, RenderConfig};
+pub use compiled::inclusion;
+pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel};
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};
+use crate::layout::GpuBlock;
 use std::fmt::Write;
 
 /// A number domain with its WGSL op library.
@@ -224,7 +229,8 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
     };
     let eval = emit_evaluator(ir, domain);
     let user = inline.map_or(String::new(), |i| i.text.clone());
-    template::splice(template::EVAL, &[("library", &lib), ("inline", &user), ("evaluator", &eval), ("call", &eval_call(domain))])
+    let uniforms = crate::layout::EvalBlock::wgsl();
+    template::splice(template::EVAL, &[("uniforms", &uniforms), ("library", &lib), ("inline", &user), ("evaluator", &eval), ("call", &eval_call(domain))])
         .expect("the eval template has its markers")
 }
 

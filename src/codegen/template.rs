@@ -1,27 +1,57 @@
 //! Kernel templates: real `.wgsl` files with splice markers. A marker is a
-//! line holding only `//!splice:NAME`; [`splice`] replaces each with generated
-//! code and fails (an isotrace bug) if a marker is missing or left over.
+//! line holding only `//!splice:NAME`; [`splice`] replaces each with its
+//! part and fails (an isotrace bug) if a marker is missing or left over.
+//! This is the only way shaders are put together: optional code (a
+//! modality, a secondary ray) is a template file of its own that is spliced
+//! in, or its `*_off.wgsl` stand-in.
 
+/// The render kernel's frame: uniforms, shared code, field, traversal.
+pub const RENDER: &str = include_str!("../../templates/render.wgsl");
 /// The `isotrace eval` kernel: one invocation per box.
-pub const EVAL: &str = include_str!("../../templates/kernels/eval.wgsl");
-/// The render kernel: stackless interval bisection per pixel.
-pub const BISECT: &str = include_str!("../../templates/kernels/bisect.wgsl");
-#[doc = "The sphere tracing kernel for distance bounds (Keinert et al.'s five techniques)."] pub const SPHERE: &str = include_str!("../../templates/kernels/sphere.wgsl");
+pub const EVAL: &str = include_str!("../../templates/eval.wgsl");
 
-/// The render kernel's tile pass (entry point `tiles`).
-pub const TILES: &str = include_str!("../../templates/kernels/tiles.wgsl");
-/// Shading, colour modes and the environment of the render kernel.
-pub const SHADE: &str = include_str!("../../templates/kernels/shade.wgsl");
-/// The optional modalities (shadows, reflections) and their stubs.
-pub const MODALITIES: &str = include_str!("../../templates/kernels/modalities.wgsl");
+/// Shared by every traversal: the frame group's uniforms and helpers.
+pub const FRAME: &str = include_str!("../../templates/shared/frame.wgsl");
+/// The camera model and rays against the domain.
+pub const CAMERA: &str = include_str!("../../templates/shared/camera.wgsl");
+/// The pixel record.
+pub const PIXELS: &str = include_str!("../../templates/shared/pixels.wgsl");
+/// Gradient and heat map.
+pub const SHADING: &str = include_str!("../../templates/shared/shading.wgsl");
 
-/// The section of a parts file that starts at the line `//!part:NAME` and
-/// runs to the next `//!part:` line (empty if there is none such).
-pub fn part<'a>(text: &'a str, name: &str) -> &'a str {
-    let marker = format!("//!part:{name}\n");
-    let Some(start) = text.find(&marker).map(|i| i + marker.len()) else { return "" };
-    let end = text[start..].find("//!part:").map_or(text.len(), |i| start + i);
-    &text[start..end]
+/// Bisection: stackless interval bisection per pixel.
+pub const BISECT: &str = include_str!("../../templates/traverse/bisect/kernel.wgsl");
+/// Bisection's tile pass (entry point `tiles`).
+pub const BISECT_TILES: &str = include_str!("../../templates/traverse/bisect/tiles.wgsl");
+/// Bisection's shading, colour modes and environment.
+pub const BISECT_SHADE: &str = include_str!("../../templates/traverse/bisect/shade.wgsl");
+/// Bisection's shadow rays, and their stand-in.
+pub const BISECT_SHADOWS: [&str; 2] = [
+    include_str!("../../templates/traverse/bisect/shadows_off.wgsl"),
+    include_str!("../../templates/traverse/bisect/shadows.wgsl"),
+];
+/// Bisection's reflections, and their stand-in.
+pub const BISECT_REFLECTIONS: [&str; 2] = [
+    include_str!("../../templates/traverse/bisect/reflections_off.wgsl"),
+    include_str!("../../templates/traverse/bisect/reflections.wgsl"),
+];
+
+/// Sphere tracing for distance bounds (Keinert et al.'s five techniques).
+pub const SPHERE: &str = include_str!("../../templates/traverse/sphere/kernel.wgsl");
+/// Sphere tracing's shadow rays, and their stand-in.
+pub const SPHERE_SHADOWS: [&str; 2] = [
+    include_str!("../../templates/traverse/sphere/shadows_off.wgsl"),
+    include_str!("../../templates/traverse/sphere/shadows.wgsl"),
+];
+/// Sphere tracing's glass, and its stand-in.
+pub const SPHERE_GLASS: [&str; 2] = [
+    include_str!("../../templates/traverse/sphere/glass_off.wgsl"),
+    include_str!("../../templates/traverse/sphere/glass.wgsl"),
+];
+
+/// The part `[off, on]` of an optional feature.
+pub fn optional(parts: [&'static str; 2], on: bool) -> &'static str {
+    parts[usize::from(on)]
 }
 
 /// Replaces every `//!splice:NAME` line of `template` by its value.

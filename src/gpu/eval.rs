@@ -1,25 +1,15 @@
 //! Runs the `eval` kernel: the generated evaluator of one number domain over
 //! a batch of boxes, one invocation per box, all in one dispatch.
 
-use super::{pack_params, Gpu, GpuError};
+use super::{Gpu, GpuError};
+use crate::layout::{EvalBlock, MAX_PARAMS};
 use crate::codegen::Domain;
 use crate::ir::Ir;
 use crate::validate::validate;
-use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 /// One box: `[x0, x1, y0, y1, z0, z1, t0, t1]` (a point has lo == hi).
 pub type Box8 = [f32; 8];
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct Uniforms {
-    inf: f32,
-    count: u32,
-    row: u32,
-    pad: u32,
-    params: [f32; 64],
-}
 
 /// Errors of `eval`: generated code rejected by naga (a bug) or the device.
 #[derive(Debug, thiserror::Error)]
@@ -81,7 +71,12 @@ fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params
     let groups = n.div_ceil(64);
     let gx = groups.min(65_535);
     let gy = groups.div_ceil(gx);
-    let u = Uniforms { inf: f32::INFINITY, count: n, row: gx * 64, pad: 0, params: pack_params(params)? };
+    if params.len() > MAX_PARAMS {
+        return Err(GpuError::Limits(format!("too many parameters: {} (the limit is {MAX_PARAMS})", params.len())).into());
+    }
+    let mut p = [0.0f32; MAX_PARAMS];
+    p[..params.len()].copy_from_slice(params);
+    let u = EvalBlock { inf: f32::INFINITY, count: n, row: gx * 64, pad: 0, params: p };
     let d = &gpu.device;
     let result = gpu.scoped("eval dispatch", || {
         let ubuf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -29,12 +29,3 @@ fn ia_dfloor(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
     if (floor(a.x) == floor(a.y)) { return vec2<f32>(0.0); }
     return ia_whole();
 }
-//!affine
-fn ra_dmin(a: vec3<f32>, b: vec3<f32>, da: vec3<f32>, db: vec3<f32>) -> vec3<f32> {
-    return ra_from_ia(ia_dmin(ra_range(a), ra_range(b), ra_range(da), ra_range(db)));
-}
-fn ra_dmax(a: vec3<f32>, b: vec3<f32>, da: vec3<f32>, db: vec3<f32>) -> vec3<f32> {
-    return ra_from_ia(ia_dmax(ra_range(a), ra_range(b), ra_range(da), ra_range(db)));
-}
-fn ra_dsign(a: vec3<f32>, da: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_dsign(ra_range(a), ra_range(da))); }
-fn ra_dfloor(a: vec3<f32>, da: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_dfloor(ra_range(a), ra_range(da))); }

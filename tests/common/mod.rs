@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use isotrace::gpu::render::{Renderer, Settings};
+use isotrace::gpu::Renderer;
+use isotrace::render::Settings;
 use isotrace::gpu::Gpu;
 use isotrace::render::{Camera, Frame};
 use isotrace::Formula;
@@ -23,7 +24,7 @@ pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
 /// Compiles and renders.
 pub fn render(src: &str, domain: isotrace::codegen::Domain, s: &Settings) -> Frame {
     let f = Formula::compile("<test>", src).unwrap();
-    Renderer::new(gpu(), &f.ir, domain).unwrap().render(s).unwrap()
+    Renderer::bisect(gpu(), &f.ir, domain).unwrap().render(s).unwrap()
 }
 
 /// A cube box.

@@ -26,7 +26,8 @@ use fidget::raster::voxel::{self, GeometryPixel, RenderConfig};
 use fidget::render::{ThreadPool, VoxelSize};
 use isotrace::catalog::{self, Clip};
 use isotrace::gpu::Gpu;
-use isotrace::gpu::render::{Renderer, Settings};
+use isotrace::gpu::Renderer;
+use isotrace::render::Settings;
 use isotrace::ir::{Func1, Func2, Func3, Ir, Op, Var};
 use isotrace::render::{Camera, CameraFrame, Frame, Status};
 use nalgebra::{Matrix4, Vector3};
@@ -524,7 +525,7 @@ fn bench_one(gpu: &Gpu, name: &str, args: &Args) -> Result<Row, String> {
     let camera = s.camera;
     let diag = isotrace::render::box_diagonal(&b);
     let domain_alg = isotrace::choose_algebra(&f.ir);
-    let r = Renderer::new(gpu, &f.ir, domain_alg).map_err(|e| e.to_string())?;
+    let r = Renderer::bisect(gpu, &f.ir, domain_alg).map_err(|e| e.to_string())?;
     let algebra = match domain_alg {
         isotrace::codegen::Domain::Interval => "ia",
         isotrace::codegen::Domain::Affine => "raa",

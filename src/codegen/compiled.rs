@@ -1,39 +1,16 @@
-//! The render kernel's generated parts: the inclusion functions the
-//! traversal calls (`cell_range`, `cell_range_d`, `slab_range`), the scalar
-//! `f_at`, level-set CSG selection, and the modality configuration.
+//! The compiled field source: a formula's IR generated into WGSL. It
+//! provides what a traversal calls: the scalar `field(p)` and, for
+//! bisection, the inclusion functions (`cell_range`, `cell_range_d`,
+//! `slab_range`) with level-set CSG selection.
 //!
-//! The traversal in `templates/kernels/bisect.wgsl` only ever sees ranges
-//! (`vec2<f32>`): which number domain produced them, and how several
-//! surfaces with `where` conditions were combined, is decided here.
+//! The bisection traversal only ever sees ranges (`vec2<f32>`): which
+//! number domain produced them, and how several surfaces with `where`
+//! conditions were combined, is decided here.
 
-use super::{derivative, emit_evaluator, emit_evaluator_all, libraries, template, Domain};
+use super::{derivative, emit_evaluator, emit_evaluator_all, libraries, Domain};
 use crate::inline::InlineWgsl;
 use crate::ir::{Ir, NodeId};
 use std::fmt::Write;
-
-/// Compile-time choices of the render kernel (Knoll et al.'s modalities):
-/// each generates code only when asked for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct RenderConfig {
-    /// Shadow rays towards the point light.
-    pub shadows: bool,
-    /// Surface layers per pixel (1: opaque; more: transparency).
-    pub layers: u32,
-    /// Reflection bounces.
-    pub reflect: u32,
-    /// Number of isovalues (1: just f = 0).
-    pub iso_count: u32,
-    /// Colour mode: 0 Phong, 1 gradient magnitude, 2 depth.
-    pub color_mode: u32,
-    /// Environment: 0 sky, 1 checkered ground, 2 image.
-    pub env_mode: u32,
-}
-
-impl Default for RenderConfig {
-    fn default() -> Self {
-        RenderConfig { shadows: false, layers: 1, reflect: 0, iso_count: 1, color_mode: 0, env_mode: 0 }
-    }
-}
 
 /// The layout of a CSG formula's outputs: every surface's f and its
 /// conditions, in one array.
@@ -93,14 +70,14 @@ fn surface_fn(ir: &Ir, domain: Domain) -> String {
     out
 }
 
-/// `f_at(p)`: the scalar function of the current surface (`g_surface`).
+/// `field(p)`: the scalar function of the current surface (`g_surface`).
 fn scalar_fn(ir: &Ir) -> String {
     if !ir.is_csg() {
-        return "fn f_at(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, U.time); }\n".into();
+        return SCALAR_FIELD.into();
     }
     let csg = csg_layout(ir);
     let mut out = emit_evaluator_all(ir, Domain::Scalar, &csg.outputs);
-    out.push_str("fn f_at(p: vec3<f32>) -> f32 {\n    let a = eval_s_all(p.x, p.y, p.z, U.time);\n    switch (g_surface) {\n");
+    out.push_str("fn field(p: vec3<f32>) -> f32 {\n    let a = eval_s_all(p.x, p.y, p.z, F.time);\n    switch (g_surface) {\n");
     for (k, (fi, _)) in csg.surfaces.iter().enumerate().skip(1) {
         let _ = writeln!(out, "        case {k}u: {{ return a[{fi}]; }}");
     }
@@ -136,20 +113,20 @@ pub fn inclusion(ir: &Ir, domain: Domain) -> String {
     };
     // Several surfaces: no single derivative; such cells are never treated as monotone.
     let cell_d = if ir.is_csg() {
-        "    return vec4<f32>(cell_range(o, dir, s0, s1), -U.inf, U.inf);".to_string()
+        "    return vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf);".to_string()
     } else {
-        format!("{forms}\n    return evald_{p}(X, Y, Z, {p}_const(U.time), {p}_const(dir.x), {p}_const(dir.y), {p}_const(dir.z));")
+        format!("{forms}\n    return evald_{p}(X, Y, Z, {p}_const(F.time), {p}_const(dir.x), {p}_const(dir.y), {p}_const(dir.z));")
     };
     let axis = |c: &str| {
         format!("{p}_add({p}_const(eye.{c}), {p}_mul(S, {p}_add({p}_const(f.{c}), {p}_add({p}_mul(U_, {p}_const(r.{c})), {p}_mul(V_, {p}_const(u.{c}))))))")
     };
     format!(
         "{surf}\n{scalar}\n\
-fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(U.time));\n}}\n\n\
+fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(F.time));\n}}\n\n\
 fn cell_range_d(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {{\n{cell_d}\n}}\n\n\
 fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
 let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
-return surf_{p}({}, {}, {}, {p}_const(U.time));\n}}\n",
+return surf_{p}({}, {}, {}, {p}_const(F.time));\n}}\n",
         axis("x"),
         axis("y"),
         axis("z"),
@@ -158,67 +135,35 @@ return surf_{p}({}, {}, {}, {p}_const(U.time));\n}}\n",
     )
 }
 
-/// The complete render shader with the inclusion function in `domain`.
-pub fn render_shader(ir: &Ir, domain: Domain) -> String {
-    render_shader_with(ir, domain, &RenderConfig::default(), None)
-}
+/// The scalar field of a single-surface formula.
+const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, F.time); }\n";
 
-/// The user's text and the three hook functions the traversal calls:
-/// the user's hooks where the file defines them, else the defaults.
-fn inline_part(inline: Option<&InlineWgsl>) -> String {
-    let mut s = inline.map_or(String::new(), |i| format!("{}\n", i.text));
-    let (reject, hit, shade) = inline.map_or((false, false, false), |i| (i.reject, i.hit, i.shade));
-    s.push_str(if reject {
-        "fn keep_cell(r: vec2<f32>) -> bool { return hook_reject(r); }\n"
-    } else {
-        "fn keep_cell(r: vec2<f32>) -> bool { return may_contain_iso(r); }\n"
-    });
-    s.push_str(if hit { "fn accept_hit(p: vec3<f32>) -> bool { return hook_hit(p); }\n" } else { "fn accept_hit(p: vec3<f32>) -> bool { return true; }\n" });
-    s.push_str(if shade {
-        "fn final_color(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32> { return hook_shade(p, dir, n, c); }\n"
-    } else {
-        "fn final_color(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32> { return c; }\n"
-    });
-    s
-}
-
-/// The render shader for `domain` with the modalities of `cfg` and
-/// optional user WGSL.
-pub fn render_shader_with(ir: &Ir, domain: Domain, cfg: &RenderConfig, inline: Option<&InlineWgsl>) -> String {
-    let lib = match inline {
-        Some(_) => format!("{}\n{}", libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]), derivative::library(domain)),
-        None => format!("{}\n{}", libraries(&[Domain::Scalar, domain]), derivative::library(domain)),
+/// The compiled field for a traversal that needs enclosures in `domain`
+/// (bisection) or, with `None`, only the scalar field (sphere tracing).
+/// `inline` user functions need every op library (their three versions
+/// call into all of them), so all are included then.
+pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) -> String {
+    let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
+    let mut out = match (inline, domain) {
+        (Some(_), _) => libraries(&all),
+        (None, Some(d)) => libraries(&[Domain::Scalar, d]),
+        (None, None) => libraries(&[Domain::Scalar]),
     };
-    let mut evals = format!("{}\n{}\n", emit_evaluator(ir, Domain::Scalar), emit_evaluator(ir, domain));
-    if !ir.is_csg() {
-        evals.push_str(&derivative::emit_evaluator_d(ir, domain));
+    if let Some(d) = domain {
+        out.push_str(&derivative::library(d));
     }
-    let config = format!(
-        "const SHADOWS: bool = {};\nconst LAYERS: u32 = {}u;\nconst REFLECT: u32 = {}u;\n\
-         const ISO_COUNT: u32 = {}u;\nconst COLOR_MODE: u32 = {}u;\nconst ENV_MODE: u32 = {}u;\nconst CSG_COLORS: bool = {};\n",
-        cfg.shadows,
-        cfg.layers.max(1),
-        cfg.reflect,
-        cfg.iso_count.clamp(1, 8),
-        cfg.color_mode,
-        cfg.env_mode,
-        ir.surfaces.len() > 1
-    );
-    let mut modalities = String::new();
-    modalities.push_str(template::part(template::MODALITIES, if cfg.shadows { "shadows" } else { "no_shadows" }));
-    modalities.push_str(template::part(template::MODALITIES, if cfg.reflect > 0 { "reflections" } else { "no_reflections" }));
-    template::splice(
-        template::BISECT,
-        &[
-            ("library", &lib),
-            ("inline", &inline_part(inline)),
-            ("evaluators", &evals),
-            ("inclusion", &inclusion(ir, domain)),
-            ("config", &config),
-            ("shading", template::SHADE),
-            ("modalities", &modalities),
-            ("tiles", template::TILES),
-        ],
-    )
-    .expect("the render template has its markers")
+    if let Some(user) = inline {
+        let _ = write!(out, "\n// ---- User WGSL (--inline {}): functions callable from the formula and hooks.\n{}\n", user.path, user.text);
+    }
+    out.push_str(&emit_evaluator(ir, Domain::Scalar));
+    let Some(d) = domain else {
+        out.push_str(SCALAR_FIELD);
+        return out;
+    };
+    out.push_str(&emit_evaluator(ir, d));
+    if !ir.is_csg() {
+        out.push_str(&derivative::emit_evaluator_d(ir, d));
+    }
+    out.push_str(&inclusion(ir, d));
+    out
 }

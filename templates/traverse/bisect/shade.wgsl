@@ -1,18 +1,8 @@
-// isotrace shading for the render kernel: normals, lights, colour modes and
-// the environment. Spliced into bisect.wgsl; COLOR_MODE, SHADOWS, ENV_MODE
+// Shading of the bisection traversal: lights, colour modes and the
+// environment. Spliced into traverse/bisect/kernel.wgsl; COLOR_MODE, SHADOWS, ENV_MODE
 // come from the generated configuration. (Normal and work heat-map colours
 // are made on the CPU from the EXR channels: `--color normal|steps`.)
 
-const COLOR_PHONG: u32 = 0u;
-const COLOR_GRADIENT: u32 = 1u;
-const COLOR_DEPTH: u32 = 2u;
-
-fn gradient(p: vec3<f32>, h: f32) -> vec3<f32> {
-    let dx = vec3<f32>(h, 0.0, 0.0);
-    let dy = vec3<f32>(0.0, h, 0.0);
-    let dz = vec3<f32>(0.0, 0.0, h);
-    return vec3<f32>(f_at(p + dx) - f_at(p - dx), f_at(p + dy) - f_at(p - dy), f_at(p + dz) - f_at(p - dz)) / (2.0 * h);
-}
 
 // A perceptual blue-green-yellow ramp for t in [0, 1] (viridis-like).
 fn ramp(t: f32) -> vec3<f32> {

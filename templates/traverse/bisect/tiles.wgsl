@@ -18,13 +18,13 @@ const COARSE: u32 = 8u;
 // Tiles per workgroup of `main` (its workgroup is 8x8xTILES_PER_GROUP).
 const TILES_PER_GROUP: u32 = 4u;
 
-fn tiles_x() -> u32 { return (U.tile_size.x + 7u) / 8u; }
-fn tiles_y() -> u32 { return (U.tile_size.y + 7u) / 8u; }
+fn tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
+fn tiles_y() -> u32 { return (F.tile_size.y + 7u) / 8u; }
 
 // Can the surface be in the part [s.x, s.y] of the frustum through pixel
 // directions su × sv?
 fn slab_may_hold(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
-    return keep_cell(slab_range(U.eye.xyz, U.forward.xyz, U.right.xyz, U.up.xyz, s, su, sv));
+    return keep_cell(slab_range(F.eye.xyz, F.forward.xyz, F.right.xyz, F.up.xyz, s, su, sv));
 }
 
 // Pixel `li` (0..63) of a tile's share of the tile pass's `n` enclosures.
@@ -32,13 +32,13 @@ fn tile_share(n: u32, li: u32) -> u32 { return n / 64u + select(0u, 1u, li < n %
 
 @compute @workgroup_size(8, 8)
 fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
-    U = Ubuf;
+    load_uniforms();
     let tile = gid.xy;
     if (tile.x >= tiles_x() || tile.y >= tiles_y()) { return; }
     let t = tile.y * tiles_x() + tile.x;
     let dr = depth_range();
-    let t_lo = U.tile_origin + tile * 8u;
-    let t_hi = min(t_lo + vec2<u32>(7u), U.tile_origin + U.tile_size - vec2<u32>(1u));
+    let t_lo = F.tile_origin + tile * 8u;
+    let t_hi = min(t_lo + vec2<u32>(7u), F.tile_origin + F.tile_size - vec2<u32>(1u));
     let a = pixel_dir(t_lo);
     let b = pixel_dir(t_hi);
     let su = vec2<f32>(a.x, b.x);
@@ -72,13 +72,12 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
     // written here, and the large per-pixel kernel never runs for them.
     for (var li = 0u; li < 64u; li = li + 1u) {
         let g = tile * 8u + vec2<u32>(li % 8u, li / 8u);
-        if (g.x >= U.tile_size.x || g.y >= U.tile_size.y) { continue; }
-        let dir = primary_dir(U.tile_origin + g);
+        if (g.x >= F.tile_size.x || g.y >= F.tile_size.y) { continue; }
+        let dir = primary_dir(F.tile_origin + g);
         let inv_len = 1.0 / length(dir);
-        let seg = clip_ray(U.eye.xyz, dir);
+        let seg = clip_domain(F.eye.xyz, dir);
         var d_ray = 0u;
         if (seg.x < seg.y) { d_ray = depth_for((seg.y - seg.x) / inv_len); }
-        let bg = clamp(background(dir * inv_len), vec3<f32>(0.0), vec3<f32>(1.0));
-        pixels[g.y * U.tile_size.x + g.x] = pixel_record(pack_color(bg, STATUS_MISS), 0u, U.inf, pack_info(tile_share(n, li), d_ray, 0u));
+        write_pixel(g.y * F.tile_size.x + g.x, background(dir * inv_len), STATUS_MISS, vec3<f32>(0.0), F.inf, pack_info(tile_share(n, li), d_ray, 0u));
     }
 }

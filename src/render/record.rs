@@ -1,34 +1,36 @@
-//! The bisection kernel's pixel records and what the host makes of them:
+//! The pixel record every traversal's kernel writes
+//! (`templates/shared/pixels.wgsl`) and what the host makes of it:
 //! [`Frame`] pixels (decoded, for images and tests) or a [`PackedFrame`]
 //! (the records themselves, decoded on access, as a viewer would keep
-//! them), each with the frame statistics gathered in the same pass.
+//! them), each with the frame statistics gathered in the same pass. Also
+//! the per-ray statistics word of sphere tracing ([`RayStats`]).
 
-use super::render::snorm2;
-use crate::render::{Frame, PixelOut, Stats, StatsAcc, Status};
+use super::{Frame, PixelOut, Stats, StatsAcc, Status};
+use crate::layout::{STATUS_HIT, STATUS_UNRESOLVED};
 use bytemuck::{Pod, Zeroable};
 use std::mem::MaybeUninit;
 
-/// One pixel as the render kernel packs it (`pixel_record` in bisect.wgsl).
+/// One pixel as the kernels pack it (`write_pixel` in pixels.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct RawPixel {
+pub struct Record {
     color: u32,
     normal: u32,
     depth: f32,
     info: u32,
 }
 
-impl RawPixel {
+impl Record {
     fn status(&self) -> Status {
         match self.color >> 30 {
-            1 => Status::Hit,
-            2 => Status::Unresolved,
+            STATUS_HIT => Status::Hit,
+            STATUS_UNRESOLVED => Status::Unresolved,
             _ => Status::Miss,
         }
     }
 
     /// Counts this pixel in the frame statistics.
-    pub(crate) fn count(&self, acc: &mut StatsAcc) {
+    pub fn count(&self, acc: &mut StatsAcc) {
         acc.add_parts(self.info & 0xffff, (self.info >> 16) & 0x1f, self.status());
     }
 }
@@ -36,11 +38,11 @@ impl RawPixel {
 /// Writes `f` of every record of a whole frame into `dst`, one slice per
 /// core, and returns the records' statistics. With `f` = [`convert`] that is
 /// 16 MB in and 48 MB out at 1024²; the packed path copies (16 MB out).
-pub(crate) fn map_all<T: Send>(raw: &[RawPixel], dst: &mut [MaybeUninit<T>], f: impl Fn(&RawPixel) -> T + Sync) -> StatsAcc {
+pub fn map_all<T: Send>(raw: &[Record], dst: &mut [MaybeUninit<T>], f: impl Fn(&Record) -> T + Sync) -> StatsAcc {
     if raw.is_empty() {
         return StatsAcc::default();
     }
-    let work = |src: &[RawPixel], out: &mut [MaybeUninit<T>]| {
+    let work = |src: &[Record], out: &mut [MaybeUninit<T>]| {
         let mut acc = StatsAcc::default();
         for (d, r) in out.iter_mut().zip(src) {
             r.count(&mut acc);
@@ -64,7 +66,7 @@ pub(crate) fn map_all<T: Send>(raw: &[RawPixel], dst: &mut [MaybeUninit<T>], f: 
 }
 
 /// A record decoded.
-pub(crate) fn convert(r: &RawPixel) -> PixelOut {
+pub fn convert(r: &Record) -> PixelOut {
     let status = r.status();
     let c = |shift: u32| {
         let v = ((r.color >> shift) & 0x3ff) as f32 / 1023.0;
@@ -80,6 +82,12 @@ pub(crate) fn convert(r: &RawPixel) -> PixelOut {
         iso: r.info >> 21,
         status,
     }
+}
+
+/// `unpack2x16snorm`.
+fn snorm2(v: u32) -> [f32; 2] {
+    let c = |x: u16| (x as i16 as f32 / 32767.0).max(-1.0);
+    [c(v as u16), c((v >> 16) as u16)]
 }
 
 /// The unit vector of an octahedral-encoded normal (two snorm16).
@@ -104,7 +112,7 @@ pub struct PackedFrame {
     pub height: u32,
     /// Statistics, as for [`Frame`].
     pub stats: Stats,
-    pub(crate) records: Vec<RawPixel>,
+    pub(crate) records: Vec<Record>,
 }
 
 impl PackedFrame {
@@ -116,5 +124,58 @@ impl PackedFrame {
     /// The whole frame decoded.
     pub fn decode(&self) -> Frame {
         Frame { width: self.width, height: self.height, pixels: self.records.iter().map(convert).collect(), stats: self.stats.clone() }
+    }
+}
+
+/// Sphere tracing's per-ray statistics word (`ray_stats` in
+/// traverse/sphere/kernel.wgsl): over-relaxation fallbacks (16 bits,
+/// saturated), the largest rate of change of f / L seen along the primary
+/// ray (a half float without its sign) and whether it exceeded
+/// [`crate::layout::LIPSCHITZ_SLACK`] (bit 31, decided on the device in f32).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RayStats {
+    /// Summed fallbacks.
+    pub fallbacks: u64,
+    /// Rays that saw a Lipschitz violation.
+    pub violations: u64,
+    /// Largest rate seen.
+    pub ratio: f64,
+}
+
+impl RayStats {
+    /// Counts the words of a tile.
+    pub fn add(&mut self, words: &[u32]) {
+        for &w in words {
+            self.fallbacks += (w & 0xffff) as u64;
+            self.violations += (w >> 31) as u64;
+            self.ratio = self.ratio.max(half_to_f32(((w >> 16) & 0x7fff) as u16) as f64);
+        }
+    }
+}
+
+/// An IEEE half float's value (no NaN handling needed: the kernel writes
+/// finite non-negative rates, saturating to +inf).
+fn half_to_f32(h: u16) -> f32 {
+    let exp = ((h >> 10) & 0x1f) as i32;
+    let man = (h & 0x3ff) as f32;
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    sign * match exp {
+        0 => man * 2f32.powi(-24),
+        31 => f32::INFINITY,
+        e => (1.0 + man / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::half_to_f32;
+
+    #[test]
+    fn half_floats_decode() {
+        assert_eq!(half_to_f32(0x3c00), 1.0);
+        assert_eq!(half_to_f32(0x4000), 2.0);
+        assert_eq!(half_to_f32(0x3e00), 1.5);
+        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
+        assert_eq!(half_to_f32(0x7bff), 65504.0);
     }
 }

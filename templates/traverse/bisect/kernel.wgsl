@@ -8,72 +8,25 @@
 // of k say how many levels to climb (Knoll tests the float modulus of t; the
 // integer form is exact on every device and needs no loop).
 //
-// The inclusion function (interval or affine) is spliced in as
-// cell_range(); the traversal never sees the number domain.
+// The field source provides the enclosures (cell_range, cell_range_d,
+// slab_range) and the scalar field(p); the traversal never sees the number
+// domain or where the field comes from.
 
-struct Uniforms {
-    eye: vec4<f32>,
-    forward: vec4<f32>,
-    right: vec4<f32>,
-    up: vec4<f32>,
-    box_min: vec4<f32>,
-    box_max: vec4<f32>,     // w: radius of the clip sphere around the box centre, 0 for none
-    size: vec2<u32>,        // whole image, pixels
-    tile_origin: vec2<u32>, // this dispatch's first pixel
-    tile_size: vec2<u32>,
-    max_iter: u32,
-    flags: u32,             // bit 0: debug-unresolved colour; bit 1: no tile culling
-    tan_half_fov: f32,
-    eps: f32,
-    inf: f32,
-    time: f32,
-    mono_depth: u32,        // first depth with derivative enclosures (huge: off)
-    iso_count: u32,         // number of isovalues in `iso` (1: just f = 0)
-    env_size: vec2<u32>,    // environment image size (0 when procedural)
-    light: vec4<f32>,       // xyz: point light; w: shadow-ray eps
-    iso: array<vec4<f32>, 2>,
-    opacity: f32,           // per-layer opacity with transparency
-    reflectivity: f32,      // weight of each reflection bounce
-    pad0: u32,
-    pad1: u32,
-    params: array<vec4<f32>, 16>,
-}
+// Per-pixel bindings of the pass group after the pixel records: the tile
+// pass's result, the candidate slabs of each 8x8 tile (xy: slab bits, z:
+// enclosures the tile pass spent on the tile).
+@group(2) @binding(1) var<storage, read_write> tile_masks: array<vec4<u32>>;
+// The tiles that have candidate slabs (`count` of them, ids in tile_ids),
+// and the indirect dispatch of `main` over them: (x, 1, 1) with
+// x = ceil(count / TILES_PER_GROUP).
+struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
+@group(2) @binding(2) var<storage, read_write> tile_list: TileList;
+@group(2) @binding(3) var<storage, read_write> tile_ids: array<u32>;
+// Environment image for reflections and the background (equirectangular,
+// rgba8 packed; one dummy texel when the environment is procedural): a
+// frame resource.
+@group(0) @binding(1) var<storage, read> env_image: array<u32>;
 
-// One pixel's result, packed to 16 bytes: at 1024² the records are written
-// by the kernel and read by the host every frame, and 28-byte records cost
-// measurably more memory traffic on a CPU device. Components:
-//   x  colour: linear RGB as sqrt-encoded 10-bit unorm (r low); bits 30-31: status
-//   y  unit normal, octahedral, pack2x16snorm
-//   z  depth (f32 bits): distance from the eye along the unit ray; +inf on misses
-//   w  evals (16 bits, saturated) | d_ray << 16 (5 bits) | isovalue index << 21
-// Stored as one vec4<u32>: lavapipe writes that per lane at once, where a
-// four-field struct took four bounds-checked stores (an empty 1024² frame
-// went from 8.6 to 6.7 ms).
-fn pixel_record(color: u32, normal: u32, depth: f32, info: u32) -> vec4<u32> {
-    return vec4<u32>(color, normal, bitcast<u32>(depth), info);
-}
-
-// sqrt encoding keeps dark colours precise (10 bits of sqrt(c) beat the
-// 8-bit sRGB output everywhere).
-fn pack_color(c: vec3<f32>, status: u32) -> u32 {
-    let q = vec3<u32>(round(sqrt(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0))) * 1023.0));
-    return q.x | (q.y << 10u) | (q.z << 20u) | (status << 30u);
-}
-fn pack_normal(n: vec3<f32>) -> u32 {
-    let l1 = abs(n.x) + abs(n.y) + abs(n.z);
-    var p = n.xy / max(l1, 1e-30);
-    if (n.z < 0.0) {
-        p = (vec2<f32>(1.0) - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
-    }
-    return pack2x16snorm(p);
-}
-fn pack_info(evals: u32, d_ray: u32, iso: u32) -> u32 {
-    return min(evals, 0xffffu) | (min(d_ray, 31u) << 16u) | (min(iso, 255u) << 21u);
-}
-
-const STATUS_MISS: u32 = 0u;
-const STATUS_HIT: u32 = 1u;
-const STATUS_UNRESOLVED: u32 = 2u;
 // Extra bisection levels below d_max for cells whose enclosure is not
 // finite (division by an interval containing 0): such a cell is a hit only
 // once it is this much smaller than eps and the scalar function changes sign.
@@ -81,48 +34,10 @@ const EXTRA_LEVELS: u32 = 6u;
 // The tile pass cuts each tile's view frustum into this many depth slabs.
 const SLABS: u32 = 64u;
 
-// The uniforms arrive in a read-only storage buffer and are copied to a
-// private variable first. As a uniform buffer they cost ~5 ms a frame on
-// lavapipe, which re-inlined their values into the shader on every dispatch
-// however small; read from a storage buffer where used, the tile pass was
-// 40 % slower than with this copy.
-@group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
-var<private> U: Uniforms;
-@group(0) @binding(1) var<storage, read_write> pixels: array<vec4<u32>>; // see pixel_record
-// Environment image for reflections and the background (equirectangular,
-// rgba8 packed; one dummy texel when the environment is procedural).
-@group(0) @binding(2) var<storage, read> env_image: array<u32>;
-// The tile pass's result: the candidate slabs of each 8x8 tile.
-// xy: slab bits, z: enclosures the tile pass spent on the tile.
-@group(0) @binding(3) var<storage, read_write> tile_masks: array<vec4<u32>>;
-// The tiles that have candidate slabs (`count` of them, ids in tile_ids),
-// and the indirect dispatch of `main` over them: (x, 1, 1) with
-// x = ceil(count / TILES_PER_GROUP).
-struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
-@group(0) @binding(4) var<storage, read_write> tile_list: TileList;
-@group(0) @binding(5) var<storage, read_write> tile_ids: array<u32>;
-
-// With several surfaces (CSG by level-set conditions): the surface of the
-// cell last accepted, which f_at() evaluates.
-var<private> g_surface: u32;
-
-fn iso_inf() -> f32 { return U.inf; }
-fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }
-
-//!splice:library
-
-// User WGSL (--inline): functions callable from the formula and hooks.
-//!splice:inline
-
-//!splice:evaluators
-
-//!splice:inclusion
-
 // Compile-time configuration of the modalities (shadows, layers,
-// reflections, colour mode): code for a modality is only generated when it
-// is asked for.
+// reflections, colour mode) and the user's hooks: code for a modality is
+// only generated when it is asked for.
 //!splice:config
-
 
 // Zero test that stays conservative when an end is NaN.
 fn may_contain_zero(r: vec2<f32>) -> bool { return !(r.x > 0.0 || r.y < 0.0); }
@@ -142,7 +57,7 @@ fn first_iso(r: vec2<f32>) -> u32 {
     return 0u;
 }
 fn brackets(f0: f32, f1: f32) -> bool { return (f0 <= 0.0 && f1 >= 0.0) || (f0 >= 0.0 && f1 <= 0.0); }
-fn is_finite_range(r: vec2<f32>) -> bool { return abs(r.x) < U.inf && abs(r.y) < U.inf; }
+fn is_finite_range(r: vec2<f32>) -> bool { return abs(r.x) < F.inf && abs(r.y) < F.inf; }
 
 // The ray: points o + s * dir, where dir is the unnormalised pixel direction
 // (forward component 1), so s is the depth along the camera's forward axis.
@@ -195,14 +110,14 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
             var f0 = 0.0;
             var f1 = 0.0;
             if (monotone) {
-                f0 = f_at(ray.o + ray.dir * c.x);
-                f1 = f_at(ray.o + ray.dir * c.y);
-                monotone = abs(f0) < U.inf && abs(f1) < U.inf;
+                f0 = field(ray.o + ray.dir * c.x);
+                f1 = field(ray.o + ray.dir * c.y);
+                monotone = abs(f0) < F.inf && abs(f1) < F.inf;
             }
             if (monotone) {
                 // At most one root per isovalue, and one exactly when f - c
                 // changes sign; the nearest of them is the hit.
-                var best = U.inf;
+                var best = F.inf;
                 for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
                     let c_i = iso_value(i);
                     if (brackets(f0 - c_i, f1 - c_i)) {
@@ -210,7 +125,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
                         if (s_i < best) { best = s_i; h.iso = i; }
                     }
                 }
-                if (best < U.inf && accept_hit(ray.o + ray.dir * best)) {
+                if (best < F.inf && accept_hit(ray.o + ray.dir * best)) {
                     h.s = best;
                     h.status = STATUS_HIT;
                     return h;
@@ -253,9 +168,9 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
 // enclosure `r`, padded by the f32 error of f(m).
 fn mean_value(ray: Ray, c: vec2<f32>, r: vec2<f32>, D: vec2<f32>) -> vec2<f32> {
     let m = 0.5 * (c.x + c.y);
-    let fm = f_at(ray.o + ray.dir * m);
+    let fm = field(ray.o + ray.dir * m);
     let spread = max(abs(D.x), abs(D.y)) * 0.5 * (c.y - c.x) + 1e-6 * (abs(r.x) + abs(r.y)) + 1e-6 * abs(fm);
-    if (!(abs(fm) < U.inf && spread < U.inf)) { return r; }
+    if (!(abs(fm) < F.inf && spread < F.inf)) { return r; }
     return vec2<f32>(max(r.x, fm - spread), min(r.y, fm + spread));
 }
 
@@ -272,7 +187,7 @@ fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32, c: f32) -> f32 {
     for (var i = 0; i < 40 && b - a > ray.eps_s; i = i + 1) {
         var m = (a * fb - b * fa) / (fb - fa);
         if (!(m > a && m < b)) { m = 0.5 * (a + b); }
-        let fm = f_at(ray.o + ray.dir * m) - c;
+        let fm = field(ray.o + ray.dir * m) - c;
         if ((fm <= 0.0) == (fa <= 0.0)) {
             a = m;
             fa = fm;
@@ -289,7 +204,7 @@ fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32, c: f32) -> f32 {
 }
 
 fn sign_change(ray: Ray, t0: f32, t1: f32, c: f32) -> bool {
-    return brackets(f_at(ray.o + ray.dir * t0) - c, f_at(ray.o + ray.dir * t1) - c);
+    return brackets(field(ray.o + ray.dir * t0) - c, field(ray.o + ray.dir * t1) - c);
 }
 
 // Root position for the hit cell [t0, t1]. An enclosure can contain 0 a
@@ -303,14 +218,14 @@ fn refine(ray: Ray, t0: f32, t1: f32, c: f32) -> f32 {
     let w = t1 - t0;
     var a = t0;
     var b = t1;
-    var fa = f_at(ray.o + ray.dir * a) - c;
-    var fb = f_at(ray.o + ray.dir * b) - c;
+    var fa = field(ray.o + ray.dir * a) - c;
+    var fb = field(ray.o + ray.dir * b) - c;
     var found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
     for (var k = 0; k < LOOKAHEAD && !found && b < ray.s_exit; k = k + 1) {
         a = b;
         fa = fb;
         b = min(b + w, ray.s_exit);
-        fb = f_at(ray.o + ray.dir * b) - c;
+        fb = field(ray.o + ray.dir * b) - c;
         found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
     }
     if (!found) {
@@ -318,7 +233,7 @@ fn refine(ray: Ray, t0: f32, t1: f32, c: f32) -> f32 {
     }
     for (var i = 0; i < 10; i = i + 1) {
         let m = 0.5 * (a + b);
-        let fm = f_at(ray.o + ray.dir * m) - c;
+        let fm = field(ray.o + ray.dir * m) - c;
         if ((fa <= 0.0) == (fm <= 0.0)) { a = m; fa = fm; } else { b = m; }
     }
     return 0.5 * (a + b);
@@ -326,19 +241,7 @@ fn refine(ray: Ray, t0: f32, t1: f32, c: f32) -> f32 {
 
 //!splice:shading
 
-fn pixel_dir(px: vec2<u32>) -> vec2<f32> {
-    let W = f32(U.size.x);
-    let H = f32(U.size.y);
-    return vec2<f32>(((f32(px.x) + 0.5) / W * 2.0 - 1.0) * U.tan_half_fov * W / H,
-                     (1.0 - (f32(px.y) + 0.5) / H * 2.0) * U.tan_half_fov);
-}
 
-// The primary ray direction through pixel px, unnormalised (its forward
-// component is 1, so the ray parameter is the depth).
-fn primary_dir(px: vec2<u32>) -> vec3<f32> {
-    let sxy = pixel_dir(px);
-    return U.forward.xyz + sxy.x * U.right.xyz + sxy.y * U.up.xyz;
-}
 
 // Depths from the start of slab k0 to the end of slab k1 of the depth range
 // dr (the last slab ends exactly at dr.y).
@@ -350,48 +253,23 @@ fn slab_span(dr: vec2<f32>, k0: u32, k1: u32) -> vec2<f32> {
 // Depth range [s_near, s_far] of the domain (box, or box and clip ball)
 // along the forward axis.
 fn depth_range() -> vec2<f32> {
-    var lo = U.inf;
-    var hi = -U.inf;
+    var lo = F.inf;
+    var hi = -F.inf;
     for (var c = 0u; c < 8u; c = c + 1u) {
-        let corner = select(U.box_min.xyz, U.box_max.xyz, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
-        let s = dot(corner - U.eye.xyz, U.forward.xyz);
+        let corner = select(F.box_min.xyz, F.box_max.xyz, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+        let s = dot(corner - F.eye.xyz, F.forward.xyz);
         lo = min(lo, s);
         hi = max(hi, s);
     }
-    let radius = U.box_max.w;
+    let radius = F.box_max.w;
     if (radius > 0.0) {
-        let s = dot(0.5 * (U.box_min.xyz + U.box_max.xyz) - U.eye.xyz, U.forward.xyz);
+        let s = dot(0.5 * (F.box_min.xyz + F.box_max.xyz) - F.eye.xyz, F.forward.xyz);
         lo = max(lo, s - radius);
         hi = min(hi, s + radius);
     }
     return vec2<f32>(max(lo, 1e-6 * max(hi, 1.0)), hi);
 }
 
-// Entry and exit depth of a ray in the domain (box, and clip ball if any).
-fn clip_ray(o: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
-    let inv = 1.0 / dir;
-    let ta = (U.box_min.xyz - o) * inv;
-    let tb = (U.box_max.xyz - o) * inv;
-    let tmin = min(ta, tb);
-    let tmax = max(ta, tb);
-    var s0 = max(max(max(tmin.x, tmin.y), tmin.z), 0.0);
-    var s1 = min(min(tmax.x, tmax.y), tmax.z);
-    let radius = U.box_max.w;
-    if (radius > 0.0) {
-        let oc = o - 0.5 * (U.box_min.xyz + U.box_max.xyz);
-        let a = dot(dir, dir);
-        let b = dot(oc, dir) / a;
-        let disc = b * b - (dot(oc, oc) - radius * radius) / a;
-        if (disc < 0.0) {
-            s1 = -1.0;
-        } else {
-            let q = sqrt(disc);
-            s0 = max(s0, -b - q);
-            s1 = min(s1, -b + q);
-        }
-    }
-    return vec2<f32>(s0, s1);
-}
 
 // Per-invocation bookkeeping shared by primary and secondary rays.
 var<private> g_budget: u32;
@@ -399,7 +277,7 @@ var<private> g_evals: u32;
 
 // The d_max of a segment of world length `len`.
 fn depth_for(len: f32) -> u32 {
-    return u32(clamp(ceil(log2(len / U.eps)), 0.0, 18.0));
+    return u32(clamp(ceil(log2(len / F.eps)), 0.0, 18.0));
 }
 
 // Primary ray from depth s_from on: the candidate slab runs of the tile,
@@ -439,7 +317,7 @@ fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec
 // A secondary ray (shadow, reflection) from point o along unit direction
 // u, clipped to the domain, from depth s_from up to s_to.
 fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32) -> Hit {
-    let seg = clip_ray(o, u);
+    let seg = clip_domain(o, u);
     let lo = max(seg.x, s_from);
     let hi = min(seg.y, s_to);
     if (!(lo < hi)) { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u); }
@@ -472,7 +350,7 @@ fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, g: vec3<f32>, depth: f
 fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         @builtin(workgroup_id) wid: vec3<u32>,
         @builtin(num_workgroups) groups: vec3<u32>) {
-    U = Ubuf;
+    load_uniforms();
     let dr = depth_range();
     var mask = vec2<u32>(0xffffffffu, 0xffffffffu);
     var share = 0u;
@@ -480,7 +358,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     // dispatch); without it, over all tiles.
     let slot = (wid.y * groups.x + wid.x) * TILES_PER_GROUP + lid.z;
     var t = slot;
-    if ((U.flags & 2u) == 0u) {
+    if ((F.flags & FLAG_NO_TILE_CULLING) == 0u) {
         if (slot >= atomicLoad(&tile_list.count)) { return; }
         t = tile_ids[slot];
         let m = tile_masks[t];
@@ -494,26 +372,26 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
     // transparency, continued after each hit for up to LAYERS surfaces.
-    if (gid.x >= U.tile_size.x || gid.y >= U.tile_size.y) { return; }
-    let px = U.tile_origin + gid.xy;
-    let idx = gid.y * U.tile_size.x + gid.x;
+    if (gid.x >= F.tile_size.x || gid.y >= F.tile_size.y) { return; }
+    let px = F.tile_origin + gid.xy;
+    let idx = gid.y * F.tile_size.x + gid.x;
     let dir = primary_dir(px);
     let inv_len = 1.0 / length(dir);
     let unit = dir * inv_len;
-    let o = U.eye.xyz;
+    let o = F.eye.xyz;
 
     g_budget = U.max_iter;
     g_evals = share; // this pixel's share of the tile pass
     var acc = vec3<f32>(0.0);
     var transmit = 1.0;
     var normal = vec3<f32>(0.0);
-    var depth = U.inf;
+    var depth = F.inf;
     var status = STATUS_MISS;
     var first_iso = 0u;
     var d_ray = 0u;
-    let seg = clip_ray(o, dir);
+    let seg = clip_domain(o, dir);
     if (seg.x < seg.y) {
-        let ray = Ray(o, dir, seg.y, U.eps * inv_len);
+        let ray = Ray(o, dir, seg.y, F.eps * inv_len);
         d_ray = depth_for((seg.y - seg.x) / inv_len);
         var s_from = seg.x;
         for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
@@ -523,10 +401,10 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             let p = o + dir * hit.s;
             let dist = hit.s / inv_len;
             // One gradient (six evaluations of f) for the shading and the normal.
-            let g = gradient(p, 0.5 * U.eps);
+            let g = gradient(p, 0.5 * F.eps);
             var c = shade_hit(o, unit, p, g, hit.s, hit.iso + surface, dr);
             g_surface = surface;
-            if (hit.status == STATUS_UNRESOLVED && (U.flags & 1u) != 0u) {
+            if (hit.status == STATUS_UNRESOLVED && (F.flags & FLAG_DEBUG) != 0u) {
                 c = vec3<f32>(1.0, 0.0, 1.0);
             }
             if (layer == 0u) {
@@ -544,6 +422,5 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         }
     }
     var color = vec4<f32>(acc + transmit * background(unit), select(0.0, 1.0, status != STATUS_MISS));
-    let cl = clamp(color, vec4<f32>(0.0), vec4<f32>(1.0));
-    pixels[idx] = pixel_record(pack_color(cl.xyz, status), pack_normal(normal), depth, pack_info(g_evals, d_ray, first_iso));
+    write_pixel(idx, color.xyz, status, normal, depth, pack_info(g_evals, d_ray, first_iso));
 }

@@ -3,18 +3,13 @@
 // in one dispatch. This is both a user feature and the hook the conformance
 // tests use to check the inclusion property on the device.
 
-struct Uniforms {
-    inf: f32,
-    count: u32,
-    row: u32,      // invocations per row of the 2D dispatch grid
-    pad: u32,
-    params: array<vec4<f32>, 16>,
-}
+// The uniform block (generated from src/layout.rs: EvalBlock).
+//!splice:uniforms
 
 // Uniforms from a read-only storage buffer, copied to a private variable at
-// the entry point (why: see bisect.wgsl).
-@group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
-var<private> U: Uniforms;
+// the entry point (why: see shared/frame.wgsl).
+@group(0) @binding(0) var<storage, read> Ubuf: Eval;
+var<private> U: Eval;
 // 8 floats per box: x0 x1 y0 y1 z0 z1 t0 t1 (a point has lo == hi).
 @group(0) @binding(1) var<storage, read> boxes: array<f32>;
 // lo, hi per box (empty: lo > hi; a scalar result: lo == hi).

@@ -1,0 +1,153 @@
+//! Render kernel assembly: one traversal × one field source, spliced into
+//! `templates/render.wgsl` around the shared frame, camera, pixel and
+//! shading code. This is the only place a render shader is put together;
+//! the GPU side only runs what it gets here.
+//!
+//! The two axes are independent. A traversal template calls nothing of the
+//! field but `field(p)` (and, bisecting, the enclosures `cell_range`,
+//! `cell_range_d`, `slab_range`); a field source provides exactly those,
+//! generated (a compiled formula) or as an interpreter over buffers bound in
+//! the field group (`@group(1)`), without touching traversal code.
+
+use super::{compiled, template, Domain};
+use crate::inline::InlineWgsl;
+use crate::ir::Ir;
+use crate::layout::{self, BisectBlock, SphereBlock};
+use crate::render::{BisectOptions, Modalities, SphereFeatures, Traversal};
+use std::fmt::Write;
+use std::ops::Range;
+
+/// Where a render kernel's field comes from.
+#[derive(Debug, Clone, Copy)]
+pub enum FieldSource<'a> {
+    /// A formula generated into WGSL evaluators.
+    Compiled(&'a Ir),
+}
+
+impl FieldSource<'_> {
+    /// The field's WGSL: `field(p)`, and the enclosures in `domain` when a
+    /// traversal needs them.
+    fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>) -> String {
+        match self {
+            FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
+        }
+    }
+
+    /// How many surfaces the field draws (several with level-set CSG).
+    pub fn surfaces(&self) -> usize {
+        match self {
+            FieldSource::Compiled(ir) => ir.surfaces.len().max(1),
+        }
+    }
+}
+
+/// An assembled render kernel.
+#[derive(Debug, Clone)]
+pub struct Kernel {
+    /// The complete WGSL module (not yet validated).
+    pub wgsl: String,
+    /// Its compute entry points: the per-pixel `main` first, then any
+    /// pre-pass (`tiles`).
+    pub entries: &'static [&'static str],
+    /// Where the user's `--inline` WGSL sits in `wgsl`, to map naga's
+    /// diagnostics back into the user's file.
+    pub inline: Option<(Range<usize>, InlineWgsl)>,
+}
+
+/// The render kernel of `field` traced by `traversal` (its structural
+/// choices: algebra and modalities, or secondary rays).
+pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
+    let shared = [template::FRAME, template::CAMERA, template::PIXELS, template::SHADING].join("\n");
+    let (uniforms, field_code, traversal_code, entries, inline) = match traversal {
+        Traversal::Bisect(b) => {
+            let user = b.modalities.inline.as_ref();
+            (
+                format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
+                field.code(Some(b.algebra), user),
+                bisect(b, field.surfaces()),
+                &["main", "tiles"][..],
+                user.cloned(),
+            )
+        }
+        Traversal::Sphere(s) => (
+            format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
+            field.code(None, None),
+            sphere(s.features()),
+            &["main"][..],
+            None,
+        ),
+    };
+    let wgsl = template::splice(template::RENDER, &[("uniforms", &uniforms), ("shared", &shared), ("field", &field_code), ("traversal", &traversal_code)])
+        .expect("the render template has its markers");
+    let inline = inline.map(|user| {
+        let start = wgsl.find(&user.text).unwrap_or(0);
+        (start..start + user.text.len(), user)
+    });
+    Kernel { wgsl, entries, inline }
+}
+
+/// The bisection traversal with its modalities' code and configuration.
+fn bisect(b: &BisectOptions, surfaces: usize) -> String {
+    let m = &b.modalities;
+    let config = format!("{}{}", bisect_config(m, surfaces), hooks(m.inline.as_ref()));
+    let modalities = format!("{}{}", template::optional(template::BISECT_SHADOWS, m.shadows), template::optional(template::BISECT_REFLECTIONS, m.reflect > 0));
+    template::splice(
+        template::BISECT,
+        &[("config", &config), ("shading", template::BISECT_SHADE), ("modalities", &modalities), ("tiles", template::BISECT_TILES)],
+    )
+    .expect("the bisection template has its markers")
+}
+
+/// Compile-time constants of the modalities: code for one exists only when
+/// it is asked for.
+fn bisect_config(m: &Modalities, surfaces: usize) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "const SHADOWS: bool = {};", m.shadows);
+    let _ = writeln!(s, "const LAYERS: u32 = {}u;", m.layers.max(1));
+    let _ = writeln!(s, "const REFLECT: u32 = {}u;", m.reflect);
+    let _ = writeln!(s, "const ISO_COUNT: u32 = {}u;", m.isovalues.len().clamp(1, 8));
+    let _ = writeln!(s, "const COLOR_MODE: u32 = {}u;", m.color as u32);
+    let _ = writeln!(s, "const ENV_MODE: u32 = {}u;", m.env.mode());
+    let _ = writeln!(s, "const CSG_COLORS: bool = {};", surfaces > 1);
+    s
+}
+
+/// The three hook functions the bisection traversal calls: the user's
+/// hooks where their `--inline` file defines them, else the defaults.
+fn hooks(inline: Option<&InlineWgsl>) -> String {
+    let (reject, hit, shade) = inline.map_or((false, false, false), |i| (i.reject, i.hit, i.shade));
+    let mut s = String::new();
+    s.push_str(if reject {
+        "fn keep_cell(r: vec2<f32>) -> bool { return hook_reject(r); }\n"
+    } else {
+        "fn keep_cell(r: vec2<f32>) -> bool { return may_contain_iso(r); }\n"
+    });
+    s.push_str(if hit { "fn accept_hit(p: vec3<f32>) -> bool { return hook_hit(p); }\n" } else { "fn accept_hit(p: vec3<f32>) -> bool { return true; }\n" });
+    s.push_str(if shade {
+        "fn final_color(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32> { return hook_shade(p, dir, n, c); }\n"
+    } else {
+        "fn final_color(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32> { return c; }\n"
+    });
+    s
+}
+
+/// The sphere tracing traversal with the secondary rays of `features`.
+fn sphere(features: SphereFeatures) -> String {
+    template::splice(
+        template::SPHERE,
+        &[("shadows", template::optional(template::SPHERE_SHADOWS, features.shadows)), ("glass", template::optional(template::SPHERE_GLASS, features.glass))],
+    )
+    .expect("the sphere template has its markers")
+}
+
+/// The render kernel of a formula with bisection in `domain` and no
+/// modalities (what `isotrace wgsl` prints by default).
+pub fn render_shader(ir: &Ir, domain: Domain) -> String {
+    assemble(FieldSource::Compiled(ir), &Traversal::Bisect(BisectOptions::new(domain))).wgsl
+}
+
+/// The sphere tracing kernel of a formula with the secondary rays of `features`.
+pub fn sphere_shader(ir: &Ir, features: SphereFeatures) -> String {
+    let o = crate::render::SphereOptions { shadows: features.shadows, glass: features.glass, ..Default::default() };
+    assemble(FieldSource::Compiled(ir), &Traversal::Sphere(o)).wgsl
+}

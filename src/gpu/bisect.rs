@@ -1,0 +1,119 @@
+//! Bisection's part of the render pipeline on the host: its uniform block
+//! (modalities, budget, optimisations), the environment image of the frame
+//! group, and the tile pass's buffers in the pass group.
+
+use super::dispatch::Rect;
+use super::renderer::{PassBuffers, TraversalHost};
+use super::{storage_entry, Gpu, GpuError};
+use crate::layout::{BisectBlock, FLAG_NO_TILE_CULLING};
+use crate::render::record::RayStats;
+use crate::render::settings::MAX_ITER_LIMIT;
+use crate::render::{BisectOptions, CameraFrame, Environment, Optimizations, Settings, SphereOptions, Stats, Traversal};
+
+/// 8×8 pixel tiles per workgroup of the per-pixel pass (`TILES_PER_GROUP`
+/// in traverse/bisect/tiles.wgsl).
+const TILES_PER_GROUP: u32 = 4;
+
+/// Bisection on the host.
+pub(crate) struct Host {
+    options: BisectOptions,
+    /// The environment image (one dummy texel when procedural).
+    env: wgpu::Buffer,
+}
+
+impl Host {
+    /// Uploads the environment.
+    pub fn new(gpu: &Gpu, options: BisectOptions) -> Result<Host, GpuError> {
+        let texels: &[u32] = match &options.modalities.env {
+            Environment::Image(e) => &e.texels,
+            _ => &[0],
+        };
+        let env = gpu.storage("environment", bytemuck::cast_slice(texels))?;
+        Ok(Host { options, env })
+    }
+}
+
+impl TraversalHost for Host {
+    fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8> {
+        let m = &self.options.modalities;
+        let o = &self.options.optimizations;
+        let dist = (s.camera.eye - s.camera.target).length();
+        let light = m.light.unwrap_or(s.camera.eye + (0.6 * cam.up - 0.4 * cam.right) * dist);
+        let mut iso = [0.0f32; 8];
+        for (k, v) in m.isovalues.iter().take(8).enumerate() {
+            iso[k] = *v as f32;
+        }
+        let b = BisectBlock {
+            light: [light.x as f32, light.y as f32, light.z as f32, m.shadow_eps.unwrap_or(4.0 * s.eps) as f32],
+            iso,
+            env_size: match &m.env {
+                Environment::Image(e) => [e.width, e.height],
+                _ => [0, 0],
+            },
+            max_iter: s.max_iter.clamp(1, MAX_ITER_LIMIT),
+            mono_depth: if o.monotone { o.monotone_depth } else { u32::MAX },
+            iso_count: m.isovalues.len().clamp(1, 8) as u32,
+            opacity: m.opacity as f32,
+            reflectivity: m.reflectivity as f32,
+            pad0: 0,
+        };
+        bytemuck::bytes_of(&b).to_vec()
+    }
+
+    fn flags(&self) -> u32 {
+        if self.options.optimizations.tile_culling { 0 } else { FLAG_NO_TILE_CULLING }
+    }
+
+    fn frame_resources(&self) -> Vec<(wgpu::BindGroupLayoutEntry, &wgpu::Buffer)> {
+        vec![(storage_entry(1, true), &self.env)]
+    }
+
+    fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![storage_entry(1, false), storage_entry(2, false), storage_entry(3, false)]
+    }
+
+    /// Per 8×8 tile: its candidate-slab mask (vec4<u32>), and the list of
+    /// tiles with candidates with the indirect dispatch counts of `main`.
+    fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers {
+        use wgpu::BufferUsages as B;
+        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
+        let masks = buffer("tile masks", rect.tiles() * 16, B::STORAGE);
+        let list = buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST);
+        let ids = buffer("tile ids", rect.tiles() * 4, B::STORAGE);
+        PassBuffers { entries: vec![(1, masks), (2, list.clone()), (3, ids)], list: Some(list) }
+    }
+
+    fn tiles_per_group(&self) -> u32 {
+        TILES_PER_GROUP
+    }
+
+    fn pre_pass(&self) -> bool {
+        self.options.optimizations.tile_culling
+    }
+
+    fn ray_stats_binding(&self) -> Option<u32> {
+        None
+    }
+
+    fn finish(&self, s: &Settings, _rays: &RayStats, stats: &mut Stats) {
+        let diag = crate::render::box_diagonal(&s.bbox);
+        stats.bisect.d_max = (diag / s.eps).log2().ceil().clamp(0.0, 18.0) as u32;
+        stats.iso_channel |= self.options.modalities.isovalues.len() > 1;
+    }
+
+    fn options(&self) -> Traversal {
+        Traversal::Bisect(self.options.clone())
+    }
+
+    fn method(&self) -> crate::render::Method {
+        crate::render::Method::Bisect
+    }
+
+    fn optimizations_mut(&mut self) -> Option<&mut Optimizations> {
+        Some(&mut self.options.optimizations)
+    }
+
+    fn sphere_options_mut(&mut self) -> Option<&mut SphereOptions> {
+        None
+    }
+}

@@ -1,0 +1,327 @@
+//! The render pipeline on the device: one [`Renderer`] for every traversal
+//! × field source. It compiles the kernel codegen assembled, binds the
+//! three groups by lifetime (frame, field, pass), runs the tile loop of
+//! [`super::dispatch`] and turns the pixel records into a [`Frame`] or a
+//! [`PackedFrame`] with the frame statistics. What differs between
+//! traversals on the host (their uniform block, frame resources, pass
+//! buffers and own statistics) sits behind [`TraversalHost`].
+
+use super::dispatch::{self, Dispatch, PrePass, Rect};
+use super::{field, storage_entry, Gpu, GpuError};
+use crate::codegen::{self, FieldSource};
+use crate::layout::{FrameBlock, FLAG_DEBUG};
+use crate::render::record::{convert, map_all, PackedFrame, RayStats, Record};
+use crate::render::{CameraFrame, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
+use crate::validate::{validate, ValidateError};
+use bytemuck::Zeroable;
+use std::time::Instant;
+
+/// Render failures.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// naga rejected the generated shader (an isotrace bug).
+    #[error(transparent)]
+    Validate(#[from] ValidateError),
+    /// The device failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    /// A setting that cannot be rendered.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// The user's inline WGSL does not validate (rendered against their file).
+    #[error("{0}")]
+    Inline(String),
+}
+
+/// Buffers of one dispatch's pass group besides the pixel records.
+pub(crate) struct PassBuffers {
+    /// (binding, buffer) entries.
+    pub entries: Vec<(u32, wgpu::Buffer)>,
+    /// The tile list of a pre-pass, if the traversal runs one.
+    pub list: Option<wgpu::Buffer>,
+}
+
+/// What a traversal adds to the pipeline on the host.
+pub(crate) trait TraversalHost {
+    /// The traversal's uniform block for a frame.
+    fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8>;
+    /// Its bits of the frame flags.
+    fn flags(&self) -> u32;
+    /// Frame-group layout entries after the uniforms (binding 0), and the
+    /// buffers bound there.
+    fn frame_resources(&self) -> Vec<(wgpu::BindGroupLayoutEntry, &wgpu::Buffer)>;
+    /// Pass-group layout entries after the pixel records (binding 0).
+    fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry>;
+    /// The pass buffers of one dispatch over `rect`.
+    fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers;
+    /// Workgroups of the per-pixel pass hold this many 8×8 tiles.
+    fn tiles_per_group(&self) -> u32;
+    /// With a pre-pass, the per-pixel pass is dispatched indirectly.
+    fn pre_pass(&self) -> bool;
+    /// The binding of a per-ray statistics word to read back, if any.
+    fn ray_stats_binding(&self) -> Option<u32>;
+    /// Fills the traversal's own statistics.
+    fn finish(&self, s: &Settings, rays: &RayStats, stats: &mut Stats);
+    /// The options, for callers that inspect them.
+    fn options(&self) -> Traversal;
+    /// The traversal's method.
+    fn method(&self) -> crate::render::Method;
+    /// Bisection's optimisations, if this is bisection.
+    fn optimizations_mut(&mut self) -> Option<&mut Optimizations>;
+    /// Sphere tracing's options, if this is sphere tracing.
+    fn sphere_options_mut(&mut self) -> Option<&mut SphereOptions>;
+}
+
+/// A compiled render pipeline: one field source traced by one traversal.
+/// Frames differ only in uniforms (camera, time, parameters, the
+/// traversal's values), so animations and benchmarks never recompile.
+pub struct Renderer<'g> {
+    gpu: &'g Gpu,
+    wgsl: String,
+    main: wgpu::ComputePipeline,
+    pre: Option<wgpu::ComputePipeline>,
+    layouts: [wgpu::BindGroupLayout; 3],
+    host: Box<dyn TraversalHost + 'g>,
+    field: wgpu::BindGroup,
+    outputs: dispatch::Outputs,
+    surfaces: usize,
+}
+
+impl<'g> Renderer<'g> {
+    /// Assembles (codegen), validates (naga) and compiles the kernel of
+    /// `field` traced by `traversal`.
+    pub fn new(gpu: &'g Gpu, field: FieldSource<'_>, traversal: Traversal) -> Result<Renderer<'g>, RenderError> {
+        traversal.check()?;
+        let kernel = codegen::assemble(field, &traversal);
+        match &kernel.inline {
+            Some((range, user)) => {
+                crate::validate::validate_with_inline(&kernel.wgsl, range.clone(), &user.path, &user.text).map_err(|e| match e {
+                    crate::validate::InlineError::User(m) => RenderError::Inline(m),
+                    crate::validate::InlineError::Bug(b) => RenderError::Validate(b),
+                })?;
+            }
+            None => {
+                validate(&kernel.wgsl)?;
+            }
+        }
+        let host: Box<dyn TraversalHost + 'g> = match traversal {
+            Traversal::Bisect(b) => Box::new(super::bisect::Host::new(gpu, b)?),
+            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o)),
+        };
+        let d = &gpu.device;
+        let bound = field::bind(gpu, field)?;
+        let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries });
+        let mut frame_entries = vec![storage_entry(0, true)];
+        frame_entries.extend(host.frame_resources().into_iter().map(|(e, _)| e));
+        let mut pass_entries = vec![storage_entry(0, false)];
+        pass_entries.extend(host.pass_layout());
+        let layouts = gpu.scoped("bind group layouts", || [layout("frame", &frame_entries), layout("field", &bound.layout), layout("pass", &pass_entries)])?;
+        let field_group = gpu.scoped("field bind group", || bound.group(d, &layouts[1]))?;
+        let pipeline_layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("render"),
+            bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1]), Some(&layouts[2])],
+            immediate_size: 0,
+        });
+        let mut pipelines = gpu.pipelines_with_layout("isotrace render", &kernel.wgsl, kernel.entries, Some(&pipeline_layout))?.into_iter();
+        let main = pipelines.next().expect("a main entry point");
+        let pre = pipelines.next();
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, layouts, host, field: field_group, outputs: Default::default(), surfaces: field.surfaces() })
+    }
+
+    /// Bisection of a compiled formula in `domain`, without modalities.
+    pub fn bisect(gpu: &'g Gpu, ir: &crate::ir::Ir, domain: crate::codegen::Domain) -> Result<Renderer<'g>, RenderError> {
+        Self::new(gpu, FieldSource::Compiled(ir), Traversal::Bisect(crate::render::BisectOptions::new(domain)))
+    }
+
+    /// Sphere tracing of a compiled formula with options `o`.
+    pub fn sphere(gpu: &'g Gpu, ir: &crate::ir::Ir, o: SphereOptions) -> Result<Renderer<'g>, RenderError> {
+        Self::new(gpu, FieldSource::Compiled(ir), Traversal::Sphere(o))
+    }
+
+    /// The validated shader source.
+    pub fn wgsl(&self) -> &str {
+        &self.wgsl
+    }
+
+    /// The traversal and its current options.
+    pub fn traversal(&self) -> Traversal {
+        self.host.options()
+    }
+
+    /// Bisection's optimisation switches (uniforms: changing them never
+    /// recompiles); `None` for other traversals.
+    pub fn optimizations_mut(&mut self) -> Option<&mut Optimizations> {
+        self.host.optimizations_mut()
+    }
+
+    /// Replaces sphere tracing's options (uniforms). The secondary rays
+    /// asked for must have been compiled in.
+    pub fn set_sphere_options(&mut self, o: SphereOptions) -> Result<(), RenderError> {
+        o.check()?;
+        let Some(cur) = self.host.sphere_options_mut() else {
+            return Err(SettingsError::new(crate::render::SettingsField::Features, "sphere", "this renderer does not sphere trace").into());
+        };
+        let (have, want) = (cur.features(), o.features());
+        if (want.shadows && !have.shadows) || (want.glass && !have.glass) {
+            return Err(SettingsError::new(crate::render::SettingsField::Features, "shadows/glass", "the kernel was compiled without the secondary rays asked for").into());
+        }
+        *cur = o;
+        Ok(())
+    }
+
+    /// Renders one frame, tile by tile.
+    pub fn render(&self, s: &Settings) -> Result<Frame, RenderError> {
+        let mut f = Frame { width: 0, height: 0, pixels: Vec::new(), stats: Stats::default() };
+        self.render_into(s, &mut f)?;
+        Ok(f)
+    }
+
+    /// Renders one frame into `frame`, reusing its pixel memory: a viewer
+    /// or an animation renders every frame into the same one. (Touching
+    /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
+    pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
+        let start = Instant::now();
+        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), convert)?;
+        *out = Frame { width: s.width, height: s.height, pixels, stats };
+        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(())
+    }
+
+    /// Renders one frame into `out` and keeps the kernel's records packed
+    /// (see [`PackedFrame`]), with the same statistics as [`Renderer::render_into`].
+    pub fn render_packed(&self, s: &Settings, out: &mut PackedFrame) -> Result<(), RenderError> {
+        let start = Instant::now();
+        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), |r| *r)?;
+        *out = PackedFrame { width: s.width, height: s.height, stats, records };
+        out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(())
+    }
+
+    /// Renders one frame and writes `f` of each record, row-major, into
+    /// `buf` (its memory reused), gathering the statistics on the way.
+    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, f: fn(&Record) -> T) -> Result<(Vec<T>, Stats), RenderError> {
+        let (w, h) = (s.width, s.height);
+        let n = w as usize * h as usize;
+        buf.clear();
+        let mut acc = StatsAcc::default();
+        let mut stats = self.run(s, |rect, raw| {
+            if (rect.w, rect.h) == (w, h) {
+                // The usual case, one dispatch for the frame: write straight
+                // into the (reused) memory, on every core, without filling it
+                // first.
+                buf.reserve(n);
+                acc.merge(map_all(raw, &mut buf.spare_capacity_mut()[..n], f));
+                // SAFETY: map_all initialised all n elements.
+                unsafe { buf.set_len(n) };
+                return;
+            }
+            if buf.is_empty() {
+                buf.resize(n, f(&Record::zeroed()));
+            }
+            for (row, chunk) in raw.chunks_exact(rect.w as usize).enumerate() {
+                let start = ((rect.y + row as u32) * w + rect.x) as usize;
+                for (dst, r) in buf[start..start + rect.w as usize].iter_mut().zip(chunk) {
+                    *dst = f(r);
+                    r.count(&mut acc);
+                }
+            }
+        })?;
+        acc.finish(&mut stats);
+        Ok((buf, stats))
+    }
+
+    /// Runs the dispatches of one frame and hands each rectangle's records
+    /// to `sink`. Returns the statistics that do not come from the records.
+    fn run(&self, s: &Settings, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
+        s.check()?;
+        let cam = s.camera.frame()?;
+        let mut fb = frame_block(s, &cam, self.host.flags());
+        let trav = self.host.block(s, &cam);
+        let rays = self.host.ray_stats_binding();
+        let per_pixel = std::mem::size_of::<Record>() as u64;
+        let indirect = self.host.pre_pass().then(|| self.host.tiles_per_group());
+        let side = dispatch::max_side(self.gpu, per_pixel, indirect, s.tile);
+        let mut stats = Stats { method: self.host.method(), ..Default::default() };
+        let mut ray_stats = RayStats::default();
+        for rect in dispatch::split(s.width, s.height, side) {
+            fb.tile_origin = [rect.x, rect.y];
+            fb.tile_size = [rect.w, rect.h];
+            let mut bytes = bytemuck::bytes_of(&fb).to_vec();
+            bytes.extend_from_slice(&trav);
+            let uniforms = self.gpu.storage("uniforms", &bytes)?;
+            let pass = self.host.pass_buffers(self.gpu, rect);
+            let mut outputs = vec![self.outputs.get(self.gpu, 0, rect.pixels() * per_pixel)];
+            if rays.is_some() {
+                outputs.push(self.outputs.get(self.gpu, 1, rect.pixels() * 4));
+            }
+            let (frame_group, pass_group) = self.gpu.scoped("bind groups", || self.bind_groups(&uniforms, &pass, &outputs, rays))?;
+            let job = Dispatch {
+                label: "render dispatch",
+                main: &self.main,
+                pre: match (&self.pre, &pass.list) {
+                    (Some(pipeline), Some(list)) if self.host.pre_pass() => Some(PrePass { pipeline, list }),
+                    _ => None,
+                },
+                groups: [&frame_group, &self.field, &pass_group],
+                rect,
+                tiles_per_group: self.host.tiles_per_group(),
+                outputs: outputs.iter().zip([rect.pixels() * per_pixel, rect.pixels() * 4]).map(|((o, st), size)| (o.clone(), st.clone(), size)).collect(),
+            };
+            let t = job.run(self.gpu, |bytes| {
+                sink(rect, bytemuck::cast_slice(bytes[0]));
+                if let Some(words) = bytes.get(1) {
+                    ray_stats.add(bytemuck::cast_slice(words));
+                }
+            })?;
+            stats.gpu_ms += t.total_ms;
+            stats.tile_ms += t.pre_ms;
+            stats.dispatches += 1;
+        }
+        stats.iso_channel = self.surfaces > 1;
+        self.host.finish(s, &ray_stats, &mut stats);
+        Ok(stats)
+    }
+
+    /// The frame and pass bind groups of one dispatch.
+    fn bind_groups(&self, uniforms: &wgpu::Buffer, pass: &PassBuffers, outputs: &[(wgpu::Buffer, wgpu::Buffer)], rays: Option<u32>) -> (wgpu::BindGroup, wgpu::BindGroup) {
+        let d = &self.gpu.device;
+        fn entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
+        }
+        let resources = self.host.frame_resources();
+        let mut frame = vec![entry(0, uniforms)];
+        frame.extend(resources.iter().map(|(e, b)| entry(e.binding, b)));
+        let mut out = vec![entry(0, &outputs[0].0)];
+        out.extend(pass.entries.iter().map(|(i, b)| entry(*i, b)));
+        if let (Some(i), Some(o)) = (rays, outputs.get(1)) {
+            out.push(entry(i, &o.0));
+        }
+        let group = |label, layout, entries: &[wgpu::BindGroupEntry]| d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries });
+        (group("frame", &self.layouts[0], &frame), group("pass", &self.layouts[2], &out))
+    }
+}
+
+/// The frame block of a frame (the tile fields are filled per dispatch).
+fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
+    let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+    let mut params = [0.0f32; crate::layout::MAX_PARAMS];
+    params[..s.params.len()].copy_from_slice(&s.params);
+    FrameBlock {
+        eye: v4(s.camera.eye),
+        forward: v4(cam.forward),
+        right: v4(cam.right),
+        up: v4(cam.up),
+        box_min: [s.bbox[0] as f32, s.bbox[2] as f32, s.bbox[4] as f32, 0.0],
+        box_max: [s.bbox[1] as f32, s.bbox[3] as f32, s.bbox[5] as f32, s.clip_sphere.unwrap_or(0.0) as f32],
+        size: [s.width, s.height],
+        tile_origin: [0, 0],
+        tile_size: [0, 0],
+        flags: (if s.debug_unresolved { FLAG_DEBUG } else { 0 }) | flags,
+        tan_half_fov: cam.tan_half_fov as f32,
+        eps: s.eps as f32,
+        inf: f32::INFINITY,
+        time: s.time as f32,
+        pad0: 0,
+        params,
+    }
+}
