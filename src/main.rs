@@ -13,7 +13,16 @@ fn main() -> ExitCode {
     let args = match cli::Cli::try_parse() {
         Ok(a) => a,
         Err(e) => {
-            let _ = e.print();
+            // clap quotes the arguments it rejects: one with control
+            // characters is printed plain with them made visible, like
+            // every other message.
+            let text = e.render().to_string();
+            match isotrace::diag::escape_controls(&text) {
+                std::borrow::Cow::Owned(shown) if e.use_stderr() => eprint!("{shown}"),
+                _ => {
+                    let _ = e.print();
+                }
+            }
             return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
         }
     };

@@ -114,15 +114,19 @@ pub enum CliError {
 }
 
 impl CliError {
+    /// The text for stderr. Messages quote user text (file names, header
+    /// values, box lines), so control characters in them are made visible
+    /// ([`isotrace::diag::escape_controls`]): no input reaches the terminal raw.
     pub fn render(&self) -> String {
+        use isotrace::diag::escape_controls as esc;
         let color = std::io::stderr().is_terminal();
         match self {
             CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
-            CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {m}\n"),
-            CliError::Input(m) => format!("error: {m}\n"),
-            CliError::Internal(m) => format!("{m}\n"),
-            CliError::NoDevice(m) => format!("error: {m}\n"),
-            CliError::Rendered(m) => m.clone(),
+            CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {}\n", esc(m)),
+            CliError::Input(m) => format!("error: {}\n", esc(m)),
+            CliError::Internal(m) => format!("{}\n", esc(m)),
+            CliError::NoDevice(m) => format!("error: {}\n", esc(m)),
+            CliError::Rendered(m) => esc(m).into_owned(),
         }
     }
     pub fn exit_code(&self) -> u8 {
