@@ -26,6 +26,7 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
         }
     };
+    cli::signals::remove_temporaries_on_termination();
     match cli::run(args) {
         Ok(code) => code,
         Err(e) => {

@@ -3,9 +3,11 @@
 
 mod bench;
 mod eval;
+mod frames;
 mod input;
 mod modality;
 mod render;
+pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use isotrace::codegen::{self, Domain};
