@@ -20,6 +20,11 @@ use std::path::{Path, PathBuf};
 /// The box of a file that gives none: `[-2, 2]³`.
 pub use crate::render::view::DEFAULT_BOX;
 
+/// Largest `.iso` file read, in bytes. Its formula is bounded by
+/// [`crate::syntax::parser::MAX_SOURCE_BYTES`]; the rest leaves ample room
+/// for header lines and comments, and bounds what an endless file can take.
+pub const MAX_ISO_BYTES: u64 = 1 << 20;
+
 /// Every header key, in the order the documentation lists them.
 pub const KEYS: &[&str] = &[
     "name", "title", "box", "t", "eye", "target", "up", "fov", "eps", "algebra", "param", "degree", "status",
@@ -356,10 +361,12 @@ pub fn lookup(name: &str) -> Result<Entry, CatalogError> {
 pub fn load_file(path: impl AsRef<Path>) -> Result<Entry, CatalogError> {
     let path = path.as_ref();
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| CatalogError::Read { file: file.clone(), message: format!("cannot read: {e}") })?;
-    let text = String::from_utf8(bytes).map_err(|e| CatalogError::Read {
+    let text = crate::bounded::read_file_text(path, MAX_ISO_BYTES).map_err(|e| CatalogError::Read {
         file: file.clone(),
-        message: format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()),
+        message: match e {
+            crate::bounded::ReadError::NotUtf8 { .. } => e.to_string(),
+            _ => format!("cannot read: {e}"),
+        },
     })?;
     let mut entry = parse_iso(&file, &text)?;
     entry.path = Some(path.to_path_buf());

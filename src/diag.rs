@@ -87,26 +87,34 @@ impl Diagnostic {
     /// Renders like rustc/naga: `error: …`, the source line, a caret, notes.
     /// `name` is the file name shown in the header (`<formula>` for text
     /// given on the command line).
+    ///
+    /// Control characters in any of the text (source, name, message,
+    /// labels, notes) are shown as visible symbols ([`escape_controls`]),
+    /// so a hostile formula or `.iso` file cannot send escape sequences to
+    /// the terminal; spans are moved with them so carets stay under the
+    /// character they point at.
     pub fn render(&self, name: &str, source: &str, color: bool) -> String {
-        let file = SimpleFile::new(name, source);
-        let len = source.len();
+        let shown = Escaped::new(source);
+        let name = escape_controls(name);
+        let file = SimpleFile::new(name.as_ref(), shown.text.as_ref());
+        let len = source.len() as u32;
         let labels = self
             .labels
             .iter()
             .enumerate()
             .map(|(i, (span, text))| {
-                let r = span.start.min(len as u32) as usize..span.end.min(len as u32) as usize;
+                let r = shown.offset(span.start.min(len) as usize)..shown.offset(span.end.min(len) as usize);
                 let l = if i == 0 { Label::primary((), r) } else { Label::secondary((), r) };
-                l.with_message(text.clone())
+                l.with_message(escape_controls(text).into_owned())
             })
             .collect();
         let d = match self.severity {
             Severity::Error => CsDiagnostic::error(),
             Severity::Warning => CsDiagnostic::warning(),
         }
-        .with_message(self.message.clone())
+        .with_message(escape_controls(&self.message).into_owned())
         .with_labels(labels)
-        .with_notes(self.notes.clone());
+        .with_notes(self.notes.iter().map(|n| escape_controls(n).into_owned()).collect());
         let config = Config::default();
         if color {
             let mut buf = term::termcolor::Buffer::ansi();
@@ -117,6 +125,67 @@ impl Diagnostic {
             let _ = term::emit_to_string(&mut out, &config, &file, &d);
             out
         }
+    }
+}
+
+/// The visible stand-in for a character that must not reach a terminal
+/// raw: C0 controls (except tab and line feed) as their Unicode control
+/// pictures (ESC → ␛ U+241B, NUL → ␀ U+2400), DEL as ␡ (U+2421), and C1
+/// controls and bidirectional overrides (which reorder what a reader sees)
+/// as U+FFFD. Each stand-in is one column wide, like a printable character.
+fn stand_in(c: char, next: Option<char>) -> Option<char> {
+    match c {
+        '\t' | '\n' => None,
+        // A line break written as CR LF stays a line break.
+        '\r' if next == Some('\n') => None,
+        '\u{0}'..='\u{1f}' => char::from_u32(0x2400 + c as u32),
+        '\u{7f}' => Some('\u{2421}'),
+        '\u{80}'..='\u{9f}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' => Some('\u{fffd}'),
+        _ => None,
+    }
+}
+
+/// `s` with every terminal control character replaced by a visible symbol
+/// (see [`Diagnostic::render`]); borrowed when there is none. Use it for
+/// any message that quotes user text before it is printed.
+pub fn escape_controls(s: &str) -> std::borrow::Cow<'_, str> {
+    Escaped::new(s).text
+}
+
+/// Escaped text and where each byte of the original went.
+struct Escaped<'a> {
+    text: std::borrow::Cow<'a, str>,
+    /// New offset of each original byte offset (`len + 1` entries); empty
+    /// when nothing was replaced.
+    map: Vec<usize>,
+}
+
+impl<'a> Escaped<'a> {
+    fn new(s: &'a str) -> Self {
+        let mut chars = s.chars().peekable();
+        let mut any = false;
+        while let Some(c) = chars.next() {
+            any |= stand_in(c, chars.peek().copied()).is_some();
+        }
+        if !any {
+            return Escaped { text: std::borrow::Cow::Borrowed(s), map: vec![] };
+        }
+        let mut text = String::with_capacity(s.len() + 16);
+        let mut map = Vec::with_capacity(s.len() + 1);
+        let mut chars = s.chars().peekable();
+        while let Some(c) = chars.next() {
+            let shown = stand_in(c, chars.peek().copied()).unwrap_or(c);
+            // Every byte of the character maps to where its stand-in starts.
+            map.extend(std::iter::repeat_n(text.len(), c.len_utf8()));
+            text.push(shown);
+        }
+        map.push(text.len());
+        Escaped { text: std::borrow::Cow::Owned(text), map }
+    }
+
+    /// Where original byte `i` is in the escaped text.
+    fn offset(&self, i: usize) -> usize {
+        if self.map.is_empty() { i } else { self.map[i.min(self.map.len() - 1)] }
     }
 }
 
@@ -146,4 +215,19 @@ pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
     scored.sort();
     scored.dedup();
     scored.into_iter().take(3).map(|(_, c)| c).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_become_visible_and_carets_stay_aligned() {
+        assert_eq!(escape_controls("a\x1b[31mb\0\x7f\u{9b}\tc\r\n"), "a\u{241b}[31mb\u{2400}\u{2421}\u{fffd}\tc\r\n");
+        assert!(matches!(escape_controls("plain ascii"), std::borrow::Cow::Borrowed(_)));
+        let d = Diagnostic::error("unexpected character '$'", Span::new(9, 10), "here");
+        let out = d.render("<f>", "x\x1b[31m + $", false);
+        assert!(!out.contains('\x1b'), "{out}");
+        assert!(out.contains("1 │ x\u{241b}[31m + $\n  │          ^ here"), "{out}");
+    }
 }

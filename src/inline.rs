@@ -17,6 +17,11 @@
 
 use crate::diag::{Diagnostic, Span};
 
+/// Largest inline file read, in bytes. Hand-written helper functions are a
+/// few KiB; the bound keeps an endless or mistaken file (a FIFO, a binary)
+/// from filling the memory before naga ever sees it.
+pub const MAX_INLINE_BYTES: u64 = 1 << 20;
+
 /// A parsed inline file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InlineWgsl {

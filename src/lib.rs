@@ -16,6 +16,7 @@
 #![warn(missing_docs)]
 
 pub mod bench;
+pub mod bounded;
 pub mod catalog;
 pub mod codegen;
 pub mod diag;

@@ -13,10 +13,20 @@ fn main() -> ExitCode {
     let args = match cli::Cli::try_parse() {
         Ok(a) => a,
         Err(e) => {
-            let _ = e.print();
+            // clap quotes the arguments it rejects, and on a terminal it
+            // passes escape sequences in them through. With a control
+            // character in any argument the message is printed plain
+            // (clap strips the sequences) with the rest made visible.
+            let control = std::env::args_os().any(|a| a.to_string_lossy().chars().any(|c| c.is_control() && c != '\t'));
+            if control && e.use_stderr() {
+                eprint!("{}", isotrace::diag::escape_controls(&e.render().to_string()));
+            } else {
+                let _ = e.print();
+            }
             return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
         }
     };
+    cli::signals::remove_temporaries_on_termination();
     match cli::run(args) {
         Ok(code) => code,
         Err(e) => {

@@ -1,6 +1,9 @@
 //! Image files: PNG (8-bit sRGB) and OpenEXR (float channels), always
 //! written atomically (temporary file in the same directory + rename).
 
+mod temporaries;
+
+pub use temporaries::{remove_stale_temporaries, remove_temporaries, STALE_AFTER};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -29,6 +32,19 @@ pub enum OutputError {
         /// The destination.
         path: PathBuf,
     },
+    /// The destination is an existing directory.
+    #[error("cannot write '{path}': it is a directory")]
+    IsDirectory {
+        /// The destination.
+        path: PathBuf,
+    },
+    /// The destination exists and is read-only: replacing it needs the
+    /// caller's explicit consent.
+    #[error("'{path}' exists and is read-only")]
+    ReadOnly {
+        /// The destination.
+        path: PathBuf,
+    },
 }
 
 /// The file formats isotrace writes.
@@ -49,18 +65,36 @@ pub fn format_of(path: &Path) -> Result<Format, OutputError> {
     }
 }
 
+/// The temporary file for `path`: `.NAME.PID.tmp` in the same directory
+/// (so the rename is atomic). The PID tells a later run whether the writer
+/// is gone ([`remove_stale_temporaries`]).
 fn tmp_path(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
 }
 
-/// Checks, before any work, that `path`'s directory exists and is writable
-/// (by creating and removing the temporary file).
+/// Checks, before any work, that `path` is not a directory and that its
+/// directory exists and is writable (by creating and removing the
+/// temporary file).
 pub fn check_writable(path: &Path) -> Result<(), OutputError> {
+    if path.is_dir() {
+        return Err(OutputError::IsDirectory { path: path.to_path_buf() });
+    }
     let tmp = tmp_path(path);
+    let _guard = temporaries::Guard::new(&tmp);
     std::fs::File::create(&tmp).map_err(|source| OutputError::Io { path: path.to_path_buf(), source })?;
     let _ = std::fs::remove_file(&tmp);
     Ok(())
+}
+
+/// Checks that `path` is not an existing read-only file. Replacing one by a
+/// rename works whatever its mode, so without this check a file the user
+/// protected would be silently overwritten.
+pub fn check_not_read_only(path: &Path) -> Result<(), OutputError> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() && m.permissions().readonly() => Err(OutputError::ReadOnly { path: path.to_path_buf() }),
+        _ => Ok(()),
+    }
 }
 
 /// Writes through a temporary file and a rename.
@@ -74,17 +108,29 @@ pub fn write_atomic_with(
     fill: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<(), String>,
 ) -> Result<(), OutputError> {
     let tmp = tmp_path(path);
+    // Registered before it exists, so a signal at any point removes it.
+    let _guard = temporaries::Guard::new(&tmp);
     let io = |source| OutputError::Io { path: path.to_path_buf(), source };
     let file = std::fs::File::create(&tmp).map_err(io)?;
     let mut w = std::io::BufWriter::new(file);
     let result = fill(&mut w)
         .map_err(|message| OutputError::Encode { path: path.to_path_buf(), message })
         .and_then(|_| w.flush().map_err(io))
+        .and_then(|_| keep_mode(path, &tmp).map_err(io))
         .and_then(|_| std::fs::rename(&tmp, path).map_err(io));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Gives the temporary file the mode of the file it replaces, so a
+/// replaced file keeps its permissions (a read-only one stays read-only).
+fn keep_mode(path: &Path, tmp: &Path) -> std::io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => std::fs::set_permissions(tmp, m.permissions()),
+        _ => Ok(()),
+    }
 }
 
 /// Linear [0, 1] → 8-bit sRGB.

@@ -737,14 +737,16 @@ fn non_ascii_in_comment() {
     ));
 }
 
+/// Control characters are shown as their Unicode control pictures (␁, ␡),
+/// never raw, so the caret has a column to point at.
 #[test]
 fn control_character() {
     check("x\u{1} + y", concat!(
         "error: control character U+0001 in formula\n",
         "  ┌─ <formula>:1:2\n",
         "  │\n",
-        "1 │ x\u{1} + y\n",
-        "  │   not allowed here\n",
+        "1 │ x\u{2401} + y\n",
+        "  │  ^ not allowed here\n",
         "  │\n",
         "  = besides printable ASCII only spaces, tabs and line breaks may appear in a formula\n",
         "\n",
@@ -757,8 +759,8 @@ fn control_character_in_comment() {
         "error: control character U+007F in formula\n",
         "  ┌─ <formula>:1:5\n",
         "  │\n",
-        "1 │ x # \u{7f}\n",
-        "  │      not allowed here\n",
+        "1 │ x # \u{2421}\n",
+        "  │     ^ not allowed here\n",
         "  │\n",
         "  = besides printable ASCII only spaces, tabs and line breaks may appear in a formula\n",
         "\n",

@@ -5,8 +5,8 @@ use super::{input::FormulaArgs, render::parse_params, resolve_algebra, AlgebraAr
 use clap::Args;
 use isotrace::codegen::Domain;
 use isotrace::gpu::eval::{eval_boxes_with, Box8};
+use isotrace::bounded;
 use std::io::{BufRead, Write};
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
@@ -30,49 +30,69 @@ pub struct EvalArgs {
     time: f64,
 }
 
-fn read_lines(src: &str) -> Result<(String, Vec<String>), CliError> {
-    let (name, text) = if src == "-" {
-        let mut s = String::new();
-        for l in std::io::stdin().lock().lines() {
-            let l = l.map_err(|e| CliError::Input(format!("cannot read boxes from stdin: {e}")))?;
-            s.push_str(&l);
-            s.push('\n');
-        }
-        ("<stdin>".to_string(), s)
-    } else {
-        let p = PathBuf::from(src);
-        let s = std::fs::read_to_string(&p).map_err(|e| CliError::Input(format!("cannot read boxes file '{src}': {e}")))?;
-        (src.to_string(), s)
-    };
-    Ok((name, text.lines().map(String::from).collect()))
+/// Most boxes one run reads: 16 Mi boxes are 512 MiB in kernel layout, and
+/// all of them are held until they are evaluated and printed.
+pub const MAX_BOXES: usize = 1 << 24;
+/// Longest line of box input: eight numbers in full precision take < 200 bytes.
+const MAX_LINE_BYTES: u64 = 4096;
+
+/// Reads the boxes of `--boxes` (a file, or `-` for stdin) line by line, so
+/// an endless input ends at [`MAX_BOXES`] or at a line over
+/// [`MAX_LINE_BYTES`] instead of filling the memory.
+fn read_boxes(src: &str, scalar: bool, time: f64) -> Result<Vec<Box8>, CliError> {
+    if src == "-" {
+        return read_boxes_from("<stdin>", "cannot read boxes from stdin", std::io::stdin().lock(), scalar, time);
+    }
+    let what = format!("cannot read boxes file '{src}'");
+    let file = std::fs::File::open(src).map_err(|e| CliError::Input(format!("{what}: {e}")))?;
+    read_boxes_from(src, &what, std::io::BufReader::new(file), scalar, time)
 }
 
-/// Parses the box lines (blank lines and `#` comments skipped); returns the
-/// boxes in kernel layout.
-pub fn parse_boxes(name: &str, lines: &[String], scalar: bool, time: f64) -> Result<Vec<Box8>, CliError> {
+fn read_boxes_from(name: &str, what: &str, mut r: impl BufRead, scalar: bool, time: f64) -> Result<Vec<Box8>, CliError> {
     let mut out = Vec::new();
-    for (i, line) in lines.iter().enumerate() {
-        let l = line.split('#').next().unwrap_or("").trim();
-        if l.is_empty() {
-            continue;
+    let mut line = Vec::new();
+    for n in 1.. {
+        match bounded::read_line(&mut r, &mut line, MAX_LINE_BYTES) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(bounded::ReadError::TooLarge { limit }) => {
+                return Err(CliError::Input(format!("{name}:{n}: line longer than the limit of {}", bounded::bytes(limit))));
+            }
+            Err(e) => return Err(CliError::Input(format!("{what}: {e}"))),
         }
-        let vals: Result<Vec<f64>, _> = l.split_whitespace().map(|w| w.parse::<f64>()).collect();
-        let want = if scalar { "3 or 4 numbers: x y z [t]" } else { "6 or 8 numbers: x0 x1 y0 y1 z0 z1 [t0 t1]" };
-        let err = |m: &str| CliError::Input(format!("{name}:{}: {m} in '{l}'", i + 1));
-        let v = vals.map_err(|_| err(&format!("expected {want}; found a word that is not a number")))?;
-        let b: Box8 = match (scalar, v.len()) {
-            (true, 3) => [v[0], v[0], v[1], v[1], v[2], v[2], time, time].map(|x| x as f32),
-            (true, 4) => [v[0], v[0], v[1], v[1], v[2], v[2], v[3], v[3]].map(|x| x as f32),
-            (false, 6) => [v[0], v[1], v[2], v[3], v[4], v[5], time, time].map(|x| x as f32),
-            (false, 8) => [v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]].map(|x| x as f32),
-            (_, n) => return Err(err(&format!("expected {want}, found {n}"))),
-        };
-        if !scalar && (0..4).any(|a| !(b[2 * a] <= b[2 * a + 1])) {
-            return Err(err("each range needs lo <= hi"));
+        let text = std::str::from_utf8(&line).map_err(|e| CliError::Input(format!("{name}:{n}: not UTF-8 text (invalid byte at offset {})", e.valid_up_to())))?;
+        if let Some(b) = parse_box(name, n, text, scalar, time)? {
+            if out.len() == MAX_BOXES {
+                return Err(CliError::Input(format!("{name}:{n}: more than {MAX_BOXES} boxes, the limit of one eval run; split the input")));
+            }
+            out.push(b);
         }
-        out.push(b);
     }
     Ok(out)
+}
+
+/// Parses one line of box input in kernel layout; `None` for a blank line
+/// or a `#` comment.
+fn parse_box(name: &str, n: usize, line: &str, scalar: bool, time: f64) -> Result<Option<Box8>, CliError> {
+    let l = line.split('#').next().unwrap_or("").trim();
+    if l.is_empty() {
+        return Ok(None);
+    }
+    let vals: Result<Vec<f64>, _> = l.split_whitespace().map(|w| w.parse::<f64>()).collect();
+    let want = if scalar { "3 or 4 numbers: x y z [t]" } else { "6 or 8 numbers: x0 x1 y0 y1 z0 z1 [t0 t1]" };
+    let err = |m: &str| CliError::Input(format!("{name}:{n}: {m} in '{l}'"));
+    let v = vals.map_err(|_| err(&format!("expected {want}; found a word that is not a number")))?;
+    let b: Box8 = match (scalar, v.len()) {
+        (true, 3) => [v[0], v[0], v[1], v[1], v[2], v[2], time, time].map(|x| x as f32),
+        (true, 4) => [v[0], v[0], v[1], v[1], v[2], v[2], v[3], v[3]].map(|x| x as f32),
+        (false, 6) => [v[0], v[1], v[2], v[3], v[4], v[5], time, time].map(|x| x as f32),
+        (false, 8) => [v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]].map(|x| x as f32),
+        (_, k) => return Err(err(&format!("expected {want}, found {k}"))),
+    };
+    if !scalar && (0..4).any(|a| !(b[2 * a] <= b[2 * a + 1])) {
+        return Err(err("each range needs lo <= hi"));
+    }
+    Ok(Some(b))
 }
 
 pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
@@ -88,8 +108,7 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     for w in warnings {
         eprint!("{}", w.render("", "", false));
     }
-    let (name, lines) = read_lines(&a.boxes)?;
-    let boxes = parse_boxes(&name, &lines, domain == Domain::Scalar, a.time)?;
+    let boxes = read_boxes(&a.boxes, domain == Domain::Scalar, a.time)?;
     if a.cpu && loaded.inline.is_some() {
         return Err(CliError::Input("--cpu cannot evaluate --inline WGSL functions (they run on the device only)".into()));
     }

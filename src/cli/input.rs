@@ -6,8 +6,13 @@ use super::CliError;
 use clap::Args;
 use isotrace::catalog::{self, Header};
 use isotrace::Formula;
-use std::io::Read;
+use isotrace::bounded;
+use isotrace::inline::MAX_INLINE_BYTES;
 use std::path::Path;
+
+/// Largest formula read from stdin or `-f FILE`: the front end's own limit,
+/// so reading stops one byte past what it would reject anyway.
+const MAX_FORMULA_BYTES: u64 = isotrace::syntax::parser::MAX_SOURCE_BYTES as u64;
 
 /// The formula arguments shared by every command.
 #[derive(Args, Debug, Clone)]
@@ -45,7 +50,7 @@ impl FormulaArgs {
         let inline = match &self.inline {
             None => None,
             Some(p) => {
-                let text = std::fs::read_to_string(p).map_err(|e| CliError::Input(format!("cannot read --inline file '{}': {e}", p.display())))?;
+                let text = bounded::read_file_text(p, MAX_INLINE_BYTES).map_err(|e| CliError::Input(format!("cannot read --inline file '{}': {e}", p.display())))?;
                 let path = p.display().to_string();
                 Some(isotrace::inline::parse_inline(&path, &text).map_err(|d| CliError::Rendered(d.render(&path, &text, false)))?)
             }
@@ -72,9 +77,7 @@ impl FormulaArgs {
         }
         let arg = self.formula.clone().unwrap_or_default();
         if arg == "-" {
-            let mut s = String::new();
-            std::io::stdin()
-                .read_to_string(&mut s)
+            let s = bounded::read_text(std::io::stdin().lock(), MAX_FORMULA_BYTES)
                 .map_err(|e| CliError::Input(format!("cannot read the formula from stdin: {e}")))?;
             return Ok(("<stdin>".into(), s));
         }
@@ -87,9 +90,11 @@ fn load_iso(p: &Path) -> Result<catalog::Entry, CliError> {
 }
 
 fn read_file(p: &Path) -> Result<(String, String), CliError> {
-    let bytes = std::fs::read(p).map_err(|e| CliError::Input(format!("cannot read formula file '{}': {e}", p.display())))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        CliError::Input(format!("formula file '{}' is not UTF-8 text (invalid byte at offset {})", p.display(), e.utf8_error().valid_up_to()))
+    let text = bounded::read_file_text(p, MAX_FORMULA_BYTES).map_err(|e| match e {
+        bounded::ReadError::NotUtf8 { offset } => {
+            CliError::Input(format!("formula file '{}' is not UTF-8 text (invalid byte at offset {offset})", p.display()))
+        }
+        e => CliError::Input(format!("cannot read formula file '{}': {e}", p.display())),
     })?;
     Ok((p.display().to_string(), text))
 }

@@ -3,9 +3,12 @@
 
 mod bench;
 mod eval;
+mod frames;
 mod input;
 mod modality;
 mod render;
+mod shell;
+pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use isotrace::codegen::{self, Domain};
@@ -28,7 +31,7 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Parse and analyse a formula: normalised form, variables, parameters, degree.
-    #[command(after_help = "Examples:\n  isotrace check 'x^2 + y^2 + z^2 - 1'\n  isotrace check -f surface.iso\n  echo 'p = 2; x^p - y' | isotrace check -")]
+    #[command(after_help = "Examples:\n  isotrace check 'x^2 + y^2 + z^2 - 1'\n  isotrace check -f surface.iso\n  echo 'p = 2; x^p - y' | isotrace check -\n  isotrace check @tangle --json")]
     Check(CheckArgs),
     /// Print the complete generated WGSL shader (validated with naga).
     #[command(after_help = "Examples:\n  isotrace wgsl 'x^2 + y^2 + z^2 - 1' --algebra raa\n  isotrace wgsl 'sin(x) - z' --kernel eval --algebra ia -o eval.wgsl")]
@@ -45,6 +48,12 @@ enum Command {
     /// Benchmark surfaces × algebras: Knoll-style table, JSON, Markdown, images, contact sheet.
     #[command(after_help = "Examples:\n  isotrace bench --suite knoll --out bench-out --json bench.json --markdown bench.md\n  isotrace bench tangle barth-sextic --algebra ia,raa --size 512 --repeat 3\n  isotrace bench --suite all --shard 0/4 --json part0.json    # spread over 4 machines\n  isotrace bench sphere --find-eps")]
     Bench(bench::BenchArgs),
+    /// Print a shell completion script to stdout.
+    #[command(after_help = "Examples:\n  isotrace completions bash > ~/.local/share/bash-completion/completions/isotrace\n  isotrace completions zsh > \"${fpath[1]}/_isotrace\"\n  isotrace completions fish > ~/.config/fish/completions/isotrace.fish")]
+    Completions(shell::CompletionsArgs),
+    /// Print the man page (roff) to stdout, or write it with -o.
+    #[command(after_help = "Examples:\n  isotrace man | man -l -\n  isotrace man -o isotrace.1\n  isotrace man render -o isotrace-render.1")]
+    Man(shell::ManArgs),
 }
 
 #[derive(Args, Debug)]
@@ -58,6 +67,9 @@ struct ListArgs {
 struct CheckArgs {
     #[command(flatten)]
     formula: FormulaArgs,
+    /// Print the analysis as one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Number domain of the generated evaluator.
@@ -114,15 +126,19 @@ pub enum CliError {
 }
 
 impl CliError {
+    /// The text for stderr. Messages quote user text (file names, header
+    /// values, box lines), so control characters in them are made visible
+    /// ([`isotrace::diag::escape_controls`]): no input reaches the terminal raw.
     pub fn render(&self) -> String {
+        use isotrace::diag::escape_controls as esc;
         let color = std::io::stderr().is_terminal();
         match self {
             CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
-            CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {m}\n"),
-            CliError::Input(m) => format!("error: {m}\n"),
-            CliError::Internal(m) => format!("{m}\n"),
-            CliError::NoDevice(m) => format!("error: {m}\n"),
-            CliError::Rendered(m) => m.clone(),
+            CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {}\n", esc(m)),
+            CliError::Input(m) => format!("error: {}\n", esc(m)),
+            CliError::Internal(m) => format!("{}\n", esc(m)),
+            CliError::NoDevice(m) => format!("error: {}\n", esc(m)),
+            CliError::Rendered(m) => esc(m).into_owned(),
         }
     }
     pub fn exit_code(&self) -> u8 {
@@ -154,6 +170,8 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Eval(a) => eval::run(a),
         Command::List(a) => list(a),
         Command::Bench(a) => bench::run(a),
+        Command::Completions(a) => shell::completions(a),
+        Command::Man(a) => shell::man(a),
     }
 }
 
@@ -163,13 +181,23 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
     let (products, powers) = ir.nonconstant_products();
+    let algebra = domain_name(isotrace::choose_algebra(ir));
     let mut out = std::io::stdout().lock();
+    if a.json {
+        let v = serde_json::json!({
+            "formula": f.normalized(), "variables": vars, "parameters": params, "degree": ir.degree(),
+            "operations": { "total": ir.live().len(), "products": products, "integer_powers": powers },
+            "algebra": algebra,
+        });
+        let _ = writeln!(out, "{v}");
+        return Ok(ExitCode::SUCCESS);
+    }
     let _ = writeln!(out, "formula:    {}", f.normalized());
     let _ = writeln!(out, "variables:  {}", if vars.is_empty() { "(none)".into() } else { vars.join(" ") });
     let _ = writeln!(out, "parameters: {}", if params.is_empty() { "(none)".into() } else { params.join(" ") });
     let _ = writeln!(out, "degree:     {}", ir.degree().map_or("not a polynomial".into(), |d| d.to_string()));
     let _ = writeln!(out, "operations: {} ({} products of non-constant terms, {} integer powers)", ir.live().len(), products, powers);
-    let _ = writeln!(out, "algebra:    {} (auto)", domain_name(isotrace::choose_algebra(ir)));
+    let _ = writeln!(out, "algebra:    {algebra} (auto)");
     Ok(ExitCode::SUCCESS)
 }
 

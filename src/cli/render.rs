@@ -174,9 +174,12 @@ pub fn sphere_options(a: &SphereArgs, header: Option<&Header>) -> Result<SphereO
 pub struct RenderArgs {
     #[command(flatten)]
     formula: FormulaArgs,
-    /// Output image: .png (8-bit sRGB) or .exr (float RGBA, Z, normals, evals). With --frames, a pattern like f_%04d.png.
+    /// Output image: .png (8-bit sRGB) or .exr (float RGBA, Z, normals, evals). With --frames, a pattern like frames/f_%04d.png: %d is the frame number, %0Nd pads it with zeros to N digits (N from 1 to 9), %% is a literal %; exactly one number field, in the file name.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: PathBuf,
+    /// Replace an existing read-only output file (it keeps its mode).
+    #[arg(long)]
+    force: bool,
     /// Image size `WxH` or `N` for a square (default 512x512).
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
@@ -371,10 +374,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         }
     }
     let outputs = output_paths(&a)?;
-    for p in &outputs {
-        output::format_of(p).map_err(|e| input(e.to_string()))?;
-        output::check_writable(p).map_err(|e| input(e.to_string()))?;
-    }
+    outputs.check(a.force)?;
     let gpu = open_gpu()?;
     let traversal = match sphere {
         Some(o) => Traversal::Sphere(o),
@@ -394,7 +394,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         }
         let mut frame = renderer.render(&sk).map_err(super::render_error)?;
         heat_max = output::recolor(&mut frame, color);
-        output::write_frame(path, &frame).map_err(|e| input(e.to_string()))?;
+        output::write_frame(&path, &frame).map_err(|e| input(e.to_string()))?;
         if let Some(b) = &bar {
             b.inc(1);
         }
@@ -415,28 +415,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn output_paths(a: &RenderArgs) -> Result<Vec<PathBuf>, CliError> {
-    let Some(n) = a.frames else { return Ok(vec![a.output.clone()]) };
-    if n == 0 {
-        return Err(input("--frames must be at least 1"));
-    }
-    let pat = a.output.to_string_lossy().into_owned();
-    let Some((pre, post)) = split_pattern(&pat) else {
-        return Err(input(format!("with --frames, -o needs a frame-number pattern like frames/f_%04d.png, got '{pat}'")));
-    };
-    Ok((0..n).map(|k| PathBuf::from(format!("{pre}{}{}", post.0(k), post.1))).collect())
-}
-
-type Formatter = Box<dyn Fn(u32) -> String>;
-
-/// Splits `a%04db` into `a`, a number formatter and `b`.
-fn split_pattern(p: &str) -> Option<(String, (Formatter, String))> {
-    let i = p.find('%')?;
-    let rest = &p[i + 1..];
-    let j = rest.find('d')?;
-    let width: usize = if j == 0 { 0 } else { rest[..j].trim_start_matches('0').parse().ok().or(Some(0))? };
-    let fmt: Formatter = Box::new(move |k| format!("{k:0width$}"));
-    Some((p[..i].to_string(), (fmt, rest[j + 1..].to_string())))
+/// The output files, named lazily (see [`super::frames`]).
+fn output_paths(a: &RenderArgs) -> Result<super::frames::Outputs, CliError> {
+    super::frames::Outputs::new(&a.output, a.frames)
 }
 
 fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu) {

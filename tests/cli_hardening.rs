@@ -1,0 +1,373 @@
+//! Issue 15 ("Hardening") at the command line: endless inputs, frame
+//! patterns, control bytes in messages, output files and signals,
+//! completions, man pages and `check --json`. Each test asserts the exact
+//! message and exit code.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn isotrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_isotrace")).args(args).env("NODEVICE_SELECT", "1").output().unwrap()
+}
+
+/// Runs with `input` on stdin. The input is written from a thread and a
+/// broken pipe is ignored: isotrace is expected to stop reading early.
+fn isotrace_with_stdin(args: &[&str], input: impl Into<Vec<u8>>) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(args)
+        .env("NODEVICE_SELECT", "1")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let input = input.into();
+    let writer = std::thread::spawn(move || {
+        let _ = stdin.write_all(&input);
+    });
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap();
+    out
+}
+
+/// Without a device: any command that gets as far as opening one exits
+/// with 2, so exit 1 proves a check ran before any GPU work.
+fn isotrace_without_gpu(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_isotrace")).args(args).env("WGPU_BACKEND", "metal").output().unwrap()
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("isotrace-hardening-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn assert_error(o: &Output, expected: &str) {
+    assert_eq!(stderr(o), expected);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(o));
+}
+
+// 1. Bounded input.
+
+#[test]
+fn an_endless_formula_on_stdin_is_an_error_at_the_formula_limit() {
+    let o = isotrace_with_stdin(&["check", "-"], vec![b'x'; 2_000_000]);
+    assert_error(&o, "error: cannot read the formula from stdin: larger than the limit of 65536 bytes (64 KiB)\n");
+    // One byte over the limit is refused; the limit itself is read.
+    let o = isotrace_with_stdin(&["check", "-"], vec![b'x'; 65_537]);
+    assert_error(&o, "error: cannot read the formula from stdin: larger than the limit of 65536 bytes (64 KiB)\n");
+    let mut at_limit = b"x".to_vec();
+    at_limit.resize(65_536, b' ');
+    let o = isotrace_with_stdin(&["check", "-"], at_limit);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("formula:    x\n"));
+}
+
+#[test]
+fn formula_iso_and_inline_files_are_read_up_to_their_limits() {
+    let d = dir("files");
+    let big = d.join("big.txt");
+    std::fs::write(&big, vec![b'x'; 2_000_000]).unwrap();
+    let o = isotrace(&["check", "-f", s(&big)]);
+    assert_error(&o, &format!("error: cannot read formula file '{}': larger than the limit of 65536 bytes (64 KiB)\n", s(&big)));
+    // An endless file ends too.
+    let o = isotrace(&["check", "-f", "/dev/zero"]);
+    assert_error(&o, "error: cannot read formula file '/dev/zero': larger than the limit of 65536 bytes (64 KiB)\n");
+
+    let iso = d.join("big.iso");
+    let mut text = b"#@ name: big\nx^2 + y^2 + z^2 - 1\n".to_vec();
+    text.resize(2_000_000, b'\n');
+    std::fs::write(&iso, text).unwrap();
+    let o = isotrace(&["check", s(&iso)]);
+    assert_error(&o, &format!("error: {}: cannot read: larger than the limit of 1048576 bytes (1 MiB)\n", s(&iso)));
+
+    let wgsl = d.join("big.wgsl");
+    std::fs::write(&wgsl, vec![b' '; 2_000_000]).unwrap();
+    let o = isotrace(&["check", "x", "--inline", s(&wgsl)]);
+    assert_error(&o, &format!("error: cannot read --inline file '{}': larger than the limit of 1048576 bytes (1 MiB)\n", s(&wgsl)));
+}
+
+#[test]
+fn eval_boxes_are_streamed_with_a_line_and_a_count_limit() {
+    let o = isotrace_with_stdin(&["eval", "x", "--cpu"], vec![b'x'; 2_000_000]);
+    assert_error(&o, "error: <stdin>:1: line longer than the limit of 4096 bytes (4 KiB)\n");
+    let d = dir("boxes");
+    let file = d.join("boxes.txt");
+    let mut text = b"0 1 0 1 0 1\n".to_vec();
+    text.extend(vec![b'9'; 5000]);
+    std::fs::write(&file, text).unwrap();
+    let o = isotrace(&["eval", "x", "--cpu", "--boxes", s(&file)]);
+    assert_error(&o, &format!("error: {}:2: line longer than the limit of 4096 bytes (4 KiB)\n", s(&file)));
+    // `yes '0 1 0 1 0 1' | isotrace eval x`: one box more than the limit.
+    let o = isotrace_with_stdin(&["eval", "x", "--cpu"], b"0 1 0 1 0 1\n".repeat((1 << 24) + 1));
+    assert_error(&o, "error: <stdin>:16777217: more than 16777216 boxes, the limit of one eval run; split the input\n");
+}
+
+// 2 and 3. Frames and frame patterns.
+
+#[test]
+fn frames_are_capped_before_any_work() {
+    let d = dir("frames-cap");
+    let pat = d.join("f%d.png");
+    let o = isotrace(&["render", "@sphere", "--size", "16", "--frames", "1000000000", "-o", s(&pat)]);
+    assert_error(&o, "error: invalid --frames '1000000000': must be between 1 and 1000000\n");
+    let o = isotrace(&["render", "@sphere", "--size", "16", "--frames", "0", "-o", s(&pat)]);
+    assert_error(&o, "error: invalid --frames '0': must be between 1 and 1000000\n");
+    // The cap itself passes every check; without a device it then stops with 2.
+    let o = isotrace_without_gpu(&["render", "@sphere", "--size", "16", "--frames", "1000000", "-o", s(&pat)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn frame_patterns_outside_the_grammar_are_errors_that_point_at_the_problem() {
+    let cases: &[(&str, &str)] = &[
+        ("f%99999d.png", "'%99999d' at column 2: the width of a frame-number field is written %0Nd with one digit N from 1 to 9"),
+        ("f%4d.png", "'%4d' at column 2: the width of a frame-number field is written %0Nd with one digit N from 1 to 9"),
+        ("f%010d.png", "'%010d' at column 2: the width of a frame-number field is written %0Nd with one digit N from 1 to 9"),
+        ("f%d_%d.png", "a second frame-number field '%d' at column 5; a pattern has exactly one (write %% for a literal %)"),
+        ("f%x.png", "'%x' at column 2 is not a frame-number field: use %d or %0Nd (N from 1 to 9), or %% for a literal %"),
+        ("f%d.png%", "a lone '%' at column 8 ends the pattern: write %% for a literal %"),
+        ("d%d/f.png", "the frame-number field at column 2 is in a directory name; it must be in the file name"),
+    ];
+    for (pat, why) in cases {
+        let o = isotrace(&["render", "@sphere", "--size", "16", "--frames", "2", "-o", pat]);
+        assert_error(&o, &format!("error: invalid -o pattern '{pat}': {why}\n"));
+    }
+    let o = isotrace(&["render", "@sphere", "--size", "16", "--frames", "2", "-o", "f%%d.png"]);
+    assert_error(&o, "error: with --frames, -o needs a frame-number pattern like frames/f_%04d.png, got 'f%%d.png'\n");
+}
+
+#[test]
+fn a_literal_percent_and_a_padded_field_name_every_frame() {
+    let d = dir("frames-ok");
+    let pat = d.join("f%%%03d.png");
+    let o = isotrace(&["render", "@sphere", "--size", "8", "--frames", "2", "-o", s(&pat)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut names: Vec<String> = std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.sort();
+    assert_eq!(names, ["f%000.png", "f%001.png"]);
+}
+
+// 4. Control bytes in messages.
+
+#[test]
+fn control_bytes_in_a_formula_are_shown_escaped_with_the_caret_in_place() {
+    let o = isotrace(&["check", "x\x1b[31m + y"]);
+    assert_error(
+        &o,
+        "error: control character U+001B in formula\n  ┌─ <formula>:1:2\n  │\n1 │ x\u{241b}[31m + y\n  │  ^ not allowed here\n  │\n  \
+         = besides printable ASCII only spaces, tabs and line breaks may appear in a formula\n\n",
+    );
+    // An error before the control bytes shows the line with them escaped.
+    let o = isotrace_with_stdin(&["check", "-"], "x + $ + y\x1b[31m\x7f\0");
+    assert_error(&o, "error: unexpected character '$'\n  ┌─ <stdin>:1:5\n  │\n1 │ x + $ + y\u{241b}[31m\u{2421}\u{2400}\n  │     ^ no token starts with this\n\n");
+}
+
+#[test]
+fn control_bytes_in_quoted_user_text_are_escaped() {
+    let d = dir("control");
+    let iso = d.join("e.iso");
+    std::fs::write(&iso, "#@ name: a\x1b[2Jb\nx\n").unwrap();
+    let o = isotrace(&["check", s(&iso)]);
+    assert_error(&o, &format!("error: {}:1: bad name value 'a\u{241b}[2Jb': a name uses letters, digits, '-', '_' and '.' only\n", s(&iso)));
+    let o = isotrace(&["render", "x", "--size", "\x1b]0;pwned\x07", "-o", "x.png"]);
+    assert_error(&o, "error: invalid --size '\u{241b}]0;pwned\u{2407}': expected WxH like 1024x768, or N for a square\n");
+    let o = isotrace_with_stdin(&["eval", "x", "--cpu"], "0 1 \x1b[31m\n");
+    assert_error(&o, "error: <stdin>:1: expected 6 or 8 numbers: x0 x1 y0 y1 z0 z1 [t0 t1]; found a word that is not a number in '0 1 \u{241b}[31m'\n");
+    assert!(!o.stderr.contains(&0x1b));
+}
+
+// 5. Output files and signals.
+
+#[test]
+fn a_directory_as_output_is_refused_before_rendering() {
+    let d = dir("out-dir");
+    let target = d.join("a.png");
+    std::fs::create_dir(&target).unwrap();
+    let o = isotrace_without_gpu(&["render", "@sphere", "--size", "8", "-o", s(&target)]);
+    assert_error(&o, &format!("error: cannot write '{}': it is a directory\n", s(&target)));
+    let pat = d.join("a%d.png");
+    std::fs::create_dir(d.join("a1.png")).unwrap();
+    let o = isotrace_without_gpu(&["render", "@sphere", "--size", "8", "--frames", "3", "-o", s(&pat)]);
+    assert_error(&o, &format!("error: cannot write '{}': it is a directory\n", s(&d.join("a1.png"))));
+}
+
+#[test]
+fn a_read_only_target_is_replaced_only_with_force_and_keeps_its_mode() {
+    let d = dir("read-only");
+    let target = d.join("ro.png");
+    std::fs::write(&target, b"keep me").unwrap();
+    let mut perm = std::fs::metadata(&target).unwrap().permissions();
+    perm.set_readonly(true);
+    std::fs::set_permissions(&target, perm).unwrap();
+    let o = isotrace_without_gpu(&["render", "@sphere", "--size", "8", "-o", s(&target)]);
+    assert_error(&o, &format!("error: '{}' exists and is read-only: give --force to replace it\n", s(&target)));
+    assert_eq!(std::fs::read(&target).unwrap(), b"keep me");
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", s(&target), "--force"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read(&target).unwrap().starts_with(b"\x89PNG"));
+    assert!(std::fs::metadata(&target).unwrap().permissions().readonly());
+}
+
+/// The PID of a process that has ended.
+fn dead_pid() -> u32 {
+    let mut c = Command::new("true").spawn().unwrap();
+    let pid = c.id();
+    c.wait().unwrap();
+    pid
+}
+
+fn make_old(p: &Path) {
+    let f = std::fs::OpenOptions::new().write(true).open(p).unwrap();
+    f.set_modified(std::time::SystemTime::now() - std::time::Duration::from_secs(3600)).unwrap();
+}
+
+#[test]
+fn stale_temporaries_of_the_own_target_are_removed() {
+    let d = dir("stale");
+    let (dead, dead2) = (dead_pid(), dead_pid());
+    let stale = d.join(format!(".st.png.{dead}.tmp"));
+    let fresh = d.join(format!(".st.png.{dead2}.tmp"));
+    let alive = d.join(format!(".st.png.{}.tmp", std::process::id()));
+    let other = d.join(format!(".other.png.{dead}.tmp"));
+    let frame = d.join(format!(".f_0007.png.{dead}.tmp"));
+    for p in [&stale, &fresh, &alive, &other, &frame] {
+        std::fs::write(p, b"partial").unwrap();
+    }
+    for p in [&stale, &alive, &other, &frame] {
+        make_old(p);
+    }
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", s(&d.join("st.png"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stderr(&o), format!("note: removed '{}', a temporary file left by a run that is gone\n", s(&stale)));
+    assert!(!stale.exists());
+    // Too recent, its writer alive, another target's: kept.
+    assert!(fresh.exists() && alive.exists() && other.exists() && frame.exists());
+    // A frame pattern cleans the names it makes.
+    let o = isotrace(&["render", "@sphere", "--size", "8", "--frames", "1", "-o", s(&d.join("f_%04d.png"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!frame.exists());
+    assert!(other.exists());
+}
+
+/// A write blocked half-way: the temporary file is a FIFO with a small
+/// buffer that nobody reads, created where `isotrace wgsl - -o OUT` (its
+/// formula held back on stdin until then) will open it. The test waits
+/// until the buffer is full, so the writer is inside write_atomic, then
+/// sends `sig`.
+#[cfg(unix)]
+fn interrupted_write_leaves_nothing(sig: i32) {
+    use std::os::unix::ffi::OsStrExt;
+    use std::os::unix::fs::OpenOptionsExt;
+    use std::os::unix::io::AsRawFd;
+    use std::os::unix::process::ExitStatusExt;
+    let d = dir(&format!("signal-{sig}"));
+    let out = d.join("sig.wgsl");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(["wgsl", "-", "-o", s(&out)])
+        .env("NODEVICE_SELECT", "1")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let fifo = d.join(format!(".sig.wgsl.{}.tmp", child.id()));
+    let c = std::ffi::CString::new(fifo.as_os_str().as_bytes()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    let reader = std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(&fifo).unwrap();
+    let capacity = unsafe { libc::fcntl(reader.as_raw_fd(), libc::F_SETPIPE_SZ, 4096) };
+    assert!(capacity > 0);
+    child.stdin.take().unwrap().write_all(b"x^2 + y^2 + z^2 - 1").unwrap();
+    loop {
+        let mut queued: libc::c_int = 0;
+        assert_eq!(unsafe { libc::ioctl(reader.as_raw_fd(), libc::FIONREAD, &mut queued) }, 0);
+        if queued >= capacity {
+            break;
+        }
+        assert!(child.try_wait().unwrap().is_none(), "isotrace ended before writing");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(sig), "{status:?}");
+    assert!(!fifo.exists(), "the temporary file is left behind");
+    assert!(!out.exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_and_sigint_remove_the_temporary_file_of_a_write_in_flight() {
+    interrupted_write_leaves_nothing(libc::SIGTERM);
+    interrupted_write_leaves_nothing(libc::SIGINT);
+}
+
+// 6. Completions, man pages, check --json.
+
+#[test]
+fn completion_scripts_know_the_commands_and_flags() {
+    let o = isotrace(&["completions", "bash"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bash = String::from_utf8(o.stdout).unwrap();
+    assert!(bash.contains("render") && bash.contains("--box") && bash.contains("--force"), "{bash}");
+    for shell in ["zsh", "fish", "elvish", "powershell"] {
+        let o = isotrace(&["completions", shell]);
+        assert!(o.status.success(), "{shell}: {}", stderr(&o));
+        assert!(String::from_utf8(o.stdout).unwrap().contains("--frames"), "{shell}");
+    }
+    let o = isotrace(&["completions", "tcsh"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).starts_with("error: invalid value 'tcsh' for '<SHELL>'"), "{}", stderr(&o));
+}
+
+#[test]
+fn man_pages_for_isotrace_and_each_command() {
+    let o = isotrace(&["man"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = String::from_utf8(o.stdout).unwrap();
+    assert!(page.contains(".TH isotrace 1") && page.contains("completions"), "{page}");
+    let file = dir("man").join("isotrace-render.1");
+    let o = isotrace(&["man", "render", "-o", s(&file)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = std::fs::read_to_string(&file).unwrap();
+    assert!(page.contains(".TH isotrace-render 1") && page.contains(r"\-\-force"), "{page}");
+    let o = isotrace(&["man", "paint"]);
+    assert_error(&o, "error: unknown command 'paint' for man: expected one of check, wgsl, render, eval, list, bench, completions, man, help\n");
+}
+
+#[test]
+fn check_json_is_one_object_with_the_analysis() {
+    let f = "x^2 + y^2 + z^2 - r^2 + 2*x*y";
+    let o = isotrace(&["check", f, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(o.stdout.iter().filter(|&&b| b == b'\n').count(), 1);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["variables"], serde_json::json!(["x", "y", "z"]));
+    assert_eq!(v["parameters"], serde_json::json!(["r"]));
+    assert_eq!(v["degree"], 2);
+    // The same analysis as the text form, field by field.
+    let text = String::from_utf8(isotrace(&["check", f]).stdout).unwrap();
+    let field = |key: &str| text.lines().find_map(|l| l.strip_prefix(key)).unwrap().trim().to_string();
+    assert_eq!(v["formula"].as_str().unwrap(), field("formula:"));
+    assert_eq!(format!("{} (auto)", v["algebra"].as_str().unwrap()), field("algebra:"));
+    let ops = &v["operations"];
+    assert_eq!(
+        format!("{} ({} products of non-constant terms, {} integer powers)", ops["total"], ops["products"], ops["integer_powers"]),
+        field("operations:")
+    );
+    let o = isotrace(&["check", "sin(x) - z", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["degree"], serde_json::Value::Null);
+    assert_eq!(v["parameters"], serde_json::json!([]));
+    assert_eq!(v["variables"], serde_json::json!(["x", "z"]));
+}
