@@ -124,9 +124,11 @@ pub struct Header {
     /// technique 5).
     pub bound: Option<Bound>,
     /// Modality keys (`shadows`, `light`, `shadow-eps`, `opacity`,
-    /// `layers`, `iso`, `reflect`, `reflectivity`, `env`, `color`): checked
-    /// here, applied as defaults of the `render` flags of the same names.
-    pub modalities: Vec<(String, String)>,
+    /// `layers`, `iso`, `reflect`, `reflectivity`, `env`): the defaults of
+    /// the `render` flags of the same names.
+    pub modalities: crate::render::ModalitySpec,
+    /// `color`: the default colouring (`--color`), checked.
+    pub color: Option<String>,
 }
 
 impl Default for Header {
@@ -151,7 +153,8 @@ impl Default for Header {
             method: None,
             lipschitz: None,
             bound: None,
-            modalities: Vec::new(),
+            modalities: Default::default(),
+            color: None,
         }
     }
 }
@@ -369,6 +372,13 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Entry, CatalogError> {
         },
     })?;
     let mut entry = parse_iso(&file, &text)?;
+    // A relative `env:` image belongs to the file, not to the working
+    // directory of whoever renders it.
+    if let Some(crate::render::EnvSpec::File(p)) = &mut entry.header.modalities.env {
+        if p.is_relative() {
+            *p = path.parent().unwrap_or(Path::new("")).join(&*p);
+        }
+    }
     entry.path = Some(path.to_path_buf());
     Ok(entry)
 }
@@ -502,30 +512,30 @@ fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value: &str) -> R
         },
         "bound" => h.bound = Some(Bound::parse(value)?),
         "shadows" => match value {
-            "true" | "false" => h.modalities.push((key.to_string(), value.to_string())),
+            "true" | "false" => h.modalities.shadows = Some(value == "true"),
             _ => return Err("expected true or false".into()),
         },
-        "light" => {
-            parse_vec3(value)?;
-            h.modalities.push((key.to_string(), value.to_string()));
-        }
-        "shadow-eps" => {
-            parse_eps(value)?;
-            h.modalities.push((key.to_string(), value.to_string()));
-        }
+        "light" => h.modalities.light = Some(glam::DVec3::from_array(parse_vec3(value)?)),
+        "shadow-eps" => h.modalities.shadow_eps = Some(parse_eps(value)?),
         "opacity" | "reflectivity" => match number(value) {
-            Some(v) if v > 0.0 && v <= 1.0 => h.modalities.push((key.to_string(), value.to_string())),
+            Some(v) if v > 0.0 && v <= 1.0 && key == "opacity" => h.modalities.opacity = Some(v),
+            Some(v) if v > 0.0 && v <= 1.0 => h.modalities.reflectivity = Some(v),
             _ => return Err("expected a number in (0, 1]".into()),
         },
         "layers" | "reflect" => match value.parse::<u32>() {
-            Ok(n) if n <= 8 => h.modalities.push((key.to_string(), value.to_string())),
+            Ok(n) if n <= 8 && key == "layers" => h.modalities.layers = Some(n),
+            Ok(n) if n <= 8 => h.modalities.reflect = Some(n),
             _ => return Err("expected a whole number from 0 to 8".into()),
         },
         "iso" => match numbers(value) {
-            Some(v) if !v.is_empty() && v.len() <= 8 => h.modalities.push((key.to_string(), value.to_string())),
+            Some(v) if !v.is_empty() && v.len() <= 8 => h.modalities.iso = Some(v),
             _ => return Err("expected 1 to 8 comma-separated numbers".into()),
         },
-        "env" | "color" => h.modalities.push((key.to_string(), value.to_string())),
+        "env" => h.modalities.env = Some(crate::render::EnvSpec::parse(value)),
+        "color" => {
+            crate::output::parse_color(value)?;
+            h.color = Some(value.to_string());
+        }
         _ => unreachable!("key checked against KEYS"),
     }
     Ok(())

@@ -7,8 +7,7 @@ use super::CliError;
 use clap::Args;
 use isotrace::catalog;
 use isotrace::layout::KernelColor;
-use isotrace::render::{EnvImage, Environment, Modalities};
-use std::path::PathBuf;
+use isotrace::render::{EnvImage, EnvSpec, ModalitySpec, Modalities};
 
 /// Modality flags.
 #[derive(Args, Debug, Clone, Default)]
@@ -44,7 +43,7 @@ fn input(m: impl Into<String>) -> CliError {
 }
 
 /// Reads an environment PNG as rgba8 texels.
-fn load_env(path: &PathBuf) -> Result<EnvImage, CliError> {
+fn load_env(path: &std::path::Path) -> Result<EnvImage, CliError> {
     let img = image::open(path).map_err(|e| input(format!("cannot read --env image '{}': {e}", path.display())))?;
     let rgba = img.to_rgba8();
     let (width, height) = rgba.dimensions();
@@ -52,81 +51,41 @@ fn load_env(path: &PathBuf) -> Result<EnvImage, CliError> {
     Ok(EnvImage { width, height, texels })
 }
 
-/// Builds the modalities from the flags (validated before any GPU work);
-/// `shadows` and the kernel's colour mode come from the shared flags.
-pub fn modalities(a: &ModalityArgs, shadows: bool, color: KernelColor) -> Result<Modalities, CliError> {
-    let mut m = Modalities { shadows, color, ..Default::default() };
+/// The modality flags as a typed spec (parse errors name the flag; range
+/// checks come with [`ModalitySpec::resolve`]).
+fn spec(a: &ModalityArgs, shadows: bool) -> Result<ModalitySpec, CliError> {
+    let mut s = ModalitySpec { shadows: shadows.then_some(true), opacity: a.opacity, layers: a.layers, reflect: a.reflect, reflectivity: a.reflectivity, ..Default::default() };
     if let Some(l) = &a.light {
         let v = catalog::parse_vec3(l).map_err(|e| input(format!("invalid --light '{l}': {e}")))?;
-        m.light = Some(glam::DVec3::from_array(v));
+        s.light = Some(glam::DVec3::from_array(v));
     }
     if let Some(e) = &a.shadow_eps {
-        m.shadow_eps = Some(catalog::parse_eps(e).map_err(|x| input(format!("invalid --shadow-eps '{e}': {x}")))?);
-        if !shadows {
-            return Err(input("--shadow-eps needs --shadows"));
-        }
+        s.shadow_eps = Some(catalog::parse_eps(e).map_err(|x| input(format!("invalid --shadow-eps '{e}': {x}")))?);
     }
-    if let Some(o) = a.opacity {
-        if !(o > 0.0 && o <= 1.0) {
-            return Err(input(format!("invalid --opacity {o}: it must be in (0, 1]")));
-        }
-    }
-    m.layers = a.layers.unwrap_or(if a.opacity.is_some_and(|o| o < 1.0) { 4 } else { 1 });
-    if m.layers == 0 || m.layers > 8 {
-        return Err(input(format!("invalid --layers {}: it must be between 1 and 8", m.layers)));
-    }
-    m.opacity = a.opacity.unwrap_or(if m.layers > 1 { 0.5 } else { 1.0 });
     if let Some(list) = &a.iso {
         let v: Result<Vec<f64>, _> = list.split(',').map(|x| x.trim().parse::<f64>()).collect();
         match v {
-            Ok(v) if !v.is_empty() && v.len() <= 8 && v.iter().all(|x| x.is_finite()) => m.isovalues = v,
+            Ok(v) if !v.is_empty() && v.len() <= 8 && v.iter().all(|x| x.is_finite()) => s.iso = Some(v),
             _ => return Err(input(format!("invalid --iso '{list}': expected 1 to 8 comma-separated numbers"))),
         }
     }
-    m.reflect = a.reflect.unwrap_or(0);
-    if m.reflect > 8 {
-        return Err(input(format!("invalid --reflect {}: at most 8 bounces", m.reflect)));
+    s.env = a.env.as_deref().map(EnvSpec::parse);
+    Ok(s)
+}
+
+/// The modalities from the flags (`--shadows` is shared with sphere
+/// tracing, the kernel colour comes from `--color`), with an `.iso`
+/// header's modality keys as defaults; validated before any GPU work.
+pub fn modalities(a: &ModalityArgs, shadows: bool, color: KernelColor, header: Option<&catalog::Header>) -> Result<Modalities, CliError> {
+    let defaults = header.map(|h| h.modalities.clone()).unwrap_or_default();
+    let s = spec(a, shadows)?.or(&defaults);
+    if s.shadow_eps.is_some() && a.shadow_eps.is_some() && s.shadows != Some(true) {
+        return Err(input("--shadow-eps needs --shadows"));
     }
-    if let Some(k) = a.reflectivity {
-        if !(0.0..=1.0).contains(&k) {
-            return Err(input(format!("invalid --reflectivity {k}: it must be in [0, 1]")));
-        }
-        m.reflectivity = k;
-    }
-    match a.env.as_deref() {
-        None | Some("sky") => {}
-        Some("checker") => m.env = Environment::Checker,
-        Some(path) => m.env = Environment::Image(load_env(&PathBuf::from(path))?),
-    }
-    Ok(m)
+    s.resolve(color, load_env)?.map_err(|e| input(super::settings_message(&e)))
 }
 
 impl ModalityArgs {
-    /// These flags with an `.iso` header's modality keys filling the ones
-    /// not given (flags override the header). Also returns the header's
-    /// `shadows` and `color` values.
-    pub fn with_header(&self, header: Option<&isotrace::catalog::Header>) -> (ModalityArgs, Option<bool>, Option<String>) {
-        let mut a = self.clone();
-        let (mut shadows, mut color) = (None, None);
-        for (k, v) in header.map_or(&[][..], |h| &h.modalities[..]) {
-            let v = v.clone();
-            match k.as_str() {
-                "shadows" => shadows = Some(v == "true"),
-                "color" => color = Some(v),
-                "light" => a.light = a.light.or(Some(v)),
-                "shadow-eps" => a.shadow_eps = a.shadow_eps.or(Some(v)),
-                "opacity" => a.opacity = a.opacity.or(v.parse().ok()),
-                "layers" => a.layers = a.layers.or(v.parse().ok()),
-                "iso" => a.iso = a.iso.or(Some(v)),
-                "reflect" => a.reflect = a.reflect.or(v.parse().ok()),
-                "reflectivity" => a.reflectivity = a.reflectivity.or(v.parse().ok()),
-                "env" => a.env = a.env.or(Some(v)),
-                _ => {}
-            }
-        }
-        (a, shadows, color)
-    }
-
     /// The bisection-only flags that were given.
     pub fn given(&self) -> Vec<&'static str> {
         [

@@ -322,8 +322,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let s = settings(&a.view, size, f, loaded.header.as_ref())?;
     let header = loaded.header.as_ref();
     let method = method(a.sphere.method.as_deref(), header)?;
-    let (modal_args, header_shadows, header_color) = a.modal.with_header(header);
     // --color defaults to "shade"; a header's colour applies unless the flag was given.
+    let header_color = header.and_then(|h| h.color.clone());
+    let header_shadows = header.and_then(|h| h.modalities.shadows);
     let color_text = if a.color == "shade" { header_color.unwrap_or_else(|| a.color.clone()) } else { a.color.clone() };
     let color = output::parse_color(&color_text).map_err(|m| input(format!("invalid --color '{color_text}': {m}")))?;
     let shadows = a.sphere.shadows || header_shadows.unwrap_or(false);
@@ -340,7 +341,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
                 ColorMode::Depth => KernelColor::Depth,
                 _ => KernelColor::Phong,
             };
-            let mut m = super::modality::modalities(&modal_args, shadows, kernel_color)?;
+            let mut m = super::modality::modalities(&a.modal, shadows, kernel_color, header)?;
             m.inline = loaded.inline.clone();
             modal = Some(m);
             if color == ColorMode::Field {

@@ -312,3 +312,96 @@ impl SphereOptions {
         Ok(())
     }
 }
+
+/// Where a `--env` / `env:` environment comes from, before loading.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EnvSpec {
+    /// The procedural sky.
+    Sky,
+    /// The sky above a checkered ground.
+    Checker,
+    /// An equirectangular PNG (a header's relative path is resolved against
+    /// the header's file when it is loaded).
+    File(std::path::PathBuf),
+}
+
+impl EnvSpec {
+    /// `sky`, `checker` or a file path.
+    pub fn parse(s: &str) -> EnvSpec {
+        match s.trim() {
+            "sky" => EnvSpec::Sky,
+            "checker" => EnvSpec::Checker,
+            path => EnvSpec::File(path.into()),
+        }
+    }
+}
+
+/// Modalities as a header or flags give them: each value optional, so a
+/// header's values can be defaults that flags override
+/// ([`ModalitySpec::or`]); [`ModalitySpec::resolve`] applies the documented
+/// defaults once and checks the result.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ModalitySpec {
+    /// Shadow rays.
+    pub shadows: Option<bool>,
+    /// Point light.
+    pub light: Option<glam::DVec3>,
+    /// eps of shadow rays.
+    pub shadow_eps: Option<f64>,
+    /// Per-layer opacity (default 0.5 with several layers, else 1).
+    pub opacity: Option<f64>,
+    /// Layers (default 4 when the opacity is below 1, else 1).
+    pub layers: Option<u32>,
+    /// Isovalues.
+    pub iso: Option<Vec<f64>>,
+    /// Reflection bounces.
+    pub reflect: Option<u32>,
+    /// Reflection weight.
+    pub reflectivity: Option<f64>,
+    /// Environment.
+    pub env: Option<EnvSpec>,
+}
+
+impl ModalitySpec {
+    /// These values, with `defaults` where these give none.
+    pub fn or(&self, defaults: &ModalitySpec) -> ModalitySpec {
+        ModalitySpec {
+            shadows: self.shadows.or(defaults.shadows),
+            light: self.light.or(defaults.light),
+            shadow_eps: self.shadow_eps.or(defaults.shadow_eps),
+            opacity: self.opacity.or(defaults.opacity),
+            layers: self.layers.or(defaults.layers),
+            iso: self.iso.clone().or_else(|| defaults.iso.clone()),
+            reflect: self.reflect.or(defaults.reflect),
+            reflectivity: self.reflectivity.or(defaults.reflectivity),
+            env: self.env.clone().or_else(|| defaults.env.clone()),
+        }
+    }
+
+    /// The modalities with the kernel colour `color`; `load` reads an
+    /// environment image (the caller decides how files are read and how a
+    /// failure is reported).
+    pub fn resolve<E>(&self, color: KernelColor, load: impl Fn(&std::path::Path) -> Result<EnvImage, E>) -> Result<Result<Modalities, SettingsError>, E> {
+        let d = Modalities::default();
+        let layers = self.layers.unwrap_or(if self.opacity.is_some_and(|o| o < 1.0) { 4 } else { 1 });
+        let env = match &self.env {
+            None | Some(EnvSpec::Sky) => Environment::Sky,
+            Some(EnvSpec::Checker) => Environment::Checker,
+            Some(EnvSpec::File(p)) => Environment::Image(load(p)?),
+        };
+        let m = Modalities {
+            shadows: self.shadows.unwrap_or(false),
+            light: self.light,
+            shadow_eps: self.shadow_eps,
+            layers,
+            opacity: self.opacity.unwrap_or(if layers > 1 { 0.5 } else { 1.0 }),
+            isovalues: self.iso.clone().unwrap_or_default(),
+            reflect: self.reflect.unwrap_or(0),
+            reflectivity: self.reflectivity.unwrap_or(d.reflectivity),
+            color,
+            env,
+            inline: None,
+        };
+        Ok(m.check().map(|()| m))
+    }
+}
