@@ -200,3 +200,30 @@ fn bench_find_eps_reports_the_coarsest_matching_eps() {
     assert!((-13..=-5).contains(&k), "{l}");
     assert!(l["differing"].as_f64().unwrap() <= 0.005);
 }
+
+/// Values the library rejects name the flag that gave them (the library's
+/// typed SettingsError, mapped to flags by the CLI only), and a frame with
+/// unresolved pixels warns without --stats.
+#[test]
+fn settings_errors_name_the_flag() {
+    let out = tmp("settings.png");
+    let o = out.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--fov", "0"], "error: invalid --fov 0: the field of view must be between 0 and 180 degrees\n"),
+        (&["--fov", "nan"], "error: invalid --fov NaN: the field of view must be between 0 and 180 degrees\n"),
+        (&["--t", "nan"], "error: invalid --t NaN: it must be a finite number\n"),
+        (&["--t0", "inf", "--frames", "2"], "error: invalid --t0 inf: it must be a finite number\n"),
+        (&["--eye", "1e39,0,0"], "error: invalid --eye 1e39,0e0,0e0: coordinates must be finite numbers below 1e30\n"),
+        (&["--eps", "2^1000"], "error: invalid --eps 1.0715086071862673e301: it must be below the box diagonal (5.1962): a cell that wide holds the whole domain\n"),
+        (&["--eye", "0,0,0", "--target", "0,0,0"], "error: the eye and the target are the same point: give another --eye or --target\n"),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["render", "@sphere", "--size", "16", "-o", o];
+        args.extend_from_slice(extra);
+        let r = isotrace(&args);
+        assert_eq!((r.status.code(), stderr(&r).as_str()), (Some(1), *want), "{extra:?}");
+    }
+    let r = isotrace(&["render", "@tangle", "--size", "24", "-o", o, "--max-iter", "1"]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert!(stderr(&r).contains("pixels exhausted the iteration budget (--max-iter 1)"), "{}", stderr(&r));
+}

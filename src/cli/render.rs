@@ -298,6 +298,72 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
     Ok(s)
 }
 
+/// Pixels whose traversal ran out of budget are drawn as a best guess:
+/// always say so (with or without `--stats`).
+fn warn_unresolved(frame: &Frame, t: &Traversal, max_iter: u32) {
+    let n = frame.stats.unresolved;
+    if n == 0 {
+        return;
+    }
+    match t {
+        Traversal::Bisect(_) => eprintln!(
+            "warning: {n} pixels exhausted the iteration budget (--max-iter {max_iter}) and show the nearest cell that may hold the surface; \
+             --debug-unresolved draws them magenta"
+        ),
+        Traversal::Sphere(o) => eprintln!(
+            "warning: {n} pixels did not converge within --max-steps {} (shown at their best candidate; --debug-unresolved draws them magenta)",
+            o.max_steps
+        ),
+    }
+}
+
+/// The traversal the flags and the header ask for, checked for flags that
+/// belong to the other traversal.
+fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) -> Result<Traversal, CliError> {
+    let header = loaded.header.as_ref();
+    let f = &loaded.formula;
+    let shadows = a.sphere.shadows || header.and_then(|h| h.modalities.shadows).unwrap_or(false);
+    match method(a.sphere.method.as_deref(), header)? {
+        Method::Bisect => {
+            if let Some(flag) = a.sphere.given().first() {
+                return Err(input(format!("{flag} applies to --method sphere only")));
+            }
+            if color == ColorMode::Field {
+                return Err(input("--color field applies to --method sphere only"));
+            }
+            let domain = resolve_algebra(a.view.algebra.or(header.and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
+            if domain == isotrace::codegen::Domain::Scalar {
+                return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
+            }
+            let kernel_color = match color {
+                ColorMode::Gradient => KernelColor::Gradient,
+                ColorMode::Depth => KernelColor::Depth,
+                _ => KernelColor::Phong,
+            };
+            let mut m = super::modality::modalities(&a.modal, shadows, kernel_color, header)?;
+            m.inline = loaded.inline.clone();
+            Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(domain) }))
+        }
+        Method::Sphere => {
+            let misplaced = [
+                (loaded.inline.is_some(), "--inline applies to --method bisect only".to_string()),
+                (!a.modal.given().is_empty(), format!("{} applies to --method bisect only", a.modal.given().first().copied().unwrap_or(""))),
+                (matches!(color, ColorMode::Gradient | ColorMode::Depth), format!("--color {} applies to --method bisect only", a.color)),
+                (a.view.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
+                (a.view.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
+            ];
+            if let Some((_, m)) = misplaced.into_iter().find(|(bad, _)| *bad) {
+                return Err(input(m));
+            }
+            let mut o = sphere_options(&a.sphere, header)?;
+            if color == ColorMode::Field {
+                o.shading = Shading::Field;
+            }
+            Ok(Traversal::Sphere(o))
+        }
+    }
+}
+
 /// The CLI value for a header's `algebra`.
 pub fn algebra_arg(a: catalog::Algebra) -> AlgebraArg {
     match a {
@@ -321,70 +387,23 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
     let s = settings(&a.view, size, f, loaded.header.as_ref())?;
     let header = loaded.header.as_ref();
-    let method = method(a.sphere.method.as_deref(), header)?;
     // --color defaults to "shade"; a header's colour applies unless the flag was given.
     let header_color = header.and_then(|h| h.color.clone());
-    let header_shadows = header.and_then(|h| h.modalities.shadows);
     let color_text = if a.color == "shade" { header_color.unwrap_or_else(|| a.color.clone()) } else { a.color.clone() };
     let color = output::parse_color(&color_text).map_err(|m| input(format!("invalid --color '{color_text}': {m}")))?;
-    let shadows = a.sphere.shadows || header_shadows.unwrap_or(false);
-    let domain = resolve_algebra(a.view.algebra.or(header.and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
-    let mut sphere = None;
-    let mut modal = None;
-    match method {
-        Method::Bisect => {
-            if let Some(flag) = a.sphere.given().first() {
-                return Err(input(format!("{flag} applies to --method sphere only")));
-            }
-            let kernel_color = match color {
-                ColorMode::Gradient => KernelColor::Gradient,
-                ColorMode::Depth => KernelColor::Depth,
-                _ => KernelColor::Phong,
-            };
-            let mut m = super::modality::modalities(&a.modal, shadows, kernel_color, header)?;
-            m.inline = loaded.inline.clone();
-            modal = Some(m);
-            if color == ColorMode::Field {
-                return Err(input("--color field applies to --method sphere only"));
-            }
-            if domain == isotrace::codegen::Domain::Scalar {
-                return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
-            }
-        }
-        Method::Sphere => {
-            if loaded.inline.is_some() {
-                return Err(input("--inline applies to --method bisect only"));
-            }
-            if let Some(flag) = a.modal.given().first() {
-                return Err(input(format!("{flag} applies to --method bisect only")));
-            }
-            if matches!(color, ColorMode::Gradient | ColorMode::Depth) {
-                return Err(input(format!("--color {} applies to --method bisect only", a.color)));
-            }
-            if a.view.algebra.is_some() {
-                return Err(input("--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)"));
-            }
-            if a.view.max_iter.is_some() {
-                return Err(input("--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps"));
-            }
-            let mut o = sphere_options(&a.sphere, header)?;
-            if color == ColorMode::Field {
-                o.shading = Shading::Field;
-            }
-            sphere = Some(o);
+    let traversal = traversal(&a, &loaded, color)?;
+    let anim = header.and_then(|h| h.animate);
+    let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
+    for (flag, v) in [("--t0", t0), ("--t1", t1)] {
+        if !v.is_finite() {
+            return Err(input(format!("invalid {flag} {v}: it must be a finite number")));
         }
     }
     let outputs = output_paths(&a)?;
     outputs.check(a.force)?;
     let gpu = open_gpu()?;
-    let traversal = match sphere {
-        Some(o) => Traversal::Sphere(o),
-        None => Traversal::Bisect(BisectOptions { modalities: modal.unwrap_or_default(), ..BisectOptions::new(domain) }),
-    };
     let renderer = Renderer::new(&gpu, FieldSource::Compiled(&f.ir), traversal).map_err(super::render_error)?;
     let n = outputs.len();
-    let anim = loaded.header.as_ref().and_then(|h| h.animate);
-    let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
     let bar = super::progress(n as u64, "frames");
     let mut last: Option<Frame> = None;
     let mut heat_max = None;
@@ -406,9 +425,10 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     }
     if let Some(frame) = last {
         match renderer.traversal() {
-            Traversal::Bisect(_) => report(&a, &frame, &s, domain, &gpu),
+            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, &gpu),
             Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, &gpu),
         }
+        warn_unresolved(&frame, &renderer.traversal(), s.max_iter);
         if let (Some(m), true) = (heat_max, a.stats) {
             eprintln!("--color steps: white = {m} {}", output::work_channel(&frame));
         }
@@ -474,9 +494,6 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
             st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sphere.sor_fallbacks, st.sphere.lipschitz_seen,
             gpu.info.name, gpu.info.backend
         );
-        if st.unresolved > 0 {
-            eprintln!("warning: {} pixels did not converge within --max-steps {} (shown at their best candidate; --debug-unresolved draws them magenta)", st.unresolved, o.max_steps);
-        }
         if st.sphere.lipschitz_violations > 0 {
             eprintln!(
                 "warning: on {} pixels f / {} changed faster than the distance along the ray (up to {:.3} per unit): the formula is not a distance bound \

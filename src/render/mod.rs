@@ -74,7 +74,7 @@ impl Camera {
         let finite = |v: DVec3| v.is_finite() && v.abs().max_element() < 1e30;
         for (field, v) in [(F::Eye, self.eye), (F::Target, self.target), (F::Up, self.up)] {
             if !finite(v) {
-                return Err(SettingsError::new(field, format!("{},{},{}", v.x, v.y, v.z), "coordinates must be finite numbers below 1e30"));
+                return Err(SettingsError::new(field, format!("{:e},{:e},{:e}", v.x, v.y, v.z), "coordinates must be finite numbers below 1e30"));
             }
         }
         let f = self.target - self.eye;

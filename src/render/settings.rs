@@ -81,6 +81,10 @@ impl Settings {
         if !(self.eps > 0.0 && self.eps.is_finite()) {
             return Err(SettingsError::new(F::Eps, self.eps.to_string(), "it must be a positive width"));
         }
+        let diag = super::box_diagonal(&self.bbox);
+        if self.eps >= diag {
+            return Err(SettingsError::new(F::Eps, format!("{:e}", self.eps), format!("it must be below the box diagonal ({diag:.4}): a cell that wide holds the whole domain")));
+        }
         if !self.time.is_finite() {
             return Err(SettingsError::new(F::Time, self.time.to_string(), "it must be a finite number"));
         }

@@ -1,0 +1,97 @@
+//! The one render pipeline: both traversals through the same `Renderer`,
+//! the same pixel record and decoder, packed frames for either, options
+//! that are uniforms changing without recompiling, and the module
+//! boundaries the architecture promises (docs/architecture.md).
+
+mod common;
+
+use common::gpu;
+use isotrace::codegen::Domain;
+use isotrace::gpu::Renderer;
+use isotrace::render::record::PackedFrame;
+use isotrace::render::{Method, SettingsField, SphereOptions, Traversal};
+use isotrace::Formula;
+
+/// Packed frames decode to exactly the frame `render` returns, with the
+/// same statistics, for both traversals.
+#[test]
+fn packed_frames_equal_decoded_frames_for_both_traversals() {
+    let f = Formula::compile("<t>", "sphere(1)").unwrap();
+    let s = common::settings(common::cube(1.5), 40, 30);
+    let sphere = Renderer::sphere(gpu(), &f.ir, SphereOptions::default()).unwrap();
+    let bisect = Renderer::bisect(gpu(), &f.ir, Domain::Interval).unwrap();
+    for (r, method) in [(&sphere, Method::Sphere), (&bisect, Method::Bisect)] {
+        let frame = r.render(&s).unwrap();
+        let mut packed = PackedFrame::default();
+        r.render_packed(&s, &mut packed).unwrap();
+        let decoded = packed.decode();
+        let differ: Vec<_> = frame.pixels.iter().zip(&decoded.pixels).enumerate().filter(|(_, (a, b))| a != b).take(3).collect();
+        assert!(differ.is_empty(), "{method:?}: {differ:?}");
+        assert_eq!(frame.stats.method, method);
+        assert_eq!((frame.stats.hits, frame.stats.evals_mean), (decoded.stats.hits, decoded.stats.evals_mean));
+        assert!(frame.stats.hits > 50, "{method:?}: {:?}", frame.stats);
+    }
+}
+
+/// The two traversals agree on a sphere's depth through the shared record
+/// (depth in f32, normals octahedral): the same pixels hit away from the
+/// silhouette (sphere tracing's screen-space criterion also accepts rays
+/// that pass within half a pixel).
+#[test]
+fn traversals_share_the_record() {
+    let f = Formula::compile("<t>", "sphere(1)").unwrap();
+    let s = common::settings(common::cube(1.5), 32, 32);
+    // An absolute threshold (technique 2 off): depth within eps / cos θ.
+    let o = SphereOptions { screen_space: false, ..Default::default() };
+    let a = Renderer::sphere(gpu(), &f.ir, o).unwrap().render(&s).unwrap();
+    let b = Renderer::bisect(gpu(), &f.ir, Domain::Interval).unwrap().render(&s).unwrap();
+    let mut compared = 0;
+    let w = s.width as usize;
+    let interior = |i: usize| [i.wrapping_sub(1), i + 1, i.wrapping_sub(w), i + w].iter().all(|&k| b.pixels.get(k).is_some_and(|n| n.status == b.pixels[i].status));
+    for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate().filter(|(i, _)| interior(*i)) {
+        assert_eq!(p.status, q.status, "pixel {i}");
+        if p.status == isotrace::render::Status::Hit {
+            compared += 1;
+            assert!((p.depth - q.depth).abs() < 2e-2, "{} vs {}", p.depth, q.depth);
+            let dot: f32 = (0..3).map(|k| p.normal[k] * q.normal[k]).sum();
+            assert!(dot > 0.999, "normals {:?} {:?}", p.normal, q.normal);
+        }
+    }
+    assert!(compared > 50, "{compared}");
+}
+
+/// Sphere tracing's options are uniforms: changing them keeps the shader;
+/// asking for secondary rays the kernel lacks is a typed error.
+#[test]
+fn sphere_options_change_without_recompiling() {
+    let f = Formula::compile("<t>", "sphere(1)").unwrap();
+    let s = common::settings(common::cube(1.5), 24, 24);
+    let mut r = Renderer::sphere(gpu(), &f.ir, SphereOptions::default()).unwrap();
+    let wgsl = r.wgsl().to_string();
+    let before = r.render(&s).unwrap();
+    r.set_sphere_options(SphereOptions { omega: 1.0, ..Default::default() }).unwrap();
+    let after = r.render(&s).unwrap();
+    assert_eq!(r.wgsl(), wgsl);
+    assert_eq!(before.stats.hits, after.stats.hits);
+    assert_eq!(after.stats.sphere.sor_fallbacks, 0);
+    assert!(matches!(r.traversal(), Traversal::Sphere(o) if o.omega == 1.0));
+    let err = r.set_sphere_options(SphereOptions { glass: true, ..Default::default() }).unwrap_err();
+    assert!(matches!(err, isotrace::gpu::RenderError::Settings(ref e) if e.field == SettingsField::Features), "{err}");
+    let mut b = Renderer::bisect(gpu(), &f.ir, Domain::Interval).unwrap();
+    assert!(b.set_sphere_options(SphereOptions::default()).is_err());
+    assert!(b.optimizations_mut().is_some() && r.optimizations_mut().is_none());
+}
+
+/// gpu code runs shaders, it does not build them: no template, splice or
+/// emitter is used under src/gpu (codegen assembles every kernel).
+#[test]
+fn gpu_modules_do_not_assemble_shaders() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/gpu");
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        let text = std::fs::read_to_string(&p).unwrap();
+        for banned in ["template::", "splice(", "emit_evaluator", "include_str!(\"../../templates"] {
+            assert!(!text.contains(banned), "{} uses {banned}", p.display());
+        }
+    }
+}
