@@ -15,7 +15,10 @@ fi
 
 have_vulkan() {
     # An installed ICD manifest means a Vulkan driver is present.
-    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1 && ldconfig -p | grep -q libvulkan.so.1
+    # (Either folder may hold the manifest; grep reads all of ldconfig's
+    # output, so pipefail never sees a SIGPIPE.)
+    compgen -G '/usr/share/vulkan/icd.d/*.json' >/dev/null || compgen -G '/etc/vulkan/icd.d/*.json' >/dev/null || return 1
+    ldconfig -p | grep -c 'libvulkan.so.1' >/dev/null
 }
 
 if ! have_vulkan; then

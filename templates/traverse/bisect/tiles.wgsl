@@ -1,5 +1,5 @@
-// isotrace render kernel, part 2: the tile pass, spliced into bisect.wgsl
-// (at `//!splice:tiles`) and sharing its bindings, uniforms and helpers.
+// Bisection's tile pass, spliced into traverse/bisect/kernel.wgsl (at
+// `//!splice:tiles`) and sharing its bindings, uniforms and helpers.
 
 // ---- Tile pass (its own dispatch, before `main`): which depth slabs of
 // each 8x8 tile's view frustum may hold the surface. One invocation per
