@@ -191,6 +191,12 @@ pub const STATUS_UNRESOLVED: u32 = 2;
 /// (f32 evaluation noise stays far below 1 %).
 pub const LIPSCHITZ_SLACK: f32 = 1.01;
 
+/// Loop iterations an invocation may spend before a traversal gives up on
+/// the pixel and reports it: lavapipe silently stops any invocation after
+/// 65,535 loop iterations in total (counted across all loops), so the
+/// kernels stop well before and say so instead of drawing garbage.
+pub const LOOP_LIMIT: u32 = 60_000;
+
 /// Every shared constant, as WGSL `const` declarations.
 pub fn wgsl_constants() -> String {
     let mut s = String::new();
@@ -211,6 +217,7 @@ pub fn wgsl_constants() -> String {
         ("COLOR_GRADIENT", KernelColor::Gradient as u32),
         ("COLOR_DEPTH", KernelColor::Depth as u32),
         ("COLOR_FIELD", KernelColor::Field as u32),
+        ("LOOP_LIMIT", LOOP_LIMIT),
     ];
     for (name, v) in u {
         let _ = writeln!(s, "const {name}: u32 = {v}u;");

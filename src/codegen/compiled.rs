@@ -138,6 +138,10 @@ return surf_{p}({}, {}, {}, {p}_const(F.time));\n}}\n",
 /// The scalar field of a single-surface formula.
 const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, F.time); }\n";
 
+/// A compiled field has no loops: it adds nothing to an invocation's loop
+/// count.
+const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\n";
+
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).
 /// `inline` user functions need every op library (their three versions
@@ -156,6 +160,7 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
         let _ = write!(out, "\n// ---- User WGSL (--inline {}): functions callable from the formula and hooks.\n{}\n", user.path, user.text);
     }
     out.push_str(&emit_evaluator(ir, Domain::Scalar));
+    out.push_str(FIELD_COST);
     let Some(d) = domain else {
         out.push_str(SCALAR_FIELD);
         return out;

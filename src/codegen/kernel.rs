@@ -22,14 +22,35 @@ use std::ops::Range;
 pub enum FieldSource<'a> {
     /// A formula generated into WGSL evaluators.
     Compiled(&'a Ir),
+    /// A blobtree kept as data (nodes and parameters in the field group),
+    /// run by a fixed interpreter: edits change buffers, not the shader.
+    Scene(&'a SceneData),
 }
+
+/// A scene's buffers in the layout of `templates/fields/scene.wgsl`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SceneData {
+    /// One word quadruple per post-order node (root last).
+    pub nodes: Vec<[u32; 4]>,
+    /// Transforms and parameters, a vec4 at a time.
+    pub params: Vec<[f32; 4]>,
+}
+
+/// Depth of the scene interpreter's value stack: scenes that need more are
+/// rejected (or rebalanced) on the host.
+pub const SCENE_STACK: u32 = 32;
 
 impl FieldSource<'_> {
     /// The field's WGSL: `field(p)`, and the enclosures in `domain` when a
-    /// traversal needs them.
+    /// traversal needs them (a scene has none: it is sphere traced).
     fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>) -> String {
         match self {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
+            FieldSource::Scene(_) => format!(
+                "{}const SCENE_STACK: u32 = {SCENE_STACK}u;\nfn field_cost() -> u32 {{ return arrayLength(&scene_nodes); }}\n{}",
+                scene_constants(),
+                template::SCENE
+            ),
         }
     }
 
@@ -37,8 +58,24 @@ impl FieldSource<'_> {
     pub fn surfaces(&self) -> usize {
         match self {
             FieldSource::Compiled(ir) => ir.surfaces.len().max(1),
+            FieldSource::Scene(_) => 1,
         }
     }
+
+    /// Whether the field can give interval enclosures (bisection needs them).
+    pub fn has_enclosures(&self) -> bool {
+        matches!(self, FieldSource::Compiled(_))
+    }
+}
+
+/// The scene node type codes as WGSL constants.
+fn scene_constants() -> String {
+    // TEMPORARY until src/scene lands: the codes of src/scene/linear.rs.
+    let codes = [
+        ("SPHERE", 1), ("BOX", 2), ("ROUND_BOX", 3), ("CAPSULE", 4), ("TORUS", 5), ("CYLINDER", 6), ("OCTAHEDRON", 7), ("PLANE", 8),
+        ("UNION", 32), ("INTERSECTION", 33), ("DIFFERENCE", 34), ("SMOOTH_UNION", 35), ("SMOOTH_INTERSECTION", 36), ("SMOOTH_DIFFERENCE", 37),
+    ];
+    codes.iter().map(|(n, c)| format!("const NODE_{n}: u32 = {c}u;\n")).collect()
 }
 
 /// An assembled render kernel.

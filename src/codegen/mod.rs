@@ -11,7 +11,7 @@ pub mod kernel;
 pub mod template;
 
 pub use compiled::inclusion;
-pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel};
+pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel, SceneData};
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};
 use crate::layout::GpuBlock;

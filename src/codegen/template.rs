@@ -19,6 +19,9 @@ pub const PIXELS: &str = include_str!("../../templates/shared/pixels.wgsl");
 /// Gradient and heat map.
 pub const SHADING: &str = include_str!("../../templates/shared/shading.wgsl");
 
+/// The scene field source's interpreter.
+pub const SCENE: &str = include_str!("../../templates/fields/scene.wgsl");
+
 /// Bisection: stackless interval bisection per pixel.
 pub const BISECT: &str = include_str!("../../templates/traverse/bisect/kernel.wgsl");
 /// Bisection's tile pass (entry point `tiles`).

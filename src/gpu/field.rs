@@ -23,8 +23,12 @@ impl FieldBinding {
 }
 
 /// Uploads what `source` needs on the device.
-pub(crate) fn bind(_gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
+pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
         FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![] }),
+        FieldSource::Scene(s) => Ok(FieldBinding {
+            layout: vec![super::storage_entry(0, true), super::storage_entry(1, true)],
+            buffers: vec![(0, gpu.storage("scene nodes", bytemuck::cast_slice(&s.nodes))?), (1, gpu.storage("scene params", bytemuck::cast_slice(&s.params))?)],
+        }),
     }
 }

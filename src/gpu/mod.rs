@@ -71,6 +71,9 @@ pub struct Gpu {
     pub timestamp_period: Option<f32>,
     /// Storage buffers can be mapped directly (CPU devices).
     pub map_in_place: bool,
+    /// Compute pipelines created on this device so far (a data-driven
+    /// field's edits must create none: the tests count them).
+    pub pipelines_created: std::sync::atomic::AtomicU64,
 }
 
 impl Gpu {
@@ -121,7 +124,15 @@ impl Gpu {
             eprintln!("isotrace: uncaptured GPU error: {e}");
         }));
         let timestamp_period = want_ts.then(|| queue.get_timestamp_period());
-        Ok(Gpu { device, queue, info, max_storage_binding: limits.max_storage_buffer_binding_size as u64, timestamp_period, map_in_place })
+        Ok(Gpu {
+            device,
+            queue,
+            info,
+            max_storage_binding: limits.max_storage_buffer_binding_size as u64,
+            timestamp_period,
+            map_in_place,
+            pipelines_created: Default::default(),
+        })
     }
 
     /// Runs `f` inside a validation + out-of-memory error scope.
@@ -156,6 +167,7 @@ impl Gpu {
         entries: &[&str],
         layout: Option<&wgpu::PipelineLayout>,
     ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
+        self.pipelines_created.fetch_add(entries.len() as u64, std::sync::atomic::Ordering::Relaxed);
         self.scoped("shader compilation", || {
             let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),

@@ -92,6 +92,9 @@ impl<'g> Renderer<'g> {
     /// `field` traced by `traversal`.
     pub fn new(gpu: &'g Gpu, field: FieldSource<'_>, traversal: Traversal) -> Result<Renderer<'g>, RenderError> {
         traversal.check()?;
+        if matches!(traversal, Traversal::Bisect(_)) && !field.has_enclosures() {
+            return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
+        }
         let kernel = codegen::assemble(field, &traversal);
         match &kernel.inline {
             Some((range, user)) => {
@@ -126,6 +129,19 @@ impl<'g> Renderer<'g> {
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
         Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, layouts, host, field: field_group, outputs: Default::default(), surfaces: field.surfaces() })
+    }
+
+    /// Replaces a data-driven field's buffers (a scene edited, moved,
+    /// grown or shrunk): new buffers and a new field bind group, no new
+    /// shader or pipeline. `field` must be of the kind the kernel was
+    /// built for.
+    pub fn set_field(&mut self, field: FieldSource<'_>) -> Result<(), RenderError> {
+        if let FieldSource::Compiled(_) = field {
+            return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
+        }
+        let bound = field::bind(self.gpu, field)?;
+        self.field = self.gpu.scoped("field bind group", || bound.group(&self.gpu.device, &self.layouts[1]))?;
+        Ok(())
     }
 
     /// Bisection of a compiled formula in `domain`, without modalities.

@@ -22,3 +22,9 @@ fn iso_param(i: u32) -> f32 { return F.params[i / 4u][i % 4u]; }
 // cell last accepted, which field() evaluates. The field source sets it;
 // it stays 0 for a single surface.
 var<private> g_surface: u32;
+
+// Loop iterations a field source spent in this invocation (an interpreter
+// counts its nodes; a compiled field has no loops and leaves it 0), so a
+// traversal can stop before lavapipe's silent cap of 65,535 loop
+// iterations per invocation and report the pixel instead.
+var<private> g_field_work: u32;

@@ -73,7 +73,10 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
     var cand_err = F.inf;
     var cand_t = t0;
     loop {
-        if (m.steps >= budget) {
+        // Stop before lavapipe's silent loop cap as well: the steps, the
+        // field's own loop iterations so far, and room for the normal and
+        // the fixed-point iterations after a hit.
+        if (m.steps >= budget || g_field_work + m.steps + (8u + U.fixpoint) * field_cost() >= LOOP_LIMIT) {
             m.status = STATUS_UNRESOLVED;
             m.t = select(t_safe, cand_t, c.best);
             break;

@@ -1,0 +1,119 @@
+// The scene field source: a blobtree kept as data (src/scene/linear.rs lays
+// it out) and evaluated by one fixed interpreter, so editing, adding or
+// removing primitives of the compiled-in types changes buffers only and
+// never recompiles. The node and operator functions are the formula
+// language's distance forms (src/sdf.rs) and Zanni's compact smooth
+// operators G (eq. 12-18), in the same arithmetic as the reference
+// (src/scene/eval.rs).
+//
+// Node word x: isLeaf (bit 31) | isLeft (bit 30) | type (bits 22-29) |
+// parent (bits 0-21); y: the node's first vec4 in scene_params; z: its fast
+// ancestor. A primitive's record: 3 rows of M = [R^T / s | -R^T t / s]
+// (local point q = M (p, 1)), then its parameters, the first vec4 starting
+// with the scale s. An operator's record: (beta, r_o, 0, 0).
+//
+// Node type codes and SCENE_STACK come from Rust (spliced before this file).
+
+@group(1) @binding(0) var<storage, read> scene_nodes: array<vec4<u32>>;
+@group(1) @binding(1) var<storage, read> scene_params: array<vec4<f32>>;
+
+fn node_type(w: u32) -> u32 { return (w >> 22u) & 0xffu; }
+fn node_is_leaf(w: u32) -> bool { return (w >> 31u) != 0u; }
+
+fn sd_box(q: vec3<f32>, h: vec3<f32>) -> f32 {
+    let d = abs(q) - h;
+    return length(max(d, vec3<f32>(0.0))) + min(max(d.x, max(d.y, d.z)), 0.0);
+}
+
+// The distance of primitive `ty` whose record starts at `o`, at p.
+fn scene_primitive(ty: u32, o: u32, p: vec3<f32>) -> f32 {
+    let p4 = vec4<f32>(p, 1.0);
+    let q = vec3<f32>(dot(scene_params[o], p4), dot(scene_params[o + 1u], p4), dot(scene_params[o + 2u], p4));
+    let a = scene_params[o + 3u];
+    let s = a.x;
+    var d = 0.0;
+    switch (ty) {
+        case NODE_SPHERE: { d = length(q) - a.y; }
+        case NODE_BOX: { d = sd_box(q, a.yzw); }
+        case NODE_ROUND_BOX: {
+            let r = scene_params[o + 4u].x;
+            d = sd_box(q, a.yzw - vec3<f32>(r)) - r;
+        }
+        case NODE_CAPSULE: {
+            let b = scene_params[o + 4u];
+            let pa = q - a.yzw;
+            let ba = b.xyz - a.yzw;
+            let h = clamp(dot(pa, ba) / max(dot(ba, ba), 1e-12), 0.0, 1.0);
+            d = length(pa - ba * h) - b.w;
+        }
+        case NODE_TORUS: { d = length(vec2<f32>(length(q.xy) - a.y, q.z)) - a.z; }
+        case NODE_CYLINDER: {
+            let e = vec2<f32>(length(q.xy) - a.y, abs(q.z) - a.z);
+            d = min(max(e.x, e.y), 0.0) + length(max(e, vec2<f32>(0.0)));
+        }
+        case NODE_OCTAHEDRON: { d = (abs(q.x) + abs(q.y) + abs(q.z) - a.y) * 0.57735027; }
+        case NODE_PLANE: { d = dot(a.yzw, q) - scene_params[o + 4u].x; }
+        default: { d = F.inf; }
+    }
+    return s * d;
+}
+
+// Zanni's blend d(a, b, beta) = beta/6 max(1 - |a - b|/beta, 0)^3, NaN-free.
+fn scene_blend(a: f32, b: f32, beta: f32) -> f32 {
+    let h = max(beta - abs(a - b), 0.0);
+    return h * h * h / (6.0 * max(beta * beta, 1e-30));
+}
+
+// b_r(x, beta, r_o) = beta max(1 - 6x / (6 r_o - beta), 0) (eq. 18); the
+// host guarantees 6 r_o > beta.
+fn scene_blend_range(x: f32, beta: f32, r_o: f32) -> f32 {
+    return beta * max(1.0 - 6.0 * x / (6.0 * r_o - beta), 0.0);
+}
+
+// Operator `ty` with record at `o` on operands a (left) and b (right).
+fn scene_operator(ty: u32, o: u32, a: f32, b: f32) -> f32 {
+    switch (ty) {
+        case NODE_UNION: { return min(a, b); }
+        case NODE_INTERSECTION: { return max(a, b); }
+        case NODE_DIFFERENCE: { return max(a, -b); }
+        default: {}
+    }
+    let k = scene_params[o];
+    let beta = k.x;
+    let r_o = k.y;
+    // G (eq. 12, 17): the compact blend where both operands are in the
+    // operator's range R_o, sharp CSG elsewhere.
+    if (ty == NODE_SMOOTH_UNION) {
+        if (a > r_o || b > r_o) { return min(a, b); }
+        let x = min(a, b) - scene_blend(a, b, beta);
+        let br = scene_blend_range(x, beta, r_o);
+        return min(a, b) - scene_blend(a, b, br);
+    }
+    let c = select(b, -b, ty == NODE_SMOOTH_DIFFERENCE);
+    if (abs(a) > r_o || abs(c) > r_o) { return max(a, c); }
+    let x = abs(max(a, c) + scene_blend(a, c, beta));
+    let br = scene_blend_range(x, beta, r_o);
+    return max(a, c) + scene_blend(a, c, br);
+}
+
+// The field: every node, in post-order, on a value stack.
+fn field(p: vec3<f32>) -> f32 {
+    var stack: array<f32, SCENE_STACK>;
+    var sp = 0u;
+    let n = arrayLength(&scene_nodes);
+    for (var i = 0u; i < n; i = i + 1u) {
+        let w = scene_nodes[i];
+        let ty = node_type(w.x);
+        if (node_is_leaf(w.x)) {
+            stack[min(sp, SCENE_STACK - 1u)] = scene_primitive(ty, w.y, p);
+            sp = sp + 1u;
+        } else {
+            let b = stack[min(sp - 1u, SCENE_STACK - 1u)];
+            let a = stack[min(sp - 2u, SCENE_STACK - 1u)];
+            sp = sp - 1u;
+            stack[min(sp - 1u, SCENE_STACK - 1u)] = scene_operator(ty, w.y, a, b);
+        }
+    }
+    g_field_work = g_field_work + n;
+    return stack[0];
+}
