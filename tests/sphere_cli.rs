@@ -140,3 +140,21 @@ fn bench_compares_methods_and_over_relaxation() {
     assert!(r[0]["unresolved"].as_u64() == Some(0) && r[0]["evals_mean"].as_f64().unwrap() > 0.0);
     assert_eq!(v["settings"]["methods"], "sphere,bisect");
 }
+
+/// A formula that is not a distance bound is not drawn blank without a
+/// word: a step that leaves the domain is checked once at its midpoint,
+/// the surface found there, and the violation reported without --stats;
+/// the advised bound comes from samples inside the domain only.
+#[test]
+fn non_distance_formula_warns_without_stats() {
+    let out = std::env::temp_dir().join(format!("isotrace-ndf-{}.png", std::process::id()));
+    let o = isotrace(&["render", "x^2 + y^2 + z^2 - 1", "--method", "sphere", "--size", "64", "-o", out.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.starts_with("warning: on ") && e.contains("the formula is not a distance bound with this Lipschitz bound"), "{e}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["hits"].as_u64().unwrap() > 100, "{v}");
+    // |grad f| = 2|p| <= 2 sqrt(12) in the default box: the advice stays below it.
+    let seen = v["lipschitz_seen"].as_f64().unwrap();
+    assert!(seen > 1.0 && seen <= 7.0, "{seen}");
+}

@@ -317,6 +317,19 @@ fn warn_unresolved(frame: &Frame, t: &Traversal, max_iter: u32) {
     }
 }
 
+/// Evidence that a sphere traced formula is not a distance bound with the
+/// Lipschitz bound given: always say so (surfaces may be missed).
+fn warn_lipschitz(frame: &Frame, o: &isotrace::render::SphereOptions) {
+    let st = &frame.stats;
+    if st.sphere.lipschitz_violations > 0 {
+        eprintln!(
+            "warning: on {} pixels f / {} changed faster than the distance along the ray (up to {:.3} per unit): the formula is not a distance bound \
+             with this Lipschitz bound, and sphere tracing can miss surfaces; give --lipschitz {:.3} or more, or use --method bisect",
+            st.sphere.lipschitz_violations, o.lipschitz, st.sphere.lipschitz_seen, st.sphere.lipschitz_seen
+        );
+    }
+}
+
 /// The traversal the flags and the header ask for, checked for flags that
 /// belong to the other traversal.
 fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) -> Result<Traversal, CliError> {
@@ -429,6 +442,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, &gpu),
         }
         warn_unresolved(&frame, &renderer.traversal(), s.max_iter);
+        if let Traversal::Sphere(o) = renderer.traversal() {
+            warn_lipschitz(&frame, &o);
+        }
         if let (Some(m), true) = (heat_max, a.stats) {
             eprintln!("--color steps: white = {m} {}", output::work_channel(&frame));
         }
@@ -494,13 +510,6 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
             st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sphere.sor_fallbacks, st.sphere.lipschitz_seen,
             gpu.info.name, gpu.info.backend
         );
-        if st.sphere.lipschitz_violations > 0 {
-            eprintln!(
-                "warning: on {} pixels f / {} changed faster than the distance along the ray (up to {:.3} per unit): the formula is not a distance bound \
-                 with this Lipschitz bound, and sphere tracing can miss surfaces; give --lipschitz {:.3} or more, or use --method bisect",
-                st.sphere.lipschitz_violations, o.lipschitz, st.sphere.lipschitz_seen, st.sphere.lipschitz_seen
-            );
-        }
     }
     if a.json {
         let v = serde_json::json!({

@@ -96,7 +96,10 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
         } else {
             if (signed < 0.0) {
                 // Past the surface: f is not a distance bound here (or the
-                // minimum step jumped in). The root is bracketed.
+                // minimum step or over-relaxation jumped in). The rate of
+                // change across the step is at most 1 for a distance bound,
+                // so it counts as evidence too. The root is bracketed.
+                if (m.steps > 1u && t <= t1) { m.ratio = max(m.ratio, (f_safe - signed) / max(t - t_safe, 1e-30)); }
                 m.t = bracket(o, d, t_safe, t);
                 m.steps = m.steps + u32(BRACKET_STEPS);
                 m.status = STATUS_HIT;
@@ -104,11 +107,31 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
             }
             // How fast f changed since the last accepted point: a distance
             // bound changes no faster than the distance (ratio <= 1).
-            if (m.steps > 1u && t != t_safe) { m.ratio = max(m.ratio, abs(signed - f_safe) / abs(t - t_safe)); }
+            // Samples beyond the domain do not count: f far outside says
+            // nothing about the bound where the surface is.
+            if (m.steps > 1u && t != t_safe && t <= t1) { m.ratio = max(m.ratio, abs(signed - f_safe) / abs(t - t_safe)); }
             // The spheres overlap, so [t_safe, t] holds no surface: beyond
             // t1 the ray has left the domain. (After a failed over-relaxed
             // step the fallback comes first, even beyond t1.)
-            if (t > t1) { break; }
+            if (t > t1) {
+                // That step claims [t_safe, t1] empty. When it spans a large
+                // part of the segment, check the claim once at the midpoint:
+                // a sign change there means f is no distance bound with this
+                // L. The rate seen (> 2 / omega) counts the pixel as a
+                // violation, and the root is bracketed instead of missed.
+                if (t1 - t_safe > 0.25 * (t1 - t0)) {
+                    let tm = 0.5 * (t_safe + t1);
+                    let fm = fsign * dist(o + d * tm);
+                    m.steps = m.steps + 1u;
+                    if (fm < 0.0) {
+                        m.ratio = max(m.ratio, (f_safe - fm) / max(tm - t_safe, 1e-30));
+                        m.t = bracket(o, d, t_safe, tm);
+                        m.steps = m.steps + u32(BRACKET_STEPS);
+                        m.status = STATUS_HIT;
+                    }
+                }
+                break;
+            }
             stride = max(signed * omega, U.min_step);
             t_safe = t;
             f_safe = signed;
