@@ -9,15 +9,10 @@ use isotrace::codegen::{render_shader, Domain};
 use isotrace::{catalog, validate::validate, Formula};
 use std::hint::black_box;
 
-const KNOLL: [&str; 16] = [
-    "sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
-    "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water",
-];
-
 fn compile(c: &mut Criterion) {
     let mut g = c.benchmark_group("compile");
     g.sample_size(20);
-    for name in KNOLL {
+    for name in catalog::suite("knoll").expect("the knoll suite") {
         let text = catalog::lookup(name).expect("catalog").formula;
         g.bench_function(name, |b| {
             b.iter(|| {

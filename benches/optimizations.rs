@@ -1,4 +1,5 @@
-//! Measures each traversal optimisation on the Knoll suite: GPU time and
+//! Measures each traversal optimisation on the Knoll suite (each surface
+//! seen as its `.iso` header describes it): GPU time and
 //! inclusion evaluations per pixel with every switch on, and with each one
 //! off, alternating the variants run by run so machine load hits all alike.
 //!
@@ -6,7 +7,7 @@
 
 use isotrace::catalog;
 use isotrace::gpu::Renderer;
-use isotrace::render::{Optimizations, Settings};
+use isotrace::render::Optimizations;
 use isotrace::gpu::Gpu;
 
 fn main() {
@@ -16,8 +17,7 @@ fn main() {
     let names: Vec<String> = if args.len() > 2 {
         args[2..].to_vec()
     } else {
-        ["sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
-         "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water"].iter().map(|s| s.to_string()).collect()
+        catalog::suite("knoll").expect("the knoll suite").into_iter().map(String::from).collect()
     };
     let gpu = Gpu::new().expect("GPU");
     let md: u32 = std::env::var("MONO_DEPTH").ok().and_then(|v| v.parse().ok()).unwrap_or(Optimizations::default().monotone_depth);
@@ -32,14 +32,7 @@ fn main() {
     for name in names {
         let e = catalog::lookup(&name).expect("catalog name");
         let f = e.compile().expect("compiles");
-        let b = e.header.bbox;
-        let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).expect("params");
-        let s = Settings {
-            time: e.header.t.unwrap_or(0.0),
-            params,
-            clip_sphere: e.header.clip.map(|catalog::Clip::Sphere(r)| r),
-            ..Settings::for_box(b, size, size)
-        };
+        let s = e.settings(&f, size, size).unwrap_or_else(|err| panic!("{name}: {err}"));
         let mut r = Renderer::bisect(&gpu, &f.ir, isotrace::choose_algebra(&f.ir)).expect("renderer");
         let mut times = vec![Vec::new(); variants.len()];
         let mut evals = vec![0.0; variants.len()];

@@ -17,6 +17,9 @@ pub use crate::render::{Bound, Method};
 use crate::{Formula, FormulaError};
 use std::path::{Path, PathBuf};
 
+mod suite;
+pub use suite::{suite, suite_choices, SUITES};
+
 /// The box of a file that gives none: `[-2, 2]³`.
 pub use crate::render::view::DEFAULT_BOX;
 
@@ -64,6 +67,7 @@ const BUILTIN: &[(&str, &str)] = &[
     ("jewel.iso", include_str!("../examples/jewel.iso")),
     ("city.iso", include_str!("../examples/city.iso")),
     ("creature.iso", include_str!("../examples/creature.iso")),
+    // Several isosurfaces of one function, seen through each other.
     ("onion.iso", include_str!("../examples/onion.iso")),
 ];
 
@@ -281,6 +285,12 @@ pub enum CatalogError {
         suggestions: Vec<String>,
         /// Every built-in name.
         known: Vec<String>,
+    },
+    /// A name that is not one of [`SUITES`].
+    #[error("unknown suite '{name}': expected {}", suite_choices())]
+    UnknownSuite {
+        /// The name asked for.
+        name: String,
     },
 }
 

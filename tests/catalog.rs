@@ -5,11 +5,6 @@ use isotrace::Formula;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-const KNOLL: [&str; 16] = [
-    "sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
-    "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water",
-];
-
 fn err_text(r: Result<catalog::Entry, CatalogError>) -> String {
     r.expect_err("expected an error").to_string()
 }
@@ -52,7 +47,9 @@ fn builtin_table_lists_every_example_file_with_its_stem_as_name() {
 
 #[test]
 fn the_16_knoll_surfaces_are_present_and_fully_described() {
-    for name in KNOLL {
+    let knoll = catalog::suite("knoll").unwrap();
+    assert_eq!(knoll.len(), 16);
+    for name in knoll {
         let e = catalog::lookup(name).unwrap_or_else(|err| panic!("{err}"));
         assert_eq!(e.name, name);
     }
@@ -223,6 +220,25 @@ fn error_unknown_name_suggests_close_names() {
     assert!(far.starts_with("unknown surface 'zzzzzzzzzzzz'; the catalog has: sphere, steiner, "), "{far}");
 }
 
+/// Every suite names catalog entries; `all` is the whole catalog in its
+/// order; an unknown suite lists the known ones.
+#[test]
+fn suites_name_catalog_entries() {
+    for &s in catalog::SUITES {
+        let names = catalog::suite(s).unwrap();
+        assert!(!names.is_empty(), "{s}");
+        for n in names {
+            assert_eq!(catalog::lookup(n).unwrap_or_else(|e| panic!("suite {s}: {e}")).name, n);
+        }
+    }
+    let all: Vec<String> = catalog::builtin().into_iter().map(|e| e.name).collect();
+    assert_eq!(catalog::suite("all").unwrap(), all);
+    let e = catalog::suite("Knoll").unwrap_err();
+    assert_eq!(e, CatalogError::UnknownSuite { name: "Knoll".into() });
+    assert_eq!(e.to_string(), "unknown suite 'Knoll': expected knoll, sdf or all");
+    assert_eq!(catalog::suite_choices(), "knoll, sdf or all");
+}
+
 #[test]
 fn other_header_errors() {
     let cases = [
@@ -300,7 +316,7 @@ fn sphere_tracing_keys_parse() {
 /// convex-object trick never cuts the object.
 #[test]
 fn sdf_scenes_use_sphere_tracing_and_their_bounds_hold_the_object() {
-    for name in ["jewel", "city", "creature"] {
+    for name in catalog::suite("sdf").unwrap() {
         let e = catalog::lookup(name).unwrap();
         assert_eq!(e.header.method, Some(catalog::Method::Sphere), "{name}");
         let Some(catalog::Bound::Sphere { center: c, radius }) = e.header.bound else { continue };

@@ -180,6 +180,13 @@ fn list_and_bench() {
 }
 
 #[test]
+fn bench_unknown_suite_lists_the_suites() {
+    let o = isotrace(&["bench", "--suite", "knol"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stderr(&o), "error: unknown --suite 'knol': expected knoll, sdf or all\n");
+}
+
+#[test]
 fn bench_failure_mid_batch_goes_on_and_exits_nonzero() {
     let bad = tmp("bad.iso");
     std::fs::write(&bad, "#@ name: needs-param\nx^2 + y^2 + z^2 - r^2\n").unwrap();

@@ -1,12 +1,12 @@
 //! Conformance of the CPU reference (`isotrace::reference`): the inclusion
 //! property of `eval_interval` / `eval_affine` for every operation, the
-//! Knoll surfaces and random expression trees, strict emptiness, and the
-//! IA-vs-RAA enclosure widths along ray segments (which only the CPU can
-//! measure: the device's eval kernel takes boxes, and a box lifts each
-//! coordinate to an independent form, so ray-segment RAA — x, y, z affine
-//! in one shared symbol — cannot be expressed through it).
-//!
-//! `tests/conformance_device.rs` runs the same checks on the generated WGSL.
+//! Knoll surfaces and random expression trees, strict emptiness (the suite
+//! of `conformance/suite.rs`, which `tests/conformance_device.rs` runs on
+//! the generated WGSL), and the IA-vs-RAA enclosure widths along ray
+//! segments (which only the CPU can measure: the device's eval kernel takes
+//! boxes, and a box lifts each coordinate to an independent form, so
+//! ray-segment RAA — x, y, z affine in one shared symbol — cannot be
+//! expressed through it).
 
 #[path = "conformance/harness.rs"]
 mod harness;
@@ -14,35 +14,8 @@ mod harness;
 use harness::*;
 use isotrace::reference::{affine_range, eval_affine, eval_interval};
 
-#[test]
-fn every_operation_encloses() {
-    check_all(&Cpu, &op_cases(), &mut |_, rng| random_boxes(rng, 3000), 11);
-}
-
-#[test]
-fn knoll_surfaces_enclose() {
-    check_all(&Cpu, &knoll_cases(), &mut knoll_boxes, 12);
-}
-
-#[test]
-fn random_trees_enclose() {
-    check_all(&Cpu, &random_cases(13, 400), &mut |_, rng| random_boxes(rng, 200), 13);
-}
-
-/// Ray segments lifted as the render kernel lifts them (RAA: x, y, z affine
-/// in the one shared symbol e1, which boxes never exercise).
-#[test]
-fn ray_segments_enclose() {
-    let mut cases = op_cases();
-    cases.extend(knoll_cases());
-    cases.extend(random_cases(17, 200));
-    check_all_segments(&Cpu, &cases, 1000, 16);
-}
-
-#[test]
-fn emptiness_propagates() {
-    check_emptiness(&Cpu, &empty_cases(), 14);
-}
+// The checks both backends run; the CPU affords more random trees.
+conformance_suite!(Cpu, Budget { trees: 400, boxes_per_tree: 200, segment_trees: 200 });
 
 /// Mean width of the IA and RAA enclosures of each Knoll surface over
 /// random ray segments p + d·[0, L] inside its box, for three lengths L
@@ -59,8 +32,9 @@ fn raa_is_tighter_along_ray_segments() {
     }
     table.push('\n');
     let mut checked = Vec::new();
-    for (name, src, bx) in KNOLL {
-        let case = Case::new(name, src);
+    for case in knoll_cases() {
+        let (name, bx) = (case.name.as_str(), case.domain.expect("a catalog case"));
+        let params: Vec<f64> = case.params.iter().map(|&p| f64::from(p)).collect();
         let diag = ((bx[1] - bx[0]).powi(2) + (bx[3] - bx[2]).powi(2) + (bx[5] - bx[4]).powi(2)).sqrt();
         table.push_str(&format!("{name:<14}"));
         for f in fractions {
@@ -80,8 +54,8 @@ fn raa_is_tighter_along_ray_segments() {
                 let t = 0.7;
                 let boxes = [[c[0] - r[0].abs(), c[0] + r[0].abs()], [c[1] - r[1].abs(), c[1] + r[1].abs()], [c[2] - r[2].abs(), c[2] + r[2].abs()], [t, t]];
                 let forms = [[c[0], r[0], 0.0], [c[1], r[1], 0.0], [c[2], r[2], 0.0], [t, 0.0, 0.0]];
-                let a = eval_interval(&case.ir, boxes, &[]);
-                let b = affine_range(eval_affine(&case.ir, forms, &[]));
+                let a = eval_interval(&case.ir, boxes, &params);
+                let b = affine_range(eval_affine(&case.ir, forms, &params));
                 let (wa, wb) = (a[1] - a[0], b[1] - b[0]);
                 if wa.is_finite() && wb.is_finite() && wa >= 0.0 && wb >= 0.0 {
                     ia += wa;
@@ -91,8 +65,8 @@ fn raa_is_tighter_along_ray_segments() {
             }
             let (ia, ra) = (ia / n.max(1) as f64, ra / n.max(1) as f64);
             table.push_str(&format!(" | {ia:>10.4e} {ra:>10.4e} {:>6.3}", ra / ia));
-            if matches!(*name, "barth sextic" | "mitchell") {
-                checked.push((*name, f, ia, ra));
+            if matches!(name, "barth-sextic" | "mitchell") {
+                checked.push((name.to_string(), f, ia, ra));
             }
         }
         table.push('\n');

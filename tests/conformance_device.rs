@@ -6,7 +6,9 @@
 //! scalar function (see `conformance/oracle.rs` for the sampling and the
 //! f32 rounding margin). Strict emptiness is checked for every operation.
 //!
-//! One device is shared by every test.
+//! The checks are the suite of `conformance/suite.rs`, the one
+//! `tests/conformance.rs` runs on the CPU reference. One device is shared by
+//! every test.
 
 #[path = "conformance/harness.rs"]
 mod harness;
@@ -133,36 +135,9 @@ fn run_segments(ir: &Ir, domain: Domain, segs: &[Seg], params: &[f32]) -> Result
     Ok(bytemuck::cast_slice::<u8, [f32; 2]>(&bytes).iter().map(|r| [f64::from(r[0]), f64::from(r[1])]).collect())
 }
 
-#[test]
-fn every_operation_encloses() {
-    check_all(&Device, &op_cases(), &mut |_, rng| random_boxes(rng, 3000), 11);
-}
-
-#[test]
-fn knoll_surfaces_enclose() {
-    check_all(&Device, &knoll_cases(), &mut knoll_boxes, 12);
-}
-
-#[test]
-fn random_trees_enclose() {
-    check_all(&Device, &random_cases(13, 80), &mut |_, rng| random_boxes(rng, 300), 13);
-}
-
-/// The render kernel's lifting of ray segments (RAA with the shared symbol
-/// e1, which boxes never exercise) on every operation, the Knoll surfaces
-/// and random trees.
-#[test]
-fn ray_segments_enclose() {
-    let mut cases = op_cases();
-    cases.extend(knoll_cases());
-    cases.extend(random_cases(17, 40));
-    check_all_segments(&Device, &cases, 1000, 16);
-}
-
-#[test]
-fn emptiness_propagates() {
-    check_emptiness(&Device, &empty_cases(), 14);
-}
+// The checks both backends run (`conformance/suite.rs`); the device checks
+// fewer random trees, each on more boxes (one dispatch per tree and algebra).
+conformance_suite!(Device, Budget { trees: 80, boxes_per_tree: 300, segment_trees: 40 });
 
 /// Measures the device's f32 library functions against f64 (20 000 points
 /// per function and range, one dispatch each) and prints the largest

@@ -128,7 +128,7 @@ fn agreement(f: &Formula, sp: &Frame, bi: &Frame, s: &Settings, thr: (&dyn Fn(f6
 /// must stay below 10 %.
 #[test]
 fn depth_agrees_with_bisection_on_the_sdf_scenes() {
-    for name in ["jewel", "city", "creature"] {
+    for name in catalog::suite("sdf").unwrap() {
         let (f, s, hd) = scene(name, 80, 60);
         let bi = bisect(&f, &s);
         let r_px = s.camera.frame().unwrap().tan_half_fov / s.height as f64;

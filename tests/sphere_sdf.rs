@@ -110,8 +110,9 @@ fn points(b: [f64; 6], n: usize) -> Vec<[f64; 3]> {
 /// passes the surface: |f(p) - f(q)| <= |p - q| on random pairs, near and far.
 #[test]
 fn scenes_and_smooth_operators_are_1_lipschitz() {
-    let mut cases: Vec<(String, [f64; 6])> = ["jewel", "city", "creature"]
-        .iter()
+    let mut cases: Vec<(String, [f64; 6])> = isotrace::catalog::suite("sdf")
+        .unwrap()
+        .into_iter()
         .map(|n| {
             let e = isotrace::catalog::lookup(n).unwrap();
             (e.formula, e.header.bbox)
@@ -160,7 +161,7 @@ fn bad_arguments_point_at_the_argument() {
 /// (interval, affine, scalar; bisection and sphere tracing) validates.
 #[test]
 fn every_kernel_validates_for_the_scenes() {
-    for name in ["jewel", "city", "creature"] {
+    for name in isotrace::catalog::suite("sdf").unwrap() {
         let ir = isotrace::catalog::lookup(name).unwrap().compile().unwrap().ir;
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
             validate(&codegen::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));

@@ -18,15 +18,6 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// The 16 surfaces of Knoll et al.'s Table 1, in the table's order.
-pub const KNOLL: [&str; 16] = [
-    "sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
-    "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water",
-];
-
-/// The distance-field scenes made for sphere tracing.
-pub const SDF: [&str; 3] = ["jewel", "city", "creature"];
-
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// Surfaces: catalog names or .iso files (default: the Knoll suite).
@@ -78,13 +69,14 @@ fn input(m: impl Into<String>) -> CliError {
 }
 
 fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
-    let mut names: Vec<String> = match a.suite.as_deref() {
-        None if a.surfaces.is_empty() => KNOLL.iter().map(|s| s.to_string()).collect(),
+    // With neither names nor a suite, the Knoll suite.
+    let suite = a.suite.as_deref().or(a.surfaces.is_empty().then_some("knoll"));
+    let mut names: Vec<String> = match suite {
         None => vec![],
-        Some("knoll") => KNOLL.iter().map(|s| s.to_string()).collect(),
-        Some("all") => catalog::builtin().into_iter().map(|e| e.name).collect(),
-        Some("sdf") => SDF.iter().map(|s| s.to_string()).collect(),
-        Some(other) => return Err(input(format!("unknown --suite '{other}': expected knoll, sdf or all"))),
+        Some(s) => {
+            let names = catalog::suite(s).map_err(|_| input(format!("unknown --suite '{s}': expected {}", catalog::suite_choices())))?;
+            names.into_iter().map(String::from).collect()
+        }
     };
     names.extend(a.surfaces.iter().cloned());
     names

@@ -1,7 +1,9 @@
 //! Formulas of the conformance suites: one per operation, the 16 Knoll et
-//! al. surfaces, random expression trees and the emptiness cases.
+//! al. surfaces (from the catalog), random expression trees and the
+//! emptiness cases.
 
 use super::{Case, Rng};
+use isotrace::catalog;
 
 /// One formula per operation of the language, as (name, source).
 pub const OPS: &[(&str, &str)] = &[
@@ -17,40 +19,31 @@ pub const OPS: &[(&str, &str)] = &[
     ("pow7", "x^7"), ("param", "x^2 + y^2 - r^2"), ("time", "x + sin(t)"),
 ];
 
-/// The 16 Knoll et al. surfaces of /work/shared/knoll-surfaces.txt: (name,
-/// formula, box x0 x1 y0 y1 z0 z1).
-pub const KNOLL: &[(&str, &str, [f64; 6])] = &[
-    ("sphere", "x^2 + y^2 + z^2 - 1", [-1.5, 1.5, -1.5, 1.5, -1.5, 1.5]),
-    ("steiner", "x^2*y^2 + y^2*z^2 + z^2*x^2 - x*y*z", [-1.0, 1.0, -1.0, 1.0, -1.0, 1.0]),
-    ("mitchell", "4*(x^4 + (y^2 + z^2)^2) + 17*x^2*(y^2 + z^2) - 20*(x^2 + y^2 + z^2) + 17", [-2.5, 2.5, -2.5, 2.5, -2.5, 2.5]),
-    ("teardrop", "x^4 - x^3 + y^2 + z^2", [-0.25, 1.25, -0.5, 0.5, -0.5, 0.5]),
-    ("4-bretzel", "((x^2 + y^2)^3 - 4*x^2*y^2)^2 + z^2 - 0.0005", [-1.2, 1.2, -1.2, 1.2, -0.1, 0.1]),
-    ("klein bottle", "(x^2 + y^2 + z^2 + 2*y - 1)*((x^2 + y^2 + z^2 - 2*y - 1)^2 - 8*z^2) + 16*x*z*(x^2 + y^2 + z^2 - 2*y - 1)", [-3.0, 3.0, -3.1, 3.1, -4.0, 4.0]),
-    ("tangle", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", [-3.0, 3.0, -3.0, 3.0, -3.0, 3.0]),
-    ("decocube", "((x^2 + y^2 - 0.64)^2 + (z^2 - 1)^2)*((y^2 + z^2 - 0.64)^2 + (x^2 - 1)^2)*((z^2 + x^2 - 0.64)^2 + (y^2 - 1)^2) - 0.04", [-1.5, 1.5, -1.5, 1.5, -1.5, 1.5]),
-    ("barth sextic", "4*(1.618033988749895^2*x^2 - y^2)*(1.618033988749895^2*y^2 - z^2)*(1.618033988749895^2*z^2 - x^2) - (1 + 2*1.618033988749895)*(x^2 + y^2 + z^2 - 1)^2", [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0]),
-    ("barth decic", "8*(x^2 - 1.618033988749895^4*y^2)*(y^2 - 1.618033988749895^4*z^2)*(z^2 - 1.618033988749895^4*x^2)*(x^4 + y^4 + z^4 - 2*x^2*y^2 - 2*x^2*z^2 - 2*y^2*z^2) + (3 + 5*1.618033988749895)*(x^2 + y^2 + z^2 - 1)^2*(x^2 + y^2 + z^2 - (2 - 1.618033988749895))^2", [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0]),
-    ("superquadric", "x^200 + y^200 + z^200 - 1", [-1.5, 1.5, -1.5, 1.5, -1.5, 1.5]),
-    ("icos.csg", "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), abs(0.5773502691896258*(x-y+z))), abs(0.5773502691896258*(-x+y+z))), abs(0.35682208977308993*y+0.9341723589627158*z)), abs(0.35682208977308993*y-0.9341723589627158*z)), abs(0.9341723589627158*x+0.35682208977308993*z)), abs(0.9341723589627158*x-0.35682208977308993*z)), abs(0.35682208977308993*x+0.9341723589627158*y)), abs(0.35682208977308993*x-0.9341723589627158*y)) - 1, 1.1025 - (x^2 + y^2 + z^2))", [-1.4, 1.4, -1.4, 1.4, -1.4, 1.4]),
-    ("sq.csg", "max(x^8 + y^8 + z^8 - 1, -min(min(y^2 + z^2 - 0.25, x^2 + z^2 - 0.25), x^2 + y^2 - 0.25))", [-1.5, 1.5, -1.5, 1.5, -1.5, 1.5]),
-    ("sin.blob", "x^2 + y^2 + z^2 + sin(4*x + t) + sin(4*y + t) + sin(4*z + t) - 1", [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0]),
-    ("cloth", "z - sin(3*sqrt(x^2 + y^2 + 0.000001))/(3*sqrt(x^2 + y^2 + 0.000001))", [-4.0, 4.0, -4.0, 4.0, -0.5, 1.2]),
-    ("water", "z - 0.1*sin(4*x + t)*cos(3*y + 0.7*t) - 0.05*sin(7*x - 5*y + 1.3*t)", [-4.0, 4.0, -4.0, 4.0, -0.5, 0.5]),
-];
-
 /// The operation cases.
 pub fn op_cases() -> Vec<Case> {
     OPS.iter().map(|(n, s)| if *n == "param" { Case::new(n, s).with_params(&[1.25]) } else { Case::new(n, s) }).collect()
 }
 
-/// The Knoll cases.
+/// The catalog's `knoll` suite (the 16 surfaces of Knoll et al.'s Table
+/// 1) as the renderer gets them: each entry's compiled formula, parameter
+/// values and box.
 pub fn knoll_cases() -> Vec<Case> {
-    KNOLL.iter().map(|(n, s, _)| Case::new(n, s)).collect()
+    catalog::suite("knoll").expect("the knoll suite").into_iter().map(catalog_case).collect()
 }
 
-/// The domain box of a Knoll case.
-pub fn knoll_box(name: &str) -> [f64; 6] {
-    KNOLL.iter().find(|k| k.0 == name).map(|k| k.2).unwrap_or([-2.0, 2.0, -2.0, 2.0, -2.0, 2.0])
+/// The built-in entry `name` as a case.
+pub fn catalog_case(name: &str) -> Case {
+    let e = catalog::lookup(name).unwrap_or_else(|err| panic!("{err}"));
+    let f = e.compile().unwrap_or_else(|err| panic!("{name}: {err}"));
+    let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap_or_else(|d| panic!("{name}: {}", d.message));
+    Case { name: e.name.clone(), source: formula_lines(&e.formula), ir: f.ir, params, domain: Some(e.header.bbox) }
+}
+
+/// The formula of an `.iso` text on one line, without its header and
+/// comments: what a failure message quotes.
+fn formula_lines(text: &str) -> String {
+    let lines = text.lines().map(|l| l.split('#').next().unwrap_or_default().trim());
+    lines.filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" ")
 }
 
 /// A random expression over x, y, z, t of depth ≤ `depth`.

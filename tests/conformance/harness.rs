@@ -1,10 +1,11 @@
 //! Shared harness of the conformance suites: the checking loop and the
 //! backends' interface. The sampling oracle and the rounding margin are in
 //! `oracle.rs`, boxes and ray segments in `regions.rs`, the formula tables
-//! and generators in `formulas.rs`.
-//! `tests/conformance.rs` runs it against the CPU reference
-//! (`isotrace::reference`) and `tests/conformance_device.rs` against the
-//! generated WGSL on the device; both include it with `#[path]`.
+//! and generators in `formulas.rs`, the suite's tests (a macro) in
+//! `suite.rs`. `tests/conformance.rs` runs the suite against the CPU
+//! reference (`isotrace::reference`) and `tests/conformance_device.rs`
+//! against the generated WGSL on the device; both include this file with
+//! `#[path]`.
 //!
 //! The property checked: for every box (or ray segment), every *finite*
 //! value of the strict f64 scalar function ([`reference::eval_scalar`]) at a
@@ -23,10 +24,13 @@ mod formulas;
 mod oracle;
 #[path = "regions.rs"]
 mod regions;
+#[path = "suite.rs"]
+mod suite;
 
 pub use formulas::*;
 pub use oracle::*;
 pub use regions::*;
+pub use suite::*;
 
 use isotrace::codegen::Domain;
 use isotrace::ir::Ir;
@@ -214,6 +218,8 @@ pub struct Case {
     pub ir: Ir,
     /// Parameter values (f32: the device's uniforms are f32).
     pub params: Vec<f32>,
+    /// The domain box of a case from the catalog (its header's `box`).
+    pub domain: Option<[f64; 6]>,
 }
 
 impl Case {
@@ -224,7 +230,7 @@ impl Case {
     /// Compiles `source`.
     pub fn try_new(name: &str, source: &str) -> Result<Case, isotrace::FormulaError> {
         let f = isotrace::Formula::compile(name, source)?;
-        Ok(Case { name: name.to_string(), source: source.to_string(), ir: f.ir, params: vec![] })
+        Ok(Case { name: name.to_string(), source: source.to_string(), ir: f.ir, params: vec![], domain: None })
     }
     /// With parameter values.
     pub fn with_params(mut self, p: &[f32]) -> Case {
@@ -324,7 +330,8 @@ fn judge(samples: &[Sample], lo: f64, hi: f64, prec: Precision, stats: &mut Stat
 /// The boxes a Knoll surface is checked on, by both suites: 1000 cells of
 /// its own domain and 500 random boxes.
 pub fn knoll_boxes(c: &Case, rng: &mut Rng) -> Vec<Box8> {
-    let mut b = domain_cells(rng, knoll_box(&c.name), 1000);
+    let domain = c.domain.unwrap_or_else(|| panic!("{}: not a catalog case, it has no box", c.name));
+    let mut b = domain_cells(rng, domain, 1000);
     b.extend(random_boxes(rng, 500));
     b
 }

@@ -1,7 +1,8 @@
 //! Peer benchmark (issue 8, target 2): isotrace against fidget on the Knoll suite.
 //!
 //! Each surface is rendered at SIZE² by isotrace (wgpu on the Vulkan device,
-//! default optimisations, `auto` algebra, eps = 2^-11 × box diagonal) and by
+//! default optimisations, `auto` algebra, eps = 2^-11 × box diagonal, the
+//! rest of the view from the surface's `.iso` header) and by
 //! fidget's 3D voxel renderer (JIT evaluator, rayon on all cores), runs
 //! alternating (isotrace, fidget, isotrace, fidget, …) after a warm-up, and the
 //! per-surface medians, their ratio fidget / isotrace and the geometric mean of
@@ -14,7 +15,7 @@
 //! The same view: fidget's voxel renderer maps voxel (u, v, k) through a 4×4
 //! homogeneous matrix (with the perspective divide) to model space, so the
 //! matrix below sends voxel column (i, j) exactly onto isotrace's primary ray
-//! through the centre of pixel (i, j) of its default pinhole camera, and the k
+//! through the centre of pixel (i, j) of its pinhole camera, and the k
 //! axis onto depth between the nearest and farthest point of the domain,
 //! uniformly in 1/depth (the usual perspective z-buffer spacing). fidget then
 //! sees the same frustum and the same domain (f intersected with the box, and
@@ -24,21 +25,14 @@ use fidget::context::{BadNode, Context, Node};
 use fidget::jit::JitShape;
 use fidget::raster::voxel::{self, GeometryPixel, RenderConfig};
 use fidget::render::{ThreadPool, VoxelSize};
-use isotrace::catalog::{self, Clip};
+use isotrace::catalog;
 use isotrace::gpu::Gpu;
 use isotrace::gpu::Renderer;
-use isotrace::render::Settings;
 use isotrace::ir::{Func1, Func2, Func3, Ir, Op, Var};
 use isotrace::render::{Camera, CameraFrame, Frame, Status};
 use nalgebra::{Matrix4, Vector3};
 use std::path::PathBuf;
 use std::time::Instant;
-
-/// The Knoll suite (the list in src/cli/bench.rs).
-const KNOLL: [&str; 16] = [
-    "sphere", "steiner", "mitchell", "teardrop", "4-bretzel", "klein-bottle", "tangle", "decocube", "barth-sextic",
-    "barth-decic", "superquadric", "icos.csg", "sq.csg", "sin.blob", "cloth", "water",
-];
 
 const USAGE: &str = "usage: isotrace-peer-bench [--size N] [--repeat N] [--images DIR] [--sign auto|keep|flip] [NAME...]
 
@@ -97,7 +91,7 @@ fn parse_args() -> Result<Args, String> {
         return Err("--size must be in 1..=4096 and --repeat at least 1".into());
     }
     if a.names.is_empty() {
-        a.names = KNOLL.iter().map(|s| s.to_string()).collect();
+        a.names = catalog::suite("knoll").map_err(|e| e.to_string())?.into_iter().map(String::from).collect();
     }
     Ok(a)
 }
@@ -268,7 +262,7 @@ struct View {
 
 impl View {
     fn new(cam: &Camera, bbox: &[f64; 6], clip: Option<f64>, w: u32, h: u32, d: u32) -> View {
-        let frame = cam.frame().expect("default camera");
+        let frame = cam.frame().expect("a camera that Settings::check accepted");
         let eye = Vector3::new(cam.eye.x, cam.eye.y, cam.eye.z);
         let fwd = Vector3::new(frame.forward.x, frame.forward.y, frame.forward.z);
         // depth (distance along `forward`) range of the domain
@@ -454,7 +448,7 @@ fn main() {
     println!("# machine: {cores} cores; isotrace on {} (default optimisations, auto algebra, eps 2^-11 x box diagonal); fidget on {threads} rayon threads", format!("{} ({})", gpu.info.name, gpu.info.driver));
     println!("# times: wall ms of one frame (isotrace: Renderer::render incl. upload, read-back and unpacking; fidget: voxel::render), compile/JIT excluded;");
     println!("#   (gpu ms): isotrace's kernel time from timestamp queries, fid/gpu the ratio against it");
-    println!("# view: isotrace's default perspective camera for both (fidget via a projective voxel->model matrix); domain: box (and clip ball) for both");
+    println!("# view: isotrace's perspective camera (the .iso header's, else the default) for both (fidget via a projective voxel->model matrix); domain: box (and clip ball) for both");
     println!("# depth: fidget is voxel-quantised ({size} levels, uniform in 1/depth over the domain's depth range); isotrace finds roots to eps = 2^-11 x box diagonal");
     println!("# agree: pixels where both miss or both hit within 0.01 box diagonal in depth; |dz|: median depth difference over pixels both hit, in box diagonals");
     println!("# sign: the side fidget fills (f: f < 0, -f: f > 0); auto picks the one that agrees best with isotrace in the warm-up");
@@ -518,12 +512,12 @@ fn bench_one(gpu: &Gpu, name: &str, args: &Args) -> Result<Row, String> {
     let e = catalog::lookup(name).map_err(|e| e.to_string())?;
     let f = e.compile().map_err(|e| e.to_string())?;
     let b = e.header.bbox;
-    let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).map_err(|d| d.message.clone())?;
-    let clip = e.header.clip.map(|Clip::Sphere(r)| r);
-    let time = e.header.t.unwrap_or(0.0);
-    let s = Settings { time, params: params.clone(), clip_sphere: clip, ..Settings::for_box(b, size, size) };
-    let camera = s.camera;
     let diag = isotrace::render::box_diagonal(&b);
+    // The header's view (box, camera, t, parameters, clip ball), but one
+    // relative eps for every surface, as `isotrace bench` measures.
+    let mut s = e.settings(&f, size, size).map_err(|e| e.to_string())?;
+    s.eps = diag * 2f64.powi(-11);
+    let (time, clip, params, camera) = (s.time, s.clip_sphere, s.params.clone(), s.camera);
     let domain_alg = isotrace::choose_algebra(&f.ir);
     let r = Renderer::bisect(gpu, &f.ir, domain_alg).map_err(|e| e.to_string())?;
     let algebra = match domain_alg {
@@ -572,7 +566,7 @@ fn bench_one(gpu: &Gpu, name: &str, args: &Args) -> Result<Row, String> {
     let (mut ti, mut tg, mut tf) = (Vec::new(), Vec::new(), Vec::new());
     // isotrace renders into one frame, reused and kept packed as a viewer
     // would (its 16-byte records: colour, normal, depth, status, evaluations).
-    let mut fr = isotrace::gpu::pixels::PackedFrame::default();
+    let mut fr = isotrace::render::record::PackedFrame::default();
     r.render_packed(&s, &mut fr).map_err(|e| e.to_string())?;
     for _ in 0..args.repeat {
         let t0 = Instant::now();
