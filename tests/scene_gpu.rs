@@ -22,7 +22,8 @@ fn sphere_and_box(dx: f32) -> SceneData {
     params.extend([[1.0, 0.0, 0.0, -dx], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.5, 0.5]]);
     params.push([0.0; 4]);
     let nodes = vec![[LEAF | LEFT | (1 << 22) | 2, 0, 2, 0], [LEAF | (2 << 22) | 2, 4, 2, 0], [(32 << 22) | 3, 8, 3, 0]];
-    SceneData { nodes, params }
+    let balls = vec![[0.0, 0.0, 0.0, 1.0], [dx, 0.0, 0.0, 0.75f32.sqrt()]];
+    SceneData { nodes, params, prims: vec![0, 1], balls }
 }
 
 #[test]
@@ -48,12 +49,14 @@ fn scene_interpreter_agrees_with_the_compiled_formula() {
 fn scene_edits_change_buffers_not_pipelines() {
     let s = common::settings(common::cube(2.5), 32, 32);
     let data = sphere_and_box(1.5);
-    let mut r = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap();
+    // A device of its own: the other tests create pipelines concurrently.
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let mut r = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap();
     let before = r.render(&s).unwrap();
-    let created = gpu().pipelines_created.load(Ordering::Relaxed);
+    let created = own.pipelines_created.load(Ordering::Relaxed);
     r.set_field(FieldSource::Scene(&sphere_and_box(-1.5))).unwrap();
     let moved = r.render(&s).unwrap();
-    assert_eq!(gpu().pipelines_created.load(Ordering::Relaxed), created);
+    assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
     let changed = before.pixels.iter().zip(&moved.pixels).filter(|(a, b)| a.status != b.status).count();
     assert!(changed > 20, "{changed}");
     // A scene is sphere traced: asking to bisect it is a typed error.

@@ -140,7 +140,8 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 
 /// A compiled field has no loops: it adds nothing to an invocation's loop
 /// count.
-const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\n";
+const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\n\
+    fn field_enter_pixel(px: vec2<u32>) {}\nfn field_leave_frustum() {}\n";
 
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).

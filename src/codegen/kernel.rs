@@ -34,11 +34,25 @@ pub struct SceneData {
     pub nodes: Vec<[u32; 4]>,
     /// Transforms and parameters, a vec4 at a time.
     pub params: Vec<[f32; 4]>,
+    /// The node index of every primitive.
+    pub prims: Vec<u32>,
+    /// Every primitive's augmented bounding ball (centre, radius; +inf for
+    /// an unbounded primitive).
+    pub balls: Vec<[f32; 4]>,
 }
 
 /// Depth of the scene interpreter's value stack: scenes that need more are
 /// rejected (or rebalanced) on the host.
 pub const SCENE_STACK: u32 = 32;
+/// Most active primitives per 8×8 tile; a tile with more evaluates the
+/// whole tree (counted as an overflow tile).
+pub const SCENE_TILE_MAX: u32 = 64;
+/// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
+pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;
+/// The view length that means "the whole tree".
+pub const SCENE_VIEW_FULL: u32 = u32::MAX;
+/// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
+pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
 
 impl FieldSource<'_> {
     /// The field's WGSL: `field(p)`, and the enclosures in `domain` when a
@@ -47,9 +61,11 @@ impl FieldSource<'_> {
         match self {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
             FieldSource::Scene(_) => format!(
-                "{}const SCENE_STACK: u32 = {SCENE_STACK}u;\nfn field_cost() -> u32 {{ return arrayLength(&scene_nodes); }}\n{}",
+                "{}const SCENE_STACK: u32 = {SCENE_STACK}u;\nconst SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
+                 const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\n{}\n{}",
                 scene_constants(),
-                template::SCENE
+                template::SCENE,
+                template::SCENE_TILES
             ),
         }
     }
@@ -59,6 +75,15 @@ impl FieldSource<'_> {
         match self {
             FieldSource::Compiled(ir) => ir.surfaces.len().max(1),
             FieldSource::Scene(_) => 1,
+        }
+    }
+
+    /// The compute entry points the field runs before a traversal, every
+    /// dispatch.
+    pub fn passes(&self) -> &'static [&'static str] {
+        match self {
+            FieldSource::Compiled(_) => &[],
+            FieldSource::Scene(_) => &SCENE_PASSES,
         }
     }
 
@@ -83,9 +108,9 @@ fn scene_constants() -> String {
 pub struct Kernel {
     /// The complete WGSL module (not yet validated).
     pub wgsl: String,
-    /// Its compute entry points: the per-pixel `main` first, then any
-    /// pre-pass (`tiles`).
-    pub entries: &'static [&'static str],
+    /// Its compute entry points: the per-pixel `main` first, then the
+    /// traversal's pre-pass (`tiles`) if any, then the field's pre-passes.
+    pub entries: Vec<&'static str>,
     /// Where the user's `--inline` WGSL sits in `wgsl`, to map naga's
     /// diagnostics back into the user's file.
     pub inline: Option<(Range<usize>, InlineWgsl)>,
@@ -120,6 +145,8 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
         let start = wgsl.find(&user.text).unwrap_or(0);
         (start..start + user.text.len(), user)
     });
+    let mut entries = entries.to_vec();
+    entries.extend(field.passes());
     Kernel { wgsl, entries, inline }
 }
 

@@ -21,6 +21,8 @@ pub const SHADING: &str = include_str!("../../templates/shared/shading.wgsl");
 
 /// The scene field source's interpreter.
 pub const SCENE: &str = include_str!("../../templates/fields/scene.wgsl");
+/// The scene field source's pre-passes: per-tile active primitives and views.
+pub const SCENE_TILES: &str = include_str!("../../templates/fields/scene_tiles.wgsl");
 
 /// Bisection: stackless interval bisection per pixel.
 pub const BISECT: &str = include_str!("../../templates/traverse/bisect/kernel.wgsl");

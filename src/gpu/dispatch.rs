@@ -84,43 +84,45 @@ impl Outputs {
     }
 }
 
-/// A pre-pass over the rectangle's 8×8 tiles (one invocation each, 8×8
-/// tiles a workgroup) that queues the tiles the per-pixel pass must run:
-/// the per-pixel pass is then dispatched indirectly with the counts the
-/// pre-pass leaves at the start of `list` (reset to (0, 1, 1, 0) first).
-pub struct PrePass<'a> {
-    /// The tile pass.
-    pub pipeline: &'a wgpu::ComputePipeline,
-    /// The tile list whose first 12 bytes are the indirect dispatch.
-    pub list: &'a wgpu::Buffer,
+/// How many workgroups a stage runs.
+pub enum Groups<'a> {
+    /// A fixed grid.
+    Direct([u32; 3]),
+    /// The counts an earlier stage of the same dispatch left in the first
+    /// 12 bytes of `list` (reset to (0, 1, 1) before the submission): a
+    /// pre-pass queues work for the next stage this way.
+    Indirect(&'a wgpu::Buffer),
 }
 
-/// One dispatch of a render kernel over a rectangle.
+/// One compute pass of a dispatch.
+pub struct Stage<'a> {
+    /// Its pipeline.
+    pub pipeline: &'a wgpu::ComputePipeline,
+    /// Its workgroups.
+    pub groups: Groups<'a>,
+}
+
+/// One dispatch of a render kernel over a rectangle: its stages in order
+/// (a field's pre-passes, a traversal's tile pass, the per-pixel pass), all
+/// with the same three bind groups, in one submission.
 pub struct Dispatch<'a> {
     /// Debug label.
     pub label: &'static str,
-    /// The per-pixel pass.
-    pub main: &'a wgpu::ComputePipeline,
-    /// An optional tile pre-pass.
-    pub pre: Option<PrePass<'a>>,
+    /// The passes, in order.
+    pub stages: Vec<Stage<'a>>,
     /// Frame, field and pass bind groups.
     pub groups: [&'a wgpu::BindGroup; 3],
-    /// The rectangle.
-    pub rect: Rect,
-    /// 8×8 tiles per workgroup of the per-pixel pass (dispatched directly:
-    /// x over tile columns, y over tile rows / this).
-    pub tiles_per_group: u32,
     /// The outputs to read back: (buffer, its mappable copy, size).
     pub outputs: Vec<(wgpu::Buffer, wgpu::Buffer, u64)>,
 }
 
-/// GPU milliseconds of a dispatch: both passes, and the pre-pass alone.
-#[derive(Debug, Clone, Copy, Default)]
+/// GPU milliseconds of a dispatch: in all, and per stage.
+#[derive(Debug, Clone, Default)]
 pub struct Timing {
     /// Whole dispatch.
     pub total_ms: f64,
-    /// The pre-pass (0 without one).
-    pub pre_ms: f64,
+    /// Each stage (all zero without timestamp queries).
+    pub stage_ms: Vec<f64>,
 }
 
 impl Dispatch<'_> {
@@ -130,7 +132,7 @@ impl Dispatch<'_> {
     /// time.
     pub fn run(&self, gpu: &Gpu, unpack: impl FnOnce(&[&[u8]])) -> Result<Timing, GpuError> {
         let d = &gpu.device;
-        let queries = if self.pre.is_some() { 3 } else { 2 };
+        let queries = self.stages.len() as u32 + 1;
         let ts = gpu.timestamp_period.map(|_| {
             let set = d.create_query_set(&wgpu::QuerySetDescriptor { label: Some(self.label), ty: wgpu::QueryType::Timestamp, count: queries });
             let resolve = d.create_buffer(&wgpu::BufferDescriptor {
@@ -141,11 +143,10 @@ impl Dispatch<'_> {
             });
             (set, resolve)
         });
-        let last = queries - 1;
         let t0 = std::time::Instant::now();
         let ts_staging = gpu.scoped(self.label, || {
             let mut enc = d.create_command_encoder(&Default::default());
-            self.record(gpu, &mut enc, ts.as_ref().map(|(set, _)| set), last);
+            self.record(gpu, &mut enc, ts.as_ref().map(|(set, _)| set));
             let ts_staging = ts.as_ref().map(|(set, resolve)| {
                 enc.resolve_query_set(set, 0..queries, resolve, 0);
                 gpu.read_buffer(&mut enc, resolve, 8 * queries as u64)
@@ -161,49 +162,50 @@ impl Dispatch<'_> {
         let staging: Vec<&wgpu::Buffer> = self.outputs.iter().map(|(_, s, _)| s).collect();
         gpu.map_many(&staging, unpack)?;
         let wall = t0.elapsed().as_secs_f64() * 1e3;
-        let Some((b, period)) = ts_staging.zip(gpu.timestamp_period) else { return Ok(Timing { total_ms: wall, pre_ms: 0.0 }) };
+        let untimed = Timing { total_ms: wall, stage_ms: vec![0.0; self.stages.len()] };
+        let Some((b, period)) = ts_staging.zip(gpu.timestamp_period) else { return Ok(untimed) };
         let t = gpu.map_read(&b)?;
         let v: &[u64] = bytemuck::cast_slice(&t);
         let ms = |a: u64, b: u64| b.saturating_sub(a) as f64 * period as f64 * 1e-6;
-        let total = ms(v[0], v[last as usize]);
-        Ok(if total > 0.0 { Timing { total_ms: total, pre_ms: if self.pre.is_some() { ms(v[0], v[1]) } else { 0.0 } } } else { Timing { total_ms: wall, pre_ms: 0.0 } })
+        let total = ms(v[0], v[queries as usize - 1]);
+        if !(total > 0.0) {
+            return Ok(untimed);
+        }
+        Ok(Timing { total_ms: total, stage_ms: v.windows(2).map(|w| ms(w[0], w[1])).collect() })
     }
 
-    /// The passes. Query 0: start; 1: end of the pre-pass, if any; `last`: end.
-    fn record(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, set: Option<&wgpu::QuerySet>, last: u32) {
-        let stamp = |begin: Option<u32>, end: u32| set.map(|query_set| wgpu::ComputePassTimestampWrites { query_set, beginning_of_pass_write_index: begin, end_of_pass_write_index: Some(end) });
-        let bind = |pass: &mut wgpu::ComputePass<'_>| {
-            for (i, g) in self.groups.iter().enumerate() {
-                pass.set_bind_group(i as u32, *g, &[]);
+    /// The passes. Query 0: start; query i + 1: end of stage i.
+    fn record(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, set: Option<&wgpu::QuerySet>) {
+        for (i, stage) in self.stages.iter().enumerate() {
+            let begin = (i == 0).then_some(0);
+            let timestamp_writes = set.map(|query_set| wgpu::ComputePassTimestampWrites { query_set, beginning_of_pass_write_index: begin, end_of_pass_write_index: Some(i as u32 + 1) });
+            let args = match stage.groups {
+                Groups::Direct(_) => None,
+                Groups::Indirect(list) => {
+                    gpu.queue.write_buffer(list, 0, bytemuck::cast_slice(&[0u32, 1, 1, 0]));
+                    // The stage before fills `list` (a storage buffer); it
+                    // cannot also be the indirect buffer, so its counts are
+                    // copied to `args` between the two passes.
+                    let args = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("indirect dispatch"),
+                        size: 16,
+                        usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    enc.copy_buffer_to_buffer(list, 0, &args, 0, 12);
+                    Some(args)
+                }
+            };
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes });
+            for (g, group) in self.groups.iter().enumerate() {
+                pass.set_bind_group(g as u32, *group, &[]);
             }
-        };
-        let Some(pre) = &self.pre else {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: stamp(Some(0), last) });
-            bind(&mut pass);
-            pass.set_pipeline(self.main);
-            pass.dispatch_workgroups(self.rect.w.div_ceil(8), self.rect.h.div_ceil(8).div_ceil(self.tiles_per_group), 1);
-            return;
-        };
-        gpu.queue.write_buffer(pre.list, 0, bytemuck::cast_slice(&[0u32, 1, 1, 0]));
-        // The pre-pass queues tiles in `list` (a storage buffer); it cannot
-        // also be the indirect buffer of the next dispatch, so its counts are
-        // copied to `args` between the two passes.
-        let args = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("indirect dispatch"),
-            size: 16,
-            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: stamp(Some(0), 1) });
-            bind(&mut pass);
-            pass.set_pipeline(pre.pipeline);
-            pass.dispatch_workgroups(self.rect.w.div_ceil(64), self.rect.h.div_ceil(64), 1);
+            pass.set_pipeline(stage.pipeline);
+            match (&stage.groups, &args) {
+                (Groups::Direct([x, y, z]), _) => pass.dispatch_workgroups(*x, *y, *z),
+                (Groups::Indirect(_), Some(args)) => pass.dispatch_workgroups_indirect(args, 0),
+                (Groups::Indirect(_), None) => unreachable!("args made above"),
+            }
         }
-        enc.copy_buffer_to_buffer(pre.list, 0, &args, 0, 12);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: stamp(None, last) });
-        bind(&mut pass);
-        pass.set_pipeline(self.main);
-        pass.dispatch_workgroups_indirect(&args, 0);
     }
 }

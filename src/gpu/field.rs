@@ -1,23 +1,58 @@
 //! The field group (`@group(1)`) of a render kernel: the buffers a field
-//! source binds. A compiled formula lives in the shader and binds none; a
-//! data-driven source (a scene's nodes, a tape) adds its buffers here
-//! without touching the traversal's groups.
+//! source binds, and the passes it runs before the traversal. A compiled
+//! formula lives in the shader and binds none; a scene binds its nodes,
+//! parameters, primitives and bounding balls once, and per dispatch the
+//! tile lists and pruned views its pre-passes build.
 
-use super::{Gpu, GpuError};
+use super::dispatch::Rect;
+use super::{storage_entry, Gpu, GpuError};
+use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
 use crate::codegen::FieldSource;
 
-/// A field source's layout entries and buffers.
+/// A field source's layout entries, buffers and pre-passes.
 pub(crate) struct FieldBinding {
-    /// Layout of the field group.
+    /// Layout of the field group (static and per-dispatch entries).
     pub layout: Vec<wgpu::BindGroupLayoutEntry>,
-    /// (binding, buffer) pairs.
+    /// (binding, buffer) pairs that live as long as the field.
     pub buffers: Vec<(u32, wgpu::Buffer)>,
+    /// Primitives of a scene (0 for a compiled field).
+    prims: u32,
+    scene: bool,
 }
 
 impl FieldBinding {
-    /// The bind group of these buffers.
-    pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry> = self.buffers.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
+    /// The per-dispatch buffers of a rectangle (a scene's tile lists and
+    /// views, zeroed).
+    pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect) -> Vec<(u32, wgpu::Buffer)> {
+        if !self.scene {
+            return vec![];
+        }
+        let tiles = rect.tiles();
+        let buffer = |label, size: u64| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+        vec![
+            (4, buffer("scene tile counts", tiles * 4)),
+            (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4)),
+            (6, buffer("scene tile views", tiles * SCENE_VIEW_MAX as u64 * 4)),
+            (7, buffer("scene tile lengths", tiles * 8)),
+        ]
+    }
+
+    /// The pre-passes over a rectangle, in order, with their workgroups:
+    /// the scatter runs an invocation per primitive, the view pass one per
+    /// tile (64 to a workgroup).
+    pub fn passes(&self, rect: Rect) -> Vec<[u32; 3]> {
+        if !self.scene {
+            return vec![];
+        }
+        let groups = self.prims.div_ceil(64).max(1);
+        let (x, y) = (groups.min(65_535), groups.div_ceil(65_535));
+        vec![[x, y, 1], [(rect.tiles() as u32).div_ceil(64), 1, 1]]
+    }
+
+    /// The bind group of these buffers and a dispatch's.
+    pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout, per_dispatch: &[(u32, wgpu::Buffer)]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> =
+            self.buffers.iter().chain(per_dispatch).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
         d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("field"), layout, entries: &entries })
     }
 }
@@ -25,10 +60,17 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![] }),
-        FieldSource::Scene(s) => Ok(FieldBinding {
-            layout: vec![super::storage_entry(0, true), super::storage_entry(1, true)],
-            buffers: vec![(0, gpu.storage("scene nodes", bytemuck::cast_slice(&s.nodes))?), (1, gpu.storage("scene params", bytemuck::cast_slice(&s.params))?)],
-        }),
+        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], prims: 0, scene: false }),
+        FieldSource::Scene(s) => {
+            let mut layout: Vec<_> = (0..4).map(|b| storage_entry(b, true)).collect();
+            layout.extend((4..8).map(|b| storage_entry(b, false)));
+            let buffers = vec![
+                (0, gpu.storage("scene nodes", bytemuck::cast_slice(&s.nodes))?),
+                (1, gpu.storage("scene params", bytemuck::cast_slice(&s.params))?),
+                (2, gpu.storage("scene primitives", bytemuck::cast_slice(&s.prims))?),
+                (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
+            ];
+            Ok(FieldBinding { layout, buffers, prims: s.prims.len() as u32, scene: true })
+        }
     }
 }

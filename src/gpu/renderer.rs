@@ -6,7 +6,7 @@
 //! traversals on the host (their uniform block, frame resources, pass
 //! buffers and own statistics) sits behind [`TraversalHost`].
 
-use super::dispatch::{self, Dispatch, PrePass, Rect};
+use super::dispatch::{self, Dispatch, Groups, Rect, Stage};
 use super::{field, storage_entry, Gpu, GpuError};
 use crate::codegen::{self, FieldSource};
 use crate::layout::{FrameBlock, FLAG_DEBUG};
@@ -80,9 +80,11 @@ pub struct Renderer<'g> {
     wgsl: String,
     main: wgpu::ComputePipeline,
     pre: Option<wgpu::ComputePipeline>,
+    /// The field's pre-passes, in order.
+    field_passes: Vec<wgpu::ComputePipeline>,
     layouts: [wgpu::BindGroupLayout; 3],
     host: Box<dyn TraversalHost + 'g>,
-    field: wgpu::BindGroup,
+    field: field::FieldBinding,
     outputs: dispatch::Outputs,
     surfaces: usize,
 }
@@ -119,16 +121,17 @@ impl<'g> Renderer<'g> {
         let mut pass_entries = vec![storage_entry(0, false)];
         pass_entries.extend(host.pass_layout());
         let layouts = gpu.scoped("bind group layouts", || [layout("frame", &frame_entries), layout("field", &bound.layout), layout("pass", &pass_entries)])?;
-        let field_group = gpu.scoped("field bind group", || bound.group(d, &layouts[1]))?;
         let pipeline_layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("render"),
             bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1]), Some(&layouts[2])],
             immediate_size: 0,
         });
-        let mut pipelines = gpu.pipelines_with_layout("isotrace render", &kernel.wgsl, kernel.entries, Some(&pipeline_layout))?.into_iter();
+        let mut pipelines = gpu.pipelines_with_layout("isotrace render", &kernel.wgsl, &kernel.entries, Some(&pipeline_layout))?;
+        let field_passes = pipelines.split_off(pipelines.len() - field.passes().len());
+        let mut pipelines = pipelines.into_iter();
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, layouts, host, field: field_group, outputs: Default::default(), surfaces: field.surfaces() })
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces() })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
@@ -139,8 +142,7 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
-        let bound = field::bind(self.gpu, field)?;
-        self.field = self.gpu.scoped("field bind group", || bound.group(&self.gpu.device, &self.layouts[1]))?;
+        self.field = field::bind(self.gpu, field)?;
         Ok(())
     }
 
@@ -270,17 +272,13 @@ impl<'g> Renderer<'g> {
             if rays.is_some() {
                 outputs.push(self.outputs.get(self.gpu, 1, rect.pixels() * 4));
             }
+            let field_buffers = self.field.per_dispatch(self.gpu, rect);
             let (frame_group, pass_group) = self.gpu.scoped("bind groups", || self.bind_groups(&uniforms, &pass, &outputs, rays))?;
+            let field_group = self.gpu.scoped("field bind group", || self.field.group(&self.gpu.device, &self.layouts[1], &field_buffers))?;
             let job = Dispatch {
                 label: "render dispatch",
-                main: &self.main,
-                pre: match (&self.pre, &pass.list) {
-                    (Some(pipeline), Some(list)) if self.host.pre_pass() => Some(PrePass { pipeline, list }),
-                    _ => None,
-                },
-                groups: [&frame_group, &self.field, &pass_group],
-                rect,
-                tiles_per_group: self.host.tiles_per_group(),
+                stages: self.stages(rect, &pass),
+                groups: [&frame_group, &field_group, &pass_group],
                 outputs: outputs.iter().zip([rect.pixels() * per_pixel, rect.pixels() * 4]).map(|((o, st), size)| (o.clone(), st.clone(), size)).collect(),
             };
             let t = job.run(self.gpu, |bytes| {
@@ -290,12 +288,35 @@ impl<'g> Renderer<'g> {
                 }
             })?;
             stats.gpu_ms += t.total_ms;
-            stats.tile_ms += t.pre_ms;
+            let nf = self.field_passes.len();
+            stats.field_ms += t.stage_ms[..nf].iter().sum::<f64>();
+            if self.pre.is_some() && self.host.pre_pass() {
+                stats.tile_ms += t.stage_ms[nf];
+            }
             stats.dispatches += 1;
         }
         stats.iso_channel = self.surfaces > 1;
         self.host.finish(s, &ray_stats, &mut stats);
         Ok(stats)
+    }
+
+    /// The passes of one dispatch: the field's pre-passes, the traversal's
+    /// tile pass if it runs one, and the per-pixel pass (indirect after a
+    /// tile pass).
+    fn stages<'a>(&'a self, rect: Rect, pass: &'a PassBuffers) -> Vec<Stage<'a>> {
+        let mut stages: Vec<Stage<'a>> =
+            self.field_passes.iter().zip(self.field.passes(rect)).map(|(pipeline, g)| Stage { pipeline, groups: Groups::Direct(g) }).collect();
+        match (&self.pre, &pass.list) {
+            (Some(tiles), Some(list)) if self.host.pre_pass() => {
+                stages.push(Stage { pipeline: tiles, groups: Groups::Direct([rect.w.div_ceil(64), rect.h.div_ceil(64), 1]) });
+                stages.push(Stage { pipeline: &self.main, groups: Groups::Indirect(list) });
+            }
+            _ => {
+                let groups = [rect.w.div_ceil(8), rect.h.div_ceil(8).div_ceil(self.host.tiles_per_group()), 1];
+                stages.push(Stage { pipeline: &self.main, groups: Groups::Direct(groups) });
+            }
+        }
+        stages
     }
 
     /// The frame and pass bind groups of one dispatch.

@@ -13,6 +13,9 @@ pub struct Stats {
     /// The part of `gpu_ms` spent in a pre-pass over tiles (bisection's tile
     /// pass; 0 without one).
     pub tile_ms: f64,
+    /// The part of `gpu_ms` spent in the field source's pre-passes (a
+    /// scene's tile lists and pruned views; 0 for a compiled formula).
+    pub field_ms: f64,
     /// Wall time of the whole frame including read-back, milliseconds.
     pub wall_ms: f64,
     /// Pixels in the image.

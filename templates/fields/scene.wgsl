@@ -96,12 +96,49 @@ fn scene_operator(ty: u32, o: u32, a: f32, b: f32) -> f32 {
     return max(a, c) + scene_blend(a, c, br);
 }
 
-// The field: every node, in post-order, on a value stack.
+// Per primitive: its node index and its augmented bounding ball (centre,
+// radius; an infinite radius for unbounded primitives such as planes).
+@group(1) @binding(2) var<storage, read> scene_prims: array<u32>;
+@group(1) @binding(3) var<storage, read> scene_balls: array<vec4<f32>>;
+
+const SCENE_NO_TILE: u32 = 0xffffffffu;
+// The tile whose pruned view this invocation's field evaluates: set for a
+// primary ray (its point stays in the tile's frustum), cleared for
+// secondary rays, which leave it and need the whole tree.
+var<private> g_scene_tile: u32 = SCENE_NO_TILE;
+
+fn field_enter_pixel(px: vec2<u32>) {
+    let t = (px - F.tile_origin) / 8u;
+    g_scene_tile = t.y * ((F.tile_size.x + 7u) / 8u) + t.x;
+}
+fn field_leave_frustum() { g_scene_tile = SCENE_NO_TILE; }
+
+// The node list this invocation evaluates: the tile's view, or (length
+// SCENE_VIEW_FULL) the whole tree.
+fn scene_view_len() -> u32 {
+    if (g_scene_tile == SCENE_NO_TILE) { return SCENE_VIEW_FULL; }
+    return scene_tile_len[g_scene_tile].x;
+}
+
+// Loop iterations one evaluation costs.
+fn field_cost() -> u32 {
+    let len = scene_view_len();
+    return select(len, arrayLength(&scene_nodes), len == SCENE_VIEW_FULL);
+}
+
+// The field: the nodes of the view (or of the whole tree), in post-order,
+// on a value stack (Zanni's Algorithm 4). An empty view has no surface.
 fn field(p: vec3<f32>) -> f32 {
+    let len = scene_view_len();
+    let full = len == SCENE_VIEW_FULL;
+    let n = select(len, arrayLength(&scene_nodes), full);
+    if (n == 0u) { return F.inf; }
+    let vbase = select(g_scene_tile * SCENE_VIEW_MAX, 0u, full);
     var stack: array<f32, SCENE_STACK>;
     var sp = 0u;
-    let n = arrayLength(&scene_nodes);
-    for (var i = 0u; i < n; i = i + 1u) {
+    for (var k = 0u; k < n; k = k + 1u) {
+        var i = k;
+        if (!full) { i = scene_tile_view[vbase + k]; }
         let w = scene_nodes[i];
         let ty = node_type(w.x);
         if (node_is_leaf(w.x)) {

@@ -16,6 +16,7 @@ fn glass(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, fp: f32) -> Shade {
     var out = Shade(vec3<f32>(0.0), 0u);
     let n = normalize(g);
     if (dot(n, dir) > 0.0) { return shade(p, dir, g, fp); } // seen from inside: plain
+    field_leave_frustum(); // the refracted ray leaves the pixel's frustum
     let eta = 1.0 / 1.5;
     let r1 = refract(dir, n, eta);
     let q = offset(p, -n, fp);

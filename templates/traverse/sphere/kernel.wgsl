@@ -269,6 +269,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let px = F.tile_origin + gid.xy;
     let idx = gid.y * F.tile_size.x + gid.x;
     let d = normalize(primary_dir(px));
+    // The primary ray stays in this pixel's tile frustum: a field may
+    // evaluate only what matters there (the scene's pruned view).
+    field_enter_pixel(px);
     let o = F.eye.xyz;
 
     var color = vec4<f32>(background(d), 0.0);

@@ -1,0 +1,212 @@
+// The scene field's pre-passes (before the traversal, every dispatch):
+// which primitives matter to each 8x8 tile, and the pruned tree the tile's
+// rays then evaluate. Zanni 2024 builds a tile A-buffer with depth ranges
+// and synchronises a tile's rays over them; here a tile's active set is
+// every primitive whose augmented bounding sphere (the bounding volume of
+// {f_p <= r_p+}) meets the tile's frustum, whatever the depth, which keeps
+// the tracing kernel free of workgroup barriers (costly on lavapipe).
+//
+// Why it is exact: a missing primitive's region {f_p <= r_p+} lies outside
+// the frustum, so no ray of the tile meets its surface, and the sparse
+// (masked) field agrees with the full one where it matters (the ranges of
+// interest, eq. 13-16); within the frustum it is a distance bound of the
+// same surface.
+
+// Per tile: active primitives appended here (up to SCENE_TILE_MAX), their
+// count (may exceed the maximum: overflow), and the pruned view.
+@group(1) @binding(4) var<storage, read_write> scene_tile_count: array<atomic<u32>>;
+@group(1) @binding(5) var<storage, read_write> scene_tile_prims: array<u32>;
+@group(1) @binding(6) var<storage, read_write> scene_tile_view: array<u32>;
+// Per tile: view length, or SCENE_VIEW_FULL when the tile evaluates the
+// whole tree (its list overflowed); and the active count for statistics.
+@group(1) @binding(7) var<storage, read_write> scene_tile_len: array<vec2<u32>>;
+
+fn scene_tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
+fn scene_tiles_y() -> u32 { return (F.tile_size.y + 7u) / 8u; }
+
+// Can the ball (c, r) meet the frustum through pixel directions su x sv
+// (screen coordinates at unit depth)? Conservative: the four side planes
+// and the eye plane.
+fn ball_meets_frustum(c: vec3<f32>, r: f32, su: vec2<f32>, sv: vec2<f32>) -> bool {
+    let q = c - F.eye.xyz;
+    let x = dot(q, F.right.xyz);
+    let y = dot(q, F.up.xyz);
+    let z = dot(q, F.forward.xyz);
+    if (z < -r) { return false; }
+    // Plane through the eye containing the right axis's screen limit sx:
+    // points with x - sx z <= 0 are left of it (normal (1, 0, -sx)).
+    let dl = (su.x * z - x) / sqrt(1.0 + su.x * su.x);
+    let dr = (x - su.y * z) / sqrt(1.0 + su.y * su.y);
+    let db = (sv.x * z - y) / sqrt(1.0 + sv.x * sv.x);
+    let dt = (y - sv.y * z) / sqrt(1.0 + sv.y * sv.y);
+    return dl <= r && dr <= r && db <= r && dt <= r;
+}
+
+// Screen coordinate sx of pixel column i (centre), and its inverse.
+fn scene_sx(i: f32) -> f32 { return ((i + 0.5) / f32(F.size.x) * 2.0 - 1.0) * F.tan_half_fov * f32(F.size.x) / f32(F.size.y); }
+fn scene_col(sx: f32) -> f32 { return (sx / (F.tan_half_fov * f32(F.size.x) / f32(F.size.y)) + 1.0) * 0.5 * f32(F.size.x) - 0.5; }
+fn scene_row(sy: f32) -> f32 { return (1.0 - sy / F.tan_half_fov) * 0.5 * f32(F.size.y) - 0.5; }
+
+// The tile frustum of tile (tx, ty) of this dispatch: its pixel centres'
+// screen coordinates.
+fn tile_frustum(tile: vec2<u32>) -> vec4<f32> {
+    let lo = F.tile_origin + tile * 8u;
+    let hi = min(lo + vec2<u32>(7u), F.tile_origin + F.tile_size - vec2<u32>(1u));
+    let a = pixel_dir(lo);
+    let b = pixel_dir(hi);
+    return vec4<f32>(a.x, b.x, b.y, a.y);
+}
+
+// Pass 1, one invocation per primitive: the tiles whose frustum its ball
+// meets, from the ball's projected screen rectangle; append it there.
+@compute @workgroup_size(64)
+fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
+    load_uniforms();
+    let k = gid.x + gid.y * 65535u * 64u;
+    if (k >= arrayLength(&scene_prims)) { return; }
+    let ball = scene_balls[k];
+    let node = scene_prims[k];
+    let nx = scene_tiles_x();
+    let ny = scene_tiles_y();
+    var t0 = vec2<u32>(0u);
+    var t1 = vec2<u32>(nx - 1u, ny - 1u);
+    let q = ball.xyz - F.eye.xyz;
+    let z = dot(q, F.forward.xyz);
+    // A traversal may stop where f is below its termination width, not only
+    // at f = 0 (sphere tracing's screen-space criterion: half a pixel at the
+    // depth): the ball grows by that much, so a near miss of a primitive is
+    // seen as with the whole tree.
+    let r = ball.w + max(F.eps, 2.0 * F.tan_half_fov / f32(F.size.y) * max(z + ball.w, 0.0));
+    if (abs(r) < F.inf && z - r > 1e-6 * max(z, 1.0)) {
+        // In front of the eye: bound x / z and y / z over the ball.
+        let x = dot(q, F.right.xyz);
+        let y = dot(q, F.up.xyz);
+        let sx0 = (x - r) / select(z + r, z - r, x - r < 0.0);
+        let sx1 = (x + r) / select(z - r, z + r, x + r < 0.0);
+        let sy0 = (y - r) / select(z + r, z - r, y - r < 0.0);
+        let sy1 = (y + r) / select(z - r, z + r, y + r < 0.0);
+        let c0 = floor(scene_col(sx0)) - f32(F.tile_origin.x);
+        let c1 = ceil(scene_col(sx1)) - f32(F.tile_origin.x);
+        let r0 = floor(scene_row(sy1)) - f32(F.tile_origin.y);
+        let r1 = ceil(scene_row(sy0)) - f32(F.tile_origin.y);
+        if (c1 < 0.0 || r1 < 0.0 || c0 > f32(F.tile_size.x) || r0 > f32(F.tile_size.y)) { return; }
+        t0 = vec2<u32>(u32(max(c0, 0.0)) / 8u, u32(max(r0, 0.0)) / 8u);
+        t1 = min(vec2<u32>(u32(max(c1, 0.0)) / 8u, u32(max(r1, 0.0)) / 8u), vec2<u32>(nx - 1u, ny - 1u));
+    } else if (abs(r) < F.inf && z < -r) {
+        return; // wholly behind the eye
+    }
+    for (var ty = t0.y; ty <= t1.y; ty = ty + 1u) {
+        for (var tx = t0.x; tx <= t1.x; tx = tx + 1u) {
+            let fr = tile_frustum(vec2<u32>(tx, ty));
+            if (abs(r) < F.inf && !ball_meets_frustum(ball.xyz, r, fr.xy, fr.zw)) { continue; }
+            let t = ty * nx + tx;
+            let slot = atomicAdd(&scene_tile_count[t], 1u);
+            if (slot < SCENE_TILE_MAX) { scene_tile_prims[t * SCENE_TILE_MAX + slot] = node; }
+        }
+    }
+}
+
+fn scene_parent(i: u32) -> u32 { return scene_nodes[i].x & 0x3fffffu; }
+fn scene_is_left(i: u32) -> bool { return ((scene_nodes[i].x >> 30u) & 1u) != 0u; }
+fn scene_fast(i: u32) -> u32 { return scene_nodes[i].z; }
+
+// Pass 2, one invocation per tile: sort the tile's active primitives by
+// node index and run the sparse bottom-up traversal over the tree's
+// structure only (which operands are missing depends on the tree, not on
+// field values), writing the pruned view: the post-order node list the
+// tile's rays evaluate. Fast ancestors and clamping after Zanni §5.1 (as
+// reconstructed and checked in src/scene/sparse.rs).
+@compute @workgroup_size(64)
+fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
+    load_uniforms();
+    let t = gid.x;
+    let nt = scene_tiles_x() * scene_tiles_y();
+    if (t >= nt) { return; }
+    let count = atomicLoad(&scene_tile_count[t]);
+    if (count > SCENE_TILE_MAX) {
+        scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
+        return;
+    }
+    let base = t * SCENE_TILE_MAX;
+    // Insertion sort of the (few) active primitives by node index.
+    for (var i = 1u; i < count; i = i + 1u) {
+        let v = scene_tile_prims[base + i];
+        var j = i;
+        loop {
+            if (j == 0u || scene_tile_prims[base + j - 1u] <= v) { break; }
+            scene_tile_prims[base + j] = scene_tile_prims[base + j - 1u];
+            j = j - 1u;
+        }
+        scene_tile_prims[base + j] = v;
+    }
+    let n = arrayLength(&scene_nodes);
+    let root = n - 1u;
+    let vbase = t * SCENE_VIEW_MAX;
+    var vlen = 0u;
+    var s_node: array<u32, SCENE_STACK>;
+    var s_present: array<bool, SCENE_STACK>;
+    var s_anc: array<u32, SCENE_STACK>;
+    var s_start: array<u32, SCENE_STACK>;
+    var sp = 0u;
+    var present = false;
+    var ok = true;
+    for (var k = 0u; k < count && ok; k = k + 1u) {
+        var b = scene_tile_prims[base + k];
+        var nxt = n + 1u;
+        if (k + 1u < count) { nxt = scene_tile_prims[base + k + 1u]; }
+        present = true;
+        var start = vlen;
+        scene_tile_view[vbase + vlen] = b;
+        vlen = vlen + 1u;
+        loop {
+            if (b == root) { break; }
+            var anc = scene_fast(b);
+            if (sp > 0u) { anc = min(anc, s_anc[sp - 1u]); }
+            if (anc > nxt) {
+                if (sp >= SCENE_STACK) { ok = false; break; }
+                s_node[sp] = b; s_present[sp] = present; s_anc[sp] = anc; s_start[sp] = start;
+                sp = sp + 1u;
+                break;
+            }
+            let m = anc;
+            let left = scene_is_left(b);
+            let pop_a = sp > 0u && !left && s_anc[sp - 1u] == m;
+            let pop_b = sp > 0u && !left && (scene_is_left(m) || m == root) && min(scene_fast(m), s_anc[sp - 1u]) >= s_anc[sp - 1u] && !pop_a;
+            var lp = false;
+            var rp = false;
+            if (pop_a || pop_b) {
+                sp = sp - 1u;
+                lp = s_present[sp];
+                rp = present;
+                start = s_start[sp];
+            } else if (left) {
+                lp = present;
+            } else {
+                rp = present;
+            }
+            let kind = node_type(scene_nodes[m].x);
+            if (lp && rp) {
+                present = true;
+                scene_tile_view[vbase + vlen] = m;
+                vlen = vlen + 1u;
+            } else {
+                if (kind == NODE_UNION || kind == NODE_SMOOTH_UNION) {
+                    present = lp || rp;
+                } else if (kind == NODE_DIFFERENCE || kind == NODE_SMOOTH_DIFFERENCE) {
+                    present = lp;
+                } else {
+                    present = false;
+                }
+                if (!present) { vlen = start; }
+            }
+            b = m;
+        }
+    }
+    if (!ok || sp != 0u) {
+        // A traversal stack overflow (or a bug): evaluate the whole tree.
+        scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
+        return;
+    }
+    // An empty view (nothing present) means no surface in the tile.
+    scene_tile_len[t] = vec2<u32>(select(0u, vlen, present), count);
+}
