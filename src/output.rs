@@ -222,10 +222,13 @@ pub enum ColorMode {
     Gradient,
     /// Bisection only: depth as a colour ramp (drawn by the kernel).
     Depth,
+    /// Scenes only: the active primitives of each 8×8 tile as a heat map
+    /// from 0 to the frame's most (Zanni's Fig. 1 right).
+    Overlap,
 }
 
 /// Parses `shade` (alias `phong`), `steps` (alias `evals`), `steps:MAX`,
-/// `normal`, `gradient`, `depth` or `field`.
+/// `normal`, `gradient`, `depth`, `field` or `overlap`.
 pub fn parse_color(s: &str) -> Result<ColorMode, String> {
     match s.trim() {
         "shade" | "phong" => Ok(ColorMode::Shade),
@@ -234,9 +237,10 @@ pub fn parse_color(s: &str) -> Result<ColorMode, String> {
         "depth" => Ok(ColorMode::Depth),
         "normal" => Ok(ColorMode::Normal),
         "field" => Ok(ColorMode::Field),
+        "overlap" => Ok(ColorMode::Overlap),
         other => match other.strip_prefix("steps:").map(|m| m.trim().parse::<u32>()) {
             Some(Ok(m)) if m > 0 => Ok(ColorMode::Steps { max: Some(m) }),
-            _ => Err("expected shade, steps (or evals), steps:MAX (MAX > 0), normal, gradient, depth or field".into()),
+            _ => Err("expected shade, steps (or evals), steps:MAX (MAX > 0), normal, gradient, depth, field or overlap".into()),
         },
     }
 }
@@ -253,7 +257,8 @@ pub fn heat(v: f64) -> [f32; 3] {
 }
 
 /// Recolours a frame for `mode` (`Shade` and `Field` leave it as the
-/// kernel drew it). Returns the heat map's full-scale value for `Steps`.
+/// kernel drew it). Returns the heat map's full-scale value for `Steps`
+/// and `Overlap`.
 pub fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32> {
     match mode {
         ColorMode::Shade | ColorMode::Field | ColorMode::Gradient | ColorMode::Depth => None,
@@ -265,6 +270,19 @@ pub fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32>
             });
             for p in &mut frame.pixels {
                 let [r, g, b] = heat(p.evals as f64 / max as f64);
+                p.color = [r, g, b, p.color[3]];
+            }
+            Some(max)
+        }
+        ColorMode::Overlap => {
+            let st = &frame.stats.field;
+            let max = st.active_max.max(1);
+            let tx = st.tiles_x.max(1);
+            let w = frame.width;
+            for (i, p) in frame.pixels.iter_mut().enumerate() {
+                let (x, y) = (i as u32 % w, i as u32 / w);
+                let a = st.tile_active.get(((y / 8) * tx + x / 8) as usize).copied().unwrap_or(0);
+                let [r, g, b] = heat(a as f64 / max as f64);
                 p.color = [r, g, b, p.color[3]];
             }
             Some(max)

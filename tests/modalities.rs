@@ -177,7 +177,7 @@ fn bad_modality_values_are_clear_errors() {
         (&["--light", "1,2"], "error: invalid --light '1,2': expected 3 numbers 'x,y,z'\n"),
         (&["--env", "/nonexistent.png"], "error: cannot read --env image '/nonexistent.png': No such file or directory (os error 2)\n"),
         (&["--method", "sphere", "--iso", "0,1"], "error: --iso applies to --method bisect only\n"),
-        (&["--color", "rainbow"], "error: invalid --color 'rainbow': expected shade, steps (or evals), steps:MAX (MAX > 0), normal, gradient, depth or field\n"),
+        (&["--color", "rainbow"], "error: invalid --color 'rainbow': expected shade, steps (or evals), steps:MAX (MAX > 0), normal, gradient, depth, field or overlap\n"),
     ];
     for (extra, expected) in cases {
         let mut args = vec!["render", "x^2 + y^2 + z^2 - 1", "-o", "/tmp/never.png"];

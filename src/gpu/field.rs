@@ -21,19 +21,25 @@ pub(crate) struct FieldBinding {
 }
 
 impl FieldBinding {
+    /// Bytes of the per-tile statistics a field reports for a rectangle
+    /// (a scene's view length and active primitives per tile), read back
+    /// with the pixels; 0 when it has none.
+    pub fn tile_stats_size(&self, rect: Rect) -> u64 {
+        if self.scene { rect.tiles() * 8 } else { 0 }
+    }
+
     /// The per-dispatch buffers of a rectangle (a scene's tile lists and
-    /// views, zeroed).
-    pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect) -> Vec<(u32, wgpu::Buffer)> {
-        if !self.scene {
-            return vec![];
-        }
+    /// views, zeroed), with `stats` (of [`FieldBinding::tile_stats_size`]
+    /// bytes, read back by the caller) bound where the field writes them.
+    pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> Vec<(u32, wgpu::Buffer)> {
+        let (true, Some(stats)) = (self.scene, stats) else { return vec![] };
         let tiles = rect.tiles();
         let buffer = |label, size: u64| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
         vec![
             (4, buffer("scene tile counts", tiles * 4)),
             (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4)),
             (6, buffer("scene tile views", tiles * SCENE_VIEW_MAX as u64 * 4)),
-            (7, buffer("scene tile lengths", tiles * 8)),
+            (7, stats.clone()),
         ]
     }
 

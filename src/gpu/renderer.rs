@@ -261,6 +261,7 @@ impl<'g> Renderer<'g> {
         let side = dispatch::max_side(self.gpu, per_pixel, indirect, s.tile);
         let mut stats = Stats { method: self.host.method(), ..Default::default() };
         let mut ray_stats = RayStats::default();
+        let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
         for rect in dispatch::split(s.width, s.height, side) {
             fb.tile_origin = [rect.x, rect.y];
             fb.tile_size = [rect.w, rect.h];
@@ -268,23 +269,28 @@ impl<'g> Renderer<'g> {
             bytes.extend_from_slice(&trav);
             let uniforms = self.gpu.storage("uniforms", &bytes)?;
             let pass = self.host.pass_buffers(self.gpu, rect);
-            let mut outputs = vec![self.outputs.get(self.gpu, 0, rect.pixels() * per_pixel)];
-            if rays.is_some() {
-                outputs.push(self.outputs.get(self.gpu, 1, rect.pixels() * 4));
-            }
-            let field_buffers = self.field.per_dispatch(self.gpu, rect);
+            // Read back: the pixel records, sphere tracing's per-ray words,
+            // a field's per-tile statistics.
+            let sizes = [rect.pixels() * per_pixel, if rays.is_some() { rect.pixels() * 4 } else { 0 }, self.field.tile_stats_size(rect)];
+            let outputs: Vec<Option<(wgpu::Buffer, wgpu::Buffer)>> =
+                sizes.iter().enumerate().map(|(slot, &size)| (size > 0).then(|| self.outputs.get(self.gpu, slot, size))).collect();
+            let field_buffers = self.field.per_dispatch(self.gpu, rect, outputs[2].as_ref().map(|o| &o.0));
             let (frame_group, pass_group) = self.gpu.scoped("bind groups", || self.bind_groups(&uniforms, &pass, &outputs, rays))?;
             let field_group = self.gpu.scoped("field bind group", || self.field.group(&self.gpu.device, &self.layouts[1], &field_buffers))?;
             let job = Dispatch {
                 label: "render dispatch",
                 stages: self.stages(rect, &pass),
                 groups: [&frame_group, &field_group, &pass_group],
-                outputs: outputs.iter().zip([rect.pixels() * per_pixel, rect.pixels() * 4]).map(|((o, st), size)| (o.clone(), st.clone(), size)).collect(),
+                outputs: outputs.iter().zip(sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
             };
             let t = job.run(self.gpu, |bytes| {
                 sink(rect, bytemuck::cast_slice(bytes[0]));
-                if let Some(words) = bytes.get(1) {
-                    ray_stats.add(bytemuck::cast_slice(words));
+                let mut rest = bytes[1..].iter();
+                if rays.is_some() {
+                    ray_stats.add(bytemuck::cast_slice(rest.next().expect("ray words read back")));
+                }
+                if let Some(words) = rest.next() {
+                    tiles.add((rect.x, rect.y, rect.w), bytemuck::cast_slice(words));
                 }
             })?;
             stats.gpu_ms += t.total_ms;
@@ -297,6 +303,9 @@ impl<'g> Renderer<'g> {
         }
         stats.iso_channel = self.surfaces > 1;
         self.host.finish(s, &ray_stats, &mut stats);
+        if self.field.tile_stats_size(Rect { x: 0, y: 0, w: 8, h: 8 }) > 0 {
+            tiles.finish(&mut stats);
+        }
         Ok(stats)
     }
 
@@ -320,7 +329,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// The frame and pass bind groups of one dispatch.
-    fn bind_groups(&self, uniforms: &wgpu::Buffer, pass: &PassBuffers, outputs: &[(wgpu::Buffer, wgpu::Buffer)], rays: Option<u32>) -> (wgpu::BindGroup, wgpu::BindGroup) {
+    fn bind_groups(&self, uniforms: &wgpu::Buffer, pass: &PassBuffers, outputs: &[Option<(wgpu::Buffer, wgpu::Buffer)>], rays: Option<u32>) -> (wgpu::BindGroup, wgpu::BindGroup) {
         let d = &self.gpu.device;
         fn entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
@@ -328,9 +337,10 @@ impl<'g> Renderer<'g> {
         let resources = self.host.frame_resources();
         let mut frame = vec![entry(0, uniforms)];
         frame.extend(resources.iter().map(|(e, b)| entry(e.binding, b)));
-        let mut out = vec![entry(0, &outputs[0].0)];
+        let pixels = &outputs[0].as_ref().expect("pixel records").0;
+        let mut out = vec![entry(0, pixels)];
         out.extend(pass.entries.iter().map(|(i, b)| entry(*i, b)));
-        if let (Some(i), Some(o)) = (rays, outputs.get(1)) {
+        if let (Some(i), Some(Some(o))) = (rays, outputs.get(1)) {
             out.push(entry(i, &o.0));
         }
         let group = |label, layout, entries: &[wgpu::BindGroupEntry]| d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries });

@@ -179,3 +179,45 @@ mod tests {
         assert_eq!(half_to_f32(0x7bff), 65504.0);
     }
 }
+
+/// A data-driven field's per-tile statistics (a scene's active primitives
+/// per 8×8 tile and whether the tile overflowed to the whole tree), gathered
+/// over the rectangles of a frame into the frame's tile grid.
+#[derive(Debug, Clone, Default)]
+pub struct TileStats {
+    tiles_x: u32,
+    active: Vec<u32>,
+    overflow: u64,
+}
+
+impl TileStats {
+    /// For a `width × height` frame.
+    pub fn new(width: u32, height: u32) -> TileStats {
+        let tiles_x = width.div_ceil(8);
+        TileStats { tiles_x, active: vec![0; (tiles_x * height.div_ceil(8)) as usize], overflow: 0 }
+    }
+
+    /// The words (view length, active count) of the tiles of the
+    /// rectangle at pixel (x, y) that is `w` pixels wide (x, y multiples of 8).
+    pub fn add(&mut self, (x, y, w): (u32, u32, u32), words: &[[u32; 2]]) {
+        let rx = w.div_ceil(8);
+        for (k, w) in words.iter().enumerate() {
+            let (tx, ty) = (x / 8 + k as u32 % rx, y / 8 + k as u32 / rx);
+            if let Some(a) = self.active.get_mut((ty * self.tiles_x + tx) as usize) {
+                *a = w[1];
+            }
+            self.overflow += u64::from(w[0] == crate::codegen::kernel::SCENE_VIEW_FULL);
+        }
+    }
+
+    /// Writes the summary and the per-tile counts into `stats`.
+    pub fn finish(self, stats: &mut Stats) {
+        let n = self.active.len().max(1) as f64;
+        stats.field.tiles = self.active.len() as u64;
+        stats.field.active_mean = self.active.iter().map(|&a| a as f64).sum::<f64>() / n;
+        stats.field.active_max = self.active.iter().copied().max().unwrap_or(0);
+        stats.field.overflow_tiles = self.overflow;
+        stats.field.tiles_x = self.tiles_x;
+        stats.field.tile_active = self.active;
+    }
+}

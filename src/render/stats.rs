@@ -46,6 +46,29 @@ pub struct Stats {
     pub bisect: BisectStats,
     /// Sphere tracing's own figures (zero for other traversals).
     pub sphere: SphereStats,
+    /// A data-driven field's own figures (zero for a compiled formula).
+    pub field: FieldStats,
+}
+
+/// Statistics of a field source that culls per tile (a scene).
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct FieldStats {
+    /// 8×8 tiles in the frame.
+    pub tiles: u64,
+    /// Mean active primitives per tile (those whose augmented bounding
+    /// volume meets the tile's frustum).
+    pub active_mean: f64,
+    /// Most active primitives in a tile.
+    pub active_max: u32,
+    /// Tiles with more active primitives than a tile list holds: they
+    /// evaluate the whole tree (exact, slower).
+    pub overflow_tiles: u64,
+    /// Tiles per row of `tile_active`.
+    #[serde(skip)]
+    pub tiles_x: u32,
+    /// Active primitives of every tile, row-major (for `--color overlap`).
+    #[serde(skip)]
+    pub tile_active: Vec<u32>,
 }
 
 /// Statistics only bisection has.
