@@ -109,10 +109,10 @@ fn slurm(
 ) -> Result<Resolved, ShardError> {
     let task = num(id.clone())?;
     let show = |v: &(&str, String)| format!("{}={}", v.0, v.1);
-    if let Some(step) = var(SLURM_STEP) {
-        if num(step.clone())? != 1 {
-            return Err(ShardError::Inconsistent { detail: format!("{}: the array must be a range with step 1", show(&step)) });
-        }
+    if let Some(step) = var(SLURM_STEP)
+        && num(step.clone())? != 1
+    {
+        return Err(ShardError::Inconsistent { detail: format!("{}: the array must be a range with step 1", show(&step)) });
     }
     // The zero-based index and the count, from MIN and MAX when they are set.
     let from_range = match (var(SLURM_MIN), var(SLURM_MAX)) {
