@@ -1,6 +1,7 @@
 //! The benchmark bookkeeping: shard selection, the report formats, the
 //! image comparison and the contact sheet.
 
+use isotrace::batch::Shard;
 use isotrace::bench::*;
 use isotrace::render::{Frame, PixelOut, Stats, Status};
 
@@ -15,21 +16,21 @@ fn shards_partition_the_jobs() {
     assert_eq!(all[1], Job { index: 1, surface: "a".into(), algebra: "raa".into() });
     let mut seen: Vec<usize> = Vec::new();
     for i in 0..4 {
-        let part = shard(&all, i, 4);
+        let part = shard(&all, Shard::new(i, 4).unwrap());
         assert!(part.iter().all(|j| j.index % 4 == i));
         seen.extend(part.iter().map(|j| j.index));
     }
     seen.sort();
     assert_eq!(seen, (0..6).collect::<Vec<_>>());
-    assert_eq!(shard(&all, 0, 1), all);
+    assert_eq!(shard(&all, Shard::ALL), all);
 }
 
 #[test]
 fn shard_syntax() {
-    assert_eq!(parse_shard("2/5"), Ok((2, 5)));
-    assert_eq!(parse_shard(" 0 / 1 "), Ok((0, 1)));
+    assert_eq!(Shard::parse("2/5"), Ok(Shard { index: 2, count: 5 }));
+    assert_eq!(Shard::parse(" 0 / 1 "), Ok(Shard::ALL));
     for bad in ["5/5", "1/0", "a/2", "3", "-1/2"] {
-        assert_eq!(parse_shard(bad), Err(format!("invalid --shard '{bad}': expected i/n with 0 <= i < n, e.g. 0/4")));
+        assert_eq!(Shard::parse(bad).unwrap_err().to_string(), format!("'{bad}': expected i/n with 0 <= i < n, e.g. 0/4"));
     }
 }
 
@@ -40,8 +41,8 @@ fn measure(ms: f64, evals: f64) -> Measure {
 
 fn results() -> Vec<JobResult> {
     vec![
-        JobResult { surface: "sphere".into(), degree: "2".into(), algebra: "ia".into(), outcome: Outcome::Ok(measure(10.0, 6.0)) },
-        JobResult { surface: "sphere".into(), degree: "2".into(), algebra: "raa".into(), outcome: Outcome::Failed { error: "GPU error during render dispatch: lost".into() } },
+        JobResult { index: 0, surface: "sphere".into(), degree: "2".into(), algebra: "ia".into(), outcome: Outcome::Ok(measure(10.0, 6.0)) },
+        JobResult { index: 1, surface: "sphere".into(), degree: "2".into(), algebra: "raa".into(), outcome: Outcome::Failed { error: "GPU error during render dispatch: lost".into() } },
     ]
 }
 

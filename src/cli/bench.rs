@@ -6,6 +6,8 @@
 use super::render::{algebra_arg, open_gpu, sphere_options, SphereArgs};
 use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
+use isotrace::batch::merge::MergeError;
+use isotrace::bench::report::{Report, ReportSettings};
 use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
 use isotrace::catalog::{self, Entry};
 use isotrace::codegen::FieldSource;
@@ -59,9 +61,11 @@ pub struct BenchArgs {
     /// Also find the coarsest eps whose image matches a fine-eps reference (Knoll's last column; bisection jobs only).
     #[arg(long)]
     find_eps: bool,
-    /// Run only shard i of n (every n-th job starting at i, 0 <= i < n).
-    #[arg(long, value_name = "i/n")]
-    shard: Option<String>,
+    #[command(flatten)]
+    shard: super::batch::ShardArgs,
+    /// Merge the JSON reports of shards (written with --json) into one report instead of running jobs: the table on stdout, and --json / --markdown as a single run would write them. A quoted wildcard in a file name is expanded.
+    #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["surfaces", "suite", "shard", "out", "find_eps", "size", "eps", "algebra", "method", "omega", "max_steps", "repeat"])]
+    merge: Vec<PathBuf>,
 }
 
 fn input(m: impl Into<String>) -> CliError {
@@ -97,6 +101,9 @@ fn algebra(a: &str) -> AlgebraArg {
 }
 
 pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
+    if !a.merge.is_empty() {
+        return merge(&a);
+    }
     let surfaces = entries(&a)?;
     let variants = bench::variants(&a.method, &a.algebra, &a.omega).map_err(input)?;
     let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
@@ -111,11 +118,9 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     }
     let names: Vec<String> = surfaces.iter().map(|e| e.name.clone()).collect();
     let alg_names: Vec<String> = labelled.iter().map(|(n, _)| n.clone()).collect();
-    let mut jobs = bench::jobs(&names, &alg_names);
-    if let Some(sh) = &a.shard {
-        let (i, n) = bench::parse_shard(sh).map_err(input)?;
-        jobs = bench::shard(&jobs, i, n);
-    }
+    let all_jobs = bench::jobs(&names, &alg_names);
+    let shard = a.shard.resolve()?;
+    let jobs = shard.map_or_else(|| all_jobs.clone(), |s| bench::shard(&all_jobs, s));
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir).map_err(|e| input(format!("cannot create --out directory '{}': {e}", dir.display())))?;
         output::check_writable(&dir.join("probe.png")).map_err(|e| input(format!("--out directory is not writable: {e}")))?;
@@ -155,36 +160,93 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
             }
         }
         let degree = entry.header.degree.clone().unwrap_or_else(|| entry.compile().ok().and_then(|f| f.ir.degree()).map_or("-".into(), |d| d.to_string()));
-        results.push(JobResult { surface: job.surface.clone(), degree, algebra: job.algebra.clone(), outcome });
+        results.push(JobResult { index: job.index, surface: job.surface.clone(), degree, algebra: job.algebra.clone(), outcome });
     }
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let _ = std::io::stdout().lock().write_all(bench::table_text(&results, &alg_names).as_bytes());
-    let machine = format!("{} ({}, {}), {} CPU threads", gpu.info.name, gpu.info.backend, gpu.info.driver, std::thread::available_parallelism().map_or(0, |n| n.get()));
     if let Some(dir) = &a.out {
         if !thumbs.is_empty() {
             let (w, h, rgb) = bench::contact_sheet(&thumbs, 256, 4);
             output::write_png(&dir.join("contact-sheet.png"), w, h, &rgb).map_err(|e| input(e.to_string()))?;
         }
     }
+    let settings = ReportSettings {
+        surfaces: names,
+        jobs: all_jobs.len(),
+        size: [size.0, size.1],
+        eps_relative: rel_eps,
+        repeat: a.repeat,
+        algebras: alg_names,
+        methods: a.method.clone(),
+        omegas: a.omega.clone(),
+        max_steps: a.max_steps,
+        find_eps: a.find_eps,
+        shard: shard.map(|s| s.to_string()),
+    };
+    let report = report(settings, results, &gpu);
+    write_reports(&a, &report, &machine(&report.device, report.cpu_threads))
+}
+
+/// A run's report: its results and settings, the isotrace version, the date
+/// and the machine.
+fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Report {
+    Report {
+        isotrace_version: env!("CARGO_PKG_VERSION").into(),
+        date: bench::utc_now(),
+        device: gpu.info.clone(),
+        cpu_threads: std::thread::available_parallelism().map_or(0, |n| n.get()),
+        settings,
+        results,
+        merged_from: vec![],
+    }
+}
+
+/// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe), 2 CPU threads": the
+/// Markdown report's machine line.
+fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
+    format!("{} ({}, {}), {threads} CPU threads", d.name, d.backend, d.driver)
+}
+
+/// The table on stdout and the --markdown and --json files of a report (a
+/// run's or a merged one); exit code 1 when a job failed.
+fn write_reports(a: &BenchArgs, report: &Report, machine: &str) -> Result<ExitCode, CliError> {
+    let (results, columns) = (&report.results, &report.settings.algebras);
+    let _ = std::io::stdout().lock().write_all(bench::table_text(results, columns).as_bytes());
     if let Some(p) = &a.markdown {
-        output::write_atomic(p, bench::markdown(&results, &alg_names, &machine).as_bytes()).map_err(|e| input(e.to_string()))?;
+        output::write_atomic(p, bench::markdown(results, columns, machine).as_bytes()).map_err(|e| input(e.to_string()))?;
     }
     if let Some(p) = &a.json {
-        let v = serde_json::json!({
-            "isotrace_version": env!("CARGO_PKG_VERSION"),
-            "date": bench::utc_now(),
-            "device": gpu.info,
-            "cpu_threads": std::thread::available_parallelism().map_or(0, |n| n.get()),
-            "settings": { "size": [size.0, size.1], "eps_relative": rel_eps, "repeat": a.repeat, "algebras": alg_names, "methods": a.method, "omegas": a.omega, "shard": a.shard, "find_eps": a.find_eps },
-            "results": results,
-        });
-        let text = serde_json::to_string_pretty(&v).unwrap_or_default();
+        let text = serde_json::to_string_pretty(report).unwrap_or_default();
         output::write_atomic(p, text.as_bytes()).map_err(|e| input(e.to_string()))?;
     }
     let failed = results.iter().any(|r| matches!(r.outcome, Outcome::Failed { .. }));
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// `bench --merge`: one report from the reports of shards (see
+/// [`bench::report::merge`] for what must agree and how duplicates go).
+fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
+    for p in [&a.json, &a.markdown].into_iter().flatten() {
+        output::check_writable(p).map_err(|e| input(e.to_string()))?;
+    }
+    let (_, parts) = super::batch::read_parts(&a.merge, bench::report::WHAT)?;
+    let merged = bench::report::merge(&parts).map_err(|e| match e {
+        MergeError::Missing { .. } => input(format!("{e}; run their shards again")),
+        e => input(e.to_string()),
+    })?;
+    let r = &merged.report;
+    let mut machines: Vec<String> = Vec::new();
+    for m in r.merged_from.iter().map(|p| machine(&p.device, p.cpu_threads)) {
+        if !machines.contains(&m) {
+            machines.push(m);
+        }
+    }
+    if merged.mixed_devices {
+        eprintln!("warning: the reports come from different devices ({}): timings compare only within one device", machines.join("; "));
+    }
+    eprintln!("merged {} reports: {} jobs", parts.len(), r.results.len());
+    write_reports(a, r, &machines.join("; "))
 }
 
 /// The timed runs of one renderer and settings, and the last frame. Timed

@@ -17,6 +17,7 @@
 //! Anything else after a '%' is an error that names its column.
 
 use super::CliError;
+use isotrace::batch::{manifest, Shard};
 use isotrace::diag::escape_controls;
 use isotrace::output;
 use std::path::{Path, PathBuf};
@@ -107,6 +108,34 @@ impl FramePattern {
         PathBuf::from(format!("{}{k:0w$}{}", self.prefix, self.suffix, w = self.width))
     }
 
+    /// The directory every frame is in (`.` for a bare file name).
+    pub fn dir(&self) -> PathBuf {
+        match self.prefix.rfind(std::path::is_separator) {
+            Some(i) => PathBuf::from(&self.prefix[..=i]),
+            None => PathBuf::from("."),
+        }
+    }
+
+    /// The part of the prefix in the file name (after the last separator).
+    fn file_prefix(&self) -> &str {
+        self.prefix.rsplit(std::path::is_separator).next().unwrap_or("")
+    }
+
+    /// What names this animation's manifests: the file name around the
+    /// number, without the extension (`f_` for `frames/f_%04d.png`,
+    /// `f__left` for `f_%d_left.exr`).
+    pub fn stem(&self) -> String {
+        let suffix = self.suffix.rsplit_once('.').map_or(self.suffix.as_str(), |(s, _)| s);
+        format!("{}{suffix}", self.file_prefix())
+    }
+
+    /// The pattern's file name in canonical form (`f_%04d.png`, a literal
+    /// `%` written `%%`): what the manifest records.
+    pub fn file_pattern(&self) -> String {
+        let field = if self.width == 0 { "%d".to_string() } else { format!("%0{}d", self.width) };
+        format!("{}{field}{}", self.file_prefix().replace('%', "%%"), self.suffix.replace('%', "%%"))
+    }
+
     /// Whether `file` (a file name without directory) is a name this
     /// pattern gives some frame.
     pub fn matches(&self, file: &str) -> bool {
@@ -121,22 +150,32 @@ impl FramePattern {
 pub enum Outputs {
     /// One image.
     One(PathBuf),
-    /// `n` frames named by a pattern.
-    Frames { pattern: FramePattern, n: u32 },
+    /// The frames of `shard` among `n` frames named by a pattern, and
+    /// whether the run keeps a manifest next to them.
+    Frames { pattern: FramePattern, n: u32, shard: Shard, manifest: bool },
 }
 
 impl Outputs {
-    /// `-o` and `--frames` as given.
-    pub fn new(output: &Path, frames: Option<u32>) -> Result<Outputs, CliError> {
-        let Some(n) = frames else { return Ok(Outputs::One(output.to_path_buf())) };
+    /// `-o`, `--frames` and `--shard` as given. A batch run (`--shard` or
+    /// `--skip-existing`) keeps a manifest; a plain `--frames` run writes
+    /// only its frames, as it always has.
+    pub fn new(output: &Path, frames: Option<u32>, shard: Option<Shard>, batch: bool) -> Result<Outputs, CliError> {
+        let Some(n) = frames else {
+            if shard.is_some() {
+                return Err(CliError::Input("--shard applies to --frames only: a single image is not split".into()));
+            }
+            return Ok(Outputs::One(output.to_path_buf()));
+        };
         if !(1..=MAX_FRAMES).contains(&n) {
             return Err(CliError::Input(format!("invalid --frames '{n}': must be between 1 and {MAX_FRAMES}")));
         }
         let Some(pat) = output.to_str() else {
             return Err(CliError::Input(format!("invalid -o pattern '{}': not UTF-8 text", output.display())));
         };
+        let manifest = batch || shard.is_some();
+        let shard = shard.unwrap_or(Shard::ALL);
         match FramePattern::parse(pat) {
-            Ok(pattern) => Ok(Outputs::Frames { pattern, n }),
+            Ok(pattern) => Ok(Outputs::Frames { pattern, n, shard, manifest }),
             Err(PatternError::NoField) => Err(CliError::Input(format!(
                 "with --frames, -o needs a frame-number pattern like frames/f_%04d.png, got '{pat}'"
             ))),
@@ -144,37 +183,51 @@ impl Outputs {
         }
     }
 
-    /// How many files.
+    /// How many files this run is responsible for (its shard's frames).
     pub fn len(&self) -> usize {
+        self.iter().count()
+    }
+
+    /// The frame numbers and paths of this run, in order, made one at a
+    /// time (a single image is frame 0).
+    pub fn iter(&self) -> Box<dyn Iterator<Item = (u32, PathBuf)> + '_> {
         match self {
-            Outputs::One(_) => 1,
-            Outputs::Frames { n, .. } => *n as usize,
+            Outputs::One(p) => Box::new(std::iter::once((0, p.clone()))),
+            Outputs::Frames { pattern, n, shard, .. } => Box::new(shard.items(*n as usize).map(move |k| (k as u32, pattern.name(k as u32)))),
         }
     }
 
-    /// The paths in frame order, made one at a time.
-    pub fn iter(&self) -> impl Iterator<Item = PathBuf> + '_ {
-        (0..self.len() as u32).map(move |k| match self {
-            Outputs::One(p) => p.clone(),
-            Outputs::Frames { pattern, .. } => pattern.name(k),
-        })
+    /// The manifest of a batch run's shard, next to its frames
+    /// ([`manifest::file_name`]); `None` for a single image or a plain
+    /// `--frames` run.
+    pub fn manifest_path(&self) -> Option<PathBuf> {
+        match self {
+            Outputs::Frames { pattern, shard, manifest: true, .. } => Some(pattern.dir().join(manifest::file_name(&pattern.stem(), *shard))),
+            _ => None,
+        }
     }
 
-    /// Checks every file before any rendering: a known format, a writable
-    /// directory, no directory in the way, no read-only file to replace
-    /// unless `force`. Then removes the stale temporary files of these
-    /// names that a killed run left ([`output::remove_stale_temporaries`]).
-    pub fn check(&self, force: bool) -> Result<(), CliError> {
-        let first = self.iter().next().unwrap_or_default();
+    /// Checks every file of this run before any rendering: a known format,
+    /// a writable directory, no directory in the way, no read-only file to
+    /// replace unless `force` (a file `skip_existing` will leave alone may
+    /// be read-only). Then removes the stale temporary files of these names
+    /// that a killed run left ([`output::remove_stale_temporaries`]).
+    pub fn check(&self, force: bool, skip_existing: bool) -> Result<(), CliError> {
         let input = |e: output::OutputError| CliError::Input(e.to_string());
+        let first = match self {
+            Outputs::One(p) => p.clone(),
+            Outputs::Frames { pattern, .. } => pattern.name(0),
+        };
         // Every frame has the first one's directory and extension.
         output::format_of(&first).map_err(input)?;
         output::check_writable(&first).map_err(input)?;
-        for p in self.iter() {
+        let manifest = self.manifest_path();
+        for p in self.iter().map(|(_, p)| p).chain(manifest.clone()) {
             if p.is_dir() {
                 return Err(input(output::OutputError::IsDirectory { path: p }));
             }
-            if !force {
+            let left_alone = skip_existing && Some(&p) != manifest.as_ref() && p.is_file();
+            if !force && !left_alone {
                 output::check_not_read_only(&p).map_err(|e| CliError::Input(format!("{e}: give --force to replace it")))?;
             }
         }
@@ -183,9 +236,10 @@ impl Outputs {
             _ => Path::new("."),
         };
         let own = first.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let manifest_name = manifest.as_ref().and_then(|m| m.file_name()).map(|n| n.to_string_lossy().into_owned());
         for p in output::remove_stale_temporaries(dir, |name| match self {
             Outputs::One(_) => name == own,
-            Outputs::Frames { pattern, .. } => pattern.matches(name),
+            Outputs::Frames { pattern, .. } => pattern.matches(name) || Some(name) == manifest_name.as_deref(),
         }) {
             eprintln!("note: removed '{}', a temporary file left by a run that is gone", escape_controls(&p.display().to_string()));
         }
@@ -242,5 +296,19 @@ mod tests {
         }
         let f = FramePattern::parse("f%d.png").unwrap();
         assert!(f.matches("f0.png") && f.matches("f10.png") && !f.matches("f010.png"));
+    }
+
+    #[test]
+    fn directory_stem_and_canonical_file_pattern() {
+        let cases = [
+            ("frames/f_%04d.png", "frames", "f_", "f_%04d.png"),
+            ("f%d_left.exr", ".", "f_left", "f%d_left.exr"),
+            ("a/b/%03d.png", "a/b", "", "%03d.png"),
+            ("100%%/x%%%d.png", "100%", "x%", "x%%%d.png"),
+        ];
+        for (p, dir, stem, file) in cases {
+            let f = FramePattern::parse(p).unwrap();
+            assert_eq!((f.dir(), f.stem(), f.file_pattern()), (PathBuf::from(dir), stem.to_string(), file.to_string()), "{p}");
+        }
     }
 }

@@ -1,6 +1,8 @@
 //! Subcommands and their arguments (clap), and the one place errors are
 //! rendered for the terminal.
 
+mod animate;
+mod batch;
 mod bench;
 mod eval;
 mod frames;
@@ -37,7 +39,7 @@ enum Command {
     #[command(after_help = "Examples:\n  isotrace wgsl 'x^2 + y^2 + z^2 - 1' --algebra raa\n  isotrace wgsl 'sin(x) - z' --kernel eval --algebra ia -o eval.wgsl")]
     Wgsl(WgslArgs),
     /// Ray trace the surface f = 0 into a PNG or EXR image.
-    #[command(after_help = "Examples:\n  isotrace render 'x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8' --box=-3,3 -o tangle.png\n  isotrace render 'x^2 + y^2 + z^2 - r^2' --param r=1.2 --size 800x600 -o sphere.exr --stats\n  isotrace render 'z - 0.1*sin(4*x + t)' --box=-4,4,-4,4,-1,1 --frames 30 --t0 0 --t1 6.28 -o frames/f_%04d.png")]
+    #[command(after_help = "Examples:\n  isotrace render 'x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8' --box=-3,3 -o tangle.png\n  isotrace render 'x^2 + y^2 + z^2 - r^2' --param r=1.2 --size 800x600 -o sphere.exr --stats\n  isotrace render 'z - 0.1*sin(4*x + t)' --box=-4,4,-4,4,-1,1 --frames 30 --t0 0 --t1 6.28 -o frames/f_%04d.png\n  isotrace render @water --frames 960 -o frames/f_%04d.png --shard auto --skip-existing    # one task of a Slurm array")]
     Render(render::RenderArgs),
     /// Evaluate the generated scalar / interval / affine evaluator on boxes, on the device.
     #[command(after_help = "Boxes are read one per line: x0 x1 y0 y1 z0 z1 [t0 t1]; with --algebra scalar a line is a point x y z [t].\nOutput: one line per box, 'lo hi' or 'empty' (scalar: the value).\n\nExamples:\n  echo '-1 1 -1 1 -1 1' | isotrace eval 'x^2 + y^2 + z^2 - 1' --algebra ia\n  isotrace eval 'sqrt(x) - y' --algebra raa --boxes boxes.txt --cpu\n  echo '0.5 0 0' | isotrace eval 'x^2 - a' --algebra scalar --param a=2")]
@@ -46,8 +48,11 @@ enum Command {
     #[command(after_help = "Examples:\n  isotrace list\n  isotrace list --long\n  isotrace render @tangle -o tangle.png")]
     List(ListArgs),
     /// Benchmark surfaces × algebras: Knoll-style table, JSON, Markdown, images, contact sheet.
-    #[command(after_help = "Examples:\n  isotrace bench --suite knoll --out bench-out --json bench.json --markdown bench.md\n  isotrace bench tangle barth-sextic --algebra ia,raa --size 512 --repeat 3\n  isotrace bench --suite all --shard 0/4 --json part0.json    # spread over 4 machines\n  isotrace bench sphere --find-eps")]
+    #[command(after_help = "Examples:\n  isotrace bench --suite knoll --out bench-out --json bench.json --markdown bench.md\n  isotrace bench tangle barth-sextic --algebra ia,raa --size 512 --repeat 3\n  isotrace bench --suite all --shard 0/4 --json part0.json    # spread over 4 machines\n  isotrace bench --merge part*.json --json all.json --markdown all.md\n  isotrace bench sphere --find-eps")]
     Bench(bench::BenchArgs),
+    /// Batch work: summarise the manifests `render --frames` writes next to the frames of each shard.
+    #[command(after_help = "Examples:\n  isotrace manifest merge frames/f_.shard-*-of-16.manifest.json\n  isotrace manifest merge 'frames/*.manifest.json' --json summary.json")]
+    Manifest(batch::ManifestArgs),
     /// Print a shell completion script to stdout.
     #[command(after_help = "Examples:\n  isotrace completions bash > ~/.local/share/bash-completion/completions/isotrace\n  isotrace completions zsh > \"${fpath[1]}/_isotrace\"\n  isotrace completions fish > ~/.config/fish/completions/isotrace.fish")]
     Completions(shell::CompletionsArgs),
@@ -170,6 +175,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Eval(a) => eval::run(a),
         Command::List(a) => list(a),
         Command::Bench(a) => bench::run(a),
+        Command::Manifest(a) => batch::run(a),
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }

@@ -207,6 +207,11 @@ pub struct RenderArgs {
     /// Last time value of an animation.
     #[arg(long, value_name = "B", allow_hyphen_values = true, requires = "frames")]
     t1: Option<f64>,
+    #[command(flatten)]
+    shard: super::batch::ShardArgs,
+    /// With --frames: leave frames whose file exists (writes are atomic, so a present file is complete); a re-run renders only what is missing.
+    #[arg(long, requires = "frames")]
+    skip_existing: bool,
 }
 
 fn input(m: impl Into<String>) -> CliError {
@@ -412,34 +417,42 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             return Err(input(format!("invalid {flag} {v}: it must be a finite number")));
         }
     }
-    let outputs = output_paths(&a)?;
-    outputs.check(a.force)?;
-    let gpu = open_gpu()?;
-    let renderer = Renderer::new(&gpu, FieldSource::Compiled(&f.ir), traversal).map_err(super::render_error)?;
-    let n = outputs.len();
-    let bar = super::progress(n as u64, "frames");
-    let mut last: Option<Frame> = None;
-    let mut heat_max = None;
-    for (k, path) in outputs.iter().enumerate() {
-        let mut sk = s.clone();
-        if a.frames.is_some() {
-            sk.time = if n > 1 { t0 + (t1 - t0) * k as f64 / (n - 1) as f64 } else { t0 };
+    let outputs = super::frames::Outputs::new(&a.output, a.frames, a.shard.resolve()?, a.skip_existing)?;
+    outputs.check(a.force, a.skip_existing)?;
+    let animation = match &outputs {
+        super::frames::Outputs::One(_) => None,
+        super::frames::Outputs::Frames { pattern, n, shard, .. } => {
+            let settings = super::animate::frame_settings(f, &pattern.file_pattern(), *n, (t0, t1), &s, &traversal, &color_text);
+            Some(super::animate::Animation { outputs: &outputs, n: *n, t0, t1, skip_existing: a.skip_existing, settings, shard: *shard })
         }
-        let mut frame = renderer.render(&sk).map_err(super::render_error)?;
-        heat_max = output::recolor(&mut frame, color);
-        output::write_frame(&path, &frame).map_err(|e| input(e.to_string()))?;
-        if let Some(b) = &bar {
-            b.inc(1);
+    };
+    if let Some(an) = &animation {
+        an.check_resume()?;
+    }
+    let todo = animation.as_ref().map_or(1, |an| an.todo());
+    if let Some(an) = animation.as_ref().filter(|an| an.outputs.len() == 0) {
+        eprintln!("note: shard {} has none of the {} frames", an.shard, an.n);
+    }
+    // No device is opened when every frame of the run is already there.
+    let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
+    let renderer = match &gpu {
+        Some(g) => Some(Renderer::new(g, FieldSource::Compiled(&f.ir), traversal).map_err(super::render_error)?),
+        None => None,
+    };
+    let (last, heat_max) = match (&animation, &renderer, &outputs) {
+        (Some(an), r, _) => an.run(r.as_ref().zip(gpu.as_ref()).map(|(r, g)| (r, &g.info)), &s, color)?,
+        (None, Some(r), super::frames::Outputs::One(path)) => {
+            let mut frame = r.render(&s).map_err(super::render_error)?;
+            let heat_max = output::recolor(&mut frame, color);
+            output::write_frame(path, &frame).map_err(|e| input(e.to_string()))?;
+            (Some(frame), heat_max)
         }
-        last = Some(frame);
-    }
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    if let Some(frame) = last {
+        _ => (None, None),
+    };
+    if let (Some(frame), Some(renderer), Some(gpu)) = (last, &renderer, &gpu) {
         match renderer.traversal() {
-            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, &gpu),
-            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, &gpu),
+            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu),
+            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu),
         }
         warn_unresolved(&frame, &renderer.traversal(), s.max_iter);
         if let Traversal::Sphere(o) = renderer.traversal() {
@@ -450,11 +463,6 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         }
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// The output files, named lazily (see [`super::frames`]).
-fn output_paths(a: &RenderArgs) -> Result<super::frames::Outputs, CliError> {
-    super::frames::Outputs::new(&a.output, a.frames)
 }
 
 fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu) {

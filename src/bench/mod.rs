@@ -1,11 +1,15 @@
 //! The benchmark suite's bookkeeping: jobs, variants (method × algebra or
 //! over-relaxation factor) and shards, the per-job
 //! measurements, the "lowest correct eps" image comparison, the contact
-//! sheet, and the table / Markdown / JSON reports. The CLI (`isotrace bench`)
-//! renders; everything here is pure and tested.
+//! sheet, the table / Markdown / JSON reports and merging the reports of
+//! shards ([`report`]). The CLI (`isotrace bench`) renders; everything here
+//! is pure and tested.
 
+pub mod report;
+
+use crate::batch::Shard;
 use crate::render::{Frame, Stats, Status};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One unit of work: a surface rendered with one variant.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -82,25 +86,15 @@ pub fn jobs(surfaces: &[String], algebras: &[String]) -> Vec<Job> {
     v
 }
 
-/// Parses `--shard i/n` (0 ≤ i < n).
-pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("invalid --shard '{s}': expected i/n with 0 <= i < n, e.g. 0/4");
-    let (i, n) = s.split_once('/').ok_or_else(bad)?;
-    let (i, n): (usize, usize) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
-    if n == 0 || i >= n {
-        return Err(bad());
-    }
-    Ok((i, n))
-}
-
-/// The jobs of shard `i` of `n`: every n-th job starting at i, so shards
-/// are balanced and together cover every job exactly once.
-pub fn shard(all: &[Job], i: usize, n: usize) -> Vec<Job> {
-    all.iter().filter(|j| j.index % n == i).cloned().collect()
+/// The jobs of a shard: every n-th job starting at i (the rule every
+/// shard of isotrace follows, [`Shard::contains`]), so shards are balanced
+/// and together cover every job exactly once.
+pub fn shard(all: &[Job], shard: Shard) -> Vec<Job> {
+    all.iter().filter(|j| shard.contains(j.index)).cloned().collect()
 }
 
 /// What one job measured.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct Measure {
     /// Median GPU time over the timed runs, ms.
     pub gpu_ms: f64,
@@ -145,7 +139,7 @@ pub struct Measure {
 }
 
 /// Result of the "lowest correct eps" search.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct LowestEps {
     /// k in eps = 2^k × diagonal.
     pub exponent: i32,
@@ -190,8 +184,11 @@ impl Measure {
 }
 
 /// One row of the report.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct JobResult {
+    /// The job's position in the whole batch ([`Job::index`]): merged
+    /// reports are put in this order.
+    pub index: usize,
     /// Surface name.
     pub surface: String,
     /// Degree as the catalog states it.
@@ -204,7 +201,7 @@ pub struct JobResult {
 }
 
 /// A job's outcome.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(untagged)]
 pub enum Outcome {
     /// It ran.
