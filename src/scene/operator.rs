@@ -55,9 +55,9 @@ impl Blend {
         if !(self.beta > 0.0) {
             return Err(("beta".into(), "must be > 0".into()));
         }
-        let min = MIN_RANGE_FACTOR * self.beta;
+        let min = 7.0 * self.beta / 6.0;
         if !(self.range >= min * (1.0 - 1e-12)) {
-            return Err(("r_o".into(), format!("must be >= 7/6 of beta ({min}): below it the compact blend is discontinuous")));
+            return Err(("r_o".into(), format!("must be >= 7/6 of beta ({}): below it the compact blend is discontinuous", crate::diag::short_number(min))));
         }
         Ok(())
     }

@@ -123,6 +123,9 @@ fn walk<V: Copy>(
                 max_stack = max_stack.max(stack.len() as u32);
                 break;
             }
+            // Every step climbs (a > b in post-order), so the loop ends; a
+            // broken stack would make it descend, which is a bug, not a hang.
+            assert!(a > b, "the traversal would descend from node {b} to {a}");
             let (m, left) = (a, lin.is_left[b as usize]);
             let pop = stack.last().is_some_and(|top| {
                 let pop_a = !left && top.anc == m;
