@@ -7,6 +7,7 @@ mod frames;
 mod input;
 mod modality;
 mod render;
+mod scene;
 mod shell;
 pub mod signals;
 
@@ -48,6 +49,9 @@ enum Command {
     /// Benchmark surfaces × algebras: Knoll-style table, JSON, Markdown, images, contact sheet.
     #[command(after_help = "Examples:\n  isotrace bench --suite knoll --out bench-out --json bench.json --markdown bench.md\n  isotrace bench tangle barth-sextic --algebra ia,raa --size 512 --repeat 3\n  isotrace bench --suite all --shard 0/4 --json part0.json    # spread over 4 machines\n  isotrace bench sphere --find-eps")]
     Bench(bench::BenchArgs),
+    /// Blobtree scenes (.scene.json): generate the paper's synthetic scenes, validate a file.
+    #[command(after_help = "Examples:\n  isotrace scene gen aggregate --level 2 --smooth -o aggregate-2.scene.json\n  isotrace scene check aggregate-2.scene.json --probe 1000")]
+    Scene(scene::SceneArgs),
     /// Print a shell completion script to stdout.
     #[command(after_help = "Examples:\n  isotrace completions bash > ~/.local/share/bash-completion/completions/isotrace\n  isotrace completions zsh > \"${fpath[1]}/_isotrace\"\n  isotrace completions fish > ~/.config/fish/completions/isotrace.fish")]
     Completions(shell::CompletionsArgs),
@@ -170,6 +174,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Eval(a) => eval::run(a),
         Command::List(a) => list(a),
         Command::Bench(a) => bench::run(a),
+        Command::Scene(a) => scene::run(a),
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }

@@ -27,7 +27,7 @@ use std::path::Path;
 pub const VERSION: u64 = 1;
 
 /// The largest scene file read: 64 MiB holds the 111,110-primitive aggregate
-/// (about 17 MiB) with room to spare.
+/// (30 MB as `isotrace scene gen` writes it) with room to spare.
 pub const MAX_SCENE_BYTES: u64 = 64 << 20;
 
 /// Why a scene file could not be loaded.
@@ -140,10 +140,13 @@ impl<'de> Visitor<'de> for NodesSeed<'_> {
         let mut nodes = Vec::new();
         loop {
             let i = nodes.len();
-            // A syntax error inside a node is reported at that node.
+            // A syntax error inside a node is reported at that node (but a
+            // file that simply ends names no node: there may be none).
             let v = match seq.next_element::<Value>() {
                 Ok(Some(v)) => v,
                 Ok(None) => return Ok(nodes),
+                // (The error type is generic here; serde_json's EOF messages all start so.)
+                Err(e) if e.to_string().starts_with("EOF while parsing") => return Err(e),
                 Err(e) => return Err(fail(cell, SceneError::at(i, "", e.to_string()))),
             };
             if i >= MAX_NODES {

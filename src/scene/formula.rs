@@ -22,6 +22,13 @@ pub struct TooLarge {
     pub limit: usize,
 }
 
+impl Scene {
+    /// The scene as a formula program ([`to_formula`]).
+    pub fn to_formula(&self) -> Result<String, TooLarge> {
+        to_formula(self)
+    }
+}
+
 /// A number as the formula language reads it back exactly.
 fn num(v: f64) -> String {
     format!("{v:?}")
