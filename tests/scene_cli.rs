@@ -114,3 +114,25 @@ fn usage_errors_exit_1() {
         assert!(!std::path::Path::new("x.scene.json").exists());
     }
 }
+
+#[test]
+fn formula_prints_the_scene_as_distance_forms() {
+    let blobs = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/blobs.scene.json");
+    let o = isotrace(&["scene", "formula", blobs]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.starts_with("n0 = sphere(1.0);\nn1 = translate(1.2, 0.0, 0.0, rotate(0.0, 0.0, 1.0, 0.4, roundbox(0.6, 0.6, 0.6, 0.15)));\nn2 = compact_union(n0, n1, 0.3, 0.6);\n"), "{text}");
+    assert!(text.ends_with("\nn14\n"));
+    let f = isotrace::Formula::compile("<scene>", &text).unwrap();
+    let scene = isotrace::scene::format::load(std::path::Path::new(blobs)).unwrap();
+    let p = [0.9, 0.2, -0.3];
+    let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+    assert!((v - scene.eval(p)).abs() < 1e-12);
+    let big = tmp("agg2.scene.json");
+    let o = isotrace(&["scene", "gen", "aggregate", "--level", "2", "-o", big.to_str().unwrap()]);
+    assert!(o.status.success());
+    let o = isotrace(&["scene", "formula", big.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains(": the scene's formula would be 65"), "{}", stderr(&o));
+    assert!(stderr(&o).ends_with("bytes or more, above the formula language's limit of 65536 bytes\n"), "{}", stderr(&o));
+}

@@ -28,6 +28,19 @@ enum SceneCommand {
     /// Validate a scene file and print its counts, depth, stack depth and bounds.
     #[command(after_help = "Examples:\n  isotrace scene check examples/blobs.scene.json\n  isotrace scene check aggregate-2.scene.json --probe 1000\n  isotrace scene check boxes.scene.json --json")]
     Check(CheckArgs),
+    /// Print the scene as a formula of distance forms (one definition per node), for the compiled path.
+    #[command(after_help = "Only small scenes fit: a formula is at most 64 KiB (about 500 primitives).\n\nExamples:\n  isotrace scene formula examples/blobs.scene.json -o blobs.txt\n  isotrace render -f blobs.txt --method sphere --lipschitz 1.4 -o blobs.png")]
+    Formula(FormulaArgs),
+}
+
+#[derive(Args, Debug)]
+struct FormulaArgs {
+    /// The scene file.
+    #[arg(value_name = "FILE.scene.json")]
+    file: PathBuf,
+    /// Write the formula to FILE instead of stdout.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: Option<PathBuf>,
 }
 
 /// The synthetic scene kinds.
@@ -85,7 +98,20 @@ pub fn run(a: SceneArgs) -> Result<ExitCode, CliError> {
     match a.command {
         SceneCommand::Gen(g) => generate_scene(g),
         SceneCommand::Check(c) => check(c),
+        SceneCommand::Formula(f) => formula(f),
     }
+}
+
+fn formula(a: FormulaArgs) -> Result<ExitCode, CliError> {
+    let scene = load(&a.file)?;
+    let text = scene.to_formula().map_err(|e| CliError::Input(format!("{}: {e}", a.file.display())))?;
+    match a.output {
+        Some(path) => isotrace::output::write_atomic(&path, text.as_bytes()).map_err(|e| CliError::Input(format!("cannot write '{}': {e}", path.display())))?,
+        None => {
+            let _ = std::io::stdout().lock().write_all(text.as_bytes());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn kind(k: KindArg) -> Kind {

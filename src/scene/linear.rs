@@ -473,5 +473,6 @@ mod tests {
         assert!(w.contains("const NODE_SPHERE: u32 = 1u;\n"));
         assert!(w.contains("const NODE_SMOOTH_DIFFERENCE: u32 = 37u;\n"));
         assert!(w.contains("const NODE_LEAF_BIT: u32 = 2147483648u;\n"));
+        naga::front::wgsl::parse_str(&w).expect("the constants are valid WGSL");
     }
 }
