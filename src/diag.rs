@@ -217,6 +217,14 @@ pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
     scored.into_iter().take(3).map(|(_, c)| c).collect()
 }
 
+/// A number for a message: at most 6 decimals, trailing zeros dropped, so
+/// a bound computed in floating point (7/6 of 0.6) reads as written (0.7).
+pub fn short_number(v: f64) -> String {
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.to_string() }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

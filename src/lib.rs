@@ -28,6 +28,7 @@ pub mod layout;
 pub mod output;
 pub mod reference;
 pub mod render;
+pub mod scene;
 pub mod sdf;
 pub mod sema;
 pub mod syntax;

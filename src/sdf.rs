@@ -60,6 +60,12 @@ pub enum Form {
     SmoothIntersect,
     /// `smooth_subtract(a, b, k)`: a minus b
     SmoothSubtract,
+    /// `compact_union(a, b, beta[, r_o])`: Zanni's compact G∪ (eq. 12, 17, 18)
+    CompactUnion,
+    /// `compact_intersect(a, b, beta[, r_o])`: G∩
+    CompactIntersect,
+    /// `compact_subtract(a, b, beta[, r_o])`: G\, a minus b
+    CompactSubtract,
 }
 
 /// How many arguments a form takes.
@@ -69,6 +75,8 @@ pub enum Arity {
     Exactly(usize),
     /// n or more.
     AtLeast(usize),
+    /// From the first to the second, inclusive.
+    Between(usize, usize),
 }
 
 /// One row of the language reference: name, form, arity, signature and
@@ -105,6 +113,9 @@ pub const FORMS: &[Info] = &[
     Info { name: "smooth_union", form: Form::SmoothUnion, arity: Arity::Exactly(3), signature: "smooth_union(a, b, k)", doc: "min(a, b) - d(a, b, k), d = k/6 max(1 - |a - b|/k, 0)^3 (Zanni eq. 8-9), k > 0; L = max of the operands'" },
     Info { name: "smooth_intersect", form: Form::SmoothIntersect, arity: Arity::Exactly(3), signature: "smooth_intersect(a, b, k)", doc: "max(a, b) + d(a, b, k) (eq. 10); L = max of the operands'" },
     Info { name: "smooth_subtract", form: Form::SmoothSubtract, arity: Arity::Exactly(3), signature: "smooth_subtract(a, b, k)", doc: "max(a, -b) + d(a, -b, k) (eq. 11); L = max of the operands'" },
+    Info { name: "compact_union", form: Form::CompactUnion, arity: Arity::Between(3, 4), signature: "compact_union(a, b, beta[, r_o])", doc: "Zanni's compact G (eq. 12, 17, 18): the blend of smooth_union, closed beyond r_o (default 2 beta, at least 7/6 beta); the same field as a scene's smooth_union; L = the operands' times 6 r_o/(6 r_o - beta)" },
+    Info { name: "compact_intersect", form: Form::CompactIntersect, arity: Arity::Between(3, 4), signature: "compact_intersect(a, b, beta[, r_o])", doc: "compact G of smooth_intersect, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
+    Info { name: "compact_subtract", form: Form::CompactSubtract, arity: Arity::Between(3, 4), signature: "compact_subtract(a, b, beta[, r_o])", doc: "compact G of smooth_subtract, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
 ];
 
 /// The form called `name`, if any.
@@ -246,6 +257,23 @@ impl<S: Sink> B<'_, S> {
         let inside = self.min(m, zero)?;
         self.add(outside, inside)
     }
+    /// d(a, b, k) written NaN-free, as the scene operators compute it:
+    /// h³ / (6 · max(k², 1e-30)) with h = max(k − |a − b|, 0).
+    fn blend_nan_free(&mut self, a: NodeId, b: NodeId, k: NodeId) -> Result<NodeId, S::Error> {
+        let diff = self.sub(a, b)?;
+        let ad = self.f1(Func1::Abs, diff)?;
+        let h = self.sub(k, ad)?;
+        let zero = self.c(0.0)?;
+        let h = self.max(h, zero)?;
+        let h3 = self.0.push(Op::PowI(h, 3))?;
+        let k2 = self.sqr(k)?;
+        let tiny = self.c(1e-30)?;
+        let k2 = self.max(k2, tiny)?;
+        let six = self.c(6.0)?;
+        let den = self.mul(six, k2)?;
+        self.div(h3, den)
+    }
+
     /// Zanni's blend d(a, b, k) = k/6 · max(1 - |a - b|/k, 0)^3 (eq. 9).
     fn blend(&mut self, a: NodeId, b: NodeId, k: NodeId) -> Result<NodeId, S::Error> {
         let diff = self.sub(a, b)?;
@@ -260,6 +288,65 @@ impl<S: Sink> B<'_, S> {
         let k6 = self.div(k, six)?;
         self.mul(k6, h3)
     }
+}
+
+/// Zanni's compact operator G (eq. 12, 17, 18; `crate::scene::operator`)
+/// from ordinary operations. The IR has no branch, so "both operands in
+/// R_o" becomes a blend range forced to 0 outside R_o:
+/// β'' = min(b_r(x), 1e30 · max(r_o − m, 0)) with m = max(a, b) for ∪ and
+/// max(|a|, |b|) for ∩ and \. That is eq. 12 everywhere but on the edge of
+/// R_o itself, where G is continuous (r_o ≥ 7β/6) so both sides are sharp.
+/// The blend d is the NaN-free h³ / (6 max(k², 1e-30)), h = max(k − |a − b|, 0).
+fn compact<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
+    let beta = v[2];
+    let kb = b.0.konst(beta);
+    if let Some(k) = kb {
+        if !(k > 0.0) {
+            return Err(b.0.bad_argument(2, format!("the blend range beta must be positive, got {k}")));
+        }
+    }
+    let ro = match v.get(3) {
+        Some(&r) => r,
+        None => {
+            let two = b.c(2.0)?;
+            b.mul(two, beta)?
+        }
+    };
+    if let (Some(k), Some(r)) = (kb, b.0.konst(ro)) {
+        let min = 7.0 * k / 6.0;
+        if !(r >= min * (1.0 - 1e-12)) {
+            return Err(b.0.bad_argument(3, format!("r_o must be at least 7/6 of beta ({}), got {r}: below it the compact blend is discontinuous", crate::diag::short_number(min))));
+        }
+    }
+    let union = form == Form::CompactUnion;
+    let (a, o) = if form == Form::CompactSubtract { (v[0], b.neg(v[1])?) } else { (v[0], v[1]) };
+    let sharp = if union { b.min(a, o)? } else { b.max(a, o)? };
+    let d = b.blend_nan_free(a, o, beta)?;
+    let x = if union { b.sub(sharp, d)? } else { let s = b.add(sharp, d)?; b.f1(Func1::Abs, s)? };
+    // b_r(x) = beta · max(1 − 6x / (6 r_o − beta), 0)
+    let six = b.c(6.0)?;
+    let six_ro = b.mul(six, ro)?;
+    let den = b.sub(six_ro, beta)?;
+    let six_x = b.mul(six, x)?;
+    let q = b.div(six_x, den)?;
+    let one = b.c(1.0)?;
+    let t = b.sub(one, q)?;
+    let zero = b.c(0.0)?;
+    let t = b.max(t, zero)?;
+    let br = b.mul(beta, t)?;
+    let m = if union {
+        b.max(a, o)?
+    } else {
+        let (aa, ao) = (b.f1(Func1::Abs, a)?, b.f1(Func1::Abs, o)?);
+        b.max(aa, ao)?
+    };
+    let room = b.sub(ro, m)?;
+    let room = b.max(room, zero)?;
+    let big = b.c(1e30)?;
+    let gate = b.mul(big, room)?;
+    let k = b.min(br, gate)?;
+    let d = b.blend_nan_free(a, o, k)?;
+    if union { b.sub(sharp, d) } else { b.add(sharp, d) }
 }
 
 /// Expands a call of `form` whose arguments are already lowered (`v`, in
@@ -432,6 +519,7 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
             }
             Ok(acc)
         }
+        Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => compact(&mut b, form, v),
         Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => {
             if let Some(k) = b.0.konst(v[2]) {
                 if !(k > 0.0) {

@@ -40,6 +40,16 @@ pub struct Loaded {
 }
 
 impl FormulaArgs {
+    /// The `.scene.json` file given instead of a formula, if any.
+    pub fn scene_path(&self) -> Option<std::path::PathBuf> {
+        let is_scene = |p: &str| p.ends_with(".scene.json");
+        match (&self.file, self.formula.as_deref()) {
+            (Some(p), _) if is_scene(&p.to_string_lossy()) => Some(p.clone()),
+            (None, Some(a)) if is_scene(a) => Some(a.into()),
+            _ => None,
+        }
+    }
+
     /// Reads and compiles the formula.
     pub fn load(&self) -> Result<Formula, CliError> {
         Ok(self.load_with_header()?.formula)

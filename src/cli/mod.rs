@@ -9,6 +9,8 @@ mod frames;
 mod input;
 mod modality;
 mod render;
+mod scene;
+mod scene_render;
 mod shell;
 pub mod signals;
 
@@ -53,6 +55,9 @@ enum Command {
     /// Batch work: summarise the manifests `render --frames` writes next to the frames of each shard.
     #[command(after_help = "Examples:\n  isotrace manifest merge frames/f_.shard-*-of-16.manifest.json\n  isotrace manifest merge 'frames/*.manifest.json' --json summary.json")]
     Manifest(batch::ManifestArgs),
+    /// Blobtree scenes (.scene.json): generate the paper's synthetic scenes, validate a file.
+    #[command(after_help = "Examples:\n  isotrace scene gen aggregate --level 2 --smooth -o aggregate-2.scene.json\n  isotrace scene check aggregate-2.scene.json --probe 1000")]
+    Scene(scene::SceneArgs),
     /// Print a shell completion script to stdout.
     #[command(after_help = "Examples:\n  isotrace completions bash > ~/.local/share/bash-completion/completions/isotrace\n  isotrace completions zsh > \"${fpath[1]}/_isotrace\"\n  isotrace completions fish > ~/.config/fish/completions/isotrace.fish")]
     Completions(shell::CompletionsArgs),
@@ -176,6 +181,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::List(a) => list(a),
         Command::Bench(a) => bench::run(a),
         Command::Manifest(a) => batch::run(a),
+        Command::Scene(a) => scene::run(a),
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }

@@ -173,34 +173,34 @@ pub fn sphere_options(a: &SphereArgs, header: Option<&Header>) -> Result<SphereO
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     #[command(flatten)]
-    formula: FormulaArgs,
+    pub(super) formula: FormulaArgs,
     /// Output image: .png (8-bit sRGB) or .exr (float RGBA, Z, normals, evals). With --frames, a pattern like frames/f_%04d.png: %d is the frame number, %0Nd pads it with zeros to N digits (N from 1 to 9), %% is a literal %; exactly one number field, in the file name.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
-    output: PathBuf,
+    pub(super) output: PathBuf,
     /// Replace an existing read-only output file (it keeps its mode).
     #[arg(long)]
-    force: bool,
+    pub(super) force: bool,
     /// Image size `WxH` or `N` for a square (default 512x512).
     #[arg(long, value_name = "WxH")]
-    size: Option<String>,
+    pub(super) size: Option<String>,
     #[command(flatten)]
-    view: ViewArgs,
+    pub(super) view: ViewArgs,
     #[command(flatten)]
-    sphere: SphereArgs,
+    pub(super) sphere: SphereArgs,
     #[command(flatten)]
-    modal: super::modality::ModalityArgs,
+    pub(super) modal: super::modality::ModalityArgs,
     /// What the colours show: shade (alias phong), steps (alias evals: the pixel's work as a heat map, scaled to the 99th percentile; steps:MAX for a fixed scale), normal, gradient (bisection: |grad f|, Knoll's Fig. 5), depth (bisection), or field (sphere tracing: f(p) / err(t) at the hit).
     #[arg(long, value_name = "MODE", default_value = "shade")]
-    color: String,
+    pub(super) color: String,
     /// Print statistics to stderr.
     #[arg(long)]
-    stats: bool,
+    pub(super) stats: bool,
     /// Print statistics as one JSON object on stdout.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     /// Render an animation of N frames with t from --t0 to --t1.
     #[arg(long, value_name = "N")]
-    frames: Option<u32>,
+    pub(super) frames: Option<u32>,
     /// First time value of an animation.
     #[arg(long, value_name = "A", allow_hyphen_values = true, requires = "frames")]
     t0: Option<f64>,
@@ -263,10 +263,10 @@ pub fn parse_params(list: &[String]) -> Result<Vec<(String, f64)>, CliError> {
         .collect()
 }
 
-/// Builds the frame settings from flags, with an `.iso` header's view as
-/// defaults (flags override it); validated before any GPU work.
-pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header: Option<&Header>) -> Result<Settings, CliError> {
-    let mut v = header.map_or_else(View::default, Header::view);
+/// The view flags applied over `v` (a header's view, or a default): the
+/// flags override it; parameters given by flags come after the header's,
+/// so the last value given wins.
+pub fn view_flags(view: &ViewArgs, mut v: View) -> Result<View, CliError> {
     if let Some(b) = &view.bbox {
         v.bbox = parse_box(b)?;
     }
@@ -287,15 +287,13 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
         v.clip = Some(parse_clip(c)?);
     }
     v.time = view.time.or(v.time);
-    // Header parameters first, flags after: the last value given wins.
     v.params.extend(parse_params(&view.params)?);
-    let (mut s, warnings) = v.settings(f, size.0, size.1).map_err(|e| match e {
-        isotrace::render::ViewError::Settings(e) => input(super::settings_message(&e)),
-        isotrace::render::ViewError::Param(e) => CliError::Formula(e),
-    })?;
-    for w in warnings {
-        eprint!("{}", w.render("", "", false));
-    }
+    Ok(v)
+}
+
+/// The budget, tile and debug flags on top of a view's settings, checked
+/// before any GPU work.
+pub fn finish_settings(view: &ViewArgs, mut s: Settings) -> Result<Settings, CliError> {
     s.max_iter = view.max_iter.unwrap_or(DEFAULT_MAX_ITER);
     s.tile = view.tile;
     s.debug_unresolved = view.debug_unresolved;
@@ -303,9 +301,29 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
     Ok(s)
 }
 
+/// Maps a view error: settings name their flag, parameters are formula
+/// diagnostics.
+pub fn view_error(e: isotrace::render::ViewError) -> CliError {
+    match e {
+        isotrace::render::ViewError::Settings(e) => input(super::settings_message(&e)),
+        isotrace::render::ViewError::Param(e) => CliError::Formula(e),
+    }
+}
+
+/// Builds the frame settings from flags, with an `.iso` header's view as
+/// defaults (flags override it); validated before any GPU work.
+pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header: Option<&Header>) -> Result<Settings, CliError> {
+    let v = view_flags(view, header.map_or_else(View::default, Header::view))?;
+    let (s, warnings) = v.settings(f, size.0, size.1).map_err(view_error)?;
+    for w in warnings {
+        eprint!("{}", w.render("", "", false));
+    }
+    finish_settings(view, s)
+}
+
 /// Pixels whose traversal ran out of budget are drawn as a best guess:
 /// always say so (with or without `--stats`).
-fn warn_unresolved(frame: &Frame, t: &Traversal, max_iter: u32) {
+pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, max_iter: u32) {
     let n = frame.stats.unresolved;
     if n == 0 {
         return;
@@ -324,7 +342,7 @@ fn warn_unresolved(frame: &Frame, t: &Traversal, max_iter: u32) {
 
 /// Evidence that a sphere traced formula is not a distance bound with the
 /// Lipschitz bound given: always say so (surfaces may be missed).
-fn warn_lipschitz(frame: &Frame, o: &isotrace::render::SphereOptions) {
+pub(super) fn warn_lipschitz(frame: &Frame, o: &isotrace::render::SphereOptions) {
     let st = &frame.stats;
     if st.sphere.lipschitz_violations > 0 {
         eprintln!(
@@ -400,6 +418,9 @@ pub fn open_gpu() -> Result<Gpu, CliError> {
 }
 
 pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
+    if let Some(path) = a.formula.scene_path() {
+        return super::scene_render::run(&a, &path);
+    }
     let loaded = a.formula.load_with_header()?;
     let f = &loaded.formula;
     let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
@@ -496,7 +517,7 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
 
 /// Statistics of a sphere traced frame: steps instead of inclusion
 /// evaluations, unconverged pixels, and which techniques were on.
-fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions, gpu: &Gpu) {
+pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions, gpu: &Gpu) {
     let st = &frame.stats;
     let bound = match o.bound {
         None => "none".to_string(),
@@ -518,9 +539,16 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
             st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sphere.sor_fallbacks, st.sphere.lipschitz_seen,
             gpu.info.name, gpu.info.backend
         );
+        let f = &st.field;
+        if f.tiles > 0 {
+            eprintln!(
+                "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}",
+                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles
+            );
+        }
     }
     if a.json {
-        let v = serde_json::json!({
+        let mut v = serde_json::json!({
             "width": frame.width, "height": frame.height, "method": "sphere", "eps": s.eps,
             "lipschitz": o.lipschitz, "omega": o.omega, "screen_space": o.screen_space, "dynamic_eps": o.dynamic_eps,
             "fixpoint": o.fixpoint, "bound": bound, "max_steps": o.max_steps, "min_step": o.min_step,
@@ -532,6 +560,12 @@ fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions,
             "lipschitz_violations": st.sphere.lipschitz_violations, "lipschitz_seen": st.sphere.lipschitz_seen,
             "device": gpu.info,
         });
+        if st.field.tiles > 0 {
+            v["field_ms"] = st.field_ms.into();
+            v["active_mean"] = st.field.active_mean.into();
+            v["active_max"] = st.field.active_max.into();
+            v["overflow_tiles"] = st.field.overflow_tiles.into();
+        }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }
 }

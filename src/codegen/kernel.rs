@@ -41,12 +41,9 @@ pub struct SceneData {
     pub balls: Vec<[f32; 4]>,
 }
 
-/// Depth of the scene interpreter's value stack: scenes that need more are
-/// rejected (or rebalanced) on the host.
-pub const SCENE_STACK: u32 = 32;
 /// Most active primitives per 8×8 tile; a tile with more evaluates the
 /// whole tree (counted as an overflow tile).
-pub const SCENE_TILE_MAX: u32 = 64;
+pub const SCENE_TILE_MAX: u32 = 128;
 /// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
 pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;
 /// The view length that means "the whole tree".
@@ -61,7 +58,7 @@ impl FieldSource<'_> {
         match self {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
             FieldSource::Scene(_) => format!(
-                "{}const SCENE_STACK: u32 = {SCENE_STACK}u;\nconst SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
+                "{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
                  const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\n{}\n{}",
                 scene_constants(),
                 template::SCENE,
@@ -93,14 +90,9 @@ impl FieldSource<'_> {
     }
 }
 
-/// The scene node type codes as WGSL constants.
+/// The scene node type codes and layout constants as WGSL.
 fn scene_constants() -> String {
-    // TEMPORARY until src/scene lands: the codes of src/scene/linear.rs.
-    let codes = [
-        ("SPHERE", 1), ("BOX", 2), ("ROUND_BOX", 3), ("CAPSULE", 4), ("TORUS", 5), ("CYLINDER", 6), ("OCTAHEDRON", 7), ("PLANE", 8),
-        ("UNION", 32), ("INTERSECTION", 33), ("DIFFERENCE", 34), ("SMOOTH_UNION", 35), ("SMOOTH_INTERSECTION", 36), ("SMOOTH_DIFFERENCE", 37),
-    ];
-    codes.iter().map(|(n, c)| format!("const NODE_{n}: u32 = {c}u;\n")).collect()
+    crate::scene::linear::wgsl_constants()
 }
 
 /// An assembled render kernel.

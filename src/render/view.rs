@@ -59,9 +59,29 @@ pub enum ViewError {
 }
 
 impl View {
+    /// The settings of a `width × height` frame of a field without
+    /// parameters (a scene): parameters given are an error.
+    pub fn settings_without_params(&self, width: u32, height: u32) -> Result<Settings, ViewError> {
+        if let Some((name, _)) = self.params.first() {
+            return Err(SettingsError::new(SettingsField::Params, name.clone(), "this field has no parameters").into());
+        }
+        let s = Settings { params: vec![], ..self.frame(width, height)? };
+        s.check()?;
+        Ok(s)
+    }
+
     /// The settings of a `width × height` frame of `f`, and warnings about
     /// the parameters (values for names the formula does not use).
     pub fn settings(&self, f: &Formula, width: u32, height: u32) -> Result<(Settings, Vec<Diagnostic>), ViewError> {
+        let (params, warnings) = crate::sema::bind_params(&f.ir, &self.params)
+            .map_err(|diagnostic| FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic })?;
+        let s = Settings { params, ..self.frame(width, height)? };
+        s.check()?;
+        Ok((s, warnings))
+    }
+
+    /// Everything but the parameters.
+    fn frame(&self, width: u32, height: u32) -> Result<Settings, ViewError> {
         let fov = self.fov.unwrap_or(DEFAULT_FOV);
         let mut camera = Camera::default_for(&self.bbox, fov, width as f64 / height.max(1) as f64);
         if let Some(t) = self.target {
@@ -78,17 +98,12 @@ impl View {
         if let Some(e) = self.eps.filter(|e| !(*e > 0.0 && e.is_finite())) {
             return Err(SettingsError::new(SettingsField::Eps, e.to_string(), "it must be a positive width").into());
         }
-        let (params, warnings) = crate::sema::bind_params(&f.ir, &self.params)
-            .map_err(|diagnostic| FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic })?;
-        let s = Settings {
+        Ok(Settings {
             camera,
             eps: self.eps.unwrap_or(box_diagonal(&self.bbox) * 2f64.powi(-11)),
             time: self.time.unwrap_or(0.0),
             clip_sphere: self.clip,
-            params,
             ..Settings::for_box(self.bbox, width, height)
-        };
-        s.check()?;
-        Ok((s, warnings))
+        })
     }
 }

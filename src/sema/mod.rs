@@ -427,6 +427,7 @@ impl Builder {
             Builtin::Sdf(info) => match info.arity {
                 sdf::Arity::Exactly(n) => (n.to_string(), nargs == n),
                 sdf::Arity::AtLeast(n) => (format!("{n} or more"), nargs >= n),
+                sdf::Arity::Between(lo, hi) => (format!("{lo} or {hi}"), (lo..=hi).contains(&nargs)),
             },
         };
         if !ok {

@@ -12,7 +12,8 @@
 // (local point q = M (p, 1)), then its parameters, the first vec4 starting
 // with the scale s. An operator's record: (beta, r_o, 0, 0).
 //
-// Node type codes and SCENE_STACK come from Rust (spliced before this file).
+// Node type codes and SCENE_MAX_STACK come from Rust (src/scene/linear.rs,
+// spliced before this file).
 
 @group(1) @binding(0) var<storage, read> scene_nodes: array<vec4<u32>>;
 @group(1) @binding(1) var<storage, read> scene_params: array<vec4<f32>>;
@@ -107,24 +108,29 @@ const SCENE_NO_TILE: u32 = 0xffffffffu;
 // secondary rays, which leave it and need the whole tree.
 var<private> g_scene_tile: u32 = SCENE_NO_TILE;
 
+// Its view length, read once per pixel (SCENE_VIEW_FULL: the whole tree).
+var<private> g_scene_len: u32 = SCENE_VIEW_FULL;
 fn field_enter_pixel(px: vec2<u32>) {
     let t = (px - F.tile_origin) / 8u;
     g_scene_tile = t.y * ((F.tile_size.x + 7u) / 8u) + t.x;
+    g_scene_len = scene_tile_len[g_scene_tile].x;
 }
-fn field_leave_frustum() { g_scene_tile = SCENE_NO_TILE; }
+fn field_leave_frustum() { g_scene_tile = SCENE_NO_TILE; g_scene_len = SCENE_VIEW_FULL; }
 
 // The node list this invocation evaluates: the tile's view, or (length
 // SCENE_VIEW_FULL) the whole tree.
-fn scene_view_len() -> u32 {
-    if (g_scene_tile == SCENE_NO_TILE) { return SCENE_VIEW_FULL; }
-    return scene_tile_len[g_scene_tile].x;
-}
+fn scene_view_len() -> u32 { return g_scene_len; }
 
 // Loop iterations one evaluation costs.
 fn field_cost() -> u32 {
     let len = scene_view_len();
     return select(len, arrayLength(&scene_nodes), len == SCENE_VIEW_FULL);
 }
+
+// The interpreter's value stack: module scope, so it is zero-initialised
+// once per invocation, not on every call (a function-scope array is, and
+// that cost more than the whole traversal of a small scene on lavapipe).
+var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 
 // The field: the nodes of the view (or of the whole tree), in post-order,
 // on a value stack (Zanni's Algorithm 4). An empty view has no surface.
@@ -134,7 +140,6 @@ fn field(p: vec3<f32>) -> f32 {
     let n = select(len, arrayLength(&scene_nodes), full);
     if (n == 0u) { return F.inf; }
     let vbase = select(g_scene_tile * SCENE_VIEW_MAX, 0u, full);
-    var stack: array<f32, SCENE_STACK>;
     var sp = 0u;
     for (var k = 0u; k < n; k = k + 1u) {
         var i = k;
@@ -142,15 +147,15 @@ fn field(p: vec3<f32>) -> f32 {
         let w = scene_nodes[i];
         let ty = node_type(w.x);
         if (node_is_leaf(w.x)) {
-            stack[min(sp, SCENE_STACK - 1u)] = scene_primitive(ty, w.y, p);
+            g_scene_stack[min(sp, SCENE_MAX_STACK - 1u)] = scene_primitive(ty, w.y, p);
             sp = sp + 1u;
         } else {
-            let b = stack[min(sp - 1u, SCENE_STACK - 1u)];
-            let a = stack[min(sp - 2u, SCENE_STACK - 1u)];
+            let b = g_scene_stack[min(sp - 1u, SCENE_MAX_STACK - 1u)];
+            let a = g_scene_stack[min(sp - 2u, SCENE_MAX_STACK - 1u)];
             sp = sp - 1u;
-            stack[min(sp - 1u, SCENE_STACK - 1u)] = scene_operator(ty, w.y, a, b);
+            g_scene_stack[min(sp - 1u, SCENE_MAX_STACK - 1u)] = scene_operator(ty, w.y, a, b);
         }
     }
     g_field_work = g_field_work + n;
-    return stack[0];
+    return g_scene_stack[0];
 }

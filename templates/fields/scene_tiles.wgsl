@@ -143,10 +143,10 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     let root = n - 1u;
     let vbase = t * SCENE_VIEW_MAX;
     var vlen = 0u;
-    var s_node: array<u32, SCENE_STACK>;
-    var s_present: array<bool, SCENE_STACK>;
-    var s_anc: array<u32, SCENE_STACK>;
-    var s_start: array<u32, SCENE_STACK>;
+    var s_node: array<u32, SCENE_MAX_STACK>;
+    var s_present: array<bool, SCENE_MAX_STACK>;
+    var s_anc: array<u32, SCENE_MAX_STACK>;
+    var s_start: array<u32, SCENE_MAX_STACK>;
     var sp = 0u;
     var present = false;
     var ok = true;
@@ -163,7 +163,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
             var anc = scene_fast(b);
             if (sp > 0u) { anc = min(anc, s_anc[sp - 1u]); }
             if (anc > nxt) {
-                if (sp >= SCENE_STACK) { ok = false; break; }
+                if (sp >= SCENE_MAX_STACK) { ok = false; break; }
                 s_node[sp] = b; s_present[sp] = present; s_anc[sp] = anc; s_start[sp] = start;
                 sp = sp + 1u;
                 break;

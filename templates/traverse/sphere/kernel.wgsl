@@ -72,6 +72,7 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
     var t_safe = t0;          // last point whose unbounding sphere was accepted
     var cand_err = F.inf;
     var cand_t = t0;
+    var probing = false;      // t is the midpoint probe of a step out of the domain
     loop {
         // Stop before lavapipe's silent loop cap as well: the steps, the
         // field's own loop iterations so far, and room for the normal and
@@ -86,7 +87,7 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
         if (m.steps == 1u && v < 0.0) { fsign = -1.0; } // start inside: march to the boundary
         let signed = fsign * v;
         let radius = abs(signed);
-        let sor_fail = omega > 1.0 && (radius + prev_radius) < stride;
+        let sor_fail = !probing && omega > 1.0 && (radius + prev_radius) < stride;
         if (sor_fail) {
             // The spheres do not overlap: go back to p_fallback and continue
             // with plain sphere tracing.
@@ -113,22 +114,19 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
             // The spheres overlap, so [t_safe, t] holds no surface: beyond
             // t1 the ray has left the domain. (After a failed over-relaxed
             // step the fallback comes first, even beyond t1.)
+            if (probing) { break; } // the probe saw no sign change: a miss
             if (t > t1) {
                 // That step claims [t_safe, t1] empty. When it spans a large
-                // part of the segment, check the claim once at the midpoint:
-                // a sign change there means f is no distance bound with this
-                // L. The rate seen (> 2 / omega) counts the pixel as a
-                // violation, and the root is bracketed instead of missed.
+                // part of the segment, check the claim once at the midpoint
+                // (the next iteration evaluates it, through the one call site
+                // of dist and bracket: lavapipe inlines every call): a sign
+                // change there means f is no distance bound with this L. The
+                // rate seen (> 2 / omega) counts the pixel as a violation,
+                // and the root is bracketed instead of missed.
                 if (t1 - t_safe > 0.25 * (t1 - t0)) {
-                    let tm = 0.5 * (t_safe + t1);
-                    let fm = fsign * dist(o + d * tm);
-                    m.steps = m.steps + 1u;
-                    if (fm < 0.0) {
-                        m.ratio = max(m.ratio, (f_safe - fm) / max(tm - t_safe, 1e-30));
-                        m.t = bracket(o, d, t_safe, tm);
-                        m.steps = m.steps + u32(BRACKET_STEPS);
-                        m.status = STATUS_HIT;
-                    }
+                    probing = true;
+                    t = 0.5 * (t_safe + t1);
+                    continue;
                 }
                 break;
             }

@@ -1,0 +1,403 @@
+//! The `.scene.json` file: version 1, described in docs/scene-format.md.
+//!
+//! ```json
+//! {"isotrace_scene": 1, "root": 2, "nodes": [
+//!   {"type": "sphere", "radius": 1},
+//!   {"type": "box", "half": [0.5, 0.5, 2], "rotate": [0, 0, 1, 0.5], "translate": [1, 0, 0]},
+//!   {"type": "smooth_union", "left": 0, "right": 1, "beta": 0.2}
+//! ]}
+//! ```
+//!
+//! Nodes refer to their operands by index, so a tree of any depth is a flat
+//! list (JSON nesting would hit parser recursion limits long before 111,110
+//! primitives). The file is read with a stated limit ([`MAX_SCENE_BYTES`]),
+//! and nodes are converted one at a time as they are parsed, so memory
+//! follows the scene, not a JSON tree of it. Every error names the JSON path
+//! of the bad value: `nodes[812].radius: must be > 0`.
+
+use super::{Blend, Node, Operator, Primitive, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, MAX_NODES};
+use crate::bounded::{self, ReadError};
+use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
+use serde_json::{Map, Value};
+use std::cell::RefCell;
+use std::fmt;
+use std::path::Path;
+
+/// The format version this isotrace reads and writes.
+pub const VERSION: u64 = 1;
+
+/// The largest scene file read: 64 MiB holds the 111,110-primitive aggregate
+/// (30 MB as `isotrace scene gen` writes it) with room to spare.
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// Why a scene file could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum FormatError {
+    /// The file could not be read (or is too large, or not UTF-8).
+    #[error("{0}")]
+    Read(#[from] ReadError),
+    /// Not JSON, or not a JSON object at the top.
+    #[error("{message}")]
+    Syntax {
+        /// serde_json's message, with its line and column.
+        message: String,
+    },
+    /// JSON, but not a valid scene: the path and the reason.
+    #[error("{0}")]
+    Invalid(#[from] SceneError),
+}
+
+/// Reads and validates the scene file at `path`.
+pub fn load(path: &Path) -> Result<Scene, FormatError> {
+    parse(&bounded::read_file_text(path, MAX_SCENE_BYTES)?)
+}
+
+/// Parses and validates scene file text.
+pub fn parse(text: &str) -> Result<Scene, FormatError> {
+    let failure = RefCell::new(None);
+    let mut de = serde_json::Deserializer::from_str(text);
+    let parsed = de::Deserializer::deserialize_any(&mut de, FileVisitor { failure: &failure }).and_then(|v| de.end().map(|_| v));
+    let (nodes, root) = match parsed {
+        Ok(v) => v,
+        Err(e) => {
+            return Err(match failure.into_inner() {
+                Some(s) => FormatError::Invalid(s),
+                None => FormatError::Syntax { message: e.to_string() },
+            });
+        }
+    };
+    Ok(Scene::new(nodes, root)?)
+}
+
+/// Records the scene error and returns a placeholder serde error (the
+/// recorded one is reported).
+fn fail<E: de::Error>(cell: &RefCell<Option<SceneError>>, e: SceneError) -> E {
+    *cell.borrow_mut() = Some(e);
+    E::custom("invalid scene")
+}
+
+struct FileVisitor<'a> {
+    failure: &'a RefCell<Option<SceneError>>,
+}
+
+impl<'de> Visitor<'de> for FileVisitor<'_> {
+    type Value = (Vec<Node>, usize);
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a scene object {\"isotrace_scene\": 1, \"nodes\": [...], \"root\": N}")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+        let cell = self.failure;
+        let (mut version, mut nodes, mut root) = (None, None, None);
+        while let Some(key) = map.next_key::<String>()? {
+            let seen = match key.as_str() {
+                "isotrace_scene" => version.replace(check_version(&map.next_value::<Value>()?).map_err(|e| fail(cell, e))?).is_some(),
+                "nodes" => nodes.replace(map.next_value_seed(NodesSeed { failure: cell })?).is_some(),
+                "root" => root.replace(index(&map.next_value::<Value>()?).map_err(|r| fail(cell, SceneError::new("root", r)))?).is_some(),
+                _ => return Err(fail(cell, SceneError::new(key, "unknown field; a scene file has isotrace_scene, nodes and root"))),
+            };
+            if seen {
+                return Err(fail(cell, SceneError::new(key, "given twice")));
+            }
+        }
+        let missing = |f: &str, why: &str| fail(cell, SceneError::new(f, format!("missing: {why}")));
+        version.ok_or_else(|| missing("isotrace_scene", "a scene file starts with \"isotrace_scene\": 1"))?;
+        let nodes = nodes.ok_or_else(|| missing("nodes", "a scene file lists its nodes"))?;
+        let root = root.ok_or_else(|| missing("root", "a scene file names its root node"))?;
+        Ok((nodes, root))
+    }
+}
+
+fn check_version(v: &Value) -> Result<u64, SceneError> {
+    match v.as_u64() {
+        Some(VERSION) => Ok(VERSION),
+        Some(n) => Err(SceneError::new("isotrace_scene", format!("version {n} is not supported (this isotrace reads version {VERSION})"))),
+        None => Err(SceneError::new("isotrace_scene", format!("expected the format version {VERSION}, found {}", describe(v)))),
+    }
+}
+
+struct NodesSeed<'a> {
+    failure: &'a RefCell<Option<SceneError>>,
+}
+
+impl<'de> DeserializeSeed<'de> for NodesSeed<'_> {
+    type Value = Vec<Node>;
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<Vec<Node>, D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for NodesSeed<'_> {
+    type Value = Vec<Node>;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a list of nodes")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<Node>, A::Error> {
+        let cell = self.failure;
+        let mut nodes = Vec::new();
+        loop {
+            let i = nodes.len();
+            // A syntax error inside a node is reported at that node (but a
+            // file that simply ends names no node: there may be none).
+            let v = match seq.next_element::<Value>() {
+                Ok(Some(v)) => v,
+                Ok(None) => return Ok(nodes),
+                // (The error type is generic here; serde_json's EOF messages all start so.)
+                Err(e) if e.to_string().starts_with("EOF while parsing") => return Err(e),
+                Err(e) => return Err(fail(cell, SceneError::at(i, "", e.to_string()))),
+            };
+            if i >= MAX_NODES {
+                return Err(fail(cell, SceneError::new("nodes", format!("more than {MAX_NODES} nodes (the limit)"))));
+            }
+            nodes.push(node(i, &v).map_err(|e| fail(cell, e))?);
+        }
+    }
+}
+
+/// What a JSON value is, for messages.
+fn describe(v: &Value) -> String {
+    match v {
+        Value::Null => "null".into(),
+        Value::Bool(b) => b.to_string(),
+        Value::Number(n) => n.to_string(),
+        Value::String(s) if s.chars().count() > 40 => "a string".into(),
+        Value::String(s) => format!("\"{s}\""),
+        Value::Array(_) => "an array".into(),
+        Value::Object(_) => "an object".into(),
+    }
+}
+
+/// A node index: a whole number ≥ 0.
+fn index(v: &Value) -> Result<usize, String> {
+    v.as_u64().and_then(|n| usize::try_from(n).ok()).ok_or_else(|| format!("expected a node index (a whole number >= 0), found {}", describe(v)))
+}
+
+/// The fields of one node object, read with paths.
+struct Fields<'a> {
+    i: usize,
+    obj: &'a Map<String, Value>,
+}
+
+impl Fields<'_> {
+    fn err(&self, field: &str, reason: impl Into<String>) -> SceneError {
+        SceneError::at(self.i, field, reason)
+    }
+
+    fn number_of(&self, field: &str, v: &Value) -> Result<f64, SceneError> {
+        match v.as_f64() {
+            Some(x) if x.is_finite() => Ok(x),
+            Some(_) => Err(self.err(field, "must be finite")),
+            None => Err(self.err(field, format!("expected a number, found {}", describe(v)))),
+        }
+    }
+
+    fn number(&self, field: &str) -> Result<f64, SceneError> {
+        match self.obj.get(field) {
+            Some(v) => self.number_of(field, v),
+            None => Err(self.err(field, "missing")),
+        }
+    }
+
+    fn numbers<const N: usize>(&self, field: &str) -> Result<Option<[f64; N]>, SceneError> {
+        let Some(v) = self.obj.get(field) else { return Ok(None) };
+        let Some(a) = v.as_array() else {
+            return Err(self.err(field, format!("expected {N} numbers, found {}", describe(v))));
+        };
+        if a.len() != N {
+            return Err(self.err(field, format!("expected {N} numbers, found {}", a.len())));
+        }
+        let mut out = [0.0; N];
+        for (k, x) in a.iter().enumerate() {
+            out[k] = self.number_of(&format!("{field}[{k}]"), x)?;
+        }
+        Ok(Some(out))
+    }
+
+    fn vec3(&self, field: &str) -> Result<[f64; 3], SceneError> {
+        self.numbers::<3>(field)?.ok_or_else(|| self.err(field, "missing"))
+    }
+
+    fn index(&self, field: &str) -> Result<usize, SceneError> {
+        let v = self.obj.get(field).ok_or_else(|| self.err(field, "missing"))?;
+        index(v).map_err(|r| self.err(field, r))
+    }
+
+    /// Refuses any key not in `allowed`.
+    fn only(&self, ty: &str, allowed: &[&str]) -> Result<(), SceneError> {
+        for k in self.obj.keys() {
+            if k != "type" && !allowed.contains(&k.as_str()) {
+                return Err(self.err(k, format!("unknown field for a {ty}; expected {}", list(allowed))));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `a, b or c`.
+fn list(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
+const TRANSFORM_FIELDS: [&str; 3] = ["translate", "rotate", "scale"];
+
+/// The fields of each shape, before the transform's.
+fn shape_fields(kind: ShapeKind) -> &'static [&'static str] {
+    match kind {
+        ShapeKind::Sphere => &["radius"],
+        ShapeKind::Box => &["half"],
+        ShapeKind::RoundBox => &["half", "radius"],
+        ShapeKind::Capsule => &["a", "b", "radius"],
+        ShapeKind::Torus => &["major", "minor"],
+        ShapeKind::Cylinder => &["radius", "half_height"],
+        ShapeKind::Octahedron => &["size"],
+        ShapeKind::Plane => &["normal", "offset"],
+    }
+}
+
+/// Converts node `i` from JSON (parameters are checked later, by [`Scene::new`]).
+fn node(i: usize, v: &Value) -> Result<Node, SceneError> {
+    let obj = v.as_object().ok_or_else(|| SceneError::at(i, "", format!("expected an object, found {}", describe(v))))?;
+    let f = Fields { i, obj };
+    let ty = match obj.get("type") {
+        Some(Value::String(s)) => s.as_str(),
+        Some(other) => return Err(f.err("type", format!("expected a type name, found {}", describe(other)))),
+        None => return Err(f.err("type", "missing")),
+    };
+    if let Some(kind) = ShapeKind::parse(ty) {
+        let fields: Vec<&str> = shape_fields(kind).iter().chain(&TRANSFORM_FIELDS).copied().collect();
+        f.only(ty, &fields)?;
+        return Ok(Node::Primitive(Primitive { shape: shape(&f, kind)?, transform: transform(&f)? }));
+    }
+    if let Some(k) = Operator::NAMES.iter().position(|n| *n == ty) {
+        let smooth = k >= 3;
+        let kind = [super::OpKind::Union, super::OpKind::Intersection, super::OpKind::Difference][k % 3];
+        f.only(ty, if smooth { &["left", "right", "beta", "r_o"] } else { &["left", "right"] })?;
+        let blend = if smooth {
+            let beta = f.number("beta")?;
+            let range = match obj.get("r_o") {
+                Some(v) => f.number_of("r_o", v)?,
+                None => super::operator::DEFAULT_RANGE_FACTOR * beta,
+            };
+            Some(Blend { beta, range })
+        } else {
+            None
+        };
+        return Ok(Node::Operator { op: Operator { kind, blend }, left: f.index("left")?, right: f.index("right")? });
+    }
+    let names: Vec<&str> = ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).collect();
+    let near = crate::diag::closest(ty, names.iter().copied());
+    let hint = match near.first() {
+        Some(n) => format!("did you mean '{n}'?"),
+        None => format!("the types are {}", list(&names)),
+    };
+    Err(f.err("type", format!("unknown type '{ty}'; {hint}")))
+}
+
+fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
+    Ok(match kind {
+        ShapeKind::Sphere => Shape::Sphere { radius: f.number("radius")? },
+        ShapeKind::Box => Shape::Box { half: f.vec3("half")? },
+        ShapeKind::RoundBox => Shape::RoundBox { half: f.vec3("half")?, radius: f.number("radius")? },
+        ShapeKind::Capsule => Shape::Capsule { a: f.vec3("a")?, b: f.vec3("b")?, radius: f.number("radius")? },
+        ShapeKind::Torus => Shape::Torus { major: f.number("major")?, minor: f.number("minor")? },
+        ShapeKind::Cylinder => Shape::Cylinder { radius: f.number("radius")?, half_height: f.number("half_height")? },
+        ShapeKind::Octahedron => Shape::Octahedron { size: f.number("size")? },
+        ShapeKind::Plane => Shape::Plane { normal: f.vec3("normal")?, offset: f.number("offset")? },
+    })
+}
+
+fn transform(f: &Fields) -> Result<Transform, SceneError> {
+    let translate = f.numbers::<3>("translate")?.unwrap_or([0.0; 3]);
+    let rotate = f.numbers::<4>("rotate")?.map(|r| Rotation { axis: [r[0], r[1], r[2]], angle: r[3] });
+    let scale = match f.obj.get("scale") {
+        Some(v) => f.number_of("scale", v)?,
+        None => 1.0,
+    };
+    Ok(Transform { translate, rotate, scale })
+}
+
+/// A number as JSON (shortest form that reads back the same f64).
+fn num(v: f64) -> String {
+    serde_json::to_string(&v).unwrap_or_else(|_| "null".into())
+}
+
+fn nums(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|&x| num(x)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// One node as a JSON object on one line.
+fn node_json(n: &Node) -> String {
+    let mut s = String::from("{");
+    match n {
+        Node::Primitive(p) => {
+            s += &format!("\"type\": \"{}\"", p.shape.kind().name());
+            let values: Vec<String> = match p.shape {
+                Shape::Sphere { radius } => vec![num(radius)],
+                Shape::Box { half } => vec![nums(&half)],
+                Shape::RoundBox { half, radius } => vec![nums(&half), num(radius)],
+                Shape::Capsule { a, b, radius } => vec![nums(&a), nums(&b), num(radius)],
+                Shape::Torus { major, minor } => vec![num(major), num(minor)],
+                Shape::Cylinder { radius, half_height } => vec![num(radius), num(half_height)],
+                Shape::Octahedron { size } => vec![num(size)],
+                Shape::Plane { normal, offset } => vec![nums(&normal), num(offset)],
+            };
+            for (k, v) in shape_fields(p.shape.kind()).iter().zip(values) {
+                s += &format!(", \"{k}\": {v}");
+            }
+            let t = &p.transform;
+            if t.translate != [0.0; 3] {
+                s += &format!(", \"translate\": {}", nums(&t.translate));
+            }
+            if let Some(r) = &t.rotate {
+                s += &format!(", \"rotate\": {}", nums(&[r.axis[0], r.axis[1], r.axis[2], r.angle]));
+            }
+            if t.scale != 1.0 {
+                s += &format!(", \"scale\": {}", num(t.scale));
+            }
+        }
+        Node::Operator { op, left, right } => {
+            s += &format!("\"type\": \"{}\", \"left\": {left}, \"right\": {right}", op.name());
+            if let Some(b) = &op.blend {
+                s += &format!(", \"beta\": {}, \"r_o\": {}", num(b.beta), num(b.range));
+            }
+        }
+    }
+    s + "}"
+}
+
+/// The scene as version-1 JSON, one node per line, in stored order.
+pub fn to_json(scene: &Scene) -> String {
+    let mut s = format!("{{\"isotrace_scene\": {VERSION}, \"root\": {},\n \"nodes\": [\n", scene.root());
+    let n = scene.nodes().len();
+    for (i, node) in scene.nodes().iter().enumerate() {
+        s += "  ";
+        s += &node_json(node);
+        s += if i + 1 < n { ",\n" } else { "\n" };
+    }
+    s + " ]}\n"
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip() {
+        let s = crate::scene::generate::generate(crate::scene::generate::Kind::SpherePairs, 0, crate::scene::generate::Blending::Smooth, 3).unwrap();
+        assert_eq!(parse(&to_json(&s)).unwrap(), s);
+    }
+
+    #[test]
+    fn huge_numbers_are_named_at_their_node() {
+        let e = parse("{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{\"type\": \"sphere\", \"radius\": 1e999}]}").unwrap_err();
+        assert_eq!(e.to_string(), "nodes[0]: number out of range at line 1 column 77");
+    }
+}

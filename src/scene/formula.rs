@@ -1,0 +1,98 @@
+//! A scene as formula text built from the distance forms of [`crate::sdf`],
+//! so the compiled path can render the same field (and the two paths can
+//! be compared for depth and for time).
+//!
+//! One definition per node, in post-order (`n3 = union(n1, n2);`), so the
+//! text nests only as deep as one primitive's transforms, whatever the
+//! tree's depth (the parser allows 200 levels). Compact smooth operators
+//! become `compact_union`, `compact_intersect` and `compact_subtract`.
+//! Only small scenes fit: the formula language reads at most 64 KiB of text
+//! (about 500 primitives) and compiles at most 50,000 operations.
+
+use super::{Node, OpKind, Primitive, Scene, Shape};
+use crate::syntax::parser::MAX_SOURCE_BYTES;
+
+/// The formula would exceed the formula language's size limit.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("the scene's formula would be {bytes} bytes or more, above the formula language's limit of {limit} bytes")]
+pub struct TooLarge {
+    /// Bytes written when the limit was passed.
+    pub bytes: usize,
+    /// The limit.
+    pub limit: usize,
+}
+
+impl Scene {
+    /// The scene as a formula program ([`to_formula`]).
+    pub fn to_formula(&self) -> Result<String, TooLarge> {
+        to_formula(self)
+    }
+}
+
+/// A number as the formula language reads it back exactly.
+fn num(v: f64) -> String {
+    format!("{v:?}")
+}
+
+fn args(v: &[f64]) -> String {
+    v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", ")
+}
+
+/// `translate(t, rotate(axis, angle, scale(s, form)))`, identity parts left out.
+pub fn primitive_formula(p: &Primitive) -> String {
+    let mut s = match p.shape {
+        Shape::Sphere { radius } => format!("sphere({})", num(radius)),
+        Shape::Box { half } => format!("box({})", args(&half)),
+        Shape::RoundBox { half, radius } => format!("roundbox({}, {})", args(&half), num(radius)),
+        Shape::Capsule { a, b, radius } => format!("capsule({}, {}, {})", args(&a), args(&b), num(radius)),
+        Shape::Torus { major, minor } => format!("torus({}, {})", num(major), num(minor)),
+        Shape::Cylinder { radius, half_height } => format!("cylinder({}, {})", num(radius), num(half_height)),
+        Shape::Octahedron { size } => format!("octahedron({})", num(size)),
+        Shape::Plane { normal, offset } => format!("plane({}, {})", args(&normal), num(offset)),
+    };
+    let t = &p.transform;
+    if t.scale != 1.0 {
+        s = format!("scale({}, {s})", num(t.scale));
+    }
+    if let Some(r) = &t.rotate {
+        s = format!("rotate({}, {}, {s})", args(&r.axis), num(r.angle));
+    }
+    if t.translate != [0.0; 3] {
+        s = format!("translate({}, {s})", args(&t.translate));
+    }
+    s
+}
+
+/// The scene as a formula program; an error if it passes the formula
+/// language's 64 KiB limit.
+pub fn to_formula(scene: &Scene) -> Result<String, TooLarge> {
+    let mut out = String::new();
+    let name = |i: usize| format!("n{i}");
+    for &i in scene.post_order() {
+        let rhs = match &scene.nodes()[i] {
+            Node::Primitive(p) => primitive_formula(p),
+            Node::Operator { op, left, right } => {
+                let (l, r) = (name(*left), name(*right));
+                match (op.kind, op.blend) {
+                    (OpKind::Union, None) => format!("union({l}, {r})"),
+                    (OpKind::Intersection, None) => format!("intersect({l}, {r})"),
+                    (OpKind::Difference, None) => format!("subtract({l}, {r})"),
+                    (k, Some(b)) => {
+                        let f = ["compact_union", "compact_intersect", "compact_subtract"][k as usize];
+                        format!("{f}({l}, {r}, {}, {})", num(b.beta), num(b.range))
+                    }
+                }
+            }
+        };
+        out += &format!("{} = {rhs};\n", name(i));
+        if out.len() > MAX_SOURCE_BYTES {
+            return Err(TooLarge { bytes: out.len(), limit: MAX_SOURCE_BYTES });
+        }
+    }
+    out += &name(scene.root());
+    out.push('\n');
+    if out.len() > MAX_SOURCE_BYTES {
+        return Err(TooLarge { bytes: out.len(), limit: MAX_SOURCE_BYTES });
+    }
+    Ok(out)
+}

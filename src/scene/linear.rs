@@ -1,0 +1,507 @@
+//! The linearised post-order blobtree the GPU reads (Zanni et al. 2024 §5
+//! and §7, after Grasberger et al. 2016). **The layout is fixed**: the WGSL
+//! interpreter and traversal are written against it, and
+//! [`wgsl_constants`] generates their constants from the ones here.
+//!
+//! `nodes: Vec<[u32; 4]>`, one per node in post-order (root last, index n − 1):
+//! - x: isLeaf (bit 31) | isLeft (bit 30) | type (bits 22..29) | parent
+//!   (bits 0..21; the root's parent is n, "invalid");
+//! - y: index of the node's first vec4 in `params`;
+//! - z: the fast ancestor (the brief §1.4; the root's is n);
+//! - w: 0.
+//!
+//! `params: Vec<[f32; 4]>`: a primitive has three rows of the 3×4 matrix
+//! M = [Rᵀ/s | −Rᵀt/s] (local q = M·(p, 1)), then its parameter rows, the
+//! first starting with s (the field is s · f_local(q)):
+//! sphere (s, r, 0, 0); box (s, hx, hy, hz); round_box (s, hx, hy, hz),
+//! (r, 0, 0, 0); capsule (s, ax, ay, az), (bx, by, bz, r); torus (s, R, r, 0);
+//! cylinder (s, r, h, 0); octahedron (s, size, 0, 0); plane (s, nx, ny, nz),
+//! (d, 0, 0, 0) with n of unit length (a plane keeps its transform like any
+//! primitive). An operator has one row (β, r_o, 0, 0), zeros when sharp.
+//!
+//! `abv: Vec<[f32; 4]>`: [`ABV_STRIDE`] = 4 rows per primitive, primitives
+//! in post-order (the k-th is node `primitives[k]`):
+//! - row 0: (x0, y0, z0, kind) with kind [`ABV_NONE`] 0 (always active),
+//!   [`ABV_SPHERE`] 1, [`ABV_BOX`] 2, [`ABV_CAPSULE`] 3, as a float;
+//! - sphere: row 0 xyz the centre, row 1 (0, 0, 0, radius);
+//! - box: row 0 xyz the centre, rows 1-3 (unit axis, half extent along it);
+//! - capsule: row 0 xyz the end a, row 1 (b, radius);
+//! - unused rows are zero. Radii and half extents are rounded up to f32 and
+//!   padded by 2⁻²⁰ of the volume's size, so f32 rounding never shrinks one.
+//!
+//! Operands of commutative operators (every one but difference) are put in
+//! the order that needs the smaller evaluation stack (the larger subtree
+//! first, as Sethi-Ullman numbering), which changes no value: min, max and
+//! |a − b| are symmetric. A left comb then needs 2 values, a balanced tree
+//! log₂ n + 1; only differences nested on their right can exceed
+//! [`MAX_STACK`], and such scenes are refused.
+
+use glam::DVec3;
+use super::roi::{self, Aabb, Abv, Roi};
+use super::{Node, NodeId, OpKind, Operator, Primitive, Scene, SceneError, Shape};
+
+/// isLeaf bit of a node word.
+pub const NODE_LEAF_BIT: u32 = 1 << 31;
+/// isLeft bit of a node word.
+pub const NODE_LEFT_BIT: u32 = 1 << 30;
+/// Position of the 8-bit type field.
+pub const NODE_TYPE_SHIFT: u32 = 22;
+/// Mask of the type field after shifting.
+pub const NODE_TYPE_MASK: u32 = 0xff;
+/// Mask of the parent field.
+pub const NODE_PARENT_MASK: u32 = (1 << 22) - 1;
+
+/// Type code of a sphere.
+pub const SPHERE: u32 = 1;
+/// Type code of a box.
+pub const BOX: u32 = 2;
+/// Type code of a round box.
+pub const ROUND_BOX: u32 = 3;
+/// Type code of a capsule.
+pub const CAPSULE: u32 = 4;
+/// Type code of a torus.
+pub const TORUS: u32 = 5;
+/// Type code of a capped cylinder.
+pub const CYLINDER: u32 = 6;
+/// Type code of an octahedron.
+pub const OCTAHEDRON: u32 = 7;
+/// Type code of a plane.
+pub const PLANE: u32 = 8;
+/// Type code of a sharp union.
+pub const UNION: u32 = 32;
+/// Type code of a sharp intersection.
+pub const INTERSECTION: u32 = 33;
+/// Type code of a sharp difference.
+pub const DIFFERENCE: u32 = 34;
+/// Type code of a compact smooth union.
+pub const SMOOTH_UNION: u32 = 35;
+/// Type code of a compact smooth intersection.
+pub const SMOOTH_INTERSECTION: u32 = 36;
+/// Type code of a compact smooth difference.
+pub const SMOOTH_DIFFERENCE: u32 = 37;
+
+/// Rows of the transform matrix before a primitive's parameters.
+pub const PRIM_MATRIX_ROWS: u32 = 3;
+/// The largest evaluation stack a scene may need.
+pub const MAX_STACK: u32 = 32;
+/// Rows of `abv` per primitive.
+pub const ABV_STRIDE: u32 = 4;
+/// ABV kind: none, always active (planes).
+pub const ABV_NONE: u32 = 0;
+/// ABV kind: sphere.
+pub const ABV_SPHERE: u32 = 1;
+/// ABV kind: oriented box.
+pub const ABV_BOX: u32 = 2;
+/// ABV kind: capsule.
+pub const ABV_CAPSULE: u32 = 3;
+
+/// The type code of a node.
+pub fn type_code(node: &Node) -> u32 {
+    match node {
+        Node::Primitive(p) => p.shape.kind() as u32,
+        Node::Operator { op, .. } => op_code(op),
+    }
+}
+
+fn op_code(op: &Operator) -> u32 {
+    let base = match op.kind {
+        OpKind::Union => UNION,
+        OpKind::Intersection => INTERSECTION,
+        OpKind::Difference => DIFFERENCE,
+    };
+    if op.blend.is_some() { base + 3 } else { base }
+}
+
+/// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
+pub fn wgsl_constants() -> String {
+    let consts: [(&str, u32); 27] = [
+        ("NODE_LEAF_BIT", NODE_LEAF_BIT),
+        ("NODE_LEFT_BIT", NODE_LEFT_BIT),
+        ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
+        ("NODE_TYPE_MASK", NODE_TYPE_MASK),
+        ("NODE_PARENT_MASK", NODE_PARENT_MASK),
+        ("NODE_SPHERE", SPHERE),
+        ("NODE_BOX", BOX),
+        ("NODE_ROUND_BOX", ROUND_BOX),
+        ("NODE_CAPSULE", CAPSULE),
+        ("NODE_TORUS", TORUS),
+        ("NODE_CYLINDER", CYLINDER),
+        ("NODE_OCTAHEDRON", OCTAHEDRON),
+        ("NODE_PLANE", PLANE),
+        ("NODE_UNION", UNION),
+        ("NODE_INTERSECTION", INTERSECTION),
+        ("NODE_DIFFERENCE", DIFFERENCE),
+        ("NODE_SMOOTH_UNION", SMOOTH_UNION),
+        ("NODE_SMOOTH_INTERSECTION", SMOOTH_INTERSECTION),
+        ("NODE_SMOOTH_DIFFERENCE", SMOOTH_DIFFERENCE),
+        ("PRIM_MATRIX_ROWS", PRIM_MATRIX_ROWS),
+        ("SCENE_MAX_STACK", MAX_STACK),
+        ("ABV_STRIDE", ABV_STRIDE),
+        ("ABV_NONE", ABV_NONE),
+        ("ABV_SPHERE", ABV_SPHERE),
+        ("ABV_BOX", ABV_BOX),
+        ("ABV_CAPSULE", ABV_CAPSULE),
+        ("SCENE_MAX_NODES", super::MAX_NODES as u32),
+    ];
+    let mut s = String::new();
+    for (name, v) in consts {
+        s.push_str(&format!("const {name}: u32 = {v}u;\n"));
+    }
+    s
+}
+
+/// A scene in post-order: the GPU buffers and the topology the CPU
+/// traversal uses. Vectors indexed "by node" use post-order indices.
+#[derive(Debug, Clone)]
+pub struct Linear {
+    /// The node words (module doc).
+    pub nodes: Vec<[u32; 4]>,
+    /// Parameter rows (module doc).
+    pub params: Vec<[f32; 4]>,
+    /// ABV rows, [`ABV_STRIDE`] per primitive (module doc).
+    pub abv: Vec<[f32; 4]>,
+    /// The post-order index of each primitive, ascending.
+    pub primitives: Vec<u32>,
+    /// The most values a post-order stack interpreter holds at once.
+    pub stack_depth: u32,
+    /// A box holding the solid {f ≤ 0} ([`roi::bounds`]); infinite sides
+    /// if a plane is not cut off.
+    pub bounds: Aabb,
+    /// The scene node at each post-order index.
+    pub order: Vec<NodeId>,
+    /// Parent of each node (the root's: n).
+    pub parent: Vec<u32>,
+    /// Fast ancestor of each node (the root's: n).
+    pub fast: Vec<u32>,
+    /// Whether each node is a left operand.
+    pub is_left: Vec<bool>,
+    /// An operator's operands (left, right) as the GPU sees them; leaves: (n, n).
+    pub children: Vec<[u32; 2]>,
+    /// Each node's range of interest.
+    pub roi: Vec<Roi>,
+    /// Each primitive's ABV in f64, in `primitives` order.
+    pub abvs: Vec<Abv>,
+}
+
+impl Linear {
+    /// Linearises `scene`; refuses a scene whose evaluation would need more
+    /// than [`MAX_STACK`] values (the error names the lowest node that does).
+    pub fn new(scene: &Scene) -> Result<Linear, SceneError> {
+        let (swap, stack_depth) = operand_order(scene)?;
+        let order = ordered_post(scene, &swap);
+        let n = order.len();
+        let mut index = vec![0u32; n];
+        for (k, &i) in order.iter().enumerate() {
+            index[i] = k as u32;
+        }
+        let scene_roi = roi::ranges(scene);
+        let bounds = roi::bounds(scene, &scene_roi);
+        let mut lin = Linear {
+            nodes: Vec::with_capacity(n),
+            params: Vec::new(),
+            abv: Vec::new(),
+            primitives: Vec::new(),
+            stack_depth,
+            bounds,
+            parent: vec![n as u32; n],
+            fast: vec![n as u32; n],
+            is_left: vec![false; n],
+            children: vec![[n as u32; 2]; n],
+            roi: order.iter().map(|&i| scene_roi[i]).collect(),
+            abvs: Vec::new(),
+            order,
+        };
+        lin.link(scene, &index, &swap);
+        lin.fast = fast_ancestors(&lin.parent, &lin.is_left, &lin.order, scene);
+        lin.fill(scene);
+        Ok(lin)
+    }
+
+    /// Parent, isLeft and operands from the scene's operators.
+    fn link(&mut self, scene: &Scene, index: &[u32], swap: &[bool]) {
+        for (k, &i) in self.order.iter().enumerate() {
+            if let Node::Operator { left, right, .. } = scene.nodes()[i] {
+                let (l, r) = if swap[i] { (right, left) } else { (left, right) };
+                let (l, r) = (index[l], index[r]);
+                self.children[k] = [l, r];
+                self.parent[l as usize] = k as u32;
+                self.parent[r as usize] = k as u32;
+                self.is_left[l as usize] = true;
+            }
+        }
+    }
+
+    /// Node words, parameters and ABVs.
+    fn fill(&mut self, scene: &Scene) {
+        for k in 0..self.order.len() {
+            let node = &scene.nodes()[self.order[k]];
+            let mut x = (type_code(node) << NODE_TYPE_SHIFT) | self.parent[k];
+            if self.is_left[k] {
+                x |= NODE_LEFT_BIT;
+            }
+            let y = self.params.len() as u32;
+            match node {
+                Node::Primitive(p) => {
+                    x |= NODE_LEAF_BIT;
+                    self.params.extend(primitive_rows(p));
+                    let a = roi::abv(p, self.roi[k].hi);
+                    self.abv.extend(abv_rows(&a));
+                    self.abvs.push(a);
+                    self.primitives.push(k as u32);
+                }
+                Node::Operator { op, .. } => {
+                    let (b, r) = op.blend.map_or((0.0, 0.0), |b| (b.beta as f32, b.range as f32));
+                    self.params.push([b, r, 0.0, 0.0]);
+                }
+            }
+            self.nodes.push([x, y, self.fast[k], 0]);
+        }
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    /// Never true.
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    /// The root's post-order index, n − 1.
+    pub fn root(&self) -> u32 {
+        self.order.len() as u32 - 1
+    }
+
+    /// Whether node `k` is a primitive.
+    pub fn is_leaf(&self, k: u32) -> bool {
+        self.nodes[k as usize][0] & NODE_LEAF_BIT != 0
+    }
+}
+
+/// For every operator, whether to swap its operands, and the root's stack need.
+fn operand_order(scene: &Scene) -> Result<(Vec<bool>, u32), SceneError> {
+    let nodes = scene.nodes();
+    let mut need = vec![1u32; nodes.len()];
+    let mut swap = vec![false; nodes.len()];
+    for &i in scene.post_order() {
+        if let Node::Operator { op, left, right } = nodes[i] {
+            let (mut l, mut r) = (need[left], need[right]);
+            if op.commutative() && r > l {
+                swap[i] = true;
+                std::mem::swap(&mut l, &mut r);
+            }
+            need[i] = l.max(r + 1);
+            if need[i] > MAX_STACK {
+                return Err(SceneError::at(
+                    i,
+                    "",
+                    format!(
+                        "evaluating it needs a stack of {} values, above the limit of {MAX_STACK}: differences nested in their right operand cannot be reordered; nest them on the left",
+                        need[i]
+                    ),
+                ));
+            }
+        }
+    }
+    Ok((swap, need[scene.root()]))
+}
+
+/// The post-order with operands swapped where `swap` says.
+fn ordered_post(scene: &Scene, swap: &[bool]) -> Vec<NodeId> {
+    let nodes = scene.nodes();
+    let mut out = Vec::with_capacity(nodes.len());
+    let mut stack = vec![(scene.root(), false)];
+    while let Some((i, expanded)) = stack.pop() {
+        match nodes[i] {
+            Node::Operator { left, right, .. } if !expanded => {
+                let (l, r) = if swap[i] { (right, left) } else { (left, right) };
+                stack.push((i, true));
+                stack.push((r, false));
+                stack.push((l, false));
+            }
+            _ => out.push(i),
+        }
+    }
+    out
+}
+
+/// Whether a chain on side `left` may jump over operator `m`: union-like on
+/// both sides, difference-like on the left only, intersection never.
+fn passes(op: &Operator, left: bool) -> bool {
+    match op.kind {
+        OpKind::Union => true,
+        OpKind::Difference => left,
+        OpKind::Intersection => false,
+    }
+}
+
+/// fast(i) of the brief §1.4: from the parent, climb while the node is on
+/// the same side as i and passes; the root's is n. Memoised top-down in
+/// O(n): jump(m) is where a climb that reaches m (on m's own side) stops.
+fn fast_ancestors(parent: &[u32], is_left: &[bool], order: &[NodeId], scene: &Scene) -> Vec<u32> {
+    let n = parent.len();
+    let root = n - 1;
+    let op = |m: usize| match scene.nodes()[order[m]] {
+        Node::Operator { op, .. } => op,
+        Node::Primitive(_) => unreachable!("a parent is an operator"),
+    };
+    let mut jump = vec![root; n];
+    for m in (0..root).rev() {
+        if !is_operator(scene, order[m]) {
+            continue;
+        }
+        jump[m] = if !passes(&op(m), is_left[m]) {
+            m
+        } else {
+            let p = parent[m] as usize;
+            if p == root || is_left[p] != is_left[m] { p } else { jump[p] }
+        };
+    }
+    let mut fast = vec![n as u32; n];
+    for i in 0..root {
+        let m = parent[i] as usize;
+        fast[i] = if m == root || is_left[m] != is_left[i] { m as u32 } else { jump[m] as u32 };
+    }
+    fast
+}
+
+fn is_operator(scene: &Scene, i: NodeId) -> bool {
+    matches!(scene.nodes()[i], Node::Operator { .. })
+}
+
+/// A primitive's rows in `params`: the matrix, then its parameters.
+pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
+    let m = p.transform.matrix();
+    let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
+    let s = p.transform.scale as f32;
+    let f = |v: f64| v as f32;
+    match p.shape {
+        Shape::Sphere { radius } => rows.push([s, f(radius), 0.0, 0.0]),
+        Shape::Box { half } => rows.push([s, f(half[0]), f(half[1]), f(half[2])]),
+        Shape::RoundBox { half, radius } => {
+            rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
+            rows.push([f(radius), 0.0, 0.0, 0.0]);
+        }
+        Shape::Capsule { a, b, radius } => {
+            rows.push([s, f(a[0]), f(a[1]), f(a[2])]);
+            rows.push([f(b[0]), f(b[1]), f(b[2]), f(radius)]);
+        }
+        Shape::Torus { major, minor } => rows.push([s, f(major), f(minor), 0.0]),
+        Shape::Cylinder { radius, half_height } => rows.push([s, f(radius), f(half_height), 0.0]),
+        Shape::Octahedron { size } => rows.push([s, f(size), 0.0, 0.0]),
+        Shape::Plane { normal, offset } => {
+            let len = glam::DVec3::from(normal).length();
+            rows.push([s, f(normal[0] / len), f(normal[1] / len), f(normal[2] / len)]);
+            rows.push([f(offset), 0.0, 0.0, 0.0]);
+        }
+    }
+    rows
+}
+
+/// `v` as an f32 no smaller than `v`.
+fn up(v: f64) -> f32 {
+    let f = v as f32;
+    if (f as f64) < v { f.next_up() } else { f }
+}
+
+/// An ABV's [`ABV_STRIDE`] rows (module doc).
+pub fn abv_rows(a: &Abv) -> [[f32; 4]; 4] {
+    let mut rows = [[0.0f32; 4]; 4];
+    let pad = |size: f64, at: &[f64]| size + (size + at.iter().fold(0.0f64, |m, c| m.max(c.abs()))) * (1.0 / (1 << 20) as f64);
+    let v = |p: [f64; 3], w: f32| [p[0] as f32, p[1] as f32, p[2] as f32, w];
+    match *a {
+        Abv::Always => {}
+        Abv::Sphere { centre, radius } => {
+            rows[0] = v(centre, ABV_SPHERE as f32);
+            rows[1] = [0.0, 0.0, 0.0, up(pad(radius, &centre))];
+        }
+        Abv::Box { centre, axes, half } => {
+            rows[0] = v(centre, ABV_BOX as f32);
+            for k in 0..3 {
+                rows[k + 1] = v(axes[k], up(pad(half[k], &centre)));
+            }
+        }
+        Abv::Capsule { a, b, radius } => {
+            rows[0] = v(a, ABV_CAPSULE as f32);
+            let ends = [a[0], a[1], a[2], b[0], b[1], b[2]];
+            rows[1] = v(b, up(pad(radius, &ends)));
+        }
+    }
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Builder, Primitive, Shape};
+
+    fn sphere(b: &mut Builder) -> NodeId {
+        b.primitive(Primitive::new(Shape::Sphere { radius: 1.0 }))
+    }
+
+    #[test]
+    fn right_combs_of_unions_are_turned_into_left_combs() {
+        let mut b = Builder::default();
+        let leaves: Vec<NodeId> = (0..5).map(|_| sphere(&mut b)).collect();
+        let mut acc = leaves[4];
+        for &l in leaves[..4].iter().rev() {
+            acc = b.operator(Operator::UNION, l, acc);
+        }
+        let scene = b.finish(acc).unwrap();
+        let lin = Linear::new(&scene).unwrap();
+        assert_eq!(lin.stack_depth, 2);
+        assert_eq!(lin.parent[lin.root() as usize], 9);
+        assert_eq!(lin.nodes[8][0] & NODE_PARENT_MASK, 9);
+        assert!(lin.is_leaf(0) && !lin.is_leaf(8));
+    }
+
+    #[test]
+    fn right_nested_differences_beyond_the_limit_are_refused() {
+        let mut b = Builder::default();
+        let mut acc = sphere(&mut b);
+        for _ in 0..MAX_STACK {
+            let l = sphere(&mut b);
+            acc = b.operator(Operator::DIFFERENCE, l, acc);
+        }
+        let e = Linear::new(&b.finish(acc).unwrap()).unwrap_err();
+        assert!(e.to_string().starts_with("nodes[64]: evaluating it needs a stack of 33 values, above the limit of 32"), "{e}");
+    }
+
+    #[test]
+    fn constants_are_generated() {
+        let w = wgsl_constants();
+        assert!(w.contains("const NODE_SPHERE: u32 = 1u;\n"));
+        assert!(w.contains("const NODE_SMOOTH_DIFFERENCE: u32 = 37u;\n"));
+        assert!(w.contains("const NODE_LEAF_BIT: u32 = 2147483648u;\n"));
+        naga::front::wgsl::parse_str(&w).expect("the constants are valid WGSL");
+    }
+}
+
+impl Linear {
+    /// The buffers of the scene field source: nodes, parameters, every
+    /// primitive's node index and a bounding ball of its ABV (the tile
+    /// pre-pass tests balls against tile frusta; an unbounded primitive has
+    /// an infinite radius and is active everywhere).
+    pub fn field_data(&self) -> crate::codegen::SceneData {
+        let balls = self
+            .abvs
+            .iter()
+            .map(|a| {
+                let (c, r) = match *a {
+                    Abv::Always => ([0.0; 3], f64::INFINITY),
+                    Abv::Sphere { centre, radius } => (centre, radius),
+                    Abv::Box { centre, half, .. } => (centre, DVec3::from(half).length()),
+                    Abv::Capsule { a, b, radius } => {
+                        let (a, b) = (DVec3::from(a), DVec3::from(b));
+                        ((0.5 * (a + b)).to_array(), 0.5 * (b - a).length() + radius)
+                    }
+                };
+                // Rounded outwards: f32 must not shrink the ball.
+                let r32 = r as f32;
+                [c[0] as f32, c[1] as f32, c[2] as f32, if (r32 as f64) < r { r32.next_up() * (1.0 + 1e-6) } else { r32 * (1.0 + 1e-6) }]
+            })
+            .collect();
+        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls }
+    }
+}

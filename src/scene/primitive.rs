@@ -1,0 +1,455 @@
+//! Primitives: the distance forms of [`crate::sdf`], each under a rigid
+//! transform with uniform scale.
+//!
+//! Every local distance here is the same function, written the same way, as
+//! the formula language's form of the same name (`sdf::lower`), so a scene
+//! and the formula `translate(t, rotate(axis, angle, scale(s, form)))` give
+//! the same field up to rounding (tests/scene_model.rs checks it at random
+//! points with `reference::eval_scalar`).
+//!
+//! **Transform.** A primitive's field is d(p) = s · f_local(Rᵀ(p − t) / s):
+//! translate by t, rotate by R, scale by s > 0, applied to the shape in that
+//! order (scale first). R is given as an axis and an angle in radians,
+//! right-handed, as `rotate(ax, ay, az, angle, shape)` takes them; an axis
+//! and angle rather than a quaternion because that is what a formula says,
+//! so a scene and its formula can be compared without a conversion. The
+//! transform is an isometry times s, so an exact distance stays exact and a
+//! 1-Lipschitz bound stays 1-Lipschitz.
+
+use glam::DVec3;
+
+/// The shape of a primitive, in its local frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// `sphere(r)`: |p| − r.
+    Sphere {
+        /// r > 0.
+        radius: f64,
+    },
+    /// `box(bx, by, bz)`: axis-aligned, half extents b > 0.
+    Box {
+        /// Half extents.
+        half: [f64; 3],
+    },
+    /// `roundbox(bx, by, bz, r)`: box(b − r) − r, the same extents with
+    /// edges rounded by r, 0 ≤ r ≤ min(b).
+    RoundBox {
+        /// Half extents including the rounding.
+        half: [f64; 3],
+        /// Rounding radius.
+        radius: f64,
+    },
+    /// `capsule(a, b, r)`: the segment a–b thickened by r > 0.
+    Capsule {
+        /// One end.
+        a: [f64; 3],
+        /// The other end.
+        b: [f64; 3],
+        /// r > 0.
+        radius: f64,
+    },
+    /// `torus(R, r)`: the ring of major radius R around the local z axis,
+    /// minor radius r.
+    Torus {
+        /// R > 0.
+        major: f64,
+        /// r > 0.
+        minor: f64,
+    },
+    /// `cylinder(r, h)`: capped, along the local z axis.
+    Cylinder {
+        /// r > 0.
+        radius: f64,
+        /// Half height h > 0.
+        half_height: f64,
+    },
+    /// `octahedron(s)`: the bound (|x| + |y| + |z| − s)/√3 (exact on the faces).
+    Octahedron {
+        /// s > 0.
+        size: f64,
+    },
+    /// `plane(n, d)`: the half-space n·p ≤ d, n normalised when evaluated.
+    /// Unbounded: it has no bounding volume and is always active.
+    Plane {
+        /// Outward normal, not zero.
+        normal: [f64; 3],
+        /// Offset along the unit normal.
+        offset: f64,
+    },
+}
+
+/// The primitive types, with the type codes of the linear form
+/// ([`crate::scene::linear`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ShapeKind {
+    /// `sphere`
+    Sphere = 1,
+    /// `box`
+    Box = 2,
+    /// `round_box`
+    RoundBox = 3,
+    /// `capsule`
+    Capsule = 4,
+    /// `torus`
+    Torus = 5,
+    /// `cylinder`
+    Cylinder = 6,
+    /// `octahedron`
+    Octahedron = 7,
+    /// `plane`
+    Plane = 8,
+}
+
+impl ShapeKind {
+    /// Every kind, in type-code order.
+    pub const ALL: [ShapeKind; 8] = [
+        ShapeKind::Sphere,
+        ShapeKind::Box,
+        ShapeKind::RoundBox,
+        ShapeKind::Capsule,
+        ShapeKind::Torus,
+        ShapeKind::Cylinder,
+        ShapeKind::Octahedron,
+        ShapeKind::Plane,
+    ];
+
+    /// The `type` of a scene file node.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Box => "box",
+            ShapeKind::RoundBox => "round_box",
+            ShapeKind::Capsule => "capsule",
+            ShapeKind::Torus => "torus",
+            ShapeKind::Cylinder => "cylinder",
+            ShapeKind::Octahedron => "octahedron",
+            ShapeKind::Plane => "plane",
+        }
+    }
+
+    /// The kind named `name` in a scene file.
+    pub fn parse(name: &str) -> Option<ShapeKind> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+impl Shape {
+    /// Its kind.
+    pub fn kind(&self) -> ShapeKind {
+        match self {
+            Shape::Sphere { .. } => ShapeKind::Sphere,
+            Shape::Box { .. } => ShapeKind::Box,
+            Shape::RoundBox { .. } => ShapeKind::RoundBox,
+            Shape::Capsule { .. } => ShapeKind::Capsule,
+            Shape::Torus { .. } => ShapeKind::Torus,
+            Shape::Cylinder { .. } => ShapeKind::Cylinder,
+            Shape::Octahedron { .. } => ShapeKind::Octahedron,
+            Shape::Plane { .. } => ShapeKind::Plane,
+        }
+    }
+
+    /// The distance (or, for the octahedron, the bound) at local point `q`.
+    pub fn local_distance(&self, q: DVec3) -> f64 {
+        match *self {
+            Shape::Sphere { radius } => q.length() - radius,
+            Shape::Box { half } => box_distance(q, DVec3::from(half)),
+            Shape::RoundBox { half, radius } => box_distance(q, DVec3::from(half) - DVec3::splat(radius)) - radius,
+            Shape::Capsule { a, b, radius } => capsule_distance(q, DVec3::from(a), DVec3::from(b)) - radius,
+            Shape::Torus { major, minor } => {
+                let ring = q.x.hypot_like(q.y) - major;
+                ring.hypot_like(q.z) - minor
+            }
+            Shape::Cylinder { radius, half_height } => {
+                let dx = q.x.hypot_like(q.y) - radius;
+                let dz = q.z.abs() - half_height;
+                dx.max(dz).min(0.0) + dx.max(0.0).hypot_like(dz.max(0.0))
+            }
+            Shape::Octahedron { size } => (q.x.abs() + q.y.abs() + q.z.abs() - size) * (1.0 / 3f64.sqrt()),
+            Shape::Plane { normal, offset } => {
+                let n = DVec3::from(normal);
+                n.dot(q) / n.length() - offset
+            }
+        }
+    }
+
+    /// Checks the parameters; the error names the field (`radius`,
+    /// `half[1]`) and says what is wrong.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        let positive = |name: &str, v: f64| if v > 0.0 { Ok(()) } else { Err((name.to_string(), "must be > 0".to_string())) };
+        let positive3 = |name: &str, v: [f64; 3]| {
+            for (k, c) in v.iter().enumerate() {
+                if !(*c > 0.0) {
+                    return Err((format!("{name}[{k}]"), "must be > 0".to_string()));
+                }
+            }
+            Ok(())
+        };
+        for (name, v) in self.fields() {
+            if !v.is_finite() {
+                return Err((name, "must be finite".into()));
+            }
+        }
+        match *self {
+            Shape::Sphere { radius } => positive("radius", radius),
+            Shape::Box { half } => positive3("half", half),
+            Shape::RoundBox { half, radius } => {
+                positive3("half", half)?;
+                let smallest = half[0].min(half[1]).min(half[2]);
+                if !(radius >= 0.0 && radius <= smallest) {
+                    return Err(("radius".into(), format!("must be >= 0 and <= the smallest half extent ({smallest})")));
+                }
+                Ok(())
+            }
+            Shape::Capsule { radius, .. } => positive("radius", radius),
+            Shape::Torus { major, minor } => {
+                positive("major", major)?;
+                positive("minor", minor)
+            }
+            Shape::Cylinder { radius, half_height } => {
+                positive("radius", radius)?;
+                positive("half_height", half_height)
+            }
+            Shape::Octahedron { size } => positive("size", size),
+            Shape::Plane { normal, .. } => {
+                if DVec3::from(normal).length() > 0.0 {
+                    Ok(())
+                } else {
+                    Err(("normal".into(), "must not be zero".into()))
+                }
+            }
+        }
+    }
+}
+
+impl Shape {
+    /// Every number of the shape with its field name (`half[1]`).
+    pub fn fields(&self) -> Vec<(String, f64)> {
+        let one = |n: &str, v: f64| vec![(n.to_string(), v)];
+        let three = |n: &str, v: [f64; 3]| (0..3).map(|k| (format!("{n}[{k}]"), v[k])).collect::<Vec<_>>();
+        match *self {
+            Shape::Sphere { radius } => one("radius", radius),
+            Shape::Box { half } => three("half", half),
+            Shape::RoundBox { half, radius } => [three("half", half), one("radius", radius)].concat(),
+            Shape::Capsule { a, b, radius } => [three("a", a), three("b", b), one("radius", radius)].concat(),
+            Shape::Torus { major, minor } => [one("major", major), one("minor", minor)].concat(),
+            Shape::Cylinder { radius, half_height } => [one("radius", radius), one("half_height", half_height)].concat(),
+            Shape::Octahedron { size } => one("size", size),
+            Shape::Plane { normal, offset } => [three("normal", normal), one("offset", offset)].concat(),
+        }
+    }
+}
+
+/// sqrt(a² + b²) written as the formula language writes `length`, so the
+/// two paths round alike (`f64::hypot` rounds differently).
+trait HypotLike {
+    fn hypot_like(self, other: f64) -> f64;
+}
+
+impl HypotLike for f64 {
+    fn hypot_like(self, other: f64) -> f64 {
+        (self * self + other * other).sqrt()
+    }
+}
+
+/// The exact box distance, as `sdf`'s `boxd`.
+fn box_distance(p: DVec3, b: DVec3) -> f64 {
+    let q = p.abs() - b;
+    let qp = q.max(DVec3::ZERO);
+    let outside = (qp.x * qp.x + qp.y * qp.y + qp.z * qp.z).sqrt();
+    outside + q.x.max(q.y.max(q.z)).min(0.0)
+}
+
+/// Distance to the segment a–b (a sphere around a when a = b), as `sdf`'s capsule.
+fn capsule_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let pa = p - a;
+    let ba = b - a;
+    let bb = ba.dot(ba);
+    if bb == 0.0 {
+        return pa.length();
+    }
+    let h = (pa.dot(ba) / bb).max(0.0).min(1.0);
+    (pa - ba * h).length()
+}
+
+/// A rotation: `angle` radians, right-handed, about `axis` (not zero; it is
+/// normalised when used).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rotation {
+    /// The axis through the origin.
+    pub axis: [f64; 3],
+    /// Radians.
+    pub angle: f64,
+}
+
+impl Rotation {
+    /// Rᵀv: v rotated by −angle (Rodrigues, written as `sdf`'s `rotate`).
+    pub fn inverse_apply(&self, v: DVec3) -> DVec3 {
+        let a = DVec3::from(self.axis);
+        let k = a / a.length();
+        let (sin, cos) = self.angle.sin_cos();
+        v * cos - k.cross(v) * sin + k * (k.dot(v) * (1.0 - cos))
+    }
+
+    /// Rv: v rotated by +angle.
+    pub fn apply(&self, v: DVec3) -> DVec3 {
+        Rotation { axis: self.axis, angle: -self.angle }.inverse_apply(v)
+    }
+}
+
+/// A rigid transform with uniform scale: p ↦ t + R(s·q).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transform {
+    /// t.
+    pub translate: [f64; 3],
+    /// R; `None` is the identity.
+    pub rotate: Option<Rotation>,
+    /// s > 0.
+    pub scale: f64,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform { translate: [0.0; 3], rotate: None, scale: 1.0 }
+    }
+}
+
+impl Transform {
+    /// The local point Rᵀ(p − t)/s of world point `p`.
+    pub fn to_local(&self, p: DVec3) -> DVec3 {
+        let q = p - DVec3::from(self.translate);
+        let q = match &self.rotate {
+            Some(r) => r.inverse_apply(q),
+            None => q,
+        };
+        q / self.scale
+    }
+
+    /// The world point t + R(s·q) of local point `q`.
+    pub fn to_world(&self, q: DVec3) -> DVec3 {
+        let v = q * self.scale;
+        let v = match &self.rotate {
+            Some(r) => r.apply(v),
+            None => v,
+        };
+        v + DVec3::from(self.translate)
+    }
+
+    /// The world direction R·e of a local unit direction `e`.
+    pub fn world_direction(&self, e: DVec3) -> DVec3 {
+        match &self.rotate {
+            Some(r) => r.apply(e),
+            None => e,
+        }
+    }
+
+    /// The 3×4 matrix M = [Rᵀ/s | −Rᵀt/s], so that the local point is
+    /// M·(p, 1); rows in order.
+    pub fn matrix(&self) -> [[f64; 4]; 3] {
+        let col = |e: DVec3| self.to_local(e + DVec3::from(self.translate));
+        let (c0, c1, c2) = (col(DVec3::X), col(DVec3::Y), col(DVec3::Z));
+        let c3 = self.to_local(DVec3::ZERO);
+        [[c0.x, c1.x, c2.x, c3.x], [c0.y, c1.y, c2.y, c3.y], [c0.z, c1.z, c2.z, c3.z]]
+    }
+
+    /// Checks the transform; the error names the field.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        for k in 0..3 {
+            if !self.translate[k].is_finite() {
+                return Err((format!("translate[{k}]"), "must be finite".into()));
+            }
+        }
+        if let Some(r) = &self.rotate {
+            for k in 0..4 {
+                let v = if k < 3 { r.axis[k] } else { r.angle };
+                if !v.is_finite() {
+                    return Err((format!("rotate[{k}]"), "must be finite".into()));
+                }
+            }
+        }
+        if !self.scale.is_finite() {
+            return Err(("scale".into(), "must be finite".into()));
+        }
+        if !(self.scale > 0.0) {
+            return Err(("scale".into(), "must be > 0".into()));
+        }
+        if let Some(r) = &self.rotate {
+            if !(DVec3::from(r.axis).length() > 0.0) {
+                return Err(("rotate".into(), "the rotation axis must not be zero".into()));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A shape placed in the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Primitive {
+    /// The local shape.
+    pub shape: Shape,
+    /// Where it is.
+    pub transform: Transform,
+}
+
+impl Primitive {
+    /// A primitive with the identity transform.
+    pub fn new(shape: Shape) -> Primitive {
+        Primitive { shape, transform: Transform::default() }
+    }
+
+    /// Moved by `t`.
+    pub fn translated(mut self, t: [f64; 3]) -> Primitive {
+        self.transform.translate = t;
+        self
+    }
+
+    /// Rotated by `angle` radians about `axis`.
+    pub fn rotated(mut self, axis: [f64; 3], angle: f64) -> Primitive {
+        self.transform.rotate = Some(Rotation { axis, angle });
+        self
+    }
+
+    /// Scaled by `s`.
+    pub fn scaled(mut self, s: f64) -> Primitive {
+        self.transform.scale = s;
+        self
+    }
+
+    /// The field s · f_local(Rᵀ(p − t)/s) at world point `p`.
+    pub fn distance(&self, p: [f64; 3]) -> f64 {
+        self.transform.scale * self.shape.local_distance(self.transform.to_local(DVec3::from(p)))
+    }
+
+    /// Checks shape and transform; the error names the field.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        self.shape.check()?;
+        self.transform.check()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matrix_maps_world_to_local() {
+        let t = Transform { translate: [1.0, -2.0, 0.5], rotate: Some(Rotation { axis: [1.0, 2.0, 3.0], angle: 0.7 }), scale: 1.5 };
+        let m = t.matrix();
+        for p in [DVec3::new(0.3, 0.2, -1.0), DVec3::new(4.0, 1.0, 2.0)] {
+            let q = t.to_local(p);
+            for r in 0..3 {
+                let v = m[r][0] * p.x + m[r][1] * p.y + m[r][2] * p.z + m[r][3];
+                assert!((v - q[r]).abs() < 1e-12, "row {r}: {v} vs {}", q[r]);
+            }
+            assert!((t.to_world(q) - p).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn parameters_are_checked_with_field_names() {
+        assert_eq!(Shape::Sphere { radius: 0.0 }.check(), Err(("radius".into(), "must be > 0".into())));
+        assert_eq!(Shape::Box { half: [1.0, -1.0, 1.0] }.check(), Err(("half[1]".into(), "must be > 0".into())));
+        assert_eq!(Shape::Plane { normal: [0.0; 3], offset: 1.0 }.check(), Err(("normal".into(), "must not be zero".into())));
+        let p = Primitive::new(Shape::Sphere { radius: 1.0 }).scaled(0.0);
+        assert_eq!(p.check(), Err(("scale".into(), "must be > 0".into())));
+    }
+}

@@ -1,0 +1,250 @@
+//! Ranges of interest and augmented bounding volumes (Zanni et al. 2024,
+//! §4; the brief §1.2-1.3).
+//!
+//! A node's range of interest [r⁻, r⁺] is the part of its codomain where a
+//! pruned evaluation must equal the full one for the root's zero set to be
+//! unchanged; outside it, only the side (above r⁺, below r⁻) must be kept.
+//! The root's range is [0, 0]; one top-down pass gives every node's, with
+//! r_o = 0 for sharp operators:
+//! - ∪: both children [r⁻, max(r⁺, r_o)] (eq. 13);
+//! - ∩: both children [min(r⁻, −r_o), r⁺] (eq. 14);
+//! - \: left [min(r⁻, −r_o), r⁺], right [−r⁺, max(−r⁻, r_o)] (eq. 15-16).
+//!
+//! So r⁺ is the largest r_o on the path, and it depends only on the tree:
+//! moving a primitive changes no range.
+//!
+//! A primitive p matters only where f_p ≤ r_p⁺. Its augmented bounding
+//! volume (ABV) contains that set: the bounding volume of the primitive's
+//! zero set grown by r_p⁺, which is exact for exact distances (f_p ≥ the
+//! distance outside). The octahedron's bound (|q|₁ − s)/√3 ≤ r is the
+//! octahedron of size s + √3·r, so its ABV is the sphere of that radius.
+//! Planes are unbounded: they have no ABV and are always active.
+
+use super::{Node, Primitive, Scene, Shape};
+use glam::DVec3;
+
+/// A node's range of interest [lo, hi], lo ≤ 0 ≤ hi.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Roi {
+    /// r⁻.
+    pub lo: f64,
+    /// r⁺.
+    pub hi: f64,
+}
+
+/// Every node's range of interest, indexed by node.
+pub fn ranges(scene: &Scene) -> Vec<Roi> {
+    let nodes = scene.nodes();
+    let mut roi = vec![Roi { lo: 0.0, hi: 0.0 }; nodes.len()];
+    for &i in scene.post_order().iter().rev() {
+        if let Node::Operator { op, left, right } = nodes[i] {
+            let Roi { lo, hi } = roi[i];
+            let ro = op.range();
+            let (l, r) = match op.kind {
+                super::OpKind::Union => (Roi { lo, hi: hi.max(ro) }, Roi { lo, hi: hi.max(ro) }),
+                super::OpKind::Intersection => (Roi { lo: lo.min(-ro), hi }, Roi { lo: lo.min(-ro), hi }),
+                super::OpKind::Difference => (Roi { lo: lo.min(-ro), hi }, Roi { lo: -hi, hi: (-lo).max(ro) }),
+            };
+            roi[left] = l;
+            roi[right] = r;
+        }
+    }
+    roi
+}
+
+/// Every node's Lipschitz factor from the operators above it: the product
+/// of 6r_o/(6r_o − β) along the path from the root (1 for sharp ones).
+/// Loose: the brief measured max |∇f| ≤ 1.23 where this product is larger.
+pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
+    let nodes = scene.nodes();
+    let mut lip = vec![1.0; nodes.len()];
+    for &i in scene.post_order().iter().rev() {
+        if let Node::Operator { op, left, right } = nodes[i] {
+            let l = lip[i] * op.lipschitz_factor();
+            lip[left] = l;
+            lip[right] = l;
+        }
+    }
+    lip
+}
+
+/// An augmented bounding volume, in world coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Abv {
+    /// No bound (a plane): always active.
+    Always,
+    /// A ball.
+    Sphere {
+        /// Centre.
+        centre: [f64; 3],
+        /// Radius.
+        radius: f64,
+    },
+    /// An oriented box.
+    Box {
+        /// Centre.
+        centre: [f64; 3],
+        /// Unit axes (the primitive's rotated x, y, z).
+        axes: [[f64; 3]; 3],
+        /// Half extents along the axes.
+        half: [f64; 3],
+    },
+    /// The points within `radius` of the segment a–b.
+    Capsule {
+        /// One end.
+        a: [f64; 3],
+        /// The other end.
+        b: [f64; 3],
+        /// Radius.
+        radius: f64,
+    },
+}
+
+/// The ABV of primitive `p` whose range of interest reaches `r_plus`.
+pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
+    let t = &p.transform;
+    let s = t.scale;
+    let centre = t.to_world(DVec3::ZERO).to_array();
+    let obb = |h: [f64; 3]| Abv::Box {
+        centre,
+        axes: [DVec3::X, DVec3::Y, DVec3::Z].map(|e| t.world_direction(e).to_array()),
+        half: h.map(|c| s * c + r_plus),
+    };
+    match p.shape {
+        Shape::Sphere { radius } => Abv::Sphere { centre, radius: s * radius + r_plus },
+        Shape::Box { half } | Shape::RoundBox { half, .. } => obb(half),
+        Shape::Capsule { a, b, radius } => Abv::Capsule {
+            a: t.to_world(DVec3::from(a)).to_array(),
+            b: t.to_world(DVec3::from(b)).to_array(),
+            radius: s * radius + r_plus,
+        },
+        Shape::Torus { major, minor } => obb([major + minor, major + minor, minor]),
+        Shape::Cylinder { radius, half_height } => obb([radius, radius, half_height]),
+        Shape::Octahedron { size } => Abv::Sphere { centre, radius: s * size + 3f64.sqrt() * r_plus },
+        Shape::Plane { .. } => Abv::Always,
+    }
+}
+
+impl Abv {
+    /// Whether `p` is inside (boundary included).
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        let p = DVec3::from(p);
+        match *self {
+            Abv::Always => true,
+            Abv::Sphere { centre, radius } => (p - DVec3::from(centre)).length() <= radius,
+            Abv::Box { centre, axes, half } => {
+                let d = p - DVec3::from(centre);
+                (0..3).all(|k| d.dot(DVec3::from(axes[k])).abs() <= half[k])
+            }
+            Abv::Capsule { a, b, radius } => {
+                let (a, b) = (DVec3::from(a), DVec3::from(b));
+                let (pa, ba) = (p - a, b - a);
+                let bb = ba.dot(ba);
+                let h = if bb > 0.0 { (pa.dot(ba) / bb).clamp(0.0, 1.0) } else { 0.0 };
+                (pa - ba * h).length() <= radius
+            }
+        }
+    }
+
+    /// Its axis-aligned bounding box (everything for [`Abv::Always`]).
+    pub fn aabb(&self) -> Aabb {
+        match *self {
+            Abv::Always => Aabb::EVERYTHING,
+            Abv::Sphere { centre, radius } => Aabb { min: centre.map(|c| c - radius), max: centre.map(|c| c + radius) },
+            Abv::Box { centre, axes, half } => {
+                let mut r = [0.0; 3];
+                for (k, rk) in r.iter_mut().enumerate() {
+                    *rk = (0..3).map(|a| axes[a][k].abs() * half[a]).sum();
+                }
+                Aabb { min: [0, 1, 2].map(|k| centre[k] - r[k]), max: [0, 1, 2].map(|k| centre[k] + r[k]) }
+            }
+            Abv::Capsule { a, b, radius } => Aabb {
+                min: [0, 1, 2].map(|k| a[k].min(b[k]) - radius),
+                max: [0, 1, 2].map(|k| a[k].max(b[k]) + radius),
+            },
+        }
+    }
+}
+
+/// An axis-aligned box; infinite coordinates for unbounded sides. Empty
+/// when some min exceeds its max.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    /// Low corner.
+    pub min: [f64; 3],
+    /// High corner.
+    pub max: [f64; 3],
+}
+
+impl Aabb {
+    /// All of space.
+    pub const EVERYTHING: Aabb = Aabb { min: [f64::NEG_INFINITY; 3], max: [f64::INFINITY; 3] };
+
+    /// The smallest box holding both.
+    pub fn hull(&self, o: &Aabb) -> Aabb {
+        Aabb { min: [0, 1, 2].map(|k| self.min[k].min(o.min[k])), max: [0, 1, 2].map(|k| self.max[k].max(o.max[k])) }
+    }
+
+    /// The common part.
+    pub fn intersection(&self, o: &Aabb) -> Aabb {
+        Aabb { min: [0, 1, 2].map(|k| self.min[k].max(o.min[k])), max: [0, 1, 2].map(|k| self.max[k].min(o.max[k])) }
+    }
+
+    /// Every side finite.
+    pub fn is_bounded(&self) -> bool {
+        self.min.iter().chain(&self.max).all(|c| c.is_finite())
+    }
+
+    /// No point inside.
+    pub fn is_empty(&self) -> bool {
+        (0..3).any(|k| self.min[k] > self.max[k])
+    }
+}
+
+/// A box holding the solid {f ≤ 0} (so the surface), from the ABVs by the
+/// tree: ∪ the hull of its operands' boxes, ∩ their intersection, \ its
+/// left operand's. Each node's box holds {f_n ≤ r_n⁺}: G∪ ≤ r⁺ needs an
+/// operand ≤ max(r⁺, r_o); G∩ ≥ max(a, b) and G\ ≥ a. Unbounded (infinite
+/// sides) when a plane is not cut off by an intersection or difference.
+pub fn bounds(scene: &Scene, roi: &[Roi]) -> Aabb {
+    let nodes = scene.nodes();
+    let mut b = vec![Aabb::EVERYTHING; nodes.len()];
+    for &i in scene.post_order() {
+        b[i] = match &nodes[i] {
+            Node::Primitive(p) => abv(p, roi[i].hi).aabb(),
+            Node::Operator { op, left, right } => match op.kind {
+                super::OpKind::Union => b[*left].hull(&b[*right]),
+                super::OpKind::Intersection => b[*left].intersection(&b[*right]),
+                super::OpKind::Difference => b[*left],
+            },
+        };
+    }
+    b[scene.root()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Blend, Builder, OpKind, Operator};
+
+    #[test]
+    fn ranges_follow_eq_13_to_16() {
+        let mut b = Builder::default();
+        let s = |b: &mut Builder| b.primitive(Primitive::new(Shape::Sphere { radius: 1.0 }));
+        let (p0, p1, p2) = (s(&mut b), s(&mut b), s(&mut b));
+        let u = b.operator(Operator::smooth(OpKind::Union, Blend { beta: 0.3, range: 0.5 }), p0, p1);
+        let d = b.operator(Operator::smooth(OpKind::Difference, Blend { beta: 0.3, range: 0.4 }), u, p2);
+        let scene = b.finish(d).unwrap();
+        let r = ranges(&scene);
+        assert_eq!(r[d], Roi { lo: 0.0, hi: 0.0 });
+        assert_eq!(r[u], Roi { lo: -0.4, hi: 0.0 });
+        assert_eq!(r[p2], Roi { lo: 0.0, hi: 0.4 });
+        assert_eq!(r[p0], Roi { lo: -0.4, hi: 0.5 });
+    }
+
+    #[test]
+    fn octahedron_abv_is_the_sphere_of_the_grown_octahedron() {
+        let p = Primitive::new(Shape::Octahedron { size: 1.0 }).scaled(2.0).translated([1.0, 0.0, 0.0]);
+        assert_eq!(abv(&p, 0.5), Abv::Sphere { centre: [1.0, 0.0, 0.0], radius: 2.0 + 3f64.sqrt() * 0.5 });
+    }
+}

@@ -1,0 +1,138 @@
+//! `isotrace scene gen` and `isotrace scene check`: outputs, exact messages
+//! for bad input, exit codes.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn isotrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_isotrace")).args(args).env("NODEVICE_SELECT", "1").output().unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("isotrace-scene-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn gen_writes_a_scene_that_check_describes() {
+    let f = tmp("pairs.scene.json");
+    let p = f.to_str().unwrap();
+    let o = isotrace(&["scene", "gen", "sphere-pairs", "--level", "0", "-o", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stdout(&o), format!("wrote {p}: sphere-pairs level 0, sharp, 24 primitives, 47 nodes\n"));
+    let o = isotrace(&["scene", "check", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], format!("scene:         {p}"));
+    assert_eq!(lines[1], "nodes:         47 (24 primitives, 23 operators)");
+    assert_eq!(lines[2], "primitives:    sphere 24");
+    assert_eq!(lines[3], "operators:     intersection 12, union 11");
+    assert_eq!(lines[4], "depth:         13 (nodes on the longest root-to-leaf path)");
+    assert_eq!(lines[5], "stack depth:   3 (limit 32)");
+    assert!(lines[6].starts_with("bounds:        [-"), "{}", lines[6]);
+    assert_eq!(lines[7], "always active: 0 (planes)");
+    assert_eq!(lines[8], "lipschitz:     1 (largest product of 6 r_o/(6 r_o - beta) on a root-to-leaf path)");
+    // The same seed gives the same file; --count names the same scene.
+    let g = tmp("pairs2.scene.json");
+    let o = isotrace(&["scene", "gen", "sphere-pairs", "--count", "24", "-o", g.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&f).unwrap(), std::fs::read(&g).unwrap());
+}
+
+#[test]
+fn check_json_and_probe() {
+    let o = isotrace(&["scene", "check", concat!(env!("CARGO_MANIFEST_DIR"), "/examples/blobs.scene.json"), "--json", "--probe", "200"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["primitives"], 8);
+    assert_eq!(v["operators"], 7);
+    assert_eq!(v["always_active"], 1);
+    assert_eq!(v["stack_depth"], 3);
+    assert_eq!(v["shapes"]["plane"], 1);
+    assert_eq!(v["probe"]["points"], 200);
+    assert!(v["probe"]["visits_fast"].as_f64().unwrap() <= v["probe"]["visits_parent"].as_f64().unwrap());
+    let o = isotrace(&["scene", "gen", "boxes", "--level", "1", "--smooth", "-o", "-"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let scene = isotrace::scene::format::parse(&stdout(&o)).unwrap();
+    assert_eq!(scene.primitive_count(), 64);
+}
+
+fn fails(args: &[&str], message: &str) {
+    let o = isotrace(args);
+    assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+    assert_eq!(stderr(&o), message, "{args:?}");
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
+fn bad_input_is_named_and_exits_1() {
+    let f = tmp("bad.scene.json");
+    let p = f.to_str().unwrap();
+    std::fs::write(&f, "{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{\"type\": \"sphere\", \"radius\": -1}]}").unwrap();
+    fails(&["scene", "check", p], &format!("error: {p}: nodes[0].radius: must be > 0\n"));
+    std::fs::write(&f, "{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [").unwrap();
+    fails(&["scene", "check", p], &format!("error: {p}: EOF while parsing a list at line 1 column 43\n"));
+    std::fs::write(&f, b"\xff").unwrap();
+    fails(&["scene", "check", p], &format!("error: scene file '{p}' is not UTF-8 text (invalid byte at offset 0)\n"));
+    let missing = tmp("missing.scene.json");
+    let m = missing.to_str().unwrap();
+    fails(&["scene", "check", m], &format!("error: cannot read scene file '{m}': No such file or directory (os error 2)\n"));
+    fails(&["scene", "gen", "boxes", "--count", "100", "-o", p], "error: invalid --count 100: boxes scenes have 16, 64, 256, 1024 or 4096 primitives\n");
+    fails(&["scene", "gen", "aggregate", "--level", "5", "-o", p], "error: invalid --level 5: the highest level is 4 (aggregate 111110 primitives)\n");
+    // Differences nested on the right beyond the stack limit.
+    let mut nodes = vec!["{\"type\": \"sphere\", \"radius\": 1}".to_string()];
+    for k in 0..32 {
+        nodes.push("{\"type\": \"sphere\", \"radius\": 1}".into());
+        nodes.push(format!("{{\"type\": \"difference\", \"left\": {}, \"right\": {}}}", 2 * k + 1, 2 * k));
+    }
+    std::fs::write(&f, format!("{{\"isotrace_scene\": 1, \"root\": 64, \"nodes\": [{}]}}", nodes.join(", "))).unwrap();
+    let o = isotrace(&["scene", "check", p]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).starts_with(&format!("error: {p}: nodes[64]: evaluating it needs a stack of 33 values, above the limit of 32")), "{}", stderr(&o));
+}
+
+#[test]
+fn usage_errors_exit_1() {
+    for args in [
+        &["scene", "gen", "boxes", "-o", "x.scene.json"][..],
+        &["scene", "gen", "boxes", "--level", "1", "--count", "64", "-o", "x.scene.json"],
+        &["scene", "gen", "spheres", "--level", "1", "-o", "x.scene.json"],
+        &["scene", "gen", "boxes", "--level", "1", "--smooth", "--smooth-inside", "-o", "x.scene.json"],
+    ] {
+        let o = isotrace(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert!(!std::path::Path::new("x.scene.json").exists());
+    }
+}
+
+#[test]
+fn formula_prints_the_scene_as_distance_forms() {
+    let blobs = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/blobs.scene.json");
+    let o = isotrace(&["scene", "formula", blobs]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.starts_with("n0 = sphere(1.0);\nn1 = translate(1.2, 0.0, 0.0, rotate(0.0, 0.0, 1.0, 0.4, roundbox(0.6, 0.6, 0.6, 0.15)));\nn2 = compact_union(n0, n1, 0.3, 0.6);\n"), "{text}");
+    assert!(text.ends_with("\nn14\n"));
+    let f = isotrace::Formula::compile("<scene>", &text).unwrap();
+    let scene = isotrace::scene::format::load(std::path::Path::new(blobs)).unwrap();
+    let p = [0.9, 0.2, -0.3];
+    let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+    assert!((v - scene.eval(p)).abs() < 1e-12);
+    let big = tmp("agg2.scene.json");
+    let o = isotrace(&["scene", "gen", "aggregate", "--level", "2", "-o", big.to_str().unwrap()]);
+    assert!(o.status.success());
+    let o = isotrace(&["scene", "formula", big.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains(": the scene's formula would be 65"), "{}", stderr(&o));
+    assert!(stderr(&o).ends_with("bytes or more, above the formula language's limit of 65536 bytes\n"), "{}", stderr(&o));
+}

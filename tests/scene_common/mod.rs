@@ -1,0 +1,179 @@
+//! Random blobtrees for the scene tests (after `scenes.py` and
+//! `test_sparse.py` of the Python reference) and an f32 evaluator of the
+//! `params` rows, written as the GPU interpreter reads them.
+#![allow(dead_code)]
+
+use glam::Vec3;
+use isotrace::scene::generate::Rng;
+use isotrace::scene::{Blend, Builder, NodeId, OpKind, Operator, Primitive, Scene, Shape};
+
+/// How leaves are combined.
+#[derive(Clone, Copy, Debug)]
+pub enum TreeShape {
+    /// Adjacent pairs merged at random.
+    Random,
+    /// A left comb.
+    Left,
+    /// Pairs level by level.
+    Balanced,
+}
+
+/// A primitive of kind `k` (0 sphere … 7 plane) near `centre`, size about
+/// `scale`, randomly rotated and scaled.
+pub fn primitive_of_kind(rng: &mut Rng, k: u64, centre: [f64; 3], scale: f64) -> Primitive {
+    let u = |rng: &mut Rng, lo: f64, hi: f64| scale * rng.range(lo, hi);
+    let shape = match k {
+        0 => Shape::Sphere { radius: u(rng, 0.3, 1.0) },
+        1 => Shape::Box { half: [0, 1, 2].map(|_| u(rng, 0.2, 0.8)) },
+        2 => {
+            let half = [0, 1, 2].map(|_| u(rng, 0.2, 0.8));
+            Shape::RoundBox { half, radius: rng.range(0.0, 1.0) * half[0].min(half[1]).min(half[2]) }
+        }
+        3 => Shape::Capsule { a: [0, 1, 2].map(|_| u(rng, -0.5, 0.5)), b: [0, 1, 2].map(|_| u(rng, -0.5, 0.5)), radius: u(rng, 0.15, 0.4) },
+        4 => Shape::Torus { major: u(rng, 0.3, 0.8), minor: u(rng, 0.1, 0.3) },
+        5 => Shape::Cylinder { radius: u(rng, 0.2, 0.6), half_height: u(rng, 0.2, 0.8) },
+        6 => Shape::Octahedron { size: u(rng, 0.3, 1.0) },
+        _ => Shape::Plane { normal: rng.direction().to_array(), offset: rng.range(-0.5, 0.5) },
+    };
+    let axis = rng.direction().to_array();
+    let angle = rng.range(-3.0, 3.0);
+    let s = rng.range(0.6, 1.4);
+    Primitive::new(shape).rotated(axis, angle).scaled(s).translated(centre)
+}
+
+/// A random primitive (planes only if `plane`).
+pub fn random_primitive(rng: &mut Rng, centre: [f64; 3], scale: f64, plane: bool) -> Primitive {
+    let k = rng.below(if plane { 8 } else { 7 });
+    primitive_of_kind(rng, k, centre, scale)
+}
+
+/// A random tree of `n` primitives. `cluster`: centres on a random walk
+/// and mostly unions (scenes.py's `cluster_tree`); else uniform centres in
+/// [−3, 3]³, the three operators alike, and a plane now and then
+/// (test_sparse.py's `rand_tree`). Operators are compact smooth with
+/// probability `smooth`, r_o ∈ [7β/6, 3β].
+pub fn random_tree(rng: &mut Rng, n: usize, shape: TreeShape, smooth: f64, cluster: bool) -> Scene {
+    let mut b = Builder::default();
+    let mut c = [0.0f64; 3];
+    let mut leaves: Vec<NodeId> = Vec::new();
+    for _ in 0..n {
+        let (centre, scale) = if cluster {
+            c = c.map(|x| x + rng.range(-1.0, 1.0) * 0.6);
+            (c, rng.range(0.4, 1.0))
+        } else {
+            ([0, 1, 2].map(|_| rng.range(-3.0, 3.0)), rng.range(0.4, 1.2))
+        };
+        let plane = !cluster && rng.unit() < 0.05;
+        let p = if plane { primitive_of_kind(rng, 7, centre, scale) } else { random_primitive(rng, centre, scale, false) };
+        leaves.push(b.primitive(p));
+    }
+    let op = |b: &mut Builder, rng: &mut Rng, l: NodeId, r: NodeId| {
+        let w = rng.unit();
+        let kind = match (cluster, w) {
+            (true, w) if w < 0.6 => OpKind::Union,
+            (true, w) if w < 0.75 => OpKind::Intersection,
+            (true, _) => OpKind::Difference,
+            (false, w) => [OpKind::Union, OpKind::Intersection, OpKind::Difference][(w * 3.0) as usize],
+        };
+        let o = if rng.unit() < smooth {
+            let beta = if cluster { rng.range(0.1, 0.8) } else { rng.range(0.05, 0.6) };
+            Operator::smooth(kind, Blend { beta, range: beta * rng.range(7.0 / 6.0, 3.0) })
+        } else {
+            Operator { kind, blend: None }
+        };
+        b.operator(o, l, r)
+    };
+    let root = match shape {
+        TreeShape::Left => {
+            let mut t = leaves[0];
+            for &l in &leaves[1..] {
+                t = op(&mut b, rng, t, l);
+            }
+            t
+        }
+        TreeShape::Balanced => {
+            let mut lv = leaves;
+            while lv.len() > 1 {
+                let mut next = Vec::new();
+                for pair in lv.chunks(2) {
+                    next.push(if pair.len() == 2 { op(&mut b, rng, pair[0], pair[1]) } else { pair[0] });
+                }
+                lv = next;
+            }
+            lv[0]
+        }
+        TreeShape::Random => {
+            let mut lv = leaves;
+            while lv.len() > 1 {
+                let i = rng.below(lv.len() as u64 - 1) as usize;
+                let m = op(&mut b, rng, lv[i], lv[i + 1]);
+                lv.splice(i..i + 2, [m]);
+            }
+            lv[0]
+        }
+    };
+    b.finish(root).unwrap()
+}
+
+/// Up to `k` points where |f| < `band`, by rejection in the box around the
+/// bounded primitives' bounding volumes (grown by 1).
+pub fn surface_points(scene: &Scene, rng: &mut Rng, k: usize, band: f64) -> Vec<[f64; 3]> {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for n in scene.nodes() {
+        if let isotrace::scene::Node::Primitive(p) = n {
+            let bb = isotrace::scene::roi::abv(p, 0.0).aabb();
+            if bb.is_bounded() {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(bb.min[a] - 1.0);
+                    hi[a] = hi[a].max(bb.max[a] + 1.0);
+                }
+            }
+        }
+    }
+    let mut pts = Vec::new();
+    for _ in 0..k * 40 {
+        let p = [0, 1, 2].map(|a| rng.range(lo[a], hi[a]));
+        if scene.eval(p).abs() < band {
+            pts.push(p);
+            if pts.len() >= k {
+                break;
+            }
+        }
+    }
+    pts
+}
+
+fn boxd(q: Vec3, b: Vec3) -> f32 {
+    let d = q.abs() - b;
+    d.max(Vec3::ZERO).length() + d.x.max(d.y.max(d.z)).min(0.0)
+}
+
+/// Primitive type `ty` evaluated in f32 from its `params` rows at `p`.
+pub fn eval_rows(ty: u32, rows: &[[f32; 4]], p: [f64; 3]) -> f64 {
+    let p = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
+    let m = |r: [f32; 4]| r[0] * p.x + r[1] * p.y + r[2] * p.z + r[3];
+    let q = Vec3::new(m(rows[0]), m(rows[1]), m(rows[2]));
+    let (a, b) = (rows[3], rows.get(4).copied().unwrap_or([0.0; 4]));
+    let s = a[0];
+    let local = match ty {
+        1 => q.length() - a[1],
+        2 => boxd(q, Vec3::new(a[1], a[2], a[3])),
+        3 => boxd(q, Vec3::new(a[1], a[2], a[3]) - Vec3::splat(b[0])) - b[0],
+        4 => {
+            let (ca, cb) = (Vec3::new(a[1], a[2], a[3]), Vec3::new(b[0], b[1], b[2]));
+            let (pa, ba) = (q - ca, cb - ca);
+            let h = (pa.dot(ba) / ba.dot(ba).max(1e-12)).clamp(0.0, 1.0);
+            (pa - ba * h).length() - b[3]
+        }
+        5 => Vec3::new(q.truncate().length() - a[1], q.z, 0.0).length() - a[2],
+        6 => {
+            let (dx, dz) = (q.truncate().length() - a[1], q.z.abs() - a[2]);
+            dx.max(dz).min(0.0) + Vec3::new(dx.max(0.0), dz.max(0.0), 0.0).length()
+        }
+        7 => (q.x.abs() + q.y.abs() + q.z.abs() - a[1]) / 3f32.sqrt(),
+        8 => Vec3::new(a[1], a[2], a[3]).dot(q) - b[0],
+        _ => panic!("type {ty}"),
+    };
+    (s * local) as f64
+}
