@@ -119,9 +119,26 @@ fn bench_variants_are_methods_times_algebras_or_omegas() {
     assert_eq!(Variant::Sphere(1.2).label(false), "sphere");
     // The algebra only matters for bisection.
     assert_eq!(variants("sphere", "ia,raa,auto", "1.2").unwrap(), [Variant::Sphere(1.2)]);
-    assert_eq!(variants("march", "ia", "1").unwrap_err(), "invalid --method 'march': expected a comma-separated list of sphere, bisect");
-    assert_eq!(variants("sphere", "ia", "2").unwrap_err(), "invalid --omega '2': expected a comma-separated list of factors in [1, 2)");
-    assert_eq!(variants("bisect", "fast", "1").unwrap_err(), "invalid --algebra 'fast': expected a comma-separated list of ia, raa, auto");
+    use isotrace::bench::VariantList as L;
+    let err = |m, a, w| variants(m, a, w).map(|_| ()).unwrap_err();
+    assert_eq!((err("march", "ia", "1").list, err("march", "ia", "1").value.as_str()), (L::Method, "march"));
+    assert_eq!((err("sphere", "ia", "2").list, err("sphere", "ia", "2").value.as_str()), (L::Omega, "2"));
+    assert_eq!((err("bisect", "fast", "1").list, err("bisect", "fast", "1").value.as_str()), (L::Algebra, "fast"));
+    // The command line names the flag.
+    let cases = [
+        (["--method", "march"], "error: invalid --method 'march': expected a comma-separated list of sphere, bisect\n"),
+        (["--omega", "2"], "error: invalid --omega '2': expected a comma-separated list of factors in [1, 2)\n"),
+        (["--algebra", "fast"], "error: invalid --algebra 'fast': expected a comma-separated list of ia, raa, auto\n"),
+    ];
+    for (flags, want) in cases {
+        let mut args = vec!["bench", "jewel", "--size", "8", "--repeat", "1"];
+        if flags[0] == "--omega" {
+            args.extend(["--method", "sphere"]);
+        }
+        args.extend(flags);
+        let o = isotrace(&args);
+        assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), want), "{flags:?}");
+    }
 }
 
 #[test]

@@ -45,18 +45,43 @@ impl Variant {
     }
 }
 
-/// The variants of `--method M,… --algebra A,… --omega W,…`: for each
-/// method in order, every algebra (bisect) or every ω (sphere); the
-/// algebra only matters for bisection. Unknown names are errors.
-pub fn variants(methods: &str, algebras: &str, omegas: &str) -> Result<Vec<Variant>, String> {
+/// Which list of [`variants`] holds a bad entry (the command line maps it to
+/// its flag).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VariantList {
+    /// Traversals.
+    Method,
+    /// Algebras of bisection.
+    Algebra,
+    /// Over-relaxation factors of sphere tracing.
+    Omega,
+}
+
+/// A bad entry of a variant list.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("invalid {list:?} '{value}': expected {expected}")]
+pub struct VariantError {
+    /// The list.
+    pub list: VariantList,
+    /// The entry.
+    pub value: String,
+    /// What the list takes.
+    pub expected: &'static str,
+}
+
+/// The variants of the method, algebra and ω lists: for each method in
+/// order, every algebra (bisect) or every ω (sphere); the algebra only
+/// matters for bisection. Unknown names are errors.
+pub fn variants(methods: &str, algebras: &str, omegas: &str) -> Result<Vec<Variant>, VariantError> {
     let list = |s: &str| s.split(',').map(str::trim).map(str::to_string).collect::<Vec<_>>();
+    let bad = |list, value: String, expected| Err(VariantError { list, value, expected });
     let mut v = Vec::new();
     for m in list(methods) {
         match m.as_str() {
             "bisect" => {
                 for a in list(algebras) {
                     if !matches!(a.as_str(), "ia" | "raa" | "auto") {
-                        return Err(format!("invalid --algebra '{a}': expected a comma-separated list of ia, raa, auto"));
+                        return bad(VariantList::Algebra, a, "a comma-separated list of ia, raa, auto");
                     }
                     v.push(Variant::Bisect(a));
                 }
@@ -65,11 +90,11 @@ pub fn variants(methods: &str, algebras: &str, omegas: &str) -> Result<Vec<Varia
                 for w in list(omegas) {
                     match w.parse::<f64>() {
                         Ok(x) if (1.0..2.0).contains(&x) => v.push(Variant::Sphere(x)),
-                        _ => return Err(format!("invalid --omega '{w}': expected a comma-separated list of factors in [1, 2)")),
+                        _ => return bad(VariantList::Omega, w, "a comma-separated list of factors in [1, 2)"),
                     }
                 }
             }
-            other => return Err(format!("invalid --method '{other}': expected a comma-separated list of sphere, bisect")),
+            _ => return bad(VariantList::Method, m, "a comma-separated list of sphere, bisect"),
         }
     }
     Ok(v)

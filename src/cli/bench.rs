@@ -105,7 +105,14 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         return merge(&a);
     }
     let surfaces = entries(&a)?;
-    let variants = bench::variants(&a.method, &a.algebra, &a.omega).map_err(input)?;
+    let variants = bench::variants(&a.method, &a.algebra, &a.omega).map_err(|e| {
+        let flag = match e.list {
+            bench::VariantList::Method => "--method",
+            bench::VariantList::Algebra => "--algebra",
+            bench::VariantList::Omega => "--omega",
+        };
+        input(format!("invalid {flag} '{}': expected {}", e.value, e.expected))
+    })?;
     let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
     let labelled: Vec<(String, Variant)> = variants.iter().map(|v| (v.label(several), v.clone())).collect();
     if let Some(n) = a.max_steps {
