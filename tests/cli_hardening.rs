@@ -371,3 +371,67 @@ fn check_json_is_one_object_with_the_analysis() {
     assert_eq!(v["parameters"], serde_json::json!([]));
     assert_eq!(v["variables"], serde_json::json!(["x", "z"]));
 }
+
+// 7. Inline WGSL: user errors point into the user's file (item 9).
+
+const CLASH_NOTE: &str = "  = the file shares one module with isotrace's own functions, types and constants (main, traverse, field, Ray, Hit, Uniforms, the s_/ia_/ra_ op libraries, …); rename it: a prefix of your own avoids clashes\n\n";
+
+#[test]
+fn inline_wgsl_that_redefines_a_generated_name_or_mistypes_a_hook_is_a_user_error() {
+    let d = dir("inline-user");
+    let clashes: &[(&str, &str, &str)] = &[
+        ("main", "fn main() -> f32 { return 1.0; }", "   ^^^^"),
+        ("traverse", "fn traverse(a: f32) -> f32 { return a; }", "   ^^^^^^^^"),
+        ("tiles", "fn tiles() {}", "   ^^^^^"),
+        ("field", "fn field(p: vec3<f32>) -> f32 { return 0.0; }", "   ^^^^^"),
+        ("load_uniforms", "fn load_uniforms() {}", "   ^^^^^^^^^^^^^"),
+        ("Ray", "struct Ray { a: f32 }", "       ^^^"),
+        ("Hit", "struct Hit { a: f32 }", "       ^^^"),
+        ("Uniforms", "struct Uniforms { a: f32 }", "       ^^^^^^^^"),
+    ];
+    for (name, line, caret) in clashes {
+        let file = d.join(format!("{name}.wgsl"));
+        std::fs::write(&file, format!("// mine\n{line}\n")).unwrap();
+        let col = caret.find('^').unwrap() + 1;
+        let expected = format!(
+            "error: in inline WGSL: '{name}' is already defined by the shader isotrace generates around this file\n  ┌─ {}:2:{col}\n  │\n2 │ {line}\n  │ {caret} defined here too\n  │\n{CLASH_NOTE}",
+            s(&file)
+        );
+        for cmd in ["check", "wgsl"] {
+            let o = isotrace_without_gpu(&[cmd, "x", "--inline", s(&file)]);
+            assert_error(&o, &expected);
+        }
+    }
+    // The same in a render, before any GPU work is needed to find it.
+    let main = d.join("main.wgsl");
+    let o = isotrace(&["render", "x^2+y^2+z^2-1", "--inline", s(&main), "--size", "8", "-o", s(&d.join("m.png"))]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).starts_with("error: in inline WGSL: 'main' is already defined"), "{}", stderr(&o));
+
+    let hooks: &[(&str, &str, &str)] = &[
+        ("fn hook_reject(r: vec2<f32>) -> f32 { return 1.0; }", "(vec2<f32>) -> f32", "fn hook_reject(r: vec2<f32>) -> bool"),
+        ("fn hook_hit(p: vec3<f32>) -> vec3<f32> { return p; }", "(vec3<f32>) -> vec3<f32>", "fn hook_hit(p: vec3<f32>) -> bool"),
+        ("fn hook_hit(p: vec2<f32>, q: f32) { }", "(vec2<f32>, f32)", "fn hook_hit(p: vec3<f32>) -> bool"),
+        (
+            "fn hook_shade(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: f32) -> vec3<f32> { return p; }",
+            "(vec3<f32>, vec3<f32>, vec3<f32>, f32) -> vec3<f32>",
+            "fn hook_shade(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32>",
+        ),
+    ];
+    for (i, (line, found, want)) in hooks.iter().enumerate() {
+        let file = d.join(format!("hook{i}.wgsl"));
+        std::fs::write(&file, format!("{line}\n")).unwrap();
+        let name = &line[3..line.find('(').unwrap()];
+        let carets = "^".repeat(name.len());
+        let expected = format!(
+            "error: hook '{name}' has the wrong signature\n  ┌─ {}:1:4\n  │\n1 │ {line}\n  │    {carets} declared as {found}\n  │\n  = the traversal calls it as {want}\n\n",
+            s(&file)
+        );
+        let png = d.join("h.png");
+        let commands: [&[&str]; 3] = [&["check"], &["eval", "--cpu"], &["render", "-o", s(&png)]];
+        for cmd in commands {
+            let o = isotrace_without_gpu(&[cmd, &["x", "--inline", s(&file)]].concat());
+            assert_error(&o, &expected);
+        }
+    }
+}

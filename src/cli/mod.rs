@@ -16,7 +16,7 @@ pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use isotrace::codegen::{self, Domain};
-use isotrace::{FormulaError, validate};
+use isotrace::{Formula, FormulaError, validate};
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
 
@@ -188,7 +188,11 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
 }
 
 fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
-    let f = a.formula.load()?;
+    let loaded = a.formula.load_with_header()?;
+    let f = &loaded.formula;
+    if let Some(user) = &loaded.inline {
+        check_inline(f, user)?;
+    }
     let ir = &f.ir;
     let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
@@ -250,13 +254,7 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         }
     };
     match inline {
-        Some(user) => {
-            let start = src.find(&user.text).unwrap_or(0);
-            validate::validate_with_inline(&src, start..start + user.text.len(), &user.path, &user.text).map_err(|e| match e {
-                validate::InlineError::User(m) => CliError::Rendered(m),
-                validate::InlineError::Bug(b) => CliError::Internal(format!("{b}\nformula ({}): {}", f.origin, f.source.trim())),
-            })?;
-        }
+        Some(user) => validate_inline(&src, user, f)?,
         None => {
             validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
         }
@@ -268,6 +266,28 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Validates a shader that holds the user's `--inline` WGSL: an error in the
+/// user's part is a user error (exit 1), anything else a bug.
+fn validate_inline(src: &str, user: &isotrace::inline::InlineWgsl, f: &Formula) -> Result<(), CliError> {
+    let start = src.find(&user.text).unwrap_or(0);
+    validate::validate_with_inline(src, start..start + user.text.len(), &user.path, &user.text).map(|_| ()).map_err(|e| match e {
+        validate::InlineError::User(m) => CliError::Rendered(m),
+        validate::InlineError::Bug(b) => CliError::Internal(format!("{b}\nformula ({}): {}", f.origin, f.source.trim())),
+    })
+}
+
+/// `check --inline`: the user's WGSL spliced into the render kernel (with
+/// its hooks) and the eval kernel of the formula, both validated by naga, so
+/// `check` reports what `render` and `eval` would.
+fn check_inline(f: &Formula, user: &isotrace::inline::InlineWgsl) -> Result<(), CliError> {
+    let domain = isotrace::choose_algebra(&f.ir);
+    let m = isotrace::render::Modalities { inline: Some(user.clone()), ..Default::default() };
+    let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
+    let render = codegen::assemble(codegen::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl;
+    validate_inline(&render, user, f)?;
+    validate_inline(&codegen::eval_shader_with(&f.ir, domain, Some(user)), user, f)
 }
 
 /// Maps a render error to the CLI's error kinds.
