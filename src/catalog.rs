@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 mod header;
 mod suite;
-pub use header::{parse_box, parse_eps, parse_vec3, Algebra, Clip, Header, Status};
+pub use header::{parse_box, parse_eps, parse_number, parse_vec3, Algebra, Clip, Header, Status};
 use header::apply;
 pub use suite::{suite, suite_choices, SUITES};
 

@@ -435,3 +435,63 @@ fn inline_wgsl_that_redefines_a_generated_name_or_mistypes_a_hook_is_a_user_erro
         }
     }
 }
+
+// 8. Messages of item 13: --param, the degree, bench's console table.
+
+#[test]
+fn params_take_the_eps_number_syntax_once_each() {
+    let o = isotrace_without_gpu(&["render", "x^2+y^2+z^2-r^2", "--param", "r=1", "--param", "r=2", "-o", "p.png"]);
+    assert_error(&o, "error: --param r is given twice ('r=1' and 'r=2'): give each parameter once\n");
+    let o = isotrace_without_gpu(&["eval", "x - a", "--param", "a=1", "--param", " a = 2^-1", "--cpu"]);
+    assert_error(&o, "error: --param a is given twice ('a=1' and ' a = 2^-1'): give each parameter once\n");
+    let o = isotrace_without_gpu(&["render", "x^2+y^2+z^2-r^2", "--param", "r=2^x", "-o", "p.png"]);
+    assert_error(&o, "error: invalid --param 'r=2^x': '2^x' is not a number\n");
+    let o = isotrace_without_gpu(&["render", "x^2+y^2+z^2-r^2", "--param", "r=2^2000", "-o", "p.png"]);
+    assert_error(&o, "error: invalid --param 'r=2^2000': must be a finite number\n");
+    // 2^-1 is 0.5, as with --eps: x - a at x = 0.75 is 0.25.
+    let o = isotrace_with_stdin(&["eval", "x - a", "--param", "a=2^-1", "--algebra", "scalar", "--cpu"], "0.75 0 0\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).trim().parse::<f64>().unwrap(), 0.25);
+    // The same syntax in an .iso header.
+    let d = dir("param-iso");
+    let iso = d.join("p.iso");
+    std::fs::write(&iso, "#@ name: p\n#@ param: a=2^-2\nx - a\n").unwrap();
+    let o = isotrace(&["check", s(&iso)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::write(&iso, "#@ name: p\n#@ param: a=2^x\nx - a\n").unwrap();
+    let o = isotrace(&["check", s(&iso)]);
+    assert_error(&o, &format!("error: {}:2: bad param value 'a=2^x': '2^x' is not a number\n", s(&iso)));
+}
+
+#[test]
+fn the_degree_saturates_instead_of_wrapping() {
+    let field = |o: &Output| String::from_utf8_lossy(&o.stdout).lines().find_map(|l| l.strip_prefix("degree:").map(|d| d.trim().to_string())).unwrap();
+    assert_eq!(field(&isotrace(&["check", "((x^4096)^4096)^128"])), "2147483648");
+    // 2^32 wrapped to 0 (and would have chosen the algebra by it).
+    assert_eq!(field(&isotrace(&["check", "((x^4096)^4096)^256"])), "4294967295 or more (too large to count)");
+    assert_eq!(field(&isotrace(&["check", "((x^4096)^4096)^4096 * y^4096"])), "4294967295 or more (too large to count)");
+    let o = isotrace(&["check", "((x^4096)^4096)^256", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["degree"], 4294967295u64);
+}
+
+#[test]
+fn bench_prints_the_eps_search_and_reports_setup_time_apart() {
+    let d = dir("bench-eps");
+    let json = d.join("b.json");
+    let o = isotrace(&["bench", "sphere", "--algebra", "ia", "--size", "16", "--repeat", "1", "--find-eps", "--json", s(&json)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout).into_owned();
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let m = &v["results"][0];
+    let k = m["lowest_eps"]["exponent"].as_i64().unwrap();
+    let ms = m["lowest_eps"]["gpu_ms"].as_f64().unwrap();
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines[0], format!("{:<16} {:<10} {:>24} {:>18}", "surface", "degree", "ia (ms / evals/px)", "ia lowest eps"));
+    assert!(lines[1].ends_with(&format!(" {:>18}", format!("2^{k} ({ms:.1} ms)"))), "{table}");
+    // Shader compilation and the warm-up are measured apart from gpu_ms.
+    assert!(m["setup_ms"].as_f64().unwrap() > 0.0, "{m}");
+    // Without --find-eps the table is as before.
+    let o = isotrace(&["bench", "sphere", "--algebra", "ia", "--size", "16", "--repeat", "1"]);
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with(&format!("{:<16} {:<10} {:>24}\n", "surface", "degree", "ia (ms / evals/px)")));
+}

@@ -19,6 +19,7 @@ use isotrace::render::Frame;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Instant;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -46,7 +47,7 @@ pub struct BenchArgs {
     /// Step budget per ray for --method sphere (default 512).
     #[arg(long, value_name = "N")]
     max_steps: Option<u32>,
-    /// Timed runs per job (after one warm-up run); the median is reported.
+    /// Timed runs per job (after one warm-up run); the median is reported. Building the pipeline and the warm-up run, where a cold Mesa shader cache compiles the shader, are not in the reported ms; their wall time is the JSON's setup_ms.
     #[arg(long, default_value_t = 5)]
     repeat: u32,
     /// Directory for the images and the contact sheet.
@@ -212,7 +213,8 @@ fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
 /// run's or a merged one); exit code 1 when a job failed.
 fn write_reports(a: &BenchArgs, report: &Report, machine: &str) -> Result<ExitCode, CliError> {
     let (results, columns) = (&report.results, &report.settings.algebras);
-    let _ = std::io::stdout().lock().write_all(bench::table_text(results, columns).as_bytes());
+    let table = if report.settings.find_eps { bench::table_text_with_eps(results, columns) } else { bench::table_text(results, columns) };
+    let _ = std::io::stdout().lock().write_all(table.as_bytes());
     if let Some(p) = &a.markdown {
         output::write_atomic(p, bench::markdown(results, columns, machine).as_bytes()).map_err(|e| input(e.to_string()))?;
     }
@@ -252,24 +254,26 @@ fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
 /// The timed runs of one renderer and settings, and the last frame. Timed
 /// as a viewer renders: the kernel's records kept packed (decoding 1024²
 /// pixels into `Frame` pixels would add ~3.5 ms a frame).
-fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
+fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace::render::Stats>, Frame, Instant), String> {
     let mut frame = PackedFrame::default();
-    let runs = timed(repeat, &mut || {
+    let (runs, warm) = timed(repeat, &mut || {
         r.render_packed(s, &mut frame).map_err(|e| e.to_string())?;
         Ok(frame.stats.clone())
     })?;
-    Ok((runs, frame.decode()))
+    Ok((runs, frame.decode(), warm))
 }
 
 /// Warm-up (shader compile, caches), then `repeat` timed renders; `render`
-/// keeps its frame and returns the frame's statistics.
-fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<Vec<isotrace::render::Stats>, String> {
+/// keeps its frame and returns the frame's statistics. Also returns when
+/// the warm-up ended, so the caller can report the setup time apart.
+fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<(Vec<isotrace::render::Stats>, Instant), String> {
     render()?;
+    let warm = Instant::now();
     let runs = (0..repeat).map(|_| render()).collect::<Result<Vec<_>, _>>()?;
     if runs.is_empty() {
         return Err("no run".into());
     }
-    Ok(runs)
+    Ok((runs, warm))
 }
 
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
@@ -290,18 +294,22 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 CliError::Input(m) => m,
                 other => format!("{other:?}"),
             })?;
+            let start = Instant::now();
             let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Sphere(o)).map_err(|e| e.to_string())?;
-            let (runs, frame) = timed_packed(&r, &s, a.repeat)?;
+            let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
+            m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
             return Ok((m, frame));
         }
     };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
+    let start = Instant::now();
     let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(domain))).map_err(|e| e.to_string())?;
-    let (runs, frame) = timed_packed(&r, &s, a.repeat)?;
+    let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
+    m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
     if a.find_eps {
         let mut fine = s.clone();
         fine.eps = diag * 2f64.powi(-14);
@@ -313,7 +321,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             let fr = r.render(&sk).map_err(|e| e.to_string())?;
             let diff = bench::differing_fraction(&fr, &reference);
             if diff <= bench::MATCH_FRACTION {
-                let (runs, _) = timed_packed(&r, &sk, a.repeat)?;
+                let (runs, _, _) = timed_packed(&r, &sk, a.repeat)?;
                 let ms = Measure::from_runs(&runs, sk.eps, "").gpu_ms;
                 m.lowest_eps = Some(LowestEps { exponent: k, gpu_ms: ms, differing: diff });
                 break;

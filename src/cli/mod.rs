@@ -211,7 +211,12 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let _ = writeln!(out, "formula:    {}", f.normalized());
     let _ = writeln!(out, "variables:  {}", if vars.is_empty() { "(none)".into() } else { vars.join(" ") });
     let _ = writeln!(out, "parameters: {}", if params.is_empty() { "(none)".into() } else { params.join(" ") });
-    let _ = writeln!(out, "degree:     {}", ir.degree().map_or("not a polynomial".into(), |d| d.to_string()));
+    let degree = match ir.degree() {
+        None => "not a polynomial".to_string(),
+        Some(isotrace::ir::Ir::DEGREE_MAX) => format!("{} or more (too large to count)", isotrace::ir::Ir::DEGREE_MAX),
+        Some(d) => d.to_string(),
+    };
+    let _ = writeln!(out, "degree:     {degree}");
     let _ = writeln!(out, "operations: {} ({} products of non-constant terms, {} integer powers)", ir.live().len(), products, powers);
     let _ = writeln!(out, "algebra:    {algebra} (auto)");
     Ok(ExitCode::SUCCESS)

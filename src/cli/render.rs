@@ -252,15 +252,29 @@ pub fn parse_clip(s: &str) -> Result<f64, CliError> {
         .ok_or_else(|| input(format!("invalid --clip '{s}': expected sphere:R with a radius R > 0")))
 }
 
-/// `--param name=value` pairs.
+/// `--param name=value` pairs. A value is a number as `--eps` takes it
+/// (`0.5`, `2^-1`). A name given twice is an error: the two values would
+/// silently disagree (a header's value is overridden, not repeated).
 pub fn parse_params(list: &[String]) -> Result<Vec<(String, f64)>, CliError> {
-    list.iter()
-        .map(|p| {
-            let (n, v) = p.split_once('=').ok_or_else(|| input(format!("invalid --param '{p}': expected name=value")))?;
-            let v: f64 = v.trim().parse().map_err(|_| input(format!("invalid --param '{p}': '{v}' is not a number")))?;
-            Ok((n.trim().to_string(), v))
-        })
-        .collect()
+    let mut out: Vec<(String, f64)> = Vec::with_capacity(list.len());
+    for p in list {
+        let (n, v) = p.split_once('=').ok_or_else(|| input(format!("invalid --param '{p}': expected name=value")))?;
+        // Plain float syntax as before (a non-finite value is the settings'
+        // error); otherwise the power syntax of --eps.
+        let v = match v.trim().parse::<f64>() {
+            Ok(x) => x,
+            Err(_) => catalog::parse_number(v).map_err(|m| match m.starts_with("expected") {
+                true => input(format!("invalid --param '{p}': '{v}' is not a number")),
+                false => input(format!("invalid --param '{p}': {m}")),
+            })?,
+        };
+        let n = n.trim().to_string();
+        if let Some(j) = out.iter().position(|(m, _)| *m == n) {
+            return Err(input(format!("--param {n} is given twice ('{}' and '{p}'): give each parameter once", list[j])));
+        }
+        out.push((n, v));
+    }
+    Ok(out)
 }
 
 /// The view flags applied over `v` (a header's view, or a default): the
