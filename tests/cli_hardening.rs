@@ -495,3 +495,46 @@ fn bench_prints_the_eps_search_and_reports_setup_time_apart() {
     let o = isotrace(&["bench", "sphere", "--algebra", "ia", "--size", "16", "--repeat", "1"]);
     assert!(String::from_utf8_lossy(&o.stdout).starts_with(&format!("{:<16} {:<10} {:>24}\n", "surface", "degree", "ia (ms / evals/px)")));
 }
+
+// 9. The trust model of .iso headers (item 12).
+
+#[test]
+fn a_header_reads_files_only_inside_its_directory_unless_allowed() {
+    let d = dir("header-paths");
+    let env = d.join("env.png");
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", s(&env)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sub = d.join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    std::fs::copy(&env, sub.join("inside.png")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&env, sub.join("link.png")).unwrap();
+    let iso = |name: &str, value: &str| {
+        let p = sub.join(format!("{name}.iso"));
+        std::fs::write(&p, format!("#@ name: {name}\n#@ reflect: 1\n#@ env: {value}\nx^2 + y^2 + z^2 - 1\n")).unwrap();
+        p
+    };
+    let out = d.join("o.png");
+    let refused = |file: &Path, shown: &str| {
+        let o = isotrace_without_gpu(&["render", s(file), "--size", "8", "-o", s(&out)]);
+        assert_error(
+            &o,
+            &format!("error: the .iso header's env: image '{shown}' is outside the directory of the .iso file; give --allow-header-paths to read it (only for files you trust)\n"),
+        );
+    };
+    refused(&iso("abs", s(&env)), s(&env));
+    refused(&iso("up", "../env.png"), &format!("{}/../env.png", s(&sub)));
+    #[cfg(unix)]
+    refused(&iso("link", "link.png"), &format!("{}/link.png", s(&sub)));
+    // Inside the directory, relative to the file: read.
+    let o = isotrace(&["render", s(&iso("in", "inside.png")), "--size", "8", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // With the flag, or with the user's own --env, the file is read.
+    let o = isotrace(&["render", s(&iso("abs", s(&env))), "--size", "8", "-o", s(&out), "--allow-header-paths"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = isotrace(&["render", s(&iso("up", "../env.png")), "--size", "8", "-o", s(&out), "--env", s(&env)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // check and wgsl read no header file.
+    let o = isotrace(&["check", s(&iso("abs", "/etc/passwd"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

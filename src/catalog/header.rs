@@ -53,6 +53,11 @@ pub struct Header {
     pub modalities: crate::render::ModalitySpec,
     /// `color`: the default colouring (`--color`), checked.
     pub color: Option<String>,
+    /// File paths of this header (the `env` image) that lead out of the
+    /// `.iso` file's directory: absolute, up through `..`, or through a
+    /// symbolic link. Filled in by [`super::load_file`]; a caller that reads
+    /// files for an untrusted header refuses these unless told otherwise.
+    pub outside_paths: Vec<std::path::PathBuf>,
 }
 
 impl Default for Header {
@@ -79,6 +84,7 @@ impl Default for Header {
             bound: None,
             modalities: Default::default(),
             color: None,
+            outside_paths: Vec::new(),
         }
     }
 }
