@@ -538,3 +538,61 @@ fn a_header_reads_files_only_inside_its_directory_unless_allowed() {
     let o = isotrace(&["check", s(&iso("abs", "/etc/passwd"))]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+// 10. Host memory of big frames (item 4): an error, never an abort.
+
+#[test]
+fn a_frame_too_big_for_host_memory_is_an_error() {
+    let d = dir("memory");
+    let out = d.join("big.png");
+    let with_budget = |budget: &str, size: &str, out: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_isotrace"))
+            .args(["render", "@sphere", "--size", size, "-o", s(out)])
+            .env("NODEVICE_SELECT", "1")
+            .env("ISOTRACE_MEMORY_BUDGET", budget)
+            .output()
+            .unwrap()
+    };
+    let o = with_budget("1G", "16384", &out);
+    assert_error(
+        &o,
+        "error: a 16384x16384 frame needs 12.9 GB of host memory for its pixels, over the memory budget of 1.0 GB; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET\n",
+    );
+    assert!(!out.exists());
+    let o = with_budget("20k", "32", &out);
+    assert_error(&o, "error: a 32x32 frame needs 49.2 kB of host memory for its pixels, over the memory budget of 20.0 kB; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET\n");
+    let exr = d.join("ok.exr");
+    let o = with_budget("49152", "32", &exr);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = with_budget("8 GiB", "32", &exr);
+    assert_error(&o, "error: invalid ISOTRACE_MEMORY_BUDGET '8 GiB': expected a number of bytes, optionally with a suffix k, M, G or T (e.g. 8G)\n");
+}
+
+/// Without a budget the allocator itself refuses: an address-space limit
+/// of 6 GB (enough for the device, not for 12.9 GB of pixels) makes the
+/// refusal real and cheap; before, this aborted.
+#[cfg(unix)]
+#[test]
+fn a_refused_allocation_is_an_error_without_a_budget() {
+    let out = dir("memory-rlimit").join("big.png");
+    let cmd = format!("ulimit -v 6000000 && exec '{}' render @sphere --size 16384 -o '{}'", env!("CARGO_BIN_EXE_isotrace"), s(&out));
+    let o = Command::new("sh").args(["-c", &cmd]).env("NODEVICE_SELECT", "1").env_remove("ISOTRACE_MEMORY_BUDGET").output().unwrap();
+    assert_error(&o, "error: a 16384x16384 frame needs 12.9 GB of host memory for its pixels; render a smaller --size\n");
+}
+
+/// The encoders allocate fallibly too (a budget below their need, set in
+/// this test process only).
+#[test]
+fn encoding_a_frame_checks_its_memory() {
+    use isotrace::render::{Frame, PixelOut, Stats, Status};
+    let px = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: 1.0, evals: 0, level: 0, iso: 0, status: Status::Miss };
+    let frame = Frame { width: 16, height: 16, pixels: vec![px; 256], stats: Stats::default() };
+    let d = dir("memory-encode");
+    isotrace::memory::set_budget(Some(700));
+    let png = isotrace::output::write_frame(&d.join("a.png"), &frame).unwrap_err();
+    let exr = isotrace::output::write_frame(&d.join("a.exr"), &frame).unwrap_err();
+    isotrace::memory::set_budget(None);
+    assert_eq!(png.to_string(), format!("cannot write '{}': a 16x16 frame needs 768 bytes of host memory for its PNG bytes, over the memory budget of 700 bytes", s(&d.join("a.png"))));
+    assert_eq!(exr.to_string(), format!("cannot write '{}': a 16x16 frame needs 9.2 kB of host memory for its EXR channels, over the memory budget of 700 bytes", s(&d.join("a.exr"))));
+    assert!(isotrace::output::write_frame(&d.join("a.png"), &frame).is_ok());
+}

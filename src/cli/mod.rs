@@ -173,6 +173,7 @@ impl From<validate::ValidateError> for CliError {
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
+    memory_budget_from_env()?;
     match cli.command {
         Command::Check(a) => check(a),
         Command::Wgsl(a) => wgsl(a),
@@ -303,6 +304,35 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
         R::Gpu(g) => CliError::Internal(g.to_string()),
         R::Settings(s) => CliError::Input(settings_message(&s)),
         R::Inline(m) => CliError::Rendered(m),
+        R::Memory(m) => CliError::Input(memory_message(&m.to_string(), &m)),
+    }
+}
+
+/// `ISOTRACE_MEMORY_BUDGET`: the largest frame-sized host allocation
+/// (pixels, packed records, encoded image), in bytes or with a k/M/G/T
+/// suffix. Unset: only the allocator refuses.
+fn memory_budget_from_env() -> Result<(), CliError> {
+    let Some(v) = std::env::var_os("ISOTRACE_MEMORY_BUDGET") else { return Ok(()) };
+    let v = v.to_string_lossy();
+    let bytes = isotrace::memory::parse_budget(&v)
+        .ok_or_else(|| CliError::Input(format!("invalid ISOTRACE_MEMORY_BUDGET '{v}': expected a number of bytes, optionally with a suffix k, M, G or T (e.g. 8G)")))?;
+    isotrace::memory::set_budget(Some(bytes));
+    Ok(())
+}
+
+/// An output file's error; a refused allocation says what to do.
+pub fn output_error(e: isotrace::output::OutputError) -> CliError {
+    match &e {
+        isotrace::output::OutputError::Memory { source, .. } => CliError::Input(memory_message(&e.to_string(), source)),
+        _ => CliError::Input(e.to_string()),
+    }
+}
+
+/// `message` about a refused frame allocation, with what the user can do.
+fn memory_message(message: &str, m: &isotrace::memory::MemoryError) -> String {
+    match m.budget {
+        Some(_) => format!("{message}; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET"),
+        None => format!("{message}; render a smaller --size"),
     }
 }
 

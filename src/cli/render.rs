@@ -479,7 +479,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         (None, Some(r), super::frames::Outputs::One(path)) => {
             let mut frame = r.render(&s).map_err(super::render_error)?;
             let heat_max = output::recolor(&mut frame, color);
-            output::write_frame(path, &frame).map_err(|e| input(e.to_string()))?;
+            output::write_frame(path, &frame).map_err(super::output_error)?;
             (Some(frame), heat_max)
         }
         _ => (None, None),

@@ -31,6 +31,10 @@ pub enum RenderError {
     /// The user's inline WGSL does not validate (rendered against their file).
     #[error("{0}")]
     Inline(String),
+    /// The frame's host memory could not be had (over the budget, or the
+    /// allocator refused).
+    #[error(transparent)]
+    Memory(#[from] crate::memory::MemoryError),
 }
 
 /// Buffers of one dispatch's pass group besides the pixel records.
@@ -199,7 +203,7 @@ impl<'g> Renderer<'g> {
     /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
     pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
         let start = Instant::now();
-        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), convert)?;
+        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), "pixels", convert)?;
         *out = Frame { width: s.width, height: s.height, pixels, stats };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
@@ -209,18 +213,19 @@ impl<'g> Renderer<'g> {
     /// (see [`PackedFrame`]), with the same statistics as [`Renderer::render_into`].
     pub fn render_packed(&self, s: &Settings, out: &mut PackedFrame) -> Result<(), RenderError> {
         let start = Instant::now();
-        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), |r| *r)?;
+        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), "pixel records", |r| *r)?;
         *out = PackedFrame { width: s.width, height: s.height, stats, records };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }
 
     /// Renders one frame and writes `f` of each record, row-major, into
-    /// `buf` (its memory reused), gathering the statistics on the way.
-    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, f: fn(&Record) -> T) -> Result<(Vec<T>, Stats), RenderError> {
+    /// `buf` (its memory reused), gathering the statistics on the way. The
+    /// frame's memory (`what`) is reserved fallibly before any dispatch.
+    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, what: &'static str, f: fn(&Record) -> T) -> Result<(Vec<T>, Stats), RenderError> {
         let (w, h) = (s.width, s.height);
         let n = w as usize * h as usize;
-        buf.clear();
+        crate::memory::reserve(&mut buf, n, (w, h), what)?;
         let mut acc = StatsAcc::default();
         let mut stats = self.run(s, |rect, raw| {
             if (rect.w, rect.h) == (w, h) {
