@@ -596,3 +596,57 @@ fn encoding_a_frame_checks_its_memory() {
     assert_eq!(exr.to_string(), format!("cannot write '{}': a 16x16 frame needs 9.2 kB of host memory for its EXR channels, over the memory budget of 700 bytes", s(&d.join("a.exr"))));
     assert!(isotrace::output::write_frame(&d.join("a.png"), &frame).is_ok());
 }
+
+// 11. Shader compilation budget and bench job timeouts (item 5).
+
+#[test]
+fn a_huge_generated_shader_is_refused_and_a_slow_compile_is_announced() {
+    let d = dir("shader-budget");
+    // 3000 pseudo-random monomials: 54 KB of formula, 1.4 MB of WGSL.
+    let mut r: u64 = 12345;
+    let terms: Vec<String> = (0..3000)
+        .map(|_| {
+            r = (r * 1103515245 + 12345) % (1 << 31);
+            format!("{}.{}*x^{}*y^{}*z^{}", (r >> 9) % 9 + 1, (r >> 13) % 10, r % 7, (r >> 3) % 7, (r >> 6) % 7)
+        })
+        .collect();
+    let file = d.join("big.txt");
+    std::fs::write(&file, terms.join(" + ")).unwrap();
+    let o = isotrace(&["render", "-f", s(&file), "--size", "8", "-o", s(&d.join("b.png"))]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.starts_with("error: the generated shader is ") && e.ends_with(
+        " KB of WGSL, over the limit of 500 KB: the driver would compile it for many minutes; simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders\n"
+    ), "{e}");
+    // The note after a (test-sized) delay, with the shader's size.
+    let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(["render", "@sphere", "--size", "8", "-o", s(&d.join("s.png"))])
+        .env("NODEVICE_SELECT", "1")
+        .env("ISOTRACE_COMPILE_NOTE_MS", "0")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let kb: usize = stderr(&o).strip_prefix("note: compiling the shader (").and_then(|r| r.strip_suffix(" KB of WGSL) …\n")).unwrap().parse().unwrap();
+    assert!((20..200).contains(&kb), "{kb}");
+}
+
+#[test]
+fn bench_jobs_time_out_one_by_one_and_the_batch_goes_on() {
+    let o = isotrace(&["bench", "sphere", "steiner", "--algebra", "ia", "--size", "16", "--repeat", "1", "--job-timeout", "0.05"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(table.ends_with(
+        "FAILED sphere ia: timed out after 0.05 s; the job was stopped and the batch went on\nFAILED steiner ia: timed out after 0.05 s; the job was stopped and the batch went on\n"
+    ), "{table}");
+    // With time enough, the jobs run in child processes and report as usual.
+    let d = dir("bench-timeout");
+    let json = d.join("b.json");
+    let o = isotrace(&["bench", "sphere", "--algebra", "ia,raa", "--size", "16", "--repeat", "1", "--job-timeout", "120", "--out", s(&d), "--json", s(&json)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(v["results"].as_array().unwrap().len(), 2);
+    assert!(v["results"][1]["gpu_ms"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(d.join("sphere_raa.png").exists() && d.join("contact-sheet.png").exists());
+    let o = isotrace(&["bench", "sphere", "--job-timeout", "0"]);
+    assert_error(&o, "error: invalid --job-timeout 0: it must be a number of seconds above 0 and at most 86400\n");
+}

@@ -305,7 +305,36 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
         R::Settings(s) => CliError::Input(settings_message(&s)),
         R::Inline(m) => CliError::Rendered(m),
         R::Memory(m) => CliError::Input(memory_message(&m.to_string(), &m)),
+        e @ R::ShaderTooLarge { .. } => CliError::Input(format!(
+            "{e}; simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
+        )),
     }
+}
+
+/// After how long a pipeline build is reported on stderr.
+const COMPILE_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// Runs `build` (naga, then the driver's shader compiler). When it takes
+/// longer than [`COMPILE_NOTE_AFTER`] (or `ISOTRACE_COMPILE_NOTE_MS`, a
+/// test hook), a note on stderr says what is happening, with the shader's
+/// size from `wgsl_bytes`, so that a long compile does not look like a
+/// hang.
+pub fn with_compile_note<T>(wgsl_bytes: impl FnOnce() -> usize + Send, build: impl FnOnce() -> T) -> T {
+    let after = std::env::var("ISOTRACE_COMPILE_NOTE_MS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map_or(COMPILE_NOTE_AFTER, std::time::Duration::from_millis);
+    let (done, wait) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(after) {
+                eprintln!("note: compiling the shader ({} KB of WGSL) …", wgsl_bytes().div_ceil(1000));
+            }
+        });
+        let out = build();
+        drop(done);
+        out
+    })
 }
 
 /// `ISOTRACE_MEMORY_BUDGET`: the largest frame-sized host allocation

@@ -471,7 +471,11 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     // No device is opened when every frame of the run is already there.
     let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
     let renderer = match &gpu {
-        Some(g) => Some(Renderer::new(g, FieldSource::Compiled(&f.ir), traversal).map_err(super::render_error)?),
+        Some(g) => {
+            let t = traversal.clone();
+            let size = || isotrace::codegen::assemble(FieldSource::Compiled(&f.ir), &t).wgsl.len();
+            Some(super::with_compile_note(size, || Renderer::new(g, FieldSource::Compiled(&f.ir), traversal)).map_err(super::render_error)?)
+        }
         None => None,
     };
     let (last, heat_max) = match (&animation, &renderer, &outputs) {

@@ -35,7 +35,21 @@ pub enum RenderError {
     /// allocator refused).
     #[error(transparent)]
     Memory(#[from] crate::memory::MemoryError),
+    /// The assembled kernel is larger than [`MAX_SHADER_BYTES`].
+    #[error("the generated shader is {} KB of WGSL, over the limit of {} KB: the driver would compile it for many minutes", bytes.div_ceil(1000), MAX_SHADER_BYTES / 1000)]
+    ShaderTooLarge {
+        /// Its size in bytes.
+        bytes: usize,
+    },
 }
+
+/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
+/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
+/// lavapipe's compile time grows faster than the shader (`@creature` at
+/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
+/// past this a render would sit silent for a very long time; a formula
+/// that gets here is one to simplify.
+pub const MAX_SHADER_BYTES: usize = 500_000;
 
 /// Buffers of one dispatch's pass group besides the pixel records.
 pub(crate) struct PassBuffers {
@@ -102,6 +116,9 @@ impl<'g> Renderer<'g> {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
         }
         let kernel = codegen::assemble(field, &traversal);
+        if kernel.wgsl.len() > MAX_SHADER_BYTES {
+            return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
+        }
         match &kernel.inline {
             Some((range, user)) => {
                 crate::validate::validate_with_inline(&kernel.wgsl, range.clone(), &user.path, &user.text).map_err(|e| match e {
