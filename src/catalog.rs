@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 mod header;
 mod suite;
-pub use header::{parse_box, parse_eps, parse_vec3, Algebra, Clip, Header, Status};
+pub use header::{parse_box, parse_eps, parse_number, parse_vec3, Algebra, Clip, Header, Status};
 use header::apply;
 pub use suite::{suite, suite_choices, SUITES};
 
@@ -216,13 +216,43 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Entry, CatalogError> {
     let mut entry = parse_iso(&file, &text)?;
     // A relative `env:` image belongs to the file, not to the working
     // directory of whoever renders it.
+    let dir = path.parent().unwrap_or(Path::new(""));
     if let Some(crate::render::EnvSpec::File(p)) = &mut entry.header.modalities.env {
+        let outside = leaves_dir(dir, p);
         if p.is_relative() {
-            *p = path.parent().unwrap_or(Path::new("")).join(&*p);
+            *p = dir.join(&*p);
+        }
+        if outside {
+            entry.header.outside_paths.push(p.clone());
         }
     }
     entry.path = Some(path.to_path_buf());
     Ok(entry)
+}
+
+/// Whether `p`, as written in a header of a file in `dir`, names a file
+/// outside `dir`: an absolute path, a relative one that climbs above `dir`
+/// with `..`, or one that exists and resolves (through symbolic links)
+/// outside the resolved `dir`.
+fn leaves_dir(dir: &Path, p: &Path) -> bool {
+    use std::path::Component;
+    let mut depth = 0i32;
+    for c in p.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::ParentDir => depth -= 1,
+            Component::CurDir => {}
+            Component::RootDir | Component::Prefix(_) => return true,
+        }
+        if depth < 0 {
+            return true;
+        }
+    }
+    let base = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    match (base.canonicalize(), base.join(p).canonicalize()) {
+        (Ok(d), Ok(f)) => !f.starts_with(d),
+        _ => false,
+    }
 }
 
 /// Parses the text of an `.iso` file. `path_display` names the file in

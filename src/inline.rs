@@ -39,11 +39,13 @@ pub struct InlineWgsl {
     pub shade: bool,
 }
 
-/// A `fn` found in the text: name, number of parameters, span of the name.
+/// A `fn` found in the text: name, number of parameters, span of the name,
+/// and the byte range of its parameter list (inside the parentheses).
 struct FnDecl {
     name: String,
     arity: usize,
     span: Span,
+    params: std::ops::Range<usize>,
 }
 
 /// Finds `fn name(params)` declarations (a light scan, not a parser: naga
@@ -103,7 +105,7 @@ fn declarations(text: &str) -> Vec<FnDecl> {
                 // A trailing comma does not add a parameter.
                 let inner = text[j + 1..k.min(text.len())].trim_end();
                 let arity = if !any { 0 } else if inner.ends_with(',') { commas } else { commas + 1 };
-                out.push(FnDecl { name, arity, span: Span::new(start, j) });
+                out.push(FnDecl { name, arity, span: Span::new(start, j), params: j + 1..k.min(text.len()) });
             }
             i = j;
             continue;
@@ -150,8 +152,119 @@ pub fn parse_inline(path: &str, text: &str) -> Result<InlineWgsl, Diagnostic> {
         }
         functions.push((base.to_string(), d.arity));
     }
+    for d in &decls {
+        check_hook(text, d)?;
+    }
     let has = |n: &str| decls.iter().any(|d| d.name == n);
     Ok(InlineWgsl { path: path.to_string(), text: text.to_string(), functions, reject: has("hook_reject"), hit: has("hook_hit"), shade: has("hook_shade") })
+}
+
+/// The hooks the bisection traversal calls, with the only signature each
+/// may have (parameter types, return type): the generated code calls them
+/// with exactly these types, so any other signature fails in isotrace's
+/// code, where naga's message would point away from the user's file.
+pub const HOOKS: [(&str, &[&str], &str); 3] = [
+    ("hook_reject", &["vec2<f32>"], "bool"),
+    ("hook_hit", &["vec3<f32>"], "bool"),
+    ("hook_shade", &["vec3<f32>", "vec3<f32>", "vec3<f32>", "vec3<f32>"], "vec3<f32>"),
+];
+
+/// A WGSL type without spaces, its `vecNf` shorthand spelled out.
+fn normal_type(t: &str) -> String {
+    let t: String = t.chars().filter(|c| !c.is_whitespace()).collect();
+    match t.as_str() {
+        "vec2f" => "vec2<f32>".into(),
+        "vec3f" => "vec3<f32>".into(),
+        "vec4f" => "vec4<f32>".into(),
+        _ => t,
+    }
+}
+
+/// Splits a parameter list at its top-level commas.
+fn split_params(list: &str) -> Vec<&str> {
+    let (mut depth, mut start, mut out) = (0i32, 0, Vec::new());
+    for (i, c) in list.char_indices() {
+        match c {
+            '<' | '(' => depth += 1,
+            '>' | ')' => depth -= 1,
+            ',' if depth == 0 => {
+                out.push(&list[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out.push(&list[start..]);
+    out.into_iter().filter(|p| !p.trim().is_empty()).collect()
+}
+
+/// Checks a hook's parameter and return types against [`HOOKS`].
+fn check_hook(text: &str, d: &FnDecl) -> Result<(), Diagnostic> {
+    let Some(&(name, want_params, want_ret)) = HOOKS.iter().find(|(n, _, _)| *n == d.name) else { return Ok(()) };
+    let params: Vec<String> = split_params(&text[d.params.clone()]).iter().map(|p| normal_type(p.split_once(':').map_or("", |(_, t)| t))).collect();
+    let after = text.get(d.params.end + 1..).unwrap_or("");
+    let head = &after[..after.find('{').unwrap_or(after.len())];
+    let ret = head.trim().strip_prefix("->").map(normal_type).unwrap_or_default();
+    if params == want_params && ret == want_ret {
+        return Ok(());
+    }
+    let names = ["r", "p", "dir", "n", "c"];
+    let expected: Vec<String> = match name {
+        "hook_reject" => vec![format!("r: {}", want_params[0])],
+        "hook_hit" => vec![format!("p: {}", want_params[0])],
+        _ => names[1..].iter().zip(want_params).map(|(n, t)| format!("{n}: {t}")).collect(),
+    };
+    let found = format!("({}){}", params.join(", "), if ret.is_empty() { String::new() } else { format!(" -> {ret}") });
+    Err(Diagnostic::error(format!("hook '{name}' has the wrong signature"), d.span, format!("declared as {found}"))
+        .with_note(format!("the traversal calls it as fn {name}({}) -> {want_ret}", expected.join(", "))))
+}
+
+/// Names a WGSL text declares at module scope (`fn`, `struct`, `const`,
+/// `var`, `alias`, `override`), with their spans. A light scan like
+/// [`declarations`]: it skips comments and everything inside braces, which
+/// is all it needs to find the names two module parts would both define.
+pub fn module_names(text: &str) -> Vec<(String, Span)> {
+    let b = text.as_bytes();
+    let ident = |mut i: usize| {
+        while i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'_') {
+            i += 1;
+        }
+        i
+    };
+    let skip_space = |mut i: usize| {
+        while i < b.len() && b[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        i
+    };
+    let (mut out, mut depth, mut i) = (Vec::new(), 0i32, 0);
+    while i < b.len() {
+        match b[i] {
+            b'/' if b.get(i + 1) == Some(&b'/') => i = text[i..].find('\n').map_or(b.len(), |n| i + n),
+            b'/' if b.get(i + 1) == Some(&b'*') => i = text[i + 2..].find("*/").map_or(b.len(), |n| i + n + 4),
+            b'{' => (depth, i) = (depth + 1, i + 1),
+            b'}' => (depth, i) = (depth - 1, i + 1),
+            c if c.is_ascii_alphabetic() || c == b'_' => {
+                let end = ident(i);
+                let word = &text[i..end];
+                i = end;
+                if depth != 0 || !matches!(word, "fn" | "struct" | "const" | "var" | "alias" | "override") {
+                    continue;
+                }
+                let mut j = skip_space(i);
+                if word == "var" && b.get(j) == Some(&b'<') {
+                    j = text[j..].find('>').map_or(b.len(), |n| skip_space(j + n + 1));
+                }
+                let e = ident(j);
+                if e > j {
+                    out.push((text[j..e].to_string(), Span::new(j, e)));
+                }
+                i = e.max(i);
+            }
+            _ => i += 1,
+        }
+    }
+    out
 }
 
 /// The user's arity for function `name`, if the file defines it.

@@ -141,6 +141,10 @@ pub struct Ir {
 }
 
 impl Ir {
+    /// The largest degree [`Ir::degree`] reports: a formula of this degree
+    /// or more reports exactly this.
+    pub const DEGREE_MAX: u32 = u32::MAX;
+
     /// True when the formula has several surfaces or level-set conditions.
     pub fn is_csg(&self) -> bool {
         self.surfaces.len() > 1 || self.surfaces.iter().any(|s| !s.conditions.is_empty())
@@ -179,7 +183,9 @@ impl Ir {
     }
 
     /// Total degree in x, y, z when the formula is a polynomial (t and
-    /// parameters count as coefficients), else `None`.
+    /// parameters count as coefficients), else `None`. Saturates at
+    /// [`Ir::DEGREE_MAX`] (nested powers reach 2^32 within the exponent
+    /// limit; a wrapped count would read as a small degree).
     pub fn degree(&self) -> Option<u32> {
         let mut deg: Vec<Option<u32>> = Vec::with_capacity(self.nodes.len());
         for op in &self.nodes {
@@ -189,9 +195,9 @@ impl Ir {
                 Op::Var(_) => Some(1),
                 Op::Neg(a) => d(a),
                 Op::Add(a, b) | Op::Sub(a, b) => d(a).zip(d(b)).map(|(a, b)| a.max(b)),
-                Op::Mul(a, b) => d(a).zip(d(b)).map(|(a, b)| a + b),
+                Op::Mul(a, b) => d(a).zip(d(b)).map(|(a, b)| a.saturating_add(b)),
                 Op::Div(a, b) => if d(b) == Some(0) { d(a) } else { None },
-                Op::PowI(a, n) => d(a).map(|a| a * n),
+                Op::PowI(a, n) => d(a).map(|a| a.saturating_mul(n)),
                 Op::User(..) => None,
                 Op::Call1(..) | Op::Call2(..) | Op::Call3(..) => {
                     if op.operands().iter().all(|&o| d(o) == Some(0)) { Some(0) } else { None }

@@ -25,6 +25,7 @@ pub mod gpu;
 pub mod inline;
 pub mod ir;
 pub mod layout;
+pub mod memory;
 pub mod output;
 pub mod reference;
 pub mod render;

@@ -38,6 +38,14 @@ pub enum OutputError {
         /// The destination.
         path: PathBuf,
     },
+    /// The encoded image's host memory could not be had.
+    #[error("cannot write '{path}': {source}")]
+    Memory {
+        /// The destination.
+        path: PathBuf,
+        /// The refused allocation.
+        source: crate::memory::MemoryError,
+    },
     /// The destination exists and is read-only: replacing it needs the
     /// caller's explicit consent.
     #[error("'{path}' exists and is read-only")]
@@ -145,6 +153,12 @@ pub fn frame_rgb8(frame: &crate::render::Frame) -> Vec<u8> {
     frame.pixels.iter().flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2])]).collect()
 }
 
+/// [`frame_rgb8`] allocated fallibly (see [`crate::memory`]).
+pub fn try_frame_rgb8(frame: &crate::render::Frame) -> Result<Vec<u8>, crate::memory::MemoryError> {
+    let items = frame.pixels.iter().flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2])]);
+    crate::memory::collect(frame.pixels.len() * 3, (frame.width, frame.height), "PNG bytes", items)
+}
+
 /// Encodes RGB8 bytes as PNG into `w`.
 pub fn encode_png(w: &mut impl Write, width: u32, height: u32, rgb: &[u8]) -> Result<(), String> {
     use image::ImageEncoder;
@@ -165,23 +179,28 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
 pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), OutputError> {
     use exr::prelude::*;
     let px = &frame.pixels;
+    let size = (frame.width, frame.height);
+    let memory = |source| OutputError::Memory { path: path.to_path_buf(), source };
+    let count = 9 + frame.stats.iso_channel as u64;
+    crate::memory::check(px.len() as u64 * 4 * count, size, "EXR channels").map_err(memory)?;
     let ch = |name: &str, f: &dyn Fn(&crate::render::PixelOut) -> f32| {
-        AnyChannel::new(name, FlatSamples::F32(px.iter().map(f).collect()))
+        let samples = crate::memory::collect(px.len(), size, "EXR channels", px.iter().map(f)).map_err(memory)?;
+        Ok::<_, OutputError>(AnyChannel::new(name, FlatSamples::F32(samples)))
     };
     let mut channels: Vec<AnyChannel<FlatSamples>> = vec![
-        ch("R", &|p| p.color[0]),
-        ch("G", &|p| p.color[1]),
-        ch("B", &|p| p.color[2]),
-        ch("A", &|p| p.color[3]),
-        ch("Z", &|p| p.depth),
-        ch("N.X", &|p| p.normal[0]),
-        ch("N.Y", &|p| p.normal[1]),
-        ch("N.Z", &|p| p.normal[2]),
-        ch(work_channel(frame), &|p| p.evals as f32),
+        ch("R", &|p| p.color[0])?,
+        ch("G", &|p| p.color[1])?,
+        ch("B", &|p| p.color[2])?,
+        ch("A", &|p| p.color[3])?,
+        ch("Z", &|p| p.depth)?,
+        ch("N.X", &|p| p.normal[0])?,
+        ch("N.Y", &|p| p.normal[1])?,
+        ch("N.Z", &|p| p.normal[2])?,
+        ch(work_channel(frame), &|p| p.evals as f32)?,
     ];
     if frame.stats.iso_channel {
         // Which isovalue (or CSG surface) each hit is: its index, -1 on misses.
-        channels.push(ch("iso", &|p| if p.status == crate::render::Status::Miss { -1.0 } else { p.iso as f32 }));
+        channels.push(ch("iso", &|p| if p.status == crate::render::Status::Miss { -1.0 } else { p.iso as f32 })?);
     }
     let layer = Layer::new(
         (frame.width as usize, frame.height as usize),
@@ -304,7 +323,10 @@ pub fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32>
 /// Writes the frame in the format its extension names.
 pub fn write_frame(path: &Path, frame: &crate::render::Frame) -> Result<(), OutputError> {
     match format_of(path)? {
-        Format::Png => write_png(path, frame.width, frame.height, &frame_rgb8(frame)),
+        Format::Png => {
+            let rgb = try_frame_rgb8(frame).map_err(|source| OutputError::Memory { path: path.to_path_buf(), source })?;
+            write_png(path, frame.width, frame.height, &rgb)
+        }
         Format::Exr => write_exr(path, frame),
     }
 }

@@ -57,6 +57,9 @@ pub fn validate_with_inline(
                 }
             },
         };
+    if let Some(d) = clash(source, &region, user_text) {
+        return Err(InlineError::User(d.render(path, user_text, false)));
+    }
     let inside = |r: &std::ops::Range<usize>| r.start >= region.start && r.end <= region.end;
     match labels.first() {
         Some((r, _)) if inside(r) => {
@@ -71,6 +74,23 @@ pub fn validate_with_inline(
         }
         _ => validate(source).map_err(InlineError::Bug),
     }
+}
+
+/// The first module-scope name the user's WGSL (at `region`) defines that
+/// the generated part of `source` defines too. naga reports such a
+/// redefinition at whichever of the two comes second, often isotrace's
+/// code, so it is found here by name and put on the user's declaration.
+/// The generated names are read from the very shader being validated, so
+/// the set cannot drift from the templates.
+fn clash(source: &str, region: &std::ops::Range<usize>, user_text: &str) -> Option<crate::diag::Diagnostic> {
+    use crate::inline::module_names;
+    let mut generated = module_names(&source[..region.start]);
+    generated.extend(module_names(&source[region.end..]));
+    let (name, span) = module_names(user_text).into_iter().find(|(n, _)| generated.iter().any(|(g, _)| g == n))?;
+    Some(
+        crate::diag::Diagnostic::error(format!("in inline WGSL: '{name}' is already defined by the shader isotrace generates around this file"), span, "defined here too")
+            .with_note("the file shares one module with isotrace's own functions, types and constants (main, traverse, field, Ray, Hit, Uniforms, the s_/ia_/ra_ op libraries, …); rename it: a prefix of your own avoids clashes"),
+    )
 }
 
 /// A failed validation of a shader with user WGSL.

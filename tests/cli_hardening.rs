@@ -371,3 +371,282 @@ fn check_json_is_one_object_with_the_analysis() {
     assert_eq!(v["parameters"], serde_json::json!([]));
     assert_eq!(v["variables"], serde_json::json!(["x", "z"]));
 }
+
+// 7. Inline WGSL: user errors point into the user's file (item 9).
+
+const CLASH_NOTE: &str = "  = the file shares one module with isotrace's own functions, types and constants (main, traverse, field, Ray, Hit, Uniforms, the s_/ia_/ra_ op libraries, …); rename it: a prefix of your own avoids clashes\n\n";
+
+#[test]
+fn inline_wgsl_that_redefines_a_generated_name_or_mistypes_a_hook_is_a_user_error() {
+    let d = dir("inline-user");
+    let clashes: &[(&str, &str, &str)] = &[
+        ("main", "fn main() -> f32 { return 1.0; }", "   ^^^^"),
+        ("traverse", "fn traverse(a: f32) -> f32 { return a; }", "   ^^^^^^^^"),
+        ("tiles", "fn tiles() {}", "   ^^^^^"),
+        ("field", "fn field(p: vec3<f32>) -> f32 { return 0.0; }", "   ^^^^^"),
+        ("load_uniforms", "fn load_uniforms() {}", "   ^^^^^^^^^^^^^"),
+        ("Ray", "struct Ray { a: f32 }", "       ^^^"),
+        ("Hit", "struct Hit { a: f32 }", "       ^^^"),
+        ("Uniforms", "struct Uniforms { a: f32 }", "       ^^^^^^^^"),
+    ];
+    for (name, line, caret) in clashes {
+        let file = d.join(format!("{name}.wgsl"));
+        std::fs::write(&file, format!("// mine\n{line}\n")).unwrap();
+        let col = caret.find('^').unwrap() + 1;
+        let expected = format!(
+            "error: in inline WGSL: '{name}' is already defined by the shader isotrace generates around this file\n  ┌─ {}:2:{col}\n  │\n2 │ {line}\n  │ {caret} defined here too\n  │\n{CLASH_NOTE}",
+            s(&file)
+        );
+        for cmd in ["check", "wgsl"] {
+            let o = isotrace_without_gpu(&[cmd, "x", "--inline", s(&file)]);
+            assert_error(&o, &expected);
+        }
+    }
+    // The same in a render, before any GPU work is needed to find it.
+    let main = d.join("main.wgsl");
+    let o = isotrace(&["render", "x^2+y^2+z^2-1", "--inline", s(&main), "--size", "8", "-o", s(&d.join("m.png"))]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).starts_with("error: in inline WGSL: 'main' is already defined"), "{}", stderr(&o));
+
+    let hooks: &[(&str, &str, &str)] = &[
+        ("fn hook_reject(r: vec2<f32>) -> f32 { return 1.0; }", "(vec2<f32>) -> f32", "fn hook_reject(r: vec2<f32>) -> bool"),
+        ("fn hook_hit(p: vec3<f32>) -> vec3<f32> { return p; }", "(vec3<f32>) -> vec3<f32>", "fn hook_hit(p: vec3<f32>) -> bool"),
+        ("fn hook_hit(p: vec2<f32>, q: f32) { }", "(vec2<f32>, f32)", "fn hook_hit(p: vec3<f32>) -> bool"),
+        (
+            "fn hook_shade(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: f32) -> vec3<f32> { return p; }",
+            "(vec3<f32>, vec3<f32>, vec3<f32>, f32) -> vec3<f32>",
+            "fn hook_shade(p: vec3<f32>, dir: vec3<f32>, n: vec3<f32>, c: vec3<f32>) -> vec3<f32>",
+        ),
+    ];
+    for (i, (line, found, want)) in hooks.iter().enumerate() {
+        let file = d.join(format!("hook{i}.wgsl"));
+        std::fs::write(&file, format!("{line}\n")).unwrap();
+        let name = &line[3..line.find('(').unwrap()];
+        let carets = "^".repeat(name.len());
+        let expected = format!(
+            "error: hook '{name}' has the wrong signature\n  ┌─ {}:1:4\n  │\n1 │ {line}\n  │    {carets} declared as {found}\n  │\n  = the traversal calls it as {want}\n\n",
+            s(&file)
+        );
+        let png = d.join("h.png");
+        let commands: [&[&str]; 3] = [&["check"], &["eval", "--cpu"], &["render", "-o", s(&png)]];
+        for cmd in commands {
+            let o = isotrace_without_gpu(&[cmd, &["x", "--inline", s(&file)]].concat());
+            assert_error(&o, &expected);
+        }
+    }
+}
+
+// 8. Messages of item 13: --param, the degree, bench's console table.
+
+#[test]
+fn params_take_the_eps_number_syntax_once_each() {
+    let o = isotrace_without_gpu(&["render", "x^2+y^2+z^2-r^2", "--param", "r=1", "--param", "r=2", "-o", "p.png"]);
+    assert_error(&o, "error: --param r is given twice ('r=1' and 'r=2'): give each parameter once\n");
+    let o = isotrace_without_gpu(&["eval", "x - a", "--param", "a=1", "--param", " a = 2^-1", "--cpu"]);
+    assert_error(&o, "error: --param a is given twice ('a=1' and ' a = 2^-1'): give each parameter once\n");
+    let o = isotrace_without_gpu(&["render", "x^2+y^2+z^2-r^2", "--param", "r=2^x", "-o", "p.png"]);
+    assert_error(&o, "error: invalid --param 'r=2^x': '2^x' is not a number\n");
+    let o = isotrace_without_gpu(&["render", "x^2+y^2+z^2-r^2", "--param", "r=2^2000", "-o", "p.png"]);
+    assert_error(&o, "error: invalid --param 'r=2^2000': must be a finite number\n");
+    // 2^-1 is 0.5, as with --eps: x - a at x = 0.75 is 0.25.
+    let o = isotrace_with_stdin(&["eval", "x - a", "--param", "a=2^-1", "--algebra", "scalar", "--cpu"], "0.75 0 0\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).trim().parse::<f64>().unwrap(), 0.25);
+    // The same syntax in an .iso header.
+    let d = dir("param-iso");
+    let iso = d.join("p.iso");
+    std::fs::write(&iso, "#@ name: p\n#@ param: a=2^-2\nx - a\n").unwrap();
+    let o = isotrace(&["check", s(&iso)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::write(&iso, "#@ name: p\n#@ param: a=2^x\nx - a\n").unwrap();
+    let o = isotrace(&["check", s(&iso)]);
+    assert_error(&o, &format!("error: {}:2: bad param value 'a=2^x': '2^x' is not a number\n", s(&iso)));
+}
+
+#[test]
+fn the_degree_saturates_instead_of_wrapping() {
+    let field = |o: &Output| String::from_utf8_lossy(&o.stdout).lines().find_map(|l| l.strip_prefix("degree:").map(|d| d.trim().to_string())).unwrap();
+    assert_eq!(field(&isotrace(&["check", "((x^4096)^4096)^128"])), "2147483648");
+    // 2^32 wrapped to 0 (and would have chosen the algebra by it).
+    assert_eq!(field(&isotrace(&["check", "((x^4096)^4096)^256"])), "4294967295 or more (too large to count)");
+    assert_eq!(field(&isotrace(&["check", "((x^4096)^4096)^4096 * y^4096"])), "4294967295 or more (too large to count)");
+    let o = isotrace(&["check", "((x^4096)^4096)^256", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["degree"], 4294967295u64);
+}
+
+#[test]
+fn bench_prints_the_eps_search_and_reports_setup_time_apart() {
+    let d = dir("bench-eps");
+    let json = d.join("b.json");
+    let o = isotrace(&["bench", "sphere", "--algebra", "ia", "--size", "16", "--repeat", "1", "--find-eps", "--json", s(&json)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout).into_owned();
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let m = &v["results"][0];
+    let k = m["lowest_eps"]["exponent"].as_i64().unwrap();
+    let ms = m["lowest_eps"]["gpu_ms"].as_f64().unwrap();
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines[0], format!("{:<16} {:<10} {:>24} {:>18}", "surface", "degree", "ia (ms / evals/px)", "ia lowest eps"));
+    assert!(lines[1].ends_with(&format!(" {:>18}", format!("2^{k} ({ms:.1} ms)"))), "{table}");
+    // Shader compilation and the warm-up are measured apart from gpu_ms.
+    assert!(m["setup_ms"].as_f64().unwrap() > 0.0, "{m}");
+    // Without --find-eps the table is as before.
+    let o = isotrace(&["bench", "sphere", "--algebra", "ia", "--size", "16", "--repeat", "1"]);
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with(&format!("{:<16} {:<10} {:>24}\n", "surface", "degree", "ia (ms / evals/px)")));
+}
+
+// 9. The trust model of .iso headers (item 12).
+
+#[test]
+fn a_header_reads_files_only_inside_its_directory_unless_allowed() {
+    let d = dir("header-paths");
+    let env = d.join("env.png");
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", s(&env)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sub = d.join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    std::fs::copy(&env, sub.join("inside.png")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&env, sub.join("link.png")).unwrap();
+    let iso = |name: &str, value: &str| {
+        let p = sub.join(format!("{name}.iso"));
+        std::fs::write(&p, format!("#@ name: {name}\n#@ reflect: 1\n#@ env: {value}\nx^2 + y^2 + z^2 - 1\n")).unwrap();
+        p
+    };
+    let out = d.join("o.png");
+    let refused = |file: &Path, shown: &str| {
+        let o = isotrace_without_gpu(&["render", s(file), "--size", "8", "-o", s(&out)]);
+        assert_error(
+            &o,
+            &format!("error: the .iso header's env: image '{shown}' is outside the directory of the .iso file; give --allow-header-paths to read it (only for files you trust)\n"),
+        );
+    };
+    refused(&iso("abs", s(&env)), s(&env));
+    refused(&iso("up", "../env.png"), &format!("{}/../env.png", s(&sub)));
+    #[cfg(unix)]
+    refused(&iso("link", "link.png"), &format!("{}/link.png", s(&sub)));
+    // Inside the directory, relative to the file: read.
+    let o = isotrace(&["render", s(&iso("in", "inside.png")), "--size", "8", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // With the flag, or with the user's own --env, the file is read.
+    let o = isotrace(&["render", s(&iso("abs", s(&env))), "--size", "8", "-o", s(&out), "--allow-header-paths"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = isotrace(&["render", s(&iso("up", "../env.png")), "--size", "8", "-o", s(&out), "--env", s(&env)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // check and wgsl read no header file.
+    let o = isotrace(&["check", s(&iso("abs", "/etc/passwd"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+// 10. Host memory of big frames (item 4): an error, never an abort.
+
+#[test]
+fn a_frame_too_big_for_host_memory_is_an_error() {
+    let d = dir("memory");
+    let out = d.join("big.png");
+    let with_budget = |budget: &str, size: &str, out: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_isotrace"))
+            .args(["render", "@sphere", "--size", size, "-o", s(out)])
+            .env("NODEVICE_SELECT", "1")
+            .env("ISOTRACE_MEMORY_BUDGET", budget)
+            .output()
+            .unwrap()
+    };
+    let o = with_budget("1G", "16384", &out);
+    assert_error(
+        &o,
+        "error: a 16384x16384 frame needs 12.9 GB of host memory for its pixels, over the memory budget of 1.0 GB; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET\n",
+    );
+    assert!(!out.exists());
+    let o = with_budget("20k", "32", &out);
+    assert_error(&o, "error: a 32x32 frame needs 49.2 kB of host memory for its pixels, over the memory budget of 20.0 kB; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET\n");
+    let exr = d.join("ok.exr");
+    let o = with_budget("49152", "32", &exr);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = with_budget("8 GiB", "32", &exr);
+    assert_error(&o, "error: invalid ISOTRACE_MEMORY_BUDGET '8 GiB': expected a number of bytes, optionally with a suffix k, M, G or T (e.g. 8G)\n");
+}
+
+/// Without a budget the allocator itself refuses: an address-space limit
+/// of 6 GB (enough for the device, not for 12.9 GB of pixels) makes the
+/// refusal real and cheap; before, this aborted.
+#[cfg(unix)]
+#[test]
+fn a_refused_allocation_is_an_error_without_a_budget() {
+    let out = dir("memory-rlimit").join("big.png");
+    let cmd = format!("ulimit -v 6000000 && exec '{}' render @sphere --size 16384 -o '{}'", env!("CARGO_BIN_EXE_isotrace"), s(&out));
+    let o = Command::new("sh").args(["-c", &cmd]).env("NODEVICE_SELECT", "1").env_remove("ISOTRACE_MEMORY_BUDGET").output().unwrap();
+    assert_error(&o, "error: a 16384x16384 frame needs 12.9 GB of host memory for its pixels; render a smaller --size\n");
+}
+
+/// The encoders allocate fallibly too (a budget below their need, set in
+/// this test process only).
+#[test]
+fn encoding_a_frame_checks_its_memory() {
+    use isotrace::render::{Frame, PixelOut, Stats, Status};
+    let px = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: 1.0, evals: 0, level: 0, iso: 0, status: Status::Miss };
+    let frame = Frame { width: 16, height: 16, pixels: vec![px; 256], stats: Stats::default() };
+    let d = dir("memory-encode");
+    isotrace::memory::set_budget(Some(700));
+    let png = isotrace::output::write_frame(&d.join("a.png"), &frame).unwrap_err();
+    let exr = isotrace::output::write_frame(&d.join("a.exr"), &frame).unwrap_err();
+    isotrace::memory::set_budget(None);
+    assert_eq!(png.to_string(), format!("cannot write '{}': a 16x16 frame needs 768 bytes of host memory for its PNG bytes, over the memory budget of 700 bytes", s(&d.join("a.png"))));
+    assert_eq!(exr.to_string(), format!("cannot write '{}': a 16x16 frame needs 9.2 kB of host memory for its EXR channels, over the memory budget of 700 bytes", s(&d.join("a.exr"))));
+    assert!(isotrace::output::write_frame(&d.join("a.png"), &frame).is_ok());
+}
+
+// 11. Shader compilation budget and bench job timeouts (item 5).
+
+#[test]
+fn a_huge_generated_shader_is_refused_and_a_slow_compile_is_announced() {
+    let d = dir("shader-budget");
+    // 3000 pseudo-random monomials: 54 KB of formula, 1.4 MB of WGSL.
+    let mut r: u64 = 12345;
+    let terms: Vec<String> = (0..3000)
+        .map(|_| {
+            r = (r * 1103515245 + 12345) % (1 << 31);
+            format!("{}.{}*x^{}*y^{}*z^{}", (r >> 9) % 9 + 1, (r >> 13) % 10, r % 7, (r >> 3) % 7, (r >> 6) % 7)
+        })
+        .collect();
+    let file = d.join("big.txt");
+    std::fs::write(&file, terms.join(" + ")).unwrap();
+    let o = isotrace(&["render", "-f", s(&file), "--size", "8", "-o", s(&d.join("b.png"))]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.starts_with("error: the generated shader is ") && e.ends_with(
+        " KB of WGSL, over the limit of 500 KB: the driver would compile it for many minutes; simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders\n"
+    ), "{e}");
+    // The note after a (test-sized) delay, with the shader's size.
+    let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(["render", "@sphere", "--size", "8", "-o", s(&d.join("s.png"))])
+        .env("NODEVICE_SELECT", "1")
+        .env("ISOTRACE_COMPILE_NOTE_MS", "0")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let kb: usize = stderr(&o).strip_prefix("note: compiling the shader (").and_then(|r| r.strip_suffix(" KB of WGSL) …\n")).unwrap().parse().unwrap();
+    assert!((20..200).contains(&kb), "{kb}");
+}
+
+#[test]
+fn bench_jobs_time_out_one_by_one_and_the_batch_goes_on() {
+    let o = isotrace(&["bench", "sphere", "steiner", "--algebra", "ia", "--size", "16", "--repeat", "1", "--job-timeout", "0.05"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(table.ends_with(
+        "FAILED sphere ia: timed out after 0.05 s; the job was stopped and the batch went on\nFAILED steiner ia: timed out after 0.05 s; the job was stopped and the batch went on\n"
+    ), "{table}");
+    // With time enough, the jobs run in child processes and report as usual.
+    let d = dir("bench-timeout");
+    let json = d.join("b.json");
+    let o = isotrace(&["bench", "sphere", "--algebra", "ia,raa", "--size", "16", "--repeat", "1", "--job-timeout", "120", "--out", s(&d), "--json", s(&json)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(v["results"].as_array().unwrap().len(), 2);
+    assert!(v["results"][1]["gpu_ms"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(d.join("sphere_raa.png").exists() && d.join("contact-sheet.png").exists());
+    let o = isotrace(&["bench", "sphere", "--job-timeout", "0"]);
+    assert_error(&o, "error: invalid --job-timeout 0: it must be a number of seconds above 0 and at most 86400\n");
+}

@@ -63,3 +63,43 @@ fn errors_in_inline_wgsl_point_into_the_users_file() {
     let o = isotrace(&["eval", "bump(x)", "--inline", "examples/inline/bumps.wgsl", "--cpu"]);
     assert_eq!(String::from_utf8_lossy(&o.stderr), "error: --cpu cannot evaluate --inline WGSL functions (they run on the device only)\n");
 }
+
+/// Every name naga finds at module scope of a shader the inline file goes
+/// into (render kernel with every modality on, eval kernel) is found by the
+/// light scan that `validate_with_inline` uses to tell a redefinition by the
+/// user from a bug: the two cannot drift apart.
+#[test]
+fn the_name_scan_finds_every_name_the_generated_shaders_define() {
+    use isotrace::render::{BisectOptions, Modalities, Traversal};
+    let f = isotrace::Formula::compile("t", "x^2 + y^2 + z^2 - 1").unwrap();
+    let m = Modalities { shadows: true, reflect: 1, ..Default::default() };
+    let b = BisectOptions { modalities: m, ..BisectOptions::new(isotrace::codegen::Domain::Affine) };
+    let render = isotrace::codegen::assemble(isotrace::codegen::FieldSource::Compiled(&f.ir), &Traversal::Bisect(b)).wgsl;
+    let eval = isotrace::codegen::eval_shader(&f.ir, isotrace::codegen::Domain::Interval);
+    for src in [render, eval] {
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        let scanned: Vec<String> = isotrace::inline::module_names(&src).into_iter().map(|(n, _)| n).collect();
+        let mut names: Vec<String> = module.functions.iter().filter_map(|(_, f)| f.name.clone()).collect();
+        names.extend(module.entry_points.iter().map(|e| e.name.clone()));
+        names.extend(module.types.iter().filter_map(|(_, t)| t.name.clone()));
+        names.extend(module.constants.iter().filter_map(|(_, c)| c.name.clone()));
+        names.extend(module.global_variables.iter().filter_map(|(_, g)| g.name.clone()));
+        assert!(names.len() > 50);
+        for n in &names {
+            assert!(scanned.contains(n), "'{n}' is defined by the generated shader but not found by module_names");
+        }
+        for n in ["main", "field", "Ray", "Uniforms", "load_uniforms"] {
+            assert!(scanned.iter().any(|s| s == n) || !src.contains(&format!("fn {n}")), "{n}");
+        }
+    }
+}
+
+#[test]
+fn hooks_with_another_signature_are_refused_and_shorthands_accepted() {
+    let text = "fn hook_reject(r: vec2<f32>) -> vec2<f32> { return r; }\n";
+    let e = parse_inline("h.wgsl", text).unwrap_err();
+    assert_eq!(e.message, "hook 'hook_reject' has the wrong signature");
+    assert_eq!(e.labels[0].1, "declared as (vec2<f32>) -> vec2<f32>");
+    let ok = "fn hook_hit(q : vec3f) -> bool { return true; }\nfn hook_shade(a: vec3<f32>, b: vec3f, c: vec3<f32>, d: vec3 <f32>,) -> vec3f { return a; }\n";
+    assert!(parse_inline("h.wgsl", ok).is_ok());
+}

@@ -161,6 +161,13 @@ pub struct Measure {
     pub evals_hit_mean: f64,
     /// Sphere tracing: failed over-relaxed steps that fell back, per pixel.
     pub sor_fallbacks_per_pixel: f64,
+    /// Wall time from the start of building the pipeline to the end of the
+    /// warm-up frame, ms: naga validation, the driver's shader compilation
+    /// (seconds on a cold Mesa shader cache) and one frame. Not part of
+    /// `gpu_ms` or `wall_ms`, which are measured after the warm-up. 0 in
+    /// reports written before it existed.
+    #[serde(default)]
+    pub setup_ms: f64,
 }
 
 /// Result of the "lowest correct eps" search.
@@ -204,6 +211,7 @@ impl Measure {
             omega: None,
             evals_hit_mean: s.evals_hit_mean,
             sor_fallbacks_per_pixel: s.sphere.sor_fallbacks as f64 / s.pixels.max(1) as f64,
+            setup_ms: 0.0,
         }
     }
 }
@@ -342,9 +350,32 @@ fn unit(label: &str) -> &'static str {
 /// column per algebra with GPU ms and evaluations per pixel; sphere tracing
 /// columns give steps per pixel).
 pub fn table_text(results: &[JobResult], algebras: &[String]) -> String {
+    table(results, algebras, false)
+}
+
+/// [`table_text`] with, after each algebra's column, the result of
+/// `--find-eps`: the coarsest matching eps and the GPU ms there (`none`
+/// when no eps of the search matched the reference, `-` for a sphere
+/// tracing or failed job).
+pub fn table_text_with_eps(results: &[JobResult], algebras: &[String]) -> String {
+    table(results, algebras, true)
+}
+
+fn lowest_eps_cell(r: &JobResult) -> String {
+    match &r.outcome {
+        Outcome::Ok(m) if m.method == "sphere" => "-".into(),
+        Outcome::Ok(m) => m.lowest_eps.as_ref().map_or("none".into(), |l| format!("2^{} ({:.1} ms)", l.exponent, l.gpu_ms)),
+        Outcome::Failed { .. } => "-".into(),
+    }
+}
+
+fn table(results: &[JobResult], algebras: &[String], eps: bool) -> String {
     let mut s = format!("{:<16} {:<10}", "surface", "degree");
     for a in algebras {
         s.push_str(&format!(" {:>24}", format!("{a} (ms / {})", unit(a))));
+        if eps {
+            s.push_str(&format!(" {:>18}", format!("{a} lowest eps")));
+        }
     }
     s.push('\n');
     for (surface, degree, cells) in grid(results, algebras) {
@@ -352,6 +383,9 @@ pub fn table_text(results: &[JobResult], algebras: &[String]) -> String {
         s.push_str(&format!("{surface:<16} {deg:<10}"));
         for c in cells {
             s.push_str(&format!(" {:>24}", c.map(cell).unwrap_or_else(|| "-".into())));
+            if eps {
+                s.push_str(&format!(" {:>18}", c.map(lowest_eps_cell).unwrap_or_else(|| "-".into())));
+            }
         }
         s.push('\n');
     }

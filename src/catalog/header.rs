@@ -53,6 +53,11 @@ pub struct Header {
     pub modalities: crate::render::ModalitySpec,
     /// `color`: the default colouring (`--color`), checked.
     pub color: Option<String>,
+    /// File paths of this header (the `env` image) that lead out of the
+    /// `.iso` file's directory: absolute, up through `..`, or through a
+    /// symbolic link. Filled in by [`super::load_file`]; a caller that reads
+    /// files for an untrusted header refuses these unless told otherwise.
+    pub outside_paths: Vec<std::path::PathBuf>,
 }
 
 impl Default for Header {
@@ -79,6 +84,7 @@ impl Default for Header {
             bound: None,
             modalities: Default::default(),
             color: None,
+            outside_paths: Vec::new(),
         }
     }
 }
@@ -276,7 +282,7 @@ fn parse_param(s: &str) -> Result<(String, f64), String> {
     if !is_ident {
         return Err(format!("'{n}' is not a parameter name"));
     }
-    let v = number(v).ok_or_else(|| format!("'{}' is not a number", v.trim()))?;
+    let v = parse_number(v).map_err(|_| format!("'{}' is not a number", v.trim()))?;
     Ok((n.to_string(), v))
 }
 
@@ -294,6 +300,18 @@ fn numbers(s: &str) -> Option<Vec<f64>> {
 /// Parses a tolerance: `0.001`, `1e-3` or a power `2^-11` (`b^k` with an
 /// integer k). It must be finite and > 0.
 pub fn parse_eps(s: &str) -> Result<f64, String> {
+    let value = parse_number(s)?;
+    if value <= 0.0 {
+        Err("must be greater than 0".into())
+    } else {
+        Ok(value)
+    }
+}
+
+/// Parses a finite number as `--eps` and `--param` take it: Rust float
+/// syntax (`0.001`, `1e-3`) or a power `b^k` with an integer k (`2^-11`).
+/// One syntax for every number a user writes as a power of two.
+pub fn parse_number(s: &str) -> Result<f64, String> {
     let s = s.trim();
     let value = match s.split_once('^') {
         Some((b, k)) => match (number(b), k.trim().parse::<i32>()) {
@@ -302,13 +320,7 @@ pub fn parse_eps(s: &str) -> Result<f64, String> {
         },
         None => s.parse::<f64>().map_err(|_| "expected a number such as 0.001, 1e-3 or 2^-11".to_string())?,
     };
-    if !value.is_finite() {
-        Err("must be a finite number".into())
-    } else if value <= 0.0 {
-        Err("must be greater than 0".into())
-    } else {
-        Ok(value)
-    }
+    if value.is_finite() { Ok(value) } else { Err("must be a finite number".into()) }
 }
 
 /// Parses a box: `lo,hi` (the same range on every axis) or

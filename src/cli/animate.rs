@@ -104,7 +104,7 @@ impl Animation<'_> {
                 sk.time = self.time(k);
                 let done = r.render(&sk).map_err(super::render_error).and_then(|mut frame| {
                     heat_max = output::recolor(&mut frame, color);
-                    output::write_frame(&p, &frame).map_err(|e| CliError::Input(e.to_string()))?;
+                    output::write_frame(&p, &frame).map_err(super::output_error)?;
                     Ok(frame)
                 });
                 let frame = match done {

@@ -19,6 +19,7 @@ use isotrace::render::Frame;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::{Duration, Instant};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -46,7 +47,7 @@ pub struct BenchArgs {
     /// Step budget per ray for --method sphere (default 512).
     #[arg(long, value_name = "N")]
     max_steps: Option<u32>,
-    /// Timed runs per job (after one warm-up run); the median is reported.
+    /// Timed runs per job (after one warm-up run); the median is reported. Building the pipeline and the warm-up run, where a cold Mesa shader cache compiles the shader, are not in the reported ms; their wall time is the JSON's setup_ms.
     #[arg(long, default_value_t = 5)]
     repeat: u32,
     /// Directory for the images and the contact sheet.
@@ -61,10 +62,16 @@ pub struct BenchArgs {
     /// Also find the coarsest eps whose image matches a fine-eps reference (Knoll's last column; bisection jobs only).
     #[arg(long)]
     find_eps: bool,
+    /// Fail a job that takes longer than SECONDS (pipeline build and shader compilation included) and go on with the batch. Each job then runs in a child process of isotrace, killed at the deadline.
+    #[arg(long, value_name = "SECONDS")]
+    job_timeout: Option<f64>,
+    /// Run only the job with this index (of the whole batch) and print its outcome as JSON: the child process of --job-timeout.
+    #[arg(long, hide = true, value_name = "INDEX")]
+    run_job: Option<usize>,
     #[command(flatten)]
     shard: super::batch::ShardArgs,
     /// Merge the JSON reports of shards (written with --json) into one report instead of running jobs: the table on stdout, and --json / --markdown as a single run would write them. A quoted wildcard in a file name is expanded.
-    #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["surfaces", "suite", "shard", "out", "find_eps", "size", "eps", "algebra", "method", "omega", "max_steps", "repeat"])]
+    #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["surfaces", "suite", "shard", "out", "find_eps", "size", "eps", "algebra", "method", "omega", "max_steps", "repeat", "job_timeout"])]
     merge: Vec<PathBuf>,
 }
 
@@ -126,6 +133,17 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     let names: Vec<String> = surfaces.iter().map(|e| e.name.clone()).collect();
     let alg_names: Vec<String> = labelled.iter().map(|(n, _)| n.clone()).collect();
     let all_jobs = bench::jobs(&names, &alg_names);
+    let timeout = job_timeout(a.job_timeout)?;
+    let job_of = |job: &bench::Job| {
+        let entry = &surfaces[names.iter().position(|n| *n == job.surface).unwrap_or(0)];
+        let variant = labelled.iter().find(|(n, _)| *n == job.algebra).map(|(_, v)| v.clone()).unwrap_or(Variant::Bisect("auto".into()));
+        (entry, variant)
+    };
+    if let Some(index) = a.run_job {
+        let job = all_jobs.iter().find(|j| j.index == index).ok_or_else(|| input(format!("no job {index} in this batch")))?;
+        let (entry, variant) = job_of(job);
+        return run_child_job(&a, job, entry, &variant, size, rel_eps);
+    }
     let shard = a.shard.resolve()?;
     let jobs = shard.map_or_else(|| all_jobs.clone(), |s| bench::shard(&all_jobs, s));
     if let Some(dir) = &a.out {
@@ -140,11 +158,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     let mut results = Vec::new();
     let mut thumbs: Vec<(String, u32, u32, Vec<u8>)> = Vec::new();
     for (k, job) in jobs.iter().enumerate() {
-        let entry = &surfaces[names.iter().position(|n| *n == job.surface).unwrap_or(0)];
-        let variant = labelled.iter().find(|(n, _)| *n == job.algebra).map(|(_, v)| v.clone()).unwrap_or(Variant::Bisect("auto".into()));
-        let (outcome, frame) = match run_job(&gpu, entry, &variant, size, rel_eps, &a) {
-            Ok((m, f)) => (Outcome::Ok(m), Some(f)),
-            Err(e) => (Outcome::Failed { error: e }, None),
+        let (entry, variant) = job_of(job);
+        let (outcome, frame) = match timeout {
+            Some(t) => (run_job_isolated(job.index, t), None),
+            None => match run_job(&gpu, entry, &variant, size, rel_eps, &a) {
+                Ok((m, f)) => (Outcome::Ok(m), Some(f)),
+                Err(e) => (Outcome::Failed { error: e }, None),
+            },
         };
         let line = match &outcome {
             Outcome::Ok(m) if m.method == "sphere" => format!("{:.1} ms, {:.2} steps/px ({:.2} per hit), {} unconverged", m.gpu_ms, m.evals_mean, m.evals_hit_mean, m.unresolved),
@@ -164,6 +184,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
             output::write_png(&path, f.width, f.height, &rgb).map_err(|e| input(e.to_string()))?;
             if !thumbs.iter().any(|t| t.0 == job.surface) {
                 thumbs.push((job.surface.clone(), f.width, f.height, rgb));
+            }
+        }
+        // A child process wrote its image; read it back for the contact sheet.
+        if let (Some(dir), None, Outcome::Ok(_)) = (&a.out, &frame, &outcome) {
+            let img = image::open(dir.join(format!("{}_{}.png", job.surface, job.algebra))).map(|i| i.to_rgb8());
+            if let (Ok(img), false) = (img, thumbs.iter().any(|t| t.0 == job.surface)) {
+                thumbs.push((job.surface.clone(), img.width(), img.height(), img.into_raw()));
             }
         }
         let degree = entry.header.degree.clone().unwrap_or_else(|| entry.compile().ok().and_then(|f| f.ir.degree()).map_or("-".into(), |d| d.to_string()));
@@ -195,6 +222,71 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     write_reports(&a, &report, &machine(&report.device, report.cpu_threads))
 }
 
+/// `--job-timeout SECONDS` as a duration (positive, finite, at most a day).
+fn job_timeout(s: Option<f64>) -> Result<Option<Duration>, CliError> {
+    match s {
+        None => Ok(None),
+        Some(t) if t.is_finite() && t > 0.0 && t <= 86_400.0 => Ok(Some(Duration::from_secs_f64(t))),
+        Some(t) => Err(input(format!("invalid --job-timeout {t}: it must be a number of seconds above 0 and at most 86400"))),
+    }
+}
+
+/// The child side of `--job-timeout`: runs one job on its own device,
+/// writes its image into `--out`, and prints the outcome as JSON.
+fn run_child_job(a: &BenchArgs, job: &bench::Job, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64) -> Result<ExitCode, CliError> {
+    let gpu = open_gpu()?;
+    let outcome = match run_job(&gpu, entry, variant, size, rel_eps, a) {
+        Ok((m, f)) => {
+            if let Some(dir) = &a.out {
+                let path = dir.join(format!("{}_{}.png", job.surface, job.algebra));
+                output::write_png(&path, f.width, f.height, &output::frame_rgb8(&f)).map_err(|e| input(e.to_string()))?;
+            }
+            Outcome::Ok(m)
+        }
+        Err(e) => Outcome::Failed { error: e },
+    };
+    let _ = writeln!(std::io::stdout().lock(), "{}", serde_json::to_string(&outcome).unwrap_or_default());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Runs job `index` in a child process of isotrace (the same command line
+/// with `--run-job INDEX`) and kills it at the deadline. A process, not a
+/// thread: a thread cannot be stopped, so an abandoned job would go on
+/// compiling on the cores (and holding the shared device) while the next
+/// jobs are timed; a killed process frees both at once.
+fn run_job_isolated(index: usize, timeout: Duration) -> Outcome {
+    let failed = |error: String| Outcome::Failed { error };
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => return failed(format!("cannot start the job's process: {e}")),
+    };
+    let child = std::process::Command::new(exe)
+        .args(std::env::args_os().skip(1))
+        .args(["--run-job", &index.to_string()])
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .spawn();
+    let mut child = match child {
+        Ok(c) => c,
+        Err(e) => return failed(format!("cannot start the job's process: {e}")),
+    };
+    let deadline = Instant::now() + timeout;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break status,
+            Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
+            Ok(None) | Err(_) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return failed(format!("timed out after {} s; the job was stopped and the batch went on", timeout.as_secs_f64()));
+            }
+        }
+    };
+    let mut text = String::new();
+    let _ = child.stdout.take().map(|mut o| std::io::Read::read_to_string(&mut o, &mut text));
+    serde_json::from_str(text.trim()).unwrap_or_else(|_| failed(format!("the job's process ended without a result ({status})")))
+}
+
 /// A run's report: its results and settings, the isotrace version, the date
 /// and the machine.
 fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Report {
@@ -219,7 +311,8 @@ fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
 /// run's or a merged one); exit code 1 when a job failed.
 fn write_reports(a: &BenchArgs, report: &Report, machine: &str) -> Result<ExitCode, CliError> {
     let (results, columns) = (&report.results, &report.settings.algebras);
-    let _ = std::io::stdout().lock().write_all(bench::table_text(results, columns).as_bytes());
+    let table = if report.settings.find_eps { bench::table_text_with_eps(results, columns) } else { bench::table_text(results, columns) };
+    let _ = std::io::stdout().lock().write_all(table.as_bytes());
     if let Some(p) = &a.markdown {
         output::write_atomic(p, bench::markdown(results, columns, machine).as_bytes()).map_err(|e| input(e.to_string()))?;
     }
@@ -259,24 +352,26 @@ fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
 /// The timed runs of one renderer and settings, and the last frame. Timed
 /// as a viewer renders: the kernel's records kept packed (decoding 1024²
 /// pixels into `Frame` pixels would add ~3.5 ms a frame).
-fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace::render::Stats>, Frame), String> {
+fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace::render::Stats>, Frame, Instant), String> {
     let mut frame = PackedFrame::default();
-    let runs = timed(repeat, &mut || {
+    let (runs, warm) = timed(repeat, &mut || {
         r.render_packed(s, &mut frame).map_err(|e| e.to_string())?;
         Ok(frame.stats.clone())
     })?;
-    Ok((runs, frame.decode()))
+    Ok((runs, frame.decode(), warm))
 }
 
 /// Warm-up (shader compile, caches), then `repeat` timed renders; `render`
-/// keeps its frame and returns the frame's statistics.
-fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<Vec<isotrace::render::Stats>, String> {
+/// keeps its frame and returns the frame's statistics. Also returns when
+/// the warm-up ended, so the caller can report the setup time apart.
+fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<(Vec<isotrace::render::Stats>, Instant), String> {
     render()?;
+    let warm = Instant::now();
     let runs = (0..repeat).map(|_| render()).collect::<Result<Vec<_>, _>>()?;
     if runs.is_empty() {
         return Err("no run".into());
     }
-    Ok(runs)
+    Ok((runs, warm))
 }
 
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
@@ -297,18 +392,22 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 CliError::Input(m) => m,
                 other => format!("{other:?}"),
             })?;
+            let start = Instant::now();
             let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Sphere(o)).map_err(|e| e.to_string())?;
-            let (runs, frame) = timed_packed(&r, &s, a.repeat)?;
+            let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
+            m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
             return Ok((m, frame));
         }
     };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
+    let start = Instant::now();
     let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(domain))).map_err(|e| e.to_string())?;
-    let (runs, frame) = timed_packed(&r, &s, a.repeat)?;
+    let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
+    m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
     if a.find_eps {
         let mut fine = s.clone();
         fine.eps = diag * 2f64.powi(-14);
@@ -320,7 +419,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             let fr = r.render(&sk).map_err(|e| e.to_string())?;
             let diff = bench::differing_fraction(&fr, &reference);
             if diff <= bench::MATCH_FRACTION {
-                let (runs, _) = timed_packed(&r, &sk, a.repeat)?;
+                let (runs, _, _) = timed_packed(&r, &sk, a.repeat)?;
                 let ms = Measure::from_runs(&runs, sk.eps, "").gpu_ms;
                 m.lowest_eps = Some(LowestEps { exponent: k, gpu_ms: ms, differing: diff });
                 break;

@@ -50,11 +50,6 @@ impl FormulaArgs {
         }
     }
 
-    /// Reads and compiles the formula.
-    pub fn load(&self) -> Result<Formula, CliError> {
-        Ok(self.load_with_header()?.formula)
-    }
-
     /// Reads and compiles the formula, keeping an `.iso` header.
     pub fn load_with_header(&self) -> Result<Loaded, CliError> {
         let inline = match &self.inline {

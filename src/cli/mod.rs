@@ -16,7 +16,7 @@ pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use isotrace::codegen::{self, Domain};
-use isotrace::{FormulaError, validate};
+use isotrace::{Formula, FormulaError, validate};
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
 
@@ -173,6 +173,7 @@ impl From<validate::ValidateError> for CliError {
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
+    memory_budget_from_env()?;
     match cli.command {
         Command::Check(a) => check(a),
         Command::Wgsl(a) => wgsl(a),
@@ -188,7 +189,11 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
 }
 
 fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
-    let f = a.formula.load()?;
+    let loaded = a.formula.load_with_header()?;
+    let f = &loaded.formula;
+    if let Some(user) = &loaded.inline {
+        check_inline(f, user)?;
+    }
     let ir = &f.ir;
     let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
@@ -207,7 +212,12 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let _ = writeln!(out, "formula:    {}", f.normalized());
     let _ = writeln!(out, "variables:  {}", if vars.is_empty() { "(none)".into() } else { vars.join(" ") });
     let _ = writeln!(out, "parameters: {}", if params.is_empty() { "(none)".into() } else { params.join(" ") });
-    let _ = writeln!(out, "degree:     {}", ir.degree().map_or("not a polynomial".into(), |d| d.to_string()));
+    let degree = match ir.degree() {
+        None => "not a polynomial".to_string(),
+        Some(isotrace::ir::Ir::DEGREE_MAX) => format!("{} or more (too large to count)", isotrace::ir::Ir::DEGREE_MAX),
+        Some(d) => d.to_string(),
+    };
+    let _ = writeln!(out, "degree:     {degree}");
     let _ = writeln!(out, "operations: {} ({} products of non-constant terms, {} integer powers)", ir.live().len(), products, powers);
     let _ = writeln!(out, "algebra:    {algebra} (auto)");
     Ok(ExitCode::SUCCESS)
@@ -250,13 +260,7 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         }
     };
     match inline {
-        Some(user) => {
-            let start = src.find(&user.text).unwrap_or(0);
-            validate::validate_with_inline(&src, start..start + user.text.len(), &user.path, &user.text).map_err(|e| match e {
-                validate::InlineError::User(m) => CliError::Rendered(m),
-                validate::InlineError::Bug(b) => CliError::Internal(format!("{b}\nformula ({}): {}", f.origin, f.source.trim())),
-            })?;
-        }
+        Some(user) => validate_inline(&src, user, f)?,
         None => {
             validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
         }
@@ -270,6 +274,28 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Validates a shader that holds the user's `--inline` WGSL: an error in the
+/// user's part is a user error (exit 1), anything else a bug.
+fn validate_inline(src: &str, user: &isotrace::inline::InlineWgsl, f: &Formula) -> Result<(), CliError> {
+    let start = src.find(&user.text).unwrap_or(0);
+    validate::validate_with_inline(src, start..start + user.text.len(), &user.path, &user.text).map(|_| ()).map_err(|e| match e {
+        validate::InlineError::User(m) => CliError::Rendered(m),
+        validate::InlineError::Bug(b) => CliError::Internal(format!("{b}\nformula ({}): {}", f.origin, f.source.trim())),
+    })
+}
+
+/// `check --inline`: the user's WGSL spliced into the render kernel (with
+/// its hooks) and the eval kernel of the formula, both validated by naga, so
+/// `check` reports what `render` and `eval` would.
+fn check_inline(f: &Formula, user: &isotrace::inline::InlineWgsl) -> Result<(), CliError> {
+    let domain = isotrace::choose_algebra(&f.ir);
+    let m = isotrace::render::Modalities { inline: Some(user.clone()), ..Default::default() };
+    let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
+    let render = codegen::assemble(codegen::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl;
+    validate_inline(&render, user, f)?;
+    validate_inline(&codegen::eval_shader_with(&f.ir, domain, Some(user)), user, f)
+}
+
 /// Maps a render error to the CLI's error kinds.
 pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
     use isotrace::gpu::RenderError as R;
@@ -278,6 +304,64 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
         R::Gpu(g) => CliError::Internal(g.to_string()),
         R::Settings(s) => CliError::Input(settings_message(&s)),
         R::Inline(m) => CliError::Rendered(m),
+        R::Memory(m) => CliError::Input(memory_message(&m.to_string(), &m)),
+        e @ R::ShaderTooLarge { .. } => CliError::Input(format!(
+            "{e}; simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
+        )),
+    }
+}
+
+/// After how long a pipeline build is reported on stderr.
+const COMPILE_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// Runs `build` (naga, then the driver's shader compiler). When it takes
+/// longer than [`COMPILE_NOTE_AFTER`] (or `ISOTRACE_COMPILE_NOTE_MS`, a
+/// test hook), a note on stderr says what is happening, with the shader's
+/// size from `wgsl_bytes`, so that a long compile does not look like a
+/// hang.
+pub fn with_compile_note<T>(wgsl_bytes: impl FnOnce() -> usize + Send, build: impl FnOnce() -> T) -> T {
+    let after = std::env::var("ISOTRACE_COMPILE_NOTE_MS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map_or(COMPILE_NOTE_AFTER, std::time::Duration::from_millis);
+    let (done, wait) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(after) {
+                eprintln!("note: compiling the shader ({} KB of WGSL) …", wgsl_bytes().div_ceil(1000));
+            }
+        });
+        let out = build();
+        drop(done);
+        out
+    })
+}
+
+/// `ISOTRACE_MEMORY_BUDGET`: the largest frame-sized host allocation
+/// (pixels, packed records, encoded image), in bytes or with a k/M/G/T
+/// suffix. Unset: only the allocator refuses.
+fn memory_budget_from_env() -> Result<(), CliError> {
+    let Some(v) = std::env::var_os("ISOTRACE_MEMORY_BUDGET") else { return Ok(()) };
+    let v = v.to_string_lossy();
+    let bytes = isotrace::memory::parse_budget(&v)
+        .ok_or_else(|| CliError::Input(format!("invalid ISOTRACE_MEMORY_BUDGET '{v}': expected a number of bytes, optionally with a suffix k, M, G or T (e.g. 8G)")))?;
+    isotrace::memory::set_budget(Some(bytes));
+    Ok(())
+}
+
+/// An output file's error; a refused allocation says what to do.
+pub fn output_error(e: isotrace::output::OutputError) -> CliError {
+    match &e {
+        isotrace::output::OutputError::Memory { source, .. } => CliError::Input(memory_message(&e.to_string(), source)),
+        _ => CliError::Input(e.to_string()),
+    }
+}
+
+/// `message` about a refused frame allocation, with what the user can do.
+fn memory_message(message: &str, m: &isotrace::memory::MemoryError) -> String {
+    match m.budget {
+        Some(_) => format!("{message}; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET"),
+        None => format!("{message}; render a smaller --size"),
     }
 }
 

@@ -36,6 +36,9 @@ pub struct ModalityArgs {
     /// Environment seen by reflections and the background: sky, checker, or an equirectangular PNG.
     #[arg(long, value_name = "sky|checker|FILE")]
     pub env: Option<String>,
+    /// Let an .iso header's env: image lie outside the .iso file's directory (absolute, '..', or a symbolic link leading out); only for files you trust.
+    #[arg(long)]
+    pub allow_header_paths: bool,
 }
 
 fn input(m: impl Into<String>) -> CliError {
@@ -79,10 +82,26 @@ fn spec(a: &ModalityArgs, shadows: bool) -> Result<ModalitySpec, CliError> {
 pub fn modalities(a: &ModalityArgs, shadows: bool, color: KernelColor, header: Option<&catalog::Header>) -> Result<Modalities, CliError> {
     let defaults = header.map(|h| h.modalities.clone()).unwrap_or_default();
     let s = spec(a, shadows)?.or(&defaults);
+    refuse_outside_paths(a, &s, header)?;
     if s.shadow_eps.is_some() && a.shadow_eps.is_some() && s.shadows != Some(true) {
         return Err(input("--shadow-eps needs --shadows"));
     }
     s.resolve(color, load_env)?.map_err(|e| input(super::settings_message(&e)))
+}
+
+/// The trust rule for `.iso` headers: a header may make isotrace read an
+/// `env:` image only inside its own file's directory, unless the user says
+/// `--allow-header-paths`. A flag's `--env` is the user's own and is read as
+/// given.
+fn refuse_outside_paths(a: &ModalityArgs, s: &ModalitySpec, header: Option<&catalog::Header>) -> Result<(), CliError> {
+    let (Some(h), Some(EnvSpec::File(p))) = (header, &s.env) else { return Ok(()) };
+    if a.env.is_none() && !a.allow_header_paths && h.outside_paths.contains(p) {
+        return Err(input(format!(
+            "the .iso header's env: image '{}' is outside the directory of the .iso file; give --allow-header-paths to read it (only for files you trust)",
+            p.display()
+        )));
+    }
+    Ok(())
 }
 
 impl ModalityArgs {

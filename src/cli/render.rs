@@ -252,15 +252,29 @@ pub fn parse_clip(s: &str) -> Result<f64, CliError> {
         .ok_or_else(|| input(format!("invalid --clip '{s}': expected sphere:R with a radius R > 0")))
 }
 
-/// `--param name=value` pairs.
+/// `--param name=value` pairs. A value is a number as `--eps` takes it
+/// (`0.5`, `2^-1`). A name given twice is an error: the two values would
+/// silently disagree (a header's value is overridden, not repeated).
 pub fn parse_params(list: &[String]) -> Result<Vec<(String, f64)>, CliError> {
-    list.iter()
-        .map(|p| {
-            let (n, v) = p.split_once('=').ok_or_else(|| input(format!("invalid --param '{p}': expected name=value")))?;
-            let v: f64 = v.trim().parse().map_err(|_| input(format!("invalid --param '{p}': '{v}' is not a number")))?;
-            Ok((n.trim().to_string(), v))
-        })
-        .collect()
+    let mut out: Vec<(String, f64)> = Vec::with_capacity(list.len());
+    for p in list {
+        let (n, v) = p.split_once('=').ok_or_else(|| input(format!("invalid --param '{p}': expected name=value")))?;
+        // Plain float syntax as before (a non-finite value is the settings'
+        // error); otherwise the power syntax of --eps.
+        let v = match v.trim().parse::<f64>() {
+            Ok(x) => x,
+            Err(_) => catalog::parse_number(v).map_err(|m| match m.starts_with("expected") {
+                true => input(format!("invalid --param '{p}': '{v}' is not a number")),
+                false => input(format!("invalid --param '{p}': {m}")),
+            })?,
+        };
+        let n = n.trim().to_string();
+        if let Some(j) = out.iter().position(|(m, _)| *m == n) {
+            return Err(input(format!("--param {n} is given twice ('{}' and '{p}'): give each parameter once", list[j])));
+        }
+        out.push((n, v));
+    }
+    Ok(out)
 }
 
 /// The view flags applied over `v` (a header's view, or a default): the
@@ -457,7 +471,11 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     // No device is opened when every frame of the run is already there.
     let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
     let renderer = match &gpu {
-        Some(g) => Some(Renderer::new(g, FieldSource::Compiled(&f.ir), traversal).map_err(super::render_error)?),
+        Some(g) => {
+            let t = traversal.clone();
+            let size = || isotrace::codegen::assemble(FieldSource::Compiled(&f.ir), &t).wgsl.len();
+            Some(super::with_compile_note(size, || Renderer::new(g, FieldSource::Compiled(&f.ir), traversal)).map_err(super::render_error)?)
+        }
         None => None,
     };
     let (last, heat_max) = match (&animation, &renderer, &outputs) {
@@ -465,7 +483,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         (None, Some(r), super::frames::Outputs::One(path)) => {
             let mut frame = r.render(&s).map_err(super::render_error)?;
             let heat_max = output::recolor(&mut frame, color);
-            output::write_frame(path, &frame).map_err(|e| input(e.to_string()))?;
+            output::write_frame(path, &frame).map_err(super::output_error)?;
             (Some(frame), heat_max)
         }
         _ => (None, None),

@@ -75,7 +75,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     let renderer = Renderer::new(&gpu, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).map_err(super::render_error)?;
     let mut frame = renderer.render(&s).map_err(super::render_error)?;
     let heat_max = output::recolor(&mut frame, color);
-    output::write_frame(out, &frame).map_err(|e| input(e.to_string()))?;
+    output::write_frame(out, &frame).map_err(super::output_error)?;
     report_sphere(a, &frame, &s, &o, &gpu);
     if a.stats {
         eprintln!("scene: {} nodes, {} primitives", lin.nodes.len(), lin.primitives.len());

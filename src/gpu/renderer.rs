@@ -31,7 +31,25 @@ pub enum RenderError {
     /// The user's inline WGSL does not validate (rendered against their file).
     #[error("{0}")]
     Inline(String),
+    /// The frame's host memory could not be had (over the budget, or the
+    /// allocator refused).
+    #[error(transparent)]
+    Memory(#[from] crate::memory::MemoryError),
+    /// The assembled kernel is larger than [`MAX_SHADER_BYTES`].
+    #[error("the generated shader is {} KB of WGSL, over the limit of {} KB: the driver would compile it for many minutes", bytes.div_ceil(1000), MAX_SHADER_BYTES / 1000)]
+    ShaderTooLarge {
+        /// Its size in bytes.
+        bytes: usize,
+    },
 }
+
+/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
+/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
+/// lavapipe's compile time grows faster than the shader (`@creature` at
+/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
+/// past this a render would sit silent for a very long time; a formula
+/// that gets here is one to simplify.
+pub const MAX_SHADER_BYTES: usize = 500_000;
 
 /// Buffers of one dispatch's pass group besides the pixel records.
 pub(crate) struct PassBuffers {
@@ -98,6 +116,9 @@ impl<'g> Renderer<'g> {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
         }
         let kernel = codegen::assemble(field, &traversal);
+        if kernel.wgsl.len() > MAX_SHADER_BYTES {
+            return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
+        }
         match &kernel.inline {
             Some((range, user)) => {
                 crate::validate::validate_with_inline(&kernel.wgsl, range.clone(), &user.path, &user.text).map_err(|e| match e {
@@ -199,7 +220,7 @@ impl<'g> Renderer<'g> {
     /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
     pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
         let start = Instant::now();
-        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), convert)?;
+        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), "pixels", convert)?;
         *out = Frame { width: s.width, height: s.height, pixels, stats };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
@@ -209,18 +230,19 @@ impl<'g> Renderer<'g> {
     /// (see [`PackedFrame`]), with the same statistics as [`Renderer::render_into`].
     pub fn render_packed(&self, s: &Settings, out: &mut PackedFrame) -> Result<(), RenderError> {
         let start = Instant::now();
-        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), |r| *r)?;
+        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), "pixel records", |r| *r)?;
         *out = PackedFrame { width: s.width, height: s.height, stats, records };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }
 
     /// Renders one frame and writes `f` of each record, row-major, into
-    /// `buf` (its memory reused), gathering the statistics on the way.
-    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, f: fn(&Record) -> T) -> Result<(Vec<T>, Stats), RenderError> {
+    /// `buf` (its memory reused), gathering the statistics on the way. The
+    /// frame's memory (`what`) is reserved fallibly before any dispatch.
+    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, what: &'static str, f: fn(&Record) -> T) -> Result<(Vec<T>, Stats), RenderError> {
         let (w, h) = (s.width, s.height);
         let n = w as usize * h as usize;
-        buf.clear();
+        crate::memory::reserve(&mut buf, n, (w, h), what)?;
         let mut acc = StatsAcc::default();
         let mut stats = self.run(s, |rect, raw| {
             if (rect.w, rect.h) == (w, h) {
