@@ -75,6 +75,20 @@ pub struct BenchArgs {
     merge: Vec<PathBuf>,
 }
 
+/// The jobs' variants with their labels (a bad list entry names its flag).
+fn labelled_variants(a: &BenchArgs) -> Result<Vec<(String, Variant)>, CliError> {
+    let variants = bench::variants(&a.method, &a.algebra, &a.omega).map_err(|e| {
+        let flag = match e.list {
+            bench::VariantList::Method => "--method",
+            bench::VariantList::Algebra => "--algebra",
+            bench::VariantList::Omega => "--omega",
+        };
+        input(format!("invalid {flag} '{}': expected {}", e.value, e.expected))
+    })?;
+    let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
+    Ok(variants.iter().map(|v| (v.label(several), v.clone())).collect())
+}
+
 fn input(m: impl Into<String>) -> CliError {
     CliError::Input(m.into())
 }
@@ -112,16 +126,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         return merge(&a);
     }
     let surfaces = entries(&a)?;
-    let variants = bench::variants(&a.method, &a.algebra, &a.omega).map_err(|e| {
-        let flag = match e.list {
-            bench::VariantList::Method => "--method",
-            bench::VariantList::Algebra => "--algebra",
-            bench::VariantList::Omega => "--omega",
-        };
-        input(format!("invalid {flag} '{}': expected {}", e.value, e.expected))
-    })?;
-    let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
-    let labelled: Vec<(String, Variant)> = variants.iter().map(|v| (v.label(several), v.clone())).collect();
+    let labelled = labelled_variants(&a)?;
     if let Some(n) = a.max_steps {
         isotrace::render::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(|e| input(super::settings_message(&e)))?;
     }
