@@ -292,7 +292,7 @@ fn without_timings(mut v: Value) -> Value {
     }
     o["settings"].as_object_mut().unwrap().remove("shard");
     for r in o["results"].as_array_mut().unwrap() {
-        for k in ["gpu_ms", "tile_ms", "fps", "wall_ms"] {
+        for k in ["gpu_ms", "tile_ms", "fps", "wall_ms", "setup_ms"] {
             r.as_object_mut().unwrap().remove(k);
         }
     }
