@@ -69,7 +69,7 @@ wait_all
 # the shard, and the results but the timings (commas at line ends aside).
 strip() {
     sed -n -e '/^  "isotrace_version"/p' -e '/^  "settings": {/,/^  },/p' -e '/^  "results": \[/,/^  \]/p' "$1" \
-        | grep -Ev '"(gpu_ms|tile_ms|fps|wall_ms|shard)":' | sed 's/,$//'
+        | grep -Ev '"(gpu_ms|tile_ms|fps|wall_ms|setup_ms|shard)":' | sed 's/,$//'
 }
 diff <(strip "$work/single.json") <(strip "$work/all.json") >"$work/diff.txt" \
     || { cat "$work/diff.txt" >&2; fail "the merged report differs from a single run"; }
