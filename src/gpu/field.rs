@@ -21,11 +21,16 @@ pub(crate) struct FieldBinding {
 }
 
 impl FieldBinding {
+    /// Whether the field reports per-tile statistics.
+    pub fn has_tile_stats(&self) -> bool {
+        self.scene
+    }
+
     /// Bytes of the per-tile statistics a field reports for a rectangle
     /// (a scene's view length and active primitives per tile), read back
     /// with the pixels; 0 when it has none.
     pub fn tile_stats_size(&self, rect: Rect) -> u64 {
-        if self.scene { rect.tiles() * 8 } else { 0 }
+        if self.has_tile_stats() { rect.tiles() * 8 } else { 0 }
     }
 
     /// The per-dispatch buffers of a rectangle (a scene's tile lists and

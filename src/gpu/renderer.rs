@@ -325,7 +325,7 @@ impl<'g> Renderer<'g> {
         }
         stats.iso_channel = self.surfaces > 1;
         self.host.finish(s, &ray_stats, &mut stats);
-        if self.field.tile_stats_size(Rect { x: 0, y: 0, w: 8, h: 8 }) > 0 {
+        if self.field.has_tile_stats() {
             tiles.finish(&mut stats);
         }
         Ok(stats)
