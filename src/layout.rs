@@ -166,8 +166,8 @@ gpu_block! {
     }
 }
 
-/// Frame flag: draw unresolved / unconverged pixels magenta.
-pub const FLAG_DEBUG: u32 = 1;
+/// Frame flag: draw unresolved / unconverged pixels solid magenta.
+pub const FLAG_UNRESOLVED_SOLID: u32 = 1;
 /// Bisection flag: skip the tile pass (every ray traverses the whole segment).
 pub const FLAG_NO_TILE_CULLING: u32 = 2;
 /// Sphere flag: technique 2 (screen-space criterion, best candidate).
@@ -178,6 +178,9 @@ pub const FLAG_DYNAMIC_EPS: u32 = 8;
 pub const FLAG_SHADOWS: u32 = 16;
 /// Sphere flag: render the object as glass.
 pub const FLAG_GLASS: u32 = 32;
+/// Frame flag: draw unresolved / unconverged pixels like hits (neither this
+/// nor `FLAG_UNRESOLVED_SOLID`: hatched).
+pub const FLAG_UNRESOLVED_GUESS: u32 = 64;
 
 /// Pixel status in the record (bits 30-31 of the colour word).
 pub const STATUS_MISS: u32 = 0;
@@ -201,7 +204,8 @@ pub const LOOP_LIMIT: u32 = 60_000;
 pub fn wgsl_constants() -> String {
     let mut s = String::new();
     let u = [
-        ("FLAG_DEBUG", FLAG_DEBUG),
+        ("FLAG_UNRESOLVED_SOLID", FLAG_UNRESOLVED_SOLID),
+        ("FLAG_UNRESOLVED_GUESS", FLAG_UNRESOLVED_GUESS),
         ("FLAG_NO_TILE_CULLING", FLAG_NO_TILE_CULLING),
         ("FLAG_SCREEN", FLAG_SCREEN),
         ("FLAG_DYNAMIC_EPS", FLAG_DYNAMIC_EPS),

@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use isotrace::codegen::Domain;
-use isotrace::render::{Camera, Status};
+use isotrace::render::{Camera, Status, Unresolved};
 
 /// Analytic ray–sphere (unit sphere at the origin) distance.
 fn sphere_hit(o: glam::DVec3, d: glam::DVec3, r: f64) -> Option<f64> {
@@ -130,13 +130,34 @@ fn unresolved_pixels_are_counted_and_flagged() {
     let frame = render("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", Domain::Interval, &s);
     assert!(frame.stats.unresolved > 0);
     assert_eq!(frame.stats.hits, 0);
-    // Unresolved pixels are not background: they are shaded as a best guess,
-    // or magenta with debug_unresolved.
-    s.debug_unresolved = true;
-    let flagged = render("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", Domain::Interval, &s);
-    let p = flagged.pixels.iter().find(|p| p.status == Status::Unresolved).unwrap();
-    assert_eq!(&p.color[..3], &[1.0, 0.0, 1.0]);
-    assert_eq!(p.color[3], 1.0);
+    // Unresolved pixels are not background, and by default they do not look
+    // like hits either: the shaded best guess (`Guess`) under diagonal
+    // magenta stripes 3 pixels wide; `Magenta` paints them all.
+    let magenta = [1.0, 0.0, 1.0, 1.0];
+    let with = |u: Unresolved| {
+        let mut s = s.clone();
+        s.unresolved = u;
+        render("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", Domain::Interval, &s)
+    };
+    let (hatch, guess, solid) = (with(Unresolved::Hatch), with(Unresolved::Guess), with(Unresolved::Magenta));
+    let mut striped = 0;
+    for (i, ((h, g), m)) in hatch.pixels.iter().zip(&guess.pixels).zip(&solid.pixels).enumerate() {
+        assert_eq!((h.status, h.depth), (g.status, g.depth), "pixel {i}: the style changes colour only");
+        if h.status != Status::Unresolved {
+            assert_eq!((h.color, m.color), (g.color, g.color), "pixel {i}");
+            continue;
+        }
+        assert_eq!(m.color, magenta, "pixel {i}");
+        assert_ne!(g.color, magenta, "pixel {i}: the guess is shaded");
+        let (x, y) = (i as u32 % 40, i as u32 / 40);
+        if (x + y) / 3 % 2 == 0 {
+            assert_eq!(h.color, magenta, "pixel {i} is on a stripe");
+            striped += 1;
+        } else {
+            assert_eq!(h.color, g.color, "pixel {i} is between stripes");
+        }
+    }
+    assert!(striped > 0 && striped < frame.stats.unresolved as usize);
 }
 
 /// The standard against which robustness is judged: every pixel whose ray

@@ -145,7 +145,7 @@ impl Animation<'_> {
 /// are one hash of their `Debug` text.
 pub fn frame_settings(f: &Formula, pattern: &str, n: u32, (t0, t1): (f64, f64), s: &Settings, t: &Traversal, color: &str) -> FrameSettings {
     let mut options = Fnv::default();
-    let _ = write!(options, "{t:?}|debug_unresolved={}", s.debug_unresolved);
+    let _ = write!(options, "{t:?}|unresolved={:?}", s.unresolved);
     FrameSettings {
         formula: FormulaId { origin: f.origin.clone(), text_fnv1a64: fnv1a64(f.source.as_bytes()) },
         pattern: pattern.to_string(),

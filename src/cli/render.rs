@@ -8,7 +8,7 @@ use isotrace::codegen::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::layout::KernelColor;
 use isotrace::render::settings::DEFAULT_MAX_ITER;
-use isotrace::render::{BisectOptions, Settings, Shading, SphereOptions, Traversal, View};
+use isotrace::render::{BisectOptions, Settings, Shading, SphereOptions, Traversal, Unresolved, View};
 use isotrace::output::{self, ColorMode};
 use isotrace::catalog::{self, Header};
 use isotrace::render::{Bound, Frame, Method};
@@ -55,9 +55,23 @@ pub struct ViewArgs {
     /// Clip to a ball around the box centre as well as the box: `sphere:R`.
     #[arg(long, value_name = "sphere:R")]
     pub clip: Option<String>,
-    /// Draw pixels that exhausted the iteration budget in magenta.
-    #[arg(long)]
+    /// How pixels that exhausted the budget (--max-iter, --max-steps) are
+    /// drawn: `hatch` (their best guess under magenta stripes), `magenta`,
+    /// or `guess` (like hits). A warning counts them in every case.
+    #[arg(long, value_enum, value_name = "STYLE", default_value_t = UnresolvedArg::Hatch)]
+    pub unresolved: UnresolvedArg,
+    /// Short for `--unresolved magenta`.
+    #[arg(long, conflicts_with = "unresolved")]
     pub debug_unresolved: bool,
+}
+
+/// `--unresolved`: see `isotrace::render::Unresolved`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum UnresolvedArg {
+    #[default]
+    Hatch,
+    Magenta,
+    Guess,
 }
 
 /// Sphere tracing flags (`--method sphere`); every technique of Keinert
@@ -310,7 +324,11 @@ pub fn view_flags(view: &ViewArgs, mut v: View) -> Result<View, CliError> {
 pub fn finish_settings(view: &ViewArgs, mut s: Settings) -> Result<Settings, CliError> {
     s.max_iter = view.max_iter.unwrap_or(DEFAULT_MAX_ITER);
     s.tile = view.tile;
-    s.debug_unresolved = view.debug_unresolved;
+    s.unresolved = match (view.debug_unresolved, view.unresolved) {
+        (true, _) | (_, UnresolvedArg::Magenta) => Unresolved::Magenta,
+        (_, UnresolvedArg::Hatch) => Unresolved::Hatch,
+        (_, UnresolvedArg::Guess) => Unresolved::Guess,
+    };
     s.check().map_err(|e| input(super::settings_message(&e)))?;
     Ok(s)
 }
@@ -335,23 +353,26 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
     finish_settings(view, s)
 }
 
-/// Pixels whose traversal ran out of budget are drawn as a best guess:
-/// always say so (with or without `--stats`).
-pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, max_iter: u32) {
+/// Pixels whose traversal ran out of budget hold a best guess, not a hit:
+/// always say so (with or without `--stats`), and how they are drawn.
+pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings) {
     let n = frame.stats.unresolved;
     if n == 0 {
         return;
     }
-    match t {
-        Traversal::Bisect(_) => eprintln!(
-            "warning: {n} pixels exhausted the iteration budget (--max-iter {max_iter}) and show the nearest cell that may hold the surface; \
-             --debug-unresolved draws them magenta"
+    let (what, guess) = match t {
+        Traversal::Bisect(_) => (
+            format!("exhausted the iteration budget (--max-iter {})", s.max_iter),
+            "the nearest cell that may hold the surface",
         ),
-        Traversal::Sphere(o) => eprintln!(
-            "warning: {n} pixels did not converge within --max-steps {} (shown at their best candidate; --debug-unresolved draws them magenta)",
-            o.max_steps
-        ),
-    }
+        Traversal::Sphere(o) => (format!("did not converge within --max-steps {}", o.max_steps), "their best candidate"),
+    };
+    let drawn = match s.unresolved {
+        Unresolved::Hatch => format!("drawn as magenta stripes over {guess} (--unresolved magenta|guess to change)"),
+        Unresolved::Magenta => "drawn magenta".to_string(),
+        Unresolved::Guess => format!("drawn like hits at {guess} (--unresolved guess)"),
+    };
+    eprintln!("warning: {n} pixels {what} and are {drawn}");
 }
 
 /// Evidence that a sphere traced formula is not a distance bound with the
@@ -493,7 +514,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu),
             Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu),
         }
-        warn_unresolved(&frame, &renderer.traversal(), s.max_iter);
+        warn_unresolved(&frame, &renderer.traversal(), &s);
         if let Traversal::Sphere(o) = renderer.traversal() {
             warn_lipschitz(&frame, &o);
         }

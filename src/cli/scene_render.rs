@@ -83,7 +83,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
             eprintln!("--color {}: white = {m}", a.color);
         }
     }
-    warn_unresolved(&frame, &renderer.traversal(), s.max_iter);
+    warn_unresolved(&frame, &renderer.traversal(), &s);
     warn_lipschitz(&frame, &o);
     if frame.stats.field.overflow_tiles > 0 {
         eprintln!(

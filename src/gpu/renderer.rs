@@ -9,7 +9,8 @@
 use super::dispatch::{self, Dispatch, Groups, Rect, Stage};
 use super::{field, storage_entry, Gpu, GpuError};
 use crate::codegen::{self, FieldSource};
-use crate::layout::{FrameBlock, FLAG_DEBUG};
+use crate::layout::{FrameBlock, FLAG_UNRESOLVED_GUESS, FLAG_UNRESOLVED_SOLID};
+use crate::render::Unresolved;
 use crate::render::record::{convert, map_all, PackedFrame, RayStats, Record};
 use crate::render::{CameraFrame, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
 use crate::validate::{validate, ValidateError};
@@ -385,7 +386,11 @@ fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
         size: [s.width, s.height],
         tile_origin: [0, 0],
         tile_size: [0, 0],
-        flags: (if s.debug_unresolved { FLAG_DEBUG } else { 0 }) | flags,
+        flags: match s.unresolved {
+            Unresolved::Hatch => 0,
+            Unresolved::Magenta => FLAG_UNRESOLVED_SOLID,
+            Unresolved::Guess => FLAG_UNRESOLVED_GUESS,
+        } | flags,
         tan_half_fov: cam.tan_half_fov as f32,
         eps: s.eps as f32,
         inf: f32::INFINITY,

@@ -35,10 +35,26 @@ pub struct Settings {
     pub max_iter: u32,
     /// Largest tile side per dispatch.
     pub tile: u32,
-    /// Draw unresolved pixels in magenta.
-    pub debug_unresolved: bool,
+    /// How pixels whose traversal ran out of budget are drawn.
+    pub unresolved: Unresolved,
     /// Also clip rays to the ball of this radius around the box centre.
     pub clip_sphere: Option<f64>,
+}
+
+/// How a pixel whose traversal ran out of budget (bisection: unresolved;
+/// sphere tracing: unconverged) is drawn. Its position is only the nearest
+/// cell that may hold the surface (or the best candidate of the march), so
+/// by default it must not look like a hit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Unresolved {
+    /// The best guess, shaded, under diagonal magenta stripes: visibly not
+    /// a hit, yet it still shows where the surface probably is.
+    #[default]
+    Hatch,
+    /// Solid magenta (for finding them in a picture).
+    Magenta,
+    /// The best guess, shaded like a hit (the warning is still printed).
+    Guess,
 }
 
 impl Settings {
@@ -55,7 +71,7 @@ impl Settings {
             params: vec![],
             max_iter: DEFAULT_MAX_ITER,
             tile: 1024,
-            debug_unresolved: false,
+            unresolved: Unresolved::Hatch,
             clip_sphere: None,
         }
     }

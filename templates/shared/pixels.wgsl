@@ -32,3 +32,16 @@ fn pack_info(work: u32, d_ray: u32, iso: u32) -> u32 {
 fn write_pixel(idx: u32, color: vec3<f32>, status: u32, normal: vec3<f32>, depth: f32, info: u32) {
     pixels[idx] = vec4<u32>(pack_color(color, status), pack_normal(normal), bitcast<u32>(depth), info);
 }
+
+// How a pixel whose traversal ran out of budget is drawn: its position is a
+// best guess, so by default it must not look like a hit. Diagonal magenta
+// stripes 3 pixels wide over the shaded guess (the frame-global pixel `px`
+// keeps the stripes continuous across dispatch tiles); solid magenta; or
+// the guess alone when the user asks for it (src/render/settings.rs
+// `Unresolved`).
+fn unresolved_color(c: vec3<f32>, px: vec2<u32>) -> vec3<f32> {
+    let magenta = vec3<f32>(1.0, 0.0, 1.0);
+    if ((F.flags & FLAG_UNRESOLVED_GUESS) != 0u) { return c; }
+    if ((F.flags & FLAG_UNRESOLVED_SOLID) != 0u) { return magenta; }
+    return select(c, magenta, ((px.x + px.y) / 3u) % 2u == 0u);
+}

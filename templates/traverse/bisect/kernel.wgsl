@@ -404,9 +404,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             let g = gradient(p, 0.5 * F.eps);
             var c = shade_hit(o, unit, p, g, hit.s, hit.iso + surface, dr);
             g_surface = surface;
-            if (hit.status == STATUS_UNRESOLVED && (F.flags & FLAG_DEBUG) != 0u) {
-                c = vec3<f32>(1.0, 0.0, 1.0);
-            }
+            if (hit.status == STATUS_UNRESOLVED) { c = unresolved_color(c, px); }
             if (layer == 0u) {
                 status = hit.status;
                 depth = dist;

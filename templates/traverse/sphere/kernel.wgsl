@@ -304,7 +304,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             depth = h.t;
         }
     }
-    if (status == STATUS_UNRESOLVED && (F.flags & FLAG_DEBUG) != 0u) { color = vec4<f32>(1.0, 0.0, 1.0, 1.0); }
+    if (status == STATUS_UNRESOLVED) { color = vec4<f32>(unresolved_color(color.xyz, px), 1.0); }
     // d_ray 1 marks a ray that crosses the domain (at least one step), so the
     // hit / miss means of the statistics count the same pixels as bisection's.
     write_pixel(idx, color.xyz, status, normal, depth, pack_info(steps, select(0u, 1u, steps > 0u), 0u));
