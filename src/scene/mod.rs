@@ -30,11 +30,13 @@ pub mod format;
 pub mod formula;
 pub mod generate;
 pub mod linear;
+pub mod lower;
 pub mod operator;
 pub mod primitive;
 pub mod roi;
 pub mod sparse;
 
+pub use lower::{from_formula, NotBlobtree};
 pub use operator::{Blend, OpKind, Operator};
 pub use primitive::{Primitive, Rotation, Shape, ShapeKind, Transform};
 

@@ -1,0 +1,351 @@
+//! Formula → scene: a formula built only from the distance forms of
+//! [`crate::sdf`] (primitives, transforms, sharp and smooth CSG) with
+//! constant arguments is a blobtree, and lowers to a [`Scene`] that the
+//! data-driven scene field renders without generating a shader.
+//!
+//! The walk is over the syntax tree, not the IR: the IR has already
+//! expanded every form into arithmetic of x, y and z, where a primitive is
+//! no longer recognisable. Scalar arguments are evaluated in f64 here
+//! (numbers, `pi`, `e`, parameters with their current values, definitions,
+//! arithmetic and the numeric functions), so a parameter change re-lowers
+//! to new buffers, never to a new shader.
+//!
+//! Transforms are pushed down to the leaves, composed as similarity
+//! transforms (t₁ + R₁s₁(t₂ + R₂s₂q)), because a scene keeps one transform
+//! per primitive. Definitions used twice are lowered twice (a scene is a
+//! tree, not a graph); the node count is bounded while building.
+//!
+//! **Smooth operators.** `smooth_union(a, b, k)` (Zanni et al. eq. 8-11)
+//! becomes the compact G with β = k and r_o = 2k, the scene's only smooth
+//! operator. The two fields differ away from the surface but never in sign:
+//! inside R_o, G is the smooth operator with its blend range k scaled by
+//! 1 ∓ 6x/(6r_o − k), x being the smooth operator's own value, and the
+//! blend d(a, b, k) = max(k − |a − b|, 0)³/(6k²) changes by at most 1/6 of a
+//! change of k, so |G − x| ≤ k|x|/(6r_o − k) < |x|; outside R_o both
+//! operands are beyond 7k/6, where blend and sharp operator agree in sign.
+//! So the zero set (the picture) is the same; `tests/scene_lower.rs` checks
+//! the signs by sampling.
+
+use super::{Blend, Builder, OpKind, Operator, Primitive, Rotation, Scene, Shape, Transform};
+use crate::diag::Span;
+use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
+use crate::sdf::{self, Form};
+use crate::syntax::ast::{BinOp, Call, Expr, ExprKind, Program};
+use glam::{DQuat, DVec3};
+use std::collections::HashMap;
+use std::rc::Rc;
+
+/// Why a formula is not a blobtree (or not a valid scene), at a span of
+/// the formula.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{reason}")]
+pub struct NotBlobtree {
+    /// What is not a blobtree there.
+    pub reason: String,
+    /// Where.
+    pub span: Span,
+}
+
+fn not(reason: impl Into<String>, span: Span) -> NotBlobtree {
+    NotBlobtree { reason: reason.into(), span }
+}
+
+/// A shape under construction: transforms not yet pushed to the leaves.
+#[derive(Debug)]
+enum Tree {
+    Leaf(Primitive, Span),
+    Op(Operator, Rc<Tree>, Rc<Tree>, Span),
+    Moved(Transform, Rc<Tree>),
+}
+
+#[derive(Debug, Clone)]
+enum Val {
+    Num(f64),
+    Shape(Rc<Tree>),
+}
+
+/// Lowers `program` (a formula that compiled) to a scene; `param` gives a
+/// parameter's current value by name.
+pub fn lower(program: &Program, param: &dyn Fn(&str) -> Option<f64>) -> Result<Scene, NotBlobtree> {
+    let body = program.body();
+    if program.surfaces.len() > 1 {
+        return Err(not("a scene draws one surface; the formula has several", program.surfaces[1].expr.span));
+    }
+    if let Some(c) = program.surfaces[0].conditions.first() {
+        return Err(not("a scene has no 'where' conditions", c.span));
+    }
+    let mut w = Walker { program, param, memo: HashMap::new(), active: vec![] };
+    let tree = match w.eval(body)? {
+        Val::Shape(t) => t,
+        Val::Num(_) => return Err(not("the formula is a constant, not a shape", body.span)),
+    };
+    let mut b = Builder::default();
+    let mut spans = vec![];
+    let root = build(&tree, &mut b, &mut spans)?;
+    b.finish(root).map_err(|e| {
+        // `nodes[3].radius` → node 3 (its span), field `radius`.
+        let (node, field) = match e.path.strip_prefix("nodes[").and_then(|r| r.split_once(']')) {
+            Some((i, rest)) => (i.parse::<usize>().ok(), rest.trim_start_matches('.').to_string()),
+            None => (None, e.path.clone()),
+        };
+        let span = node.and_then(|i| spans.get(i).copied()).unwrap_or(body.span);
+        let what = if field.is_empty() { String::new() } else { format!("{field} ") };
+        not(format!("not a valid scene node: {what}{}", e.reason), span)
+    })
+}
+
+struct Walker<'a> {
+    program: &'a Program,
+    param: &'a dyn Fn(&str) -> Option<f64>,
+    memo: HashMap<usize, Val>,
+    /// Definitions being evaluated (the front end has already refused
+    /// cycles; this guards the walk itself).
+    active: Vec<usize>,
+}
+
+impl Walker<'_> {
+    fn eval(&mut self, e: &Expr) -> Result<Val, NotBlobtree> {
+        match &e.kind {
+            ExprKind::Number(v) => Ok(Val::Num(*v)),
+            ExprKind::Name(n) => self.name(n, e.span),
+            ExprKind::Neg(a) => match self.eval(a)? {
+                Val::Num(v) => Ok(Val::Num(-v)),
+                Val::Shape(_) => Err(not("a shape under unary minus is not a blobtree node", e.span)),
+            },
+            ExprKind::Binary(op, a, b) => {
+                let (x, y) = (self.num(a)?, self.num(b)?);
+                Ok(Val::Num(match op {
+                    BinOp::Add => x + y,
+                    BinOp::Sub => x - y,
+                    BinOp::Mul => x * y,
+                    BinOp::Div => x / y,
+                    BinOp::Pow if y.fract() == 0.0 && y.abs() < 1e9 => x.powi(y as i32),
+                    BinOp::Pow => crate::reference::pow_pos(x, y),
+                }))
+            }
+            ExprKind::Call(c) => self.call(c, e.span),
+        }
+    }
+
+    /// A scalar argument; a shape here is arithmetic on a shape.
+    fn num(&mut self, e: &Expr) -> Result<f64, NotBlobtree> {
+        match self.eval(e)? {
+            Val::Num(v) => Ok(v),
+            Val::Shape(_) => Err(not("arithmetic on a shape is not a blobtree node", e.span)),
+        }
+    }
+
+    fn shape(&mut self, e: &Expr) -> Result<Rc<Tree>, NotBlobtree> {
+        match self.eval(e)? {
+            Val::Shape(t) => Ok(t),
+            Val::Num(_) => Err(not("a number where the form takes a shape", e.span)),
+        }
+    }
+
+    fn name(&mut self, n: &str, span: Span) -> Result<Val, NotBlobtree> {
+        // The last definition of the name before the surfaces wins, as in
+        // the front end (a later definition may shadow an earlier one).
+        if let Some(i) = self.program.definitions.iter().rposition(|d| d.name == n) {
+            if let Some(v) = self.memo.get(&i) {
+                return Ok(v.clone());
+            }
+            if self.active.contains(&i) {
+                return Err(not(format!("'{n}' refers to itself"), span));
+            }
+            self.active.push(i);
+            let v = self.eval(&self.program.definitions[i].value);
+            self.active.pop();
+            let v = v?;
+            self.memo.insert(i, v.clone());
+            return Ok(v);
+        }
+        match n {
+            "pi" => Ok(Val::Num(std::f64::consts::PI)),
+            "e" => Ok(Val::Num(std::f64::consts::E)),
+            "x" | "y" | "z" | "t" => Err(not(format!("'{n}' outside a distance form: the field is not built from primitives alone"), span)),
+            _ => (self.param)(n).map(Val::Num).ok_or_else(|| not(format!("'{n}' has no value"), span)),
+        }
+    }
+
+    fn call(&mut self, c: &Call, span: Span) -> Result<Val, NotBlobtree> {
+        if let Some(info) = sdf::lookup(&c.name) {
+            return self.form(info.form, c, span).map(Val::Shape);
+        }
+        let a: Vec<f64> = c.args.iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+        let z: IrNode = 0;
+        let op = if let Some(&f) = Func1::ALL.iter().find(|f| f.name() == c.name) {
+            Op::Call1(f, z)
+        } else {
+            match c.name.as_str() {
+                "pow" => Op::Call2(Func2::Pow, z, z),
+                "atan2" => Op::Call2(Func2::Atan2, z, z),
+                "min" => return Ok(Val::Num(a.iter().copied().fold(f64::INFINITY, f64::min))),
+                "max" => return Ok(Val::Num(a.iter().copied().fold(f64::NEG_INFINITY, f64::max))),
+                "clamp" => Op::Call3(Func3::Clamp, z, z, z),
+                "mix" => Op::Call3(Func3::Mix, z, z, z),
+                _ => return Err(not(format!("'{}' is not a distance form or a numeric function", c.name), c.name_span)),
+            }
+        };
+        Ok(Val::Num(crate::reference::scalar_op(&op, &a)))
+    }
+}
+
+/// Most nodes a lowered scene may have: definitions used several times are
+/// copied, and a formula of a few kilobytes could otherwise ask for
+/// billions (`a = union(s, s); b = union(a, a); …`).
+pub const MAX_LOWERED_NODES: usize = 1_000_000;
+
+impl Walker<'_> {
+    fn nums<const N: usize>(&mut self, args: &[Expr]) -> Result<[f64; N], NotBlobtree> {
+        let mut v = [0.0; N];
+        for (k, a) in args[..N].iter().enumerate() {
+            v[k] = self.num(a)?;
+        }
+        Ok(v)
+    }
+
+    /// One distance form (the front end has checked the arity).
+    fn form(&mut self, form: Form, c: &Call, span: Span) -> Result<Rc<Tree>, NotBlobtree> {
+        let a = &c.args[..];
+        let shape = match form {
+            Form::Sphere => Shape::Sphere { radius: self.num(&a[0])? },
+            Form::Box => Shape::Box { half: self.nums(a)? },
+            Form::RoundBox => {
+                let [x, y, z, radius] = self.nums(a)?;
+                Shape::RoundBox { half: [x, y, z], radius }
+            }
+            Form::Torus => {
+                let [major, minor] = self.nums(a)?;
+                Shape::Torus { major, minor }
+            }
+            Form::Cylinder => {
+                let [radius, half_height] = self.nums(a)?;
+                Shape::Cylinder { radius, half_height }
+            }
+            Form::Capsule => {
+                let v: [f64; 7] = self.nums(a)?;
+                Shape::Capsule { a: [v[0], v[1], v[2]], b: [v[3], v[4], v[5]], radius: v[6] }
+            }
+            Form::Plane => {
+                let [x, y, z, offset] = self.nums(a)?;
+                Shape::Plane { normal: [x, y, z], offset }
+            }
+            Form::Octahedron => Shape::Octahedron { size: self.num(&a[0])? },
+            _ => return self.composite(form, a, span),
+        };
+        Ok(Rc::new(Tree::Leaf(Primitive::new(shape), span)))
+    }
+
+    /// Transforms and operators.
+    fn composite(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
+        let moved = |t: Transform, s: Rc<Tree>| Ok(Rc::new(Tree::Moved(t, s)));
+        let sharp = |kind| Operator { kind, blend: None };
+        let smooth = |kind, beta: f64, range: f64| Operator { kind, blend: Some(Blend { beta, range }) };
+        match form {
+            Form::Translate => {
+                let translate = self.nums(a)?;
+                moved(Transform { translate, ..Transform::default() }, self.shape(&a[3])?)
+            }
+            Form::Rotate => {
+                let [x, y, z, angle] = self.nums(a)?;
+                let rotate = Some(Rotation { axis: [x, y, z], angle });
+                moved(Transform { rotate, ..Transform::default() }, self.shape(&a[4])?)
+            }
+            Form::Scale => {
+                let scale = self.num(&a[0])?;
+                moved(Transform { scale, ..Transform::default() }, self.shape(&a[1])?)
+            }
+            Form::Union | Form::Intersect | Form::Subtract => {
+                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::Union as usize];
+                let mut acc = self.shape(&a[0])?;
+                for e in &a[1..] {
+                    acc = Rc::new(Tree::Op(sharp(kind), acc, self.shape(e)?, span));
+                }
+                Ok(acc)
+            }
+            Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => {
+                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::SmoothUnion as usize];
+                let (l, r, k) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
+                Ok(Rc::new(Tree::Op(smooth(kind, k, super::operator::DEFAULT_RANGE_FACTOR * k), l, r, span)))
+            }
+            _ => {
+                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::CompactUnion as usize];
+                let (l, r, beta) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
+                let range = match a.get(3) {
+                    Some(e) => self.num(e)?,
+                    None => super::operator::DEFAULT_RANGE_FACTOR * beta,
+                };
+                Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
+            }
+        }
+    }
+}
+
+/// `outer` after `inner`: p ↦ t₁ + R₁s₁(t₂ + R₂s₂q).
+fn compose(outer: &Transform, inner: &Transform) -> Transform {
+    let quat = |r: &Option<Rotation>| match r {
+        Some(r) => DQuat::from_axis_angle(DVec3::from(r.axis).normalize(), r.angle),
+        None => DQuat::IDENTITY,
+    };
+    let (qo, qi) = (quat(&outer.rotate), quat(&inner.rotate));
+    let t = DVec3::from(outer.translate) + qo * (DVec3::from(inner.translate) * outer.scale);
+    let rotate = match (&outer.rotate, &inner.rotate) {
+        (None, None) => None,
+        (Some(r), None) | (None, Some(r)) => Some(*r),
+        _ => {
+            let (axis, angle) = (qo * qi).normalize().to_axis_angle();
+            Some(Rotation { axis: axis.into(), angle })
+        }
+    };
+    Transform { translate: t.into(), rotate, scale: outer.scale * inner.scale }
+}
+
+/// Builds the scene in post-order with an explicit stack (an n-ary union
+/// of thousands of shapes is a comb that deep); `spans[i]` is where node i
+/// was written.
+fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usize, NotBlobtree> {
+    enum Task<'t> {
+        Visit(&'t Tree, Transform),
+        Combine(Operator, Span),
+    }
+    let mut stack = vec![Task::Visit(tree, Transform::default())];
+    let mut out: Vec<usize> = vec![];
+    while let Some(task) = stack.pop() {
+        let (id, span) = match task {
+            Task::Visit(Tree::Leaf(p, span), tf) => {
+                let p = Primitive { shape: p.shape, transform: compose(&tf, &p.transform) };
+                (b.primitive(p), *span)
+            }
+            Task::Visit(Tree::Moved(t, sub), tf) => {
+                stack.push(Task::Visit(sub, compose(&tf, t)));
+                continue;
+            }
+            Task::Visit(Tree::Op(op, l, r, span), tf) => {
+                stack.push(Task::Combine(*op, *span));
+                stack.push(Task::Visit(r, tf));
+                stack.push(Task::Visit(l, tf));
+                continue;
+            }
+            Task::Combine(op, span) => {
+                let r = out.pop().expect("two operands");
+                let l = out.pop().expect("two operands");
+                (b.operator(op, l, r), span)
+            }
+        };
+        if b.len() > MAX_LOWERED_NODES {
+            return Err(not(format!("the blobtree would have more than {MAX_LOWERED_NODES} nodes (definitions used several times are copied)"), span));
+        }
+        spans.push(span);
+        out.push(id);
+    }
+    Ok(out.pop().expect("a root"))
+}
+
+/// Lowers a compiled formula with its parameter values (in the formula's
+/// parameter order, as in `Settings::params`).
+pub fn from_formula(f: &crate::Formula, params: &[f32]) -> Result<Scene, NotBlobtree> {
+    // The formula compiled, so its text parses.
+    let program = crate::syntax::parse(&f.source).map_err(|e| not(e.to_diagnostic().message, Span::default()))?;
+    let value = |n: &str| f.ir.params.iter().position(|(p, _)| p == n).and_then(|i| params.get(i)).map(|&v| v as f64);
+    lower(&program, &value)
+}
