@@ -60,6 +60,23 @@ impl FieldBinding {
         vec![[x, y, 1], [(rect.tiles() as u32).div_ceil(64), 1, 1]]
     }
 
+    /// Uploads an edit in place of a scene (`Linear::set_primitive`): the
+    /// changed parameter rows and bounding ball, nothing else. The bind
+    /// group stays valid (same buffers).
+    pub fn patch_scene(&self, gpu: &Gpu, patch: &crate::scene::linear::ScenePatch) -> Result<(), &'static str> {
+        let find = |b: u32| self.buffers.iter().find(|(k, _)| *k == b).map(|(_, buf)| buf);
+        let (Some(params), Some(balls), true) = (find(1), find(3), self.scene) else {
+            return Err("an edit in place applies to a scene field");
+        };
+        let end = (patch.param_row as u64 + patch.params.len() as u64) * 16;
+        if end > params.size() || (patch.ball_index as u64 + 1) * 16 > balls.size() {
+            return Err("the edit does not fit the scene's buffers: it belongs to another scene");
+        }
+        gpu.queue.write_buffer(params, patch.param_row as u64 * 16, bytemuck::cast_slice(&patch.params));
+        gpu.queue.write_buffer(balls, patch.ball_index as u64 * 16, bytemuck::cast_slice(&[patch.ball]));
+        Ok(())
+    }
+
     /// The bind group of these buffers and a dispatch's.
     pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout, per_dispatch: &[(u32, wgpu::Buffer)]) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry> =

@@ -168,6 +168,13 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
+    /// Uploads an edit in place of the scene this renderer draws
+    /// (`scene::linear::Linear::set_primitive`): two small buffer writes,
+    /// no new buffer, bind group, shader or pipeline.
+    pub fn patch_scene(&self, patch: &crate::scene::linear::ScenePatch) -> Result<(), RenderError> {
+        self.field.patch_scene(self.gpu, patch).map_err(|m| SettingsError::new(crate::render::SettingsField::Features, "scene edit", m).into())
+    }
+
     /// Bisection of a compiled formula in `domain`, without modalities.
     pub fn bisect(gpu: &'g Gpu, ir: &crate::ir::Ir, domain: crate::codegen::Domain) -> Result<Renderer<'g>, RenderError> {
         Self::new(gpu, FieldSource::Compiled(ir), Traversal::Bisect(crate::render::BisectOptions::new(domain)))
