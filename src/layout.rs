@@ -181,6 +181,9 @@ pub const FLAG_GLASS: u32 = 32;
 /// Frame flag: draw unresolved / unconverged pixels like hits (neither this
 /// nor `FLAG_UNRESOLVED_SOLID`: hatched).
 pub const FLAG_UNRESOLVED_GUESS: u32 = 64;
+/// Scene field flag: every tile evaluates the whole tree (the dense
+/// baseline the sparse traversal is measured against; `bench --suite scenes`).
+pub const FLAG_SCENE_FULL: u32 = 128;
 
 /// Pixel status in the record (bits 30-31 of the colour word).
 pub const STATUS_MISS: u32 = 0;
@@ -206,6 +209,7 @@ pub fn wgsl_constants() -> String {
     let u = [
         ("FLAG_UNRESOLVED_SOLID", FLAG_UNRESOLVED_SOLID),
         ("FLAG_UNRESOLVED_GUESS", FLAG_UNRESOLVED_GUESS),
+        ("FLAG_SCENE_FULL", FLAG_SCENE_FULL),
         ("FLAG_NO_TILE_CULLING", FLAG_NO_TILE_CULLING),
         ("FLAG_SCREEN", FLAG_SCREEN),
         ("FLAG_DYNAMIC_EPS", FLAG_DYNAMIC_EPS),

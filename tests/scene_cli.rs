@@ -136,3 +136,34 @@ fn formula_prints_the_scene_as_distance_forms() {
     assert!(stderr(&o).contains(": the scene's formula would be 65"), "{}", stderr(&o));
     assert!(stderr(&o).ends_with("bytes or more, above the formula language's limit of 65536 bytes\n"), "{}", stderr(&o));
 }
+
+#[test]
+fn bench_suite_scenes_measures_each_series_sparse_and_dense() {
+    let json = tmp("scenes.json");
+    let md = tmp("scenes.md");
+    let o = isotrace(&["bench", "--suite", "scenes", "--max-level", "0", "--size", "32", "--repeat", "1", "--json", json.to_str().unwrap(), "--markdown", md.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| scene")).collect();
+    // 3 kinds × sharp/smooth × level 0 × sparse/dense.
+    assert_eq!(rows.len(), 12, "{out}");
+    assert!(rows[0].starts_with("| aggregate | sharp | 0 | 10 | sparse | "), "{}", rows[0]);
+    assert!(rows[1].starts_with("| aggregate | sharp | 0 | 10 | dense | "), "{}", rows[1]);
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let rows = doc["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 12);
+    for r in rows {
+        assert_eq!(r["overflow_tiles"], 0, "{r}");
+        assert!(r["gpu_ms"].as_f64().unwrap() > 0.0 && r["evals_per_ray"].as_f64().unwrap() > 0.0, "{r}");
+    }
+    // Sparse and dense see the same active primitives per tile.
+    assert_eq!(rows[0]["active_mean"], rows[1]["active_mean"]);
+    assert!(std::fs::read_to_string(&md).unwrap().starts_with("Machine: llvmpipe"));
+
+    let o = isotrace(&["bench", "--suite", "scenes", "--find-eps"]);
+    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --find-eps does not apply to --suite scenes\n"));
+    let o = isotrace(&["bench", "--suite", "scenes", "--max-level", "5"]);
+    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: invalid --max-level 5: the generated series go up to level 4\n"));
+    let o = isotrace(&["bench", "sphere", "--max-level", "1"]);
+    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --max-level applies to --suite scenes\n"));
+}

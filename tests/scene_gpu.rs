@@ -114,3 +114,37 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
     assert!(e.reason.contains("keeps the primitive's type"), "{e}");
     assert!(lin.set_primitive(lin.primitives.len(), &q).is_err());
 }
+
+#[test]
+fn the_dense_baseline_draws_the_sparse_picture() {
+    use isotrace::scene::generate::{generate, Blending, Kind};
+    let scene = generate(Kind::Aggregate, 1, Blending::Smooth, 3).unwrap();
+    let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
+    let data = lin.field_data();
+    let mut o = SphereOptions::default();
+    o.lipschitz = 1.45;
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let mut r = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap();
+    let s = common::settings(common::cube(1.3), 64, 64);
+    let sparse = r.render(&s).unwrap();
+    let created = own.pipelines_created.load(Ordering::Relaxed);
+    r.set_scene_dense(true);
+    let dense = r.render(&s).unwrap();
+    assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
+    assert_eq!((sparse.stats.field.overflow_tiles, dense.stats.field.overflow_tiles), (0, 0));
+    assert_eq!(sparse.stats.field.tile_active, dense.stats.field.tile_active, "the same active primitives per tile");
+    let mut hits = 0;
+    for (a, b) in sparse.pixels.iter().zip(&dense.pixels) {
+        assert_eq!(a.status, b.status);
+        if a.status == Status::Hit {
+            hits += 1;
+            // Away from the surface the pruned views give other (smaller)
+            // values, so the march samples other points and stops elsewhere
+            // within the hit criterion: the screen-space one, a pixel's
+            // footprint at that depth (2 t tan(fov/2) / height).
+            let footprint = 2.0 * a.depth * (20f32).to_radians().tan() / 64.0;
+            assert!((a.depth - b.depth).abs() < footprint, "{} vs {}", a.depth, b.depth);
+        }
+    }
+    assert!(hits > 200, "{hits}");
+}

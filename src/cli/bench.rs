@@ -26,9 +26,12 @@ pub struct BenchArgs {
     /// Surfaces: catalog names or .iso files (default: the Knoll suite).
     #[arg(value_name = "NAME|FILE")]
     surfaces: Vec<String>,
-    /// A predefined suite: knoll (Table 1 of Knoll et al.), sdf (the distance-field scenes) or all (the whole catalog).
+    /// A predefined suite: knoll (Table 1 of Knoll et al.), sdf (the distance-field scenes), all (the whole catalog), or scenes (Zanni et al.'s generated blobtree series through the scene field, sparse and dense; takes --size, --repeat, --max-steps, --max-level, --json, --markdown).
     #[arg(long, value_name = "SUITE")]
     suite: Option<String>,
+    /// With --suite scenes: the highest level of each generated series (0-4; default 3: up to 11,110 aggregate primitives, 1,024 boxes, 1,536 sphere pairs).
+    #[arg(long, value_name = "L")]
+    max_level: Option<u32>,
     /// Image size `WxH` or `N`.
     #[arg(long, default_value = "1024")]
     size: String,
@@ -73,6 +76,25 @@ pub struct BenchArgs {
     /// Merge the JSON reports of shards (written with --json) into one report instead of running jobs: the table on stdout, and --json / --markdown as a single run would write them. A quoted wildcard in a file name is expanded.
     #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["surfaces", "suite", "shard", "out", "find_eps", "size", "eps", "algebra", "method", "omega", "max_steps", "repeat", "job_timeout"])]
     merge: Vec<PathBuf>,
+}
+
+/// `--suite scenes`: flags of catalog jobs are refused, not ignored.
+fn scenes(a: &BenchArgs) -> Result<ExitCode, CliError> {
+    let misplaced = [
+        (!a.surfaces.is_empty(), "surface names"),
+        (a.find_eps, "--find-eps"),
+        (a.out.is_some(), "--out"),
+        (a.job_timeout.is_some(), "--job-timeout"),
+        (a.shard.shard.is_some(), "--shard"),
+    ];
+    if let Some((_, flag)) = misplaced.iter().find(|(given, _)| *given) {
+        return Err(input(format!("{flag} does not apply to --suite scenes")));
+    }
+    if a.repeat == 0 {
+        return Err(input("--repeat must be at least 1"));
+    }
+    let size = super::render::parse_size(&a.size)?;
+    super::bench_scenes::run(size, a.repeat, a.max_steps, a.max_level.unwrap_or(3), a.json.as_deref(), a.markdown.as_deref())
 }
 
 /// The jobs' variants with their labels (a bad list entry names its flag).
@@ -124,6 +146,12 @@ fn algebra(a: &str) -> AlgebraArg {
 pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     if !a.merge.is_empty() {
         return merge(&a);
+    }
+    if a.suite.as_deref() == Some("scenes") {
+        return scenes(&a);
+    }
+    if a.max_level.is_some() {
+        return Err(input("--max-level applies to --suite scenes"));
     }
     let surfaces = entries(&a)?;
     let labelled = labelled_variants(&a)?;
@@ -308,7 +336,7 @@ fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Repor
 
 /// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe), 2 CPU threads": the
 /// Markdown report's machine line.
-fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
+pub(super) fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
     format!("{} ({}, {}), {threads} CPU threads", d.name, d.backend, d.driver)
 }
 

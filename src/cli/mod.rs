@@ -4,6 +4,7 @@
 mod animate;
 mod batch;
 mod bench;
+mod bench_scenes;
 mod eval;
 mod frames;
 mod input;

@@ -37,6 +37,24 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
     checks.into_iter().find(|(bad, _)| *bad).map(|(_, m)| m)
 }
 
+/// The default view of a scene: its solid's box with a margin, so
+/// silhouettes are not cut; `None` when a plane is not cut off.
+pub fn framing(lin: &Linear) -> Option<View> {
+    let b = lin.bounds;
+    if !b.is_bounded() || b.is_empty() {
+        return None;
+    }
+    let pad = 0.05 * (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max).max(1e-6);
+    let mut v = View::default();
+    v.bbox = [b.min[0] - pad, b.max[0] + pad, b.min[1] - pad, b.max[1] + pad, b.min[2] - pad, b.max[2] + pad];
+    Some(v)
+}
+
+/// The Lipschitz bound a scene is traced with by default.
+pub fn scene_lipschitz(lin: &Linear) -> f64 {
+    if lin.nodes.iter().any(|n| (n[0] >> 22) & 0xff >= SMOOTH_UNION) { SMOOTH_SCENE_LIPSCHITZ } else { 1.0 }
+}
+
 /// Renders the scene at `path`.
 pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     if let Some(m) = misplaced(a) {
@@ -44,15 +62,11 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     }
     let scene = isotrace::scene::format::load(path).map_err(|e| input(e.to_string()))?;
     let lin = Linear::new(&scene).map_err(|e| input(format!("{}: {e}", path.display())))?;
-    let b = lin.bounds;
-    let mut base = View::default();
-    if b.is_bounded() && !b.is_empty() {
-        // The scene's solid with a margin, so silhouettes are not cut.
-        let pad = 0.05 * (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max).max(1e-6);
-        base.bbox = [b.min[0] - pad, b.max[0] + pad, b.min[1] - pad, b.max[1] + pad, b.min[2] - pad, b.max[2] + pad];
-    } else if a.view.bbox.is_none() {
-        return Err(input(format!("{}: the scene is unbounded (a plane is not cut off): give --box", path.display())));
-    }
+    let base = match framing(&lin) {
+        Some(v) => v,
+        None if a.view.bbox.is_some() => View::default(),
+        None => return Err(input(format!("{}: the scene is unbounded (a plane is not cut off): give --box", path.display()))),
+    };
     let size = super::render::parse_size(a.size.as_deref().unwrap_or("512"))?;
     let v = view_flags(&a.view, base)?;
     let s = finish_settings(&a.view, v.settings_without_params(size.0, size.1).map_err(view_error)?)?;
@@ -61,8 +75,8 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
         return Err(input(format!("--color {} applies to --method bisect only", a.color)));
     }
     let mut o = sphere_options(&a.sphere, None)?;
-    if a.sphere.lipschitz.is_none() && lin.nodes.iter().any(|n| (n[0] >> 22) & 0xff >= SMOOTH_UNION) {
-        o.lipschitz = SMOOTH_SCENE_LIPSCHITZ;
+    if a.sphere.lipschitz.is_none() {
+        o.lipschitz = scene_lipschitz(&lin);
     }
     if color == ColorMode::Field {
         o.shading = Shading::Field;

@@ -18,9 +18,16 @@ pub(crate) struct FieldBinding {
     /// Primitives of a scene (0 for a compiled field).
     prims: u32,
     scene: bool,
+    /// A scene evaluates its whole tree in every tile (the dense baseline).
+    pub dense: bool,
 }
 
 impl FieldBinding {
+    /// The field's bits of the frame flags.
+    pub fn flags(&self) -> u32 {
+        if self.scene && self.dense { crate::layout::FLAG_SCENE_FULL } else { 0 }
+    }
+
     /// Whether the field reports per-tile statistics.
     pub fn has_tile_stats(&self) -> bool {
         self.scene
@@ -88,7 +95,7 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], prims: 0, scene: false }),
+        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], prims: 0, scene: false, dense: false }),
         FieldSource::Scene(s) => {
             let mut layout: Vec<_> = (0..4).map(|b| storage_entry(b, true)).collect();
             layout.extend((4..8).map(|b| storage_entry(b, false)));
@@ -98,7 +105,7 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (2, gpu.storage("scene primitives", bytemuck::cast_slice(&s.prims))?),
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
-            Ok(FieldBinding { layout, buffers, prims: s.prims.len() as u32, scene: true })
+            Ok(FieldBinding { layout, buffers, prims: s.prims.len() as u32, scene: true, dense: false })
         }
     }
 }

@@ -164,8 +164,18 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
+        let dense = self.field.dense;
         self.field = field::bind(self.gpu, field)?;
+        self.field.dense = dense;
         Ok(())
+    }
+
+    /// A scene field evaluates its whole tree for every pixel instead of
+    /// its tiles' pruned views (a uniform flag: no new pipeline). The
+    /// dense baseline against which the sparse traversal is measured; the
+    /// picture is the same.
+    pub fn set_scene_dense(&mut self, dense: bool) {
+        self.field.dense = dense;
     }
 
     /// Uploads an edit in place of the scene this renderer draws
@@ -283,7 +293,7 @@ impl<'g> Renderer<'g> {
     fn run(&self, s: &Settings, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
         s.check()?;
         let cam = s.camera.frame()?;
-        let mut fb = frame_block(s, &cam, self.host.flags());
+        let mut fb = frame_block(s, &cam, self.host.flags() | self.field.flags());
         let trav = self.host.block(s, &cam);
         let rays = self.host.ray_stats_binding();
         let per_pixel = std::mem::size_of::<Record>() as u64;

@@ -206,7 +206,7 @@ impl TileStats {
             if let Some(a) = self.active.get_mut((ty * self.tiles_x + tx) as usize) {
                 *a = w[1];
             }
-            self.overflow += u64::from(w[0] == crate::codegen::kernel::SCENE_VIEW_FULL);
+            self.overflow += u64::from(w[0] == crate::codegen::kernel::SCENE_VIEW_FULL && w[1] > crate::codegen::kernel::SCENE_TILE_MAX);
         }
     }
 

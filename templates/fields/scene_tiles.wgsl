@@ -123,7 +123,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     let nt = scene_tiles_x() * scene_tiles_y();
     if (t >= nt) { return; }
     let count = atomicLoad(&scene_tile_count[t]);
-    if (count > SCENE_TILE_MAX) {
+    if (count > SCENE_TILE_MAX || (F.flags & FLAG_SCENE_FULL) != 0u) {
         scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
         return;
     }

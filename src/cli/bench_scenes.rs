@@ -1,0 +1,151 @@
+//! `isotrace bench --suite scenes`: the generated series of Zanni et al.
+//! (Fig. 16's recursive aggregates, Fig. 18's instanced boxes and sphere
+//! pairs; sharp and smooth) through the scene field, each traced twice with
+//! the same kernel: sparse (every 8×8 tile evaluates its pruned view) and
+//! dense (every tile evaluates the whole tree, a uniform flag). The table
+//! is what the README's scene figures are made of; `scripts/plot-scenes.py`
+//! draws ms against primitive count from the JSON.
+
+use super::CliError;
+use isotrace::codegen::FieldSource;
+use isotrace::gpu::{Gpu, Renderer};
+use isotrace::render::{SphereOptions, Stats, Traversal};
+use isotrace::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
+use isotrace::scene::linear::Linear;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::ExitCode;
+
+/// One measured row.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SceneRow {
+    /// `aggregate`, `boxes`, `sphere-pairs`.
+    pub kind: String,
+    /// `sharp` or `smooth`.
+    pub blending: String,
+    /// Level of the series.
+    pub level: u32,
+    /// Primitives.
+    pub primitives: usize,
+    /// `sparse` or `dense`.
+    pub path: String,
+    /// Median GPU ms of the timed runs.
+    pub gpu_ms: f64,
+    /// Marching steps per pixel (each evaluates the field once).
+    pub steps_per_ray: f64,
+    /// Field evaluations per ray: the steps plus the six of the normal on a hit.
+    pub evals_per_ray: f64,
+    /// Mean and most active primitives per 8×8 tile.
+    pub active_mean: f64,
+    /// The most in one tile.
+    pub active_max: u32,
+    /// Tiles whose active primitives overflowed the tile list.
+    pub overflow_tiles: u64,
+    /// Pixels that did not converge.
+    pub unconverged: u64,
+}
+
+/// The series measured: every kind up to `max_level`, sharp and smooth.
+fn series(max_level: u32) -> Vec<(Kind, Blending, u32)> {
+    let mut v = vec![];
+    for kind in [Kind::Aggregate, Kind::Boxes, Kind::SpherePairs] {
+        for blending in [Blending::Sharp, Blending::Smooth] {
+            v.extend((0..=max_level).map(|l| (kind, blending, l)));
+        }
+    }
+    v
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Measures one scene both ways.
+fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u32), repeat: u32, max_steps: Option<u32>) -> Result<Vec<SceneRow>, CliError> {
+    let fail = |m: String| CliError::Input(format!("{} level {level}: {m}", kind.name()));
+    let scene = generate(kind, level, blending, 1).map_err(|e| fail(e.to_string()))?;
+    let lin = Linear::new(&scene).map_err(|e| fail(e.to_string()))?;
+    let view = super::scene_render::framing(&lin).ok_or_else(|| fail("unbounded".into()))?;
+    let s = view.settings_without_params(size.0, size.1).map_err(|e| fail(e.to_string()))?;
+    let mut o = SphereOptions { lipschitz: super::scene_render::scene_lipschitz(&lin), ..Default::default() };
+    if let Some(n) = max_steps {
+        o.max_steps = n;
+    }
+    let data = lin.field_data();
+    let mut r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o)).map_err(super::render_error)?;
+    let mut rows = vec![];
+    for dense in [false, true] {
+        r.set_scene_dense(dense);
+        r.render(&s).map_err(super::render_error)?; // warm-up
+        let mut runs: Vec<Stats> = vec![];
+        for _ in 0..repeat {
+            runs.push(r.render(&s).map_err(super::render_error)?.stats);
+        }
+        let st = runs.last().expect("repeat >= 1").clone();
+        let hit_share = st.hits as f64 / st.pixels.max(1) as f64;
+        rows.push(SceneRow {
+            kind: kind.name().into(),
+            blending: if blending == Blending::Sharp { "sharp" } else { "smooth" }.into(),
+            level,
+            primitives: lin.primitives.len(),
+            path: if dense { "dense" } else { "sparse" }.into(),
+            gpu_ms: median(runs.iter().map(|s| s.gpu_ms).collect()),
+            steps_per_ray: st.evals_mean,
+            evals_per_ray: st.evals_mean + 6.0 * hit_share,
+            active_mean: st.field.active_mean,
+            active_max: st.field.active_max,
+            overflow_tiles: st.field.overflow_tiles,
+            unconverged: st.unresolved,
+        });
+    }
+    Ok(rows)
+}
+
+/// The console / Markdown table.
+pub fn table(rows: &[SceneRow]) -> String {
+    let mut t = String::from(
+        "| scene | blend | level | primitives | path | GPU ms | steps/ray | evals/ray | active/tile (mean, max) | overflow tiles | unconverged |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "| {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.1}, {} | {} | {} |",
+            r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.steps_per_ray, r.evals_per_ray, r.active_mean, r.active_max, r.overflow_tiles, r.unconverged
+        );
+    }
+    t
+}
+
+/// Runs the series. `size`, `repeat`, `max_steps` and the outputs come from
+/// the bench flags; `max_level` from `--max-level`.
+pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32, json: Option<&Path>, markdown: Option<&Path>) -> Result<ExitCode, CliError> {
+    if max_level > MAX_LEVEL {
+        return Err(CliError::Input(format!("invalid --max-level {max_level}: the generated series go up to level {MAX_LEVEL}")));
+    }
+    let gpu = super::render::open_gpu()?;
+    let machine = super::bench::machine(&gpu.info, std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let mut rows = vec![];
+    let jobs = series(max_level);
+    for (k, &(kind, blending, level)) in jobs.iter().enumerate() {
+        let new = measure(&gpu, kind, blending, level, size, repeat, max_steps)?;
+        for r in &new {
+            eprintln!(
+                "[{}/{}] {} {} level {} ({} primitives) {}: {:.1} ms, {:.2} evals/ray, {:.1} active/tile",
+                k + 1, jobs.len(), r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.evals_per_ray, r.active_mean
+            );
+        }
+        rows.extend(new);
+    }
+    let t = table(&rows);
+    println!("{machine}, {}x{}, median of {repeat}\n\n{t}", size.0, size.1);
+    if let Some(p) = json {
+        let doc = serde_json::json!({ "machine": machine, "size": [size.0, size.1], "repeat": repeat, "rows": rows });
+        isotrace::output::write_atomic(p, serde_json::to_string_pretty(&doc).expect("serialisable").as_bytes()).map_err(|e| CliError::Input(e.to_string()))?;
+    }
+    if let Some(p) = markdown {
+        let text = format!("Machine: {machine}; {}x{}, median of {repeat} runs.\n\n{t}", size.0, size.1);
+        isotrace::output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::Input(e.to_string()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
