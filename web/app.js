@@ -137,16 +137,21 @@ class Host {
     const info = await module.getCompilationInfo();
     const errors = info.messages.filter((m) => m.type === 'error');
     if (errors.length) throw new Error('the browser rejected the kernel: ' + errors.map((m) => m.message).join('\n'));
-    const layouts = P.groups.map((g) => d.createBindGroupLayout({
-      entries: g.map((b) => ({ binding: b.binding, visibility: GPUShaderStage.COMPUTE, buffer: { type: b.read_only ? 'read-only-storage' : 'storage' } })),
-    }));
-    const layout = d.createPipelineLayout({ bindGroupLayouts: layouts });
-    const pipelines = {};
+    // Per stage, layouts of only the bindings its entry point uses (the
+    // server's `uses`, from naga): WebGPU counts a layout's every binding
+    // against the per-stage storage buffer limit.
+    const stages = [];
     for (const st of P.stages) {
-      pipelines[st.entry] ??= await d.createComputePipelineAsync({ layout, compute: { module, entryPoint: st.entry } });
+      const used = (gi, b) => st.uses.some(([g, n]) => g === gi && n === b.binding);
+      const layouts = P.groups.map((g, gi) => d.createBindGroupLayout({
+        entries: g.filter((b) => used(gi, b)).map((b) => ({ binding: b.binding, visibility: GPUShaderStage.COMPUTE, buffer: { type: b.read_only ? 'read-only-storage' : 'storage' } })),
+      }));
+      const layout = d.createPipelineLayout({ bindGroupLayouts: layouts });
+      const pipeline = await d.createComputePipelineAsync({ layout, compute: { module, entryPoint: st.entry } });
+      stages.push({ st, layouts, pipeline, used });
     }
     const uniforms = d.createBuffer({ size: P.uniforms.length * 4, usage: B.STORAGE | B.COPY_DST });
-    Object.assign(this, { P, layouts, pipelines, uniforms, sized: null });
+    Object.assign(this, { P, stages, uniforms, sized: null });
     this.data = P.groups.map((g) => new Map(g.filter((b) => b.size.kind === 'data').map((b) => [b.binding, this.dataBuffer(b)])));
     view.programs++;
   }
@@ -169,22 +174,21 @@ class Host {
     if (this.sized && this.sized.w === w && this.sized.h === h) return this.sized;
     const d = this.device;
     const tiles = Math.ceil(w / 8) * Math.ceil(h / 8);
-    const r = { w, h, tiles, buffers: [new Map(), new Map(), new Map()], groups: [] };
+    const r = { w, h, tiles, buffers: [new Map(), new Map(), new Map()] };
     const bytes = (s) => ({ uniforms: this.P.uniforms.length * 4, per_pixel: s.bytes * w * h, per_tile: s.bytes * tiles, fixed: s.bytes }[s.kind]);
     this.P.groups.forEach((g, gi) => {
-      const entries = g.map((b) => {
+      for (const b of g) {
         let buf;
         if (b.size.kind === 'uniforms') buf = this.uniforms;
         else if (b.size.kind === 'data') buf = this.data[gi].get(b.binding).buf;
-        else {
-          const usage = B.STORAGE | B.COPY_SRC | (b.indirect ? B.COPY_DST : 0);
-          buf = d.createBuffer({ size: Math.max(16, bytes(b.size)), usage });
-        }
+        else buf = d.createBuffer({ size: Math.max(16, bytes(b.size)), usage: B.STORAGE | B.COPY_SRC | (b.indirect ? B.COPY_DST : 0) });
         r.buffers[gi].set(b.binding, buf);
-        return { binding: b.binding, resource: { buffer: buf } };
-      });
-      r.groups.push(d.createBindGroup({ layout: this.layouts[gi], entries }));
+      }
     });
+    r.stageGroups = this.stages.map((s) => this.P.groups.map((g, gi) => d.createBindGroup({
+      layout: s.layouts[gi],
+      entries: g.filter((b) => s.used(gi, b)).map((b) => ({ binding: b.binding, resource: { buffer: r.buffers[gi].get(b.binding) } })),
+    })));
     r.args = d.createBuffer({ size: 16, usage: B.INDIRECT | B.COPY_DST });
     r.records = r.buffers[2].get(0);
     r.present = d.createBindGroup({ layout: this.present.getBindGroupLayout(0), entries: [{ binding: 0, resource: { buffer: r.records } }, { binding: 1, resource: { buffer: this.presentUniforms } }] });
@@ -211,19 +215,19 @@ class Host {
       d.queue.writeBuffer(this.uniforms, 0, uniformWords);
       d.queue.writeBuffer(this.presentUniforms, 0, present);
       const enc = d.createCommandEncoder();
-      for (const st of this.P.stages) {
+      this.stages.forEach(({ st, pipeline }, si) => {
         const ind = st.groups.kind === 'indirect';
         if (ind) {
           const list = r.buffers[2].get(st.groups.binding);
           enc.copyBufferToBuffer(list, 0, r.args, 0, 12);
         }
         const pass = enc.beginComputePass();
-        r.groups.forEach((g, i) => pass.setBindGroup(i, g));
-        pass.setPipeline(this.pipelines[st.entry]);
+        r.stageGroups[si].forEach((g, i) => pass.setBindGroup(i, g));
+        pass.setPipeline(pipeline);
         if (ind) pass.dispatchWorkgroupsIndirect(r.args, 0);
         else pass.dispatchWorkgroups(...this.groups(st.groups, r));
         pass.end();
-      }
+      });
       for (const st of this.P.stages) {
         if (st.groups.kind === 'indirect') d.queue.writeBuffer(r.buffers[2].get(st.groups.binding), 0, new Uint32Array([0, 1, 1, 0]));
       }
@@ -570,7 +574,11 @@ async function main() {
     if (!adapter) throw new Error('no WebGPU adapter');
     view.adapter = { fallback: adapter.isFallbackAdapter ?? null, architecture: adapter.info?.architecture ?? '' };
     const device = await adapter.requestDevice({
-      requiredLimits: { maxStorageBufferBindingSize: adapter.limits.maxStorageBufferBindingSize, maxBufferSize: adapter.limits.maxBufferSize },
+      requiredLimits: {
+        maxStorageBufferBindingSize: adapter.limits.maxStorageBufferBindingSize, maxBufferSize: adapter.limits.maxBufferSize,
+        // A scene binds 11 storage buffers (the default limit is 8).
+        maxStorageBuffersPerShaderStage: adapter.limits.maxStorageBuffersPerShaderStage,
+      },
     });
     device.lost.then((i) => fail('the WebGPU device was lost: ' + i.message));
     for (const name of ['createComputePipeline', 'createComputePipelineAsync', 'createRenderPipeline', 'createRenderPipelineAsync']) {

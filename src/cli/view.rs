@@ -257,7 +257,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
     if let Some(path) = &a.export {
         merge(&mut start, json!({ "server": false }));
         let page = isotrace::view::page::export(&start).map_err(|e| CliError::Internal(e.to_string()))?;
-        super::input::write_atomic(path, page.as_bytes()).map_err(|e| CliError::Input(format!("cannot write '{}': {e}", path.display())))?;
+        super::input::write_atomic(path, page.as_bytes()).map_err(CliError::Input)?;
         eprintln!("wrote {} (a static page: serve it over http(s), e.g. python3 -m http.server; WebGPU needs a secure context)", path.display());
         return Ok(ExitCode::SUCCESS);
     }

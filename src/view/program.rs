@@ -101,6 +101,11 @@ pub struct Stage {
     pub entry: &'static str,
     /// Its workgroups.
     pub groups: Groups,
+    /// The (group, binding) pairs the entry point uses, from naga's
+    /// analysis: the page binds only these per stage, because WebGPU
+    /// counts every binding of a layout against the per-stage limit (a
+    /// scene's kernel binds 11 storage buffers in all; SwiftShader allows 10).
+    pub uses: Vec<[u32; 2]>,
 }
 
 /// The uniform blocks: the frame block at offset 0, the traversal's after it.
@@ -171,7 +176,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     if kernel.wgsl.len() > MAX_SHADER_BYTES {
         return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
     }
-    crate::validate::validate(&kernel.wgsl)?;
+    let module = crate::validate::validate(&kernel.wgsl)?;
     let uniforms = uniform_bytes(traversal, s)?;
     let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false }];
     let mut pass = vec![scratch(0, "pixel records", Size::PerPixel { bytes: 16 })];
@@ -179,8 +184,8 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     let field_group = match field {
         FieldSource::Compiled(_) => vec![],
         FieldSource::Scene(d) => {
-            stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 } });
-            stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 } });
+            stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![] });
+            stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 }, uses: vec![] });
             vec![
                 data(0, "scene nodes", words(&d.nodes)),
                 data(1, "scene params", words(&d.params)),
@@ -205,21 +210,42 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
             let tpg = crate::gpu::bisect::TILES_PER_GROUP;
             if b.optimizations.tile_culling {
-                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 } });
-                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 } });
+                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![] });
+                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![] });
             } else {
-                stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg } });
+                stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg }, uses: vec![] });
             }
             let m = &b.modalities;
             ("bisect", blocks::<BisectBlock>(), Follow { light: m.light.is_none(), eps_factor: m.shadow_eps.is_none().then_some(4.0) })
         }
         Traversal::Sphere(o) => {
             pass.push(scratch(1, "ray statistics", Size::PerPixel { bytes: 4 }));
-            stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 } });
+            stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![] });
             ("sphere", blocks::<SphereBlock>(), Follow { light: true, eps_factor: o.eps_min.is_none().then_some(1.0) })
         }
     };
+    let uses = binding_uses(&module);
+    for st in &mut stages {
+        st.uses = uses.iter().find(|(e, _)| e == st.entry).map(|(_, u)| u.clone()).unwrap_or_default();
+    }
     Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms: words(&uniforms), groups: [frame, field_group, pass], stages, follow })
+}
+
+/// Every entry point's used resource bindings (naga's per-entry-point
+/// global usage).
+fn binding_uses(module: &naga::Module) -> Vec<(String, Vec<[u32; 2]>)> {
+    let mut v = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    let Ok(info) = v.validate(module) else { return vec![] };
+    module
+        .entry_points
+        .iter()
+        .enumerate()
+        .map(|(i, ep)| {
+            let ei = info.get_entry_point(i);
+            let used = module.global_variables.iter().filter(|(h, _)| !ei[*h].is_empty()).filter_map(|(_, g)| g.binding.as_ref().map(|b| [b.group, b.binding])).collect();
+            (ep.name.clone(), used)
+        })
+        .collect()
 }
 
 fn blocks<T: GpuBlock>() -> Blocks {
