@@ -39,7 +39,9 @@ fn heat(v: f32) -> vec3<f32> {
 
 // The linear colour `output::recolor` gives a record in `mode`.
 fn present_linear(r: vec4<u32>, mode: u32, steps_max: u32) -> vec3<f32> {
-    let hit = (r.x >> 30u) != STATUS_MISS;
+    // As `Record::status`: only HIT and UNRESOLVED count as hits.
+    let status = r.x >> 30u;
+    let hit = status == STATUS_HIT || status == STATUS_UNRESOLVED;
     if (mode == PRESENT_NORMAL) {
         return select(vec3<f32>(0.0), pow(0.5 + 0.5 * record_normal(r), vec3<f32>(2.2)), hit);
     }

@@ -168,9 +168,9 @@ async function torusCase(browser) {
     await page.evaluate(() => { __view.U.width = __view.U.height = 128; });
     // The formula editor: another surface.
     const programs = await page.evaluate(() => __view.programs);
-    await page.fill('#formula', 'x^4 + y^4 + z^4 - 0.5');
+    await page.fill('#formula', 'x^2 + 2*y^2 + z^2 - 1');
     await page.click('#compile');
-    await page.waitForFunction((n) => __view.programs > n || __view.diagnostic, programs, { timeout: 120000 });
+    await page.waitForFunction((n) => __view.programs > n || __view.diagnostic, programs, { timeout: 100000 });
     const edited = await capture(page);
     check('formula edit: the picture changes', differs(moved, edited) && !(await page.evaluate(() => __view.diagnostic)));
     await matchesCli(page, 'formula-edit');
