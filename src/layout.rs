@@ -207,10 +207,11 @@ gpu_block! {
         mode: u32 = "u32",
         /// Full scale of the work heat map (`--color steps:MAX`).
         steps_max: u32 = "u32",
+        /// 1: tint the pixels whose visible surface is the selected
+        /// primitive's (the selection's records at binding 2); 0: none.
+        highlight: u32 = "u32",
         /// Padding to 16 bytes.
         pad0: u32 = "u32",
-        /// Padding.
-        pad1: u32 = "u32",
     }
 }
 

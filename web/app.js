@@ -1,9 +1,8 @@
-// isotrace view: the page's thin WebGPU host.
-//
-// The server (src/view/) compiles formulas and sends a "program": the
+// isotrace view: the page's controls, camera and frame loop; web/host.js
+// runs the kernels. The server (src/view/) compiles formulas and sends a "program": the
 // validated WGSL render kernel, the uniform blocks' fields and offsets, the
 // bind groups with the size rule of each buffer, and the stages of one
-// dispatch. This file follows that description: it knows no traversal and
+// dispatch. The host follows that description: it knows no traversal and
 // no field source. What it computes itself is what moves every frame: the
 // camera (src/render/mod.rs `Camera::frame`), the values that follow it
 // (src/gpu/bisect.rs and sphere.rs `block`) and the sliders' uniforms.
@@ -40,6 +39,7 @@ let S = null; // the server's last good state (program, view, options, …)
 const U = {}; // what the controls edit
 let host = null;
 let GUI = null;
+let Host = null;
 
 async function loadStart() {
   const el = document.getElementById('isotrace-start');
@@ -50,10 +50,10 @@ async function loadStart() {
   return j;
 }
 
-async function loadLilGui() {
-  const el = document.getElementById('isotrace-lil-gui');
-  const url = el ? URL.createObjectURL(new Blob([el.textContent], { type: 'text/javascript' })) : '/lil-gui.esm.min.js';
-  return (await import(url)).GUI;
+/** An ES module: inline in the exported page, else from the server. */
+async function loadModule(id, url) {
+  const el = document.getElementById(id);
+  return import(el ? URL.createObjectURL(new Blob([el.textContent], { type: 'text/javascript' })) : url);
 }
 
 /** POST to the API: JSON or a file; a refusal throws its message. */
@@ -100,7 +100,9 @@ const cliCommand = () => `isotrace render ${cliArgs().map(shellQuote).join(' ')}
 
 /** Adopts a state from the server (or the exported page). */
 function adopt(state) {
-  S = state;
+  // /api/program answers the program alone; whether a server is there
+  // stays what the start said.
+  S = { ...state, server: state.server ?? S?.server ?? false };
   const v = state.view, o = state.options;
   Object.assign(U, {
     input: U.input ?? state.args[0], width: v.width, height: v.height, box: v.box, eye: v.eye, target: v.target, up: v.up, fov: v.fov,
@@ -111,177 +113,6 @@ function adopt(state) {
   });
   const c = o.color || 'shade';
   if (!U.colorSet) U.color = c.startsWith('steps') ? 'steps' : c === 'phong' ? 'shade' : c;
-}
-
-// ---- The WebGPU host --------------------------------------------------------
-const B = GPUBufferUsage;
-
-class Host {
-  constructor(device, canvas, presentWgsl) {
-    this.device = device;
-    this.canvas = canvas;
-    this.context = canvas.getContext('webgpu');
-    this.context.configure({ device, format: 'rgba8unorm', usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.COPY_SRC, alphaMode: 'opaque' });
-    const module = device.createShaderModule({ code: presentWgsl });
-    this.present = device.createRenderPipeline({
-      layout: 'auto', vertex: { module, entryPoint: 'vs' }, fragment: { module, entryPoint: 'fs', targets: [{ format: 'rgba8unorm' }] },
-    });
-    this.presentUniforms = device.createBuffer({ size: 32, usage: B.UNIFORM | B.COPY_DST });
-    this.lock = Promise.resolve();
-  }
-
-  /** A new kernel: module, layouts, pipelines, static buffers. */
-  async setProgram(P) {
-    const d = this.device;
-    const module = d.createShaderModule({ code: P.wgsl });
-    const info = await module.getCompilationInfo();
-    const errors = info.messages.filter((m) => m.type === 'error');
-    if (errors.length) throw new Error('the browser rejected the kernel: ' + errors.map((m) => m.message).join('\n'));
-    // Per stage, layouts of only the bindings its entry point uses (the
-    // server's `uses`, from naga): WebGPU counts a layout's every binding
-    // against the per-stage storage buffer limit.
-    const stages = [];
-    for (const st of P.stages) {
-      const used = (gi, b) => st.uses.some(([g, n]) => g === gi && n === b.binding);
-      const layouts = P.groups.map((g, gi) => d.createBindGroupLayout({
-        entries: g.filter((b) => used(gi, b)).map((b) => ({ binding: b.binding, visibility: GPUShaderStage.COMPUTE, buffer: { type: b.read_only ? 'read-only-storage' : 'storage' } })),
-      }));
-      const layout = d.createPipelineLayout({ bindGroupLayouts: layouts });
-      const pipeline = await d.createComputePipelineAsync({ layout, compute: { module, entryPoint: st.entry } });
-      stages.push({ st, layouts, pipeline, used });
-    }
-    const uniforms = d.createBuffer({ size: P.uniforms.length * 4, usage: B.STORAGE | B.COPY_DST });
-    Object.assign(this, { P, stages, uniforms, sized: null });
-    this.data = P.groups.map((g) => new Map(g.filter((b) => b.size.kind === 'data').map((b) => [b.binding, this.dataBuffer(b)])));
-    view.programs++;
-  }
-
-  dataBuffer(b) {
-    const words = new Uint32Array(b.data);
-    const buf = this.device.createBuffer({ size: Math.max(16, words.byteLength), usage: B.STORAGE | B.COPY_DST });
-    this.device.queue.writeBuffer(buf, 0, words);
-    return { buf, count: words.length };
-  }
-
-  /** An edited scene: the field group's data buffers only (no shader, no pipeline). */
-  setFieldData(bindings) {
-    for (const b of bindings) this.data[1].set(b.binding, this.dataBuffer(b));
-    this.sized = null;
-  }
-
-  /** Scratch buffers and bind groups for a w × h frame (kept while the size stays). */
-  resources(w, h) {
-    if (this.sized && this.sized.w === w && this.sized.h === h) return this.sized;
-    const d = this.device;
-    const tiles = Math.ceil(w / 8) * Math.ceil(h / 8);
-    const r = { w, h, tiles, buffers: [new Map(), new Map(), new Map()] };
-    const bytes = (s) => ({ uniforms: this.P.uniforms.length * 4, per_pixel: s.bytes * w * h, per_tile: s.bytes * tiles, fixed: s.bytes }[s.kind]);
-    this.P.groups.forEach((g, gi) => {
-      for (const b of g) {
-        let buf;
-        if (b.size.kind === 'uniforms') buf = this.uniforms;
-        else if (b.size.kind === 'data') buf = this.data[gi].get(b.binding).buf;
-        else buf = d.createBuffer({ size: Math.max(16, bytes(b.size)), usage: B.STORAGE | B.COPY_SRC | (b.indirect ? B.COPY_DST : 0) });
-        r.buffers[gi].set(b.binding, buf);
-      }
-    });
-    r.stageGroups = this.stages.map((s) => this.P.groups.map((g, gi) => d.createBindGroup({
-      layout: s.layouts[gi],
-      entries: g.filter((b) => s.used(gi, b)).map((b) => ({ binding: b.binding, resource: { buffer: r.buffers[gi].get(b.binding) } })),
-    })));
-    r.args = d.createBuffer({ size: 16, usage: B.INDIRECT | B.COPY_DST });
-    r.records = r.buffers[2].get(0);
-    r.present = d.createBindGroup({ layout: this.present.getBindGroupLayout(0), entries: [{ binding: 0, resource: { buffer: r.records } }, { binding: 1, resource: { buffer: this.presentUniforms } }] });
-    this.sized = r;
-    return r;
-  }
-
-  /** Workgroups of a stage for a w × h frame. */
-  groups(g, r) {
-    const c = Math.ceil;
-    switch (g.kind) {
-      case 'items': { const n = c((this.data[1].get(g.binding)?.count ?? 0) / g.per_group) || 1; return [Math.min(n, 65535), c(n / 65535), 1]; }
-      case 'tiles': return [c(r.tiles / g.per_group), 1, 1];
-      case 'blocks': return [c(r.w / g.side), c(r.h / g.side), 1];
-      case 'pixel_tiles': return [c(r.w / 8), c(c(r.h / 8) / g.tiles_per_group), 1];
-      default: return null;
-    }
-  }
-
-  /** One frame: the stages as src/gpu/dispatch.rs runs them, then the present pass. */
-  frame(uniformWords, w, h, present, readback) {
-    const run = async () => {
-      const d = this.device, r = this.resources(w, h);
-      d.queue.writeBuffer(this.uniforms, 0, uniformWords);
-      d.queue.writeBuffer(this.presentUniforms, 0, present);
-      const enc = d.createCommandEncoder();
-      this.stages.forEach(({ st, pipeline }, si) => {
-        const ind = st.groups.kind === 'indirect';
-        if (ind) {
-          const list = r.buffers[2].get(st.groups.binding);
-          enc.copyBufferToBuffer(list, 0, r.args, 0, 12);
-        }
-        const pass = enc.beginComputePass();
-        r.stageGroups[si].forEach((g, i) => pass.setBindGroup(i, g));
-        pass.setPipeline(pipeline);
-        if (ind) pass.dispatchWorkgroupsIndirect(r.args, 0);
-        else pass.dispatchWorkgroups(...this.groups(st.groups, r));
-        pass.end();
-      });
-      for (const st of this.P.stages) {
-        if (st.groups.kind === 'indirect') d.queue.writeBuffer(r.buffers[2].get(st.groups.binding), 0, new Uint32Array([0, 1, 1, 0]));
-      }
-      const texture = this.context.getCurrentTexture();
-      const rp = enc.beginRenderPass({ colorAttachments: [{ view: texture.createView(), loadOp: 'clear', storeOp: 'store', clearValue: [0, 0, 0, 1] }] });
-      rp.setPipeline(this.present);
-      rp.setBindGroup(0, r.present);
-      rp.draw(3);
-      rp.end();
-      let stats = null, pixels = null;
-      if (readback) {
-        stats = d.createBuffer({ size: w * h * 16, usage: B.MAP_READ | B.COPY_DST });
-        enc.copyBufferToBuffer(r.records, 0, stats, 0, w * h * 16);
-        if (readback === 'pixels') {
-          const cw = this.canvas.width, ch = this.canvas.height, row = Math.ceil(cw * 4 / 256) * 256;
-          pixels = { buf: d.createBuffer({ size: row * ch, usage: B.MAP_READ | B.COPY_DST }), row, cw, ch };
-          enc.copyTextureToBuffer({ texture }, { buffer: pixels.buf, bytesPerRow: row }, [cw, ch]);
-        }
-      }
-      const t0 = performance.now();
-      d.queue.submit([enc.finish()]);
-      await d.queue.onSubmittedWorkDone();
-      const out = { ms: performance.now() - t0, w, h };
-      if (stats) {
-        await stats.mapAsync(GPUMapMode.READ);
-        Object.assign(out, recordStats(new Uint32Array(stats.getMappedRange())));
-        stats.destroy();
-      }
-      if (pixels) {
-        await pixels.buf.mapAsync(GPUMapMode.READ);
-        const src = new Uint8Array(pixels.buf.getMappedRange()), rgba = new Uint8Array(pixels.cw * pixels.ch * 4);
-        for (let y = 0; y < pixels.ch; y++) rgba.set(src.subarray(y * pixels.row, y * pixels.row + pixels.cw * 4), y * pixels.cw * 4);
-        pixels.buf.destroy();
-        out.rgba = rgba;
-      }
-      return out;
-    };
-    const p = this.lock.then(run);
-    this.lock = p.catch(() => {});
-    return p;
-  }
-}
-
-/** Work per pixel, hits and unresolved pixels of a frame's records (src/render/record.rs). */
-function recordStats(words) {
-  let work = 0, hits = 0, unresolved = 0;
-  const n = words.length / 4;
-  for (let i = 0; i < n; i++) {
-    work += words[4 * i + 3] & 0xffff;
-    const s = words[4 * i] >>> 30;
-    if (s === 1) hits++;
-    if (s === 2) unresolved++;
-  }
-  return { work_mean: work / Math.max(n, 1), hits, unresolved };
 }
 
 // ---- Uniforms by field name ---------------------------------------------------
@@ -336,6 +167,7 @@ function presentWords(w, h) {
   words.set([U.width, U.height], at.canvas);
   words[at.mode] = { normal: 1, steps: 2 }[U.color] ?? 0;
   words[at.steps_max] = U.steps_max;
+  words[at.highlight] = host.selData ? 1 : 0;
   return words;
 }
 
@@ -464,6 +296,7 @@ async function sceneEdited() {
     const r = await api('scene', { args: cliArgs(), scene: S.scene });
     host.setFieldData(r.buffers);
     view.sceneMs = r.layout_ms;
+    if (view.selected != null) await select(view.selected);
     $('diagnostic').textContent = '';
     await render(true);
   } catch (e) {
@@ -549,12 +382,42 @@ function sceneControls() {
   const f = gui.addFolder(`scene: ${S.scene.nodes.length} nodes (edits change buffers, no compile)`);
   S.scene.nodes.forEach((node, i) => {
     const g = f.addFolder(`${i}: ${node.type}`).close();
+    // Opening a node selects it: it is traced alone and its visible part tinted.
+    g.onOpenClose((x) => { if (!x._closed) select(i); else if (view.selected === i) select(null); });
     const edit = (obj, key, name) => { const c = g.add(obj, key).name(name); if (!S.server) c.disable(); c.onFinishChange(sceneEdited); };
     for (const [k, val] of Object.entries(node)) {
       if (typeof val === 'number' && k !== 'left' && k !== 'right') edit(node, k, k);
       else if (Array.isArray(val)) val.forEach((_, j) => { if (typeof val[j] === 'number') edit(val, j, `${k}[${j}]`); });
     }
   });
+}
+
+/** The subtree of node i as a scene of its own. */
+function subtree(scene, i) {
+  const nodes = [];
+  const visit = (k) => {
+    const n = { ...scene.nodes[k] };
+    if (typeof n.left === 'number') { n.left = visit(n.left); n.right = visit(n.right); }
+    nodes.push(n);
+    return nodes.length - 1;
+  };
+  const root = visit(i);
+  return { isotrace_scene: 1, nodes, root };
+}
+
+/** Selects scene node i (null: none): its buffers from the server, no pipeline. */
+async function select(i) {
+  view.selected = i;
+  if (i === null || !S.server) { host.setSelection(null); return render(true).catch(fail); }
+  try {
+    const r = await api('scene', { args: cliArgs(), scene: subtree(S.scene, i) });
+    if (view.selected !== i) return;
+    host.setSelection(r.buffers);
+    view.selectionReady = i;
+    await render(true);
+  } catch (e) {
+    $('diagnostic').textContent = String(e.message || e);
+  }
 }
 
 function animate() {
@@ -566,8 +429,9 @@ function animate() {
 // ---- Start -------------------------------------------------------------------------
 async function main() {
   try {
-    const [start, G] = await Promise.all([loadStart(), loadLilGui()]);
-    GUI = G;
+    const [start, lil, hostModule] = await Promise.all([loadStart(), loadModule('isotrace-lil-gui', '/lil-gui.esm.min.js'), loadModule('isotrace-host', '/host.js')]);
+    GUI = lil.GUI;
+    Host = hostModule.Host;
     const q = new URLSearchParams(location.search);
     if (!navigator.gpu) throw new Error('this browser has no WebGPU (navigator.gpu is missing)');
     const adapter = await navigator.gpu.requestAdapter();
@@ -601,7 +465,7 @@ async function main() {
     buildGui();
     await render(true);
     Object.assign(view, {
-      ready: true, cliArgs, cliCommand, render, recompile, compileFormula, sceneEdited, U, state: () => S, gui: () => gui,
+      ready: true, cliArgs, cliCommand, render, recompile, compileFormula, sceneEdited, select, U, state: () => S, gui: () => gui,
       capture: async () => { const o = await render(true, 'pixels'); return { width: U.width, height: U.height, rgba: Array.from(o.rgba) }; },
     });
   } catch (e) {

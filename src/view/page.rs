@@ -1,11 +1,13 @@
 //! The page's assets, embedded in the binary so `cargo install` is enough:
-//! the HTML, the WebGPU host (`web/app.js`), lil-gui (vendored from npm
+//! the HTML, the controls (`web/app.js`), the WebGPU host (`web/host.js`), lil-gui (vendored from npm
 //! with its licence), and the self-contained page of `--export`.
 
 /// `web/index.html`: the page, with a marker where its script goes.
 const INDEX: &str = include_str!("../../web/index.html");
 /// `web/app.js`: the thin WebGPU host and the controls.
 const APP: &str = include_str!("../../web/app.js");
+/// `web/host.js`: the WebGPU host that runs a program.
+const HOST: &str = include_str!("../../web/host.js");
 /// lil-gui 0.21.0 (`npm pack lil-gui`), MIT.
 const LIL_GUI: &str = include_str!("../../web/vendor/lil-gui.esm.min.js");
 /// lil-gui's licence, served next to it.
@@ -19,6 +21,7 @@ pub fn asset(path: &str) -> Option<(Vec<u8>, &'static str)> {
     match path {
         "/" | "/index.html" => Some((served_index().into_bytes(), "text/html; charset=utf-8")),
         "/app.js" => Some((APP.as_bytes().to_vec(), "text/javascript; charset=utf-8")),
+        "/host.js" => Some((HOST.as_bytes().to_vec(), "text/javascript; charset=utf-8")),
         "/lil-gui.esm.min.js" => Some((LIL_GUI.as_bytes().to_vec(), "text/javascript; charset=utf-8")),
         "/lil-gui-LICENSE.md" => Some((LIL_GUI_LICENSE.as_bytes().to_vec(), "text/plain; charset=utf-8")),
         _ => None,
@@ -47,7 +50,7 @@ pub enum ExportError {
 /// JSON, lil-gui and the host inline. It needs no server; what does (the
 /// formula editor, scene edits, saving PNG / EXR) says so in the page.
 pub fn export(start: &serde_json::Value) -> Result<String, ExportError> {
-    for (name, text) in [("web/app.js", APP), ("lil-gui", LIL_GUI)] {
+    for (name, text) in [("web/app.js", APP), ("web/host.js", HOST), ("lil-gui", LIL_GUI)] {
         if text.contains("</script") {
             return Err(ExportError::Script(name));
         }
@@ -60,6 +63,7 @@ pub fn export(start: &serde_json::Value) -> Result<String, ExportError> {
         "<!-- lil-gui 0.21.0, embedded under its licence:\n{license}\n-->\n\
          <script type=\"application/json\" id=\"isotrace-start\">{data}</script>\n\
          <script type=\"text/plain\" id=\"isotrace-lil-gui\">{LIL_GUI}</script>\n\
+         <script type=\"text/plain\" id=\"isotrace-host\">{HOST}</script>\n\
          <script type=\"module\">{APP}</script>"
     );
     Ok(INDEX.replace(BOOT, &scripts))

@@ -9,6 +9,10 @@
 
 @group(0) @binding(0) var<storage, read> records: array<vec4<u32>>;
 @group(0) @binding(1) var<uniform> P: Present;
+// A scene's selected node traced alone with the same kernel (its own field
+// buffers, no new pipeline): where its depth equals the scene's, the
+// visible surface is the selection's.
+@group(0) @binding(2) var<storage, read> selection: array<vec4<u32>>;
 
 // `convert`'s colour: 10-bit sqrt-encoded channels, squared.
 fn record_color(r: vec4<u32>) -> vec3<f32> {
@@ -73,6 +77,15 @@ fn vs(@builtin(vertex_index) i: u32) -> VertexOut {
 fn fs(v: VertexOut) -> @location(0) vec4<f32> {
     let px = vec2<u32>(v.pos.xy);
     let rec = min(px * P.size / max(P.canvas, vec2<u32>(1u)), P.size - vec2<u32>(1u));
-    let r = records[rec.y * P.size.x + rec.x];
-    return vec4<f32>(srgb8(present_linear(r, P.mode, P.steps_max)) / 255.0, 1.0);
+    let i = rec.y * P.size.x + rec.x;
+    let r = records[i];
+    var c = present_linear(r, P.mode, P.steps_max);
+    if (P.highlight != 0u) {
+        let s = selection[i];
+        let d = bitcast<f32>(r.z);
+        if ((s.x >> 30u) == STATUS_HIT && (r.x >> 30u) == STATUS_HIT && abs(bitcast<f32>(s.z) - d) <= 1e-3 * d) {
+            c = mix(c, vec3<f32>(1.0, 0.35, 0.0), 0.55);
+        }
+    }
+    return vec4<f32>(srgb8(c) / 255.0, 1.0);
 }

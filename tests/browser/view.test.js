@@ -206,7 +206,15 @@ async function sceneCase(browser) {
     check('scene edit: the picture changes', differs(before, after), `layout ${(await page.evaluate(() => __view.sceneMs)).toFixed(2)} ms`);
     check('scene edit: no pipeline created', p1 === p0, `${p0} → ${p1}`);
     await page.screenshot({ path: path.join(ART, 'scene-edit.png') });
-    await frameTime(page, 'scene-blobs', 256);
+    // Selecting a node (opening its folder) traces it alone and tints it.
+    await page.evaluate(() => __view.gui().foldersRecursive().find((f) => f._title.startsWith('0: ')).open());
+    await page.waitForFunction(() => __view.selectionReady === 0, null, { timeout: 60000 });
+    const selected = await capture(page);
+    const p2 = await pipelines(page);
+    check('scene selection: the primitive is highlighted', differs(after, selected));
+    check('scene selection: no pipeline created', p2 === p0, `${p0} → ${p2}`);
+    await page.screenshot({ path: path.join(ART, 'scene-selection.png') });
+    await frameTime(page, 'scene-blobs', 128);
     await page.close();
   } finally { proc.kill(); }
 }
