@@ -80,7 +80,7 @@ export class Host {
         let buf;
         if (b.size.kind === 'uniforms') buf = this.uniforms;
         else if (b.size.kind === 'data') buf = data[gi].get(b.binding).buf;
-        else buf = d.createBuffer({ size: Math.max(16, bytes(b.size)), usage: B.STORAGE | B.COPY_SRC | (b.indirect ? B.COPY_DST : 0) });
+        else buf = d.createBuffer({ size: Math.max(16, bytes(b.size)), usage: B.STORAGE | B.COPY_SRC | B.COPY_DST });
         r.buffers[gi].set(b.binding, buf);
       }
     });
@@ -109,6 +109,7 @@ export class Host {
 
   /** The stages of one dispatch into `set`'s buffers, as src/gpu/dispatch.rs runs them. */
   encodeStages(enc, set) {
+    this.P.groups.forEach((g, gi) => g.filter((b) => b.clear).forEach((b) => enc.clearBuffer(set.buffers[gi].get(b.binding))));
     this.stages.forEach(({ st, pipeline }, si) => {
       const ind = st.groups.kind === 'indirect';
       if (ind) {

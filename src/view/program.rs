@@ -58,6 +58,9 @@ pub struct Binding {
     /// A tile pass's queue: reset to (0, 1, 1) before the dispatch and
     /// copied into the indirect arguments of the stage that reads it.
     pub indirect: bool,
+    /// Zeroed before every dispatch: the device host makes these buffers
+    /// anew per dispatch (a scene's tile counts are appended to).
+    pub clear: bool,
 }
 
 /// How many workgroups a stage runs for a w × h frame.
@@ -158,11 +161,11 @@ fn words<T: bytemuck::Pod>(v: &[T]) -> Vec<u32> {
 }
 
 fn data(binding: u32, name: &'static str, d: Vec<u32>) -> Binding {
-    Binding { binding, name, read_only: true, size: Size::Data, data: Some(d), indirect: false }
+    Binding { binding, name, read_only: true, size: Size::Data, data: Some(d), indirect: false, clear: false }
 }
 
 fn scratch(binding: u32, name: &'static str, size: Size) -> Binding {
-    Binding { binding, name, read_only: false, size, data: None, indirect: false }
+    Binding { binding, name, read_only: false, size, data: None, indirect: false, clear: true }
 }
 
 /// Assembles, checks the size limit of the CLI, validates with naga and
@@ -178,8 +181,9 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     }
     let module = crate::validate::validate(&kernel.wgsl)?;
     let uniforms = uniform_bytes(traversal, s)?;
-    let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false }];
-    let mut pass = vec![scratch(0, "pixel records", Size::PerPixel { bytes: 16 })];
+    let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false, clear: false }];
+    // Every pixel's record is written: no need to clear 16 bytes a pixel.
+    let mut pass = vec![Binding { clear: false, ..scratch(0, "pixel records", Size::PerPixel { bytes: 16 }) }];
     let mut stages: Vec<Stage> = Vec::new();
     let field_group = match field {
         FieldSource::Compiled(_) => vec![],
@@ -206,7 +210,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             };
             frame.push(data(1, "environment", texels));
             pass.push(scratch(1, "tile masks", Size::PerTile { bytes: 16 }));
-            pass.push(Binding { indirect: true, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
+            pass.push(Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
             pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
             let tpg = crate::gpu::bisect::TILES_PER_GROUP;
             if b.optimizations.tile_culling {
