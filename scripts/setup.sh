@@ -5,6 +5,8 @@
 #  - a Vulkan driver: when no Vulkan ICD is present, Mesa's CPU driver lavapipe
 #    (apt-get install mesa-vulkan-drivers libvulkan1; as root, else the exact
 #    command is printed).
+#  - for the browser tests of `isotrace view`: Debian's chromium, Node.js and
+#    the pinned playwright-core (tests/browser/package-lock.json, npm ci).
 # Sourced by scripts/demo.sh and scripts/test.sh.
 set -euo pipefail
 
@@ -34,3 +36,24 @@ if ! have_vulkan; then
 fi
 # Mesa's device-select layer warns on every start without this.
 export NODEVICE_SELECT=1
+
+# The browser tests' Chromium (WebGPU on its bundled SwiftShader) and driver.
+if [ ! -x /usr/lib/chromium/chromium ]; then
+    if [ "$(id -u)" = "0" ]; then
+        echo "isotrace browser tests: installing Debian's chromium" >&2
+        DEBIAN_FRONTEND=noninteractive bash -c "apt-get update -qq && apt-get install -y -qq chromium" >&2
+    else
+        echo "isotrace setup: the browser tests need Chromium: sudo apt-get install -y chromium" >&2
+    fi
+fi
+if ! command -v npm >/dev/null 2>&1; then
+    if [ "$(id -u)" = "0" ]; then
+        DEBIAN_FRONTEND=noninteractive bash -c "apt-get update -qq && apt-get install -y -qq nodejs npm" >&2
+    else
+        echo "isotrace setup: the browser tests need Node.js and npm: sudo apt-get install -y nodejs npm" >&2
+    fi
+fi
+if command -v npm >/dev/null 2>&1; then
+    (cd "$(dirname "${BASH_SOURCE[0]}")/../tests/browser" && npm ci --no-audit --no-fund --silent >&2) ||
+        echo "isotrace setup: npm ci in tests/browser failed; the browser tests cannot run" >&2
+fi

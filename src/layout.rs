@@ -31,6 +31,35 @@ pub trait GpuBlock: Pod {
         s.push_str("}\n");
         s
     }
+
+    /// Every field with its byte offset: the block packed as declared
+    /// (the test `uniform_layouts_match_naga` checks naga agrees). The
+    /// viewer sends this to the page, whose host writes uniforms by name.
+    fn fields() -> Vec<FieldLayout> {
+        let mut offset = 0;
+        Self::FIELDS
+            .iter()
+            .map(|&(name, ty, size)| {
+                let f = FieldLayout { name, ty, offset, size };
+                offset += size;
+                f
+            })
+            .collect()
+    }
+}
+
+/// One field of a [`GpuBlock`] as the host of another language needs it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct FieldLayout {
+    /// Field name.
+    pub name: &'static str,
+    /// WGSL type (`vec4<f32>`, `u32`, `array<vec4<f32>, 16>`).
+    #[serde(rename = "type")]
+    pub ty: &'static str,
+    /// Byte offset in the block.
+    pub offset: usize,
+    /// Size in bytes.
+    pub size: usize,
 }
 
 macro_rules! gpu_block {
@@ -166,6 +195,33 @@ gpu_block! {
     }
 }
 
+gpu_block! {
+    /// The viewer's present pass (`templates/view/present.wgsl`): how the
+    /// page turns a frame's pixel records into canvas pixels.
+    PresentBlock as "Present" {
+        /// Size of the frame the records hold (coarse while the view moves).
+        size: [u32; 2] = "vec2<u32>",
+        /// Size of the canvas, pixels.
+        canvas: [u32; 2] = "vec2<u32>",
+        /// `PRESENT_*`: the kernel's colour, normals, or work as a heat map.
+        mode: u32 = "u32",
+        /// Full scale of the work heat map (`--color steps:MAX`).
+        steps_max: u32 = "u32",
+        /// 1: tint the pixels whose visible surface is the selected
+        /// primitive's (the selection's records at binding 2); 0: none.
+        highlight: u32 = "u32",
+        /// Padding to 16 bytes.
+        pad0: u32 = "u32",
+    }
+}
+
+/// Present the colour the kernel drew (`--color shade`, `gradient`, `depth`, `field`).
+pub const PRESENT_COLOR: u32 = 0;
+/// Present the normal as a colour (`--color normal`).
+pub const PRESENT_NORMAL: u32 = 1;
+/// Present the work as a heat map (`--color steps:MAX`).
+pub const PRESENT_STEPS: u32 = 2;
+
 /// Frame flag: draw unresolved / unconverged pixels solid magenta.
 pub const FLAG_UNRESOLVED_SOLID: u32 = 1;
 /// Bisection flag: skip the tile pass (every ray traverses the whole segment).
@@ -226,6 +282,9 @@ pub fn wgsl_constants() -> String {
         ("COLOR_DEPTH", KernelColor::Depth as u32),
         ("COLOR_FIELD", KernelColor::Field as u32),
         ("LOOP_LIMIT", LOOP_LIMIT),
+        ("PRESENT_COLOR", PRESENT_COLOR),
+        ("PRESENT_NORMAL", PRESENT_NORMAL),
+        ("PRESENT_STEPS", PRESENT_STEPS),
     ];
     for (name, v) in u {
         let _ = writeln!(s, "const {name}: u32 = {v}u;");
@@ -312,6 +371,10 @@ mod tests {
                 offset += size;
             }
             assert_eq!(*span as usize, offset, "size of {name}");
+            let listed = if name == "Frame" { FrameBlock::fields() } else { T::fields() };
+            for (m, f) in members.iter().zip(&listed) {
+                assert_eq!(m.offset as usize, f.offset, "{name}.{} in fields()", f.name);
+            }
             assert_eq!(layouter[handle].size as usize, offset);
         }
     }

@@ -34,6 +34,7 @@ pub mod sdf;
 pub mod sema;
 pub mod syntax;
 pub mod validate;
+pub mod view;
 
 use diag::Diagnostic;
 

@@ -168,7 +168,7 @@ fn man_pages_for_isotrace_and_each_command() {
     let page = std::fs::read_to_string(&file).unwrap();
     assert!(page.contains(".TH isotrace-render 1") && page.contains(r"\-\-force"), "{page}");
     let o = isotrace(&["man", "paint"]);
-    assert_error(&o, "error: unknown command 'paint' for man: expected one of check, wgsl, render, eval, list, bench, manifest, scene, completions, man, help\n");
+    assert_error(&o, "error: unknown command 'paint' for man: expected one of check, wgsl, render, eval, list, bench, manifest, scene, view, completions, man, help\n");
 }
 
 #[test]

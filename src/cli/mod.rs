@@ -13,6 +13,7 @@ mod render;
 mod scene;
 mod scene_render;
 mod shell;
+mod view;
 pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -59,6 +60,9 @@ enum Command {
     /// Blobtree scenes (.scene.json): generate the paper's synthetic scenes, validate a file.
     #[command(after_help = "Examples:\n  isotrace scene gen aggregate --level 2 --smooth -o aggregate-2.scene.json\n  isotrace scene check aggregate-2.scene.json --probe 1000")]
     Scene(scene::SceneArgs),
+    /// Serve an interactive WebGPU page of a formula or a scene (the same WGSL kernels as render).
+    #[command(after_help = "Examples:\n  isotrace view @sphere\n  isotrace view examples/blobs.scene.json --port 8080 --open\n  isotrace view 'x^2 + y^2 + z^2 - r^2' --export sphere.html    # a static page, no server")]
+    View(view::ViewArgs),
     /// Print a shell completion script to stdout.
     #[command(after_help = "Examples:\n  isotrace completions bash > ~/.local/share/bash-completion/completions/isotrace\n  isotrace completions zsh > \"${fpath[1]}/_isotrace\"\n  isotrace completions fish > ~/.config/fish/completions/isotrace.fish")]
     Completions(shell::CompletionsArgs),
@@ -141,8 +145,12 @@ impl CliError {
     /// values, box lines), so control characters in them are made visible
     /// ([`isotrace::diag::escape_controls`]): no input reaches the terminal raw.
     pub fn render(&self) -> String {
+        self.text(std::io::stderr().is_terminal())
+    }
+
+    /// The message, with terminal colours or without (for the viewer's page).
+    pub fn text(&self, color: bool) -> String {
         use isotrace::diag::escape_controls as esc;
-        let color = std::io::stderr().is_terminal();
         match self {
             CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
             CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {}\n", esc(m)),
@@ -184,6 +192,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Bench(a) => bench::run(a),
         Command::Manifest(a) => batch::run(a),
         Command::Scene(a) => scene::run(a),
+        Command::View(a) => view::run(a),
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }

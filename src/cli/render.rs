@@ -452,20 +452,42 @@ pub fn open_gpu() -> Result<Gpu, CliError> {
     })
 }
 
+/// A render of a formula as the flags and the header ask for it, before
+/// any device work: what `render` runs, and what `view` sends to the page
+/// and renders for "save PNG".
+pub struct FormulaPlan {
+    /// The compiled formula and its header.
+    pub loaded: super::input::Loaded,
+    /// The frame.
+    pub settings: Settings,
+    /// The traversal and its options.
+    pub traversal: Traversal,
+    /// The colouring.
+    pub color: ColorMode,
+    /// The colouring as given (flag or header).
+    pub color_text: String,
+}
+
+/// Loads the formula and checks every flag against it and its header.
+pub fn plan(a: &RenderArgs) -> Result<FormulaPlan, CliError> {
+    let loaded = a.formula.load_with_header()?;
+    let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
+    let settings = settings(&a.view, size, &loaded.formula, loaded.header.as_ref())?;
+    // --color defaults to "shade"; a header's colour applies unless the flag was given.
+    let header_color = loaded.header.as_ref().and_then(|h| h.color.clone());
+    let color_text = if a.color == "shade" { header_color.unwrap_or_else(|| a.color.clone()) } else { a.color.clone() };
+    let color = output::parse_color(&color_text).map_err(|m| input(format!("invalid --color '{color_text}': {m}")))?;
+    let traversal = traversal(a, &loaded, color)?;
+    Ok(FormulaPlan { loaded, settings, traversal, color, color_text })
+}
+
 pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     if let Some(path) = a.formula.scene_path() {
         return super::scene_render::run(&a, &path);
     }
-    let loaded = a.formula.load_with_header()?;
+    let FormulaPlan { loaded, settings: s, traversal, color, color_text } = plan(&a)?;
     let f = &loaded.formula;
-    let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
-    let s = settings(&a.view, size, f, loaded.header.as_ref())?;
     let header = loaded.header.as_ref();
-    // --color defaults to "shade"; a header's colour applies unless the flag was given.
-    let header_color = header.and_then(|h| h.color.clone());
-    let color_text = if a.color == "shade" { header_color.unwrap_or_else(|| a.color.clone()) } else { a.color.clone() };
-    let color = output::parse_color(&color_text).map_err(|m| input(format!("invalid --color '{color_text}': {m}")))?;
-    let traversal = traversal(&a, &loaded, color)?;
     let anim = header.and_then(|h| h.animate);
     let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
     for (flag, v) in [("--t0", t0), ("--t1", t1)] {

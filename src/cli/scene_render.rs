@@ -55,13 +55,25 @@ pub fn scene_lipschitz(lin: &Linear) -> f64 {
     if lin.nodes.iter().any(|n| (n[0] >> 22) & 0xff >= SMOOTH_UNION) { SMOOTH_SCENE_LIPSCHITZ } else { 1.0 }
 }
 
-/// Renders the scene at `path`.
-pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
+/// A scene render as the flags ask for it, before any device work (what
+/// `render` runs and `view` shows).
+pub struct ScenePlan {
+    /// The scene laid out for the device.
+    pub lin: Linear,
+    /// The frame.
+    pub settings: isotrace::render::Settings,
+    /// Sphere tracing's options.
+    pub options: isotrace::render::SphereOptions,
+    /// The colouring.
+    pub color: ColorMode,
+}
+
+/// Checks the flags against the scene `scene` (read from `path`).
+pub fn plan(a: &RenderArgs, scene: &isotrace::scene::Scene, path: &Path) -> Result<ScenePlan, CliError> {
     if let Some(m) = misplaced(a) {
         return Err(input(m));
     }
-    let scene = isotrace::scene::format::load(path).map_err(|e| input(e.to_string()))?;
-    let lin = Linear::new(&scene).map_err(|e| input(format!("{}: {e}", path.display())))?;
+    let lin = Linear::new(scene).map_err(|e| input(format!("{}: {e}", path.display())))?;
     let base = match framing(&lin) {
         Some(v) => v,
         None if a.view.bbox.is_some() => View::default(),
@@ -69,18 +81,28 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     };
     let size = super::render::parse_size(a.size.as_deref().unwrap_or("512"))?;
     let v = view_flags(&a.view, base)?;
-    let s = finish_settings(&a.view, v.settings_without_params(size.0, size.1).map_err(view_error)?)?;
+    let settings = finish_settings(&a.view, v.settings_without_params(size.0, size.1).map_err(view_error)?)?;
     let color = output::parse_color(&a.color).map_err(|m| input(format!("invalid --color '{}': {m}", a.color)))?;
     if matches!(color, ColorMode::Gradient | ColorMode::Depth) {
         return Err(input(format!("--color {} applies to --method bisect only", a.color)));
     }
-    let mut o = sphere_options(&a.sphere, None)?;
+    let mut options = sphere_options(&a.sphere, None)?;
     if a.sphere.lipschitz.is_none() {
-        o.lipschitz = scene_lipschitz(&lin);
+        options.lipschitz = scene_lipschitz(&lin);
     }
     if color == ColorMode::Field {
-        o.shading = Shading::Field;
+        options.shading = Shading::Field;
     }
+    Ok(ScenePlan { lin, settings, options, color })
+}
+
+/// Renders the scene at `path`.
+pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
+    if let Some(m) = misplaced(a) {
+        return Err(input(m));
+    }
+    let scene = isotrace::scene::format::load(path).map_err(|e| input(e.to_string()))?;
+    let ScenePlan { lin, settings: s, options: o, color } = plan(a, &scene, path)?;
     let outputs = super::frames::Outputs::new(&a.output, None, None, false)?;
     outputs.check(a.force, false)?;
     let super::frames::Outputs::One(out) = &outputs else { unreachable!("no --frames") };

@@ -12,7 +12,7 @@ use crate::render::{BisectOptions, CameraFrame, Environment, Optimizations, Sett
 
 /// 8×8 pixel tiles per workgroup of the per-pixel pass (`TILES_PER_GROUP`
 /// in traverse/bisect/tiles.wgsl).
-const TILES_PER_GROUP: u32 = 4;
+pub(crate) const TILES_PER_GROUP: u32 = 4;
 
 /// Bisection on the host.
 pub(crate) struct Host {
@@ -33,35 +33,45 @@ impl Host {
     }
 }
 
+/// Bisection's uniform block for a frame (device-free: the viewer's page
+/// gets the same bytes).
+pub(crate) fn block(options: &BisectOptions, s: &Settings, cam: &CameraFrame) -> BisectBlock {
+    let m = &options.modalities;
+    let o = &options.optimizations;
+    let dist = (s.camera.eye - s.camera.target).length();
+    let light = m.light.unwrap_or(s.camera.eye + (0.6 * cam.up - 0.4 * cam.right) * dist);
+    let mut iso = [0.0f32; 8];
+    for (k, v) in m.isovalues.iter().take(8).enumerate() {
+        iso[k] = *v as f32;
+    }
+    BisectBlock {
+        light: [light.x as f32, light.y as f32, light.z as f32, m.shadow_eps.unwrap_or(4.0 * s.eps) as f32],
+        iso,
+        env_size: match &m.env {
+            Environment::Image(e) => [e.width, e.height],
+            _ => [0, 0],
+        },
+        max_iter: s.max_iter.clamp(1, MAX_ITER_LIMIT),
+        mono_depth: if o.monotone { o.monotone_depth } else { u32::MAX },
+        iso_count: m.isovalues.len().clamp(1, 8) as u32,
+        opacity: m.opacity as f32,
+        reflectivity: m.reflectivity as f32,
+        pad0: 0,
+    }
+}
+
+/// Bisection's frame flags.
+pub(crate) fn flags(options: &BisectOptions) -> u32 {
+    if options.optimizations.tile_culling { 0 } else { FLAG_NO_TILE_CULLING }
+}
+
 impl TraversalHost for Host {
     fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8> {
-        let m = &self.options.modalities;
-        let o = &self.options.optimizations;
-        let dist = (s.camera.eye - s.camera.target).length();
-        let light = m.light.unwrap_or(s.camera.eye + (0.6 * cam.up - 0.4 * cam.right) * dist);
-        let mut iso = [0.0f32; 8];
-        for (k, v) in m.isovalues.iter().take(8).enumerate() {
-            iso[k] = *v as f32;
-        }
-        let b = BisectBlock {
-            light: [light.x as f32, light.y as f32, light.z as f32, m.shadow_eps.unwrap_or(4.0 * s.eps) as f32],
-            iso,
-            env_size: match &m.env {
-                Environment::Image(e) => [e.width, e.height],
-                _ => [0, 0],
-            },
-            max_iter: s.max_iter.clamp(1, MAX_ITER_LIMIT),
-            mono_depth: if o.monotone { o.monotone_depth } else { u32::MAX },
-            iso_count: m.isovalues.len().clamp(1, 8) as u32,
-            opacity: m.opacity as f32,
-            reflectivity: m.reflectivity as f32,
-            pad0: 0,
-        };
-        bytemuck::bytes_of(&b).to_vec()
+        bytemuck::bytes_of(&block(&self.options, s, cam)).to_vec()
     }
 
     fn flags(&self) -> u32 {
-        if self.options.optimizations.tile_culling { 0 } else { FLAG_NO_TILE_CULLING }
+        flags(&self.options)
     }
 
     fn frame_resources(&self) -> Vec<(wgpu::BindGroupLayoutEntry, &wgpu::Buffer)> {

@@ -6,7 +6,7 @@
 //! wgpu's default handler panics on uncaptured errors; every call that can
 //! fail runs inside an error scope and becomes a [`GpuError`].
 
-mod bisect;
+pub(crate) mod bisect;
 pub mod dispatch;
 pub mod eval;
 mod field;

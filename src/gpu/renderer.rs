@@ -388,6 +388,22 @@ impl<'g> Renderer<'g> {
     }
 }
 
+/// The uniform bytes of a whole-frame dispatch of `traversal` (frame
+/// block, then the traversal's block), device-free: what the viewer's page
+/// starts from before it writes the camera and the sliders' values.
+pub fn uniform_bytes(traversal: &Traversal, s: &Settings) -> Result<Vec<u8>, SettingsError> {
+    let cam = s.camera.frame()?;
+    let (flags, trav) = match traversal {
+        Traversal::Bisect(b) => (super::bisect::flags(b), bytemuck::bytes_of(&super::bisect::block(b, s, &cam)).to_vec()),
+        Traversal::Sphere(o) => (super::sphere::flags(o), bytemuck::bytes_of(&super::sphere::block(o, s, &cam)).to_vec()),
+    };
+    let mut fb = frame_block(s, &cam, flags);
+    fb.tile_size = [s.width, s.height];
+    let mut bytes = bytemuck::bytes_of(&fb).to_vec();
+    bytes.extend_from_slice(&trav);
+    Ok(bytes)
+}
+
 /// The frame block of a frame (the tile fields are filled per dispatch).
 fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
     let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];

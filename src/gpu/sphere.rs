@@ -25,46 +25,54 @@ impl Host {
     }
 }
 
+/// Sphere tracing's uniform block for a frame (device-free: the viewer's
+/// page gets the same bytes).
+pub(crate) fn block(o: &SphereOptions, s: &Settings, cam: &CameraFrame) -> SphereBlock {
+    let f4 = |a: f64, b: f64, c: f64, d: f64| [a as f32, b as f32, c as f32, d as f32];
+    let (bound_kind, bound_a, bound_b) = match o.bound {
+        None => (BoundKind::None, [0.0; 4], [0.0; 4]),
+        Some(Bound::Sphere { center: c, radius }) => (BoundKind::Sphere, f4(c[0], c[1], c[2], radius), [0.0; 4]),
+        Some(Bound::Box(b)) => (BoundKind::Box, f4(b[0], b[2], b[4], 0.0), f4(b[1], b[3], b[5], 0.0)),
+    };
+    // A key light from the upper left and in front, so that shadows fall
+    // visibly behind and beside the objects.
+    let l = (0.8 * cam.up - 0.2 * cam.forward - 0.7 * cam.right).normalize();
+    SphereBlock {
+        bound_a,
+        bound_b,
+        light: f4(l.x, l.y, l.z, 0.0),
+        max_steps: o.max_steps,
+        fixpoint: o.fixpoint,
+        bound_kind: bound_kind as u32,
+        color_mode: match o.shading {
+            Shading::Shade => KernelColor::Phong,
+            Shading::Field => KernelColor::Field,
+        } as u32,
+        omega: o.omega as f32,
+        inv_lipschitz: (1.0 / o.lipschitz) as f32,
+        // Half a pixel at unit distance: the screen-space error bound.
+        pixel_radius: (cam.tan_half_fov / s.height as f64) as f32,
+        min_step: o.min_step as f32,
+        eps_min: o.eps_min.unwrap_or(s.eps) as f32,
+        pad0: 0,
+        pad1: 0,
+        pad2: 0,
+    }
+}
+
+/// Sphere tracing's frame flags.
+pub(crate) fn flags(o: &SphereOptions) -> u32 {
+    let flag = |on: bool, bit: u32| if on { bit } else { 0 };
+    flag(o.screen_space, FLAG_SCREEN) | flag(o.dynamic_eps, FLAG_DYNAMIC_EPS) | flag(o.shadows, FLAG_SHADOWS) | flag(o.glass, FLAG_GLASS)
+}
+
 impl TraversalHost for Host {
     fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8> {
-        let o = &self.options;
-        let f4 = |a: f64, b: f64, c: f64, d: f64| [a as f32, b as f32, c as f32, d as f32];
-        let (bound_kind, bound_a, bound_b) = match o.bound {
-            None => (BoundKind::None, [0.0; 4], [0.0; 4]),
-            Some(Bound::Sphere { center: c, radius }) => (BoundKind::Sphere, f4(c[0], c[1], c[2], radius), [0.0; 4]),
-            Some(Bound::Box(b)) => (BoundKind::Box, f4(b[0], b[2], b[4], 0.0), f4(b[1], b[3], b[5], 0.0)),
-        };
-        // A key light from the upper left and in front, so that shadows fall
-        // visibly behind and beside the objects.
-        let l = (0.8 * cam.up - 0.2 * cam.forward - 0.7 * cam.right).normalize();
-        let b = SphereBlock {
-            bound_a,
-            bound_b,
-            light: f4(l.x, l.y, l.z, 0.0),
-            max_steps: o.max_steps,
-            fixpoint: o.fixpoint,
-            bound_kind: bound_kind as u32,
-            color_mode: match o.shading {
-                Shading::Shade => KernelColor::Phong,
-                Shading::Field => KernelColor::Field,
-            } as u32,
-            omega: o.omega as f32,
-            inv_lipschitz: (1.0 / o.lipschitz) as f32,
-            // Half a pixel at unit distance: the screen-space error bound.
-            pixel_radius: (cam.tan_half_fov / s.height as f64) as f32,
-            min_step: o.min_step as f32,
-            eps_min: o.eps_min.unwrap_or(s.eps) as f32,
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
-        };
-        bytemuck::bytes_of(&b).to_vec()
+        bytemuck::bytes_of(&block(&self.options, s, cam)).to_vec()
     }
 
     fn flags(&self) -> u32 {
-        let o = &self.options;
-        let flag = |on: bool, bit: u32| if on { bit } else { 0 };
-        flag(o.screen_space, FLAG_SCREEN) | flag(o.dynamic_eps, FLAG_DYNAMIC_EPS) | flag(o.shadows, FLAG_SHADOWS) | flag(o.glass, FLAG_GLASS)
+        flags(&self.options)
     }
 
     fn frame_resources(&self) -> Vec<(wgpu::BindGroupLayoutEntry, &wgpu::Buffer)> {

@@ -1,0 +1,22 @@
+//! `isotrace view`: an interactive page that renders with WebGPU in the
+//! browser, running the same generated WGSL kernels as `render`.
+//!
+//! The compiler stays here (no wasm target): the server compiles a formula
+//! (front end, codegen, naga) and sends the page a [`program::Program`],
+//! the kernel with its uniform layouts, bind groups and dispatch stages as
+//! data. The page's host (`web/app.js`) only follows that description: it
+//! writes uniforms by field name, creates the buffers by their size rules
+//! and runs the stages in order, then draws the pixel records with the
+//! present shader (`templates/view/present.wgsl`). Parameters, t, the
+//! camera and a scene's buffers change no pipeline.
+//!
+//! - [`program`]: the kernel and its description;
+//! - [`server`]: the HTTP server and its JSON API;
+//! - [`page`]: the embedded assets and the `--export` page.
+
+pub mod page;
+pub mod program;
+pub mod server;
+
+pub use program::{present_shader, program, scene_buffers, Program};
+pub use server::{Api, ApiError, Reply, Route, Server};

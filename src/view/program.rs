@@ -1,0 +1,280 @@
+//! What the page needs to run a render kernel with WebGPU, as data: the
+//! validated WGSL, the uniform blocks' fields and offsets (from
+//! [`crate::layout`]), the three bind groups by lifetime with the size rule
+//! of every buffer, and the stages of one dispatch in the order
+//! [`crate::gpu::dispatch`] runs them. The page's host is a loop over this
+//! description; it knows no traversal and no field source.
+//!
+//! The sizes and stages mirror the device host (`gpu::renderer::Renderer::stages`,
+//! `TraversalHost::pass_buffers`, `gpu::field`); the browser tests compare
+//! the page's pixels with `isotrace render`, so a drift shows there.
+
+use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
+use crate::codegen::{self, FieldSource};
+use crate::gpu::renderer::{uniform_bytes, RenderError, MAX_SHADER_BYTES};
+use crate::layout::{BisectBlock, FieldLayout, FrameBlock, GpuBlock, PresentBlock, SphereBlock};
+use crate::render::{Settings, Traversal};
+use serde::Serialize;
+
+/// How large a buffer is, for a frame of w × h pixels.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Size {
+    /// The uniform bytes (frame block, then the traversal block).
+    Uniforms,
+    /// The words in `data`.
+    Data,
+    /// `bytes` per pixel.
+    PerPixel {
+        /// Bytes.
+        bytes: u64,
+    },
+    /// `bytes` per 8×8 tile.
+    PerTile {
+        /// Bytes.
+        bytes: u64,
+    },
+    /// A fixed size.
+    Fixed {
+        /// Bytes.
+        bytes: u64,
+    },
+}
+
+/// One buffer of a bind group (all are storage buffers; the smallest is 16 bytes).
+#[derive(Debug, Clone, Serialize)]
+pub struct Binding {
+    /// Binding index.
+    pub binding: u32,
+    /// What it holds (for the page's messages and the tests).
+    pub name: &'static str,
+    /// Read-only or read-write storage.
+    pub read_only: bool,
+    /// Its size rule.
+    pub size: Size,
+    /// Its contents as 32-bit words (f32 as bits), for `Size::Data`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub data: Option<Vec<u32>>,
+    /// A tile pass's queue: reset to (0, 1, 1) before the dispatch and
+    /// copied into the indirect arguments of the stage that reads it.
+    pub indirect: bool,
+    /// Zeroed before every dispatch: the device host makes these buffers
+    /// anew per dispatch (a scene's tile counts are appended to).
+    pub clear: bool,
+}
+
+/// How many workgroups a stage runs for a w × h frame.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Groups {
+    /// One per `per_group` words of field binding `binding` (a scene's
+    /// primitives), x first, then y past 65,535.
+    Items {
+        /// The field binding counted.
+        binding: u32,
+        /// Items per workgroup.
+        per_group: u32,
+    },
+    /// One per `per_group` 8×8 tiles, in x.
+    Tiles {
+        /// Tiles per workgroup.
+        per_group: u32,
+    },
+    /// One per `side` × `side` pixels (bisection's tile pass: 64).
+    Blocks {
+        /// Side in pixels.
+        side: u32,
+    },
+    /// One per 8×8 tile in x and per `tiles_per_group` tile rows in y.
+    PixelTiles {
+        /// Tile rows per workgroup.
+        tiles_per_group: u32,
+    },
+    /// The counts a tile pass left in pass binding `binding`.
+    Indirect {
+        /// The pass-group binding of the queue.
+        binding: u32,
+    },
+}
+
+/// One compute pass of a dispatch.
+#[derive(Debug, Clone, Serialize)]
+pub struct Stage {
+    /// The WGSL entry point.
+    pub entry: &'static str,
+    /// Its workgroups.
+    pub groups: Groups,
+    /// The (group, binding) pairs the entry point uses, from naga's
+    /// analysis: the page binds only these per stage, because WebGPU
+    /// counts every binding of a layout against the per-stage limit (a
+    /// scene's kernel binds 11 storage buffers in all; SwiftShader allows 10).
+    pub uses: Vec<[u32; 2]>,
+}
+
+/// The uniform blocks: the frame block at offset 0, the traversal's after it.
+#[derive(Debug, Clone, Serialize)]
+pub struct Blocks {
+    /// `Frame` fields.
+    pub frame: Vec<FieldLayout>,
+    /// The traversal block's WGSL name (`Bisect`, `Sphere`).
+    pub traversal_name: &'static str,
+    /// Its byte offset.
+    pub traversal_offset: usize,
+    /// Its fields.
+    pub traversal: Vec<FieldLayout>,
+    /// The present pass's block (`templates/view/present.wgsl`).
+    pub present: Vec<FieldLayout>,
+}
+
+/// Which values of the traversal block follow the camera or eps, so the
+/// page recomputes them as `gpu::bisect::block` / `gpu::sphere::block` do.
+#[derive(Debug, Clone, Serialize)]
+pub struct Follow {
+    /// The light follows the camera (no `--light`).
+    pub light: bool,
+    /// The shadow eps (bisection) or eps-min (sphere tracing) is a
+    /// multiple of eps (none given): this multiple.
+    pub eps_factor: Option<f64>,
+}
+
+/// A render kernel and everything the page needs to run it.
+#[derive(Debug, Clone, Serialize)]
+pub struct Program {
+    /// `bisect` or `sphere`.
+    pub method: &'static str,
+    /// The validated module.
+    pub wgsl: String,
+    /// Uniform layouts.
+    pub blocks: Blocks,
+    /// The uniform bytes of the first frame, as words.
+    pub uniforms: Vec<u32>,
+    /// Frame, field and pass groups.
+    pub groups: [Vec<Binding>; 3],
+    /// The passes of one dispatch, in order.
+    pub stages: Vec<Stage>,
+    /// Values the page recomputes.
+    pub follow: Follow,
+}
+
+fn words<T: bytemuck::Pod>(v: &[T]) -> Vec<u32> {
+    bytemuck::cast_slice::<T, u8>(v).chunks(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
+}
+
+fn data(binding: u32, name: &'static str, d: Vec<u32>) -> Binding {
+    Binding { binding, name, read_only: true, size: Size::Data, data: Some(d), indirect: false, clear: false }
+}
+
+fn scratch(binding: u32, name: &'static str, size: Size) -> Binding {
+    Binding { binding, name, read_only: false, size, data: None, indirect: false, clear: true }
+}
+
+/// Assembles, checks the size limit of the CLI, validates with naga and
+/// describes the kernel of `field` traced by `traversal` for settings `s`.
+pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> Result<Program, RenderError> {
+    traversal.check()?;
+    if matches!(traversal, Traversal::Bisect(_)) && !field.has_enclosures() {
+        return Err(crate::render::SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
+    }
+    let kernel = codegen::assemble(field, traversal);
+    if kernel.wgsl.len() > MAX_SHADER_BYTES {
+        return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
+    }
+    let module = crate::validate::validate(&kernel.wgsl)?;
+    let uniforms = uniform_bytes(traversal, s)?;
+    let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false, clear: false }];
+    // Every pixel's record is written: no need to clear 16 bytes a pixel.
+    let mut pass = vec![Binding { clear: false, ..scratch(0, "pixel records", Size::PerPixel { bytes: 16 }) }];
+    let mut stages: Vec<Stage> = Vec::new();
+    let field_group = match field {
+        FieldSource::Compiled(_) => vec![],
+        FieldSource::Scene(d) => {
+            stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![] });
+            stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 }, uses: vec![] });
+            vec![
+                data(0, "scene nodes", words(&d.nodes)),
+                data(1, "scene params", words(&d.params)),
+                data(2, "scene primitives", words(&d.prims)),
+                data(3, "scene balls", words(&d.balls)),
+                scratch(4, "scene tile counts", Size::PerTile { bytes: 4 }),
+                scratch(5, "scene tile primitives", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 }),
+                scratch(6, "scene tile views", Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 }),
+                scratch(7, "scene tile statistics", Size::PerTile { bytes: 8 }),
+            ]
+        }
+    };
+    let (method, blocks, follow) = match traversal {
+        Traversal::Bisect(b) => {
+            let texels = match &b.modalities.env {
+                crate::render::Environment::Image(e) => e.texels.clone(),
+                _ => vec![0],
+            };
+            frame.push(data(1, "environment", texels));
+            pass.push(scratch(1, "tile masks", Size::PerTile { bytes: 16 }));
+            pass.push(Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
+            pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
+            let tpg = crate::gpu::bisect::TILES_PER_GROUP;
+            if b.optimizations.tile_culling {
+                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![] });
+                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![] });
+            } else {
+                stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg }, uses: vec![] });
+            }
+            let m = &b.modalities;
+            ("bisect", blocks::<BisectBlock>(), Follow { light: m.light.is_none(), eps_factor: m.shadow_eps.is_none().then_some(4.0) })
+        }
+        Traversal::Sphere(o) => {
+            pass.push(scratch(1, "ray statistics", Size::PerPixel { bytes: 4 }));
+            stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![] });
+            ("sphere", blocks::<SphereBlock>(), Follow { light: true, eps_factor: o.eps_min.is_none().then_some(1.0) })
+        }
+    };
+    let uses = binding_uses(&module);
+    for st in &mut stages {
+        st.uses = uses.iter().find(|(e, _)| e == st.entry).map(|(_, u)| u.clone()).unwrap_or_default();
+    }
+    Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms: words(&uniforms), groups: [frame, field_group, pass], stages, follow })
+}
+
+/// Every entry point's used resource bindings (naga's per-entry-point
+/// global usage).
+fn binding_uses(module: &naga::Module) -> Vec<(String, Vec<[u32; 2]>)> {
+    let mut v = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    let Ok(info) = v.validate(module) else { return vec![] };
+    module
+        .entry_points
+        .iter()
+        .enumerate()
+        .map(|(i, ep)| {
+            let ei = info.get_entry_point(i);
+            let used = module.global_variables.iter().filter(|(h, _)| !ei[*h].is_empty()).filter_map(|(_, g)| g.binding.as_ref().map(|b| [b.group, b.binding])).collect();
+            (ep.name.clone(), used)
+        })
+        .collect()
+}
+
+fn blocks<T: GpuBlock>() -> Blocks {
+    Blocks {
+        frame: FrameBlock::fields(),
+        traversal_name: T::WGSL_NAME,
+        traversal_offset: std::mem::size_of::<FrameBlock>(),
+        traversal: T::fields(),
+        present: PresentBlock::fields(),
+    }
+}
+
+/// The scene buffers of the field group alone (an edit: no shader).
+pub fn scene_buffers(d: &codegen::SceneData) -> Vec<Binding> {
+    vec![data(0, "scene nodes", words(&d.nodes)), data(1, "scene params", words(&d.params)), data(2, "scene primitives", words(&d.prims)), data(3, "scene balls", words(&d.balls))]
+}
+
+/// The present shader with its generated uniform block and constants,
+/// validated by naga like every shader isotrace hands to a driver.
+pub fn present_shader() -> Result<String, crate::validate::ValidateError> {
+    let header = format!("{}\n{}", PresentBlock::wgsl(), crate::layout::wgsl_constants());
+    let wgsl = codegen::template::splice(PRESENT, &[("uniforms", &header)]).expect("the present template has its marker");
+    crate::validate::validate(&wgsl)?;
+    Ok(wgsl)
+}
+
+/// `templates/view/present.wgsl`.
+const PRESENT: &str = include_str!("../../templates/view/present.wgsl");

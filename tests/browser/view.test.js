@@ -1,0 +1,251 @@
+// Browser tests of `isotrace view` in headless Chromium (WebGPU on
+// SwiftShader), run by scripts/test.sh after `cargo test`:
+//   node tests/browser/view.test.js
+// Each case starts `isotrace view … --port 0`, drives the page over the
+// DevTools protocol and reads the canvas back with copyTextureToBuffer.
+// Pictures are compared with `isotrace render` of the page's own "copy CLI
+// command" line (lavapipe), within TOLERANCE. Screenshots and the measured
+// frame times go to target/browser-artifacts/.
+
+const { chromium } = require('playwright-core');
+const { spawn, execFileSync, spawnSync } = require('child_process');
+const fs = require('fs');
+const http = require('http');
+const path = require('path');
+const zlib = require('zlib');
+
+const ROOT = path.resolve(__dirname, '../..');
+const BIN = path.join(ROOT, 'target/release/isotrace');
+const ART = path.join(ROOT, 'target/browser-artifacts');
+const CHROMIUM = process.env.CHROMIUM || '/usr/lib/chromium/chromium';
+const FLAGS = ['--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-angle=swiftshader'];
+const SIZE = 128;
+// Two float implementations (SwiftShader's, lavapipe's) trace the same
+// kernel: a pixel may differ in its last bits or, on a silhouette, hit
+// where the other misses. Stated tolerance: at least 99 % of the pixels
+// within 8 levels (of 255) in every channel, and a mean difference of at
+// most 1 level.
+const TOLERANCE = { level: 8, within: 0.99, mean: 1.0 };
+
+fs.mkdirSync(ART, { recursive: true });
+const results = [];
+const figures = {};
+
+function check(name, ok, detail = '') {
+  results.push({ name, ok, detail });
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${name}${detail ? ' — ' + detail : ''}`);
+}
+
+/** Starts `isotrace view INPUT --port 0` and resolves with its URL. */
+function startServer(input) {
+  return new Promise((resolve, reject) => {
+    const proc = spawn(BIN, ['view', input, '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+    let out = '';
+    proc.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/isotrace view: (\S+)/);
+      if (m) resolve({ url: m[1], proc });
+    });
+    proc.on('exit', (code) => reject(new Error(`isotrace view ${input} exited with ${code}`)));
+  });
+}
+
+/** An 8-bit RGB / RGBA PNG (what isotrace writes) decoded to RGB. */
+function decodePng(buf) {
+  let pos = 8, width = 0, height = 0, ctype = 2;
+  const idat = [];
+  while (pos < buf.length) {
+    const n = buf.readUInt32BE(pos), type = buf.toString('ascii', pos + 4, pos + 8), data = buf.subarray(pos + 8, pos + 8 + n);
+    if (type === 'IHDR') { width = data.readUInt32BE(0); height = data.readUInt32BE(4); ctype = data[9]; }
+    if (type === 'IDAT') idat.push(data);
+    pos += 12 + n;
+  }
+  const bpp = ctype === 6 ? 4 : 3, stride = width * bpp, raw = zlib.inflateSync(Buffer.concat(idat));
+  const out = Buffer.alloc(height * stride);
+  for (let y = 0; y < height; y++) {
+    const f = raw[y * (stride + 1)], line = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+    for (let x = 0; x < stride; x++) {
+      const a = x >= bpp ? out[y * stride + x - bpp] : 0, b = y > 0 ? out[(y - 1) * stride + x] : 0, c = x >= bpp && y > 0 ? out[(y - 1) * stride + x - bpp] : 0;
+      const p = a + b - c, pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
+      const pred = [0, a, b, (a + b) >> 1, pa <= pb && pa <= pc ? a : pb <= pc ? b : c][f];
+      out[y * stride + x] = (line[x] + pred) & 255;
+    }
+  }
+  const rgb = Buffer.alloc(width * height * 3);
+  for (let i = 0; i < width * height; i++) for (let k = 0; k < 3; k++) rgb[3 * i + k] = out[bpp * i + k];
+  return { width, height, rgb };
+}
+
+/** `isotrace render` of the page's own CLI line. */
+function cliRender(args, name) {
+  const file = path.join(ART, `${name}-cli.png`);
+  execFileSync(BIN, ['render', ...args, '-o', file, '--force'], { stdio: ['ignore', 'ignore', 'inherit'] });
+  return decodePng(fs.readFileSync(file));
+}
+
+function compare(cap, png) {
+  if (cap.width !== png.width || cap.height !== png.height) return { ok: false, detail: `sizes ${cap.width}x${cap.height} and ${png.width}x${png.height}` };
+  let sum = 0, within = 0, max = 0;
+  const n = cap.width * cap.height;
+  for (let i = 0; i < n; i++) {
+    let m = 0;
+    for (let k = 0; k < 3; k++) { const d = Math.abs(cap.rgba[4 * i + k] - png.rgb[3 * i + k]); sum += d; m = Math.max(m, d); }
+    if (m <= TOLERANCE.level) within++;
+    max = Math.max(max, m);
+  }
+  const mean = sum / (3 * n), frac = within / n;
+  return { ok: frac >= TOLERANCE.within && mean <= TOLERANCE.mean, mean, frac, max, detail: `${(100 * frac).toFixed(2)} % within ${TOLERANCE.level} levels, mean ${mean.toFixed(3)}, max ${max}` };
+}
+
+const differs = (a, b) => a.rgba.some((v, i) => v !== b.rgba[i]);
+const same = (a, b) => !differs(a, b);
+
+async function openPage(browser, url, name) {
+  const page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
+  page.on('pageerror', (e) => console.log(`[${name}] page error: ${e.message}`));
+  const t0 = Date.now();
+  await page.goto(`${url}?size=${SIZE}`);
+  await page.waitForFunction(() => window.__view && (window.__view.ready || window.__view.error), null, { timeout: 90000 });
+  const state = await page.evaluate(() => ({ error: __view.error, adapter: __view.adapter, frame: __view.lastFrame, pipelines: __view.pipelines }));
+  check(`${name}: page loads, finds an adapter and renders`, !state.error && !!state.frame, state.error || `${Date.now() - t0} ms, adapter ${JSON.stringify(state.adapter)}`);
+  return page;
+}
+
+const capture = (page) => page.evaluate(() => __view.capture());
+const cliArgs = (page) => page.evaluate(() => __view.cliArgs());
+const pipelines = (page) => page.evaluate(() => __view.pipelines);
+
+async function matchesCli(page, name) {
+  const cap = await capture(page);
+  const c = compare(cap, cliRender(await cliArgs(page), name));
+  check(`${name}: pixels match isotrace render of the same view`, c.ok, c.detail);
+  figures[name] = c.detail;
+  await page.screenshot({ path: path.join(ART, `${name}.png`) });
+  return cap;
+}
+
+/** Median frame time of full frames at `size`². */
+async function frameTime(page, name, size) {
+  const ms = await page.evaluate(async (s) => {
+    __view.U.width = __view.U.height = s;
+    const t = [];
+    for (let i = 0; i < 4; i++) t.push((await __view.render(true, null)).ms);
+    t.sort((a, b) => a - b);
+    return t[1];
+  }, size);
+  figures[`frame_ms_${name}_${size}`] = Number(ms.toFixed(1));
+  console.log(`     frame time ${name} ${size}x${size}: ${ms.toFixed(1)} ms`);
+}
+
+async function sphereCase(browser) {
+  const { url, proc } = await startServer('@sphere');
+  try {
+    const page = await openPage(browser, url, 'sphere');
+    await matchesCli(page, 'sphere');
+    await frameTime(page, 'sphere', 256);
+    await page.close();
+  } finally { proc.kill(); }
+}
+
+async function torusCase(browser) {
+  const { url, proc } = await startServer('tests/browser/torus-ia.iso');
+  try {
+    const page = await openPage(browser, url, 'torus');
+    await page.evaluate(async () => { __view.U.shadows = true; await __view.recompile(); });
+    const args = await cliArgs(page);
+    check('torus: shadows are on in the CLI line', args.includes('--shadows'), args.join(' '));
+    const before = await matchesCli(page, 'torus-shadows');
+    // A parameter slider: uniforms only.
+    const p0 = await pipelines(page);
+    await page.evaluate(() => __view.gui().controllersRecursive().find((c) => c._name === 'r').setValue(0.5));
+    await page.waitForTimeout(600);
+    const moved = await capture(page);
+    const p1 = await pipelines(page);
+    check('slider r: the picture changes', differs(before, moved));
+    check('slider r: no pipeline created', p1 === p0, `${p0} → ${p1}`);
+    await matchesCli(page, 'torus-r');
+    await frameTime(page, 'torus-shadows', 256);
+    await page.evaluate(() => { __view.U.width = __view.U.height = 128; });
+    // The formula editor: another surface.
+    const programs = await page.evaluate(() => __view.programs);
+    await page.fill('#formula', 'x^2 + 2*y^2 + z^2 - 1');
+    await page.click('#compile');
+    await page.waitForFunction((n) => __view.programs > n || __view.diagnostic, programs, { timeout: 100000 });
+    const edited = await capture(page);
+    check('formula edit: the picture changes', differs(moved, edited) && !(await page.evaluate(() => __view.diagnostic)));
+    await matchesCli(page, 'formula-edit');
+    // A bad formula: the CLI's diagnostic, the last picture kept.
+    await page.fill('#formula', 'x^2 + (');
+    await page.click('#compile');
+    await page.waitForFunction(() => __view.diagnostic, null, { timeout: 60000 });
+    const shown = await page.textContent('#diagnostic');
+    const cli = spawnSync(BIN, ['check', 'x^2 + ('], { encoding: 'utf8' }).stderr;
+    check('bad formula: the page shows the CLI diagnostic with its caret', shown.trim() === cli.trim() && shown.includes('^'), JSON.stringify(shown.split('\n').slice(0, 4)));
+    const kept = await capture(page);
+    check('bad formula: the last picture is kept', same(edited, kept));
+    await page.screenshot({ path: path.join(ART, 'bad-formula.png') });
+    await page.close();
+  } finally { proc.kill(); }
+}
+
+async function sceneCase(browser) {
+  const { url, proc } = await startServer('examples/blobs.scene.json');
+  try {
+    const page = await openPage(browser, url, 'scene');
+    const before = await matchesCli(page, 'scene-blobs');
+    const p0 = await pipelines(page);
+    await page.evaluate(() => {
+      const c = __view.gui().controllersRecursive().find((c) => c._name === 'radius');
+      c.setValue(c.getValue() * 1.4);
+      c._callOnFinishChange();
+    });
+    await page.waitForFunction(() => __view.sceneMs !== undefined, null, { timeout: 60000 });
+    await page.waitForTimeout(300);
+    const after = await capture(page);
+    const p1 = await pipelines(page);
+    check('scene edit: the picture changes', differs(before, after), `layout ${(await page.evaluate(() => __view.sceneMs)).toFixed(2)} ms`);
+    check('scene edit: no pipeline created', p1 === p0, `${p0} → ${p1}`);
+    await page.screenshot({ path: path.join(ART, 'scene-edit.png') });
+    // Selecting a node (opening its folder) traces it alone and tints it.
+    await page.evaluate(() => __view.gui().foldersRecursive().find((f) => f._title.startsWith('0: ')).open());
+    await page.waitForFunction(() => __view.selectionReady === 0 || __view.error, null, { timeout: 60000, polling: 250 });
+    const selected = await capture(page);
+    const p2 = await pipelines(page);
+    check('scene selection: the primitive is highlighted', differs(after, selected));
+    check('scene selection: no pipeline created', p2 === p0, `${p0} → ${p2}`);
+    await page.screenshot({ path: path.join(ART, 'scene-selection.png') });
+    await frameTime(page, 'scene-blobs', 128);
+    await page.close();
+  } finally { proc.kill(); }
+}
+
+async function exportCase(browser) {
+  const file = path.join(ART, 'export-sphere.html');
+  execFileSync(BIN, ['view', '@sphere', '--export', file], { stdio: ['ignore', 'ignore', 'inherit'] });
+  const html = fs.readFileSync(file);
+  const server = http.createServer((req, res) => { res.writeHead(200, { 'Content-Type': 'text/html' }); res.end(html); });
+  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  try {
+    const page = await openPage(browser, `http://127.0.0.1:${server.address().port}/`, 'export');
+    const note = await page.textContent('#note');
+    check('export: the page says what needs the server', note.includes('need the server'));
+    await matchesCli(page, 'export-sphere');
+  } finally { server.close(); }
+}
+
+(async () => {
+  const t0 = Date.now();
+  const browser = await chromium.launch({ executablePath: CHROMIUM, args: FLAGS });
+  try {
+    // CASES=scene,export runs only those (for debugging).
+    const only = (process.env.CASES || '').split(',').filter(Boolean);
+    for (const c of [sphereCase, torusCase, sceneCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+      try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
+    }
+  } finally { await browser.close(); }
+  figures.seconds = Math.round((Date.now() - t0) / 1000);
+  fs.writeFileSync(path.join(ART, 'figures.json'), JSON.stringify({ tolerance: TOLERANCE, size: SIZE, figures, results }, null, 1));
+  const failed = results.filter((r) => !r.ok);
+  console.log(`browser tests: ${results.length - failed.length} passed, ${failed.length} failed, ${figures.seconds} s`);
+  process.exit(failed.length ? 1 : 0);
+})();
