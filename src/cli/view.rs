@@ -41,7 +41,7 @@ pub struct ViewArgs {
 /// write, frames, batch flags) is refused: the server reads only the file
 /// named on its command line.
 const ALLOWED: &[&str] = &[
-    "--size", "--box", "--eye", "--target", "--up", "--fov", "--eps", "--t", "--param", "--algebra", "--max-iter", "--clip", "--debug-unresolved",
+    "--size", "--box", "--eye", "--target", "--up", "--fov", "--eps", "--t", "--param", "--algebra", "--max-iter", "--clip", "--debug-unresolved", "--unresolved",
     "--method", "--lipschitz", "--omega", "--no-screen-space", "--no-dynamic-eps", "--eps-min", "--fixpoint", "--bound", "--no-bound", "--max-steps",
     "--min-step", "--shadows", "--glass", "--light", "--shadow-eps", "--opacity", "--layers", "--iso", "--reflect", "--reflectivity", "--color",
 ];
