@@ -167,3 +167,24 @@ fn bench_suite_scenes_measures_each_series_sparse_and_dense() {
     let o = isotrace(&["bench", "sphere", "--max-level", "1"]);
     assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --max-level applies to --suite scenes\n"));
 }
+
+#[test]
+fn lower_writes_the_scene_a_formula_describes_or_points_at_what_is_not_one() {
+    let out = tmp("moved.scene.json");
+    let p = out.to_str().unwrap();
+    let o = isotrace(&["scene", "lower", "union(translate(a, 0, 0, sphere(1)), box(0.5, 0.5, 0.5))", "--param", "a=2", "-o", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stdout(&o), format!("wrote {p}: 2 primitives, 3 nodes\n"));
+    let scene = isotrace::scene::format::load(&out).unwrap();
+    assert!((scene.eval([3.0, 0.0, 0.0])).abs() < 1e-12, "the sphere moved to x = 2");
+    let o = isotrace(&["scene", "lower", "@creature", "-o", "-"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(isotrace::scene::format::parse(&stdout(&o)).unwrap().primitive_count(), 22);
+
+    let o = isotrace(&["scene", "lower", "union(sphere(1), translate(x, 0, 0, box(1, 1, 1)))", "-o", p]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: not a blobtree: 'x' outside a distance form: the field is not built from primitives alone\n  ┌─ <formula>:1:28\n  │\n1 │ union(sphere(1), translate(x, 0, 0, box(1, 1, 1)))\n  │                            ^ here\n\n"
+    );
+}
