@@ -115,6 +115,11 @@ impl<'g> Renderer<'g> {
         if matches!(traversal, Traversal::Bisect(_)) && !field.has_enclosures() {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
         }
+        if let (FieldSource::Tape(_), Traversal::Bisect(b)) = (field, &traversal) {
+            if b.modalities.inline.is_some() {
+                return Err(SettingsError::new(crate::render::SettingsField::Features, "inline", "user WGSL hooks need the compiled field").into());
+            }
+        }
         let kernel = codegen::assemble(field, &traversal);
         if kernel.wgsl.len() > MAX_SHADER_BYTES {
             return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
@@ -274,6 +279,10 @@ impl<'g> Renderer<'g> {
     /// to `sink`. Returns the statistics that do not come from the records.
     fn run(&self, s: &Settings, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
         s.check()?;
+        if self.field.tape && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
+            let reason = format!("at most {} with a tape field (its interpreter shares lavapipe's 65,535 loop iterations)", codegen::tape::TAPE_MAX_ITER);
+            return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
+        }
         let cam = s.camera.frame()?;
         let mut fb = frame_block(s, &cam, self.host.flags());
         let trav = self.host.block(s, &cam);
