@@ -95,6 +95,35 @@ pub enum AlgebraArg {
     Auto,
 }
 
+/// `--field`: the field source.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldArg {
+    /// The formula generated into the shader.
+    Compiled,
+    /// The formula as a tape run by a fixed interpreter.
+    Tape,
+    /// Chosen by formula size, algebra and method.
+    Auto,
+}
+
+/// The field source of `--field` (default auto) for `ir` traced by `t`.
+pub fn prepare_field(arg: Option<FieldArg>, ir: &isotrace::ir::Ir, t: &isotrace::render::Traversal) -> Result<codegen::PreparedField, CliError> {
+    use isotrace::codegen::{FieldKind, TapeError};
+    let kind = match arg.unwrap_or(FieldArg::Auto) {
+        FieldArg::Compiled => FieldKind::Compiled,
+        FieldArg::Tape => FieldKind::Tape,
+        FieldArg::Auto => FieldKind::Auto,
+    };
+    codegen::choice::choose(kind, ir, t).map_err(|e| {
+        let fix = match e {
+            TapeError::UserFunction(_) | TapeError::Hooks => "the functions and hooks of --inline need --field compiled (or auto)",
+            TapeError::Csg => "render it with --field compiled (or auto)",
+            TapeError::Registers(_) => "render it with --field compiled (or auto)",
+        };
+        CliError::Input(format!("--field tape: {e}; {fix}"))
+    })
+}
+
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 enum KernelArg {
     /// The render kernel (stackless interval bisection).

@@ -5,6 +5,7 @@
 //! render kernel from a traversal and a field source; [`template`] is the
 //! one splicing mechanism both use.
 
+pub mod choice;
 pub mod compiled;
 pub mod derivative;
 pub mod kernel;
@@ -15,6 +16,7 @@ pub mod template;
 
 pub use compiled::inclusion;
 pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel, SceneData};
+pub use choice::{FieldKind, PreparedField};
 pub use tape::{TapeData, TapeError};
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};

@@ -146,6 +146,9 @@ pub enum TapeError {
     /// `--inline` user functions are WGSL, not tape operations.
     #[error("a tape field cannot call user WGSL functions ({0})")]
     UserFunction(String),
+    /// `--inline` hooks (cell rejection, hit test, shading) are compiled in.
+    #[error("a tape field cannot run user WGSL hooks")]
+    Hooks,
     /// Several surfaces or level-set conditions.
     #[error("a tape field draws one surface: level-set CSG (several surfaces or `where` conditions) needs the compiled field")]
     Csg,
@@ -363,6 +366,9 @@ pub fn wgsl_constants() -> String {
         ("TAPE_UNROLL", TAPE_UNROLL),
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
         ("TAPE_RESTRICTS", TAPE_RESTRICTS),
+        ("TAPE_DONE", 0),
+        ("TAPE_EMPTY", 1),
+        ("TAPE_EXHAUSTED", 2),
     ] {
         s.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }

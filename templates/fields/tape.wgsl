@@ -7,7 +7,8 @@
 // one vec4<u32> per instruction:
 //   x: code | restricts << 8 | out << 16, y: a | b << 16, z: c | d << 16,
 //   w: immediate (input, parameter, power); a constant: (near, lo, hi) bits.
-// The operation codes and limits are generated from Rust (TAPE_* constants).
+// The operation codes, limits and run results (TAPE_DONE, TAPE_EMPTY,
+// TAPE_EXHAUSTED) are generated from Rust (TAPE_* constants).
 
 // The register file: module scope, so it is zero-initialised once per
 // invocation and not on every call (lavapipe zeroes a function-scope array
@@ -79,10 +80,6 @@ fn tape_step_T(pc: u32) -> bool {
     g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r;
     return (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
 }
-
-const TAPE_DONE: u32 = 0u;
-const TAPE_EMPTY: u32 = 1u;
-const TAPE_EXHAUSTED: u32 = 2u;
 
 // Runs `len` instructions from `start` (a multiple of TAPE_UNROLL, padded
 // with no-ops), TAPE_UNROLL per loop iteration. `iters` is the program's
