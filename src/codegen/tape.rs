@@ -20,11 +20,11 @@ use std::collections::HashMap;
 
 /// Registers of the interpreter (a power of two: operands are masked, so a
 /// register index can never leave the array).
-pub const TAPE_SLOTS: u32 = 256;
+pub const TAPE_SLOTS: u32 = 32;
 /// Instructions the interpreter runs per loop iteration: lavapipe counts
 /// loop iterations against a silent cap of 65,535 per invocation, so the
 /// loop is unrolled; programs are padded to a multiple of this.
-pub const TAPE_UNROLL: u32 = 8;
+pub const TAPE_UNROLL: u32 = 1;
 /// Loop iterations the interpreter may spend in one invocation; past it an
 /// evaluation gives up (enclosures become the whole line, the pixel is
 /// reported unresolved). The rest of the 65,535 is the traversal's own:

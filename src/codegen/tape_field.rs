@@ -47,6 +47,14 @@ pub fn instantiate(domain: Domain) -> String {
     out
 }
 
+/// The interpreter in `domain` with its declarations, for kernels of its
+/// own (the eval kernel, tests): `surf_<p>` and `evald_<p>` over the tape
+/// in `@group(1) @binding(0)`. The kernel provides `iso_inf`, `iso_param`,
+/// the op libraries and `g_field_work`.
+pub fn interpreter(domain: Domain) -> String {
+    format!("{}{}", prelude(), instantiate(domain))
+}
+
 /// Declarations every tape kernel shares: the constants, the tape buffer
 /// of the field group and the exhaustion flag.
 fn prelude() -> String {
@@ -103,7 +111,7 @@ pub fn eval_shader(domain: Domain) -> String {
         Domain::Scalar => libraries(&[Domain::Scalar]),
         d => format!("{}{}", libraries(&[Domain::Scalar, d]), derivative::library(d)),
     };
-    let interp = format!("{}var<private> g_field_work: u32;\n{}", prelude(), instantiate(domain));
+    let interp = format!("var<private> g_field_work: u32;\n{}", interpreter(domain));
     let call = match domain {
         Domain::Scalar => "    return surf_s(x.x, y.x, z.x, t.x);",
         Domain::Interval => "    return surf_ia(x, y, z, t);",

@@ -94,14 +94,7 @@ fn tape_run_T(start: u32, len: u32, iters: u32) -> u32 {
     var empty = false;
     for (var pc = start; pc < start + len; pc = pc + TAPE_UNROLL) {
         let e0 = tape_step_T(pc);
-        let e1 = tape_step_T(pc + 1u);
-        let e2 = tape_step_T(pc + 2u);
-        let e3 = tape_step_T(pc + 3u);
-        let e4 = tape_step_T(pc + 4u);
-        let e5 = tape_step_T(pc + 5u);
-        let e6 = tape_step_T(pc + 6u);
-        let e7 = tape_step_T(pc + 7u);
-        empty = empty || e0 || e1 || e2 || e3 || e4 || e5 || e6 || e7;
+        empty = empty || e0;
     }
     return select(TAPE_DONE, TAPE_EMPTY, empty);
 }
