@@ -335,7 +335,7 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
         R::Inline(m) => CliError::Rendered(m),
         R::Memory(m) => CliError::Input(memory_message(&m.to_string(), &m)),
         e @ R::ShaderTooLarge { .. } => CliError::Input(format!(
-            "{e}; simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
+            "{e}; render it with --field tape (or auto), which runs the formula from a buffer in a fixed interpreter, simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
         )),
     }
 }

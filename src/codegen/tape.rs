@@ -20,7 +20,7 @@ use std::collections::HashMap;
 
 /// Registers of the interpreter (a power of two: operands are masked, so a
 /// register index can never leave the array).
-pub const TAPE_SLOTS: u32 = 32;
+pub const TAPE_SLOTS: u32 = 64;
 /// Instructions the interpreter runs per loop iteration: lavapipe counts
 /// loop iterations against a silent cap of 65,535 per invocation, so the
 /// loop is unrolled; programs are padded to a multiple of this.
@@ -186,7 +186,15 @@ impl TapeData {
         let f = values[ir.root as usize];
         let df = derivative_program(ir, &values, &mut b);
         let value = encode(&b, &[f])?;
-        let deriv = encode(&b, &[df, f])?;
+        // A derivative program over the register file gives up the
+        // monotonicity proof, never the render: its slope is the whole line.
+        let deriv = match encode(&b, &[df, f]) {
+            Err(TapeError::Registers(_)) => {
+                let whole = b.push(Code::Whole, [0; 4], 0.0);
+                encode(&b, &[whole, f])?
+            }
+            other => other?,
+        };
         let mut words = vec![[0u32; 4]; TAPE_HEADER as usize];
         let start = TAPE_HEADER;
         let dstart = start + value.words.len() as u32;
@@ -248,6 +256,19 @@ struct Program {
     iterations: u32,
 }
 
+/// Sethi–Ullman numbers of the nodes read as a tree: the registers a
+/// subtree needs when its most demanding operand goes first. Visiting
+/// operands in decreasing need keeps fewer values waiting.
+fn register_need(nodes: &[Node]) -> Vec<u32> {
+    let mut need = vec![1u32; nodes.len()];
+    for (i, n) in nodes.iter().enumerate() {
+        let mut k: Vec<u32> = n.args[..arity(n.code)].iter().map(|&a| need[a as usize]).collect();
+        k.sort_unstable_by(|a, b| b.cmp(a));
+        need[i] = k.iter().enumerate().map(|(j, &x)| x.saturating_add(j as u32)).max().unwrap_or(1).max(1);
+    }
+    need
+}
+
 /// Depth-first post-order of the nodes `outputs` reach; right after a node
 /// with a partner, the partner's subtree (iterative: a formula's chains can
 /// be thousands deep).
@@ -256,11 +277,17 @@ fn schedule(nodes: &[Node], outputs: &[u32], partner: &HashMap<u32, u32>) -> Vec
     // On the stack: a partner there is left to its own frame.
     let mut open = vec![false; nodes.len()];
     let mut order = Vec::new();
+    let need = register_need(nodes);
+    let by_need = |n: usize| {
+        let mut args: Vec<u32> = nodes[n].args[..arity(nodes[n].code)].to_vec();
+        args.sort_by_key(|&a| std::cmp::Reverse(need[a as usize]));
+        args
+    };
     for &o in outputs {
         let mut stack = vec![(o as usize, 0usize)];
         open[o as usize] = true;
         while let Some(&mut (n, ref mut next)) = stack.last_mut() {
-            let args = &nodes[n].args[..arity(nodes[n].code)];
+            let args = by_need(n);
             if let Some(&a) = args.get(*next) {
                 *next += 1;
                 if !done[a as usize] {
@@ -303,7 +330,11 @@ fn arity(code: Code) -> usize {
 /// result is given one (the interpreter reads operands before it writes).
 fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
     let nodes = &b.nodes;
-    let order = schedule(nodes, outputs, &b.partner);
+    let leaf = |i: usize| arity(nodes[i].code) == 0 && !outputs.contains(&(i as u32));
+    // Constants, inputs and parameters are emitted again right before each
+    // use (one instruction) rather than held in a register from their first
+    // use to their last.
+    let order: Vec<usize> = schedule(nodes, outputs, &b.partner).into_iter().filter(|&i| !leaf(i)).collect();
     let mut last = vec![0usize; nodes.len()];
     for (k, &i) in order.iter().enumerate() {
         for &a in &nodes[i].args[..arity(nodes[i].code)] {
@@ -313,45 +344,75 @@ fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
     for &o in outputs {
         last[o as usize] = usize::MAX;
     }
-    let (mut reg, mut free, mut count) = (vec![0u32; nodes.len()], Vec::<u32>::new(), 0u32);
+    let mut regs = Registers { free: vec![], count: 0 };
+    let mut reg = vec![0u32; nodes.len()];
     let mut words = Vec::with_capacity(order.len());
     let mut iterations = 0;
     for (k, &i) in order.iter().enumerate() {
         let n = nodes[i];
         let args = &n.args[..arity(n.code)];
+        let mut dying = vec![];
         for (j, &a) in args.iter().enumerate() {
-            if last[a as usize] == k && !args[..j].contains(&a) {
-                free.push(reg[a as usize]);
+            if args[..j].contains(&a) {
+                continue;
+            }
+            if leaf(a as usize) {
+                reg[a as usize] = regs.take();
+                words.push(word(b, a as usize, reg[a as usize], [0; 4]));
+                dying.push(reg[a as usize]);
+            } else if last[a as usize] == k {
+                dying.push(reg[a as usize]);
             }
         }
-        let r = free.pop().unwrap_or_else(|| {
-            count += 1;
-            count - 1
-        });
-        reg[i] = r;
-        let ra = |j: usize| args.get(j).map_or(0, |&a| reg[a as usize]);
-        let flags = if b.strict.contains(&(i as u32)) { TAPE_RESTRICTS } else { 0 };
-        let head = n.code as u32 | flags | r << 16;
-        words.push(match n.code {
-            Code::Const => {
-                let (near, lo, hi) = super::f32_enclosure(n.imm);
-                [head, near.to_bits(), lo.to_bits(), hi.to_bits()]
-            }
-            _ => [head, ra(0) | ra(1) << 16, ra(2) | ra(3) << 16, n.imm as u32],
-        });
+        regs.free.extend(dying);
+        reg[i] = regs.take();
+        let mut ra = [0u32; 4];
+        for (j, &a) in args.iter().enumerate() {
+            ra[j] = reg[a as usize];
+        }
+        words.push(word(b, i, reg[i], ra));
         if n.code == Code::PowChain {
             iterations += 31 - (n.imm as u32).leading_zeros();
         }
     }
-    if count > TAPE_SLOTS {
-        return Err(TapeError::Registers(count));
+    if regs.count > TAPE_SLOTS {
+        return Err(TapeError::Registers(regs.count));
     }
     let ops = words.len();
     while words.len() % TAPE_UNROLL as usize != 0 {
         words.push([Code::Nop as u32, 0, 0, 0]);
     }
     iterations += words.len() as u32 / TAPE_UNROLL;
-    Ok(Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: count, iterations })
+    Ok(Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: regs.count, iterations })
+}
+
+/// The register file during allocation: freed registers are reused first.
+struct Registers {
+    free: Vec<u32>,
+    count: u32,
+}
+
+impl Registers {
+    fn take(&mut self) -> u32 {
+        self.free.pop().unwrap_or_else(|| {
+            self.count += 1;
+            self.count - 1
+        })
+    }
+}
+
+/// The instruction of node `i` writing register `r` with operand registers `ra`.
+fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
+    let n = b.nodes[i];
+    let flags = if b.strict.contains(&(i as u32)) { TAPE_RESTRICTS } else { 0 };
+    let head = n.code as u32 | flags | r << 16;
+    match n.code {
+        Code::Const => {
+            let (near, lo, hi) = super::f32_enclosure(n.imm);
+            [head, near.to_bits(), lo.to_bits(), hi.to_bits()]
+        }
+        _ => [head, ra[0] | ra[1] << 16, ra[2] | ra[3] << 16, n.imm as u32],
+    }
 }
 
 /// The operation codes and the interpreter's limits as WGSL constants.
@@ -407,6 +468,18 @@ mod tests {
         assert_eq!(t.words.len() as u32, ds + dl);
         assert_eq!(vl % TAPE_UNROLL, 0);
         assert_eq!(t.value_iterations(), vl / TAPE_UNROLL);
+    }
+
+    #[test]
+    fn every_catalog_formula_fits_the_register_file() {
+        for e in crate::catalog::builtin() {
+            let f = e.compile().expect("catalog formula");
+            match TapeData::new(&f.ir) {
+                Ok(t) => assert!(t.registers <= TAPE_SLOTS, "{}: {} registers", e.name, t.registers),
+                Err(TapeError::Csg | TapeError::UserFunction(_)) => {}
+                Err(err) => panic!("{}: {err}", e.name),
+            }
+        }
     }
 
     #[test]
