@@ -48,11 +48,14 @@ impl PreparedField {
     }
 }
 
-/// Operations (tape instructions of the value program) from which `Auto`
-/// takes the tape, per traversal and algebra. Measured (README): the
-/// compiled path's first frame (compile + frame, Mesa's shader cache off)
-/// against the tape's; below these the compiled kernel reaches its first
-/// frame sooner and renders every later frame faster.
+/// Instructions of the value program from which `Auto` takes the tape, per
+/// traversal and algebra. Measured on lavapipe 22.3 (README, "Compiled or
+/// tape"): the tape's first frame costs about 20-70 s cold whatever the
+/// formula (its interpreter kernel) and its frames run 10-100 times slower
+/// than generated code, so it pays only where the compiled kernel's compile
+/// is slower still: IA bisection from a few thousand operations (compiled:
+/// ~35 s at 2,503, over 120 s at 12,503), RAA bisection from a few hundred
+/// (`@creature`, 590 instructions: over 120 s compiled).
 pub fn crossover(traversal: &Traversal) -> usize {
     match traversal {
         Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
@@ -62,11 +65,12 @@ pub fn crossover(traversal: &Traversal) -> usize {
 }
 
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_IA: usize = 400;
+pub const CROSSOVER_BISECT_IA: usize = 4000;
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_RAA: usize = 150;
-/// See [`crossover`].
-pub const CROSSOVER_SPHERE: usize = 1000;
+pub const CROSSOVER_BISECT_RAA: usize = 500;
+/// See [`crossover`] (sphere tracing evaluates only the scalar field: its
+/// compiled kernels are the cheapest to build).
+pub const CROSSOVER_SPHERE: usize = 4000;
 
 /// The field for `ir` traced by `traversal`. `Tape` fails when the formula
 /// cannot be a tape (level-set CSG, user WGSL, too many registers); `Auto`
