@@ -53,9 +53,9 @@ impl PreparedField {
 /// tape"): the tape's first frame costs about 20-70 s cold whatever the
 /// formula (its interpreter kernel) and its frames run 10-100 times slower
 /// than generated code, so it pays only where the compiled kernel's compile
-/// is slower still: IA bisection from a few thousand operations (compiled:
-/// ~35 s at 2,503, over 120 s at 12,503), RAA bisection from a few hundred
-/// (`@creature`, 590 instructions: over 120 s compiled).
+/// is slower still: from a few thousand operations (compiled: ~35 s at
+/// 2,503, over 120 s at 12,503). RAA has no measured win yet (`@creature`:
+/// over 120 s compiled, over 150 s as a tape), so it uses the same line.
 pub fn crossover(traversal: &Traversal) -> usize {
     match traversal {
         Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
@@ -67,15 +67,21 @@ pub fn crossover(traversal: &Traversal) -> usize {
 /// See [`crossover`].
 pub const CROSSOVER_BISECT_IA: usize = 4000;
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_RAA: usize = 500;
+pub const CROSSOVER_BISECT_RAA: usize = 4000;
 /// See [`crossover`] (sphere tracing evaluates only the scalar field: its
 /// compiled kernels are the cheapest to build).
 pub const CROSSOVER_SPHERE: usize = 4000;
 
+/// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
+/// (the renderer refuses it; the tape has no such limit).
+fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
+    super::assemble(FieldSource::Compiled(ir), traversal).wgsl.len() > super::kernel::MAX_SHADER_BYTES
+}
+
 /// The field for `ir` traced by `traversal`. `Tape` fails when the formula
 /// cannot be a tape (level-set CSG, user WGSL, too many registers); `Auto`
-/// then takes the compiled field, and otherwise compares the formula's size
-/// with [`crossover`].
+/// then takes the compiled field, and otherwise the tape from [`crossover`]
+/// on, or when the compiled kernel would be too large to build.
 pub fn choose(kind: FieldKind, ir: &Ir, traversal: &Traversal) -> Result<PreparedField, TapeError> {
     let hooks = matches!(traversal, Traversal::Bisect(b) if b.modalities.inline.is_some());
     match kind {
@@ -84,7 +90,7 @@ pub fn choose(kind: FieldKind, ir: &Ir, traversal: &Traversal) -> Result<Prepare
         FieldKind::Tape => TapeData::new(ir).map(PreparedField::Tape),
         FieldKind::Auto if hooks => Ok(PreparedField::Compiled),
         FieldKind::Auto => match TapeData::new(ir) {
-            Ok(t) if t.ops >= crossover(traversal) => Ok(PreparedField::Tape(t)),
+            Ok(t) if t.ops >= crossover(traversal) || too_large(ir, traversal) => Ok(PreparedField::Tape(t)),
             _ => Ok(PreparedField::Compiled),
         },
     }

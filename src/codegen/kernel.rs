@@ -45,6 +45,14 @@ pub struct SceneData {
     pub balls: Vec<[f32; 4]>,
 }
 
+/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
+/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
+/// lavapipe's compile time grows faster than the shader (`@creature` at
+/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
+/// past this a render would sit silent for a very long time; a formula
+/// that gets here is one to simplify.
+pub const MAX_SHADER_BYTES: usize = 500_000;
+
 /// Most active primitives per 8×8 tile; a tile with more evaluates the
 /// whole tree (counted as an overflow tile).
 pub const SCENE_TILE_MAX: u32 = 128;

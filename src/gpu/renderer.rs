@@ -43,13 +43,7 @@ pub enum RenderError {
     },
 }
 
-/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
-/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
-/// lavapipe's compile time grows faster than the shader (`@creature` at
-/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
-/// past this a render would sit silent for a very long time; a formula
-/// that gets here is one to simplify.
-pub const MAX_SHADER_BYTES: usize = 500_000;
+pub use crate::codegen::kernel::MAX_SHADER_BYTES;
 
 /// Buffers of one dispatch's pass group besides the pixel records.
 pub(crate) struct PassBuffers {
