@@ -27,9 +27,15 @@ pub const TAPE_SLOTS: u32 = 64;
 pub const TAPE_UNROLL: u32 = 1;
 /// Loop iterations the interpreter may spend in one invocation; past it an
 /// evaluation gives up (enclosures become the whole line, the pixel is
-/// reported unresolved). The rest of the 65,535 is the traversal's own:
-/// its budget (bisection at most [`TAPE_MAX_ITER`]) and its short loops.
-pub const TAPE_WORK_LIMIT: u32 = 44_000;
+/// reported unresolved). lavapipe's silent cap of 65,535 iterations counts
+/// the loops of a SIMD bundle of 8 invocations together, and invocations
+/// that diverge run the interpreter one after another (measured: a 17,862
+/// instruction tape whose tile pass stopped at 2 evaluations per invocation
+/// still had its loops cut and culled visible tiles). So each invocation
+/// gets an eighth of what the traversal's budget (at most
+/// [`TAPE_MAX_ITER`]) and its short loops leave: 8 × 5,500 + 16,000 +
+/// slack < 65,535.
+pub const TAPE_WORK_LIMIT: u32 = 5_500;
 /// Largest bisection iteration budget with a tape field (see
 /// [`TAPE_WORK_LIMIT`]).
 pub const TAPE_MAX_ITER: u32 = 16_000;

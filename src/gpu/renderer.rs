@@ -162,7 +162,11 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
-        self.field = field::bind(self.gpu, field)?;
+        let bound = field::bind(self.gpu, field)?;
+        if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
+            return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
+        }
+        self.field = bound;
         Ok(())
     }
 
