@@ -148,3 +148,42 @@ fn the_dense_baseline_draws_the_sparse_picture() {
     }
     assert!(hits > 200, "{hits}");
 }
+
+#[test]
+fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
+    // @creature: smooth unions and a smooth difference, lowered to compact
+    // operators (the same zero set), traced with the bound they need.
+    let entry = isotrace::catalog::lookup("creature").unwrap();
+    let f = entry.compile().unwrap();
+    let s = entry.settings(&f, 96, 72).unwrap();
+    let Traversal::Sphere(o) = entry.traversal(&f) else { panic!("creature is sphere traced") };
+    let mut t = Traversal::Sphere(o.clone());
+    let scene = isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Scene, &f, &[], &t).unwrap();
+    let (_, lipschitz) = isotrace::codegen::choice::scene(&f, &[], &t).unwrap();
+    assert_eq!(lipschitz, 1.45);
+    if let Traversal::Sphere(o) = &mut t {
+        o.lipschitz = lipschitz;
+    }
+    let a = Renderer::new(gpu(), scene.source(&f.ir), t).unwrap().render(&s).unwrap();
+    let b = Renderer::sphere(gpu(), &f.ir, o).unwrap().render(&s).unwrap();
+    let (mut both, mut differ, mut far) = (0, 0, 0);
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        if p.status != q.status {
+            differ += 1;
+        } else if p.status == Status::Hit {
+            both += 1;
+            // Both stop within the screen-space hit criterion, a pixel's
+            // footprint from the surface (f / L below it): along a grazing
+            // ray that is farther, so a few pixels may differ by more.
+            let footprint = 2.0 * p.depth * (s.camera.fov_deg as f32 / 2.0).to_radians().tan() / 72.0;
+            // (Thin parts, the antennae, come within that criterion of
+            // rays that pass them, so a pixel can stop on one in one
+            // picture and behind it in the other.)
+            far += ((p.depth - q.depth).abs() > footprint) as usize;
+        }
+    }
+    assert!(both > 1500, "{both}");
+    assert!(far * 33 < both, "{far} of {both} pixels differ by more than a footprint (measured: 39 of 2062)");
+    assert!(differ * 100 < a.pixels.len(), "{differ} pixels hit in one picture only (measured: 53 of 6912, silhouettes)");
+    assert_eq!((a.stats.unresolved, a.stats.field.overflow_tiles), (0, 0));
+}

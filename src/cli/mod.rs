@@ -100,6 +100,56 @@ pub enum AlgebraArg {
     Auto,
 }
 
+/// `--field`: the field source.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldArg {
+    /// The formula generated into the shader.
+    Compiled,
+    /// The formula as a tape run by a fixed interpreter.
+    Tape,
+    /// A formula of distance forms lowered to its blobtree scene (sphere tracing).
+    Scene,
+    /// Chosen by formula size, algebra and method.
+    Auto,
+}
+
+/// The field source of `--field` (default auto) for formula `f` with
+/// parameter values `params`, traced by `t`. A scene needs the Lipschitz
+/// bound of its operators: unless `--lipschitz` was given, sphere tracing
+/// takes at least that.
+pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool) -> Result<codegen::PreparedField, CliError> {
+    use isotrace::codegen::choice::{self, FieldError, SceneFieldError};
+    use isotrace::codegen::{FieldKind, TapeError};
+    let kind = match arg.unwrap_or(FieldArg::Auto) {
+        FieldArg::Compiled => FieldKind::Compiled,
+        FieldArg::Tape => FieldKind::Tape,
+        FieldArg::Scene => FieldKind::Scene,
+        FieldArg::Auto => FieldKind::Auto,
+    };
+    if kind == FieldKind::Scene {
+        let (field, lipschitz) = choice::scene(f, params, t).map_err(|e| match e {
+            SceneFieldError::NotBlobtree(n) => {
+                let d = isotrace::diag::Diagnostic::error(format!("--field scene: not a blobtree: {}", n.reason), n.span, "here")
+                    .with_note("a scene is built from distance forms (sphere, box, translate, union, smooth_union, ...) with constant arguments; render it with --field compiled (or auto)");
+                CliError::Rendered(d.render(&f.origin, &f.source, false))
+            }
+            SceneFieldError::NotSphere => CliError::Input(format!("--field scene: {e}; add --method sphere")),
+            SceneFieldError::Layout(_) => CliError::Input(format!("--field scene: {e}")),
+        })?;
+        if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
+            o.lipschitz = o.lipschitz.max(lipschitz);
+        }
+        return Ok(field);
+    }
+    choice::choose(kind, f, params, t).map_err(|e| {
+        let fix = match &e {
+            FieldError::Tape(TapeError::UserFunction(_) | TapeError::Hooks) => "the functions and hooks of --inline need --field compiled (or auto)",
+            _ => "render it with --field compiled (or auto)",
+        };
+        CliError::Input(format!("--field {}: {e}; {fix}", if kind == FieldKind::Tape { "tape" } else { "auto" }))
+    })
+}
+
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 enum KernelArg {
     /// The render kernel (stackless interval bisection).
@@ -316,7 +366,7 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
         R::Inline(m) => CliError::Rendered(m),
         R::Memory(m) => CliError::Input(memory_message(&m.to_string(), &m)),
         e @ R::ShaderTooLarge { .. } => CliError::Input(format!(
-            "{e}; simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
+            "{e}; render it with --field tape (or auto), which runs the formula from a buffer in a fixed interpreter, simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
         )),
     }
 }

@@ -4,7 +4,6 @@
 use super::{input::FormulaArgs, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use glam::DVec3;
-use isotrace::codegen::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::layout::KernelColor;
 use isotrace::render::settings::DEFAULT_MAX_ITER;
@@ -46,6 +45,9 @@ pub struct ViewArgs {
     /// Inclusion algebra: interval (ia), reduced affine (raa) or chosen per formula (auto).
     #[arg(long, value_enum)]
     pub algebra: Option<AlgebraArg>,
+    /// Field source: compiled (the formula generated into the shader), tape (a fixed interpreter runs the formula from a buffer: no compile wall for big formulas) or auto (by formula size, algebra and method).
+    #[arg(long, value_enum)]
+    pub field: Option<super::FieldArg>,
     /// Iteration budget per pixel (pixels that exceed it are reported as unresolved).
     #[arg(long, value_name = "N")]
     pub max_iter: Option<u32>,
@@ -511,13 +513,15 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     if let Some(an) = animation.as_ref().filter(|an| an.outputs.len() == 0) {
         eprintln!("note: shard {} has none of the {} frames", an.shard, an.n);
     }
+    let mut traversal = traversal;
+    let field = super::prepare_field(a.view.field, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some())?;
     // No device is opened when every frame of the run is already there.
     let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
     let renderer = match &gpu {
         Some(g) => {
             let t = traversal.clone();
-            let size = || isotrace::codegen::assemble(FieldSource::Compiled(&f.ir), &t).wgsl.len();
-            Some(super::with_compile_note(size, || Renderer::new(g, FieldSource::Compiled(&f.ir), traversal)).map_err(super::render_error)?)
+            let size = || isotrace::codegen::assemble(field.source(&f.ir), &t).wgsl.len();
+            Some(super::with_compile_note(size, || Renderer::new(g, field.source(&f.ir), traversal)).map_err(super::render_error)?)
         }
         None => None,
     };

@@ -85,14 +85,24 @@ fn scalar_fn(ir: &Ir) -> String {
     out
 }
 
-/// The render kernel's inclusion functions for `domain`:
-/// `cell_range(o, dir, s0, s1)`, the enclosure of f over the ray segment
-/// o + dir·[s0, s1]; `cell_range_d`, the same with the enclosure of the
-/// derivative along the ray; and `slab_range(eye, f, r, u, s, su, sv)`, the
-/// enclosure over the frustum slab eye + s·(f + su·r + sv·u).
-/// In the affine domain the ray depth s is the symbol e1, so x, y, z along a
-/// ray are exact affine forms; across a slab su and sv go into e2.
+/// The render kernel's inclusion functions for `domain` over a compiled
+/// formula: its `surf_<p>` (with CSG selection), its scalar `field(p)` and
+/// the [`enclosures`] built on them.
 pub fn inclusion(ir: &Ir, domain: Domain) -> String {
+    format!("{}\n{}\n{}", surface_fn(ir, domain), scalar_fn(ir), enclosures(domain, !ir.is_csg()))
+}
+
+/// The traversal's enclosures in `domain`, over any field that provides
+/// `surf_<p>(x, y, z, t) -> vec2<f32>` and, with `derivative`,
+/// `evald_<p>(x, y, z, t, dx, dy, dz) -> vec4<f32>` (the compiled and the
+/// tape field both do): `cell_range(o, dir, s0, s1)`, the enclosure of f
+/// over the ray segment o + dir·[s0, s1]; `cell_range_d`, the same with the
+/// enclosure of the derivative along the ray; and
+/// `slab_range(eye, f, r, u, s, su, sv)`, the enclosure over the frustum slab
+/// eye + s·(f + su·r + sv·u). In the affine domain the ray depth s is the
+/// symbol e1, so x, y, z along a ray are exact affine forms; across a slab
+/// su and sv go into e2.
+pub(crate) fn enclosures(domain: Domain, derivative: bool) -> String {
     let p = domain.prefix();
     let (forms, lift) = match domain {
         Domain::Interval => (
@@ -112,7 +122,7 @@ pub fn inclusion(ir: &Ir, domain: Domain) -> String {
         _ => "s",
     };
     // Several surfaces: no single derivative; such cells are never treated as monotone.
-    let cell_d = if ir.is_csg() {
+    let cell_d = if !derivative {
         "    return vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf);".to_string()
     } else {
         format!("{forms}\n    return evald_{p}(X, Y, Z, {p}_const(F.time), {p}_const(dir.x), {p}_const(dir.y), {p}_const(dir.z));")
@@ -121,8 +131,7 @@ pub fn inclusion(ir: &Ir, domain: Domain) -> String {
         format!("{p}_add({p}_const(eye.{c}), {p}_mul(S, {p}_add({p}_const(f.{c}), {p}_add({p}_mul(U_, {p}_const(r.{c})), {p}_mul(V_, {p}_const(u.{c}))))))")
     };
     format!(
-        "{surf}\n{scalar}\n\
-fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(F.time));\n}}\n\n\
+        "fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(F.time));\n}}\n\n\
 fn cell_range_d(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {{\n{cell_d}\n}}\n\n\
 fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
 let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
@@ -130,8 +139,6 @@ return surf_{p}({}, {}, {}, {p}_const(F.time));\n}}\n",
         axis("x"),
         axis("y"),
         axis("z"),
-        surf = surface_fn(ir, domain),
-        scalar = scalar_fn(ir),
     )
 }
 
@@ -140,7 +147,7 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 
 /// A compiled field has no loops: it adds nothing to an invocation's loop
 /// count.
-const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\n\
+const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\n\
     fn field_enter_pixel(px: vec2<u32>) {}\nfn field_leave_frustum() {}\n";
 
 /// The compiled field for a traversal that needs enclosures in `domain`

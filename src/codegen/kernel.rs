@@ -9,7 +9,7 @@
 //! generated (a compiled formula) or as an interpreter over buffers bound in
 //! the field group (`@group(1)`), without touching traversal code.
 
-use super::{compiled, template, Domain};
+use super::{compiled, tape_field, template, Domain, TapeData};
 use crate::inline::InlineWgsl;
 use crate::ir::Ir;
 use crate::layout::{self, BisectBlock, SphereBlock};
@@ -25,6 +25,10 @@ pub enum FieldSource<'a> {
     /// A blobtree kept as data (nodes and parameters in the field group),
     /// run by a fixed interpreter: edits change buffers, not the shader.
     Scene(&'a SceneData),
+    /// A formula flattened into a tape (instructions in the field group),
+    /// run by a fixed interpreter in the traversal's domain: a new formula
+    /// changes buffers, not the shader.
+    Tape(&'a TapeData),
 }
 
 /// A scene's buffers in the layout of `templates/fields/scene.wgsl`.
@@ -40,6 +44,14 @@ pub struct SceneData {
     /// an unbounded primitive).
     pub balls: Vec<[f32; 4]>,
 }
+
+/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
+/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
+/// lavapipe's compile time grows faster than the shader (`@creature` at
+/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
+/// past this a render would sit silent for a very long time; a formula
+/// that gets here is one to simplify.
+pub const MAX_SHADER_BYTES: usize = 500_000;
 
 /// Most active primitives per 8×8 tile; a tile with more evaluates the
 /// whole tree (counted as an overflow tile).
@@ -64,6 +76,7 @@ impl FieldSource<'_> {
                 template::SCENE,
                 template::SCENE_TILES
             ),
+            FieldSource::Tape(_) => tape_field::field_code(domain),
         }
     }
 
@@ -71,7 +84,7 @@ impl FieldSource<'_> {
     pub fn surfaces(&self) -> usize {
         match self {
             FieldSource::Compiled(ir) => ir.surfaces.len().max(1),
-            FieldSource::Scene(_) => 1,
+            FieldSource::Scene(_) | FieldSource::Tape(_) => 1,
         }
     }
 
@@ -79,14 +92,14 @@ impl FieldSource<'_> {
     /// dispatch.
     pub fn passes(&self) -> &'static [&'static str] {
         match self {
-            FieldSource::Compiled(_) => &[],
+            FieldSource::Compiled(_) | FieldSource::Tape(_) => &[],
             FieldSource::Scene(_) => &SCENE_PASSES,
         }
     }
 
     /// Whether the field can give interval enclosures (bisection needs them).
     pub fn has_enclosures(&self) -> bool {
-        matches!(self, FieldSource::Compiled(_))
+        matches!(self, FieldSource::Compiled(_) | FieldSource::Tape(_))
     }
 }
 

@@ -5,13 +5,19 @@
 //! render kernel from a traversal and a field source; [`template`] is the
 //! one splicing mechanism both use.
 
+pub mod choice;
 pub mod compiled;
 pub mod derivative;
 pub mod kernel;
+pub mod tape;
+mod tape_derivative;
+pub mod tape_field;
 pub mod template;
 
 pub use compiled::inclusion;
 pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel, SceneData};
+pub use choice::{FieldKind, PreparedField};
+pub use tape::{TapeData, TapeError};
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};
 use crate::layout::GpuBlock;
@@ -69,7 +75,7 @@ pub fn libraries(domains: &[Domain]) -> String {
 }
 
 /// f32 nearest to `c`, and the f32 interval enclosing it.
-fn f32_enclosure(c: f64) -> (f32, f32, f32) {
+pub(crate) fn f32_enclosure(c: f64) -> (f32, f32, f32) {
     let n = c as f32;
     let (mut lo, mut hi) = (n, n);
     if (n as f64) > c {

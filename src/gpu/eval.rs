@@ -66,7 +66,38 @@ pub fn eval_boxes_with(
     Ok(out)
 }
 
+/// Evaluates a tape (the fixed interpreter of the tape field source) in
+/// `domain` on every box, with the results of [`eval_boxes`]: the hook the
+/// conformance tests use to check the tape's enclosures on the device.
+pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domain, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
+    if boxes.is_empty() {
+        return Ok(vec![]);
+    }
+    let src = crate::codegen::tape_field::eval_shader(domain);
+    validate(&src)?;
+    let pipeline = gpu.pipeline("isotrace eval (tape)", &src)?;
+    let buffer = gpu.storage("tape", bytemuck::cast_slice(&tape.words))?;
+    let group = gpu.scoped("tape bind group", || {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tape"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
+        })
+    })?;
+    let mut out = Vec::with_capacity(boxes.len());
+    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
+    for part in boxes.chunks(chunk) {
+        out.extend(run_chunk_with(gpu, &pipeline, part, params, Some(&group))?);
+    }
+    Ok(out)
+}
+
 fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
+    run_chunk_with(gpu, pipeline, boxes, params, None)
+}
+
+/// One dispatch over `boxes`; `field` is bound as group 1 (a tape).
+fn run_chunk_with(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32], field: Option<&wgpu::BindGroup>) -> Result<Vec<[f32; 2]>, EvalError> {
     let n = boxes.len() as u32;
     let groups = n.div_ceil(64);
     let gx = groups.min(65_535);
@@ -110,6 +141,9 @@ fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
+            if let Some(g) = field {
+                pass.set_bind_group(1, g, &[]);
+            }
             pass.dispatch_workgroups(gx, gy, 1);
         }
         let staging = gpu.read_buffer(&mut enc, &obuf, size);

@@ -1,6 +1,7 @@
 //! The field group (`@group(1)`) of a render kernel: the buffers a field
 //! source binds, and the passes it runs before the traversal. A compiled
-//! formula lives in the shader and binds none; a scene binds its nodes,
+//! formula lives in the shader and binds none; a tape binds its
+//! instructions; a scene binds its nodes,
 //! parameters, primitives and bounding balls once, and per dispatch the
 //! tile lists and pruned views its pre-passes build.
 
@@ -20,6 +21,8 @@ pub(crate) struct FieldBinding {
     scene: bool,
     /// A scene evaluates its whole tree in every tile (the dense baseline).
     pub dense: bool,
+    /// An interpreted tape: bisection's budget must leave room for its work.
+    pub tape: bool,
 }
 
 impl FieldBinding {
@@ -95,7 +98,7 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], prims: 0, scene: false, dense: false }),
+        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], prims: 0, scene: false, dense: false, tape: false }),
         FieldSource::Scene(s) => {
             let mut layout: Vec<_> = (0..4).map(|b| storage_entry(b, true)).collect();
             layout.extend((4..8).map(|b| storage_entry(b, false)));
@@ -105,7 +108,11 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (2, gpu.storage("scene primitives", bytemuck::cast_slice(&s.prims))?),
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
-            Ok(FieldBinding { layout, buffers, prims: s.prims.len() as u32, scene: true, dense: false })
+            Ok(FieldBinding { layout, buffers, prims: s.prims.len() as u32, scene: true, dense: false, tape: false })
+        }
+        FieldSource::Tape(t) => {
+            let buffers = vec![(0, gpu.storage("tape", bytemuck::cast_slice(&t.words))?)];
+            Ok(FieldBinding { layout: vec![storage_entry(0, true)], buffers, prims: 0, scene: false, dense: false, tape: true })
         }
     }
 }

@@ -44,13 +44,7 @@ pub enum RenderError {
     },
 }
 
-/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
-/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
-/// lavapipe's compile time grows faster than the shader (`@creature` at
-/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
-/// past this a render would sit silent for a very long time; a formula
-/// that gets here is one to simplify.
-pub const MAX_SHADER_BYTES: usize = 500_000;
+pub use crate::codegen::kernel::MAX_SHADER_BYTES;
 
 /// Buffers of one dispatch's pass group besides the pixel records.
 pub(crate) struct PassBuffers {
@@ -116,6 +110,11 @@ impl<'g> Renderer<'g> {
         if matches!(traversal, Traversal::Bisect(_)) && !field.has_enclosures() {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
         }
+        if let (FieldSource::Tape(_), Traversal::Bisect(b)) = (field, &traversal) {
+            if b.modalities.inline.is_some() {
+                return Err(SettingsError::new(crate::render::SettingsField::Features, "inline", "user WGSL hooks need the compiled field").into());
+            }
+        }
         let kernel = codegen::assemble(field, &traversal);
         if kernel.wgsl.len() > MAX_SHADER_BYTES {
             return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
@@ -164,8 +163,12 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
+        let bound = field::bind(self.gpu, field)?;
+        if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
+            return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
+        }
         let dense = self.field.dense;
-        self.field = field::bind(self.gpu, field)?;
+        self.field = bound;
         self.field.dense = dense;
         Ok(())
     }
@@ -292,6 +295,10 @@ impl<'g> Renderer<'g> {
     /// to `sink`. Returns the statistics that do not come from the records.
     fn run(&self, s: &Settings, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
         s.check()?;
+        if self.field.tape && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
+            let reason = format!("at most {} with a tape field (its interpreter shares lavapipe's 65,535 loop iterations)", codegen::tape::TAPE_MAX_ITER);
+            return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
+        }
         let cam = s.camera.frame()?;
         let mut fb = frame_block(s, &cam, self.host.flags() | self.field.flags());
         let trav = self.host.block(s, &cam);

@@ -10,6 +10,12 @@
 // and convert back, as Knoll et al. do. Requires interval.wgsl.
 
 fn ra_const(c: f32) -> vec3<f32> { return vec3<f32>(c, 0.0, 0.0); }
+// A literal from its nearest f32 and its enclosing f32 interval, as the
+// generated code writes one (exact: a constant form; else the interval).
+fn ra_lit(n: f32, lo: f32, hi: f32) -> vec3<f32> {
+    if (lo == hi) { return ra_const(n); }
+    return ra_from_ia(vec2<f32>(lo, hi));
+}
 fn ra_empty() -> vec3<f32> { return vec3<f32>(0.0, 0.0, -1.0); }
 fn ra_is_empty(a: vec3<f32>) -> bool { return a.z < 0.0; }
 fn ra_radius(a: vec3<f32>) -> f32 { return abs(a.y) + a.z; }

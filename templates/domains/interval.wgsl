@@ -20,6 +20,9 @@ const IA_TWO_PI: f32 = 6.28318530717959;
 const IA_HALF_PI: f32 = 1.57079632679490;
 
 fn ia_const(c: f32) -> vec2<f32> { return vec2<f32>(c, c); }
+// A literal from its nearest f32 and its enclosing f32 interval (the tape
+// interpreter's constants carry all three).
+fn ia_lit(n: f32, lo: f32, hi: f32) -> vec2<f32> { return vec2<f32>(lo, hi); }
 fn ia_empty() -> vec2<f32> { return vec2<f32>(1.0, -1.0); }
 fn ia_is_empty(a: vec2<f32>) -> bool { return a.x > a.y; }
 fn ia_range(a: vec2<f32>) -> vec2<f32> { return a; }

@@ -52,3 +52,14 @@ fn iso_pow_pos(a: f32, b: f32) -> f32 {
 }
 fn iso_nan() -> f32 { return bitcast<f32>(bitcast<u32>(iso_inf()) | 0x00400000u); }
 fn iso_is_nan(a: f32) -> bool { return (bitcast<u32>(a) & 0x7fffffffu) > 0x7f800000u; }
+// A literal with its enclosing f32 interval: the point value (the tape
+// interpreter's constants carry all three; each domain takes its own).
+fn s_lit(n: f32, lo: f32, hi: f32) -> f32 { return n; }
+// The derivative helpers in the scalar domain: the tape interpreter runs
+// one instruction set in every domain, though scalar programs never hold
+// derivative instructions.
+fn s_whole() -> f32 { return iso_nan(); }
+fn s_dmin(a: f32, b: f32, da: f32, db: f32) -> f32 { return select(db, da, a <= b); }
+fn s_dmax(a: f32, b: f32, da: f32, db: f32) -> f32 { return select(db, da, a >= b); }
+fn s_dsign(a: f32, da: f32) -> f32 { return 0.0; }
+fn s_dfloor(a: f32, da: f32) -> f32 { return 0.0; }

@@ -121,6 +121,10 @@ fn field_leave_frustum() { g_scene_tile = SCENE_NO_TILE; g_scene_len = SCENE_VIE
 // SCENE_VIEW_FULL) the whole tree.
 fn scene_view_len() -> u32 { return g_scene_len; }
 
+// The scene bounds its own work by the traversal's guard (field_cost):
+// it never gives up on an evaluation.
+fn field_exhausted() -> bool { return false; }
+
 // Loop iterations one evaluation costs.
 fn field_cost() -> u32 {
     let len = scene_view_len();

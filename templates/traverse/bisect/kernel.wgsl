@@ -80,8 +80,9 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
     let len = s_hi - s_lo;
     let d_last = d_max + EXTRA_LEVELS;
     loop {
-        if (h.iters >= budget) {
-            // Budget exhausted: report it, and keep the nearest cell that may
+        if (h.iters >= budget || field_exhausted()) {
+            // Budget exhausted (the traversal's, or an interpreted field's
+            // work limit): report it, and keep the nearest cell that may
             // still hold the surface as the best guess.
             h.status = STATUS_UNRESOLVED;
             h.s = cell_s(s_lo, len, d, k).x;
@@ -418,6 +419,13 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             // Continue behind this surface, past its eps cell.
             s_from = hit.s + 2.0 * ray.eps_s;
         }
+    }
+    if (field_exhausted()) {
+        // An interpreted field gave up on an evaluation (its work limit):
+        // nothing this pixel found is proven.
+        status = STATUS_UNRESOLVED;
+        acc = unresolved_color(acc + transmit * background(unit), px);
+        transmit = 0.0;
     }
     var color = vec4<f32>(acc + transmit * background(unit), select(0.0, 1.0, status != STATUS_MISS));
     write_pixel(idx, color.xyz, status, normal, depth, pack_info(g_evals, d_ray, first_iso));

@@ -304,6 +304,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             depth = h.t;
         }
     }
+    // An interpreted field that gave up on an evaluation proves nothing here.
+    if (field_exhausted()) { status = STATUS_UNRESOLVED; }
     if (status == STATUS_UNRESOLVED) { color = vec4<f32>(unresolved_color(color.xyz, px), 1.0); }
     // d_ray 1 marks a ray that crosses the domain (at least one step), so the
     // hit / miss means of the statistics count the same pixels as bisection's.

@@ -1,0 +1,158 @@
+//! Which field source renders a formula: generated code (fast frames, a
+//! compile that grows steeply with the formula on lavapipe) or the tape
+//! (a fixed interpreter compiled once, slower per evaluation). `Auto`
+//! decides by a cost model measured on this project's reference machine
+//! (README, "Compiled or tape"). A later source (a formula lowered to a
+//! blobtree scene) joins as one more [`FieldKind`] value.
+
+use super::{FieldSource, TapeData, TapeError};
+use crate::ir::Ir;
+use crate::render::Traversal;
+
+/// The field source asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FieldKind {
+    /// The formula generated into WGSL.
+    Compiled,
+    /// The formula as a tape run by the fixed interpreter.
+    Tape,
+    /// The formula lowered to its blobtree (only a formula of distance
+    /// forms, only sphere traced): [`scene`], never chosen by `Auto`.
+    Scene,
+    /// Chosen per formula and traversal by [`choose`].
+    #[default]
+    Auto,
+}
+
+/// A field source ready to be bound: the tape is built once and owned.
+#[derive(Debug, Clone)]
+pub enum PreparedField {
+    /// Generated code.
+    Compiled,
+    /// A tape.
+    Tape(TapeData),
+    /// A blobtree scene's buffers.
+    Scene(super::SceneData),
+}
+
+impl PreparedField {
+    /// The field source over `ir`.
+    pub fn source<'a>(&'a self, ir: &'a Ir) -> FieldSource<'a> {
+        match self {
+            PreparedField::Compiled => FieldSource::Compiled(ir),
+            PreparedField::Tape(t) => FieldSource::Tape(t),
+            PreparedField::Scene(d) => FieldSource::Scene(d),
+        }
+    }
+
+    /// The kind that was prepared (never `Auto`).
+    pub fn kind(&self) -> FieldKind {
+        match self {
+            PreparedField::Compiled => FieldKind::Compiled,
+            PreparedField::Tape(_) => FieldKind::Tape,
+            PreparedField::Scene(_) => FieldKind::Scene,
+        }
+    }
+}
+
+/// Instructions of the value program from which `Auto` takes the tape, per
+/// traversal and algebra. Measured on lavapipe 22.3 (README, "Compiled or
+/// tape"): the tape's first frame costs about 20-70 s cold whatever the
+/// formula (its interpreter kernel) and its frames run 10-100 times slower
+/// than generated code, so it pays only where the compiled kernel's compile
+/// is slower still: from a few thousand operations (compiled: ~35 s at
+/// 2,503, over 120 s at 12,503). RAA has no measured win yet (`@creature`:
+/// over 120 s compiled, over 150 s as a tape), so it uses the same line.
+pub fn crossover(traversal: &Traversal) -> usize {
+    match traversal {
+        Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
+        Traversal::Bisect(_) => CROSSOVER_BISECT_IA,
+        Traversal::Sphere(_) => CROSSOVER_SPHERE,
+    }
+}
+
+/// See [`crossover`].
+pub const CROSSOVER_BISECT_IA: usize = 4000;
+/// See [`crossover`].
+pub const CROSSOVER_BISECT_RAA: usize = 4000;
+/// See [`crossover`] (sphere tracing evaluates only the scalar field: its
+/// compiled kernels are the cheapest to build).
+pub const CROSSOVER_SPHERE: usize = 4000;
+
+/// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
+/// (the renderer refuses it; the tape has no such limit).
+fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
+    super::assemble(FieldSource::Compiled(ir), traversal).wgsl.len() > super::kernel::MAX_SHADER_BYTES
+}
+
+/// The field for formula `f` (parameter values `params`) traced by
+/// `traversal`. `Tape` fails when the formula cannot be a tape (level-set
+/// CSG, user WGSL, too many registers), `Scene` when it is not a blobtree
+/// or not sphere traced ([`scene`]); `Auto` takes the compiled field for
+/// those, and otherwise the tape from [`crossover`] on, or when the
+/// compiled kernel would be too large to build. `Auto` never takes the
+/// scene (see [`scene`]).
+pub fn choose(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Result<PreparedField, FieldError> {
+    let ir = &f.ir;
+    let hooks = matches!(traversal, Traversal::Bisect(b) if b.modalities.inline.is_some());
+    match kind {
+        FieldKind::Compiled => Ok(PreparedField::Compiled),
+        FieldKind::Scene => Ok(scene(f, params, traversal)?.0),
+        FieldKind::Tape if hooks => Err(TapeError::Hooks.into()),
+        FieldKind::Tape => Ok(TapeData::new(ir).map(PreparedField::Tape)?),
+        FieldKind::Auto if hooks => Ok(PreparedField::Compiled),
+        FieldKind::Auto => match TapeData::new(ir) {
+            Ok(t) if t.ops >= crossover(traversal) || too_large(ir, traversal) => Ok(PreparedField::Tape(t)),
+            _ => Ok(PreparedField::Compiled),
+        },
+    }
+}
+
+/// Why the field asked for cannot render the formula.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FieldError {
+    /// Not as a tape.
+    #[error(transparent)]
+    Tape(#[from] TapeError),
+    /// Not as a scene.
+    #[error(transparent)]
+    Scene(#[from] SceneFieldError),
+}
+
+/// Why a formula cannot be rendered as a scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneFieldError {
+    /// A scene has no interval enclosures.
+    #[error("a scene is sphere traced: it has no interval enclosures to bisect")]
+    NotSphere,
+    /// The formula is not built from distance forms alone.
+    #[error("not a blobtree: {}", .0.reason)]
+    NotBlobtree(crate::scene::NotBlobtree),
+    /// The scene cannot be laid out (its evaluation stack).
+    #[error("{0}")]
+    Layout(crate::scene::SceneError),
+}
+
+/// The formula `f` (with parameter values `params`) as a blobtree scene
+/// for the sphere tracing `traversal`, and the Lipschitz bound its
+/// operators need (1, or Zanni's 1.45 with compact smooth operators). Not
+/// a choice of `Auto`: measured on @creature at 512², the scene
+/// interpreter takes 3.4-3.7 s a frame where the compiled field takes
+/// 155 ms, and the formula language's 64 KiB keep blobtrees far below the
+/// sizes where sparse evaluation pays (README, "Formulas as scenes").
+pub fn scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Result<(PreparedField, f64), SceneFieldError> {
+    let scene = crate::scene::from_formula(f, params).map_err(SceneFieldError::NotBlobtree)?;
+    if !matches!(traversal, Traversal::Sphere(_)) {
+        return Err(SceneFieldError::NotSphere);
+    }
+    let lin = crate::scene::linear::Linear::new(&scene).map_err(SceneFieldError::Layout)?;
+    let smooth = lin.nodes.iter().any(|n| (n[0] >> crate::scene::linear::NODE_TYPE_SHIFT) & 0xff >= crate::scene::linear::SMOOTH_UNION);
+    Ok((PreparedField::Scene(lin.field_data()), if smooth { SMOOTH_SCENE_LIPSCHITZ } else { 1.0 }))
+}
+
+/// The Lipschitz bound sphere tracing assumes for a scene with compact
+/// smooth operators: Zanni et al.'s empirical 1.45 (each operator scales
+/// the bound by 6 r_o / (6 r_o - beta) at most; the product along a path
+/// is far looser than what random scenes show, max |grad f| <= 1.23).
+/// Scenes of sharp operators on exact distances are 1-Lipschitz.
+pub const SMOOTH_SCENE_LIPSCHITZ: f64 = 1.45;

@@ -1,0 +1,496 @@
+//! The tape field source: a formula's IR flattened into instructions with
+//! register operands, run on the device by one fixed interpreter
+//! (`templates/fields/tape.wgsl`). The shader depends only on the traversal
+//! and the number domain, never on the formula, so a new formula or an edit
+//! is a buffer upload; lavapipe's compile time, which grows steeply with the
+//! size of generated code, is paid once.
+//!
+//! The tape holds two programs: the value program (f) and the derivative
+//! program (f and its derivative along the ray, for bisection's
+//! monotonicity test). The derivative is built here, symbolically, from the
+//! same rules as the generated `evald_*` functions (`derivative.rs`), so
+//! the interpreter needs no second set of rules: it only ever runs `op_*`
+//! operations. Registers are allocated by a linear scan over each program
+//! (a value's register is reused after its last use), which keeps the
+//! interpreter's register file a small fixed array.
+
+use super::tape_derivative::derivative_program;
+use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
+use std::collections::HashMap;
+
+/// Registers of the interpreter (a power of two: operands are masked, so a
+/// register index can never leave the array).
+pub const TAPE_SLOTS: u32 = 64;
+/// Instructions the interpreter runs per loop iteration: lavapipe counts
+/// loop iterations against a silent cap of 65,535 per invocation, so the
+/// loop is unrolled; programs are padded to a multiple of this.
+pub const TAPE_UNROLL: u32 = 1;
+/// Loop iterations the interpreter may spend in one invocation; past it an
+/// evaluation gives up (enclosures become the whole line, the pixel is
+/// reported unresolved). lavapipe's silent cap of 65,535 iterations counts
+/// the loops of a SIMD bundle of 8 invocations together, and invocations
+/// that diverge run the interpreter one after another (measured: a 17,862
+/// instruction tape whose tile pass stopped at 2 evaluations per invocation
+/// still had its loops cut and culled visible tiles). So each invocation
+/// gets an eighth of what the traversal's budget (at most
+/// [`TAPE_MAX_ITER`]) and its short loops leave: 8 × 5,500 + 16,000 +
+/// slack < 65,535.
+pub const TAPE_WORK_LIMIT: u32 = 5_500;
+/// Largest bisection iteration budget with a tape field (see
+/// [`TAPE_WORK_LIMIT`]).
+pub const TAPE_MAX_ITER: u32 = 16_000;
+/// Words of the header before the first program: `[value start, value len,
+/// derivative start, derivative len]`, `[value out, derivative f out,
+/// derivative d out, 0]`, `[value iterations, derivative iterations, 0, 0]`.
+pub const TAPE_HEADER: u32 = 3;
+
+/// The interpreter's operation codes (one byte of an instruction's first
+/// word). The WGSL constants are generated from this list
+/// ([`wgsl_constants`]), so host and shader cannot disagree.
+#[allow(missing_docs)] // the names are the operations
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum Code {
+    Nop = 0, Const, Input, Param, Neg, Add, Sub, Mul, Div, Sqr, PowChain,
+    Sqrt, Exp, Log, Sin, Cos, Tan, Atan, Sinh, Cosh, Tanh, Abs, Sign, Floor,
+    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole,
+}
+
+impl Code {
+    const ALL: [Code; 35] = [
+        Code::Nop, Code::Const, Code::Input, Code::Param, Code::Neg, Code::Add, Code::Sub, Code::Mul, Code::Div, Code::Sqr, Code::PowChain,
+        Code::Sqrt, Code::Exp, Code::Log, Code::Sin, Code::Cos, Code::Tan, Code::Atan, Code::Sinh, Code::Cosh, Code::Tanh, Code::Abs,
+        Code::Sign, Code::Floor, Code::Pow, Code::Atan2, Code::Min, Code::Max, Code::Clamp, Code::Mix, Code::Dmin, Code::Dmax,
+        Code::Dsign, Code::Dfloor, Code::Whole,
+    ];
+    fn of1(f: Func1) -> Code {
+        match f {
+            Func1::Sqrt => Code::Sqrt, Func1::Exp => Code::Exp, Func1::Log => Code::Log, Func1::Sin => Code::Sin,
+            Func1::Cos => Code::Cos, Func1::Tan => Code::Tan, Func1::Atan => Code::Atan, Func1::Sinh => Code::Sinh,
+            Func1::Cosh => Code::Cosh, Func1::Tanh => Code::Tanh, Func1::Abs => Code::Abs, Func1::Sign => Code::Sign,
+            Func1::Floor => Code::Floor,
+        }
+    }
+    fn of2(f: Func2) -> Code {
+        match f {
+            Func2::Pow => Code::Pow, Func2::Atan2 => Code::Atan2, Func2::Min => Code::Min, Func2::Max => Code::Max,
+        }
+    }
+}
+
+/// Flag bit of an instruction's first word: the result may be empty.
+pub const TAPE_RESTRICTS: u32 = 1 << 8;
+
+/// One tape node before register allocation: operands are node indices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Node {
+    pub code: Code,
+    pub args: [u32; 4],
+    /// A constant's value, a parameter's or input's index, a power.
+    pub imm: f64,
+}
+
+/// Index of an interpreter input (`Code::Input`): x, y, z, t, then the ray
+/// direction dx, dy, dz of the derivative program.
+pub(crate) const INPUT_DX: u32 = 4;
+
+/// Hash-consed tape nodes in topological order.
+#[derive(Default)]
+pub(crate) struct Builder {
+    pub nodes: Vec<Node>,
+    seen: HashMap<(u8, [u32; 4], u64), u32>,
+    /// Nodes of the formula's sqrt, log and pow: an empty result of one
+    /// makes the whole function empty (they are strict). A log the
+    /// derivative rules add is not among them, as in the generated code.
+    strict: std::collections::HashSet<u32>,
+    /// A scheduling hint: a derivative node's value node, placed right after
+    /// it so the values its derivative needs die there (without it, a sum's
+    /// every term would wait in a register for the derivative pass).
+    pub partner: HashMap<u32, u32>,
+}
+
+impl Builder {
+    pub fn push(&mut self, code: Code, args: [u32; 4], imm: f64) -> u32 {
+        let key = (code as u8, args, imm.to_bits());
+        if let Some(&n) = self.seen.get(&key) {
+            return n;
+        }
+        self.nodes.push(Node { code, args, imm });
+        let n = self.nodes.len() as u32 - 1;
+        self.seen.insert(key, n);
+        n
+    }
+    pub fn un(&mut self, code: Code, a: u32) -> u32 {
+        self.push(code, [a, 0, 0, 0], 0.0)
+    }
+    pub fn bin(&mut self, code: Code, a: u32, b: u32) -> u32 {
+        self.push(code, [a, b, 0, 0], 0.0)
+    }
+    pub fn konst(&mut self, c: f64) -> u32 {
+        self.push(Code::Const, [0; 4], c)
+    }
+    pub fn input(&mut self, i: u32) -> u32 {
+        self.push(Code::Input, [0; 4], f64::from(i))
+    }
+    /// a^n for n ≥ 2 exactly as the generated code writes it: a square,
+    /// even powers as powers of the square, odd ones by square-and-multiply.
+    pub fn powi(&mut self, a: u32, n: u32) -> u32 {
+        match n {
+            2 => self.un(Code::Sqr, a),
+            _ if n % 2 == 0 => {
+                let q = self.un(Code::Sqr, a);
+                if n == 4 { self.un(Code::Sqr, q) } else { self.push(Code::PowChain, [q, 0, 0, 0], f64::from(n / 2)) }
+            }
+            _ => self.push(Code::PowChain, [a, 0, 0, 0], f64::from(n)),
+        }
+    }
+}
+
+/// Why a formula cannot become a tape. The command line names the flag.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TapeError {
+    /// `--inline` user functions are WGSL, not tape operations.
+    #[error("a tape field cannot call user WGSL functions ({0})")]
+    UserFunction(String),
+    /// `--inline` hooks (cell rejection, hit test, shading) are compiled in.
+    #[error("a tape field cannot run user WGSL hooks")]
+    Hooks,
+    /// Several surfaces or level-set conditions.
+    #[error("a tape field draws one surface: level-set CSG (several surfaces or `where` conditions) needs the compiled field")]
+    Csg,
+    /// More simultaneously live values than the interpreter has registers.
+    #[error("the formula needs {0} registers at once, over the tape interpreter's {TAPE_SLOTS}")]
+    Registers(u32),
+}
+
+/// A formula as the tape interpreter's buffer (`templates/fields/tape.wgsl`):
+/// the header, then the value and derivative programs, one `vec4<u32>` per
+/// instruction: `[code | restricts << 8 | out << 16, a | b << 16,
+/// c | d << 16, immediate]`; a constant carries its nearest f32 and its
+/// enclosing f32 interval in the last three words.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TapeData {
+    /// Header and instructions.
+    pub words: Vec<[u32; 4]>,
+    /// Operations of the value program (without padding).
+    pub ops: usize,
+    /// Most registers either program uses.
+    pub registers: u32,
+}
+
+impl TapeData {
+    /// Flattens `ir` (one surface, no user functions).
+    pub fn new(ir: &Ir) -> Result<TapeData, TapeError> {
+        if let Some((name, _)) = ir.externs.first() {
+            return Err(TapeError::UserFunction(name.clone()));
+        }
+        if ir.is_csg() {
+            return Err(TapeError::Csg);
+        }
+        let mut b = Builder::default();
+        let values = flatten(ir, &mut b);
+        let f = values[ir.root as usize];
+        let df = derivative_program(ir, &values, &mut b);
+        let value = encode(&b, &[f])?;
+        // A derivative program over the register file gives up the
+        // monotonicity proof, never the render: its slope is the whole line.
+        let deriv = match encode(&b, &[df, f]) {
+            Err(TapeError::Registers(_)) => {
+                let whole = b.push(Code::Whole, [0; 4], 0.0);
+                encode(&b, &[whole, f])?
+            }
+            other => other?,
+        };
+        let mut words = vec![[0u32; 4]; TAPE_HEADER as usize];
+        let start = TAPE_HEADER;
+        let dstart = start + value.words.len() as u32;
+        words[0] = [start, value.words.len() as u32, dstart, deriv.words.len() as u32];
+        words[1] = [value.outputs[0], deriv.outputs[1], deriv.outputs[0], 0];
+        words[2] = [value.iterations, deriv.iterations, 0, 0];
+        words.extend(value.words);
+        words.extend(deriv.words);
+        Ok(TapeData { words, ops: value.ops, registers: value.registers.max(deriv.registers) })
+    }
+
+    /// Loop iterations of one value evaluation.
+    pub fn value_iterations(&self) -> u32 {
+        self.words[2][0]
+    }
+}
+
+/// The tape node of every live IR node (`u32::MAX` for dead ones).
+fn flatten(ir: &Ir, b: &mut Builder) -> Vec<u32> {
+    let mut v = vec![u32::MAX; ir.nodes.len()];
+    for id in ir.live() {
+        let m = |n: NodeId| v[n as usize];
+        v[id as usize] = match ir.nodes[id as usize] {
+            Op::Const(c) => b.konst(c),
+            Op::Var(var) => b.input(match var {
+                Var::X => 0,
+                Var::Y => 1,
+                Var::Z => 2,
+                Var::T => 3,
+            }),
+            Op::Param(i) => b.push(Code::Param, [0; 4], f64::from(i)),
+            Op::Neg(a) => b.un(Code::Neg, m(a)),
+            Op::Add(a, c) => b.bin(Code::Add, m(a), m(c)),
+            Op::Sub(a, c) => b.bin(Code::Sub, m(a), m(c)),
+            Op::Mul(a, c) => b.bin(Code::Mul, m(a), m(c)),
+            Op::Div(a, c) => b.bin(Code::Div, m(a), m(c)),
+            Op::PowI(a, n) => b.powi(m(a), n),
+            Op::Call1(f, a) => b.un(Code::of1(f), m(a)),
+            Op::Call2(f, a, c) => b.bin(Code::of2(f), m(a), m(c)),
+            Op::Call3(f, a, c, e) => {
+                let code = if f == Func3::Clamp { Code::Clamp } else { Code::Mix };
+                b.push(code, [m(a), m(c), m(e), 0], 0.0)
+            }
+            Op::User(..) => unreachable!("user functions are refused before flattening"),
+        };
+        if ir.nodes[id as usize].restricts_domain() {
+            b.strict.insert(v[id as usize]);
+        }
+    }
+    v
+}
+
+/// One program with registers.
+struct Program {
+    words: Vec<[u32; 4]>,
+    outputs: Vec<u32>,
+    ops: usize,
+    registers: u32,
+    iterations: u32,
+}
+
+/// Sethi–Ullman numbers of the nodes read as a tree: the registers a
+/// subtree needs when its most demanding operand goes first. Visiting
+/// operands in decreasing need keeps fewer values waiting.
+fn register_need(nodes: &[Node]) -> Vec<u32> {
+    let mut need = vec![1u32; nodes.len()];
+    for (i, n) in nodes.iter().enumerate() {
+        let mut k: Vec<u32> = n.args[..arity(n.code)].iter().map(|&a| need[a as usize]).collect();
+        k.sort_unstable_by(|a, b| b.cmp(a));
+        need[i] = k.iter().enumerate().map(|(j, &x)| x.saturating_add(j as u32)).max().unwrap_or(1).max(1);
+    }
+    need
+}
+
+/// Depth-first post-order of the nodes `outputs` reach; right after a node
+/// with a partner, the partner's subtree (iterative: a formula's chains can
+/// be thousands deep).
+fn schedule(nodes: &[Node], outputs: &[u32], partner: &HashMap<u32, u32>) -> Vec<usize> {
+    let mut done = vec![false; nodes.len()];
+    // On the stack: a partner there is left to its own frame.
+    let mut open = vec![false; nodes.len()];
+    let mut order = Vec::new();
+    let need = register_need(nodes);
+    let by_need = |n: usize| {
+        let mut args: Vec<u32> = nodes[n].args[..arity(nodes[n].code)].to_vec();
+        args.sort_by_key(|&a| std::cmp::Reverse(need[a as usize]));
+        args
+    };
+    for &o in outputs {
+        let mut stack = vec![(o as usize, 0usize)];
+        open[o as usize] = true;
+        while let Some(&mut (n, ref mut next)) = stack.last_mut() {
+            let args = by_need(n);
+            if let Some(&a) = args.get(*next) {
+                *next += 1;
+                if !done[a as usize] {
+                    open[a as usize] = true;
+                    stack.push((a as usize, 0));
+                }
+                continue;
+            }
+            stack.pop();
+            if !done[n] {
+                done[n] = true;
+                order.push(n);
+                if let Some(&p) = partner.get(&(n as u32)) {
+                    if !done[p as usize] && !open[p as usize] {
+                        open[p as usize] = true;
+                        stack.push((p as usize, 0));
+                    }
+                }
+            }
+        }
+    }
+    order
+}
+
+/// Operand count of an operation.
+fn arity(code: Code) -> usize {
+    match code {
+        Code::Nop | Code::Const | Code::Input | Code::Param | Code::Whole => 0,
+        Code::Add | Code::Sub | Code::Mul | Code::Div | Code::Pow | Code::Atan2 | Code::Min | Code::Max | Code::Dsign | Code::Dfloor => 2,
+        Code::Clamp | Code::Mix => 3,
+        Code::Dmin | Code::Dmax => 4,
+        _ => 1,
+    }
+}
+
+/// The nodes `outputs` need, in depth-first post-order (each operand's
+/// subtree right before its user, so a long sum holds a few values at a time
+/// rather than every leaf the front end created first), with registers from
+/// a linear scan: an operand's register is freed at its last use, before the
+/// result is given one (the interpreter reads operands before it writes).
+fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
+    let nodes = &b.nodes;
+    let leaf = |i: usize| arity(nodes[i].code) == 0 && !outputs.contains(&(i as u32));
+    // Constants, inputs and parameters are emitted again right before each
+    // use (one instruction) rather than held in a register from their first
+    // use to their last.
+    let order: Vec<usize> = schedule(nodes, outputs, &b.partner).into_iter().filter(|&i| !leaf(i)).collect();
+    let mut last = vec![0usize; nodes.len()];
+    for (k, &i) in order.iter().enumerate() {
+        for &a in &nodes[i].args[..arity(nodes[i].code)] {
+            last[a as usize] = k;
+        }
+    }
+    for &o in outputs {
+        last[o as usize] = usize::MAX;
+    }
+    let mut regs = Registers { free: vec![], count: 0 };
+    let mut reg = vec![0u32; nodes.len()];
+    let mut words = Vec::with_capacity(order.len());
+    let mut iterations = 0;
+    for (k, &i) in order.iter().enumerate() {
+        let n = nodes[i];
+        let args = &n.args[..arity(n.code)];
+        let mut dying = vec![];
+        for (j, &a) in args.iter().enumerate() {
+            if args[..j].contains(&a) {
+                continue;
+            }
+            if leaf(a as usize) {
+                reg[a as usize] = regs.take();
+                words.push(word(b, a as usize, reg[a as usize], [0; 4]));
+                dying.push(reg[a as usize]);
+            } else if last[a as usize] == k {
+                dying.push(reg[a as usize]);
+            }
+        }
+        regs.free.extend(dying);
+        reg[i] = regs.take();
+        let mut ra = [0u32; 4];
+        for (j, &a) in args.iter().enumerate() {
+            ra[j] = reg[a as usize];
+        }
+        words.push(word(b, i, reg[i], ra));
+        if n.code == Code::PowChain {
+            iterations += 31 - (n.imm as u32).leading_zeros();
+        }
+    }
+    if regs.count > TAPE_SLOTS {
+        return Err(TapeError::Registers(regs.count));
+    }
+    let ops = words.len();
+    while words.len() % TAPE_UNROLL as usize != 0 {
+        words.push([Code::Nop as u32, 0, 0, 0]);
+    }
+    iterations += words.len() as u32 / TAPE_UNROLL;
+    Ok(Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: regs.count, iterations })
+}
+
+/// The register file during allocation: freed registers are reused first.
+struct Registers {
+    free: Vec<u32>,
+    count: u32,
+}
+
+impl Registers {
+    fn take(&mut self) -> u32 {
+        self.free.pop().unwrap_or_else(|| {
+            self.count += 1;
+            self.count - 1
+        })
+    }
+}
+
+/// The instruction of node `i` writing register `r` with operand registers `ra`.
+fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
+    let n = b.nodes[i];
+    let flags = if b.strict.contains(&(i as u32)) { TAPE_RESTRICTS } else { 0 };
+    let head = n.code as u32 | flags | r << 16;
+    match n.code {
+        Code::Const => {
+            let (near, lo, hi) = super::f32_enclosure(n.imm);
+            [head, near.to_bits(), lo.to_bits(), hi.to_bits()]
+        }
+        _ => [head, ra[0] | ra[1] << 16, ra[2] | ra[3] << 16, n.imm as u32],
+    }
+}
+
+/// The operation codes and the interpreter's limits as WGSL constants.
+pub fn wgsl_constants() -> String {
+    let mut s = String::new();
+    for c in Code::ALL {
+        s.push_str(&format!("const TAPE_{}: u32 = {}u;\n", format!("{c:?}").to_uppercase(), c as u8));
+    }
+    for (name, v) in [
+        ("TAPE_SLOTS", TAPE_SLOTS),
+        ("TAPE_SLOT_MASK", TAPE_SLOTS - 1),
+        ("TAPE_UNROLL", TAPE_UNROLL),
+        ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
+        ("TAPE_RESTRICTS", TAPE_RESTRICTS),
+        ("TAPE_DONE", 0),
+        ("TAPE_EMPTY", 1),
+        ("TAPE_EXHAUSTED", 2),
+    ] {
+        s.push_str(&format!("const {name}: u32 = {v}u;\n"));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tape(src: &str) -> TapeData {
+        TapeData::new(&crate::Formula::compile("<t>", src).expect("formula").ir).expect("tape")
+    }
+
+    #[test]
+    fn every_code_is_listed_once() {
+        for (i, c) in Code::ALL.iter().enumerate() {
+            assert_eq!(*c as usize, i);
+        }
+    }
+
+    #[test]
+    fn registers_are_reused_along_a_long_sum() {
+        let src: Vec<String> = (1..=400).map(|i| format!("(x - {i})*(y + {i})")).collect();
+        let t = tape(&src.join(" + "));
+        assert!(t.ops > 1500, "{} ops", t.ops);
+        assert!(t.registers <= 16, "{} registers", t.registers);
+    }
+
+    #[test]
+    fn programs_are_padded_and_described_by_the_header() {
+        let t = tape("x^2 + y^2 + z^2 - 1");
+        let [vs, vl, ds, dl] = t.words[0];
+        assert_eq!(vs, TAPE_HEADER);
+        assert_eq!(ds, vs + vl);
+        assert_eq!(t.words.len() as u32, ds + dl);
+        assert_eq!(vl % TAPE_UNROLL, 0);
+        assert_eq!(t.value_iterations(), vl / TAPE_UNROLL);
+    }
+
+    #[test]
+    fn every_catalog_formula_fits_the_register_file() {
+        for e in crate::catalog::builtin() {
+            let f = e.compile().expect("catalog formula");
+            match TapeData::new(&f.ir) {
+                Ok(t) => assert!(t.registers <= TAPE_SLOTS, "{}: {} registers", e.name, t.registers),
+                Err(TapeError::Csg | TapeError::UserFunction(_)) => {}
+                Err(err) => panic!("{}: {err}", e.name),
+            }
+        }
+    }
+
+    #[test]
+    fn csg_and_user_functions_are_refused() {
+        let ir = crate::Formula::compile("<t>", "x^2 + y^2 - 1 where z < 0").expect("formula").ir;
+        assert_eq!(TapeData::new(&ir), Err(TapeError::Csg));
+    }
+}

@@ -1,0 +1,149 @@
+//! The tape field source's WGSL: the interpreter of
+//! `templates/fields/tape.wgsl` instantiated for the scalar domain (the
+//! field `field(p)`) and for the traversal's inclusion domain (the
+//! enclosures), around the tape buffer of the field group. Nothing here
+//! depends on the formula: the code is a function of the domain only, so
+//! the kernel compiles once and a formula is a buffer ([`super::tape`]).
+
+use super::{compiled, derivative, libraries, template, Domain};
+
+/// The interpreter template, written against `T` and `op_*`.
+pub const TAPE: &str = include_str!("../../templates/fields/tape.wgsl");
+
+/// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
+/// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
+/// several domains' interpreters live in one module.
+pub fn instantiate(domain: Domain) -> String {
+    let (p, ty) = (domain.prefix(), domain.ty());
+    let mut out = String::with_capacity(TAPE.len() + 512);
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        if word == "T" {
+            out.push_str(ty);
+        } else if let Some(rest) = word.strip_prefix("op_") {
+            out.push_str(&format!("{p}_{rest}"));
+        } else if let Some(stem) = word.strip_suffix("_T") {
+            out.push_str(&format!("{stem}_{p}"));
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for line in TAPE.lines() {
+        // Comments pass through untouched.
+        let (code, comment) = line.find("//").map_or((line, ""), |i| line.split_at(i));
+        for ch in code.chars() {
+            if ch.is_ascii_alphanumeric() || ch == '_' {
+                word.push(ch);
+            } else {
+                flush(&mut word, &mut out);
+                out.push(ch);
+            }
+        }
+        flush(&mut word, &mut out);
+        out.push_str(comment);
+        out.push('\n');
+    }
+    out
+}
+
+/// The interpreter in `domain` with its declarations, for kernels of its
+/// own (the eval kernel, tests): `surf_<p>` and `evald_<p>` over the tape
+/// in `@group(1) @binding(0)`. The kernel provides `iso_inf`, `iso_param`,
+/// the op libraries and `g_field_work`.
+pub fn interpreter(domain: Domain) -> String {
+    format!("{}{}", prelude(), instantiate(domain))
+}
+
+/// Declarations every tape kernel shares: the constants, the tape buffer
+/// of the field group and the exhaustion flag.
+fn prelude() -> String {
+    format!(
+        "{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program.\n\
+         @group(1) @binding(0) var<storage, read> tape_code: array<vec4<u32>>;\n\
+         // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
+         var<private> g_tape_exhausted: bool;\n",
+        super::tape::wgsl_constants()
+    )
+}
+
+/// The scalar field and the hooks every field source provides.
+const SCALAR_FIELD: &str = "
+// The scalar field: the value program in f32. Past the work limit it is NaN
+// (and the pixel is reported through field_exhausted).
+fn field(p: vec3<f32>) -> f32 {
+    g_in_s[0] = p.x;
+    g_in_s[1] = p.y;
+    g_in_s[2] = p.z;
+    g_in_s[3] = F.time;
+    let h = tape_code[0];
+    if (tape_run_s(h.x, h.y, tape_code[2].x) == TAPE_EXHAUSTED) { return iso_nan(); }
+    return tape_reg_s(tape_code[1].x);
+}
+// Loop iterations of one evaluation of the value program.
+fn field_cost() -> u32 { return tape_code[2].x; }
+fn field_exhausted() -> bool { return g_tape_exhausted; }
+fn field_enter_pixel(px: vec2<u32>) {}
+fn field_leave_frustum() {}
+";
+
+/// The tape field for a traversal that needs enclosures in `domain`
+/// (bisection) or, with `None`, only the scalar field (sphere tracing).
+pub fn field_code(domain: Option<Domain>) -> String {
+    let mut out = match domain {
+        Some(d) => format!("{}{}", libraries(&[Domain::Scalar, d]), derivative::library(d)),
+        None => libraries(&[Domain::Scalar]),
+    };
+    out.push_str(&prelude());
+    out.push_str(&instantiate(Domain::Scalar));
+    out.push_str(SCALAR_FIELD);
+    if let Some(d) = domain {
+        out.push_str(&instantiate(d));
+        out.push_str(&compiled::enclosures(d, true));
+    }
+    out
+}
+
+/// The `isotrace eval` kernel over a tape in `domain`: the same boxes and
+/// results as [`super::eval_shader`], with the tape in `@group(1)`.
+pub fn eval_shader(domain: Domain) -> String {
+    let lib = match domain {
+        Domain::Scalar => libraries(&[Domain::Scalar]),
+        d => format!("{}{}", libraries(&[Domain::Scalar, d]), derivative::library(d)),
+    };
+    let interp = format!("var<private> g_field_work: u32;\n{}", interpreter(domain));
+    let call = match domain {
+        Domain::Scalar => "    return surf_s(x.x, y.x, z.x, t.x);",
+        Domain::Interval => "    return surf_ia(x, y, z, t);",
+        Domain::Affine => "    return surf_ra(ra_from_ia(x), ra_from_ia(y), ra_from_ia(z), ra_from_ia(t));",
+    };
+    use crate::layout::GpuBlock;
+    let uniforms = crate::layout::EvalBlock::wgsl();
+    template::splice(template::EVAL, &[("uniforms", &uniforms), ("library", &lib), ("inline", ""), ("evaluator", &interp), ("call", call)])
+        .expect("the eval template has its markers")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_template_unrolls_as_the_host_pads() {
+        assert_eq!(TAPE.matches("= tape_step_T(pc").count() as u32, super::super::tape::TAPE_UNROLL);
+    }
+
+    #[test]
+    fn instances_keep_no_generic_names() {
+        for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
+            let code: String = instantiate(d).lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
+            assert!(!code.contains("op_") && !code.contains("_T(") && !code.contains(": T"), "{d:?}");
+        }
+    }
+
+    #[test]
+    fn every_tape_kernel_validates() {
+        for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
+            crate::validate::validate(&eval_shader(d)).unwrap_or_else(|e| panic!("{d:?}: {e}"));
+        }
+    }
+}

@@ -1,0 +1,134 @@
+// The tape interpreter, written once against the shared op interface:
+// `T` is the number domain's value type and every `op_*` call is the
+// domain's operation (codegen/tape_wgsl.rs instantiates this file per
+// domain: scalar s_, interval ia_, affine ra_, renaming `op_*`, `T` and
+// the `_T` suffix of its own names). The tape (src/codegen/tape.rs) lives
+// in the field group: a header, then the value and the derivative programs,
+// one vec4<u32> per instruction:
+//   x: code | restricts << 8 | out << 16, y: a | b << 16, z: c | d << 16,
+//   w: immediate (input, parameter, power); a constant: (near, lo, hi) bits.
+// The operation codes, limits and run results (TAPE_DONE, TAPE_EMPTY,
+// TAPE_EXHAUSTED) are generated from Rust (TAPE_* constants).
+
+// The register file: module scope, so it is zero-initialised once per
+// invocation and not on every call (lavapipe zeroes a function-scope array
+// on every call: that cost the scene interpreter 5x).
+var<private> g_regs_T: array<T, TAPE_SLOTS>;
+// The inputs: x, y, z, t, then the ray direction (derivative program).
+var<private> g_in_T: array<T, 7>;
+
+// a^n (n >= 3) by square-and-multiply over the domain's power helpers,
+// exactly as the generated code unrolls it.
+fn tape_pow_T(a: T, n: u32) -> T {
+    let b = op_pw_lift(a);
+    var w = b;
+    let top = 31u - countLeadingZeros(n);
+    for (var k = 0u; k < top; k = k + 1u) {
+        w = op_pw_sq(w);
+        if (((n >> (top - 1u - k)) & 1u) == 1u) { w = op_pw_mul(w, b); }
+    }
+    return op_pw_odd(a, w);
+}
+
+fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
+
+// Runs instruction `pc`; true when its result is empty and it is strict
+// (the whole function is then empty).
+fn tape_step_T(pc: u32) -> bool {
+    let w = tape_code[pc];
+    let code = w.x & 0xffu;
+    if (code == TAPE_NOP) { return false; }
+    let a = tape_reg_T(w.y);
+    let b = tape_reg_T(w.y >> 16u);
+    var r: T;
+    switch (code) {
+        case TAPE_CONST: { r = op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)); }
+        case TAPE_INPUT: { r = g_in_T[min(w.w, 6u)]; }
+        case TAPE_PARAM: { r = op_const(iso_param(w.w)); }
+        case TAPE_NEG: { r = op_neg(a); }
+        case TAPE_ADD: { r = op_add(a, b); }
+        case TAPE_SUB: { r = op_sub(a, b); }
+        case TAPE_MUL: { r = op_mul(a, b); }
+        case TAPE_DIV: { r = op_div(a, b); }
+        case TAPE_SQR: { r = op_sqr(a); }
+        case TAPE_POWCHAIN: { r = tape_pow_T(a, w.w); }
+        case TAPE_SQRT: { r = op_sqrt(a); }
+        case TAPE_EXP: { r = op_exp(a); }
+        case TAPE_LOG: { r = op_log(a); }
+        case TAPE_SIN: { r = op_sin(a); }
+        case TAPE_COS: { r = op_cos(a); }
+        case TAPE_TAN: { r = op_tan(a); }
+        case TAPE_ATAN: { r = op_atan(a); }
+        case TAPE_SINH: { r = op_sinh(a); }
+        case TAPE_COSH: { r = op_cosh(a); }
+        case TAPE_TANH: { r = op_tanh(a); }
+        case TAPE_ABS: { r = op_abs(a); }
+        case TAPE_SIGN: { r = op_sign(a); }
+        case TAPE_FLOOR: { r = op_floor(a); }
+        case TAPE_POW: { r = op_pow(a, b); }
+        case TAPE_ATAN2: { r = op_atan2(a, b); }
+        case TAPE_MIN: { r = op_min(a, b); }
+        case TAPE_MAX: { r = op_max(a, b); }
+        case TAPE_CLAMP: { r = op_clamp(a, b, tape_reg_T(w.z)); }
+        case TAPE_MIX: { r = op_mix(a, b, tape_reg_T(w.z)); }
+        case TAPE_DMIN: { r = op_dmin(a, b, tape_reg_T(w.z), tape_reg_T(w.z >> 16u)); }
+        case TAPE_DMAX: { r = op_dmax(a, b, tape_reg_T(w.z), tape_reg_T(w.z >> 16u)); }
+        case TAPE_DSIGN: { r = op_dsign(a, b); }
+        case TAPE_DFLOOR: { r = op_dfloor(a, b); }
+        default: { r = op_whole(); }
+    }
+    g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r;
+    return (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
+}
+
+// Runs `len` instructions from `start` (a multiple of TAPE_UNROLL, padded
+// with no-ops), TAPE_UNROLL per loop iteration. `iters` is the program's
+// loop iterations (from the header, counting power chains): past
+// TAPE_WORK_LIMIT for this invocation it runs nothing and says so.
+fn tape_run_T(start: u32, len: u32, iters: u32) -> u32 {
+    if (g_field_work + iters > TAPE_WORK_LIMIT) {
+        g_tape_exhausted = true;
+        return TAPE_EXHAUSTED;
+    }
+    g_field_work = g_field_work + iters;
+    var empty = false;
+    for (var pc = start; pc < start + len; pc = pc + TAPE_UNROLL) {
+        let e0 = tape_step_T(pc);
+        empty = empty || e0;
+    }
+    return select(TAPE_DONE, TAPE_EMPTY, empty);
+}
+
+// The enclosure of f over the box (x, y, z, t): what `surf_*` is for a
+// compiled formula, so the traversal's cell and slab functions are shared.
+// An evaluation past the work limit gives the whole line: the cell is kept,
+// never wrongly rejected, and the pixel is reported (field_exhausted).
+fn surf_T(x: T, y: T, z: T, t: T) -> vec2<f32> {
+    g_in_T[0] = x;
+    g_in_T[1] = y;
+    g_in_T[2] = z;
+    g_in_T[3] = t;
+    let h = tape_code[0];
+    let st = tape_run_T(h.x, h.y, tape_code[2].x);
+    if (st == TAPE_EXHAUSTED) { return vec2<f32>(-iso_inf(), iso_inf()); }
+    if (st == TAPE_EMPTY) { return op_range(op_empty()); }
+    return op_range(tape_reg_T(tape_code[1].x));
+}
+
+// f and its derivative along the ray direction (dx, dy, dz): what
+// `evald_*` is for a compiled formula.
+fn evald_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T) -> vec4<f32> {
+    g_in_T[0] = x;
+    g_in_T[1] = y;
+    g_in_T[2] = z;
+    g_in_T[3] = t;
+    g_in_T[4] = dx;
+    g_in_T[5] = dy;
+    g_in_T[6] = dz;
+    let h = tape_code[0];
+    let st = tape_run_T(h.z, h.w, tape_code[2].y);
+    if (st == TAPE_EXHAUSTED) { return vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()); }
+    if (st == TAPE_EMPTY) { return vec4<f32>(op_range(op_empty()), 0.0, 0.0); }
+    let o = tape_code[1];
+    return vec4<f32>(op_range(tape_reg_T(o.y)), op_range(tape_reg_T(o.z)));
+}

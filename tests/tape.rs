@@ -1,0 +1,201 @@
+//! The tape field source: its kernels do not depend on the formula (a new
+//! formula is a buffer, never a pipeline), and its renders agree with the
+//! compiled field's (bisection in IA and RAA over the Knoll suite, sphere
+//! tracing over the sdf suite) and with the f64 CPU reference.
+
+mod common;
+
+use common::gpu;
+use isotrace::codegen::{assemble, Domain, FieldSource, TapeData};
+use isotrace::gpu::Renderer;
+use isotrace::render::{BisectOptions, Frame, Settings, SphereOptions, Status, Traversal};
+use isotrace::Formula;
+use std::sync::atomic::Ordering;
+
+fn tape(src: &str) -> (Formula, TapeData) {
+    let f = Formula::compile("<test>", src).unwrap();
+    let t = TapeData::new(&f.ir).unwrap();
+    (f, t)
+}
+
+#[test]
+fn tape_kernels_do_not_depend_on_the_formula() {
+    let (_, a) = tape("x^2 + y^2 + z^2 - 1");
+    let (_, b) = tape("sin(x*y) + pow(abs(z), 1.5) - atan2(y, x)*min(x, z)/(1 + y^2)");
+    for t in [
+        Traversal::Bisect(BisectOptions::new(Domain::Interval)),
+        Traversal::Bisect(BisectOptions::new(Domain::Affine)),
+        Traversal::Sphere(SphereOptions::default()),
+    ] {
+        let ka = assemble(FieldSource::Tape(&a), &t).wgsl;
+        assert_eq!(ka, assemble(FieldSource::Tape(&b), &t).wgsl);
+        isotrace::validate::validate(&ka).unwrap_or_else(|e| panic!("{t:?}: {e}"));
+    }
+}
+
+#[test]
+fn new_formulas_change_buffers_not_pipelines() {
+    let s = common::settings(common::cube(2.0), 32, 32);
+    let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
+    let (_, torus) = tape("(x^2 + y^2 + z^2 + 0.75)^2 - 4*(x^2 + y^2)");
+    // A device of its own: the other tests create pipelines concurrently.
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let mut r = Renderer::new(&own, FieldSource::Tape(&sphere), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
+    let before = r.render(&s).unwrap();
+    let created = own.pipelines_created.load(Ordering::Relaxed);
+    r.set_field(FieldSource::Tape(&torus)).unwrap();
+    let after = r.render(&s).unwrap();
+    assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created, "a new formula built a pipeline");
+    let changed = before.pixels.iter().zip(&after.pixels).filter(|(a, b)| a.status != b.status).count();
+    assert!(changed > 20, "{changed}");
+    assert_eq!(after.stats.unresolved, 0);
+}
+
+/// A tape far past the interpreter's work limit: nothing is culled or drawn
+/// that was not proven; its pixels are reported unresolved.
+#[test]
+fn a_tape_past_the_work_limit_reports_its_pixels() {
+    let terms: Vec<String> = (0..600).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
+    let (_, data) = tape(&format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+")));
+    let s = common::settings(common::cube(2.0), 16, 16);
+    let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    // The sphere covers the middle of the image: those pixels are hits or reported, never misses.
+    for j in 6..10 {
+        for i in 6..10 {
+            let p = frame.pixels[(j * 16 + i) as usize];
+            assert_ne!(p.status, Status::Miss, "pixel ({i},{j}) was culled");
+        }
+    }
+}
+
+/// Settings of a catalog entry at a small size.
+fn entry_settings(e: &isotrace::catalog::Entry, f: &Formula, n: u32) -> Settings {
+    e.settings(f, n, n).unwrap()
+}
+
+/// Pixels that differ: a different status, or hits more than `tol` apart.
+/// Pixels the tape's interpreter gave up on (its work limit) are reported
+/// as unresolved, never drawn wrong: they are not compared.
+fn differences(a: &Frame, b: &Frame, tol: f64) -> Vec<String> {
+    let mut bad = vec![];
+    for (k, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        if q.status == Status::Unresolved && p.status != Status::Unresolved {
+            continue;
+        }
+        let same = match (p.status, q.status) {
+            (Status::Hit, Status::Hit) => (f64::from(p.depth) - f64::from(q.depth)).abs() <= tol,
+            (x, y) => x == y,
+        };
+        if !same {
+            bad.push(format!("px {k}: {:?} {} vs {:?} {}", p.status, p.depth, q.status, q.depth));
+        }
+    }
+    bad
+}
+
+#[test]
+fn bisection_agrees_with_the_compiled_field_on_the_knoll_suite() {
+    for domain in [Domain::Interval, Domain::Affine] {
+        let t = Traversal::Bisect(BisectOptions::new(domain));
+        let mut tape_renderer: Option<Renderer> = None;
+        // Pixels past the interpreter's work limit are reported, not
+        // compared (the superquadric's x^200 in RAA, for one, runs out).
+        let mut hits = 0;
+        for name in isotrace::catalog::suite("knoll").unwrap() {
+            let e = isotrace::catalog::lookup(name).unwrap();
+            let f = e.compile().unwrap();
+            let s = entry_settings(&e, &f, 40);
+            let data = TapeData::new(&f.ir).unwrap();
+            let r = match &mut tape_renderer {
+                Some(r) => {
+                    r.set_field(FieldSource::Tape(&data)).unwrap();
+                    r
+                }
+                none => none.insert(Renderer::new(gpu(), FieldSource::Tape(&data), t.clone()).unwrap()),
+            };
+            let taped = r.render(&s).unwrap();
+            let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
+            let bad = differences(&compiled, &taped, 2.0 * s.eps);
+            assert!(bad.len() <= 2, "{name} {domain:?}: {} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
+            hits += taped.stats.hits;
+        }
+        assert!(hits > 1000, "{domain:?}: {hits} hits over the suite");
+    }
+}
+
+#[test]
+fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
+    for name in isotrace::catalog::suite("sdf").unwrap() {
+        let e = isotrace::catalog::lookup(name).unwrap();
+        let f = e.compile().unwrap();
+        let s = entry_settings(&e, &f, 40);
+        let t = e.traversal(&f);
+        let data = TapeData::new(&f.ir).unwrap();
+        let taped = Renderer::new(gpu(), FieldSource::Tape(&data), t.clone()).unwrap().render(&s).unwrap();
+        let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t).unwrap().render(&s).unwrap();
+        // Where the interpreter ran out of work the pixel is reported
+        // (unresolved), never drawn wrong: compare the others.
+        let mut bad = vec![];
+        for (k, (p, q)) in compiled.pixels.iter().zip(&taped.pixels).enumerate() {
+            if q.status == Status::Unresolved {
+                continue;
+            }
+            let same = match (p.status, q.status) {
+                (Status::Hit, Status::Hit) => (f64::from(p.depth) - f64::from(q.depth)).abs() <= 4.0 * s.eps,
+                (x, y) => x == y,
+            };
+            if !same {
+                bad.push(format!("px {k}: {:?} {} vs {:?} {}", p.status, p.depth, q.status, q.depth));
+            }
+        }
+        // The sdf scenes have 400-900 instructions: sphere tracing them
+        // runs into the interpreter's work limit on most pixels (README,
+        // "Compiled or tape"), so what is checked is that no pixel it
+        // resolved differs.
+        assert!(bad.len() <= 2, "{name}: {} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
+    }
+}
+
+#[test]
+fn tape_renders_find_every_sign_change_of_the_reference() {
+    let cases: &[(&str, [f64; 6])] = &[
+        ("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", common::cube(3.0)),
+        ("x^2*y^2 + y^2*z^2 + z^2*x^2 - x*y*z", common::cube(1.0)),
+        ("max(x^8 + y^8 + z^8 - 1, -min(min(y^2 + z^2 - 0.25, x^2 + z^2 - 0.25), x^2 + y^2 - 0.25))", common::cube(1.5)),
+    ];
+    for (src, bbox) in cases {
+        let (f, data) = tape(src);
+        let s = common::settings(*bbox, 32, 32);
+        for domain in [Domain::Interval, Domain::Affine] {
+            let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(domain))).unwrap().render(&s).unwrap();
+            let mut missed = vec![];
+            assert!(4 * frame.stats.unresolved <= u64::from(s.width * s.height), "{src} {domain:?}: {} unresolved", frame.stats.unresolved);
+            for j in 0..s.height {
+                for i in 0..s.width {
+                    let p = frame.pixels[(j * s.width + i) as usize];
+                    // A reported (unresolved) pixel is not a wrong one.
+                    if p.status == Status::Unresolved {
+                        continue;
+                    }
+                    if let Some((t, step)) = common::reference_root(&f, &s, i, j, 4000) {
+                        if !(p.status == Status::Hit && f64::from(p.depth) <= t + s.eps + step) {
+                            missed.push(format!("({i},{j}) ref {t:.5} got {:?} {:.5}", p.status, p.depth));
+                        }
+                    }
+                }
+            }
+            assert!(missed.is_empty(), "{src} {domain:?}: {} pixels miss a sign change: {:?}", missed.len(), &missed[..missed.len().min(8)]);
+        }
+    }
+}
+
+#[test]
+fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
+    let f = Formula::compile("<t>", "x^2 + y^2 + z^2 - 1 where z > 0").unwrap();
+    assert_eq!(TapeData::new(&f.ir), Err(isotrace::codegen::TapeError::Csg));
+    let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    // `Auto` falls back to the compiled field; asking for the tape fails.
+    let auto = isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Auto, &f, &[], &t).unwrap();
+    assert_eq!(auto.kind(), isotrace::codegen::FieldKind::Compiled);
+    assert!(isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Tape, &f, &[], &t).is_err());
+}
