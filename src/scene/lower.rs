@@ -74,7 +74,9 @@ pub fn lower(program: &Program, param: &dyn Fn(&str) -> Option<f64>) -> Result<S
     if let Some(c) = program.surfaces[0].conditions.first() {
         return Err(not("a scene has no 'where' conditions", c.span));
     }
-    let mut w = Walker { program, param, memo: HashMap::new(), active: vec![] };
+    let defs = program.definitions.iter().enumerate().map(|(i, d)| (d.name.as_str(), i)).collect();
+    let n = program.definitions.len();
+    let mut w = Walker { program, param, defs, memo: vec![None; n], active: vec![false; n] };
     let tree = match w.eval(body)? {
         Val::Shape(t) => t,
         Val::Num(_) => return Err(not("the formula is a constant, not a shape", body.span)),
@@ -97,10 +99,13 @@ pub fn lower(program: &Program, param: &dyn Fn(&str) -> Option<f64>) -> Result<S
 struct Walker<'a> {
     program: &'a Program,
     param: &'a dyn Fn(&str) -> Option<f64>,
-    memo: HashMap<usize, Val>,
-    /// Definitions being evaluated (the front end has already refused
-    /// cycles; this guards the walk itself).
-    active: Vec<usize>,
+    /// Definition index by name (the front end refuses redefinitions).
+    defs: HashMap<&'a str, usize>,
+    /// Each definition's value, once walked.
+    memo: Vec<Option<Val>>,
+    /// Definitions being walked (the front end has already refused cycles;
+    /// this guards the walk itself).
+    active: Vec<bool>,
 }
 
 impl Walker<'_> {
@@ -143,20 +148,18 @@ impl Walker<'_> {
     }
 
     fn name(&mut self, n: &str, span: Span) -> Result<Val, NotBlobtree> {
-        // The last definition of the name before the surfaces wins, as in
-        // the front end (a later definition may shadow an earlier one).
-        if let Some(i) = self.program.definitions.iter().rposition(|d| d.name == n) {
-            if let Some(v) = self.memo.get(&i) {
+        if let Some(&i) = self.defs.get(n) {
+            if let Some(v) = &self.memo[i] {
                 return Ok(v.clone());
             }
-            if self.active.contains(&i) {
+            if self.active[i] {
                 return Err(not(format!("'{n}' refers to itself"), span));
             }
-            self.active.push(i);
+            self.active[i] = true;
             let v = self.eval(&self.program.definitions[i].value);
-            self.active.pop();
+            self.active[i] = false;
             let v = v?;
-            self.memo.insert(i, v.clone());
+            self.memo[i] = Some(v.clone());
             return Ok(v);
         }
         match n {
