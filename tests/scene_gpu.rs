@@ -14,14 +14,16 @@ use std::sync::atomic::Ordering;
 const LEAF: u32 = 1 << 31;
 const LEFT: u32 = 1 << 30;
 
-/// union(sphere(1), translate(dx, 0, 0, box(0.5, 0.5, 0.5))) as buffers.
+/// union(sphere(1), translate(dx, 0, 0, box(0.5, 0.5, 0.5))) as buffers,
+/// written out in the documented layout (src/scene/linear.rs): a sphere is
+/// the rounded-box form with no extent and rounding 1.
 fn sphere_and_box(dx: f32) -> SceneData {
     let id = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
     let mut params: Vec<[f32; 4]> = id.to_vec();
-    params.push([1.0, 1.0, 0.0, 0.0]);
-    params.extend([[1.0, 0.0, 0.0, -dx], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.5, 0.5]]);
+    params.extend([[1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]]);
+    params.extend([[1.0, 0.0, 0.0, -dx], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.5, 0.5], [0.0; 4]]);
     params.push([0.0; 4]);
-    let nodes = vec![[LEAF | LEFT | (1 << 22) | 2, 0, 2, 0], [LEAF | (2 << 22) | 2, 4, 2, 0], [(32 << 22) | 3, 8, 3, 0]];
+    let nodes = vec![[LEAF | LEFT | (1 << 22) | 2, 0, 2, 0], [LEAF | (2 << 22) | 2, 5, 2, 0], [(32 << 22) | 3, 10, 3, 0]];
     let balls = vec![[0.0, 0.0, 0.0, 1.0], [dx, 0.0, 0.0, 0.75f32.sqrt()]];
     SceneData { nodes, params, prims: vec![0, 1], balls }
 }

@@ -7,6 +7,12 @@
 const view = window.__view;
 const B = GPUBufferUsage;
 
+/** The layout entry of a binding: a storage buffer, or a sampled texture of 32-bit texels. */
+function layoutEntry(b) {
+  if (b.texture) return { texture: { sampleType: b.texture.format === 'rgba32uint' ? 'uint' : 'unfilterable-float' } };
+  return { buffer: { type: b.read_only ? 'read-only-storage' : 'storage' } };
+}
+
 export class Host {
   constructor(device, canvas, presentWgsl) {
     this.device = device;
@@ -35,7 +41,7 @@ export class Host {
     for (const st of P.stages) {
       const used = (gi, b) => st.uses.some(([g, n]) => g === gi && n === b.binding);
       const layouts = P.groups.map((g, gi) => d.createBindGroupLayout({
-        entries: g.filter((b) => used(gi, b)).map((b) => ({ binding: b.binding, visibility: GPUShaderStage.COMPUTE, buffer: { type: b.read_only ? 'read-only-storage' : 'storage' } })),
+        entries: g.filter((b) => used(gi, b)).map((b) => ({ binding: b.binding, visibility: GPUShaderStage.COMPUTE, ...layoutEntry(b) })),
       }));
       const layout = d.createPipelineLayout({ bindGroupLayouts: layouts });
       const pipeline = await d.createComputePipelineAsync({ layout, compute: { module, entryPoint: st.entry } });
@@ -47,8 +53,15 @@ export class Host {
     view.programs++;
   }
 
+  /** A data binding's buffer, or its texture's view when `b.texture` (a scene's nodes and parameters). */
   dataBuffer(b) {
     const words = new Uint32Array(b.data);
+    if (b.texture) {
+      const { width, height, format } = b.texture;
+      const tex = this.device.createTexture({ size: [width, height], format, usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST });
+      this.device.queue.writeTexture({ texture: tex }, words, { bytesPerRow: width * 16 }, [width, height]);
+      return { buf: tex.createView(), count: words.length / 4 };
+    }
     const buf = this.device.createBuffer({ size: Math.max(16, words.byteLength), usage: B.STORAGE | B.COPY_DST });
     this.device.queue.writeBuffer(buf, 0, words);
     return { buf, count: words.length };
@@ -86,7 +99,7 @@ export class Host {
     });
     r.stageGroups = this.stages.map((s) => this.P.groups.map((g, gi) => d.createBindGroup({
       layout: s.layouts[gi],
-      entries: g.filter((b) => s.used(gi, b)).map((b) => ({ binding: b.binding, resource: { buffer: r.buffers[gi].get(b.binding) } })),
+      entries: g.filter((b) => s.used(gi, b)).map((b) => ({ binding: b.binding, resource: b.texture ? r.buffers[gi].get(b.binding) : { buffer: r.buffers[gi].get(b.binding) } })),
     })));
     r.args = d.createBuffer({ size: 16, usage: B.INDIRECT | B.COPY_DST });
     r.records = r.buffers[2].get(0);

@@ -45,6 +45,42 @@ pub struct SceneData {
     pub balls: Vec<[f32; 4]>,
 }
 
+/// A table of vec4s laid out as a scene texture: rows of
+/// [`TEXTURE_WIDTH`](crate::scene::linear::TEXTURE_WIDTH) texels, the last
+/// padded with zeros.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Texels<T> {
+    /// Texels per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `width × height` texels, row by row.
+    pub texels: Vec<T>,
+}
+
+impl<T: Copy + Default> Texels<T> {
+    fn new(header: Option<T>, rows: &[T]) -> Texels<T> {
+        let width = crate::scene::linear::TEXTURE_WIDTH;
+        let mut texels: Vec<T> = header.into_iter().chain(rows.iter().copied()).collect();
+        let height = (texels.len().div_ceil(width as usize)).max(1) as u32;
+        texels.resize((width * height) as usize, T::default());
+        Texels { width, height, texels }
+    }
+}
+
+impl SceneData {
+    /// The node texture: texel 0 holds the node count, node i is texel
+    /// i + 1 (`scene_node` in templates/fields/scene.wgsl).
+    pub fn node_texels(&self) -> Texels<[u32; 4]> {
+        Texels::new(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
+    }
+
+    /// The parameter texture: row i of `params` is texel i.
+    pub fn param_texels(&self) -> Texels<[f32; 4]> {
+        Texels::new(None, &self.params)
+    }
+}
+
 /// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
 /// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
 /// lavapipe's compile time grows faster than the shader (`@creature` at

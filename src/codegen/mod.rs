@@ -15,7 +15,7 @@ pub mod tape_field;
 pub mod template;
 
 pub use compiled::inclusion;
-pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel, SceneData};
+pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
 pub use choice::{FieldKind, PreparedField};
 pub use tape::{TapeData, TapeError};
 

@@ -6,7 +6,7 @@
 //! tile lists and pruned views its pre-passes build.
 
 use super::dispatch::Rect;
-use super::{storage_entry, Gpu, GpuError};
+use super::{storage_entry, texture_entry, Gpu, GpuError};
 use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
 use crate::codegen::FieldSource;
 
@@ -16,6 +16,8 @@ pub(crate) struct FieldBinding {
     pub layout: Vec<wgpu::BindGroupLayoutEntry>,
     /// (binding, buffer) pairs that live as long as the field.
     pub buffers: Vec<(u32, wgpu::Buffer)>,
+    /// A scene's node and parameter textures (bindings 0 and 1).
+    textures: Vec<(u32, wgpu::Texture, wgpu::TextureView)>,
     /// Primitives of a scene (0 for a compiled field).
     prims: u32,
     scene: bool,
@@ -74,23 +76,40 @@ impl FieldBinding {
     /// changed parameter rows and bounding ball, nothing else. The bind
     /// group stays valid (same buffers).
     pub fn patch_scene(&self, gpu: &Gpu, patch: &crate::scene::linear::ScenePatch) -> Result<(), &'static str> {
-        let find = |b: u32| self.buffers.iter().find(|(k, _)| *k == b).map(|(_, buf)| buf);
-        let (Some(params), Some(balls), true) = (find(1), find(3), self.scene) else {
+        let balls = self.buffers.iter().find(|(k, _)| *k == 3).map(|(_, buf)| buf);
+        let params = self.textures.iter().find(|(k, _, _)| *k == 1).map(|(_, t, _)| t);
+        let (Some(params), Some(balls), true) = (params, balls, self.scene) else {
             return Err("an edit in place applies to a scene field");
         };
-        let end = (patch.param_row as u64 + patch.params.len() as u64) * 16;
-        if end > params.size() || (patch.ball_index as u64 + 1) * 16 > balls.size() {
+        let width = crate::scene::linear::TEXTURE_WIDTH as u64;
+        let end = patch.param_row as u64 + patch.params.len() as u64;
+        if end > width * params.height() as u64 || (patch.ball_index as u64 + 1) * 16 > balls.size() {
             return Err("the edit does not fit the scene's buffers: it belongs to another scene");
         }
-        gpu.queue.write_buffer(params, patch.param_row as u64 * 16, bytemuck::cast_slice(&patch.params));
+        // The rows may wrap onto the next texture row: one write per piece.
+        let mut row = patch.param_row as u64;
+        let mut rest: &[[f32; 4]] = &patch.params;
+        while !rest.is_empty() {
+            let (x, y) = (row % width, row / width);
+            let n = rest.len().min((width - x) as usize);
+            gpu.queue.write_texture(
+                wgpu::TexelCopyTextureInfo { texture: params, mip_level: 0, origin: wgpu::Origin3d { x: x as u32, y: y as u32, z: 0 }, aspect: wgpu::TextureAspect::All },
+                bytemuck::cast_slice(&rest[..n]),
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(n as u32 * 16), rows_per_image: None },
+                wgpu::Extent3d { width: n as u32, height: 1, depth_or_array_layers: 1 },
+            );
+            rest = &rest[n..];
+            row += n as u64;
+        }
         gpu.queue.write_buffer(balls, patch.ball_index as u64 * 16, bytemuck::cast_slice(&[patch.ball]));
         Ok(())
     }
 
     /// The bind group of these buffers and a dispatch's.
     pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout, per_dispatch: &[(u32, wgpu::Buffer)]) -> wgpu::BindGroup {
+        let textures = self.textures.iter().map(|(b, _, view)| wgpu::BindGroupEntry { binding: *b, resource: wgpu::BindingResource::TextureView(view) });
         let entries: Vec<wgpu::BindGroupEntry> =
-            self.buffers.iter().chain(per_dispatch).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
+            self.buffers.iter().chain(per_dispatch).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).chain(textures).collect();
         d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("field"), layout, entries: &entries })
     }
 }
@@ -98,21 +117,26 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], prims: 0, scene: false, dense: false, tape: false }),
+        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], textures: vec![], prims: 0, scene: false, dense: false, tape: false }),
         FieldSource::Scene(s) => {
-            let mut layout: Vec<_> = (0..4).map(|b| storage_entry(b, true)).collect();
+            let mut layout = vec![
+                texture_entry(0, wgpu::TextureSampleType::Uint),
+                texture_entry(1, wgpu::TextureSampleType::Float { filterable: false }),
+            ];
+            layout.extend((2..4).map(|b| storage_entry(b, true)));
             layout.extend((4..8).map(|b| storage_entry(b, false)));
+            let (nodes, nodes_view) = gpu.texture("scene nodes", &s.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
+            let (params, params_view) = gpu.texture("scene params", &s.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
             let buffers = vec![
-                (0, gpu.storage("scene nodes", bytemuck::cast_slice(&s.nodes))?),
-                (1, gpu.storage("scene params", bytemuck::cast_slice(&s.params))?),
                 (2, gpu.storage("scene primitives", bytemuck::cast_slice(&s.prims))?),
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
-            Ok(FieldBinding { layout, buffers, prims: s.prims.len() as u32, scene: true, dense: false, tape: false })
+            let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
+            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false })
         }
         FieldSource::Tape(t) => {
             let buffers = vec![(0, gpu.storage("tape", bytemuck::cast_slice(&t.words))?)];
-            Ok(FieldBinding { layout: vec![storage_entry(0, true)], buffers, prims: 0, scene: false, dense: false, tape: true })
+            Ok(FieldBinding { layout: vec![storage_entry(0, true)], buffers, textures: vec![], prims: 0, scene: false, dense: false, tape: true })
         }
     }
 }

@@ -258,6 +258,43 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// A sampled texture of 32-bit texels (`format` Rgba32Uint or
+    /// Rgba32Float) holding `t`, and its view.
+    pub fn texture<T: bytemuck::Pod>(&self, label: &str, t: &crate::codegen::Texels<T>, format: wgpu::TextureFormat) -> Result<(wgpu::Texture, wgpu::TextureView), GpuError> {
+        use wgpu::util::DeviceExt;
+        let max = self.device.limits().max_texture_dimension_2d;
+        if t.width > max || t.height > max {
+            return Err(GpuError::Limits(format!("{label}: a {}x{} texture is over the device's limit of {max} texels a side: the scene is too large for this device", t.width, t.height)));
+        }
+        let desc = wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: t.width, height: t.height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        };
+        self.scoped("texture upload", || {
+            let tex = self.device.create_texture_with_data(&self.queue, &desc, Default::default(), bytemuck::cast_slice(&t.texels));
+            let view = tex.create_view(&Default::default());
+            (tex, view)
+        })
+    }
+}
+
+/// A compute bind group layout entry for a sampled 2D texture.
+pub(crate) fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture { sample_type, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+        count: None,
+    }
+}
+
 /// A compute bind group layout entry for a storage buffer.
 pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {

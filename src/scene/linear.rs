@@ -10,14 +10,21 @@
 //! - z: the fast ancestor (the brief §1.4; the root's is n);
 //! - w: 0.
 //!
-//! `params: Vec<[f32; 4]>`: a primitive has three rows of the 3×4 matrix
-//! M = [Rᵀ/s | −Rᵀt/s] (local q = M·(p, 1)), then its parameter rows, the
-//! first starting with s (the field is s · f_local(q)):
-//! sphere (s, r, 0, 0); box (s, hx, hy, hz); round_box (s, hx, hy, hz),
-//! (r, 0, 0, 0); capsule (s, ax, ay, az), (bx, by, bz, r); torus (s, R, r, 0);
-//! cylinder (s, r, h, 0); octahedron (s, size, 0, 0); plane (s, nx, ny, nz),
-//! (d, 0, 0, 0) with n of unit length (a plane keeps its transform like any
-//! primitive). An operator has one row (β, r_o, 0, 0), zeros when sharp.
+//! `params: Vec<[f32; 4]>`: a primitive has [`PRIM_ROWS`] = 5 rows: three
+//! of the 3×4 matrix M = [Rᵀ/s | −Rᵀt/s] (local q = M·(p, 1)), then
+//! (s, hx, hy, hz) and (r, R, form, 0); the field is s · d(q) with one
+//! branch-free formula for every type (the interpreter runs on SIMD lanes
+//! that evaluate every branch, so a switch over eight types cost eight):
+//! - [`FORM_BOX`]: d = box(q, h) − r. A sphere is h = 0, r = radius; a
+//!   round box h = half − r; a capsule h = (0, 0, |b − a|/2) in a frame
+//!   centred on the segment with z along it (composed into M).
+//! - [`FORM_REVOLVED`]: the same in (|q.xy| − R, 0, q.z) with h.y = 10³⁰
+//!   (no bound): a torus is h = 0, R = major, r = minor; a cylinder
+//!   h = (radius, ·, half height), R = r = 0.
+//! - [`FORM_OCTAHEDRON`]: (|q.x| + |q.y| + |q.z| − hx)/√3.
+//! - [`FORM_PLANE`]: n·q − R with n = (hx, hy, hz) of unit length.
+//!
+//! An operator has one row (β, r_o, 0, 0), zeros when sharp.
 //!
 //! `abv: Vec<[f32; 4]>`: [`ABV_STRIDE`] = 4 rows per primitive, primitives
 //! in post-order (the k-th is node `primitives[k]`):
@@ -86,6 +93,29 @@ pub const PRIM_MATRIX_ROWS: u32 = 3;
 pub const MAX_STACK: u32 = 32;
 /// Rows of `abv` per primitive.
 pub const ABV_STRIDE: u32 = 4;
+/// Parameter rows of every primitive (module doc).
+pub const PRIM_ROWS: u32 = 5;
+/// Primitive form: a rounded box in local q (sphere, box, round box,
+/// capsule in its own frame).
+pub const FORM_BOX: u32 = 0;
+/// Primitive form: a rounded box in (ρ − R, 0, z), ρ = |q.xy| (torus,
+/// cylinder).
+pub const FORM_REVOLVED: u32 = 1;
+/// Primitive form: the octahedron's bound (|x| + |y| + |z| − size)/√3.
+pub const FORM_OCTAHEDRON: u32 = 2;
+/// Primitive form: the half-space n·q − d.
+pub const FORM_PLANE: u32 = 3;
+/// log2 of the width in texels of the node and parameter textures.
+pub const TEXTURE_SHIFT: u32 = 12;
+/// Width in texels of the node and parameter textures (a vec4 a texel).
+/// The GPU reads nodes and parameters through `textureLoad`, not from
+/// storage buffers: lavapipe turns every storage-buffer load of a
+/// non-uniform address into a loop over its 8 SIMD lanes with a branch per
+/// lane and component (about 300 cycles a vec4; Mesa 22.3's
+/// `emit_load_mem`), while a texel fetch is a vector gather. On the
+/// scene kernels that made the interpreter several times faster.
+pub const TEXTURE_WIDTH: u32 = 1 << TEXTURE_SHIFT;
+
 /// ABV kind: none, always active (planes).
 pub const ABV_NONE: u32 = 0;
 /// ABV kind: sphere.
@@ -114,7 +144,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 27] = [
+    let consts: [(&str, u32); 33] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -142,6 +172,12 @@ pub fn wgsl_constants() -> String {
         ("ABV_BOX", ABV_BOX),
         ("ABV_CAPSULE", ABV_CAPSULE),
         ("SCENE_MAX_NODES", super::MAX_NODES as u32),
+        ("SCENE_TEX_SHIFT", TEXTURE_SHIFT),
+        ("FORM_BOX", FORM_BOX),
+        ("FORM_REVOLVED", FORM_REVOLVED),
+        ("FORM_OCTAHEDRON", FORM_OCTAHEDRON),
+        ("FORM_PLANE", FORM_PLANE),
+        ("SCENE_TEX_WIDTH", TEXTURE_WIDTH),
     ];
     let mut s = String::new();
     for (name, v) in consts {
@@ -372,32 +408,43 @@ fn is_operator(scene: &Scene, i: NodeId) -> bool {
 
 /// A primitive's rows in `params`: the matrix, then its parameters.
 pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
-    let m = p.transform.matrix();
-    let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
+    let mut m = p.transform.matrix();
     let s = p.transform.scale as f32;
     let f = |v: f64| v as f32;
-    match p.shape {
-        Shape::Sphere { radius } => rows.push([s, f(radius), 0.0, 0.0]),
-        Shape::Box { half } => rows.push([s, f(half[0]), f(half[1]), f(half[2])]),
-        Shape::RoundBox { half, radius } => {
-            rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
-            rows.push([f(radius), 0.0, 0.0, 0.0]);
-        }
+    // Row 3: (s, half extents of the box part); row 4: (rounding radius,
+    // major radius or plane offset, form, 0).
+    let (half, round, major, form) = match p.shape {
+        Shape::Sphere { radius } => ([0.0; 3], radius, 0.0, FORM_BOX),
+        Shape::Box { half } => (half, 0.0, 0.0, FORM_BOX),
+        Shape::RoundBox { half, radius } => (half.map(|h| h - radius), radius, 0.0, FORM_BOX),
         Shape::Capsule { a, b, radius } => {
-            rows.push([s, f(a[0]), f(a[1]), f(a[2])]);
-            rows.push([f(b[0]), f(b[1]), f(b[2]), f(radius)]);
+            // The segment in a frame of its own: centred, along local z.
+            let (a, b) = (glam::DVec3::from(a), glam::DVec3::from(b));
+            let (c, len) = ((a + b) * 0.5, (b - a).length());
+            let u = if len > 0.0 { (b - a) / len } else { glam::DVec3::Z };
+            let (e1, e2) = u.any_orthonormal_pair();
+            m = [e1, e2, u].map(|e| {
+                let row = |j: usize| e.x * m[0][j] + e.y * m[1][j] + e.z * m[2][j];
+                [row(0), row(1), row(2), row(3) - e.dot(c)]
+            });
+            ([0.0, 0.0, len * 0.5], radius, 0.0, FORM_BOX)
         }
-        Shape::Torus { major, minor } => rows.push([s, f(major), f(minor), 0.0]),
-        Shape::Cylinder { radius, half_height } => rows.push([s, f(radius), f(half_height), 0.0]),
-        Shape::Octahedron { size } => rows.push([s, f(size), 0.0, 0.0]),
+        Shape::Torus { major, minor } => ([0.0, BIG, 0.0], minor, major, FORM_REVOLVED),
+        Shape::Cylinder { radius, half_height } => ([radius, BIG, half_height], 0.0, 0.0, FORM_REVOLVED),
+        Shape::Octahedron { size } => ([size, 0.0, 0.0], 0.0, 0.0, FORM_OCTAHEDRON),
         Shape::Plane { normal, offset } => {
             let len = glam::DVec3::from(normal).length();
-            rows.push([s, f(normal[0] / len), f(normal[1] / len), f(normal[2] / len)]);
-            rows.push([f(offset), 0.0, 0.0, 0.0]);
+            (normal.map(|n| n / len), 0.0, offset, FORM_PLANE)
         }
-    }
+    };
+    let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
+    rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
+    rows.push([f(round), f(major), form as f32, 0.0]);
     rows
 }
+
+/// A half extent that never bounds: the unused axis of a revolved form.
+const BIG: f64 = 1e30;
 
 /// `v` as an f32 no smaller than `v`.
 fn up(v: f64) -> f32 {

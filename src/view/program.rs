@@ -41,7 +41,20 @@ pub enum Size {
     },
 }
 
-/// One buffer of a bind group (all are storage buffers; the smallest is 16 bytes).
+/// A sampled 2D texture of 32-bit vec4 texels (a scene's nodes and
+/// parameters), its data given row by row.
+#[derive(Debug, Clone, Serialize)]
+pub struct TextureShape {
+    /// Texels per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `rgba32uint` or `rgba32float` (the WebGPU format name).
+    pub format: &'static str,
+}
+
+/// One resource of a bind group: a storage buffer (the smallest is 16
+/// bytes) or, with `texture`, a sampled texture.
 #[derive(Debug, Clone, Serialize)]
 pub struct Binding {
     /// Binding index.
@@ -61,6 +74,9 @@ pub struct Binding {
     /// Zeroed before every dispatch: the device host makes these buffers
     /// anew per dispatch (a scene's tile counts are appended to).
     pub clear: bool,
+    /// A sampled texture holding `data` instead of a buffer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texture: Option<TextureShape>,
 }
 
 /// How many workgroups a stage runs for a w × h frame.
@@ -161,11 +177,15 @@ fn words<T: bytemuck::Pod>(v: &[T]) -> Vec<u32> {
 }
 
 fn data(binding: u32, name: &'static str, d: Vec<u32>) -> Binding {
-    Binding { binding, name, read_only: true, size: Size::Data, data: Some(d), indirect: false, clear: false }
+    Binding { binding, name, read_only: true, size: Size::Data, data: Some(d), indirect: false, clear: false, texture: None }
+}
+
+fn texture<T: bytemuck::Pod>(binding: u32, name: &'static str, t: codegen::Texels<T>, format: &'static str) -> Binding {
+    Binding { texture: Some(TextureShape { width: t.width, height: t.height, format }), ..data(binding, name, words(&t.texels)) }
 }
 
 fn scratch(binding: u32, name: &'static str, size: Size) -> Binding {
-    Binding { binding, name, read_only: false, size, data: None, indirect: false, clear: true }
+    Binding { binding, name, read_only: false, size, data: None, indirect: false, clear: true, texture: None }
 }
 
 /// Assembles, checks the size limit of the CLI, validates with naga and
@@ -181,7 +201,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     }
     let module = crate::validate::validate(&kernel.wgsl)?;
     let uniforms = uniform_bytes(traversal, s)?;
-    let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false, clear: false }];
+    let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false, clear: false, texture: None }];
     // Every pixel's record is written: no need to clear 16 bytes a pixel.
     let mut pass = vec![Binding { clear: false, ..scratch(0, "pixel records", Size::PerPixel { bytes: 16 }) }];
     let mut stages: Vec<Stage> = Vec::new();
@@ -191,16 +211,14 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         FieldSource::Scene(d) => {
             stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![] });
             stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 }, uses: vec![] });
-            vec![
-                data(0, "scene nodes", words(&d.nodes)),
-                data(1, "scene params", words(&d.params)),
-                data(2, "scene primitives", words(&d.prims)),
-                data(3, "scene balls", words(&d.balls)),
+            let mut group = scene_buffers(d);
+            group.extend([
                 scratch(4, "scene tile counts", Size::PerTile { bytes: 4 }),
                 scratch(5, "scene tile primitives", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 }),
                 scratch(6, "scene tile views", Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 }),
                 scratch(7, "scene tile statistics", Size::PerTile { bytes: 8 }),
-            ]
+            ]);
+            group
         }
     };
     let (method, blocks, follow) = match traversal {
@@ -265,7 +283,12 @@ fn blocks<T: GpuBlock>() -> Blocks {
 
 /// The scene buffers of the field group alone (an edit: no shader).
 pub fn scene_buffers(d: &codegen::SceneData) -> Vec<Binding> {
-    vec![data(0, "scene nodes", words(&d.nodes)), data(1, "scene params", words(&d.params)), data(2, "scene primitives", words(&d.prims)), data(3, "scene balls", words(&d.balls))]
+    vec![
+        texture(0, "scene nodes", d.node_texels(), "rgba32uint"),
+        texture(1, "scene params", d.param_texels(), "rgba32float"),
+        data(2, "scene primitives", words(&d.prims)),
+        data(3, "scene balls", words(&d.balls)),
+    ]
 }
 
 /// The present shader with its generated uniform block and constants,

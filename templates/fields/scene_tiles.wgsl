@@ -106,9 +106,9 @@ fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-fn scene_parent(i: u32) -> u32 { return scene_nodes[i].x & 0x3fffffu; }
-fn scene_is_left(i: u32) -> bool { return ((scene_nodes[i].x >> 30u) & 1u) != 0u; }
-fn scene_fast(i: u32) -> u32 { return scene_nodes[i].z; }
+fn scene_parent(i: u32) -> u32 { return scene_node(i).x & 0x3fffffu; }
+fn scene_is_left(i: u32) -> bool { return ((scene_node(i).x >> 30u) & 1u) != 0u; }
+fn scene_fast(i: u32) -> u32 { return scene_node(i).z; }
 
 // Pass 2, one invocation per tile: sort the tile's active primitives by
 // node index and run the sparse bottom-up traversal over the tree's
@@ -139,7 +139,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         scene_tile_prims[base + j] = v;
     }
-    let n = arrayLength(&scene_nodes);
+    let n = scene_node_count();
     let root = n - 1u;
     let vbase = t * SCENE_VIEW_MAX;
     var vlen = 0u;
@@ -184,7 +184,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
             } else {
                 rp = present;
             }
-            let kind = node_type(scene_nodes[m].x);
+            let kind = node_type(scene_node(m).x);
             if (lp && rp) {
                 present = true;
                 scene_tile_view[vbase + vlen] = m;

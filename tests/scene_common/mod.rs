@@ -154,26 +154,22 @@ pub fn eval_rows(ty: u32, rows: &[[f32; 4]], p: [f64; 3]) -> f64 {
     let p = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
     let m = |r: [f32; 4]| r[0] * p.x + r[1] * p.y + r[2] * p.z + r[3];
     let q = Vec3::new(m(rows[0]), m(rows[1]), m(rows[2]));
-    let (a, b) = (rows[3], rows.get(4).copied().unwrap_or([0.0; 4]));
-    let s = a[0];
-    let local = match ty {
-        1 => q.length() - a[1],
-        2 => boxd(q, Vec3::new(a[1], a[2], a[3])),
-        3 => boxd(q, Vec3::new(a[1], a[2], a[3]) - Vec3::splat(b[0])) - b[0],
-        4 => {
-            let (ca, cb) = (Vec3::new(a[1], a[2], a[3]), Vec3::new(b[0], b[1], b[2]));
-            let (pa, ba) = (q - ca, cb - ca);
-            let h = (pa.dot(ba) / ba.dot(ba).max(1e-12)).clamp(0.0, 1.0);
-            (pa - ba * h).length() - b[3]
-        }
-        5 => Vec3::new(q.truncate().length() - a[1], q.z, 0.0).length() - a[2],
-        6 => {
-            let (dx, dz) = (q.truncate().length() - a[1], q.z.abs() - a[2]);
-            dx.max(dz).min(0.0) + Vec3::new(dx.max(0.0), dz.max(0.0), 0.0).length()
-        }
-        7 => (q.x.abs() + q.y.abs() + q.z.abs() - a[1]) / 3f32.sqrt(),
-        8 => Vec3::new(a[1], a[2], a[3]).dot(q) - b[0],
+    let (a, b) = (rows[3], rows[4]);
+    let (s, h) = (a[0], Vec3::new(a[1], a[2], a[3]));
+    // The form the type must have been given (layout: src/scene/linear.rs).
+    let form = match ty {
+        1..=4 => 0.0,
+        5 | 6 => 1.0,
+        7 => 2.0,
+        8 => 3.0,
         _ => panic!("type {ty}"),
+    };
+    assert_eq!(b[2], form, "type {ty}: form");
+    let local = match b[2] as u32 {
+        0 => boxd(q, h) - b[0],
+        1 => boxd(Vec3::new(q.truncate().length() - b[1], 0.0, q.z), h) - b[0],
+        2 => (q.x.abs() + q.y.abs() + q.z.abs() - a[1]) / 3f32.sqrt(),
+        _ => h.dot(q) - b[1],
     };
     (s * local) as f64
 }
