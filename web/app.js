@@ -440,7 +440,7 @@ async function main() {
     const device = await adapter.requestDevice({
       requiredLimits: {
         maxStorageBufferBindingSize: adapter.limits.maxStorageBufferBindingSize, maxBufferSize: adapter.limits.maxBufferSize,
-        // A scene binds 11 storage buffers (the default limit is 8).
+        // A scene binds 9 storage buffers (the default limit is 8).
         maxStorageBuffersPerShaderStage: adapter.limits.maxStorageBuffersPerShaderStage,
       },
     });
