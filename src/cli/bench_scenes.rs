@@ -39,6 +39,8 @@ pub struct SceneRow {
     pub active_mean: f64,
     /// The most in one tile.
     pub active_max: u32,
+    /// Mean nodes in a depth slab's pruned view (what a step evaluates).
+    pub slab_view_mean: f64,
     /// Tiles whose active primitives overflowed the tile list.
     pub overflow_tiles: u64,
     /// Pixels that did not converge.
@@ -95,6 +97,7 @@ fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u3
             evals_per_ray: st.evals_mean + 6.0 * hit_share,
             active_mean: st.field.active_mean,
             active_max: st.field.active_max,
+            slab_view_mean: st.field.slab_view_mean,
             overflow_tiles: st.field.overflow_tiles,
             unconverged: st.unresolved,
         });
@@ -105,13 +108,13 @@ fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u3
 /// The console / Markdown table.
 pub fn table(rows: &[SceneRow]) -> String {
     let mut t = String::from(
-        "| scene | blend | level | primitives | path | GPU ms | steps/ray | evals/ray | active/tile (mean, max) | overflow tiles | unconverged |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| scene | blend | level | primitives | path | GPU ms | steps/ray | evals/ray | active/tile (mean, max) | view nodes/slab | overflow tiles | unconverged |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(
             t,
-            "| {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.1}, {} | {} | {} |",
-            r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.steps_per_ray, r.evals_per_ray, r.active_mean, r.active_max, r.overflow_tiles, r.unconverged
+            "| {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.1}, {} | {:.1} | {} | {} |",
+            r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.steps_per_ray, r.evals_per_ray, r.active_mean, r.active_max, r.slab_view_mean, r.overflow_tiles, r.unconverged
         );
     }
     t

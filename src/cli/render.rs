@@ -607,8 +607,9 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
         let f = &st.field;
         if f.tiles > 0 {
             eprintln!(
-                "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}",
-                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles
+                "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}\n\
+                 scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}",
+                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles, f.slabs_mean, f.slab_view_mean
             );
         }
     }
@@ -630,6 +631,8 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
             v["active_mean"] = st.field.active_mean.into();
             v["active_max"] = st.field.active_max.into();
             v["overflow_tiles"] = st.field.overflow_tiles.into();
+            v["slabs_mean"] = st.field.slabs_mean.into();
+            v["slab_view_mean"] = st.field.slab_view_mean.into();
         }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }

@@ -90,12 +90,22 @@ impl SceneData {
 pub const MAX_SHADER_BYTES: usize = 500_000;
 
 /// Most active primitives per 8×8 tile; a tile with more evaluates the
-/// whole tree (counted as an overflow tile).
-pub const SCENE_TILE_MAX: u32 = 128;
+/// whole tree (counted as an overflow tile). 512 (the paper: 128, 256 for
+/// its densest scene): a tile's list spans every depth here, and the
+/// smooth 11,110-primitive aggregate has tiles of up to 459 at 512²; at 128
+/// its 465 overflow tiles evaluated 22,219 nodes a step and ran out of the
+/// loop budget. Costs 6 KiB a tile (100 MB of lists and views at 1024²).
+pub const SCENE_TILE_MAX: u32 = 512;
 /// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
 pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;
 /// The view length that means "the whole tree".
 pub const SCENE_VIEW_FULL: u32 = u32::MAX;
+/// Depth slabs per tile (Zanni's depth ranges): each has its own pruned
+/// view of the primitives whose depths meet it.
+pub const SCENE_SLABS_MAX: u32 = 4;
+/// A tile list up to this long keeps one slab (switching views costs a
+/// copy; a short view gains little from slicing).
+pub const SCENE_SLAB_MIN_LIST: u32 = 4;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
 
@@ -107,7 +117,8 @@ impl FieldSource<'_> {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
             FieldSource::Scene(_) => format!(
                 "{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
-                 const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\n{}\n{}",
+                 const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
+                 const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\n{}\n{}",
                 scene_constants(),
                 template::SCENE,
                 template::SCENE_TILES

@@ -7,7 +7,7 @@
 
 use super::dispatch::Rect;
 use super::{storage_entry, texture_entry, Gpu, GpuError};
-use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
+use crate::codegen::kernel::{SCENE_SLABS_MAX, SCENE_TILE_MAX, SCENE_VIEW_MAX};
 use crate::codegen::FieldSource;
 
 /// A field source's layout entries, buffers and pre-passes.
@@ -57,6 +57,8 @@ impl FieldBinding {
             (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4)),
             (6, buffer("scene tile views", tiles * SCENE_VIEW_MAX as u64 * 4)),
             (7, stats.clone()),
+            (8, buffer("scene tile slabs", tiles * (SCENE_SLABS_MAX as u64 + 1) * 16)),
+            (9, buffer("scene tile depths", tiles * SCENE_TILE_MAX as u64 * 8)),
         ]
     }
 
@@ -124,7 +126,7 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 texture_entry(1, wgpu::TextureSampleType::Float { filterable: false }),
             ];
             layout.extend((2..4).map(|b| storage_entry(b, true)));
-            layout.extend((4..8).map(|b| storage_entry(b, false)));
+            layout.extend((4..10).map(|b| storage_entry(b, false)));
             let (nodes, nodes_view) = gpu.texture("scene nodes", &s.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
             let (params, params_view) = gpu.texture("scene params", &s.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
             let buffers = vec![

@@ -188,16 +188,19 @@ pub struct TileStats {
     tiles_x: u32,
     active: Vec<u32>,
     overflow: u64,
+    /// Depth slabs and their views' nodes, summed over tiles with views.
+    slabs: u64,
+    view_nodes: u64,
 }
 
 impl TileStats {
     /// For a `width × height` frame.
     pub fn new(width: u32, height: u32) -> TileStats {
         let tiles_x = width.div_ceil(8);
-        TileStats { tiles_x, active: vec![0; (tiles_x * height.div_ceil(8)) as usize], overflow: 0 }
+        TileStats { tiles_x, active: vec![0; (tiles_x * height.div_ceil(8)) as usize], ..Default::default() }
     }
 
-    /// The words (view length, active count) of the tiles of the
+    /// The words (views' length | slabs << 24, active count) of the tiles of the
     /// rectangle at pixel (x, y) that is `w` pixels wide (x, y multiples of 8).
     pub fn add(&mut self, (x, y, w): (u32, u32, u32), words: &[[u32; 2]]) {
         let rx = w.div_ceil(8);
@@ -206,7 +209,12 @@ impl TileStats {
             if let Some(a) = self.active.get_mut((ty * self.tiles_x + tx) as usize) {
                 *a = w[1];
             }
-            self.overflow += u64::from(w[0] == crate::codegen::kernel::SCENE_VIEW_FULL && w[1] > crate::codegen::kernel::SCENE_TILE_MAX);
+            if w[0] == crate::codegen::kernel::SCENE_VIEW_FULL {
+                self.overflow += u64::from(w[1] > crate::codegen::kernel::SCENE_TILE_MAX);
+            } else {
+                self.slabs += u64::from((w[0] >> 24) & 0xf);
+                self.view_nodes += u64::from(w[0] & 0xff_ffff);
+            }
         }
     }
 
@@ -217,6 +225,8 @@ impl TileStats {
         stats.field.active_mean = self.active.iter().map(|&a| a as f64).sum::<f64>() / n;
         stats.field.active_max = self.active.iter().copied().max().unwrap_or(0);
         stats.field.overflow_tiles = self.overflow;
+        stats.field.slabs_mean = self.slabs as f64 / n;
+        stats.field.slab_view_mean = self.view_nodes as f64 / self.slabs.max(1) as f64;
         stats.field.tiles_x = self.tiles_x;
         stats.field.tile_active = self.active;
     }

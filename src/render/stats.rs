@@ -63,6 +63,11 @@ pub struct FieldStats {
     /// Tiles with more active primitives than a tile list holds: they
     /// evaluate the whole tree (exact, slower).
     pub overflow_tiles: u64,
+    /// Mean depth slabs per tile (Zanni's depth ranges; each slab has a
+    /// view of its own).
+    pub slabs_mean: f64,
+    /// Mean nodes in a slab's pruned view: what a step evaluates.
+    pub slab_view_mean: f64,
     /// Tiles per row of `tile_active`.
     #[serde(skip)]
     pub tiles_x: u32,

@@ -86,6 +86,10 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
 // radius; an infinite radius for unbounded primitives such as planes).
 @group(1) @binding(2) var<storage, read> scene_prims: array<u32>;
 @group(1) @binding(3) var<storage, read> scene_balls: array<vec4<f32>>;
+// Per tile: (slab count, margin, 0, 0), then per slab (first word of its
+// view, its length, the view depth where its core begins, 0); written by
+// the views pre-pass (scene_tiles.wgsl).
+@group(1) @binding(8) var<storage, read_write> scene_tile_slabs: array<vec4<u32>>;
 
 const SCENE_NO_TILE: u32 = 0xffffffffu;
 // The tile whose pruned view this invocation's field evaluates: set for a
@@ -93,31 +97,77 @@ const SCENE_NO_TILE: u32 = 0xffffffffu;
 // secondary rays, which leave it and need the whole tree.
 var<private> g_scene_tile: u32 = SCENE_NO_TILE;
 
-// Its view length, read once per pixel (SCENE_VIEW_FULL: the whole tree).
+// The view this invocation evaluates: its length (SCENE_VIEW_FULL: the
+// whole tree) and first word in scene_tile_view.
 var<private> g_scene_len: u32 = SCENE_VIEW_FULL;
+var<private> g_scene_vbase: u32 = 0u;
 
-// A short view, copied once per pixel: (node word x, first parameter row)
+// A tile's depth slabs (Zanni's depth ranges, Algorithm 3, here per ray):
+// the view of slab k holds the primitives whose bounding volume meets the
+// tile's frustum within the slab's depths widened by a margin. The current
+// slab's core depths (view-space z; the slab is used there) and its padded
+// depths (its view is exact there).
+var<private> g_scene_slabs: u32 = 1u;
+var<private> g_scene_core: vec2<f32>;
+var<private> g_scene_pad: vec2<f32>;
+
+// A short view, copied once per slab: (node word x, first parameter row)
 // of each node. Every evaluation then reads private memory instead of a
 // storage buffer (on lavapipe a storage load at a per-lane address runs
-// lane by lane; this copy made the interpreter a third faster).
+// lane by lane; this copy made the interpreter a third faster). 32: a
+// copy of 64 made every scene 2-3x slower on lavapipe.
 const SCENE_VIEW_CACHE: u32 = 32u;
 var<private> g_scene_view: array<vec2<u32>, SCENE_VIEW_CACHE>;
+
+// Makes slab k (1-based) of the current tile the one evaluated.
+fn scene_use_slab(k: u32) {
+    let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
+    let e = scene_tile_slabs[tb + k];
+    let m = bitcast<f32>(scene_tile_slabs[tb].y);
+    var hi = F.inf;
+    if (k < g_scene_slabs) { hi = bitcast<f32>(scene_tile_slabs[tb + k + 1u].z); }
+    let lo = select(bitcast<f32>(e.z), -F.inf, k == 1u);
+    g_scene_core = vec2<f32>(lo, hi);
+    g_scene_pad = vec2<f32>(lo - m, hi + m);
+    g_scene_len = e.y;
+    g_scene_vbase = g_scene_tile * SCENE_VIEW_MAX + e.x;
+    if (g_scene_len <= SCENE_VIEW_CACHE) {
+        for (var j = 0u; j < g_scene_len; j = j + 1u) {
+            g_scene_view[j] = scene_node(scene_tile_view[g_scene_vbase + j]).xy;
+        }
+        g_field_work = g_field_work + g_scene_len;
+    }
+}
+
+// The slab whose core holds view depth z.
+fn scene_find_slab(z: f32) {
+    let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
+    var k = 1u;
+    for (var j = 2u; j <= g_scene_slabs; j = j + 1u) {
+        if (z >= bitcast<f32>(scene_tile_slabs[tb + j].z)) { k = j; }
+    }
+    scene_use_slab(k);
+}
 
 fn field_enter_pixel(px: vec2<u32>) {
     let t = (px - F.tile_origin) / 8u;
     g_scene_tile = t.y * ((F.tile_size.x + 7u) / 8u) + t.x;
-    g_scene_len = scene_tile_len[g_scene_tile].x;
-    if (g_scene_len <= SCENE_VIEW_CACHE) {
-        let vbase = g_scene_tile * SCENE_VIEW_MAX;
-        for (var k = 0u; k < g_scene_len; k = k + 1u) {
-            let w = scene_node(scene_tile_view[vbase + k]);
-            g_scene_view[k] = w.xy;
-        }
+    if (scene_tile_len[g_scene_tile].x == SCENE_VIEW_FULL) {
+        field_leave_frustum();
+        return;
     }
+    g_scene_slabs = scene_tile_slabs[g_scene_tile * (SCENE_SLABS_MAX + 1u)].x;
+    scene_use_slab(1u);
 }
-fn field_leave_frustum() { g_scene_tile = SCENE_NO_TILE; g_scene_len = SCENE_VIEW_FULL; }
+fn field_leave_frustum() {
+    g_scene_tile = SCENE_NO_TILE;
+    g_scene_len = SCENE_VIEW_FULL;
+    g_scene_slabs = 1u;
+    g_scene_core = vec2<f32>(-F.inf, F.inf);
+    g_scene_pad = g_scene_core;
+}
 
-// The node list this invocation evaluates: the tile's view, or (length
+// The node list this invocation evaluates: the slab's view, or (length
 // SCENE_VIEW_FULL) the whole tree.
 fn scene_view_len() -> u32 { return g_scene_len; }
 
@@ -158,15 +208,17 @@ fn scene_step(w: vec2<u32>, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<funct
 }
 
 // The field: the nodes of the view (or of the whole tree), in post-order,
-// on a value stack (Zanni's Algorithm 4). An empty view has no surface. A
+// on a value stack (Zanni's Algorithm 4). An empty view has no surface
+// (in its slab: the value is the distance to the slab's end). A
 // short view is read from the pixel's copy, a long one (or the whole tree)
 // from the buffers; the two are separate loops because lavapipe runs both
 // arms of a branch, and a loop whose lanes are all off costs one pass.
 fn field(p: vec3<f32>) -> f32 {
+    let z = dot(p - F.eye.xyz, F.forward.xyz);
+    if (z < g_scene_core.x || z >= g_scene_core.y) { scene_find_slab(z); }
     let len = scene_view_len();
     let full = len == SCENE_VIEW_FULL;
     let n = select(len, scene_node_count(), full);
-    if (n == 0u) { return F.inf; }
     var sp = 0u;
     var top = F.inf;
     if (len <= SCENE_VIEW_CACHE) {
@@ -174,12 +226,15 @@ fn field(p: vec3<f32>) -> f32 {
             scene_step(g_scene_view[min(k, SCENE_VIEW_CACHE - 1u)], p, &sp, &top);
         }
     } else {
-        let vbase = select(g_scene_tile * SCENE_VIEW_MAX, 0u, full);
+        let vbase = g_scene_vbase;
         for (var k = 0u; k < n; k = k + 1u) {
             let i = select(scene_tile_view[vbase + k], k, full);
             scene_step(scene_node(i).xy, p, &sp, &top);
         }
     }
     g_field_work = g_field_work + n;
-    return top;
+    // The view is exact only within the slab's padded depths: a positive
+    // value is no larger than the distance to them, so no step leaves the
+    // slab (a ray's depth changes no faster than t). Inside stays inside.
+    return select(top, min(top, min(g_scene_pad.y - z, z - g_scene_pad.x)), top > 0.0);
 }

@@ -17,9 +17,14 @@
 @group(1) @binding(4) var<storage, read_write> scene_tile_count: array<atomic<u32>>;
 @group(1) @binding(5) var<storage, read_write> scene_tile_prims: array<u32>;
 @group(1) @binding(6) var<storage, read_write> scene_tile_view: array<u32>;
-// Per tile: view length, or SCENE_VIEW_FULL when the tile evaluates the
-// whole tree (its list overflowed); and the active count for statistics.
+// Per tile, for the main pass's check and the statistics: the total length
+// of its slabs' views with the slab count in bits 24-27, or SCENE_VIEW_FULL
+// when the tile evaluates the whole tree (its list overflowed); and the
+// active count.
 @group(1) @binding(7) var<storage, read_write> scene_tile_len: array<vec2<u32>>;
+// Per entry of scene_tile_prims: the view depths (z along the camera's
+// forward axis) its primitive's ball spans.
+@group(1) @binding(9) var<storage, read_write> scene_tile_depth: array<vec2<f32>>;
 
 fn scene_tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
 fn scene_tiles_y() -> u32 { return (F.tile_size.y + 7u) / 8u; }
@@ -101,7 +106,10 @@ fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (abs(r) < F.inf && !ball_meets_frustum(ball.xyz, r, fr.xy, fr.zw)) { continue; }
             let t = ty * nx + tx;
             let slot = atomicAdd(&scene_tile_count[t], 1u);
-            if (slot < SCENE_TILE_MAX) { scene_tile_prims[t * SCENE_TILE_MAX + slot] = node; }
+            if (slot < SCENE_TILE_MAX) {
+                scene_tile_prims[t * SCENE_TILE_MAX + slot] = node;
+                scene_tile_depth[t * SCENE_TILE_MAX + slot] = vec2<f32>(z - r, z + r);
+            }
         }
     }
 }
@@ -110,38 +118,63 @@ fn scene_parent(i: u32) -> u32 { return scene_node(i).x & 0x3fffffu; }
 fn scene_is_left(i: u32) -> bool { return ((scene_node(i).x >> 30u) & 1u) != 0u; }
 fn scene_fast(i: u32) -> u32 { return scene_node(i).z; }
 
-// Pass 2, one invocation per tile: sort the tile's active primitives by
-// node index and run the sparse bottom-up traversal over the tree's
-// structure only (which operands are missing depends on the tree, not on
-// field values), writing the pruned view: the post-order node list the
-// tile's rays evaluate. Fast ancestors and clamping after Zanni §5.1 (as
-// reconstructed and checked in src/scene/sparse.rs).
-@compute @workgroup_size(64)
-fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
-    load_uniforms();
-    let t = gid.x;
-    let nt = scene_tiles_x() * scene_tiles_y();
-    if (t >= nt) { return; }
-    let count = atomicLoad(&scene_tile_count[t]);
-    if (count > SCENE_TILE_MAX || (F.flags & FLAG_SCENE_FULL) != 0u) {
-        scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
-        return;
+// Swaps entries i and j of the list at `base` (nodes and depths).
+fn scene_swap(base: u32, i: u32, j: u32) {
+    let n = scene_tile_prims[base + i];
+    let d = scene_tile_depth[base + i];
+    scene_tile_prims[base + i] = scene_tile_prims[base + j];
+    scene_tile_depth[base + i] = scene_tile_depth[base + j];
+    scene_tile_prims[base + j] = n;
+    scene_tile_depth[base + j] = d;
+}
+
+// Moves entry `start` down the max-heap of node indices over [0, end).
+fn scene_sift(base: u32, start: u32, end: u32) {
+    var root = start;
+    loop {
+        var c = 2u * root + 1u;
+        if (c >= end) { break; }
+        if (c + 1u < end && scene_tile_prims[base + c] < scene_tile_prims[base + c + 1u]) { c = c + 1u; }
+        if (scene_tile_prims[base + root] >= scene_tile_prims[base + c]) { break; }
+        scene_swap(base, root, c);
+        root = c;
     }
-    let base = t * SCENE_TILE_MAX;
-    // Insertion sort of the (few) active primitives by node index.
-    for (var i = 1u; i < count; i = i + 1u) {
-        let v = scene_tile_prims[base + i];
-        var j = i;
-        loop {
-            if (j == 0u || scene_tile_prims[base + j - 1u] <= v) { break; }
-            scene_tile_prims[base + j] = scene_tile_prims[base + j - 1u];
-            j = j - 1u;
-        }
-        scene_tile_prims[base + j] = v;
+}
+
+// Loop iterations of the views pass's traversals so far, for this tile:
+// past SCENE_VIEWS_WORK a view is not built (the tile falls back to fewer
+// slabs, then to the whole tree) rather than cut short by lavapipe's loop
+// cap (65,535 iterations, the heap sort included).
+const SCENE_VIEWS_WORK: u32 = 40000u;
+var<private> g_views_work: u32;
+
+// Is entry j of a tile's list in the depths [lo, hi]?
+fn scene_in_slab(j: u32, lo: f32, hi: f32) -> bool {
+    let d = scene_tile_depth[j];
+    return d.x <= hi && d.y >= lo;
+}
+
+// The first entry from `k` on of the tile's list (base, count) in [lo, hi].
+fn scene_next_member(base: u32, count: u32, k0: u32, lo: f32, hi: f32) -> u32 {
+    var k = k0;
+    loop {
+        if (k >= count || scene_in_slab(base + k, lo, hi)) { break; }
+        k = k + 1u;
     }
+    g_views_work = g_views_work + (k - k0) + 1u;
+    return k;
+}
+
+// The sparse bottom-up traversal over the tree's structure only (which
+// operands are missing depends on the tree, not on field values) for the
+// entries of the tile's node-sorted list (base, count) in depths [lo, hi],
+// writing the pruned view, the post-order node list the slab's rays
+// evaluate, from word `at` (at most `room` words). Fast ancestors and
+// clamping after Zanni §5.1 (as reconstructed and checked in
+// src/scene/sparse.rs). Returns (length, 1 when it fitted).
+fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32) -> vec2<u32> {
     let n = scene_node_count();
     let root = n - 1u;
-    let vbase = t * SCENE_VIEW_MAX;
     var vlen = 0u;
     var s_node: array<u32, SCENE_MAX_STACK>;
     var s_present: array<bool, SCENE_MAX_STACK>;
@@ -150,16 +183,24 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     var sp = 0u;
     var present = false;
     var ok = true;
-    for (var k = 0u; k < count && ok; k = k + 1u) {
+    var k = scene_next_member(base, count, 0u, lo, hi);
+    loop {
+        if (g_views_work > SCENE_VIEWS_WORK) { ok = false; }
+        if (k >= count || !ok) { break; }
         var b = scene_tile_prims[base + k];
+        let k_next = scene_next_member(base, count, k + 1u, lo, hi);
         var nxt = n + 1u;
-        if (k + 1u < count) { nxt = scene_tile_prims[base + k + 1u]; }
+        if (k_next < count) { nxt = scene_tile_prims[base + k_next]; }
+        k = k_next;
+        if (vlen + 2u > room) { ok = false; break; }
         present = true;
         var start = vlen;
-        scene_tile_view[vbase + vlen] = b;
+        scene_tile_view[at + vlen] = b;
         vlen = vlen + 1u;
         loop {
             if (b == root) { break; }
+            g_views_work = g_views_work + 1u;
+            if (g_views_work > SCENE_VIEWS_WORK) { ok = false; break; }
             var anc = scene_fast(b);
             if (sp > 0u) { anc = min(anc, s_anc[sp - 1u]); }
             if (anc > nxt) {
@@ -186,8 +227,9 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             let kind = node_type(scene_node(m).x);
             if (lp && rp) {
+                if (vlen >= room) { ok = false; break; }
                 present = true;
-                scene_tile_view[vbase + vlen] = m;
+                scene_tile_view[at + vlen] = m;
                 vlen = vlen + 1u;
             } else {
                 if (kind == NODE_UNION || kind == NODE_SMOOTH_UNION) {
@@ -202,11 +244,77 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
             b = m;
         }
     }
-    if (!ok || sp != 0u) {
-        // A traversal stack overflow (or a bug): evaluate the whole tree.
+    // A stack overflow (or a bug) leaves the stack non-empty: not fitted.
+    // An empty view (nothing present) means no surface in the slab.
+    return vec2<u32>(select(0u, vlen, present), select(0u, 1u, ok && sp == 0u));
+}
+
+// Pass 2, one invocation per tile: sort the tile's active primitives by
+// node index, cut the depths they span into up to SCENE_SLABS_MAX slabs of
+// equal depth (Zanni's depth ranges; one slab for a short list), and write
+// each slab's pruned view. A slab's members are the primitives whose depths
+// meet the slab widened by a margin: its view is then exact a margin beyond
+// the slab, so a ray's steps never stop at a slab's end (the field clamps
+// them to the widened slab, scene.wgsl). Views that do not fit fall back
+// to one slab, a list that overflowed or a stack too deep to the whole tree.
+@compute @workgroup_size(64)
+fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
+    load_uniforms();
+    let t = gid.x;
+    let nt = scene_tiles_x() * scene_tiles_y();
+    if (t >= nt) { return; }
+    let count = atomicLoad(&scene_tile_count[t]);
+    if (count > SCENE_TILE_MAX || (F.flags & FLAG_SCENE_FULL) != 0u) {
         scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
         return;
     }
-    // An empty view (nothing present) means no surface in the tile.
-    scene_tile_len[t] = vec2<u32>(select(0u, vlen, present), count);
+    let base = t * SCENE_TILE_MAX;
+    // The depths the list spans, then a heap sort by node index (its
+    // iterations are bounded by 2 n log2 n whatever the order the scatter's
+    // atomics left: an insertion sort of 459 entries ran past lavapipe's
+    // silent loop cap, leaving lists unsorted depending on that order).
+    var zlo = F.inf;
+    var zhi = -F.inf;
+    for (var i = 0u; i < count; i = i + 1u) {
+        let dv = scene_tile_depth[base + i];
+        if (abs(dv.x) < F.inf) { zlo = min(zlo, dv.x); }
+        if (abs(dv.y) < F.inf) { zhi = max(zhi, dv.y); }
+    }
+    for (var i = count / 2u; i > 0u; i = i - 1u) { scene_sift(base, i - 1u, count); }
+    for (var e = count; e > 1u; e = e - 1u) {
+        scene_swap(base, 0u, e - 1u);
+        scene_sift(base, 0u, e - 1u);
+    }
+    // The margin: 2 % of the depths, and no less than a few pixels there
+    // (so that a step clamped near a slab's end stays well above the
+    // termination width).
+    let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(zhi, 0.0);
+    let margin = max(0.02 * (zhi - zlo), max(8.0 * pixel, 4.0 * F.eps));
+    var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);
+    let tb = t * (SCENE_SLABS_MAX + 1u);
+    let vbase = t * SCENE_VIEW_MAX;
+    var total = 0u;
+    var fitted = true;
+    for (var k = 0u; k < slabs; k = k + 1u) {
+        let c0 = select(zlo + (zhi - zlo) * f32(k) / f32(slabs), -F.inf, k == 0u);
+        let c1 = select(zlo + (zhi - zlo) * f32(k + 1u) / f32(slabs), F.inf, k + 1u == slabs);
+        let r = scene_build_view(base, count, c0 - margin, c1 + margin, vbase + total, SCENE_VIEW_MAX - total);
+        if (r.y == 0u) { fitted = false; break; }
+        scene_tile_slabs[tb + k + 1u] = vec4<u32>(total, r.x, bitcast<u32>(c0), 0u);
+        total = total + r.x;
+    }
+    if (!fitted && slabs > 1u) {
+        slabs = 1u;
+        let r = scene_build_view(base, count, -F.inf, F.inf, vbase, SCENE_VIEW_MAX);
+        fitted = r.y == 1u;
+        scene_tile_slabs[tb + 1u] = vec4<u32>(0u, r.x, bitcast<u32>(-F.inf), 0u);
+        total = r.x;
+    }
+    if (!fitted) {
+        scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
+        return;
+    }
+    scene_tile_slabs[tb] = vec4<u32>(slabs, bitcast<u32>(margin), 0u, 0u);
+    // Statistics: the views' total length, the slab count in bits 24-27.
+    scene_tile_len[t] = vec2<u32>(total | (slabs << 24u), count);
 }
