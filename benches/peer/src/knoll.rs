@@ -38,40 +38,7 @@ fn to_fidget(ctx: &mut Context, ir: &Ir, t: f64, params: &[f32]) -> Result<Node,
             Op::Mul(a, b) => ctx.mul(g(a), g(b)).map_err(e)?,
             Op::Div(a, b) => ctx.div(g(a), g(b)).map_err(e)?,
             Op::PowI(a, n) => powi(ctx, g(a), n).map_err(e)?,
-            Op::Call1(f, a) => {
-                let a = g(a);
-                match f {
-                    Func1::Sqrt => ctx.sqrt(a),
-                    Func1::Exp => ctx.exp(a),
-                    Func1::Log => ctx.ln(a),
-                    Func1::Sin => ctx.sin(a),
-                    Func1::Cos => ctx.cos(a),
-                    Func1::Tan => ctx.tan(a),
-                    Func1::Atan => ctx.atan(a),
-                    Func1::Abs => ctx.abs(a),
-                    Func1::Floor => ctx.floor(a),
-                    Func1::Sign => ctx.compare(a, 0.0),
-                    Func1::Sinh | Func1::Cosh => {
-                        let p = ctx.exp(a).map_err(e)?;
-                        let na = ctx.neg(a).map_err(e)?;
-                        let m = ctx.exp(na).map_err(e)?;
-                        let s = if f == Func1::Sinh { ctx.sub(p, m) } else { ctx.add(p, m) }.map_err(e)?;
-                        ctx.mul(s, 0.5)
-                    }
-                    Func1::Tanh => {
-                        // 1 − 2 / (e^{2a} + 1): no overflow to inf/inf
-                        let a2 = ctx.mul(a, 2.0).map_err(e)?;
-                        let ex = ctx.exp(a2).map_err(e)?;
-                        let d = ctx.add(ex, 1.0).map_err(e)?;
-                        let q = ctx.div(2.0, d).map_err(e)?;
-                        let one = ctx.constant(1.0);
-                        ctx.sub(one, q)
-                    }
-                    #[allow(unreachable_patterns)] // functions added to isotrace later
-                    other => return Err(format!("no fidget translation for {}", other.name())),
-                }
-                .map_err(e)?
-            }
+            Op::Call1(f, a) => call1(ctx, f, g(a))?,
             Op::Call2(f, a, b) => {
                 let (a, b) = (g(a), g(b));
                 match f {
@@ -110,6 +77,42 @@ fn to_fidget(ctx: &mut Context, ir: &Ir, t: f64, params: &[f32]) -> Result<Node,
         map[id as usize] = Some(node);
     }
     map[ir.root as usize].ok_or_else(|| "the root is not live".to_string())
+}
+
+/// A one-argument function, rewritten where fidget has no opcode for it.
+fn call1(ctx: &mut Context, f: Func1, a: Node) -> Result<Node, String> {
+    let e = |e: BadNode| e.to_string();
+    match f {
+        Func1::Sqrt => ctx.sqrt(a),
+        Func1::Exp => ctx.exp(a),
+        Func1::Log => ctx.ln(a),
+        Func1::Sin => ctx.sin(a),
+        Func1::Cos => ctx.cos(a),
+        Func1::Tan => ctx.tan(a),
+        Func1::Atan => ctx.atan(a),
+        Func1::Abs => ctx.abs(a),
+        Func1::Floor => ctx.floor(a),
+        Func1::Sign => ctx.compare(a, 0.0),
+        Func1::Sinh | Func1::Cosh => {
+            let p = ctx.exp(a).map_err(e)?;
+            let na = ctx.neg(a).map_err(e)?;
+            let m = ctx.exp(na).map_err(e)?;
+            let s = if f == Func1::Sinh { ctx.sub(p, m) } else { ctx.add(p, m) }.map_err(e)?;
+            ctx.mul(s, 0.5)
+        }
+        Func1::Tanh => {
+            // 1 − 2 / (e^{2a} + 1): no overflow to inf/inf
+            let a2 = ctx.mul(a, 2.0).map_err(e)?;
+            let ex = ctx.exp(a2).map_err(e)?;
+            let d = ctx.add(ex, 1.0).map_err(e)?;
+            let q = ctx.div(2.0, d).map_err(e)?;
+            let one = ctx.constant(1.0);
+            ctx.sub(one, q)
+        }
+        #[allow(unreachable_patterns)] // functions added to isotrace later
+        other => return Err(format!("no fidget translation for {}", other.name())),
+    }
+    .map_err(e)
 }
 
 fn powi(ctx: &mut Context, a: Node, n: u32) -> Result<Node, BadNode> {
