@@ -9,10 +9,11 @@ use isotrace::render::{Camera, CameraFrame};
 use nalgebra::{Matrix4, Vector3};
 
 /// The vertical field of view of `--view ortho`, degrees: narrow enough
-/// that the depth of the domain changes the image scale by about 2% across
-/// a box that fills the frame (a nearly parallel projection), wide enough
-/// that the eye stays within 25 box diagonals, where f32 ray positions on
-/// the device and in fidget's matrix lose nothing at eps = 2^-11 × diagonal.
+/// that the depth of the domain changes the image scale by only about
+/// ±2.5% across a box that fills the frame (a nearly parallel projection),
+/// wide enough that the eye stays about 20 box diagonals away, where f32
+/// ray positions on the device and in fidget's matrix still resolve
+/// eps = 2^-11 × diagonal.
 pub const ORTHO_FOV_DEG: f64 = 2.5;
 
 /// Which camera a table was rendered with.
