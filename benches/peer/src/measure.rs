@@ -108,6 +108,20 @@ pub fn alternate(r: &Renderer, s: &Settings, repeat: usize, shape: &JitShape, cf
     Ok(Timing { iso_ms: median(&mut ti), iso_gpu_ms: median(&mut tg), fid_ms: median(&mut tf) })
 }
 
+/// isotrace's median wall ms alone, for a row whose fidget render was cut
+/// off by the guard.
+pub fn isotrace_ms(r: &Renderer, s: &Settings, repeat: usize) -> Result<f64, String> {
+    let mut fr = PackedFrame::default();
+    r.render_packed(s, &mut fr).map_err(|e| e.to_string())?;
+    let mut t = Vec::new();
+    for _ in 0..repeat {
+        let t0 = Instant::now();
+        r.render_packed(s, &mut fr).map_err(|e| e.to_string())?;
+        t.push(t0.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok(median(&mut t))
+}
+
 /// The median (the mean of the middle two for an even count).
 pub fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
