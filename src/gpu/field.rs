@@ -45,6 +45,16 @@ impl FieldBinding {
         if self.has_tile_stats() { rect.tiles() * 8 } else { 0 }
     }
 
+    /// Bytes per pixel of the field's largest per-dispatch buffer (a
+    /// scene's per-tile lists and views over the 64 pixels of a tile): the
+    /// dispatch rectangle must keep it within one storage binding.
+    pub fn bytes_per_pixel(&self) -> u64 {
+        if !self.scene {
+            return 0;
+        }
+        [SCENE_TILE_MAX as u64 * 8, SCENE_VIEW_MAX as u64 * 4, (SCENE_SLABS_MAX as u64 + 1) * 16].into_iter().max().unwrap_or(0) / 64
+    }
+
     /// The per-dispatch buffers of a rectangle (a scene's tile lists and
     /// views, zeroed), with `stats` (of [`FieldBinding::tile_stats_size`]
     /// bytes, read back by the caller) bound where the field writes them.

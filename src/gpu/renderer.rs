@@ -303,7 +303,7 @@ impl<'g> Renderer<'g> {
         let mut fb = frame_block(s, &cam, self.host.flags() | self.field.flags());
         let trav = self.host.block(s, &cam);
         let rays = self.host.ray_stats_binding();
-        let per_pixel = std::mem::size_of::<Record>() as u64;
+        let per_pixel = (std::mem::size_of::<Record>() as u64).max(self.field.bytes_per_pixel());
         let indirect = self.host.pre_pass().then(|| self.host.tiles_per_group());
         let side = dispatch::max_side(self.gpu, per_pixel, indirect, s.tile);
         let mut stats = Stats { method: self.host.method(), ..Default::default() };
