@@ -242,3 +242,23 @@ fn depth_slabs_draw_the_whole_tree_picture() {
         assert!(far * 200 < hits, "smooth {smooth}: {far} of {hits} depths differ by more than a footprint");
     }
 }
+
+/// A frame split into several dispatches (each with its own tile lists,
+/// slabs and views) draws the one-dispatch picture.
+#[test]
+fn a_scene_split_into_dispatches_draws_the_same_frame() {
+    let lin = isotrace::scene::linear::Linear::new(&sphere_grid(true)).unwrap();
+    let data = lin.field_data();
+    let mut o = SphereOptions::default();
+    o.lipschitz = 1.45;
+    let r = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap();
+    let mut s = common::settings(common::cube(1.4), 80, 72);
+    let whole = r.render(&s).unwrap();
+    s.tile = 24;
+    let split = r.render(&s).unwrap();
+    assert!(split.stats.dispatches > 1 && whole.stats.dispatches == 1);
+    assert_eq!(whole.stats.hits, split.stats.hits);
+    for (a, b) in whole.pixels.iter().zip(&split.pixels) {
+        assert_eq!((a.status, a.depth), (b.status, b.depth));
+    }
+}

@@ -303,9 +303,11 @@ impl<'g> Renderer<'g> {
         let mut fb = frame_block(s, &cam, self.host.flags() | self.field.flags());
         let trav = self.host.block(s, &cam);
         let rays = self.host.ray_stats_binding();
-        let per_pixel = (std::mem::size_of::<Record>() as u64).max(self.field.bytes_per_pixel());
+        let per_pixel = std::mem::size_of::<Record>() as u64;
         let indirect = self.host.pre_pass().then(|| self.host.tiles_per_group());
-        let side = dispatch::max_side(self.gpu, per_pixel, indirect, s.tile);
+        // The largest per-pixel buffer must fit one storage binding: the
+        // records, or a scene's per-tile lists and views.
+        let side = dispatch::max_side(self.gpu, per_pixel.max(self.field.bytes_per_pixel()), indirect, s.tile);
         let mut stats = Stats { method: self.host.method(), ..Default::default() };
         let mut ray_stats = RayStats::default();
         let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
