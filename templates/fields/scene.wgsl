@@ -119,34 +119,43 @@ var<private> g_scene_pad: vec2<f32>;
 const SCENE_VIEW_CACHE: u32 = 32u;
 var<private> g_scene_view: array<vec2<u32>, SCENE_VIEW_CACHE>;
 
-// Makes slab k (1-based) of the current tile the one evaluated.
+// The tile's slab table, read once per pixel: each slab's core start
+// (+inf past the last), first view word and view length, and the margin.
+// Changing slabs then reads registers only (a storage read at a per-lane
+// address runs lane by lane on lavapipe, and every evaluation runs the
+// change under a mask whether or not any lane changes).
+var<private> g_slab_start: vec4<f32>;
+var<private> g_slab_off: vec4<u32>;
+var<private> g_slab_len: vec4<u32>;
+var<private> g_slab_margin: f32;
+
+// Makes slab k (0-based) of the current tile the one evaluated.
 fn scene_use_slab(k: u32) {
-    let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
-    let e = scene_tile_slabs[tb + k];
-    let m = bitcast<f32>(scene_tile_slabs[tb].y);
-    var hi = F.inf;
-    if (k < g_scene_slabs) { hi = bitcast<f32>(scene_tile_slabs[tb + k + 1u].z); }
-    let lo = select(bitcast<f32>(e.z), -F.inf, k == 1u);
+    let lo = select(g_slab_start[min(k, 3u)], -F.inf, k == 0u);
+    let hi = select(g_slab_start[min(k + 1u, 3u)], F.inf, k >= 3u);
     g_scene_core = vec2<f32>(lo, hi);
-    g_scene_pad = vec2<f32>(lo - m, hi + m);
-    g_scene_len = e.y;
-    g_scene_vbase = g_scene_tile * SCENE_VIEW_MAX + e.x;
-    if (g_scene_len <= SCENE_VIEW_CACHE) {
-        for (var j = 0u; j < g_scene_len; j = j + 1u) {
-            g_scene_view[j] = scene_node(scene_tile_view[g_scene_vbase + j]).xy;
-        }
-        g_field_work = g_field_work + g_scene_len;
+    g_scene_pad = vec2<f32>(lo - g_slab_margin, hi + g_slab_margin);
+    g_scene_len = g_slab_len[min(k, 3u)];
+    g_scene_vbase = g_scene_tile * SCENE_VIEW_MAX + g_slab_off[min(k, 3u)];
+    if (g_scene_len <= SCENE_VIEW_CACHE) { scene_fill(0u, g_scene_len); }
+}
+
+// Copies nodes [c, c + SCENE_VIEW_CACHE) of the current view (or of the
+// whole tree) into the private copy.
+fn scene_fill(c: u32, n: u32) {
+    let full = g_scene_len == SCENE_VIEW_FULL;
+    let m = min(n - c, SCENE_VIEW_CACHE);
+    for (var j = 0u; j < m; j = j + 1u) {
+        let i = select(scene_tile_view[g_scene_vbase + c + j], c + j, full);
+        g_scene_view[j] = scene_node(i).xy;
     }
+    g_field_work = g_field_work + m;
 }
 
 // The slab whose core holds view depth z.
 fn scene_find_slab(z: f32) {
-    let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
-    var k = 1u;
-    for (var j = 2u; j <= g_scene_slabs; j = j + 1u) {
-        if (z >= bitcast<f32>(scene_tile_slabs[tb + j].z)) { k = j; }
-    }
-    scene_use_slab(k);
+    let s = g_slab_start;
+    scene_use_slab(u32(z >= s.y) + u32(z >= s.z) + u32(z >= s.w));
 }
 
 fn field_enter_pixel(px: vec2<u32>) {
@@ -156,8 +165,18 @@ fn field_enter_pixel(px: vec2<u32>) {
         field_leave_frustum();
         return;
     }
-    g_scene_slabs = scene_tile_slabs[g_scene_tile * (SCENE_SLABS_MAX + 1u)].x;
-    scene_use_slab(1u);
+    let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
+    let head = scene_tile_slabs[tb];
+    g_scene_slabs = head.x;
+    g_slab_margin = bitcast<f32>(head.y);
+    g_slab_start = vec4<f32>(F.inf);
+    for (var k = 0u; k < g_scene_slabs; k = k + 1u) {
+        let e = scene_tile_slabs[tb + 1u + k];
+        g_slab_start[k] = bitcast<f32>(e.z);
+        g_slab_off[k] = e.x;
+        g_slab_len[k] = e.y;
+    }
+    scene_use_slab(0u);
 }
 fn field_leave_frustum() {
     g_scene_tile = SCENE_NO_TILE;
@@ -209,10 +228,7 @@ fn scene_step(w: vec2<u32>, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<funct
 
 // The field: the nodes of the view (or of the whole tree), in post-order,
 // on a value stack (Zanni's Algorithm 4). An empty view has no surface
-// (in its slab: the value is the distance to the slab's end). A
-// short view is read from the pixel's copy, a long one (or the whole tree)
-// from the buffers; the two are separate loops because lavapipe runs both
-// arms of a branch, and a loop whose lanes are all off costs one pass.
+// (in its slab: the value is the distance to the slab's end).
 fn field(p: vec3<f32>) -> f32 {
     let z = dot(p - F.eye.xyz, F.forward.xyz);
     if (z < g_scene_core.x || z >= g_scene_core.y) { scene_find_slab(z); }
@@ -221,15 +237,16 @@ fn field(p: vec3<f32>) -> f32 {
     let n = select(len, scene_node_count(), full);
     var sp = 0u;
     var top = F.inf;
-    if (len <= SCENE_VIEW_CACHE) {
-        for (var k = 0u; k < n; k = k + 1u) {
-            scene_step(g_scene_view[min(k, SCENE_VIEW_CACHE - 1u)], p, &sp, &top);
-        }
-    } else {
-        let vbase = g_scene_vbase;
-        for (var k = 0u; k < n; k = k + 1u) {
-            let i = select(scene_tile_view[vbase + k], k, full);
-            scene_step(scene_node(i).xy, p, &sp, &top);
+    // A short view is in the private copy already; a long one (or the
+    // whole tree) passes through it a chunk at a time. One path for both:
+    // lavapipe runs both arms of a branch, and a loop whose lanes are all
+    // off still costs one pass of its body.
+    let reload = full || n > SCENE_VIEW_CACHE;
+    for (var c = 0u; c < n; c = c + SCENE_VIEW_CACHE) {
+        if (reload) { scene_fill(c, n); }
+        let m = min(n - c, SCENE_VIEW_CACHE);
+        for (var j = 0u; j < m; j = j + 1u) {
+            scene_step(g_scene_view[j], p, &sp, &top);
         }
     }
     g_field_work = g_field_work + n;
