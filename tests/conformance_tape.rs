@@ -41,8 +41,7 @@ impl Backend for Tape {
         r.into_iter().map(|[lo, hi]| [f64::from(lo), f64::from(hi)]).collect()
     }
     fn eval_segments(&self, ir: &Ir, domain: Domain, segs: &[Seg], params: &[f32]) -> Vec<[f64; 2]> {
-        let words = bytemuck::cast_slice(&tape(ir).words).to_vec();
-        run_segments(&GPU, &segment_shader(&segment_field(domain), domain), segs, params, Some(&words)).unwrap_or_else(|e| panic!("segment kernel failed for {domain:?}: {e}"))
+        run_segments(&GPU, &segment_shader(&segment_field(domain), domain), segs, params, Some(&tape(ir))).unwrap_or_else(|e| panic!("segment kernel failed for {domain:?}: {e}"))
     }
 }
 

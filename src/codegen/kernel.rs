@@ -59,7 +59,8 @@ pub struct Texels<T> {
 }
 
 impl<T: Copy + Default> Texels<T> {
-    fn new(header: Option<T>, rows: &[T]) -> Texels<T> {
+    /// `rows` after an optional header texel, padded to full rows.
+    pub fn from_rows(header: Option<T>, rows: &[T]) -> Texels<T> {
         let width = crate::scene::linear::TEXTURE_WIDTH;
         let mut texels: Vec<T> = header.into_iter().chain(rows.iter().copied()).collect();
         let height = (texels.len().div_ceil(width as usize)).max(1) as u32;
@@ -72,12 +73,12 @@ impl SceneData {
     /// The node texture: texel 0 holds the node count, node i is texel
     /// i + 1 (`scene_node` in templates/fields/scene.wgsl).
     pub fn node_texels(&self) -> Texels<[u32; 4]> {
-        Texels::new(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
+        Texels::from_rows(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
     }
 
     /// The parameter texture: row i of `params` is texel i.
     pub fn param_texels(&self) -> Texels<[f32; 4]> {
-        Texels::new(None, &self.params)
+        Texels::from_rows(None, &self.params)
     }
 }
 

@@ -179,6 +179,13 @@ pub struct TapeData {
 }
 
 impl TapeData {
+    /// The tape as the texture the interpreter reads (instruction i is
+    /// texel i): a texel fetch is a vector gather on lavapipe, a storage
+    /// load at a per-lane address runs lane by lane.
+    pub fn texels(&self) -> super::Texels<[u32; 4]> {
+        super::Texels::from_rows(None, &self.words)
+    }
+
     /// Flattens `ir` (one surface, no user functions).
     pub fn new(ir: &Ir) -> Result<TapeData, TapeError> {
         if let Some((name, _)) = ir.externs.first() {

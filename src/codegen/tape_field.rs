@@ -59,11 +59,16 @@ pub fn interpreter(domain: Domain) -> String {
 /// of the field group and the exhaustion flag.
 fn prelude() -> String {
     format!(
-        "{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program.\n\
-         @group(1) @binding(0) var<storage, read> tape_code: array<vec4<u32>>;\n\
+        "{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
+         // a texture of {w} texels a row (TapeData::texels).\n\
+         @group(1) @binding(0) var tape_code: texture_2d<u32>;\n\
+         fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
          var<private> g_tape_exhausted: bool;\n",
-        super::tape::wgsl_constants()
+        super::tape::wgsl_constants(),
+        w = crate::scene::linear::TEXTURE_WIDTH,
+        mask = crate::scene::linear::TEXTURE_WIDTH - 1,
+        shift = crate::scene::linear::TEXTURE_SHIFT,
     )
 }
 
@@ -76,12 +81,12 @@ fn field(p: vec3<f32>) -> f32 {
     g_in_s[1] = p.y;
     g_in_s[2] = p.z;
     g_in_s[3] = F.time;
-    let h = tape_code[0];
-    if (tape_run_s(h.x, h.y, tape_code[2].x) == TAPE_EXHAUSTED) { return iso_nan(); }
-    return tape_reg_s(tape_code[1].x);
+    let h = tape_word(0u);
+    if (tape_run_s(h.x, h.y, tape_word(2u).x) == TAPE_EXHAUSTED) { return iso_nan(); }
+    return tape_reg_s(tape_word(1u).x);
 }
 // Loop iterations of one evaluation of the value program.
-fn field_cost() -> u32 { return tape_code[2].x; }
+fn field_cost() -> u32 { return tape_word(2u).x; }
 fn field_exhausted() -> bool { return g_tape_exhausted; }
 fn field_enter_pixel(px: vec2<u32>) {}
 fn field_leave_frustum() {}

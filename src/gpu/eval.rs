@@ -76,12 +76,12 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domai
     let src = crate::codegen::tape_field::eval_shader(domain);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (tape)", &src)?;
-    let buffer = gpu.storage("tape", bytemuck::cast_slice(&tape.words))?;
+    let (_texture, view) = gpu.texture("tape", &tape.texels(), wgpu::TextureFormat::Rgba32Uint)?;
     let group = gpu.scoped("tape bind group", || {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tape"),
             layout: &pipeline.get_bind_group_layout(1),
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
         })
     })?;
     let mut out = Vec::with_capacity(boxes.len());

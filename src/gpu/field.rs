@@ -147,8 +147,9 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
             Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false })
         }
         FieldSource::Tape(t) => {
-            let buffers = vec![(0, gpu.storage("tape", bytemuck::cast_slice(&t.words))?)];
-            Ok(FieldBinding { layout: vec![storage_entry(0, true)], buffers, textures: vec![], prims: 0, scene: false, dense: false, tape: true })
+            let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
+            let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint)];
+            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true })
         }
     }
 }

@@ -207,7 +207,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     let mut stages: Vec<Stage> = Vec::new();
     let field_group = match field {
         FieldSource::Compiled(_) => vec![],
-        FieldSource::Tape(t) => vec![data(0, "tape", words(&t.words))],
+        FieldSource::Tape(t) => vec![texture(0, "tape", t.texels(), "rgba32uint")],
         FieldSource::Scene(d) => {
             stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![] });
             stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 }, uses: vec![] });

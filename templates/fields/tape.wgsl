@@ -3,8 +3,10 @@
 // domain's operation (codegen/tape_wgsl.rs instantiates this file per
 // domain: scalar s_, interval ia_, affine ra_, renaming `op_*`, `T` and
 // the `_T` suffix of its own names). The tape (src/codegen/tape.rs) lives
-// in the field group: a header, then the value and the derivative programs,
-// one vec4<u32> per instruction:
+// in the field group, a texture read by tape_word (a texel fetch is a
+// vector gather on lavapipe; a storage load at a per-lane address runs lane
+// by lane): a header, then the value and the derivative programs, one
+// vec4<u32> per instruction:
 //   x: code | restricts << 8 | out << 16, y: a | b << 16, z: c | d << 16,
 //   w: immediate (input, parameter, power); a constant: (near, lo, hi) bits.
 // The operation codes, limits and run results (TAPE_DONE, TAPE_EMPTY,
@@ -35,7 +37,7 @@ fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 // Runs instruction `pc`; true when its result is empty and it is strict
 // (the whole function is then empty).
 fn tape_step_T(pc: u32) -> bool {
-    let w = tape_code[pc];
+    let w = tape_word(pc);
     let code = w.x & 0xffu;
     if (code == TAPE_NOP) { return false; }
     let a = tape_reg_T(w.y);
@@ -108,11 +110,11 @@ fn surf_T(x: T, y: T, z: T, t: T) -> vec2<f32> {
     g_in_T[1] = y;
     g_in_T[2] = z;
     g_in_T[3] = t;
-    let h = tape_code[0];
-    let st = tape_run_T(h.x, h.y, tape_code[2].x);
+    let h = tape_word(0u);
+    let st = tape_run_T(h.x, h.y, tape_word(2u).x);
     if (st == TAPE_EXHAUSTED) { return vec2<f32>(-iso_inf(), iso_inf()); }
     if (st == TAPE_EMPTY) { return op_range(op_empty()); }
-    return op_range(tape_reg_T(tape_code[1].x));
+    return op_range(tape_reg_T(tape_word(1u).x));
 }
 
 // f and its derivative along the ray direction (dx, dy, dz): what
@@ -125,10 +127,10 @@ fn evald_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T) -> vec4<f32> {
     g_in_T[4] = dx;
     g_in_T[5] = dy;
     g_in_T[6] = dz;
-    let h = tape_code[0];
-    let st = tape_run_T(h.z, h.w, tape_code[2].y);
+    let h = tape_word(0u);
+    let st = tape_run_T(h.z, h.w, tape_word(2u).y);
     if (st == TAPE_EXHAUSTED) { return vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()); }
     if (st == TAPE_EMPTY) { return vec4<f32>(op_range(op_empty()), 0.0, 0.0); }
-    let o = tape_code[1];
+    let o = tape_word(1u);
     return vec4<f32>(op_range(tape_reg_T(o.y)), op_range(tape_reg_T(o.z)));
 }

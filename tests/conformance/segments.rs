@@ -4,7 +4,7 @@
 //! bounding box; RAA: x, y, z = c + r·e1 with the one shared symbol e1),
 //! once per segment. The eval kernel cannot do this: it lifts every box side
 //! to an independent form. The field under test is the caller's WGSL; a
-//! field kept as data (a tape) binds its buffer at `@group(1) @binding(0)`.
+//! field kept as data (a tape) binds its texture at `@group(1) @binding(0)`.
 
 use super::{Seg, SEG_TIME};
 use isotrace::codegen::Domain;
@@ -44,8 +44,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
 }
 
 /// Validates `src` (a [`segment_shader`]) and runs it over `segs` in one
-/// dispatch, with `field_data` bound at `@group(1) @binding(0)` if given.
-pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], field_data: Option<&[u8]>) -> Result<Vec<[f64; 2]>, String> {
+/// dispatch, with `tape` bound at `@group(1) @binding(0)` (as the texture
+/// the interpreter reads) if given.
+pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Option<&isotrace::codegen::TapeData>) -> Result<Vec<[f64; 2]>, String> {
     use wgpu::util::DeviceExt;
     isotrace::validate::validate(src).map_err(|e| e.to_string())?;
     let pipeline = gpu.pipeline("conformance segments", src).map_err(|e| e.to_string())?;
@@ -75,20 +76,21 @@ pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], field_da
                     wgpu::BindGroupEntry { binding: 2, resource: obuf.as_entire_binding() },
                 ],
             });
-            let field = field_data.map(|data| {
-                let buf = init("field data", data, wgpu::BufferUsages::STORAGE);
-                d.create_bind_group(&wgpu::BindGroupDescriptor {
+            let field = tape.map(|t| {
+                let (texture, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint).expect("the tape fits a texture");
+                let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("field"),
                     layout: &pipeline.get_bind_group_layout(1),
-                    entries: &[wgpu::BindGroupEntry { binding: 0, resource: buf.as_entire_binding() }],
-                })
+                    entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+                });
+                (group, texture)
             });
             let mut enc = d.create_command_encoder(&Default::default());
             {
                 let mut pass = enc.begin_compute_pass(&Default::default());
                 pass.set_pipeline(&pipeline);
                 pass.set_bind_group(0, &bind, &[]);
-                if let Some(f) = &field {
+                if let Some((f, _)) = &field {
                     pass.set_bind_group(1, f, &[]);
                 }
                 pass.dispatch_workgroups(n.div_ceil(64), 1, 1);
