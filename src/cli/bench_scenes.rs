@@ -70,7 +70,7 @@ fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u3
     let lin = Linear::new(&scene).map_err(|e| fail(e.to_string()))?;
     let view = super::scene_render::framing(&lin).ok_or_else(|| fail("unbounded".into()))?;
     let s = view.settings_without_params(size.0, size.1).map_err(|e| fail(e.to_string()))?;
-    let mut o = SphereOptions { lipschitz: super::scene_render::scene_lipschitz(&lin), ..Default::default() };
+    let mut o = SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
     if let Some(n) = max_steps {
         o.max_steps = n;
     }

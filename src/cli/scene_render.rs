@@ -8,16 +8,9 @@ use isotrace::codegen::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::output::{self, ColorMode};
 use isotrace::render::{Shading, Traversal, View};
-use isotrace::scene::linear::{Linear, SMOOTH_UNION};
+use isotrace::scene::linear::Linear;
 use std::path::Path;
 use std::process::ExitCode;
-
-/// The Lipschitz bound sphere tracing assumes for a scene with compact
-/// smooth operators: Zanni et al.'s empirical 1.45 (each operator scales
-/// the bound by 6 r_o / (6 r_o - beta) at most; the product along a path
-/// is far looser than what random scenes show, max |grad f| <= 1.23).
-/// Scenes of sharp operators on exact distances are 1-Lipschitz.
-pub const SMOOTH_SCENE_LIPSCHITZ: f64 = 1.45;
 
 fn input(m: impl Into<String>) -> CliError {
     CliError::Input(m.into())
@@ -40,19 +33,7 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
 /// The default view of a scene: its solid's box with a margin, so
 /// silhouettes are not cut; `None` when a plane is not cut off.
 pub fn framing(lin: &Linear) -> Option<View> {
-    let b = lin.bounds;
-    if !b.is_bounded() || b.is_empty() {
-        return None;
-    }
-    let pad = 0.05 * (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max).max(1e-6);
-    let mut v = View::default();
-    v.bbox = [b.min[0] - pad, b.max[0] + pad, b.min[1] - pad, b.max[1] + pad, b.min[2] - pad, b.max[2] + pad];
-    Some(v)
-}
-
-/// The Lipschitz bound a scene is traced with by default.
-pub fn scene_lipschitz(lin: &Linear) -> f64 {
-    if lin.nodes.iter().any(|n| (n[0] >> 22) & 0xff >= SMOOTH_UNION) { SMOOTH_SCENE_LIPSCHITZ } else { 1.0 }
+    lin.bounds.padded().map(|bbox| View { bbox, ..View::default() })
 }
 
 /// A scene render as the flags ask for it, before any device work (what
@@ -88,7 +69,7 @@ pub fn plan(a: &RenderArgs, scene: &isotrace::scene::Scene, path: &Path) -> Resu
     }
     let mut options = sphere_options(&a.sphere, None)?;
     if a.sphere.lipschitz.is_none() {
-        options.lipschitz = scene_lipschitz(&lin);
+        options.lipschitz = lin.lipschitz();
     }
     if color == ColorMode::Field {
         options.shading = Shading::Field;

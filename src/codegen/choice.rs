@@ -146,13 +146,5 @@ pub fn scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Resul
         return Err(SceneFieldError::NotSphere);
     }
     let lin = crate::scene::linear::Linear::new(&scene).map_err(SceneFieldError::Layout)?;
-    let smooth = lin.nodes.iter().any(|n| (n[0] >> crate::scene::linear::NODE_TYPE_SHIFT) & 0xff >= crate::scene::linear::SMOOTH_UNION);
-    Ok((PreparedField::Scene(lin.field_data()), if smooth { SMOOTH_SCENE_LIPSCHITZ } else { 1.0 }))
+    Ok((PreparedField::Scene(lin.field_data()), lin.lipschitz()))
 }
-
-/// The Lipschitz bound sphere tracing assumes for a scene with compact
-/// smooth operators: Zanni et al.'s empirical 1.45 (each operator scales
-/// the bound by 6 r_o / (6 r_o - beta) at most; the product along a path
-/// is far looser than what random scenes show, max |grad f| <= 1.23).
-/// Scenes of sharp operators on exact distances are 1-Lipschitz.
-pub const SMOOTH_SCENE_LIPSCHITZ: f64 = 1.45;

@@ -95,7 +95,8 @@ pub const MAX_SHADER_BYTES: usize = 500_000;
 /// its densest scene): a tile's list spans every depth here, and the
 /// smooth 11,110-primitive aggregate has tiles of up to 459 at 512²; at 128
 /// its 465 overflow tiles evaluated 22,219 nodes a step and ran out of the
-/// loop budget. Costs 6 KiB a tile (100 MB of lists and views at 1024²).
+/// loop budget. Costs 10 KiB a tile with the depths and views (160 MB at
+/// 1024²; a dispatch rectangle keeps each buffer within one binding).
 pub const SCENE_TILE_MAX: u32 = 512;
 /// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
 pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;

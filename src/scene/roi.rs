@@ -199,6 +199,17 @@ impl Aabb {
     pub fn is_empty(&self) -> bool {
         (0..3).any(|k| self.min[k] > self.max[k])
     }
+
+    /// The box grown by 5 % of its largest side on every side, as
+    /// [x0, x1, y0, y1, z0, z1]: a scene's default domain, which does not
+    /// cut its silhouettes. `None` when unbounded or empty.
+    pub fn padded(&self) -> Option<[f64; 6]> {
+        if !self.is_bounded() || self.is_empty() {
+            return None;
+        }
+        let pad = 0.05 * (0..3).map(|k| self.max[k] - self.min[k]).fold(0.0, f64::max).max(1e-6);
+        Some([self.min[0] - pad, self.max[0] + pad, self.min[1] - pad, self.max[1] + pad, self.min[2] - pad, self.max[2] + pad])
+    }
 }
 
 /// A box holding the solid {f ≤ 0} (so the surface), from the ABVs by the

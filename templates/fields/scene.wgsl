@@ -107,7 +107,6 @@ var<private> g_scene_vbase: u32 = 0u;
 // tile's frustum within the slab's depths widened by a margin. The current
 // slab's core depths (view-space z; the slab is used there) and its padded
 // depths (its view is exact there).
-var<private> g_scene_slabs: u32 = 1u;
 var<private> g_scene_core: vec2<f32>;
 var<private> g_scene_pad: vec2<f32>;
 
@@ -167,10 +166,9 @@ fn field_enter_pixel(px: vec2<u32>) {
     }
     let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
     let head = scene_tile_slabs[tb];
-    g_scene_slabs = head.x;
     g_slab_margin = bitcast<f32>(head.y);
     g_slab_start = vec4<f32>(F.inf);
-    for (var k = 0u; k < g_scene_slabs; k = k + 1u) {
+    for (var k = 0u; k < head.x; k = k + 1u) {
         let e = scene_tile_slabs[tb + 1u + k];
         g_slab_start[k] = bitcast<f32>(e.z);
         g_slab_off[k] = e.x;
@@ -181,7 +179,7 @@ fn field_enter_pixel(px: vec2<u32>) {
 fn field_leave_frustum() {
     g_scene_tile = SCENE_NO_TILE;
     g_scene_len = SCENE_VIEW_FULL;
-    g_scene_slabs = 1u;
+    g_scene_vbase = 0u;
     g_scene_core = vec2<f32>(-F.inf, F.inf);
     g_scene_pad = g_scene_core;
 }
@@ -194,10 +192,12 @@ fn scene_view_len() -> u32 { return g_scene_len; }
 // it never gives up on an evaluation.
 fn field_exhausted() -> bool { return false; }
 
-// Loop iterations one evaluation costs.
+// Loop iterations one evaluation costs: its nodes, and as many again when
+// they pass through the private copy chunk by chunk (see field).
 fn field_cost() -> u32 {
     let len = scene_view_len();
-    return select(len, scene_node_count(), len == SCENE_VIEW_FULL);
+    let n = select(len, scene_node_count(), len == SCENE_VIEW_FULL);
+    return select(n, 2u * n, len == SCENE_VIEW_FULL || n > SCENE_VIEW_CACHE);
 }
 
 // The interpreter's value stack below its top (kept in a register): module

@@ -1,16 +1,19 @@
 // The scene field's pre-passes (before the traversal, every dispatch):
-// which primitives matter to each 8x8 tile, and the pruned tree the tile's
-// rays then evaluate. Zanni 2024 builds a tile A-buffer with depth ranges
-// and synchronises a tile's rays over them; here a tile's active set is
-// every primitive whose augmented bounding sphere (the bounding volume of
-// {f_p <= r_p+}) meets the tile's frustum, whatever the depth, which keeps
-// the tracing kernel free of workgroup barriers (costly on lavapipe).
+// which primitives matter to each 8x8 tile and at which depths, and the
+// pruned trees the tile's rays then evaluate, one per depth slab. Zanni
+// 2024 builds a tile A-buffer with depth ranges and synchronises a tile's
+// rays over them; here a tile's list holds every primitive whose augmented
+// bounding sphere (the bounding volume of {f_p <= r_p+}) meets the tile's
+// frustum, with the depths the sphere spans, and each ray walks the tile's
+// slabs on its own, which keeps the tracing kernel free of workgroup
+// barriers (costly on lavapipe).
 //
-// Why it is exact: a missing primitive's region {f_p <= r_p+} lies outside
-// the frustum, so no ray of the tile meets its surface, and the sparse
-// (masked) field agrees with the full one where it matters (the ranges of
-// interest, eq. 13-16); within the frustum it is a distance bound of the
-// same surface.
+// Why it is exact: a primitive missing from a slab's view has its region
+// {f_p <= r_p+} outside the frustum or outside the slab's padded depths, so
+// no ray of the tile meets its surface there, and the sparse (masked) field
+// agrees with the full one where it matters (the ranges of interest, eq.
+// 13-16); within that part of the frustum it is a distance bound of the
+// same surface (scene.wgsl clamps it to the slab).
 
 // Per tile: active primitives appended here (up to SCENE_TILE_MAX), their
 // count (may exceed the maximum: overflow), and the pruned view.
@@ -114,7 +117,6 @@ fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-fn scene_parent(i: u32) -> u32 { return scene_node(i).x & 0x3fffffu; }
 fn scene_is_left(i: u32) -> bool { return ((scene_node(i).x >> 30u) & 1u) != 0u; }
 fn scene_fast(i: u32) -> u32 { return scene_node(i).z; }
 
@@ -176,7 +178,6 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
     let n = scene_node_count();
     let root = n - 1u;
     var vlen = 0u;
-    var s_node: array<u32, SCENE_MAX_STACK>;
     var s_present: array<bool, SCENE_MAX_STACK>;
     var s_anc: array<u32, SCENE_MAX_STACK>;
     var s_start: array<u32, SCENE_MAX_STACK>;
@@ -205,7 +206,7 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
             if (sp > 0u) { anc = min(anc, s_anc[sp - 1u]); }
             if (anc > nxt) {
                 if (sp >= SCENE_MAX_STACK) { ok = false; break; }
-                s_node[sp] = b; s_present[sp] = present; s_anc[sp] = anc; s_start[sp] = start;
+                s_present[sp] = present; s_anc[sp] = anc; s_start[sp] = start;
                 sp = sp + 1u;
                 break;
             }

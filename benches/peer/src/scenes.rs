@@ -23,14 +23,9 @@ use isotrace::codegen::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::{SphereOptions, Traversal};
 use isotrace::scene::generate::{generate, Blending, Kind};
-use isotrace::scene::linear::{Linear, SMOOTH_UNION};
+use isotrace::scene::linear::Linear;
 use isotrace::scene::{self as sc, OpKind, Operator, Primitive, Scene, Shape};
 use std::time::Duration;
-
-/// The Lipschitz bound isotrace's CLI traces a scene with compact smooth
-/// operators with (`scene_render::SMOOTH_SCENE_LIPSCHITZ` in the binary,
-/// which the library does not export): Zanni et al.'s empirical 1.45.
-const SMOOTH_SCENE_LIPSCHITZ: f64 = 1.45;
 
 /// The rows with at least this many primitives get their own mean: issue
 /// 13's target is "≥ 2× faster from 1000 primitives on".
@@ -102,8 +97,7 @@ fn bench(gpu: &Gpu, args: &Args, kind: ViewKind, k: Kind, b: Blending, level: u3
     s.camera = kind.camera(&s.camera, &s.bbox, None, 1.0);
     let bbox = s.bbox;
     let diag = isotrace::render::box_diagonal(&bbox);
-    let smooth = lin.nodes.iter().any(|n| (n[0] >> 22) & 0xff >= SMOOTH_UNION);
-    let o = SphereOptions { lipschitz: if smooth { SMOOTH_SCENE_LIPSCHITZ } else { 1.0 }, ..Default::default() };
+    let o = SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
     let data = lin.field_data();
     let r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o)).map_err(|e| e.to_string())?;
     let view = View::new(&s.camera, &bbox, None, size, size, size);
@@ -141,16 +135,10 @@ fn bench(gpu: &Gpu, args: &Args, kind: ViewKind, k: Kind, b: Blending, level: u3
     })
 }
 
-/// isotrace's default view of a scene (`scene_render::framing` in the
-/// binary): the solid's bounds padded by 5% of the largest side, the
-/// default camera on that box.
+/// isotrace's default view of a scene, as `isotrace render` frames it:
+/// the solid's padded bounds, the default camera on that box.
 fn framing(lin: &Linear) -> Result<isotrace::render::View, String> {
-    let b = lin.bounds;
-    if !b.is_bounded() || b.is_empty() {
-        return Err("the scene is unbounded".into());
-    }
-    let pad = 0.05 * (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max).max(1e-6);
-    let bbox = [b.min[0] - pad, b.max[0] + pad, b.min[1] - pad, b.max[1] + pad, b.min[2] - pad, b.max[2] + pad];
+    let bbox = lin.bounds.padded().ok_or("the scene is unbounded")?;
     Ok(isotrace::render::View { bbox, ..Default::default() })
 }
 
