@@ -442,6 +442,9 @@ async function main() {
         maxStorageBufferBindingSize: adapter.limits.maxStorageBufferBindingSize, maxBufferSize: adapter.limits.maxBufferSize,
         // A scene binds 9 storage buffers (the default limit is 8).
         maxStorageBuffersPerShaderStage: adapter.limits.maxStorageBuffersPerShaderStage,
+        // A scene's tile views are a texture of 8192-texel rows, one row per
+        // 8 tiles (8192 rows at 2048²).
+        maxTextureDimension2D: adapter.limits.maxTextureDimension2D,
       },
     });
     device.lost.then((i) => fail('the WebGPU device was lost: ' + i.message));

@@ -9,7 +9,7 @@ const B = GPUBufferUsage;
 
 /** The layout entry of a binding: a storage buffer, or a sampled texture of 32-bit texels. */
 function layoutEntry(b) {
-  if (b.texture) return { texture: { sampleType: b.texture.format === 'rgba32uint' ? 'uint' : 'unfilterable-float' } };
+  if (b.texture) return { texture: { sampleType: b.texture.format.endsWith('uint') ? 'uint' : 'unfilterable-float' } };
   return { buffer: { type: b.read_only ? 'read-only-storage' : 'storage' } };
 }
 
@@ -86,14 +86,30 @@ export class Host {
     const data = [this.data[0], sel ? this.selData : this.data[1], this.data[2]];
     const d = this.device;
     const tiles = Math.ceil(w / 8) * Math.ceil(h / 8);
-    const r = { w, h, tiles, buffers: [new Map(), new Map(), new Map()] };
+    const r = { w, h, tiles, buffers: [new Map(), new Map(), new Map()], textures: new Map() };
     const bytes = (s) => ({ uniforms: this.P.uniforms.length * 4, per_pixel: s.bytes * w * h, per_tile: s.bytes * tiles, fixed: s.bytes }[s.kind]);
+    // A scratch texture has as many rows as its size rule's bytes need; the
+    // buffer a stage copies into it covers those whole rows.
+    const rows = (b) => Math.max(1, Math.ceil(bytes(b.size) / (b.texture.width * 4)));
+    const copyBytes = new Map();
+    for (const st of this.P.stages) {
+      if (!st.copy) continue;
+      const t = this.P.groups[st.copy.group].find((b) => b.binding === st.copy.to);
+      copyBytes.set(`${st.copy.group}:${st.copy.from}`, rows(t) * t.texture.width * 4);
+    }
     this.P.groups.forEach((g, gi) => {
       for (const b of g) {
         let buf;
         if (b.size.kind === 'uniforms') buf = this.uniforms;
         else if (b.size.kind === 'data') buf = data[gi].get(b.binding).buf;
-        else buf = d.createBuffer({ size: Math.max(16, bytes(b.size)), usage: B.STORAGE | B.COPY_SRC | B.COPY_DST });
+        else if (b.texture) {
+          const tex = d.createTexture({ size: [b.texture.width, rows(b)], format: b.texture.format, usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST });
+          r.textures.set(`${gi}:${b.binding}`, tex);
+          buf = tex.createView();
+        } else {
+          const size = Math.max(16, bytes(b.size), copyBytes.get(`${gi}:${b.binding}`) ?? 0);
+          buf = d.createBuffer({ size, usage: B.STORAGE | B.COPY_SRC | B.COPY_DST });
+        }
         r.buffers[gi].set(b.binding, buf);
       }
     });
@@ -135,6 +151,11 @@ export class Host {
       if (ind) pass.dispatchWorkgroupsIndirect(set.args, 0);
       else pass.dispatchWorkgroups(...this.groups(st.groups, set));
       pass.end();
+      if (st.copy) {
+        const tex = set.textures.get(`${st.copy.group}:${st.copy.to}`);
+        const buffer = set.buffers[st.copy.group].get(st.copy.from);
+        enc.copyBufferToTexture({ buffer, bytesPerRow: tex.width * 4 }, { texture: tex }, [tex.width, tex.height]);
+      }
     });
     for (const st of this.P.stages) {
       if (st.groups.kind === 'indirect') this.device.queue.writeBuffer(set.buffers[2].get(st.groups.binding), 0, new Uint32Array([0, 1, 1, 0]));

@@ -147,8 +147,7 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 
 /// A compiled field has no loops: it adds nothing to an invocation's loop
 /// count.
-const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\n\
-    fn field_enter_pixel(px: vec2<u32>) {}\nfn field_leave_frustum() {}\n";
+const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\n";
 
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).
@@ -169,6 +168,7 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
     }
     out.push_str(&emit_evaluator(ir, Domain::Scalar));
     out.push_str(FIELD_COST);
+    out.push_str(super::UNTILED_FIELD_HOOKS);
     let Some(d) = domain else {
         out.push_str(SCALAR_FIELD);
         return out;

@@ -100,6 +100,9 @@ pub const MAX_SHADER_BYTES: usize = 500_000;
 pub const SCENE_TILE_MAX: u32 = 512;
 /// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
 pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;
+/// Texels a row of the texture the trace reads the tile views from (a
+/// power of two; 8192 rows of it hold the views of a 2048² frame).
+pub const SCENE_VIEW_TEX_WIDTH: u32 = 8192;
 /// The view length that means "the whole tree".
 pub const SCENE_VIEW_FULL: u32 = u32::MAX;
 /// Depth slabs per tile (Zanni's depth ranges): each has its own pruned
@@ -119,6 +122,7 @@ impl FieldSource<'_> {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
             FieldSource::Scene(_) => format!(
                 "{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
+                 const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
                  const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
                  const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\n{}\n{}",
                 scene_constants(),

@@ -5,6 +5,12 @@
 //! render kernel from a traversal and a field source; [`template`] is the
 //! one splicing mechanism both use.
 
+/// The per-pixel hooks of a field source that has no tiles (a compiled
+/// formula, a tape): the whole ray is its business (a scene narrows it to
+/// the depths its tile's primitives span, templates/fields/scene.wgsl).
+pub(crate) const UNTILED_FIELD_HOOKS: &str = "fn field_enter_pixel(px: vec2<u32>) {}\nfn field_leave_frustum() {}\n\
+    fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> { return vec2<f32>(-F.inf, F.inf); }\n";
+
 pub mod choice;
 pub mod compiled;
 pub mod derivative;

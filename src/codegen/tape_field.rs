@@ -88,8 +88,6 @@ fn field(p: vec3<f32>) -> f32 {
 // Loop iterations of one evaluation of the value program.
 fn field_cost() -> u32 { return tape_word(2u).x; }
 fn field_exhausted() -> bool { return g_tape_exhausted; }
-fn field_enter_pixel(px: vec2<u32>) {}
-fn field_leave_frustum() {}
 ";
 
 /// The tape field for a traversal that needs enclosures in `domain`
@@ -102,6 +100,7 @@ pub fn field_code(domain: Option<Domain>) -> String {
     out.push_str(&prelude());
     out.push_str(&instantiate(Domain::Scalar));
     out.push_str(SCALAR_FIELD);
+    out.push_str(super::UNTILED_FIELD_HOOKS);
     if let Some(d) = domain {
         out.push_str(&instantiate(d));
         out.push_str(&compiled::enclosures(d, true));

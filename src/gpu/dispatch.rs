@@ -100,6 +100,9 @@ pub struct Stage<'a> {
     pub pipeline: &'a wgpu::ComputePipeline,
     /// Its workgroups.
     pub groups: Groups<'a>,
+    /// A buffer the stage writes, copied into a texture after it (the
+    /// whole texture, rows of 4-byte texels) for the stages after it.
+    pub copy: Option<(&'a wgpu::Buffer, &'a wgpu::Texture)>,
 }
 
 /// One dispatch of a render kernel over a rectangle: its stages in order
@@ -205,6 +208,14 @@ impl Dispatch<'_> {
                 (Groups::Direct([x, y, z]), _) => pass.dispatch_workgroups(*x, *y, *z),
                 (Groups::Indirect(_), Some(args)) => pass.dispatch_workgroups_indirect(args, 0),
                 (Groups::Indirect(_), None) => unreachable!("args made above"),
+            }
+            drop(pass);
+            if let Some((buffer, texture)) = stage.copy {
+                enc.copy_buffer_to_texture(
+                    wgpu::TexelCopyBufferInfo { buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(texture.width() * 4), rows_per_image: None } },
+                    texture.as_image_copy(),
+                    texture.size(),
+                );
             }
         }
     }

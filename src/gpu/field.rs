@@ -10,6 +10,31 @@ use super::{storage_entry, texture_entry, Gpu, GpuError};
 use crate::codegen::kernel::{SCENE_SLABS_MAX, SCENE_TILE_MAX, SCENE_VIEW_MAX};
 use crate::codegen::FieldSource;
 
+/// Binding of the texture the views pass's output is copied into.
+const VIEW_TEXTURE: u32 = 10;
+/// Binding of the views pass's output buffer.
+const VIEW_BUFFER: u32 = 6;
+/// Texels a row of the view texture.
+const VIEW_WIDTH: u64 = crate::codegen::kernel::SCENE_VIEW_TEX_WIDTH as u64;
+
+/// A dispatch's own field resources: the tile lists and views, and the
+/// view texture the trace reads the views from.
+pub(crate) struct PerDispatch {
+    buffers: Vec<(u32, wgpu::Buffer)>,
+    view: Option<(wgpu::Texture, wgpu::TextureView)>,
+}
+
+impl PerDispatch {
+    /// The copy of the views pass's output into the view texture (after
+    /// that pass; a buffer cannot be a texture, and the trace reads the
+    /// views as texels: lavapipe loads storage at a per-lane address lane
+    /// by lane).
+    pub fn view_copy(&self) -> Option<(&wgpu::Buffer, &wgpu::Texture)> {
+        let buf = self.buffers.iter().find(|(b, _)| *b == VIEW_BUFFER).map(|(_, b)| b)?;
+        self.view.as_ref().map(|(t, _)| (buf, t))
+    }
+}
+
 /// A field source's layout entries, buffers and pre-passes.
 pub(crate) struct FieldBinding {
     /// Layout of the field group (static and per-dispatch entries).
@@ -55,21 +80,47 @@ impl FieldBinding {
         [SCENE_TILE_MAX as u64 * 8, SCENE_VIEW_MAX as u64 * 4, (SCENE_SLABS_MAX as u64 + 1) * 16].into_iter().max().unwrap_or(0) / 64
     }
 
+    /// The most pixels a dispatch may cover: a scene's view texture holds
+    /// SCENE_VIEW_MAX texels a tile in rows of VIEW_WIDTH, at most the
+    /// device's texture side of rows.
+    pub fn max_pixels(&self, gpu: &Gpu) -> u64 {
+        if !self.scene {
+            return u64::MAX;
+        }
+        let rows = gpu.device.limits().max_texture_dimension_2d as u64;
+        rows * VIEW_WIDTH / SCENE_VIEW_MAX as u64 * 64
+    }
+
     /// The per-dispatch buffers of a rectangle (a scene's tile lists and
     /// views, zeroed), with `stats` (of [`FieldBinding::tile_stats_size`]
     /// bytes, read back by the caller) bound where the field writes them.
-    pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> Vec<(u32, wgpu::Buffer)> {
-        let (true, Some(stats)) = (self.scene, stats) else { return vec![] };
+    pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> PerDispatch {
+        let (true, Some(stats)) = (self.scene, stats) else { return PerDispatch { buffers: vec![], view: None } };
         let tiles = rect.tiles();
-        let buffer = |label, size: u64| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
-        vec![
-            (4, buffer("scene tile counts", tiles * 4)),
-            (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4)),
-            (6, buffer("scene tile views", tiles * SCENE_VIEW_MAX as u64 * 4)),
+        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
+        let storage = wgpu::BufferUsages::STORAGE;
+        // Whole rows of the view texture (a row holds several tiles' views).
+        let rows = (tiles * SCENE_VIEW_MAX as u64).div_ceil(VIEW_WIDTH);
+        let view = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("scene tile view texels"),
+            size: wgpu::Extent3d { width: VIEW_WIDTH as u32, height: rows as u32, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Uint,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let view_view = view.create_view(&Default::default());
+        let buffers = vec![
+            (4, buffer("scene tile counts", tiles * 4, storage)),
+            (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4, storage)),
+            (VIEW_BUFFER, buffer("scene tile views", rows * VIEW_WIDTH * 4, storage | wgpu::BufferUsages::COPY_SRC)),
             (7, stats.clone()),
-            (8, buffer("scene tile slabs", tiles * (SCENE_SLABS_MAX as u64 + 1) * 16)),
-            (9, buffer("scene tile depths", tiles * SCENE_TILE_MAX as u64 * 8)),
-        ]
+            (8, buffer("scene tile slabs", tiles * (SCENE_SLABS_MAX as u64 + 1) * 16, storage)),
+            (9, buffer("scene tile depths", tiles * SCENE_TILE_MAX as u64 * 8, storage)),
+        ];
+        PerDispatch { buffers, view: Some((view, view_view)) }
     }
 
     /// The pre-passes over a rectangle, in order, with their workgroups:
@@ -118,10 +169,11 @@ impl FieldBinding {
     }
 
     /// The bind group of these buffers and a dispatch's.
-    pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout, per_dispatch: &[(u32, wgpu::Buffer)]) -> wgpu::BindGroup {
-        let textures = self.textures.iter().map(|(b, _, view)| wgpu::BindGroupEntry { binding: *b, resource: wgpu::BindingResource::TextureView(view) });
+    pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout, per_dispatch: &PerDispatch) -> wgpu::BindGroup {
+        let views = self.textures.iter().map(|(b, _, view)| (*b, view)).chain(per_dispatch.view.as_ref().map(|(_, v)| (VIEW_TEXTURE, v)));
+        let textures = views.map(|(b, view)| wgpu::BindGroupEntry { binding: b, resource: wgpu::BindingResource::TextureView(view) });
         let entries: Vec<wgpu::BindGroupEntry> =
-            self.buffers.iter().chain(per_dispatch).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).chain(textures).collect();
+            self.buffers.iter().chain(&per_dispatch.buffers).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).chain(textures).collect();
         d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("field"), layout, entries: &entries })
     }
 }
@@ -137,6 +189,7 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
             ];
             layout.extend((2..4).map(|b| storage_entry(b, true)));
             layout.extend((4..10).map(|b| storage_entry(b, false)));
+            layout.push(texture_entry(VIEW_TEXTURE, wgpu::TextureSampleType::Uint));
             let (nodes, nodes_view) = gpu.texture("scene nodes", &s.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
             let (params, params_view) = gpu.texture("scene params", &s.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
             let buffers = vec![

@@ -308,6 +308,7 @@ impl<'g> Renderer<'g> {
         // The largest per-pixel buffer must fit one storage binding: the
         // records, or a scene's per-tile lists and views.
         let side = dispatch::max_side(self.gpu, per_pixel.max(self.field.bytes_per_pixel()), indirect, s.tile);
+        let side = side.min(((self.field.max_pixels(self.gpu) as f64).sqrt() as u32 / 8 * 8).max(8));
         let mut stats = Stats { method: self.host.method(), ..Default::default() };
         let mut ray_stats = RayStats::default();
         let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
@@ -328,7 +329,7 @@ impl<'g> Renderer<'g> {
             let field_group = self.gpu.scoped("field bind group", || self.field.group(&self.gpu.device, &self.layouts[1], &field_buffers))?;
             let job = Dispatch {
                 label: "render dispatch",
-                stages: self.stages(rect, &pass),
+                stages: self.stages(rect, &pass, field_buffers.view_copy()),
                 groups: [&frame_group, &field_group, &pass_group],
                 outputs: outputs.iter().zip(sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
             };
@@ -361,17 +362,24 @@ impl<'g> Renderer<'g> {
     /// The passes of one dispatch: the field's pre-passes, the traversal's
     /// tile pass if it runs one, and the per-pixel pass (indirect after a
     /// tile pass).
-    fn stages<'a>(&'a self, rect: Rect, pass: &'a PassBuffers) -> Vec<Stage<'a>> {
-        let mut stages: Vec<Stage<'a>> =
-            self.field_passes.iter().zip(self.field.passes(rect)).map(|(pipeline, g)| Stage { pipeline, groups: Groups::Direct(g) }).collect();
+    fn stages<'a>(&'a self, rect: Rect, pass: &'a PassBuffers, view_copy: Option<(&'a wgpu::Buffer, &'a wgpu::Texture)>) -> Vec<Stage<'a>> {
+        // A scene's views pass (its last pre-pass) hands its views over as a texture.
+        let n = self.field_passes.len();
+        let mut stages: Vec<Stage<'a>> = self
+            .field_passes
+            .iter()
+            .zip(self.field.passes(rect))
+            .enumerate()
+            .map(|(i, (pipeline, g))| Stage { pipeline, groups: Groups::Direct(g), copy: view_copy.filter(|_| i + 1 == n) })
+            .collect();
         match (&self.pre, &pass.list) {
             (Some(tiles), Some(list)) if self.host.pre_pass() => {
-                stages.push(Stage { pipeline: tiles, groups: Groups::Direct([rect.w.div_ceil(64), rect.h.div_ceil(64), 1]) });
-                stages.push(Stage { pipeline: &self.main, groups: Groups::Indirect(list) });
+                stages.push(Stage { pipeline: tiles, groups: Groups::Direct([rect.w.div_ceil(64), rect.h.div_ceil(64), 1]), copy: None });
+                stages.push(Stage { pipeline: &self.main, groups: Groups::Indirect(list), copy: None });
             }
             _ => {
                 let groups = [rect.w.div_ceil(8), rect.h.div_ceil(8).div_ceil(self.host.tiles_per_group()), 1];
-                stages.push(Stage { pipeline: &self.main, groups: Groups::Direct(groups) });
+                stages.push(Stage { pipeline: &self.main, groups: Groups::Direct(groups), copy: None });
             }
         }
         stages

@@ -9,7 +9,7 @@
 //! `TraversalHost::pass_buffers`, `gpu::field`); the browser tests compare
 //! the page's pixels with `isotrace render`, so a drift shows there.
 
-use crate::codegen::kernel::{SCENE_SLABS_MAX, SCENE_TILE_MAX, SCENE_VIEW_MAX};
+use crate::codegen::kernel::{SCENE_SLABS_MAX, SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
 use crate::codegen::{self, FieldSource};
 use crate::gpu::renderer::{uniform_bytes, RenderError, MAX_SHADER_BYTES};
 use crate::layout::{BisectBlock, FieldLayout, FrameBlock, GpuBlock, PresentBlock, SphereBlock};
@@ -41,16 +41,29 @@ pub enum Size {
     },
 }
 
-/// A sampled 2D texture of 32-bit vec4 texels (a scene's nodes and
-/// parameters), its data given row by row.
+/// A sampled 2D texture of 32-bit texels: a scene's nodes and parameters
+/// (vec4 texels, `data` given row by row), or a scratch texture filled by a
+/// stage's copy (its rows: as many as its size rule's bytes need).
 #[derive(Debug, Clone, Serialize)]
 pub struct TextureShape {
     /// Texels per row.
     pub width: u32,
-    /// Rows.
+    /// Rows (0 for a scratch texture: from its size rule).
     pub height: u32,
-    /// `rgba32uint` or `rgba32float` (the WebGPU format name).
+    /// `rgba32uint`, `rgba32float` or `r32uint` (the WebGPU format name).
     pub format: &'static str,
+}
+
+/// A copy after a stage: a buffer it wrote into a scratch texture of the
+/// same group, whole rows (the source buffer is made at least that large).
+#[derive(Debug, Clone, Serialize)]
+pub struct Copy {
+    /// The bind group of both.
+    pub group: u32,
+    /// The buffer's binding.
+    pub from: u32,
+    /// The texture's binding.
+    pub to: u32,
 }
 
 /// One resource of a bind group: a storage buffer (the smallest is 16
@@ -125,6 +138,10 @@ pub struct Stage {
     /// counts every binding of a layout against the per-stage limit (a
     /// scene's kernel binds 11 storage buffers in all; SwiftShader allows 10).
     pub uses: Vec<[u32; 2]>,
+    /// A copy to run after the stage (a scene's views into the texture the
+    /// trace reads them from, as `gpu::field::PerDispatch::view_copy`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub copy: Option<Copy>,
 }
 
 /// The uniform blocks: the frame block at offset 0, the traversal's after it.
@@ -209,8 +226,9 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         FieldSource::Compiled(_) => vec![],
         FieldSource::Tape(t) => vec![texture(0, "tape", t.texels(), "rgba32uint")],
         FieldSource::Scene(d) => {
-            stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![] });
-            stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 }, uses: vec![] });
+            stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![], copy: None });
+            let copy = Some(Copy { group: 1, from: 6, to: 10 });
+            stages.push(Stage { entry: "scene_views", groups: Groups::Tiles { per_group: 64 }, uses: vec![], copy });
             let mut group = scene_buffers(d);
             group.extend([
                 scratch(4, "scene tile counts", Size::PerTile { bytes: 4 }),
@@ -219,6 +237,12 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
                 scratch(7, "scene tile statistics", Size::PerTile { bytes: 8 }),
                 scratch(8, "scene tile slabs", Size::PerTile { bytes: (SCENE_SLABS_MAX as u64 + 1) * 16 }),
                 scratch(9, "scene tile depths", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
+                Binding {
+                    read_only: true,
+                    clear: false,
+                    texture: Some(TextureShape { width: SCENE_VIEW_TEX_WIDTH, height: 0, format: "r32uint" }),
+                    ..scratch(10, "scene tile view texels", Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 })
+                },
             ]);
             group
         }
@@ -235,17 +259,17 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
             let tpg = crate::gpu::bisect::TILES_PER_GROUP;
             if b.optimizations.tile_culling {
-                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![] });
-                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![] });
+                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None });
+                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![], copy: None });
             } else {
-                stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg }, uses: vec![] });
+                stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg }, uses: vec![], copy: None });
             }
             let m = &b.modalities;
             ("bisect", blocks::<BisectBlock>(), Follow { light: m.light.is_none(), eps_factor: m.shadow_eps.is_none().then_some(4.0) })
         }
         Traversal::Sphere(o) => {
             pass.push(scratch(1, "ray statistics", Size::PerPixel { bytes: 4 }));
-            stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![] });
+            stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![], copy: None });
             ("sphere", blocks::<SphereBlock>(), Follow { light: true, eps_factor: o.eps_min.is_none().then_some(1.0) })
         }
     };

@@ -92,6 +92,15 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
 @group(1) @binding(8) var<storage, read_write> scene_tile_slabs: array<vec4<u32>>;
 
 const SCENE_NO_TILE: u32 = 0xffffffffu;
+// The tiles' pruned views (node indices), copied from scene_tile_view by
+// the host after the views pass: a texel fetch per node instead of a
+// storage load, which lavapipe runs lane by lane at a per-lane address.
+// SCENE_VIEW_TEX_WIDTH texels a row, SCENE_VIEW_MAX a tile.
+@group(1) @binding(10) var scene_view_tex: texture_2d<u32>;
+fn scene_view_node(i: u32) -> u32 {
+    return textureLoad(scene_view_tex, vec2<u32>(i % SCENE_VIEW_TEX_WIDTH, i / SCENE_VIEW_TEX_WIDTH), 0).x;
+}
+
 // The tile whose pruned view this invocation's field evaluates: set for a
 // primary ray (its point stays in the tile's frustum), cleared for
 // secondary rays, which leave it and need the whole tree.
@@ -110,14 +119,6 @@ var<private> g_scene_vbase: u32 = 0u;
 var<private> g_scene_core: vec2<f32>;
 var<private> g_scene_pad: vec2<f32>;
 
-// A short view, copied once per slab: (node word x, first parameter row)
-// of each node. Every evaluation then reads private memory instead of a
-// storage buffer (on lavapipe a storage load at a per-lane address runs
-// lane by lane; this copy made the interpreter a third faster). 32: a
-// copy of 64 made every scene 2-3x slower on lavapipe.
-const SCENE_VIEW_CACHE: u32 = 32u;
-var<private> g_scene_view: array<vec2<u32>, SCENE_VIEW_CACHE>;
-
 // The tile's slab table, read once per pixel: each slab's core start
 // (+inf past the last), first view word and view length, and the margin.
 // Changing slabs then reads registers only (a storage read at a per-lane
@@ -127,6 +128,9 @@ var<private> g_slab_start: vec4<f32>;
 var<private> g_slab_off: vec4<u32>;
 var<private> g_slab_len: vec4<u32>;
 var<private> g_slab_margin: f32;
+// The view depths where the tile's primitives are (written by the views
+// pass; the whole line outside a tile).
+var<private> g_scene_depths: vec2<f32>;
 
 // Makes slab k (0-based) of the current tile the one evaluated.
 fn scene_use_slab(k: u32) {
@@ -136,19 +140,6 @@ fn scene_use_slab(k: u32) {
     g_scene_pad = vec2<f32>(lo - g_slab_margin, hi + g_slab_margin);
     g_scene_len = g_slab_len[min(k, 3u)];
     g_scene_vbase = g_scene_tile * SCENE_VIEW_MAX + g_slab_off[min(k, 3u)];
-    if (g_scene_len <= SCENE_VIEW_CACHE) { scene_fill(0u, g_scene_len); }
-}
-
-// Copies nodes [c, c + SCENE_VIEW_CACHE) of the current view (or of the
-// whole tree) into the private copy.
-fn scene_fill(c: u32, n: u32) {
-    let full = g_scene_len == SCENE_VIEW_FULL;
-    let m = min(n - c, SCENE_VIEW_CACHE);
-    for (var j = 0u; j < m; j = j + 1u) {
-        let i = select(scene_tile_view[g_scene_vbase + c + j], c + j, full);
-        g_scene_view[j] = scene_node(i).xy;
-    }
-    g_field_work = g_field_work + m;
 }
 
 // The slab whose core holds view depth z.
@@ -167,6 +158,7 @@ fn field_enter_pixel(px: vec2<u32>) {
     let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
     let head = scene_tile_slabs[tb];
     g_slab_margin = bitcast<f32>(head.y);
+    g_scene_depths = vec2<f32>(bitcast<f32>(head.z), bitcast<f32>(head.w));
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < head.x; k = k + 1u) {
         let e = scene_tile_slabs[tb + 1u + k];
@@ -182,6 +174,18 @@ fn field_leave_frustum() {
     g_scene_vbase = 0u;
     g_scene_core = vec2<f32>(-F.inf, F.inf);
     g_scene_pad = g_scene_core;
+    g_scene_depths = g_scene_core;
+}
+
+// The part of the ray o + d t where the current tile's primitives are (no
+// surface lies elsewhere in the tile's frustum): view depth z is
+// dot(o - eye, forward) + t dot(d, forward).
+fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
+    let k = dot(d, F.forward.xyz);
+    let z0 = dot(o - F.eye.xyz, F.forward.xyz);
+    let inside = g_scene_depths.x <= -F.inf && g_scene_depths.y >= F.inf;
+    if (inside || !(k > 0.0)) { return select(vec2<f32>(-F.inf, F.inf), vec2<f32>(F.inf, -F.inf), g_scene_depths.x > g_scene_depths.y); }
+    return (g_scene_depths - z0) / k;
 }
 
 // The node list this invocation evaluates: the slab's view, or (length
@@ -192,12 +196,10 @@ fn scene_view_len() -> u32 { return g_scene_len; }
 // it never gives up on an evaluation.
 fn field_exhausted() -> bool { return false; }
 
-// Loop iterations one evaluation costs: its nodes, and as many again when
-// they pass through the private copy chunk by chunk (see field).
+// Loop iterations one evaluation costs: its nodes.
 fn field_cost() -> u32 {
     let len = scene_view_len();
-    let n = select(len, scene_node_count(), len == SCENE_VIEW_FULL);
-    return select(n, 2u * n, len == SCENE_VIEW_FULL || n > SCENE_VIEW_CACHE);
+    return select(len, scene_node_count(), len == SCENE_VIEW_FULL);
 }
 
 // The interpreter's value stack below its top (kept in a register): module
@@ -237,17 +239,9 @@ fn field(p: vec3<f32>) -> f32 {
     let n = select(len, scene_node_count(), full);
     var sp = 0u;
     var top = F.inf;
-    // A short view is in the private copy already; a long one (or the
-    // whole tree) passes through it a chunk at a time. One path for both:
-    // lavapipe runs both arms of a branch, and a loop whose lanes are all
-    // off still costs one pass of its body.
-    let reload = full || n > SCENE_VIEW_CACHE;
-    for (var c = 0u; c < n; c = c + SCENE_VIEW_CACHE) {
-        if (reload) { scene_fill(c, n); }
-        let m = min(n - c, SCENE_VIEW_CACHE);
-        for (var j = 0u; j < m; j = j + 1u) {
-            scene_step(g_scene_view[j], p, &sp, &top);
-        }
+    for (var j = 0u; j < n; j = j + 1u) {
+        let i = select(scene_view_node(g_scene_vbase + j), j, full);
+        scene_step(scene_node(i).xy, p, &sp, &top);
     }
     g_field_work = g_field_work + n;
     // The view is exact only within the slab's padded depths: a positive

@@ -276,10 +276,14 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     // silent loop cap, leaving lists unsorted depending on that order).
     var zlo = F.inf;
     var zhi = -F.inf;
+    var front = F.inf;
+    var back = -F.inf;
     for (var i = 0u; i < count; i = i + 1u) {
         let dv = scene_tile_depth[base + i];
         if (abs(dv.x) < F.inf) { zlo = min(zlo, dv.x); }
         if (abs(dv.y) < F.inf) { zhi = max(zhi, dv.y); }
+        front = min(front, dv.x);
+        back = max(back, dv.y);
     }
     for (var i = count / 2u; i > 0u; i = i - 1u) { scene_sift(base, i - 1u, count); }
     for (var e = count; e > 1u; e = e - 1u) {
@@ -315,7 +319,10 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
         return;
     }
-    scene_tile_slabs[tb] = vec4<u32>(slabs, bitcast<u32>(margin), 0u, 0u);
+    // The depths where the tile's primitives are: no surface lies outside
+    // them in the tile's frustum, so primary rays are traced only there
+    // (eq. 21-22 at the ends of the list; an empty list: no steps at all).
+    scene_tile_slabs[tb] = vec4<u32>(slabs, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin));
     // Statistics: the views' total length, the slab count in bits 24-27.
     scene_tile_len[t] = vec2<u32>(total | (slabs << 24u), count);
 }

@@ -279,7 +279,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var status = STATUS_MISS;
     var fallbacks = 0u;
     var ratio = 0.0;
-    let seg = clip_ray(o, d);
+    // A field may know where along the ray its surface can be (a scene:
+    // the depths its tile's primitives span).
+    let clip = clip_ray(o, d);
+    let near = field_ray_range(o, d);
+    let seg = vec2<f32>(max(clip.x, near.x), min(clip.y, near.y));
     if (seg.x < seg.y) {
         let screen = (F.flags & FLAG_SCREEN) != 0u;
         var c = Crit(F.eps, 0.0, false);
