@@ -88,6 +88,13 @@ fn bad_input_is_named_and_exits_1() {
     let m = missing.to_str().unwrap();
     fails(&["scene", "check", m], &format!("error: cannot read scene file '{m}': No such file or directory (os error 2)\n"));
     fails(&["scene", "gen", "boxes", "--count", "100", "-o", p], "error: invalid --count 100: boxes scenes have 16, 64, 256, 1024 or 4096 primitives\n");
+    // A flag that has no meaning for a scene file is refused, not ignored.
+    let out = tmp("never.png");
+    fails(
+        &["render", "examples/blobs.scene.json", "--field", "compiled", "-o", out.to_str().unwrap()],
+        "error: --field compiled and --field tape apply to formulas: a scene file is traced by the scene field; to trace its formula, write it with `isotrace scene formula FILE.scene.json -o FILE.txt` and render `-f FILE.txt`\n",
+    );
+    assert!(!out.exists());
     fails(&["scene", "gen", "aggregate", "--level", "5", "-o", p], "error: invalid --level 5: the highest level is 4 (aggregate 111110 primitives)\n");
     // Differences nested on the right beyond the stack limit.
     let mut nodes = vec!["{\"type\": \"sphere\", \"radius\": 1}".to_string()];

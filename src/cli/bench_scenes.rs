@@ -2,9 +2,13 @@
 //! (Fig. 16's recursive aggregates, Fig. 18's instanced boxes and sphere
 //! pairs; sharp and smooth) through the scene field, each traced twice with
 //! the same kernel: sparse (every 8×8 tile evaluates its pruned view) and
-//! dense (every tile evaluates the whole tree, a uniform flag). The table
-//! is what the README's scene figures are made of; `scripts/plot-scenes.py`
-//! draws ms against primitive count from the JSON.
+//! dense (every tile evaluates the whole tree, a uniform flag), and, where
+//! its formula is small enough to compile in about a minute, through the
+//! compiled field (the scene's formula generated into the shader). Dense
+//! rows are skipped where the last level's dense frame, scaled by the
+//! primitive count, would pass [`DENSE_BUDGET_MS`]. The table is what the
+//! README's scene figures are made of; `scripts/plot-scenes.py` draws ms
+//! against primitive count from the JSON.
 
 use super::CliError;
 use isotrace::codegen::FieldSource;
@@ -27,8 +31,11 @@ pub struct SceneRow {
     pub level: u32,
     /// Primitives.
     pub primitives: usize,
-    /// `sparse` or `dense`.
+    /// `sparse`, `dense` or `compiled`.
     pub path: String,
+    /// Building the renderer (for `compiled`: generating and compiling the
+    /// scene's shader, cold or from Mesa's cache), ms.
+    pub setup_ms: f64,
     /// Median GPU ms of the timed runs.
     pub gpu_ms: f64,
     /// Marching steps per pixel (each evaluates the field once).
@@ -47,6 +54,14 @@ pub struct SceneRow {
     pub unconverged: u64,
 }
 
+/// A dense frame expected to take longer than this is not run (its row is
+/// left out, and the console says so).
+pub const DENSE_BUDGET_MS: f64 = 120_000.0;
+/// Formula operations up to which a scene is also traced compiled: the
+/// compiled kernel of a 2,503-operation formula took 35 s to build on
+/// lavapipe, of a 12,503-operation one over 120 s (README, "Compiled or tape").
+pub const COMPILED_MAX_OPS: usize = 3000;
+
 /// The series measured: every kind up to `max_level`, sharp and smooth.
 fn series(max_level: u32) -> Vec<(Kind, Blending, u32)> {
     let mut v = vec![];
@@ -63,8 +78,47 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Measures one scene both ways.
-fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u32), repeat: u32, max_steps: Option<u32>) -> Result<Vec<SceneRow>, CliError> {
+/// One path's timed frames.
+fn time_frames(r: &Renderer, s: &isotrace::render::Settings, repeat: u32) -> Result<Vec<Stats>, CliError> {
+    r.render(s).map_err(super::render_error)?; // warm-up
+    (0..repeat).map(|_| r.render(s).map(|f| f.stats).map_err(super::render_error)).collect()
+}
+
+/// A row from a path's timed frames.
+fn row(scene: (Kind, Blending, u32, usize), path: &str, setup_ms: f64, runs: &[Stats]) -> SceneRow {
+    let (kind, blending, level, primitives) = scene;
+    let st = runs.last().expect("repeat >= 1").clone();
+    let hit_share = st.hits as f64 / st.pixels.max(1) as f64;
+    SceneRow {
+        kind: kind.name().into(),
+        blending: if blending == Blending::Sharp { "sharp" } else { "smooth" }.into(),
+        level,
+        primitives,
+        path: path.into(),
+        setup_ms,
+        gpu_ms: median(runs.iter().map(|s| s.gpu_ms).collect()),
+        steps_per_ray: st.evals_mean,
+        evals_per_ray: st.evals_mean + 6.0 * hit_share,
+        active_mean: st.field.active_mean,
+        active_max: st.field.active_max,
+        slab_view_mean: st.field.slab_view_mean,
+        overflow_tiles: st.field.overflow_tiles,
+        unconverged: st.unresolved,
+    }
+}
+
+/// The scene's formula compiled into the shader, when it is small enough
+/// to build in about a minute (see [`COMPILED_MAX_OPS`]).
+fn compiled_formula(scene: &isotrace::scene::Scene) -> Option<isotrace::Formula> {
+    let text = scene.to_formula().ok()?;
+    let f = isotrace::Formula::compile("<scene>", &text).ok()?;
+    (isotrace::codegen::tape::TapeData::new(&f.ir).ok()?.ops <= COMPILED_MAX_OPS).then_some(f)
+}
+
+/// Measures one scene: sparse, dense unless `dense_estimate` (ms) passes
+/// the budget, and compiled where it compiles in time.
+fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32, max_steps: Option<u32>, dense_estimate: Option<f64>) -> Result<Vec<SceneRow>, CliError> {
+    let (kind, blending, level) = job;
     let fail = |m: String| CliError::Input(format!("{} level {level}: {m}", kind.name()));
     let scene = generate(kind, level, blending, 1).map_err(|e| fail(e.to_string()))?;
     let lin = Linear::new(&scene).map_err(|e| fail(e.to_string()))?;
@@ -75,32 +129,22 @@ fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u3
         o.max_steps = n;
     }
     let data = lin.field_data();
-    let mut r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o)).map_err(super::render_error)?;
-    let mut rows = vec![];
-    for dense in [false, true] {
-        r.set_scene_dense(dense);
-        r.render(&s).map_err(super::render_error)?; // warm-up
-        let mut runs: Vec<Stats> = vec![];
-        for _ in 0..repeat {
-            runs.push(r.render(&s).map_err(super::render_error)?.stats);
+    let id = (kind, blending, level, lin.primitives.len());
+    let t0 = std::time::Instant::now();
+    let mut r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).map_err(super::render_error)?;
+    let setup = t0.elapsed().as_secs_f64() * 1e3;
+    let mut rows = vec![row(id, "sparse", setup, &time_frames(&r, &s, repeat)?)];
+    match dense_estimate {
+        Some(ms) if ms > DENSE_BUDGET_MS => eprintln!("  dense skipped: about {:.0} s a frame expected (the last level's, scaled by the primitives)", ms / 1e3),
+        _ => {
+            r.set_scene_dense(true);
+            rows.push(row(id, "dense", setup, &time_frames(&r, &s, repeat)?));
         }
-        let st = runs.last().expect("repeat >= 1").clone();
-        let hit_share = st.hits as f64 / st.pixels.max(1) as f64;
-        rows.push(SceneRow {
-            kind: kind.name().into(),
-            blending: if blending == Blending::Sharp { "sharp" } else { "smooth" }.into(),
-            level,
-            primitives: lin.primitives.len(),
-            path: if dense { "dense" } else { "sparse" }.into(),
-            gpu_ms: median(runs.iter().map(|s| s.gpu_ms).collect()),
-            steps_per_ray: st.evals_mean,
-            evals_per_ray: st.evals_mean + 6.0 * hit_share,
-            active_mean: st.field.active_mean,
-            active_max: st.field.active_max,
-            slab_view_mean: st.field.slab_view_mean,
-            overflow_tiles: st.field.overflow_tiles,
-            unconverged: st.unresolved,
-        });
+    }
+    if let Some(f) = compiled_formula(&scene) {
+        let t0 = std::time::Instant::now();
+        let c = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Sphere(o)).map_err(super::render_error)?;
+        rows.push(row(id, "compiled", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&c, &s, repeat)?));
     }
     Ok(rows)
 }
@@ -108,13 +152,13 @@ fn measure(gpu: &Gpu, kind: Kind, blending: Blending, level: u32, size: (u32, u3
 /// The console / Markdown table.
 pub fn table(rows: &[SceneRow]) -> String {
     let mut t = String::from(
-        "| scene | blend | level | primitives | path | GPU ms | steps/ray | evals/ray | active/tile (mean, max) | view nodes/slab | overflow tiles | unconverged |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| scene | blend | level | primitives | path | setup ms | GPU ms | steps/ray | evals/ray | active/tile (mean, max) | view nodes/slab | overflow tiles | unconverged |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(
             t,
-            "| {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.1}, {} | {:.1} | {} | {} |",
-            r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.steps_per_ray, r.evals_per_ray, r.active_mean, r.active_max, r.slab_view_mean, r.overflow_tiles, r.unconverged
+            "| {} | {} | {} | {} | {} | {:.0} | {:.1} | {:.2} | {:.2} | {:.1}, {} | {:.1} | {} | {} |",
+            r.kind, r.blending, r.level, r.primitives, r.path, r.setup_ms, r.gpu_ms, r.steps_per_ray, r.evals_per_ray, r.active_mean, r.active_max, r.slab_view_mean, r.overflow_tiles, r.unconverged
         );
     }
     t
@@ -128,14 +172,18 @@ pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32
     }
     let gpu = super::render::open_gpu()?;
     let machine = super::bench::machine(&gpu.info, std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let mut rows = vec![];
+    let mut rows: Vec<SceneRow> = vec![];
     let jobs = series(max_level);
     for (k, &(kind, blending, level)) in jobs.iter().enumerate() {
-        let new = measure(&gpu, kind, blending, level, size, repeat, max_steps)?;
+        // The last dense row of this series, scaled by the primitive count.
+        let last_dense = rows.iter().rev().find(|r| r.kind == kind.name() && (r.blending == "sharp") == (blending == Blending::Sharp) && r.path == "dense");
+        let prims = kind.primitives(level);
+        let estimate = last_dense.map(|r| r.gpu_ms * prims as f64 / r.primitives.max(1) as f64);
+        let new = measure(&gpu, (kind, blending, level), size, repeat, max_steps, estimate)?;
         for r in &new {
             eprintln!(
-                "[{}/{}] {} {} level {} ({} primitives) {}: {:.1} ms, {:.2} evals/ray, {:.1} active/tile",
-                k + 1, jobs.len(), r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.evals_per_ray, r.active_mean
+                "[{}/{}] {} {} level {} ({} primitives) {}: {:.1} ms (setup {:.0} ms), {:.2} evals/ray, {:.1} active/tile",
+                k + 1, jobs.len(), r.kind, r.blending, r.level, r.primitives, r.path, r.gpu_ms, r.setup_ms, r.evals_per_ray, r.active_mean
             );
         }
         rows.extend(new);

@@ -26,6 +26,10 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
         (a.view.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
         (a.view.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
         (a.view.time.is_some(), "--t applies to formulas: a scene has no time".into()),
+        (
+            matches!(a.view.field, Some(super::FieldArg::Compiled | super::FieldArg::Tape)),
+            "--field compiled and --field tape apply to formulas: a scene file is traced by the scene field; to trace its formula, write it with `isotrace scene formula FILE.scene.json -o FILE.txt` and render `-f FILE.txt`".into(),
+        ),
     ];
     checks.into_iter().find(|(bad, _)| *bad).map(|(_, m)| m)
 }

@@ -117,6 +117,8 @@ pub struct Dispatch<'a> {
     pub groups: [&'a wgpu::BindGroup; 3],
     /// The outputs to read back: (buffer, its mappable copy, size).
     pub outputs: Vec<(wgpu::Buffer, wgpu::Buffer, u64)>,
+    /// Buffers zeroed before the first stage (kept between dispatches).
+    pub clears: Vec<wgpu::Buffer>,
 }
 
 /// GPU milliseconds of a dispatch: in all, and per stage.
@@ -179,6 +181,9 @@ impl Dispatch<'_> {
 
     /// The passes. Query 0: start; query i + 1: end of stage i.
     fn record(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, set: Option<&wgpu::QuerySet>) {
+        for b in &self.clears {
+            enc.clear_buffer(b, 0, None);
+        }
         for (i, stage) in self.stages.iter().enumerate() {
             let begin = (i == 0).then_some(0);
             let timestamp_writes = set.map(|query_set| wgpu::ComputePassTimestampWrites { query_set, beginning_of_pass_write_index: begin, end_of_pass_write_index: Some(i as u32 + 1) });

@@ -12,13 +12,19 @@ use crate::codegen::FieldSource;
 
 /// Binding of the texture the views pass's output is copied into.
 const VIEW_TEXTURE: u32 = 10;
+/// Binding of the tile counts.
+const COUNTS: u32 = 4;
 /// Binding of the views pass's output buffer.
 const VIEW_BUFFER: u32 = 6;
 /// Texels a row of the view texture.
 const VIEW_WIDTH: u64 = crate::codegen::kernel::SCENE_VIEW_TEX_WIDTH as u64;
 
 /// A dispatch's own field resources: the tile lists and views, and the
-/// view texture the trace reads the views from.
+/// view texture the trace reads the views from. Kept for the next dispatch
+/// of as many tiles (making and zeroing them anew cost ~60 ms a frame at
+/// 512² on lavapipe, ~250 ms at 1024²): only the tile counts must start at
+/// zero, everything else is written before it is read.
+#[derive(Clone)]
 pub(crate) struct PerDispatch {
     buffers: Vec<(u32, wgpu::Buffer)>,
     view: Option<(wgpu::Texture, wgpu::TextureView)>,
@@ -29,6 +35,11 @@ impl PerDispatch {
     /// that pass; a buffer cannot be a texture, and the trace reads the
     /// views as texels: lavapipe loads storage at a per-lane address lane
     /// by lane).
+    /// The buffers to zero before the dispatch (the tile counts, appended to).
+    pub fn clears(&self) -> Vec<wgpu::Buffer> {
+        self.buffers.iter().filter(|(b, _)| *b == COUNTS).map(|(_, b)| b.clone()).collect()
+    }
+
     pub fn view_copy(&self) -> Option<(&wgpu::Buffer, &wgpu::Texture)> {
         let buf = self.buffers.iter().find(|(b, _)| *b == VIEW_BUFFER).map(|(_, b)| b)?;
         self.view.as_ref().map(|(t, _)| (buf, t))
@@ -50,6 +61,8 @@ pub(crate) struct FieldBinding {
     pub dense: bool,
     /// An interpreted tape: bisection's budget must leave room for its work.
     pub tape: bool,
+    /// The last dispatch's own resources and its tile count.
+    cached: std::sync::Mutex<Option<(u64, PerDispatch)>>,
 }
 
 impl FieldBinding {
@@ -97,6 +110,18 @@ impl FieldBinding {
     pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> PerDispatch {
         let (true, Some(stats)) = (self.scene, stats) else { return PerDispatch { buffers: vec![], view: None } };
         let tiles = rect.tiles();
+        let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
+        let mut own = match cached.take() {
+            Some((n, own)) if n == tiles => own,
+            _ => self.make_per_dispatch(gpu, tiles),
+        };
+        *cached = Some((tiles, own.clone()));
+        own.buffers.push((7, stats.clone()));
+        own
+    }
+
+    /// A dispatch's own resources for `tiles` tiles (without the statistics).
+    fn make_per_dispatch(&self, gpu: &Gpu, tiles: u64) -> PerDispatch {
         let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
         let storage = wgpu::BufferUsages::STORAGE;
         // Whole rows of the view texture (a row holds several tiles' views).
@@ -113,10 +138,9 @@ impl FieldBinding {
         });
         let view_view = view.create_view(&Default::default());
         let buffers = vec![
-            (4, buffer("scene tile counts", tiles * 4, storage)),
+            (COUNTS, buffer("scene tile counts", tiles * 4, storage | wgpu::BufferUsages::COPY_DST)),
             (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4, storage)),
             (VIEW_BUFFER, buffer("scene tile views", rows * VIEW_WIDTH * 4, storage | wgpu::BufferUsages::COPY_SRC)),
-            (7, stats.clone()),
             (8, buffer("scene tile slabs", tiles * (SCENE_SLABS_MAX as u64 + 1) * 16, storage)),
             (9, buffer("scene tile depths", tiles * SCENE_TILE_MAX as u64 * 8, storage)),
         ];
@@ -181,7 +205,7 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], textures: vec![], prims: 0, scene: false, dense: false, tape: false }),
+        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], textures: vec![], prims: 0, scene: false, dense: false, tape: false, cached: Default::default() }),
         FieldSource::Scene(s) => {
             let mut layout = vec![
                 texture_entry(0, wgpu::TextureSampleType::Uint),
@@ -197,12 +221,12 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
             let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
-            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false })
+            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, cached: Default::default() })
         }
         FieldSource::Tape(t) => {
             let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
             let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint)];
-            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true })
+            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, cached: Default::default() })
         }
     }
 }

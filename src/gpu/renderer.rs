@@ -332,6 +332,7 @@ impl<'g> Renderer<'g> {
                 stages: self.stages(rect, &pass, field_buffers.view_copy()),
                 groups: [&frame_group, &field_group, &pass_group],
                 outputs: outputs.iter().zip(sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
+                clears: field_buffers.clears(),
             };
             let t = job.run(self.gpu, |bytes| {
                 sink(rect, bytemuck::cast_slice(bytes[0]));

@@ -205,6 +205,11 @@ fn scratch(binding: u32, name: &'static str, size: Size) -> Binding {
     Binding { binding, name, read_only: false, size, data: None, indirect: false, clear: true, texture: None }
 }
 
+/// A scratch buffer its stages write before they read it: not zeroed.
+fn kept(binding: u32, name: &'static str, size: Size) -> Binding {
+    Binding { clear: false, ..scratch(binding, name, size) }
+}
+
 /// Assembles, checks the size limit of the CLI, validates with naga and
 /// describes the kernel of `field` traced by `traversal` for settings `s`.
 pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> Result<Program, RenderError> {
@@ -232,11 +237,13 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             let mut group = scene_buffers(d);
             group.extend([
                 scratch(4, "scene tile counts", Size::PerTile { bytes: 4 }),
-                scratch(5, "scene tile primitives", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 }),
-                scratch(6, "scene tile views", Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 }),
-                scratch(7, "scene tile statistics", Size::PerTile { bytes: 8 }),
-                scratch(8, "scene tile slabs", Size::PerTile { bytes: (SCENE_SLABS_MAX as u64 + 1) * 16 }),
-                scratch(9, "scene tile depths", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
+                // Only the counts must start at zero (gpu::field::PerDispatch):
+                // the rest is written before it is read.
+                kept(5, "scene tile primitives", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 }),
+                kept(6, "scene tile views", Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 }),
+                kept(7, "scene tile statistics", Size::PerTile { bytes: 8 }),
+                kept(8, "scene tile slabs", Size::PerTile { bytes: (SCENE_SLABS_MAX as u64 + 1) * 16 }),
+                kept(9, "scene tile depths", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
                 Binding {
                     read_only: true,
                     clear: false,
