@@ -3,11 +3,18 @@
 // The gradient of f by central differences with stencil h (the field
 // source's scalar field: a traversal scaling it, as sphere tracing divides
 // by the Lipschitz bound, changes only its length).
+// One call of field in a loop, not six: a shader compiler inlines every
+// call site, and on lavapipe's SIMD lanes each inlined copy costs a masked
+// pass even where no lane needs it (a miss); a loop no lane enters runs
+// its body once. Same arithmetic: g.x = (0 + f(p + dx)) + (-f(p - dx)).
 fn gradient(p: vec3<f32>, h: f32) -> vec3<f32> {
-    let dx = vec3<f32>(h, 0.0, 0.0);
-    let dy = vec3<f32>(0.0, h, 0.0);
-    let dz = vec3<f32>(0.0, 0.0, h);
-    return vec3<f32>(field(p + dx) - field(p - dx), field(p + dy) - field(p - dy), field(p + dz) - field(p - dz)) / (2.0 * h);
+    var g = vec3<f32>(0.0);
+    for (var k = 0u; k < 6u; k = k + 1u) {
+        let axis = vec3<f32>(f32(k / 2u == 0u), f32(k / 2u == 1u), f32(k / 2u == 2u));
+        let s = select(1.0, -1.0, (k & 1u) == 1u);
+        g = g + axis * (s * field(p + s * (axis * h)));
+    }
+    return g / (2.0 * h);
 }
 
 // A heat map colour for v in [0, 1].

@@ -48,12 +48,14 @@ fn threshold(c: Crit, t: f32) -> f32 { return max(c.e0 + c.e1 * t, 1e-30); }
 
 // Scalar bisection of a sign change of f between a (start side) and b.
 fn bracket(o: vec3<f32>, d: vec3<f32>, a0: f32, b0: f32) -> f32 {
+    // One call site of dist (see gradient): iteration -1 finds fa's side.
     var a = a0;
     var b = b0;
-    let fa = dist(o + d * a) < 0.0;
-    for (var i = 0; i < BRACKET_STEPS; i = i + 1) {
-        let m = 0.5 * (a + b);
-        if ((dist(o + d * m) < 0.0) == fa) { a = m; } else { b = m; }
+    var fa = false;
+    for (var i = -1; i < BRACKET_STEPS; i = i + 1) {
+        let m = select(0.5 * (a + b), a, i < 0);
+        let neg = dist(o + d * m) < 0.0;
+        if (i < 0) { fa = neg; } else if (neg == fa) { a = m; } else { b = m; }
     }
     return 0.5 * (a + b);
 }
@@ -150,10 +152,11 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
     if (m.status != STATUS_MISS) {
         // Technique 4: move to the level set f = err(t), which varies
         // smoothly over the screen, instead of wherever the march stopped.
-        for (var i = 0u; i < U.fixpoint; i = i + 1u) {
-            m.t = clamp(m.t + (fsign * dist(o + d * m.t) - threshold(c, m.t)), t0, max(t1, t0));
+        // One call site of dist: the last iteration takes f at the result.
+        for (var i = 0u; i <= U.fixpoint; i = i + 1u) {
+            let v = fsign * dist(o + d * m.t);
+            if (i == U.fixpoint) { m.f = v; } else { m.t = clamp(m.t + (v - threshold(c, m.t)), t0, max(t1, t0)); }
         }
-        m.f = fsign * dist(o + d * m.t);
     }
     return m;
 }
