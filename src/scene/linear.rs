@@ -151,7 +151,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 33] = [
+    let consts: [(&str, u32); 34] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -185,6 +185,7 @@ pub fn wgsl_constants() -> String {
         ("FORM_OCTAHEDRON", FORM_OCTAHEDRON),
         ("FORM_PLANE", FORM_PLANE),
         ("SCENE_TEX_WIDTH", TEXTURE_WIDTH),
+        ("SCENE_ENTRY_ROW_BITS", ENTRY_ROW_BITS),
     ];
     let mut s = String::new();
     for (name, v) in consts {
@@ -192,6 +193,13 @@ pub fn wgsl_constants() -> String {
     }
     s
 }
+
+/// Bits of a pruned view's entry that hold the node's first parameter row
+/// (`scene_entry` in templates/fields/scene.wgsl: isLeaf, type, row): every
+/// scene within [`super::MAX_NODES`] fits.
+pub const ENTRY_ROW_BITS: u32 = 25;
+const _: () = assert!((super::MAX_NODES as u64) * (PRIM_ROWS as u64) < 1 << ENTRY_ROW_BITS);
+const _: () = assert!(SMOOTH_DIFFERENCE < 1 << (31 - ENTRY_ROW_BITS));
 
 /// A scene in post-order: the GPU buffers and the topology the CPU
 /// traversal uses. Vectors indexed "by node" use post-order indices.

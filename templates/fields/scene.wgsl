@@ -92,7 +92,17 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
 @group(1) @binding(8) var<storage, read_write> scene_tile_slabs: array<vec4<u32>>;
 
 const SCENE_NO_TILE: u32 = 0xffffffffu;
-// The tiles' pruned views (node indices), copied from scene_tile_view by
+// A node as a pruned view holds it: isLeaf (bit 31), type (bits
+// SCENE_ENTRY_ROW_BITS to 30) and its first parameter row (the bits below):
+// what the interpreter needs, without a fetch of the node's own texel.
+fn scene_entry(i: u32) -> u32 {
+    let w = scene_node(i);
+    return (w.x & 0x80000000u) | (node_type(w.x) << SCENE_ENTRY_ROW_BITS) | w.y;
+}
+fn entry_type(e: u32) -> u32 { return (e >> SCENE_ENTRY_ROW_BITS) & 0x3fu; }
+fn entry_row(e: u32) -> u32 { return e & ((1u << SCENE_ENTRY_ROW_BITS) - 1u); }
+
+// The tiles' pruned views (scene_entry words), copied from scene_tile_view by
 // the host after the views pass: a texel fetch per node instead of a
 // storage load, which lavapipe runs lane by lane at a per-lane address.
 // SCENE_VIEW_TEX_WIDTH texels a row, SCENE_VIEW_MAX a tile.
@@ -212,13 +222,13 @@ var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 // the stack below the top (a leaf pushes, an operator pops into the top).
 // Every node reads the same five rows and runs both formulas: SIMD lanes
 // would run both branches anyway.
-fn scene_step(w: vec2<u32>, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f32>) {
-    let o = w.y;
+fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f32>) {
+    let o = entry_row(e);
     let r0 = scene_param(o);
     let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), scene_param(o + 3u), scene_param(o + 4u), p);
     let below = g_scene_stack[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
-    let op_value = scene_operator(node_type(w.x), r0, below, *top);
-    if (node_is_leaf(w.x)) {
+    let op_value = scene_operator(entry_type(e), r0, below, *top);
+    if ((e >> 31u) != 0u) {
         g_scene_stack[min(*sp, SCENE_MAX_STACK - 1u)] = *top;
         *sp = *sp + 1u;
         *top = leaf_value;
@@ -240,8 +250,9 @@ fn field(p: vec3<f32>) -> f32 {
     var sp = 0u;
     var top = F.inf;
     for (var j = 0u; j < n; j = j + 1u) {
-        let i = select(scene_view_node(g_scene_vbase + j), j, full);
-        scene_step(scene_node(i).xy, p, &sp, &top);
+        // The whole tree's nodes are packed here (one fetch more each).
+        let e = select(scene_view_node(g_scene_vbase + j), scene_entry(j), full);
+        scene_step(e, p, &sp, &top);
     }
     g_field_work = g_field_work + n;
     // The view is exact only within the slab's padded depths: a positive

@@ -196,7 +196,7 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
         if (vlen + 2u > room) { ok = false; break; }
         present = true;
         var start = vlen;
-        scene_tile_view[at + vlen] = b;
+        scene_tile_view[at + vlen] = scene_entry(b);
         vlen = vlen + 1u;
         loop {
             if (b == root) { break; }
@@ -230,7 +230,7 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
             if (lp && rp) {
                 if (vlen >= room) { ok = false; break; }
                 present = true;
-                scene_tile_view[at + vlen] = m;
+                scene_tile_view[at + vlen] = scene_entry(m);
                 vlen = vlen + 1u;
             } else {
                 if (kind == NODE_UNION || kind == NODE_SMOOTH_UNION) {
