@@ -152,19 +152,22 @@ fn bench_suite_scenes_measures_each_series_sparse_and_dense() {
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| scene")).collect();
-    // 3 kinds × sharp/smooth × level 0 × sparse/dense.
-    assert_eq!(rows.len(), 12, "{out}");
+    // 3 kinds × sharp/smooth × level 0 × sparse/dense/compiled (level 0
+    // scenes are small enough to compile).
+    assert_eq!(rows.len(), 18, "{out}");
     assert!(rows[0].starts_with("| aggregate | sharp | 0 | 10 | sparse | "), "{}", rows[0]);
     assert!(rows[1].starts_with("| aggregate | sharp | 0 | 10 | dense | "), "{}", rows[1]);
+    assert!(rows[2].starts_with("| aggregate | sharp | 0 | 10 | compiled | "), "{}", rows[2]);
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let rows = doc["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 12);
+    assert_eq!(rows.len(), 18);
     for r in rows {
         assert_eq!(r["overflow_tiles"], 0, "{r}");
-        assert!(r["gpu_ms"].as_f64().unwrap() > 0.0 && r["evals_per_ray"].as_f64().unwrap() > 0.0, "{r}");
+        assert!(r["gpu_ms"].as_f64().unwrap() > 0.0 && r["evals_per_ray"].as_f64().unwrap() > 0.0 && r["setup_ms"].as_f64().unwrap() > 0.0, "{r}");
     }
     // Sparse and dense see the same active primitives per tile.
     assert_eq!(rows[0]["active_mean"], rows[1]["active_mean"]);
+    assert_eq!(rows[2]["path"], "compiled");
     assert!(std::fs::read_to_string(&md).unwrap().starts_with("Machine: llvmpipe"));
 
     let o = isotrace(&["bench", "--suite", "scenes", "--find-eps"]);

@@ -126,3 +126,28 @@ fn what_is_not_a_blobtree_is_refused_at_its_span() {
     let e = lower(&src, &[]).unwrap_err();
     assert_eq!(e.reason, "the blobtree would have more than 1000000 nodes (definitions used several times are copied)");
 }
+
+#[test]
+fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
+    use isotrace::codegen::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
+    use isotrace::render::{BisectOptions, SphereOptions, Traversal};
+    let sphere = Traversal::Sphere(SphereOptions::default());
+    let kind = |name: &str, t: &Traversal| {
+        let f = isotrace::catalog::lookup(name).unwrap().compile().unwrap();
+        auto_scene(&f, &[], t).map(|(field, l)| (field.kind(), l))
+    };
+    // @city: 36 bounded primitives (and a ground plane), sharp unions.
+    assert_eq!(kind("city", &sphere), Some((FieldKind::Scene, 1.0)));
+    // @creature: 21 bounded; @jewel: 49 planes, none bounded; @tangle: no blobtree.
+    for name in ["creature", "jewel", "tangle"] {
+        assert_eq!(kind(name, &sphere), None, "{name}");
+    }
+    // Bisection needs enclosures, which a scene has not.
+    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(isotrace::codegen::Domain::Interval))), None);
+    // The threshold itself: 31 spheres in a row stay compiled, 32 do not.
+    let row = |n: usize| (0..n).map(|i| format!("translate({}, 0, 0, sphere(0.4))", i)).reduce(|a, b| format!("union({a}, {b})")).unwrap();
+    for (n, want) in [(SCENE_AUTO_MIN_BOUNDED - 1, None), (SCENE_AUTO_MIN_BOUNDED, Some(FieldKind::Scene))] {
+        let f = Formula::compile("<test>", &row(n)).unwrap();
+        assert_eq!(auto_scene(&f, &[], &sphere).map(|(field, _)| field.kind()), want, "{n} spheres");
+    }
+}

@@ -126,6 +126,14 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32
         FieldArg::Scene => FieldKind::Scene,
         FieldArg::Auto => FieldKind::Auto,
     };
+    if kind == FieldKind::Auto {
+        if let Some((field, lipschitz)) = choice::auto_scene(f, params, t) {
+            if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
+                o.lipschitz = o.lipschitz.max(lipschitz);
+            }
+            return Ok(field);
+        }
+    }
     if kind == FieldKind::Scene {
         let (field, lipschitz) = choice::scene(f, params, t).map_err(|e| match e {
             SceneFieldError::NotBlobtree(n) => {

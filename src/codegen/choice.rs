@@ -17,7 +17,8 @@ pub enum FieldKind {
     /// The formula as a tape run by the fixed interpreter.
     Tape,
     /// The formula lowered to its blobtree (only a formula of distance
-    /// forms, only sphere traced): [`scene`], never chosen by `Auto`.
+    /// forms, only sphere traced): [`scene`]; `Auto` takes it from
+    /// [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives on ([`auto_scene`]).
     Scene,
     /// Chosen per formula and traversal by [`choose`].
     #[default]
@@ -90,8 +91,9 @@ fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
 /// CSG, user WGSL, too many registers), `Scene` when it is not a blobtree
 /// or not sphere traced ([`scene`]); `Auto` takes the compiled field for
 /// those, and otherwise the tape from [`crossover`] on, or when the
-/// compiled kernel would be too large to build. `Auto` never takes the
-/// scene (see [`scene`]).
+/// compiled kernel would be too large to build. `Auto`'s scene is
+/// [`auto_scene`], tried first by the caller (it changes the traversal's
+/// Lipschitz bound).
 pub fn choose(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Result<PreparedField, FieldError> {
     let ir = &f.ir;
     let hooks = matches!(traversal, Traversal::Bisect(b) if b.modalities.inline.is_some());
@@ -133,13 +135,33 @@ pub enum SceneFieldError {
     Layout(crate::scene::SceneError),
 }
 
+/// Bounded primitives (a plane is not) from which `Auto` traces a formula
+/// of distance forms through the scene field rather than compiled.
+/// Measured at 512² on lavapipe, warm (README, "Formulas as scenes"):
+/// `@creature` (21 bounded of 22, smooth) 101 ms compiled against 664 as a
+/// scene, the generated level-0 scenes (10 to 24) 44-180 against 250-430,
+/// while `@city` (36 bounded of 37) takes 1,243 ms compiled and 351 as a
+/// scene, and the level-1 scenes (64 to 110) only render compiled after a
+/// compile of tens of seconds.
+pub const SCENE_AUTO_MIN_BOUNDED: usize = 32;
+
+/// `Auto`'s scene for sphere tracing: the formula's blobtree when it is one
+/// with at least [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives, with the
+/// Lipschitz bound its operators need; `None` leaves the choice to [`choose`].
+pub fn auto_scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Option<(PreparedField, f64)> {
+    if !matches!(traversal, Traversal::Sphere(_)) {
+        return None;
+    }
+    let (field, lipschitz) = scene(f, params, traversal).ok()?;
+    let PreparedField::Scene(data) = &field else { return None };
+    let bounded = data.balls.iter().filter(|b| b[3].is_finite()).count();
+    (bounded >= SCENE_AUTO_MIN_BOUNDED).then_some((field, lipschitz))
+}
+
 /// The formula `f` (with parameter values `params`) as a blobtree scene
 /// for the sphere tracing `traversal`, and the Lipschitz bound its
-/// operators need (1, or Zanni's 1.45 with compact smooth operators). Not
-/// a choice of `Auto`: measured on @creature at 512², the scene
-/// interpreter takes 3.4-3.7 s a frame where the compiled field takes
-/// 155 ms, and the formula language's 64 KiB keep blobtrees far below the
-/// sizes where sparse evaluation pays (README, "Formulas as scenes").
+/// operators need (1, or Zanni's 1.45 with compact smooth operators).
+/// `Auto` takes it only from [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives.
 pub fn scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Result<(PreparedField, f64), SceneFieldError> {
     let scene = crate::scene::from_formula(f, params).map_err(SceneFieldError::NotBlobtree)?;
     if !matches!(traversal, Traversal::Sphere(_)) {
