@@ -7,7 +7,7 @@
 
 use super::dispatch::Rect;
 use super::{storage_entry, texture_entry, Gpu, GpuError};
-use crate::codegen::kernel::{SCENE_SLABS_MAX, SCENE_TILE_MAX, SCENE_VIEW_MAX};
+use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
 use crate::codegen::FieldSource;
 
 /// Binding of the texture the views pass's output is copied into.
@@ -90,7 +90,7 @@ impl FieldBinding {
         if !self.scene {
             return 0;
         }
-        [SCENE_TILE_MAX as u64 * 8, SCENE_VIEW_MAX as u64 * 4, (SCENE_SLABS_MAX as u64 + 1) * 16].into_iter().max().unwrap_or(0) / 64
+        [SCENE_TILE_MAX as u64 * 8, SCENE_VIEW_MAX as u64 * 4].into_iter().max().unwrap_or(0) / 64
     }
 
     /// The most pixels a dispatch may cover: a scene's view texture holds
@@ -141,7 +141,6 @@ impl FieldBinding {
             (COUNTS, buffer("scene tile counts", tiles * 4, storage | wgpu::BufferUsages::COPY_DST)),
             (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4, storage)),
             (VIEW_BUFFER, buffer("scene tile views", rows * VIEW_WIDTH * 4, storage | wgpu::BufferUsages::COPY_SRC)),
-            (8, buffer("scene tile slabs", tiles * (SCENE_SLABS_MAX as u64 + 1) * 16, storage)),
             (9, buffer("scene tile depths", tiles * SCENE_TILE_MAX as u64 * 8, storage)),
         ];
         PerDispatch { buffers, view: Some((view, view_view)) }
@@ -212,7 +211,7 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 texture_entry(1, wgpu::TextureSampleType::Float { filterable: false }),
             ];
             layout.extend((2..4).map(|b| storage_entry(b, true)));
-            layout.extend((4..10).map(|b| storage_entry(b, false)));
+            layout.extend([4, 5, 6, 7, 9].map(|b| storage_entry(b, false)));
             layout.push(texture_entry(VIEW_TEXTURE, wgpu::TextureSampleType::Uint));
             let (nodes, nodes_view) = gpu.texture("scene nodes", &s.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
             let (params, params_view) = gpu.texture("scene params", &s.param_texels(), wgpu::TextureFormat::Rgba32Float)?;

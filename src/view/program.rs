@@ -9,7 +9,7 @@
 //! `TraversalHost::pass_buffers`, `gpu::field`); the browser tests compare
 //! the page's pixels with `isotrace render`, so a drift shows there.
 
-use crate::codegen::kernel::{SCENE_SLABS_MAX, SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
+use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
 use crate::codegen::{self, FieldSource};
 use crate::gpu::renderer::{uniform_bytes, RenderError, MAX_SHADER_BYTES};
 use crate::layout::{BisectBlock, FieldLayout, FrameBlock, GpuBlock, PresentBlock, SphereBlock};
@@ -242,7 +242,6 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
                 kept(5, "scene tile primitives", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 }),
                 kept(6, "scene tile views", Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 }),
                 kept(7, "scene tile statistics", Size::PerTile { bytes: 8 }),
-                kept(8, "scene tile slabs", Size::PerTile { bytes: (SCENE_SLABS_MAX as u64 + 1) * 16 }),
                 kept(9, "scene tile depths", Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
                 Binding {
                     read_only: true,

@@ -86,10 +86,14 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
 // radius; an infinite radius for unbounded primitives such as planes).
 @group(1) @binding(2) var<storage, read> scene_prims: array<u32>;
 @group(1) @binding(3) var<storage, read> scene_balls: array<vec4<f32>>;
-// Per tile: (slab count, margin, 0, 0), then per slab (first word of its
-// view, its length, the view depth where its core begins, 0); written by
-// the views pre-pass (scene_tiles.wgsl).
-@group(1) @binding(8) var<storage, read_write> scene_tile_slabs: array<vec4<u32>>;
+// Each tile's first SCENE_TABLE_WORDS view words are its slab table, the
+// views follow: (slab count, margin, first and last depth of its
+// primitives; 0 slabs: the whole tree), then per slab (its first view word
+// in the tile, its length, the view depth where its core begins, 0).
+// Written by the views pre-pass (scene_tiles.wgsl) and read, like the
+// views, as texels: once per pixel, where storage loads would run lane by
+// lane.
+const SCENE_TABLE_WORDS: u32 = 4u * (SCENE_SLABS_MAX + 1u);
 
 const SCENE_NO_TILE: u32 = 0xffffffffu;
 // A node as a pruned view holds it: isLeaf (bit 31), type (bits
@@ -161,20 +165,20 @@ fn scene_find_slab(z: f32) {
 fn field_enter_pixel(px: vec2<u32>) {
     let t = (px - F.tile_origin) / 8u;
     g_scene_tile = t.y * ((F.tile_size.x + 7u) / 8u) + t.x;
-    if (scene_tile_len[g_scene_tile].x == SCENE_VIEW_FULL) {
+    let tb = g_scene_tile * SCENE_VIEW_MAX;
+    let slabs = scene_view_node(tb);
+    if (slabs == 0u) {
         field_leave_frustum();
         return;
     }
-    let tb = g_scene_tile * (SCENE_SLABS_MAX + 1u);
-    let head = scene_tile_slabs[tb];
-    g_slab_margin = bitcast<f32>(head.y);
-    g_scene_depths = vec2<f32>(bitcast<f32>(head.z), bitcast<f32>(head.w));
+    g_slab_margin = bitcast<f32>(scene_view_node(tb + 1u));
+    g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
     g_slab_start = vec4<f32>(F.inf);
-    for (var k = 0u; k < head.x; k = k + 1u) {
-        let e = scene_tile_slabs[tb + 1u + k];
-        g_slab_start[k] = bitcast<f32>(e.z);
-        g_slab_off[k] = e.x;
-        g_slab_len[k] = e.y;
+    for (var k = 0u; k < slabs; k = k + 1u) {
+        let e = tb + 4u * (k + 1u);
+        g_slab_off[k] = scene_view_node(e);
+        g_slab_len[k] = scene_view_node(e + 1u);
+        g_slab_start[k] = bitcast<f32>(scene_view_node(e + 2u));
     }
     scene_use_slab(0u);
 }

@@ -250,6 +250,14 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
     return vec2<u32>(select(0u, vlen, present), select(0u, 1u, ok && sp == 0u));
 }
 
+// Four words of a tile's slab table (scene.wgsl), at view word w.
+fn scene_table_write(w: u32, v: vec4<u32>) {
+    scene_tile_view[w] = v.x;
+    scene_tile_view[w + 1u] = v.y;
+    scene_tile_view[w + 2u] = v.z;
+    scene_tile_view[w + 3u] = v.w;
+}
+
 // Pass 2, one invocation per tile: sort the tile's active primitives by
 // node index, cut the depths they span into up to SCENE_SLABS_MAX slabs of
 // equal depth (Zanni's depth ranges; one slab for a short list), and write
@@ -265,7 +273,9 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     let nt = scene_tiles_x() * scene_tiles_y();
     if (t >= nt) { return; }
     let count = atomicLoad(&scene_tile_count[t]);
+    let tb = t * SCENE_VIEW_MAX;
     if (count > SCENE_TILE_MAX || (F.flags & FLAG_SCENE_FULL) != 0u) {
+        scene_table_write(tb, vec4<u32>(0u));
         scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
         return;
     }
@@ -296,33 +306,35 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(zhi, 0.0);
     let margin = max(0.02 * (zhi - zlo), max(8.0 * pixel, 4.0 * F.eps));
     var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);
-    let tb = t * (SCENE_SLABS_MAX + 1u);
-    let vbase = t * SCENE_VIEW_MAX;
+    // The views follow the slab table; offsets count from the tile's start.
+    let vbase = tb + SCENE_TABLE_WORDS;
+    let room = SCENE_VIEW_MAX - SCENE_TABLE_WORDS;
     var total = 0u;
     var fitted = true;
     for (var k = 0u; k < slabs; k = k + 1u) {
         let c0 = select(zlo + (zhi - zlo) * f32(k) / f32(slabs), -F.inf, k == 0u);
         let c1 = select(zlo + (zhi - zlo) * f32(k + 1u) / f32(slabs), F.inf, k + 1u == slabs);
-        let r = scene_build_view(base, count, c0 - margin, c1 + margin, vbase + total, SCENE_VIEW_MAX - total);
+        let r = scene_build_view(base, count, c0 - margin, c1 + margin, vbase + total, room - total);
         if (r.y == 0u) { fitted = false; break; }
-        scene_tile_slabs[tb + k + 1u] = vec4<u32>(total, r.x, bitcast<u32>(c0), 0u);
+        scene_table_write(tb + 4u * (k + 1u), vec4<u32>(SCENE_TABLE_WORDS + total, r.x, bitcast<u32>(c0), 0u));
         total = total + r.x;
     }
     if (!fitted && slabs > 1u) {
         slabs = 1u;
-        let r = scene_build_view(base, count, -F.inf, F.inf, vbase, SCENE_VIEW_MAX);
+        let r = scene_build_view(base, count, -F.inf, F.inf, vbase, room);
         fitted = r.y == 1u;
-        scene_tile_slabs[tb + 1u] = vec4<u32>(0u, r.x, bitcast<u32>(-F.inf), 0u);
+        scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, r.x, bitcast<u32>(-F.inf), 0u));
         total = r.x;
     }
     if (!fitted) {
+        scene_table_write(tb, vec4<u32>(0u));
         scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
         return;
     }
     // The depths where the tile's primitives are: no surface lies outside
     // them in the tile's frustum, so primary rays are traced only there
     // (eq. 21-22 at the ends of the list; an empty list: no steps at all).
-    scene_tile_slabs[tb] = vec4<u32>(slabs, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin));
+    scene_table_write(tb, vec4<u32>(slabs, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
     // Statistics: the views' total length, the slab count in bits 24-27.
     scene_tile_len[t] = vec2<u32>(total | (slabs << 24u), count);
 }
