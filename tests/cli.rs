@@ -179,6 +179,32 @@ fn list_and_bench() {
     assert!(t.contains("sphere") && !t.contains("steiner"), "{t}");
 }
 
+/// `bench --field` runs every job on that field source, names it in the
+/// table and per job in the JSON, and fails a job the source cannot render
+/// with the reason `render --field` gives.
+#[test]
+fn bench_field_chooses_the_source_per_job() {
+    let json = tmp("bench-field.json");
+    let o = isotrace(&["bench", "tangle", "--size", "16", "--repeat", "1", "--algebra", "ia", "--field", "tape", "--json", json.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.lines().nth(1).unwrap().contains(" tape "), "{table}");
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!((v["settings"]["field"].as_str(), v["results"][0]["field"].as_str()), (Some("tape"), Some("tape")));
+    // auto: @city (a formula of 36 bounded distance-form primitives) is
+    // sphere traced through the scene; a compiled job is not marked.
+    let o = isotrace(&["bench", "city", "sphere", "--method", "sphere", "--size", "16", "--repeat", "1", "--field", "auto", "--json", json.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let fields: Vec<&str> = v["results"].as_array().unwrap().iter().map(|r| r["field"].as_str().unwrap()).collect();
+    assert_eq!(fields, ["scene", "compiled"]);
+    // A source that cannot render the surface fails that job, named.
+    let o = isotrace(&["bench", "tangle", "--method", "sphere", "--size", "16", "--repeat", "1", "--field", "scene"]);
+    assert_eq!(o.status.code(), Some(1));
+    let t = String::from_utf8_lossy(&o.stdout);
+    assert!(t.contains("FAILED tangle sphere: --field scene: not a blobtree: 'x' outside a distance form"), "{t}");
+}
+
 #[test]
 fn bench_unknown_suite_lists_the_suites() {
     let o = isotrace(&["bench", "--suite", "knol"]);

@@ -168,6 +168,15 @@ pub struct Measure {
     /// reports written before it existed.
     #[serde(default)]
     pub setup_ms: f64,
+    /// The field source the job ran on (`compiled`, `tape`, `scene`;
+    /// `--field auto` decides per surface). `compiled` in reports written
+    /// before it existed.
+    #[serde(default = "compiled")]
+    pub field: String,
+}
+
+fn compiled() -> String {
+    "compiled".into()
 }
 
 /// Result of the "lowest correct eps" search.
@@ -212,6 +221,7 @@ impl Measure {
             evals_hit_mean: s.evals_hit_mean,
             sor_fallbacks_per_pixel: s.sphere.sor_fallbacks as f64 / s.pixels.max(1) as f64,
             setup_ms: 0.0,
+            field: compiled(),
         }
     }
 }
@@ -321,6 +331,7 @@ fn draw_text(img: &mut [u8], w: u32, x0: u32, y0: u32, text: &str, max_w: u32) {
 
 fn cell(r: &JobResult) -> String {
     match &r.outcome {
+        Outcome::Ok(m) if m.field != "compiled" => format!("{} {:.1} ms / {:.2} ev", m.field, m.gpu_ms, m.evals_mean),
         Outcome::Ok(m) => format!("{:.1} ms / {:.2} ev", m.gpu_ms, m.evals_mean),
         Outcome::Failed { .. } => "FAILED".to_string(),
     }
@@ -423,7 +434,7 @@ pub fn markdown(results: &[JobResult], algebras: &[String], machine: &str) -> St
         match &r.outcome {
             Outcome::Ok(m) => s.push_str(&format!(
                 "| {} | {} | {} | {:.1} | {:.1} | {:.2} | {} | {} | {:.2} | {:.2} | {:.1} % | {} | {} | {} |\n",
-                r.surface, r.algebra, m.resolved_algebra, m.gpu_ms, m.wall_ms, m.evals_mean, m.evals_p99, m.evals_max,
+                r.surface, r.algebra, if m.field == "compiled" { m.resolved_algebra.clone() } else { format!("{}, {}", m.resolved_algebra, m.field) }, m.gpu_ms, m.wall_ms, m.evals_mean, m.evals_p99, m.evals_max,
                 m.lower_bound, m.ratio, 100.0 * m.hit_fraction, m.unresolved, m.d_max,
                 m.lowest_eps.as_ref().map_or("-".to_string(), |l| format!("2^{} ({:.1} ms)", l.exponent, l.gpu_ms))
             )),

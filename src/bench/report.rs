@@ -38,6 +38,9 @@ pub struct Report {
 /// reports to merge.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReportSettings {
+    /// `--field` as given (`compiled` in reports written before it existed).
+    #[serde(default = "compiled_field")]
+    pub field: String,
     /// The surfaces of the whole batch, in order (before sharding).
     pub surfaces: Vec<String>,
     /// Jobs in the whole batch.
@@ -154,4 +157,8 @@ pub fn merge(parts: &[Part]) -> Result<Merged, MergeError> {
 
 fn inconsistent(p: &Part, reason: String) -> MergeError {
     MergeError::Inconsistent { file: p.file.clone(), reason }
+}
+
+fn compiled_field() -> String {
+    "compiled".into()
 }

@@ -10,7 +10,6 @@ use isotrace::batch::merge::MergeError;
 use isotrace::bench::report::{Report, ReportSettings};
 use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
 use isotrace::catalog::{self, Entry};
-use isotrace::codegen::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::record::PackedFrame;
 use isotrace::render::{BisectOptions, Settings, Traversal};
@@ -50,6 +49,9 @@ pub struct BenchArgs {
     /// Step budget per ray for --method sphere (default 512).
     #[arg(long, value_name = "N")]
     max_steps: Option<u32>,
+    /// Field source of every job, as `render --field`: compiled (the default), tape, scene (formulas of distance forms, sphere tracing) or auto (chosen per surface and method). The table names any source but compiled in its cells; the JSON and Markdown reports name it per job.
+    #[arg(long, value_enum, value_name = "SOURCE")]
+    field: Option<super::FieldArg>,
     /// Timed runs per job (after one warm-up run); the median is reported. Building the pipeline and the warm-up run, where a cold Mesa shader cache compiles the shader, are not in the reported ms; their wall time is the JSON's setup_ms.
     #[arg(long, default_value_t = 5)]
     repeat: u32,
@@ -245,6 +247,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         eps_relative: rel_eps,
         repeat: a.repeat,
         algebras: alg_names,
+        field: field_name(a.field).into(),
         methods: a.method.clone(),
         omegas: a.omega.clone(),
         max_steps: a.max_steps,
@@ -407,6 +410,32 @@ fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats
     Ok((runs, warm))
 }
 
+/// A job's error as its report line says it (without the `error: ` of stderr).
+fn job_error(e: &CliError) -> String {
+    e.text(false).trim_end().trim_start_matches("error: ").to_string()
+}
+
+/// `--field`'s name in reports (none given: compiled).
+fn field_name(f: Option<super::FieldArg>) -> &'static str {
+    match f {
+        None | Some(super::FieldArg::Compiled) => "compiled",
+        Some(super::FieldArg::Tape) => "tape",
+        Some(super::FieldArg::Scene) => "scene",
+        Some(super::FieldArg::Auto) => "auto",
+    }
+}
+
+/// The flag value of a prepared field's kind.
+fn kind_arg(k: isotrace::codegen::FieldKind) -> super::FieldArg {
+    use isotrace::codegen::FieldKind;
+    match k {
+        FieldKind::Compiled => super::FieldArg::Compiled,
+        FieldKind::Tape => super::FieldArg::Tape,
+        FieldKind::Scene => super::FieldArg::Scene,
+        FieldKind::Auto => super::FieldArg::Auto,
+    }
+}
+
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
 /// (bisection only).
 fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
@@ -425,22 +454,30 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
                 CliError::Input(m) => m,
                 other => format!("{other:?}"),
             })?;
+            // A scene's operators may need a larger Lipschitz bound than the
+            // header's (never a smaller one): prepare_field raises it.
+            let mut t = Traversal::Sphere(o);
+            let field = super::prepare_field(Some(a.field.unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
             let start = Instant::now();
-            let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Sphere(o)).map_err(|e| e.to_string())?;
+            let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
             let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
+            m.field = field_name(Some(kind_arg(field.kind()))).into();
             return Ok((m, frame));
         }
     };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
+    let mut t = Traversal::Bisect(BisectOptions::new(domain));
+    let field = super::prepare_field(Some(a.field.unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
     let start = Instant::now();
-    let r = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(domain))).map_err(|e| e.to_string())?;
+    let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
     let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
+    m.field = field_name(Some(kind_arg(field.kind()))).into();
     if a.find_eps {
         let mut fine = s.clone();
         fine.eps = diag * 2f64.powi(-14);
