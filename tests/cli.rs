@@ -142,6 +142,20 @@ fn eval_on_the_device_and_on_the_cpu() {
     assert_eq!(stderr(&o), "error: <stdin>:1: expected 6 or 8 numbers: x0 x1 y0 y1 z0 z1 [t0 t1], found 3 in '1 2 3'\n");
     let o = run(&["--algebra", "ia"], "1 0 0 1 0 1\n");
     assert_eq!(stderr(&o), "error: <stdin>:1: each range needs lo <= hi in '1 0 0 1 0 1'\n");
+    // The tape interpreter gives the generated evaluator's enclosures, in
+    // every domain; a scene and --cpu take no --field.
+    for alg in ["ia", "raa"] {
+        let boxes = "-1 1 -1 1 -1 1\n0.5 0.6 0 0.1 0 0.1\n";
+        let (c, t) = (run(&["--algebra", alg], boxes), run(&["--algebra", alg, "--field", "tape"], boxes));
+        assert!(t.status.success(), "{}", stderr(&t));
+        assert_eq!(String::from_utf8_lossy(&t.stdout), String::from_utf8_lossy(&c.stdout), "{alg}");
+    }
+    let o = run(&["--algebra", "scalar", "--field", "tape"], "1 1 1\n");
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "2\n");
+    let o = run(&["--field", "scene"], "1 1 1\n");
+    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes\n"));
+    let o = run(&["--field", "tape", "--cpu"], "-1 1 -1 1 -1 1\n");
+    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --field chooses the device's evaluator; --cpu evaluates the f64 reference\n"));
 }
 
 #[test]

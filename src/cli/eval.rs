@@ -28,6 +28,10 @@ pub struct EvalArgs {
     /// Time value for lines without a t column.
     #[arg(long = "t", value_name = "T", allow_hyphen_values = true, default_value_t = 0.0)]
     time: f64,
+    /// Evaluator on the device, as `render --field`: compiled (generated code), tape (the fixed
+    /// interpreter of the tape field source) or auto (the tape from render's crossover size on).
+    #[arg(long, value_enum, value_name = "SOURCE")]
+    field: Option<super::FieldArg>,
 }
 
 /// Most boxes one run reads: 16 Mi boxes are 512 MiB in kernel layout, and
@@ -108,6 +112,11 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     for w in warnings {
         eprint!("{}", w.render("", "", false));
     }
+    // The flags are checked before any input is read.
+    if a.cpu && a.field.is_some() {
+        return Err(CliError::Input("--field chooses the device's evaluator; --cpu evaluates the f64 reference".into()));
+    }
+    let tape = if a.cpu { None } else { device_tape(a.field, f, domain, &params)? };
     let boxes = read_boxes(&a.boxes, domain == Domain::Scalar, a.time)?;
     if a.cpu && loaded.inline.is_some() {
         return Err(CliError::Input("--cpu cannot evaluate --inline WGSL functions (they run on the device only)".into()));
@@ -117,8 +126,11 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
         boxes.iter().map(|b| cpu_eval(&f.ir, domain, b, &p64)).collect()
     } else {
         let gpu = super::render::open_gpu()?;
-        eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref())
-            .map_err(|e| match e {
+        let run = match &tape {
+            Some(t) => isotrace::gpu::eval::eval_boxes_tape(&gpu, t, domain, &boxes, &params),
+            None => eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref()),
+        };
+        run.map_err(|e| match e {
                 isotrace::gpu::eval::EvalError::Inline(m) => CliError::Rendered(m),
                 other => CliError::Internal(other.to_string()),
             })?
@@ -135,6 +147,29 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
         };
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The tape `--field` asks for (`None`: the generated evaluator). `auto`
+/// takes the tape where `render` would for the same algebra; a scene has no
+/// enclosures to evaluate on boxes.
+fn device_tape(arg: Option<super::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::codegen::TapeData>, CliError> {
+    use isotrace::codegen::choice::{choose, FieldKind, PreparedField};
+    use isotrace::render::{BisectOptions, SphereOptions, Traversal};
+    let kind = match arg {
+        None | Some(super::FieldArg::Compiled) => return Ok(None),
+        Some(super::FieldArg::Scene) => return Err(CliError::Input("--field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes".into())),
+        Some(super::FieldArg::Tape) => FieldKind::Tape,
+        Some(super::FieldArg::Auto) => FieldKind::Auto,
+    };
+    let t = match domain {
+        Domain::Scalar => Traversal::Sphere(SphereOptions::default()),
+        d => Traversal::Bisect(BisectOptions::new(d)),
+    };
+    match choose(kind, f, params, &t) {
+        Ok(PreparedField::Tape(tape)) => Ok(Some(tape)),
+        Ok(_) => Ok(None),
+        Err(e) => Err(CliError::Input(format!("--field {}: {e}; evaluate it with --field compiled (or auto)", if kind == FieldKind::Tape { "tape" } else { "auto" }))),
+    }
 }
 
 fn cpu_eval(ir: &isotrace::ir::Ir, domain: Domain, b: &Box8, params: &[f64]) -> [f64; 2] {
