@@ -34,7 +34,7 @@ pub const MAX_ISO_BYTES: u64 = 1 << 20;
 /// Every header key, in the order the documentation lists them.
 pub const KEYS: &[&str] = &[
     "name", "title", "box", "t", "eye", "target", "up", "fov", "eps", "algebra", "param", "degree", "status",
-    "source", "notes", "animate", "clip", "method", "lipschitz", "bound",
+    "source", "notes", "animate", "clip", "method", "field", "lipschitz", "bound",
     // Knoll et al.'s modalities, as defaults of the render flags of the same names.
     "shadows", "light", "shadow-eps", "opacity", "layers", "iso", "reflect", "reflectivity", "env", "color",
 ];

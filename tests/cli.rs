@@ -219,6 +219,32 @@ fn bench_field_chooses_the_source_per_job() {
     assert!(t.contains("FAILED tangle sphere: --field scene: not a blobtree: 'x' outside a distance form"), "{t}");
 }
 
+/// A `.iso` header's `field` is render's default field source; the flag
+/// overrides it; --json and --stats name the source used; a bad value is
+/// named with its line.
+#[test]
+fn header_field_is_the_default_source() {
+    let iso = tmp("field-tape.iso");
+    std::fs::write(&iso, "#@ name: ball\n#@ box: -2,2,-2,2,-2,2\n#@ field: tape\nx^2 + y^2 + z^2 - 1\n").unwrap();
+    let out = tmp("field-tape.png");
+    let field_of = |extra: &[&str]| {
+        let mut args = vec!["render", iso.to_str().unwrap(), "--size", "16", "--json", "-o", out.to_str().unwrap()];
+        args.extend(extra);
+        let o = isotrace(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["field"].as_str().unwrap().to_string()
+    };
+    assert_eq!(field_of(&[]), "tape");
+    assert_eq!(field_of(&["--field", "compiled"]), "compiled");
+    let o = isotrace(&["render", iso.to_str().unwrap(), "--size", "16", "--stats", "-o", out.to_str().unwrap()]);
+    assert!(stderr(&o).starts_with("size 16x16  algebra ia  field tape  eps "), "{}", stderr(&o));
+    std::fs::write(&iso, "#@ field: tapes\nx\n").unwrap();
+    let o = isotrace(&["check", iso.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stderr(&o), format!("error: {}:1: bad field value 'tapes': expected 'compiled', 'tape', 'scene' or 'auto'\n", iso.display()));
+}
+
 #[test]
 fn bench_unknown_suite_lists_the_suites() {
     let o = isotrace(&["bench", "--suite", "knol"]);

@@ -41,6 +41,9 @@ pub struct Header {
     pub clip: Option<Clip>,
     /// `method`: the traversal to render with (`sphere` for distance fields).
     pub method: Option<Method>,
+    /// `field`: the field source to render with (`render --field`'s
+    /// default for this file: compiled, tape, scene or auto).
+    pub field: Option<crate::codegen::choice::FieldKind>,
     /// `lipschitz`: a Lipschitz bound L >= 1 of the formula (sphere tracing
     /// divides the field by it).
     pub lipschitz: Option<f64>,
@@ -80,6 +83,7 @@ impl Default for Header {
             animate: None,
             clip: None,
             method: None,
+            field: None,
             lipschitz: None,
             bound: None,
             modalities: Default::default(),
@@ -234,6 +238,16 @@ pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value:
             }
         }
         "method" => h.method = Some(Method::parse(value)?),
+        "field" => {
+            use crate::codegen::choice::FieldKind;
+            h.field = Some(match value {
+                "compiled" => FieldKind::Compiled,
+                "tape" => FieldKind::Tape,
+                "scene" => FieldKind::Scene,
+                "auto" => FieldKind::Auto,
+                _ => return Err("expected 'compiled', 'tape', 'scene' or 'auto'".into()),
+            })
+        }
         "lipschitz" => match number(value) {
             Some(l) if l >= 1.0 => h.lipschitz = Some(l),
             _ => return Err("expected a Lipschitz bound L >= 1".into()),

@@ -425,17 +425,6 @@ fn field_name(f: Option<super::FieldArg>) -> &'static str {
     }
 }
 
-/// The flag value of a prepared field's kind.
-fn kind_arg(k: isotrace::codegen::FieldKind) -> super::FieldArg {
-    use isotrace::codegen::FieldKind;
-    match k {
-        FieldKind::Compiled => super::FieldArg::Compiled,
-        FieldKind::Tape => super::FieldArg::Tape,
-        FieldKind::Scene => super::FieldArg::Scene,
-        FieldKind::Auto => super::FieldArg::Auto,
-    }
-}
-
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
 /// (bisection only).
 fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
@@ -457,27 +446,27 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             // A scene's operators may need a larger Lipschitz bound than the
             // header's (never a smaller one): prepare_field raises it.
             let mut t = Traversal::Sphere(o);
-            let field = super::prepare_field(Some(a.field.unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
+            let field = super::prepare_field(Some(a.field.or(entry.header.field.map(super::field_arg)).unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
             let start = Instant::now();
             let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
             let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
-            m.field = field_name(Some(kind_arg(field.kind()))).into();
+            m.field = field_name(Some(super::field_arg(field.kind()))).into();
             return Ok((m, frame));
         }
     };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let mut t = Traversal::Bisect(BisectOptions::new(domain));
-    let field = super::prepare_field(Some(a.field.unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
+    let field = super::prepare_field(Some(a.field.or(entry.header.field.map(super::field_arg)).unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
     let start = Instant::now();
     let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
     let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
-    m.field = field_name(Some(kind_arg(field.kind()))).into();
+    m.field = field_name(Some(super::field_arg(field.kind()))).into();
     if a.find_eps {
         let mut fine = s.clone();
         fine.eps = diag * 2f64.powi(-14);

@@ -113,6 +113,16 @@ pub enum FieldArg {
     Auto,
 }
 
+/// The flag value of a field kind (a header's `field`, a prepared field).
+pub(crate) fn field_arg(k: codegen::FieldKind) -> FieldArg {
+    match k {
+        codegen::FieldKind::Compiled => FieldArg::Compiled,
+        codegen::FieldKind::Tape => FieldArg::Tape,
+        codegen::FieldKind::Scene => FieldArg::Scene,
+        codegen::FieldKind::Auto => FieldArg::Auto,
+    }
+}
+
 /// The field source of `--field` (default auto) for formula `f` with
 /// parameter values `params`, traced by `t`. A scene needs the Lipschitz
 /// bound of its operators: unless `--lipschitz` was given, sphere tracing

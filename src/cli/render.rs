@@ -514,7 +514,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         eprintln!("note: shard {} has none of the {} frames", an.shard, an.n);
     }
     let mut traversal = traversal;
-    let field = super::prepare_field(a.view.field, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some())?;
+    // --field, else the .iso header's `field`, else auto.
+    let field_given = a.view.field.or(header.and_then(|h| h.field).map(super::field_arg));
+    let field = super::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some())?;
     // No device is opened when every frame of the run is already there.
     let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
     let renderer = match &gpu {
@@ -537,8 +539,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     };
     if let (Some(frame), Some(renderer), Some(gpu)) = (last, &renderer, &gpu) {
         match renderer.traversal() {
-            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu),
-            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu),
+            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_name()),
+            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_name()),
         }
         warn_unresolved(&frame, &renderer.traversal(), &s);
         if let Traversal::Sphere(o) = renderer.traversal() {
@@ -551,12 +553,12 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu) {
+fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu, field: &str) {
     let st = &frame.stats;
     let algebra = super::domain_name(domain);
     if a.stats {
         eprintln!(
-            "size {}x{}  algebra {algebra}  eps {:.3e}  d_max {}\n\
+            "size {}x{}  algebra {algebra}  field {field}  eps {:.3e}  d_max {}\n\
              gpu {:.1} ms (tile pass {:.1})  wall {:.1} ms  dispatches {}\n\
              hits {} ({:.1} %)  unresolved {}\n\
              inclusion evaluations per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}; lower bound {:.2})\n\
@@ -568,7 +570,7 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
     }
     if a.json {
         let v = serde_json::json!({
-            "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "eps": s.eps, "d_max": st.bisect.d_max,
+            "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "field": field, "eps": s.eps, "d_max": st.bisect.d_max,
             "gpu_ms": st.gpu_ms, "tile_ms": st.tile_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
             "pixels": st.pixels, "hits": st.hits, "unresolved": st.unresolved,
             "evals_mean": st.evals_mean, "evals_p99": st.evals_p99, "evals_max": st.evals_max,
@@ -582,7 +584,7 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
 
 /// Statistics of a sphere traced frame: steps instead of inclusion
 /// evaluations, unconverged pixels, and which techniques were on.
-pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions, gpu: &Gpu) {
+pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &SphereOptions, gpu: &Gpu, field: &str) {
     let st = &frame.stats;
     let bound = match o.bound {
         None => "none".to_string(),
@@ -592,7 +594,7 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
     let on = |b: bool| if b { "on" } else { "off" };
     if a.stats {
         eprintln!(
-            "size {}x{}  method sphere  lipschitz {}  eps {:.3e}  max steps {}\n\
+            "size {}x{}  method sphere  field {field}  lipschitz {}  eps {:.3e}  max steps {}\n\
              techniques: omega {}  screen-space {}  dynamic eps {}  fixpoint {}  bound {bound}\n\
              gpu {:.1} ms  wall {:.1} ms  dispatches {}\n\
              hits {} ({:.1} %)  unconverged {}\n\
@@ -615,7 +617,7 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
     }
     if a.json {
         let mut v = serde_json::json!({
-            "width": frame.width, "height": frame.height, "method": "sphere", "eps": s.eps,
+            "width": frame.width, "height": frame.height, "method": "sphere", "field": field, "eps": s.eps,
             "lipschitz": o.lipschitz, "omega": o.omega, "screen_space": o.screen_space, "dynamic_eps": o.dynamic_eps,
             "fixpoint": o.fixpoint, "bound": bound, "max_steps": o.max_steps, "min_step": o.min_step,
             "shadows": o.shadows, "glass": o.glass,

@@ -66,6 +66,11 @@ pub(crate) struct FieldBinding {
 }
 
 impl FieldBinding {
+    /// `compiled`, `tape` or `scene`.
+    pub fn name(&self) -> &'static str {
+        if self.scene { "scene" } else if self.tape { "tape" } else { "compiled" }
+    }
+
     /// The field's bits of the frame flags.
     pub fn flags(&self) -> u32 {
         if self.scene && self.dense { crate::layout::FLAG_SCENE_FULL } else { 0 }

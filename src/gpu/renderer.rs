@@ -203,6 +203,11 @@ impl<'g> Renderer<'g> {
         &self.wgsl
     }
 
+    /// The field source the kernel reads: `compiled`, `tape` or `scene`.
+    pub fn field_name(&self) -> &'static str {
+        self.field.name()
+    }
+
     /// The traversal and its current options.
     pub fn traversal(&self) -> Traversal {
         self.host.options()
