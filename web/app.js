@@ -440,7 +440,7 @@ async function main() {
     const device = await adapter.requestDevice({
       requiredLimits: {
         maxStorageBufferBindingSize: adapter.limits.maxStorageBufferBindingSize, maxBufferSize: adapter.limits.maxBufferSize,
-        // A scene binds 9 storage buffers (the default limit is 8).
+        // A scene's stages bind up to 8 storage buffers (the default limit is 8, SwiftShader's 10).
         maxStorageBuffersPerShaderStage: adapter.limits.maxStorageBuffersPerShaderStage,
         // A scene's tile views are a texture of 8192-texel rows, one row per
         // 8 tiles (8192 rows at 2048²).

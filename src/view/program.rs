@@ -136,7 +136,7 @@ pub struct Stage {
     /// The (group, binding) pairs the entry point uses, from naga's
     /// analysis: the page binds only these per stage, because WebGPU
     /// counts every binding of a layout against the per-stage limit (a
-    /// scene's kernel binds 11 storage buffers in all; SwiftShader allows 10).
+    /// scene's kernel binds 10 storage buffers in all, at most 8 in one stage).
     pub uses: Vec<[u32; 2]>,
     /// A copy to run after the stage (a scene's views into the texture the
     /// trace reads them from, as `gpu::field::PerDispatch::view_copy`).

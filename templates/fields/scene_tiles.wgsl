@@ -16,14 +16,15 @@
 // same surface (scene.wgsl clamps it to the slab).
 
 // Per tile: active primitives appended here (up to SCENE_TILE_MAX), their
-// count (may exceed the maximum: overflow), and the pruned view.
+// count (may exceed the maximum: overflow), and SCENE_VIEW_MAX words of
+// the slab table and the pruned views (scene.wgsl), which the host copies
+// into the texture the trace reads them from.
 @group(1) @binding(4) var<storage, read_write> scene_tile_count: array<atomic<u32>>;
 @group(1) @binding(5) var<storage, read_write> scene_tile_prims: array<u32>;
 @group(1) @binding(6) var<storage, read_write> scene_tile_view: array<u32>;
-// Per tile, for the main pass's check and the statistics: the total length
-// of its slabs' views with the slab count in bits 24-27, or SCENE_VIEW_FULL
-// when the tile evaluates the whole tree (its list overflowed); and the
-// active count.
+// Per tile, for the statistics: the total length of its slabs' views with
+// the slab count in bits 24-27, or SCENE_VIEW_FULL when the tile evaluates
+// the whole tree (its list overflowed); and the active count.
 @group(1) @binding(7) var<storage, read_write> scene_tile_len: array<vec2<u32>>;
 // Per entry of scene_tile_prims: the view depths (z along the camera's
 // forward axis) its primitive's ball spans.
