@@ -9,6 +9,10 @@
 //!
 //! Nodes whose derivative is identically 0 (constants, parameters, time)
 //! are tracked so their terms are not emitted.
+//!
+//! The rules are written once ([`rule`]) against [`Terms`], which the
+//! generated code implements with WGSL expressions (here) and the tape with
+//! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
 use super::{emit_body, emit_odd_power, Domain};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
@@ -30,140 +34,334 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let ty = domain.ty();
     let mut out = String::new();
     let _ = writeln!(out, "fn evald_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: {ty}, dy: {ty}, dz: {ty}) -> vec4<f32> {{");
-    let mut zero = vec![true; ir.nodes.len()];
+    let mut d: Vec<Option<String>> = vec![None; ir.nodes.len()];
     let empty = emit_body(&mut out, ir, domain, |out, id, op| {
-        if let Some(d) = derivative(out, p, id, op, &zero) {
-            let _ = writeln!(out, "    let d{id} = {d};");
-            zero[id as usize] = false;
+        if let Some(e) = rule(&mut Wgsl { out, p }, id, op, &d) {
+            let _ = writeln!(out, "    let d{id} = {e};");
+            d[id as usize] = Some(format!("d{id}"));
         }
     });
     if let Some(empty) = empty {
         let _ = writeln!(out, "    if ({empty}) {{ return vec4<f32>({p}_range({p}_empty()), 0.0, 0.0); }}");
     }
-    let r = ir.root;
-    let d = if zero[r as usize] { format!("{p}_const(0.0)") } else { format!("d{r}") };
-    let _ = writeln!(out, "    return vec4<f32>({p}_range(v{r}), {p}_range({d}));");
+    let root = d[ir.root as usize].clone().unwrap_or_else(|| format!("{p}_const(0.0)"));
+    let _ = writeln!(out, "    return vec4<f32>({p}_range(v{}), {p}_range({root}));", ir.root);
     out.push_str("}\n");
     out
 }
 
-/// The derivative expression of one node, `None` when it is identically 0.
-fn derivative(out: &mut String, p: &str, id: NodeId, op: Op, zero: &[bool]) -> Option<String> {
-    let z = |n: NodeId| zero[n as usize];
-    let v = |n: NodeId| format!("v{n}");
-    let d = |n: NodeId| format!("d{n}");
-    let c = |x: f32| format!("{p}_const({x:?})");
-    let mul = |a: String, b: String| format!("{p}_mul({a}, {b})");
-    let add = |a: String, b: String| format!("{p}_add({a}, {b})");
-    let sub = |a: String, b: String| format!("{p}_sub({a}, {b})");
-    let div = |a: String, b: String| format!("{p}_div({a}, {b})");
-    let f1 = |name: &str, a: String| format!("{p}_{name}({a})");
-    // a'·b + a·b' with zero terms dropped.
-    let product = |a: NodeId, b: NodeId| match (z(a), z(b)) {
-        (true, true) => None,
-        (false, true) => Some(mul(d(a), v(b))),
-        (true, false) => Some(mul(v(a), d(b))),
-        (false, false) => Some(add(mul(d(a), v(b)), mul(v(a), d(b)))),
-    };
+/// The operations the derivative rules build terms with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum D {
+    Neg,
+    Sqr,
+    Sin,
+    Cos,
+    Log,
+    Sinh,
+    Cosh,
+    Sign,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Max,
+    /// sign(a)' (derivative helper): (a, a').
+    Dsign,
+    /// floor(a)' (derivative helper): (a, a').
+    Dfloor,
+}
+
+/// Where the rules put their terms: a WGSL expression writer or a tape.
+pub(crate) trait Terms {
+    /// A term.
+    type T: Clone;
+    /// The value of IR node `n`.
+    fn value(&mut self, n: NodeId) -> Self::T;
+    /// A constant.
+    fn konst(&mut self, c: f32) -> Self::T;
+    /// The ray direction's component `axis` (the derivative of x, y, z).
+    fn direction(&mut self, axis: u32) -> Self::T;
+    /// A one-argument operation.
+    fn un(&mut self, op: D, a: Self::T) -> Self::T;
+    /// A two-argument operation.
+    fn bin(&mut self, op: D, a: Self::T, b: Self::T) -> Self::T;
+    /// min(a, b)' or max(a, b)' (derivative helpers): (a, b, a', b').
+    fn dminmax(&mut self, max: bool, args: [Self::T; 4]) -> Self::T;
+    /// q^m for an odd m >= 3 and q >= 0 (node `id`'s power chain).
+    fn odd_power(&mut self, id: NodeId, q: Self::T, m: u32) -> Self::T;
+    /// `x` computed once and named (node `id`, role `tag`) where a term
+    /// uses it more than once.
+    fn bind(&mut self, id: NodeId, tag: &str, x: Self::T) -> Self::T;
+    /// The whole line (the slope of a user function is unknown).
+    fn whole(&mut self) -> Self::T;
+}
+
+/// The derivative of IR node `id` (operation `op`) from its operands'
+/// derivatives `d` (`None`: identically 0); `None` when it is identically 0.
+pub(crate) fn rule<B: Terms>(b: &mut B, id: NodeId, op: Op, d: &[Option<B::T>]) -> Option<B::T> {
+    let dv = |n: NodeId| d[n as usize].clone();
+    let zero = |b: &mut B, x: Option<B::T>| x.unwrap_or_else(|| b.konst(0.0));
     Some(match op {
         Op::Const(_) | Op::Param(_) | Op::Var(Var::T) => return None,
-        Op::Var(Var::X) => "dx".into(),
-        Op::Var(Var::Y) => "dy".into(),
-        Op::Var(Var::Z) => "dz".into(),
-        Op::Neg(a) if !z(a) => format!("{p}_neg({})", d(a)),
-        Op::Add(a, b) | Op::Sub(a, b) if z(a) && z(b) => return None,
-        Op::Add(a, b) => match (z(a), z(b)) {
-            (false, true) => d(a),
-            (true, false) => d(b),
-            _ => add(d(a), d(b)),
+        Op::Var(Var::X) => b.direction(0),
+        Op::Var(Var::Y) => b.direction(1),
+        Op::Var(Var::Z) => b.direction(2),
+        Op::Neg(a) => {
+            let da = dv(a)?;
+            b.un(D::Neg, da)
+        }
+        Op::Add(a, c) => match (dv(a), dv(c)) {
+            (None, None) => return None,
+            (Some(x), None) | (None, Some(x)) => x,
+            (Some(x), Some(y)) => b.bin(D::Add, x, y),
         },
-        Op::Sub(a, b) => match (z(a), z(b)) {
-            (false, true) => d(a),
-            (true, false) => format!("{p}_neg({})", d(b)),
-            _ => sub(d(a), d(b)),
+        Op::Sub(a, c) => match (dv(a), dv(c)) {
+            (None, None) => return None,
+            (Some(x), None) => x,
+            (None, Some(y)) => b.un(D::Neg, y),
+            (Some(x), Some(y)) => b.bin(D::Sub, x, y),
         },
-        Op::Mul(a, b) => return product(a, b),
-        Op::Div(a, b) => match (z(a), z(b)) {
-            (true, true) => return None,
-            (false, true) => div(d(a), v(b)),
-            _ => {
-                // (a'b − ab') / b², written as (a' − q·b') / b with q = a/b.
-                let num = if z(a) { format!("{p}_neg({})", mul(v(id), d(b))) } else { sub(d(a), mul(v(id), d(b))) };
-                div(num, v(b))
+        // a'·b + a·b' with zero terms dropped.
+        Op::Mul(a, c) => match (dv(a), dv(c)) {
+            (None, None) => return None,
+            (Some(da), None) => {
+                let vc = b.value(c);
+                b.bin(D::Mul, da, vc)
+            }
+            (None, Some(dc)) => {
+                let va = b.value(a);
+                b.bin(D::Mul, va, dc)
+            }
+            (Some(da), Some(dc)) => {
+                let (va, vc) = (b.value(a), b.value(c));
+                let l = b.bin(D::Mul, da, vc);
+                let r = b.bin(D::Mul, va, dc);
+                b.bin(D::Add, l, r)
             }
         },
-        Op::PowI(a, _) if z(a) => return None,
-        Op::PowI(a, 2) => mul(mul(c(2.0), v(a)), d(a)),
+        Op::Div(a, c) => match (dv(a), dv(c)) {
+            (None, None) => return None,
+            (Some(da), None) => {
+                let vc = b.value(c);
+                b.bin(D::Div, da, vc)
+            }
+            (da, Some(dc)) => {
+                // (a'b − ab') / b², written as (a' − q·b') / b with q = a/b.
+                let q = b.value(id);
+                let qd = b.bin(D::Mul, q, dc);
+                let num = match da {
+                    None => b.un(D::Neg, qd),
+                    Some(da) => b.bin(D::Sub, da, qd),
+                };
+                let vc = b.value(c);
+                b.bin(D::Div, num, vc)
+            }
+        },
+        Op::PowI(a, 2) => {
+            let da = dv(a)?;
+            let (two, va) = (b.konst(2.0), b.value(a));
+            let m = b.bin(D::Mul, two, va);
+            b.bin(D::Mul, m, da)
+        }
         Op::PowI(a, n) => {
             // n·a^(n−1)·a' with a^(n−1) = (a²)^((n−1)/2), a non-negative base.
-            let _ = writeln!(out, "    let q{id} = {p}_sqr({});", v(a));
+            let da = dv(a)?;
+            let va = b.value(a);
+            let sq = b.un(D::Sqr, va);
+            let q = b.bind(id, "q", sq);
             let m = (n - 1) / 2;
-            let pow = if m == 1 { format!("q{id}") } else { emit_odd_power(out, p, &format!("dw{id}"), &format!("q{id}"), m) };
-            mul(mul(c(n as f32), pow), d(a))
+            let pow = if m == 1 { q } else { b.odd_power(id, q, m) };
+            let k = b.konst(n as f32);
+            let kp = b.bin(D::Mul, k, pow);
+            b.bin(D::Mul, kp, da)
         }
-        Op::Call1(_, a) if z(a) => return None,
         Op::Call1(f, a) => {
-            let (va, da) = (v(a), d(a));
-            match f {
-                Func1::Sqrt => div(da, mul(c(2.0), v(id))),
-                Func1::Exp => mul(v(id), da),
-                Func1::Log => div(da, va),
-                Func1::Sin => mul(f1("cos", va), da),
-                Func1::Cos => format!("{p}_neg({})", mul(f1("sin", va), da)),
-                Func1::Tan => mul(add(c(1.0), f1("sqr", v(id))), da),
-                Func1::Atan => div(da, add(c(1.0), f1("sqr", va))),
-                Func1::Sinh => mul(f1("cosh", va), da),
-                Func1::Cosh => mul(f1("sinh", va), da),
-                Func1::Tanh => mul(sub(c(1.0), f1("sqr", v(id))), da),
-                Func1::Abs => mul(f1("sign", va), da),
-                Func1::Sign => format!("{p}_dsign({va}, {da})"),
-                Func1::Floor => format!("{p}_dfloor({va}, {da})"),
-            }
+            let da = dv(a)?;
+            call1(b, f, a, id, da)
         }
-        Op::Call2(_, a, b) if z(a) && z(b) => return None,
-        Op::Call2(f, a, b) => {
-            let dd = |n: NodeId| if z(n) { format!("{p}_const(0.0)") } else { d(n) };
+        Op::Call2(f, a, c) => {
+            let (da, dc) = (dv(a), dv(c));
+            if da.is_none() && dc.is_none() {
+                return None;
+            }
+            let (va, vc) = (b.value(a), b.value(c));
             match f {
-                Func2::Min => format!("{p}_dmin({}, {}, {}, {})", v(a), v(b), dd(a), dd(b)),
-                Func2::Max => format!("{p}_dmax({}, {}, {}, {})", v(a), v(b), dd(a), dd(b)),
+                Func2::Min | Func2::Max => {
+                    let (da, dc) = (zero(b, da), zero(b, dc));
+                    b.dminmax(f == Func2::Max, [va, vc, da, dc])
+                }
                 Func2::Pow => {
                     // (a^b)' = a^b·(b'·log a + b·a'/a)
-                    let t1 = if z(b) { None } else { Some(mul(d(b), f1("log", v(a)))) };
-                    let t2 = if z(a) { None } else { Some(div(mul(v(b), d(a)), v(a))) };
+                    let t1 = dc.map(|dc| {
+                        let l = b.un(D::Log, va.clone());
+                        b.bin(D::Mul, dc, l)
+                    });
+                    let t2 = da.map(|da| {
+                        let m = b.bin(D::Mul, vc.clone(), da);
+                        b.bin(D::Div, m, va.clone())
+                    });
                     let inner = match (t1, t2) {
-                        (Some(x), Some(y)) => add(x, y),
+                        (Some(x), Some(y)) => b.bin(D::Add, x, y),
                         (Some(x), None) | (None, Some(x)) => x,
                         (None, None) => return None,
                     };
-                    mul(v(id), inner)
+                    let vid = b.value(id);
+                    b.bin(D::Mul, vid, inner)
                 }
                 Func2::Atan2 => {
                     // (x·y' − y·x') / (x² + y²) for atan2(y, x)
-                    let num = sub(mul(v(b), dd(a)), mul(v(a), dd(b)));
-                    div(num, add(f1("sqr", v(a)), f1("sqr", v(b))))
+                    let (da, dc) = (zero(b, da), zero(b, dc));
+                    let l = b.bin(D::Mul, vc.clone(), da);
+                    let r = b.bin(D::Mul, va.clone(), dc);
+                    let num = b.bin(D::Sub, l, r);
+                    let (sa, sc) = (b.un(D::Sqr, va), b.un(D::Sqr, vc));
+                    let den = b.bin(D::Add, sa, sc);
+                    b.bin(D::Div, num, den)
                 }
             }
         }
-        Op::Call3(_, a, b, e) if z(a) && z(b) && z(e) => return None,
-        Op::Call3(f, a, b, e) => {
-            let dd = |n: NodeId| if z(n) { format!("{p}_const(0.0)") } else { d(n) };
+        Op::Call3(f, a, c, e) => {
+            if dv(a).is_none() && dv(c).is_none() && dv(e).is_none() {
+                return None;
+            }
+            let (da, dc, de) = (zero(b, dv(a)), zero(b, dv(c)), zero(b, dv(e)));
+            let (va, vc, ve) = (b.value(a), b.value(c), b.value(e));
             match f {
                 Func3::Clamp => {
-                    let _ = writeln!(out, "    let m{id} = {p}_max({}, {});", v(a), v(b));
-                    let inner = format!("{p}_dmax({}, {}, {}, {})", v(a), v(b), dd(a), dd(b));
-                    format!("{p}_dmin(m{id}, {}, {inner}, {})", v(e), dd(e))
+                    let mx = b.bin(D::Max, va.clone(), vc.clone());
+                    let m = b.bind(id, "m", mx);
+                    let inner = b.dminmax(true, [va, vc, da, dc]);
+                    b.dminmax(false, [m, ve, inner, de])
                 }
                 Func3::Mix => {
                     // (a + (b − a)·s)' = a' + (b' − a')·s + (b − a)·s'
-                    let slope = sub(dd(b), dd(a));
-                    add(add(dd(a), mul(slope, v(e))), mul(sub(v(b), v(a)), dd(e)))
+                    let slope = b.bin(D::Sub, dc, da.clone());
+                    let t1 = b.bin(D::Mul, slope, ve);
+                    let s1 = b.bin(D::Add, da, t1);
+                    let w = b.bin(D::Sub, vc, va);
+                    let t2 = b.bin(D::Mul, w, de);
+                    b.bin(D::Add, s1, t2)
                 }
             }
         }
         // The slope of a user function is unknown: the whole line (so a
         // cell that depends on one is never taken for monotone).
-        Op::User(_, args, n) if args[..n as usize].iter().all(|&a| z(a)) => return None,
-        Op::User(..) => format!("{p}_whole()"),
-        _ => return None,
+        Op::User(_, args, n) if args[..n as usize].iter().all(|&a| dv(a).is_none()) => return None,
+        Op::User(..) => b.whole(),
     })
+}
+
+/// f(a)' for the one-argument functions (node `id` is f(a)), a' = `da`.
+fn call1<B: Terms>(b: &mut B, f: Func1, a: NodeId, id: NodeId, da: B::T) -> B::T {
+    let (va, vid) = (b.value(a), b.value(id));
+    // 1 ± v² for tan, atan and tanh.
+    let one_and = |b: &mut B, op: D, v: B::T| {
+        let (one, s) = (b.konst(1.0), b.un(D::Sqr, v));
+        b.bin(op, one, s)
+    };
+    match f {
+        Func1::Sqrt => {
+            let two = b.konst(2.0);
+            let m = b.bin(D::Mul, two, vid);
+            b.bin(D::Div, da, m)
+        }
+        Func1::Exp => b.bin(D::Mul, vid, da),
+        Func1::Log => b.bin(D::Div, da, va),
+        Func1::Sin => {
+            let c = b.un(D::Cos, va);
+            b.bin(D::Mul, c, da)
+        }
+        Func1::Cos => {
+            let s = b.un(D::Sin, va);
+            let m = b.bin(D::Mul, s, da);
+            b.un(D::Neg, m)
+        }
+        Func1::Tan => {
+            let a1 = one_and(b, D::Add, vid);
+            b.bin(D::Mul, a1, da)
+        }
+        Func1::Atan => {
+            let a1 = one_and(b, D::Add, va);
+            b.bin(D::Div, da, a1)
+        }
+        Func1::Sinh => {
+            let c = b.un(D::Cosh, va);
+            b.bin(D::Mul, c, da)
+        }
+        Func1::Cosh => {
+            let s = b.un(D::Sinh, va);
+            b.bin(D::Mul, s, da)
+        }
+        Func1::Tanh => {
+            let a1 = one_and(b, D::Sub, vid);
+            b.bin(D::Mul, a1, da)
+        }
+        Func1::Abs => {
+            let s = b.un(D::Sign, va);
+            b.bin(D::Mul, s, da)
+        }
+        Func1::Sign => b.bin(D::Dsign, va, da),
+        Func1::Floor => b.bin(D::Dfloor, va, da),
+    }
+}
+
+/// The generated code's terms: WGSL expressions in domain prefix `p`, with
+/// bound subterms written to `out` as `let` statements.
+struct Wgsl<'a> {
+    out: &'a mut String,
+    p: &'static str,
+}
+
+impl Terms for Wgsl<'_> {
+    type T = String;
+    fn value(&mut self, n: NodeId) -> String {
+        format!("v{n}")
+    }
+    fn konst(&mut self, c: f32) -> String {
+        format!("{}_const({c:?})", self.p)
+    }
+    fn direction(&mut self, axis: u32) -> String {
+        ["dx", "dy", "dz"][axis as usize].into()
+    }
+    fn un(&mut self, op: D, a: String) -> String {
+        let name = match op {
+            D::Neg => "neg",
+            D::Sqr => "sqr",
+            D::Sin => "sin",
+            D::Cos => "cos",
+            D::Log => "log",
+            D::Sinh => "sinh",
+            D::Cosh => "cosh",
+            D::Sign => "sign",
+            other => unreachable!("{other:?} takes two operands"),
+        };
+        format!("{}_{name}({a})", self.p)
+    }
+    fn bin(&mut self, op: D, a: String, b: String) -> String {
+        let name = match op {
+            D::Add => "add",
+            D::Sub => "sub",
+            D::Mul => "mul",
+            D::Div => "div",
+            D::Max => "max",
+            D::Dsign => "dsign",
+            D::Dfloor => "dfloor",
+            other => unreachable!("{other:?} takes one operand"),
+        };
+        format!("{}_{name}({a}, {b})", self.p)
+    }
+    fn dminmax(&mut self, max: bool, [a, b, da, db]: [String; 4]) -> String {
+        format!("{}_{}({a}, {b}, {da}, {db})", self.p, if max { "dmax" } else { "dmin" })
+    }
+    fn odd_power(&mut self, id: NodeId, q: String, m: u32) -> String {
+        emit_odd_power(self.out, self.p, &format!("dw{id}"), &q, m)
+    }
+    fn bind(&mut self, id: NodeId, tag: &str, x: String) -> String {
+        let _ = writeln!(self.out, "    let {tag}{id} = {x};");
+        format!("{tag}{id}")
+    }
+    fn whole(&mut self) -> String {
+        format!("{}_whole()", self.p)
+    }
 }
