@@ -238,16 +238,10 @@ pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value:
             }
         }
         "method" => h.method = Some(Method::parse(value)?),
-        "field" => {
-            use crate::codegen::choice::FieldKind;
-            h.field = Some(match value {
-                "compiled" => FieldKind::Compiled,
-                "tape" => FieldKind::Tape,
-                "scene" => FieldKind::Scene,
-                "auto" => FieldKind::Auto,
-                _ => return Err("expected 'compiled', 'tape', 'scene' or 'auto'".into()),
-            })
-        }
+        "field" => match crate::codegen::choice::FieldKind::parse(value) {
+            Some(k) => h.field = Some(k),
+            None => return Err("expected 'compiled', 'tape', 'scene' or 'auto'".into()),
+        },
         "lipschitz" => match number(value) {
             Some(l) if l >= 1.0 => h.lipschitz = Some(l),
             _ => return Err("expected a Lipschitz bound L >= 1".into()),

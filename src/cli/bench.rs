@@ -247,7 +247,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         eps_relative: rel_eps,
         repeat: a.repeat,
         algebras: alg_names,
-        field: field_name(a.field).into(),
+        field: a.field.map_or("compiled", |f| super::field_kind(f).name()).into(),
         methods: a.method.clone(),
         omegas: a.omega.clone(),
         max_steps: a.max_steps,
@@ -415,20 +415,12 @@ fn job_error(e: &CliError) -> String {
     e.text(false).trim_end().trim_start_matches("error: ").to_string()
 }
 
-/// `--field`'s name in reports (none given: compiled).
-fn field_name(f: Option<super::FieldArg>) -> &'static str {
-    match f {
-        None | Some(super::FieldArg::Compiled) => "compiled",
-        Some(super::FieldArg::Tape) => "tape",
-        Some(super::FieldArg::Scene) => "scene",
-        Some(super::FieldArg::Auto) => "auto",
-    }
-}
-
 /// Renders one job: warm-up, `repeat` timed runs, optional eps search
 /// (bisection only).
 fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
     let f = entry.compile().map_err(|e| e.to_string())?;
+    // --field, else the header's `field`, else the generated code.
+    let field_arg = a.field.or(entry.header.field.map(super::field_arg)).unwrap_or(super::FieldArg::Compiled);
     let b = entry.header.bbox;
     let diag = isotrace::render::box_diagonal(&b);
     let mut view = entry.header.view();
@@ -446,27 +438,27 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             // A scene's operators may need a larger Lipschitz bound than the
             // header's (never a smaller one): prepare_field raises it.
             let mut t = Traversal::Sphere(o);
-            let field = super::prepare_field(Some(a.field.or(entry.header.field.map(super::field_arg)).unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
+            let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
             let start = Instant::now();
             let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
             let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
             let mut m = Measure::from_runs(&runs, s.eps, "-");
             m.omega = Some(*omega);
             m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
-            m.field = field_name(Some(super::field_arg(field.kind()))).into();
+            m.field = field.kind().name().into();
             return Ok((m, frame));
         }
     };
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let mut t = Traversal::Bisect(BisectOptions::new(domain));
-    let field = super::prepare_field(Some(a.field.or(entry.header.field.map(super::field_arg)).unwrap_or(super::FieldArg::Compiled)), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
+    let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
     let start = Instant::now();
     let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
     let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
     let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
     m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
-    m.field = field_name(Some(super::field_arg(field.kind()))).into();
+    m.field = field.kind().name().into();
     if a.find_eps {
         let mut fine = s.clone();
         fine.eps = diag * 2f64.powi(-14);

@@ -57,9 +57,11 @@ pub struct SceneRow {
 /// A dense frame expected to take longer than this is not run (its row is
 /// left out, and the console says so).
 pub const DENSE_BUDGET_MS: f64 = 120_000.0;
-/// Formula operations up to which a scene is also traced compiled: the
-/// compiled kernel of a 2,503-operation formula took 35 s to build on
-/// lavapipe, of a 12,503-operation one over 120 s (README, "Compiled or tape").
+/// Tape instructions (the size measure of `--field auto`'s crossover) up to
+/// which a scene's formula is also traced compiled: the compiled kernel of
+/// a 2,503-operation formula took 35 s to build on lavapipe, of a
+/// 12,503-operation one over 120 s (README, "Compiled or tape"). In the
+/// generated series this takes level 0.
 pub const COMPILED_MAX_OPS: usize = 3000;
 
 /// The series measured: every kind up to `max_level`, sharp and smooth.
@@ -107,8 +109,8 @@ fn row(scene: (Kind, Blending, u32, usize), path: &str, setup_ms: f64, runs: &[S
     }
 }
 
-/// The scene's formula compiled into the shader, when it is small enough
-/// to build in about a minute (see [`COMPILED_MAX_OPS`]).
+/// The scene's formula compiled into the shader, when its tape has at most
+/// [`COMPILED_MAX_OPS`] instructions (it builds in about a minute).
 fn compiled_formula(scene: &isotrace::scene::Scene) -> Option<isotrace::Formula> {
     let text = scene.to_formula().ok()?;
     let f = isotrace::Formula::compile("<scene>", &text).ok()?;

@@ -113,13 +113,23 @@ pub enum FieldArg {
     Auto,
 }
 
-/// The flag value of a field kind (a header's `field`, a prepared field).
+/// The flag value of a field kind (a header's `field`).
 pub(crate) fn field_arg(k: codegen::FieldKind) -> FieldArg {
     match k {
         codegen::FieldKind::Compiled => FieldArg::Compiled,
         codegen::FieldKind::Tape => FieldArg::Tape,
         codegen::FieldKind::Scene => FieldArg::Scene,
         codegen::FieldKind::Auto => FieldArg::Auto,
+    }
+}
+
+/// The field kind of a flag value.
+pub(crate) fn field_kind(a: FieldArg) -> codegen::FieldKind {
+    match a {
+        FieldArg::Compiled => codegen::FieldKind::Compiled,
+        FieldArg::Tape => codegen::FieldKind::Tape,
+        FieldArg::Scene => codegen::FieldKind::Scene,
+        FieldArg::Auto => codegen::FieldKind::Auto,
     }
 }
 
@@ -130,12 +140,7 @@ pub(crate) fn field_arg(k: codegen::FieldKind) -> FieldArg {
 pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool) -> Result<codegen::PreparedField, CliError> {
     use isotrace::codegen::choice::{self, FieldError, SceneFieldError};
     use isotrace::codegen::{FieldKind, TapeError};
-    let kind = match arg.unwrap_or(FieldArg::Auto) {
-        FieldArg::Compiled => FieldKind::Compiled,
-        FieldArg::Tape => FieldKind::Tape,
-        FieldArg::Scene => FieldKind::Scene,
-        FieldArg::Auto => FieldKind::Auto,
-    };
+    let kind = field_kind(arg.unwrap_or(FieldArg::Auto));
     if kind == FieldKind::Auto {
         if let Some((field, lipschitz)) = choice::auto_scene(f, params, t) {
             if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {

@@ -539,8 +539,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     };
     if let (Some(frame), Some(renderer), Some(gpu)) = (last, &renderer, &gpu) {
         match renderer.traversal() {
-            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_name()),
-            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_name()),
+            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_kind().name()),
+            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_kind().name()),
         }
         warn_unresolved(&frame, &renderer.traversal(), &s);
         if let Traversal::Sphere(o) = renderer.traversal() {

@@ -25,6 +25,23 @@ pub enum FieldKind {
     Auto,
 }
 
+impl FieldKind {
+    /// The name `--field`, `.iso` headers and reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            FieldKind::Compiled => "compiled",
+            FieldKind::Tape => "tape",
+            FieldKind::Scene => "scene",
+            FieldKind::Auto => "auto",
+        }
+    }
+
+    /// The kind of a [`FieldKind::name`].
+    pub fn parse(s: &str) -> Option<FieldKind> {
+        [FieldKind::Compiled, FieldKind::Tape, FieldKind::Scene, FieldKind::Auto].into_iter().find(|k| k.name() == s)
+    }
+}
+
 /// A field source ready to be bound: the tape is built once and owned.
 #[derive(Debug, Clone)]
 pub enum PreparedField {

@@ -306,6 +306,27 @@ fn call1<B: Terms>(b: &mut B, f: Func1, a: NodeId, id: NodeId, da: B::T) -> B::T
     }
 }
 
+/// The `op_*`-library name (after the domain prefix) of a term's operation.
+fn wgsl_name(op: D) -> &'static str {
+    match op {
+        D::Neg => "neg",
+        D::Sqr => "sqr",
+        D::Sin => "sin",
+        D::Cos => "cos",
+        D::Log => "log",
+        D::Sinh => "sinh",
+        D::Cosh => "cosh",
+        D::Sign => "sign",
+        D::Add => "add",
+        D::Sub => "sub",
+        D::Mul => "mul",
+        D::Div => "div",
+        D::Max => "max",
+        D::Dsign => "dsign",
+        D::Dfloor => "dfloor",
+    }
+}
+
 /// The generated code's terms: WGSL expressions in domain prefix `p`, with
 /// bound subterms written to `out` as `let` statements.
 struct Wgsl<'a> {
@@ -325,31 +346,10 @@ impl Terms for Wgsl<'_> {
         ["dx", "dy", "dz"][axis as usize].into()
     }
     fn un(&mut self, op: D, a: String) -> String {
-        let name = match op {
-            D::Neg => "neg",
-            D::Sqr => "sqr",
-            D::Sin => "sin",
-            D::Cos => "cos",
-            D::Log => "log",
-            D::Sinh => "sinh",
-            D::Cosh => "cosh",
-            D::Sign => "sign",
-            other => unreachable!("{other:?} takes two operands"),
-        };
-        format!("{}_{name}({a})", self.p)
+        format!("{}_{}({a})", self.p, wgsl_name(op))
     }
     fn bin(&mut self, op: D, a: String, b: String) -> String {
-        let name = match op {
-            D::Add => "add",
-            D::Sub => "sub",
-            D::Mul => "mul",
-            D::Div => "div",
-            D::Max => "max",
-            D::Dsign => "dsign",
-            D::Dfloor => "dfloor",
-            other => unreachable!("{other:?} takes one operand"),
-        };
-        format!("{}_{name}({a}, {b})", self.p)
+        format!("{}_{}({a}, {b})", self.p, wgsl_name(op))
     }
     fn dminmax(&mut self, max: bool, [a, b, da, db]: [String; 4]) -> String {
         format!("{}_{}({a}, {b}, {da}, {db})", self.p, if max { "dmax" } else { "dmin" })

@@ -31,15 +31,15 @@ pub(crate) struct PerDispatch {
 }
 
 impl PerDispatch {
-    /// The copy of the views pass's output into the view texture (after
-    /// that pass; a buffer cannot be a texture, and the trace reads the
-    /// views as texels: lavapipe loads storage at a per-lane address lane
-    /// by lane).
     /// The buffers to zero before the dispatch (the tile counts, appended to).
     pub fn clears(&self) -> Vec<wgpu::Buffer> {
         self.buffers.iter().filter(|(b, _)| *b == COUNTS).map(|(_, b)| b.clone()).collect()
     }
 
+    /// The copy of the views pass's output into the view texture (after
+    /// that pass; a buffer cannot be a texture, and the trace reads the
+    /// views as texels: lavapipe loads storage at a per-lane address lane
+    /// by lane).
     pub fn view_copy(&self) -> Option<(&wgpu::Buffer, &wgpu::Texture)> {
         let buf = self.buffers.iter().find(|(b, _)| *b == VIEW_BUFFER).map(|(_, b)| b)?;
         self.view.as_ref().map(|(t, _)| (buf, t))
@@ -66,9 +66,10 @@ pub(crate) struct FieldBinding {
 }
 
 impl FieldBinding {
-    /// `compiled`, `tape` or `scene`.
-    pub fn name(&self) -> &'static str {
-        if self.scene { "scene" } else if self.tape { "tape" } else { "compiled" }
+    /// The kind of field source bound.
+    pub fn kind(&self) -> crate::codegen::FieldKind {
+        use crate::codegen::FieldKind;
+        if self.scene { FieldKind::Scene } else if self.tape { FieldKind::Tape } else { FieldKind::Compiled }
     }
 
     /// The field's bits of the frame flags.
@@ -109,8 +110,9 @@ impl FieldBinding {
         rows * VIEW_WIDTH / SCENE_VIEW_MAX as u64 * 64
     }
 
-    /// The per-dispatch buffers of a rectangle (a scene's tile lists and
-    /// views, zeroed), with `stats` (of [`FieldBinding::tile_stats_size`]
+    /// The per-dispatch resources of a rectangle (a scene's tile lists and
+    /// views, and the view texture; kept from the last dispatch of as many
+    /// tiles, see [`PerDispatch`]), with `stats` (of [`FieldBinding::tile_stats_size`]
     /// bytes, read back by the caller) bound where the field writes them.
     pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> PerDispatch {
         let (true, Some(stats)) = (self.scene, stats) else { return PerDispatch { buffers: vec![], view: None } };

@@ -203,9 +203,9 @@ impl<'g> Renderer<'g> {
         &self.wgsl
     }
 
-    /// The field source the kernel reads: `compiled`, `tape` or `scene`.
-    pub fn field_name(&self) -> &'static str {
-        self.field.name()
+    /// The field source the kernel reads (never `Auto`).
+    pub fn field_kind(&self) -> codegen::FieldKind {
+        self.field.kind()
     }
 
     /// The traversal and its current options.

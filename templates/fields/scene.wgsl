@@ -29,7 +29,6 @@ fn scene_node_count() -> u32 { return textureLoad(scene_nodes, vec2<u32>(0u, 0u)
 fn scene_param(i: u32) -> vec4<f32> { return textureLoad(scene_params, scene_texel(i), 0); }
 
 fn node_type(w: u32) -> u32 { return (w >> 22u) & 0xffu; }
-fn node_is_leaf(w: u32) -> bool { return (w >> 31u) != 0u; }
 
 fn sd_box(q: vec3<f32>, h: vec3<f32>) -> f32 {
     let d = abs(q) - h;
@@ -254,8 +253,10 @@ fn field(p: vec3<f32>) -> f32 {
     var sp = 0u;
     var top = F.inf;
     for (var j = 0u; j < n; j = j + 1u) {
-        // The whole tree's nodes are packed here (one fetch more each).
-        let e = select(scene_view_node(g_scene_vbase + j), scene_entry(j), full);
+        // A view holds packed entries; the whole tree's nodes are packed
+        // here (a branch, not a select, which would fetch both).
+        var e: u32;
+        if (full) { e = scene_entry(j); } else { e = scene_view_node(g_scene_vbase + j); }
         scene_step(e, p, &sp, &top);
     }
     g_field_work = g_field_work + n;
