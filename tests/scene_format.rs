@@ -147,6 +147,7 @@ fn generated_scenes_rotate_and_blend_as_described() {
                         smooth += 1;
                     }
                 }
+                Node::Unary { .. } => panic!("generated scenes have no unary nodes"),
             }
         }
         assert!(smooth > 0);

@@ -25,7 +25,7 @@ fn sphere_and_box(dx: f32) -> SceneData {
     params.push([0.0; 4]);
     let nodes = vec![[LEAF | LEFT | (1 << 22) | 2, 0, 2, 0], [LEAF | (2 << 22) | 2, 5, 2, 0], [(32 << 22) | 3, 10, 3, 0]];
     let balls = vec![[0.0, 0.0, 0.0, 1.0], [dx, 0.0, 0.0, 0.75f32.sqrt()]];
-    SceneData { nodes, params, prims: vec![0, 1], balls }
+    SceneData { nodes, params, prims: vec![0, 1], balls, features: 0 }
 }
 
 #[test]

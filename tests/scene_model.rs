@@ -349,7 +349,7 @@ fn node_words_follow_the_fixed_layout() {
         assert!(w[2] >= lin.parent[k]);
         next_param += match node {
             Node::Primitive(p) => isotrace::scene::linear::primitive_rows(p).len() as u32,
-            Node::Operator { .. } => 1,
+            Node::Operator { .. } | Node::Unary { .. } => 1,
         };
         if let Node::Operator { .. } = node {
             let [l, r] = lin.children[k];

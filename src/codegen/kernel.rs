@@ -43,6 +43,10 @@ pub struct SceneData {
     /// Every primitive's augmented bounding ball (centre, radius; +inf for
     /// an unbounded primitive).
     pub balls: Vec<[f32; 4]>,
+    /// The interpreter features the scene needs (`scene::linear::FEATURE_*`
+    /// bits): part of the kernel, so a renderer built for one set draws
+    /// any scene whose set is within it.
+    pub features: u32,
 }
 
 /// A table of vec4s laid out as a scene texture: rows of
@@ -120,15 +124,7 @@ impl FieldSource<'_> {
     fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>) -> String {
         match self {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
-            FieldSource::Scene(_) => format!(
-                "{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
-                 const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
-                 const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
-                 const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\n{}\n{}",
-                scene_constants(),
-                template::SCENE,
-                template::SCENE_TILES
-            ),
+            FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features), template::SCENE_TILES),
             FieldSource::Tape(_) => tape_field::field_code(domain),
         }
     }
@@ -156,9 +152,35 @@ impl FieldSource<'_> {
     }
 }
 
-/// The scene node type codes and layout constants as WGSL.
-fn scene_constants() -> String {
-    crate::scene::linear::wgsl_constants()
+/// The scene interpreter (templates/fields/scene.wgsl) with its constants
+/// and the code of the node types in `features`.
+fn scene_interpreter(features: u32) -> String {
+    format!(
+        "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
+         const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
+         const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
+         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\n{}",
+        crate::scene::linear::wgsl_constants(),
+        crate::scene::linear::wgsl_noise(),
+        template::SCENE,
+    )
+}
+
+/// The `eval` kernel over a scene: the interpreter runs the whole tree at
+/// each point (the box's low corner), as secondary rays do. The hook the
+/// scene tests use to check the device's interpreter against the f64
+/// reference at random points. The render kernel's frame block is replaced
+/// by the few fields the interpreter's unused tile functions name.
+pub fn scene_eval_shader(features: u32) -> String {
+    use crate::layout::GpuBlock;
+    let frame = "struct SceneEvalFrame { eye: vec4<f32>, forward: vec4<f32>, inf: f32, tile_origin: vec2<u32>, tile_size: vec2<u32> }\n\
+                 var<private> F: SceneEvalFrame;\nvar<private> g_field_work: u32;\n";
+    let eval = "fn scene_eval_point(p: vec3<f32>) -> f32 {\n    var sp = 0u;\n    var top = iso_inf();\n    \
+                for (var j = 0u; j < scene_node_count(); j = j + 1u) { scene_step(scene_entry(j), p, &sp, &top); }\n    return top;\n}\n";
+    let evaluator = format!("{frame}{}\n{eval}", scene_interpreter(features));
+    let call = "    let v = scene_eval_point(vec3<f32>(x.x, y.x, z.x));\n    return vec2<f32>(v, v);";
+    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
+        .expect("the eval template has its markers")
 }
 
 /// An assembled render kernel.

@@ -21,7 +21,7 @@ pub mod tape_field;
 pub mod template;
 
 pub use compiled::inclusion;
-pub use kernel::{assemble, render_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
+pub use kernel::{assemble, render_shader, scene_eval_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
 pub use choice::{FieldKind, PreparedField};
 pub use tape::{TapeData, TapeError};
 

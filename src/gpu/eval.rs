@@ -92,6 +92,36 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domai
     Ok(out)
 }
 
+/// Evaluates a scene's whole tree by the device's interpreter at every
+/// point (the checks of the interpreter against the f64 reference).
+pub fn eval_points_scene(gpu: &Gpu, scene: &crate::codegen::SceneData, points: &[[f32; 3]]) -> Result<Vec<f32>, EvalError> {
+    if points.is_empty() {
+        return Ok(vec![]);
+    }
+    let src = crate::codegen::scene_eval_shader(scene.features);
+    validate(&src)?;
+    let pipeline = gpu.pipeline("isotrace eval (scene)", &src)?;
+    let (_nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
+    let (_params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
+    let group = gpu.scoped("scene bind group", || {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&node_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&param_view) },
+            ],
+        })
+    })?;
+    let boxes: Vec<Box8> = points.iter().map(|p| [p[0], p[0], p[1], p[1], p[2], p[2], 0.0, 0.0]).collect();
+    let mut out = Vec::with_capacity(points.len());
+    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
+    for part in boxes.chunks(chunk) {
+        out.extend(run_chunk_with(gpu, &pipeline, part, &[], Some(&group))?.into_iter().map(|v| v[0]));
+    }
+    Ok(out)
+}
+
 fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
     run_chunk_with(gpu, pipeline, boxes, params, None)
 }

@@ -100,6 +100,8 @@ pub struct Renderer<'g> {
     field: field::FieldBinding,
     outputs: dispatch::Outputs,
     surfaces: usize,
+    /// The scene interpreter features compiled in (0 for other fields).
+    scene_features: u32,
 }
 
 impl<'g> Renderer<'g> {
@@ -152,7 +154,8 @@ impl<'g> Renderer<'g> {
         let mut pipelines = pipelines.into_iter();
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces() })
+        let scene_features = scene_features(field);
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), scene_features })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
@@ -163,6 +166,15 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
+        let missing = scene_features(field) & !self.scene_features;
+        if missing != 0 {
+            return Err(SettingsError::new(
+                crate::render::SettingsField::Features,
+                "scene",
+                "the scene uses node types the kernel was built without (profiles, unary nodes, infill or displacement): build a new renderer",
+            )
+            .into());
+        }
         let bound = field::bind(self.gpu, field)?;
         if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
@@ -171,6 +183,14 @@ impl<'g> Renderer<'g> {
         self.field = bound;
         self.field.dense = dense;
         Ok(())
+    }
+
+    /// The scene interpreter features this renderer's kernel has
+    /// (`scene::linear::FEATURE_*`; 0 for other fields): a scene whose
+    /// features are within them can replace its field with
+    /// [`Renderer::set_field`].
+    pub fn scene_features(&self) -> u32 {
+        self.scene_features
     }
 
     /// A scene field evaluates its whole tree for every pixel instead of
@@ -453,5 +473,13 @@ fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
         time: s.time as f32,
         pad0: 0,
         params,
+    }
+}
+
+/// The scene interpreter features `field` needs (0 for other fields).
+fn scene_features(field: FieldSource<'_>) -> u32 {
+    match field {
+        FieldSource::Scene(d) => d.features,
+        _ => 0,
     }
 }

@@ -23,6 +23,7 @@ impl Scene {
             v[i] = match &nodes[i] {
                 Node::Primitive(prim) => prim.distance(p),
                 Node::Operator { op, left, right } => op.apply(v[*left], v[*right]),
+                Node::Unary { op, child } => op.apply(v[*child], p),
             };
         }
         v
@@ -43,6 +44,8 @@ impl Scene {
             v[i] = match &nodes[i] {
                 Node::Primitive(prim) => active[i].then(|| prim.distance(p)),
                 Node::Operator { op, left, right } => op.select(v[*left], v[*right]),
+                // A missing operand is above its range, so the node is above its own.
+                Node::Unary { op, child } => v[*child].map(|c| op.apply(c, p)),
             };
         }
         v

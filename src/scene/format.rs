@@ -15,7 +15,7 @@
 //! follows the scene, not a JSON tree of it. Every error names the JSON path
 //! of the bad value: `nodes[812].radius: must be > 0`.
 
-use super::{Blend, Node, Operator, Primitive, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, MAX_NODES};
+use super::{Blend, Node, Operator, Primitive, Profile, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, Unary, UnaryKind, MAX_NODES};
 use crate::bounded::{self, ReadError};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
@@ -175,15 +175,17 @@ fn index(v: &Value) -> Result<usize, String> {
     v.as_u64().and_then(|n| usize::try_from(n).ok()).ok_or_else(|| format!("expected a node index (a whole number >= 0), found {}", describe(v)))
 }
 
-/// The fields of one node object, read with paths.
+/// The fields of one node object (or of an object inside it, whose field
+/// names get `prefix`), read with paths.
 struct Fields<'a> {
     i: usize,
     obj: &'a Map<String, Value>,
+    prefix: &'static str,
 }
 
 impl Fields<'_> {
     fn err(&self, field: &str, reason: impl Into<String>) -> SceneError {
-        SceneError::at(self.i, field, reason)
+        SceneError::at(self.i, &format!("{}{field}", self.prefix), reason)
     }
 
     fn number_of(&self, field: &str, v: &Value) -> Result<f64, SceneError> {
@@ -258,13 +260,26 @@ fn shape_fields(kind: ShapeKind) -> &'static [&'static str] {
         ShapeKind::Cylinder => &["radius", "half_height"],
         ShapeKind::Octahedron => &["size"],
         ShapeKind::Plane => &["normal", "offset"],
+        ShapeKind::Extrude => &["profile", "half_height"],
+        ShapeKind::Revolve => &["profile", "offset"],
+    }
+}
+
+/// The fields of each profile type, after `type`.
+fn profile_fields(name: &str) -> &'static [&'static str] {
+    match name {
+        "circle" => &["radius"],
+        "rect" => &["half"],
+        "round_rect" => &["half", "radius"],
+        "capsule" => &["a", "b", "radius"],
+        _ => &["points"],
     }
 }
 
 /// Converts node `i` from JSON (parameters are checked later, by [`Scene::new`]).
 fn node(i: usize, v: &Value) -> Result<Node, SceneError> {
     let obj = v.as_object().ok_or_else(|| SceneError::at(i, "", format!("expected an object, found {}", describe(v))))?;
-    let f = Fields { i, obj };
+    let f = Fields { i, obj, prefix: "" };
     let ty = match obj.get("type") {
         Some(Value::String(s)) => s.as_str(),
         Some(other) => return Err(f.err("type", format!("expected a type name, found {}", describe(other)))),
@@ -274,6 +289,12 @@ fn node(i: usize, v: &Value) -> Result<Node, SceneError> {
         let fields: Vec<&str> = shape_fields(kind).iter().chain(&TRANSFORM_FIELDS).copied().collect();
         f.only(ty, &fields)?;
         return Ok(Node::Primitive(Primitive { shape: shape(&f, kind)?, transform: transform(&f)? }));
+    }
+    if let Some(kind) = UnaryKind::parse(ty) {
+        let fields: Vec<&str> = ["child"].iter().chain(kind.fields()).copied().collect();
+        f.only(ty, &fields)?;
+        let values = kind.fields().iter().map(|k| f.number(k)).collect::<Result<Vec<f64>, _>>()?;
+        return Ok(Node::Unary { op: Unary::from_values(kind, &values), child: f.index("child")? });
     }
     if let Some(k) = Operator::NAMES.iter().position(|n| *n == ty) {
         let smooth = k >= 3;
@@ -291,7 +312,7 @@ fn node(i: usize, v: &Value) -> Result<Node, SceneError> {
         };
         return Ok(Node::Operator { op: Operator { kind, blend }, left: f.index("left")?, right: f.index("right")? });
     }
-    let names: Vec<&str> = ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).collect();
+    let names: Vec<&str> = ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).collect();
     let near = crate::diag::closest(ty, names.iter().copied());
     let hint = match near.first() {
         Some(n) => format!("did you mean '{n}'?"),
@@ -310,7 +331,55 @@ fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
         ShapeKind::Cylinder => Shape::Cylinder { radius: f.number("radius")?, half_height: f.number("half_height")? },
         ShapeKind::Octahedron => Shape::Octahedron { size: f.number("size")? },
         ShapeKind::Plane => Shape::Plane { normal: f.vec3("normal")?, offset: f.number("offset")? },
+        ShapeKind::Extrude => Shape::Extrude { profile: profile(f)?, half_height: f.number("half_height")? },
+        ShapeKind::Revolve => Shape::Revolve { profile: profile(f)?, offset: f.number("offset")? },
     })
+}
+
+/// The `profile` object of an extrusion or revolution (parameters are
+/// checked later, with the shape).
+fn profile(f: &Fields) -> Result<Profile, SceneError> {
+    let v = f.obj.get("profile").ok_or_else(|| f.err("profile", "missing"))?;
+    let obj = v.as_object().ok_or_else(|| f.err("profile", format!("expected a profile object, found {}", describe(v))))?;
+    let p = Fields { i: f.i, obj, prefix: "profile." };
+    let ty = match obj.get("type") {
+        Some(Value::String(s)) if Profile::NAMES.contains(&s.as_str()) => s.as_str(),
+        Some(Value::String(s)) => {
+            let hint = match crate::diag::closest(s, Profile::NAMES.iter().copied()).first() {
+                Some(n) => format!("did you mean '{n}'?"),
+                None => format!("the profiles are {}", list(&Profile::NAMES)),
+            };
+            return Err(p.err("type", format!("unknown profile '{s}'; {hint}")));
+        }
+        Some(other) => return Err(p.err("type", format!("expected a profile name, found {}", describe(other)))),
+        None => return Err(p.err("type", "missing")),
+    };
+    p.only(ty, profile_fields(ty))?;
+    let two = |name: &str| p.numbers::<2>(name)?.ok_or_else(|| p.err(name, "missing"));
+    Ok(match ty {
+        "circle" => Profile::Circle { radius: p.number("radius")? },
+        "rect" => Profile::Rect { half: two("half")? },
+        "round_rect" => Profile::RoundRect { half: two("half")?, radius: p.number("radius")? },
+        "capsule" => Profile::Capsule { a: two("a")?, b: two("b")?, radius: p.number("radius")? },
+        _ => Profile::polygon(&points(&p)?),
+    })
+}
+
+/// A polygon's `points`: [[x, y], …], 3 to MAX_POLYGON of them.
+fn points(p: &Fields) -> Result<Vec<[f64; 2]>, SceneError> {
+    let v = p.obj.get("points").ok_or_else(|| p.err("points", "missing"))?;
+    let a = v.as_array().ok_or_else(|| p.err("points", format!("expected a list of [x, y] points, found {}", describe(v))))?;
+    let max = super::profile::MAX_POLYGON;
+    if !(3..=max).contains(&a.len()) {
+        return Err(p.err("points", format!("a polygon has 3 to {max} vertices, found {}", a.len())));
+    }
+    let mut out = Vec::with_capacity(a.len());
+    for (k, item) in a.iter().enumerate() {
+        let field = format!("points[{k}]");
+        let xy = item.as_array().filter(|xy| xy.len() == 2).ok_or_else(|| p.err(&field, format!("expected [x, y], found {}", describe(item))))?;
+        out.push([p.number_of(&format!("{field}[0]"), &xy[0])?, p.number_of(&format!("{field}[1]"), &xy[1])?]);
+    }
+    Ok(out)
 }
 
 fn transform(f: &Fields) -> Result<Transform, SceneError> {
@@ -348,6 +417,8 @@ fn node_json(n: &Node) -> String {
                 Shape::Cylinder { radius, half_height } => vec![num(radius), num(half_height)],
                 Shape::Octahedron { size } => vec![num(size)],
                 Shape::Plane { normal, offset } => vec![nums(&normal), num(offset)],
+                Shape::Extrude { profile, half_height } => vec![profile_json(&profile), num(half_height)],
+                Shape::Revolve { profile, offset } => vec![profile_json(&profile), num(offset)],
             };
             for (k, v) in shape_fields(p.shape.kind()).iter().zip(values) {
                 s += &format!(", \"{k}\": {v}");
@@ -369,6 +440,29 @@ fn node_json(n: &Node) -> String {
                 s += &format!(", \"beta\": {}, \"r_o\": {}", num(b.beta), num(b.range));
             }
         }
+        Node::Unary { op, child } => {
+            s += &format!("\"type\": \"{}\", \"child\": {child}", op.kind().name());
+            for (k, v) in op.kind().fields().iter().zip(op.values()) {
+                s += &format!(", \"{k}\": {}", num(v));
+            }
+        }
+    }
+    s + "}"
+}
+
+/// A profile as a JSON object.
+fn profile_json(p: &Profile) -> String {
+    let two = |v: [f64; 2]| nums(&v);
+    let values: Vec<String> = match *p {
+        Profile::Circle { radius } => vec![num(radius)],
+        Profile::Rect { half } => vec![two(half)],
+        Profile::RoundRect { half, radius } => vec![two(half), num(radius)],
+        Profile::Capsule { a, b, radius } => vec![two(a), two(b), num(radius)],
+        Profile::Polygon { .. } => vec![format!("[{}]", p.vertices().iter().map(|&v| two(v)).collect::<Vec<_>>().join(", "))],
+    };
+    let mut s = format!("{{\"type\": \"{}\"", p.name());
+    for (k, v) in profile_fields(p.name()).iter().zip(values) {
+        s += &format!(", \"{k}\": {v}");
     }
     s + "}"
 }

@@ -9,7 +9,7 @@
 //! Only small scenes fit: the formula language reads at most 64 KiB of text
 //! (about 500 primitives) and compiles at most 50,000 operations.
 
-use super::{Node, OpKind, Primitive, Scene, Shape};
+use super::{Node, OpKind, Primitive, Profile, Scene, Shape};
 use crate::syntax::parser::MAX_SOURCE_BYTES;
 
 /// The formula would exceed the formula language's size limit.
@@ -49,6 +49,8 @@ pub fn primitive_formula(p: &Primitive) -> String {
         Shape::Cylinder { radius, half_height } => format!("cylinder({}, {})", num(radius), num(half_height)),
         Shape::Octahedron { size } => format!("octahedron({})", num(size)),
         Shape::Plane { normal, offset } => format!("plane({}, {})", args(&normal), num(offset)),
+        Shape::Extrude { profile, half_height } => format!("extrude({}, {})", num(half_height), profile_formula(&profile)),
+        Shape::Revolve { profile, offset } => format!("revolve({}, {})", num(offset), profile_formula(&profile)),
     };
     let t = &p.transform;
     if t.scale != 1.0 {
@@ -61,6 +63,17 @@ pub fn primitive_formula(p: &Primitive) -> String {
         s = format!("translate({}, {s})", args(&t.translate));
     }
     s
+}
+
+/// A profile as the formula language's 2D form of the same name.
+fn profile_formula(p: &Profile) -> String {
+    match *p {
+        Profile::Circle { radius } => format!("circle({})", num(radius)),
+        Profile::Rect { half } => format!("rect({})", args(&half)),
+        Profile::RoundRect { half, radius } => format!("roundrect({}, {})", args(&half), num(radius)),
+        Profile::Capsule { a, b, radius } => format!("capsule2d({}, {}, {})", args(&a), args(&b), num(radius)),
+        Profile::Polygon { .. } => format!("polygon({})", args(&p.vertices().concat())),
+    }
 }
 
 /// The scene as a formula program; an error if it passes the formula
@@ -83,6 +96,7 @@ pub fn to_formula(scene: &Scene) -> Result<String, TooLarge> {
                     }
                 }
             }
+            Node::Unary { op, child } => format!("{}({}, {})", op.kind().name(), args(&op.values()), name(*child)),
         };
         out += &format!("{} = {rhs};\n", name(i));
         if out.len() > MAX_SOURCE_BYTES {

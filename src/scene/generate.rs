@@ -160,6 +160,8 @@ fn rounded(mut p: Primitive) -> Primitive {
         Shape::Cylinder { radius, half_height } => Shape::Cylinder { radius: sig(radius), half_height: sig(half_height) },
         Shape::Octahedron { size } => Shape::Octahedron { size: sig(size) },
         Shape::Plane { normal, offset } => Shape::Plane { normal: r3(normal), offset: sig(offset) },
+        // Generated scenes have none of these; they keep their numbers.
+        shape @ (Shape::Extrude { .. } | Shape::Revolve { .. }) => shape,
     };
     let t = &mut p.transform;
     t.translate = r3(t.translate);

@@ -45,7 +45,7 @@
 
 use glam::DVec3;
 use super::roi::{self, Aabb, Abv, Roi};
-use super::{Node, NodeId, OpKind, Operator, Primitive, Scene, SceneError, Shape};
+use super::{Node, NodeId, OpKind, Operator, Primitive, Profile, Scene, SceneError, Shape, Unary};
 
 /// isLeaf bit of a node word.
 pub const NODE_LEAF_BIT: u32 = 1 << 31;
@@ -74,6 +74,10 @@ pub const CYLINDER: u32 = 6;
 pub const OCTAHEDRON: u32 = 7;
 /// Type code of a plane.
 pub const PLANE: u32 = 8;
+/// Type code of an extruded profile.
+pub const EXTRUDE: u32 = 9;
+/// Type code of a revolved profile.
+pub const REVOLVE: u32 = 10;
 /// Type code of a sharp union.
 pub const UNION: u32 = 32;
 /// Type code of a sharp intersection.
@@ -86,6 +90,25 @@ pub const SMOOTH_UNION: u32 = 35;
 pub const SMOOTH_INTERSECTION: u32 = 36;
 /// Type code of a compact smooth difference.
 pub const SMOOTH_DIFFERENCE: u32 = 37;
+/// Type code of an offset, the first unary node (codes 40-47 are unary).
+pub const OFFSET: u32 = 40;
+/// Type code of a shell.
+pub const SHELL: u32 = 41;
+/// Type code of a gyroid infill.
+pub const INFILL: u32 = 42;
+/// Type code of a displacement.
+pub const DISPLACE: u32 = 43;
+
+/// Feature bit: extruded or revolved profiles (their rows and formula).
+pub const FEATURE_PROFILE: u32 = 1;
+/// Feature bit: polygon profiles (a loop over the vertices).
+pub const FEATURE_POLYGON: u32 = 2;
+/// Feature bit: unary nodes (offset, shell).
+pub const FEATURE_UNARY: u32 = 4;
+/// Feature bit: gyroid infill.
+pub const FEATURE_INFILL: u32 = 8;
+/// Feature bit: noise displacement.
+pub const FEATURE_DISPLACE: u32 = 16;
 
 /// Rows of the transform matrix before a primitive's parameters.
 pub const PRIM_MATRIX_ROWS: u32 = 3;
@@ -105,6 +128,13 @@ pub const FORM_REVOLVED: u32 = 1;
 pub const FORM_OCTAHEDRON: u32 = 2;
 /// Primitive form: the half-space n·q − d.
 pub const FORM_PLANE: u32 = 3;
+/// Primitive form: a 2D profile in q.xy extruded along z.
+pub const FORM_EXTRUDE: u32 = 4;
+/// Primitive form: a 2D profile at (|q.xy| − R, q.z).
+pub const FORM_REVOLVE: u32 = 5;
+/// Rows of a profile primitive before its polygon vertices: the five of
+/// every primitive and the capsule's segment (a.x, a.y, b.x, b.y).
+pub const PROFILE_ROWS: u32 = 6;
 /// log2 of the width in texels of the node and parameter textures.
 pub const TEXTURE_SHIFT: u32 = 12;
 /// Width in texels of the node and parameter textures (a vec4 a texel).
@@ -137,7 +167,13 @@ pub fn type_code(node: &Node) -> u32 {
     match node {
         Node::Primitive(p) => p.shape.kind() as u32,
         Node::Operator { op, .. } => op_code(op),
+        Node::Unary { op, .. } => op.kind() as u32,
     }
+}
+
+/// Whether type code `t` is a unary node's.
+pub fn is_unary_code(t: u32) -> bool {
+    (OFFSET..OFFSET + 8).contains(&t)
 }
 
 fn op_code(op: &Operator) -> u32 {
@@ -151,7 +187,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 34] = [
+    let consts: [(&str, u32); 50] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -186,12 +222,38 @@ pub fn wgsl_constants() -> String {
         ("FORM_PLANE", FORM_PLANE),
         ("SCENE_TEX_WIDTH", TEXTURE_WIDTH),
         ("SCENE_ENTRY_ROW_BITS", ENTRY_ROW_BITS),
+        ("NODE_EXTRUDE", EXTRUDE),
+        ("NODE_REVOLVE", REVOLVE),
+        ("NODE_OFFSET", OFFSET),
+        ("NODE_SHELL", SHELL),
+        ("NODE_INFILL", INFILL),
+        ("NODE_DISPLACE", DISPLACE),
+        ("FORM_EXTRUDE", FORM_EXTRUDE),
+        ("FORM_REVOLVE", FORM_REVOLVE),
+        ("PROFILE_ROWS", PROFILE_ROWS),
+        ("MAX_POLYGON", super::profile::MAX_POLYGON as u32),
+        ("FEATURE_PROFILE", FEATURE_PROFILE),
+        ("FEATURE_POLYGON", FEATURE_POLYGON),
+        ("FEATURE_UNARY", FEATURE_UNARY),
+        ("FEATURE_INFILL", FEATURE_INFILL),
+        ("FEATURE_DISPLACE", FEATURE_DISPLACE),
+        ("NOISE_WAVES", super::unary::NOISE_WAVES.len() as u32),
     ];
     let mut s = String::new();
     for (name, v) in consts {
         s.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }
     s
+}
+
+/// `scene_noise(p, f)`, the displacement's pseudo-noise
+/// ([`super::unary::noise`]), as WGSL written from the same table.
+pub fn wgsl_noise() -> String {
+    let terms: Vec<String> = super::unary::NOISE_WAVES
+        .iter()
+        .map(|&(a, m, w, phase)| format!("{w:?} * sin(f * {m:?} * dot(vec3<f32>({:?}, {:?}, {:?}), p) + {phase:?})", a[0], a[1], a[2]))
+        .collect();
+    format!("fn scene_noise(p: vec3<f32>, f: f32) -> f32 {{\n    return {};\n}}\n", terms.join("\n        + "))
 }
 
 /// Bits of a pruned view's entry that hold the node's first parameter row
@@ -232,6 +294,12 @@ pub struct Linear {
     pub roi: Vec<Roi>,
     /// Each primitive's ABV in f64, in `primitives` order.
     pub abvs: Vec<Abv>,
+    /// The interpreter features the scene needs (`FEATURE_*` bits): the
+    /// kernel compiles only those, so scenes of the basic types pay
+    /// nothing for the others.
+    pub features: u32,
+    /// The Lipschitz bound the field is traced with ([`Linear::lipschitz`]).
+    lipschitz: f64,
 }
 
 impl Linear {
@@ -260,24 +328,43 @@ impl Linear {
             children: vec![[n as u32; 2]; n],
             roi: order.iter().map(|&i| scene_roi[i]).collect(),
             abvs: Vec::new(),
+            features: features(scene),
+            lipschitz: lipschitz_bound(scene),
             order,
         };
         lin.link(scene, &index, &swap);
         lin.fast = fast_ancestors(&lin.parent, &lin.is_left, &lin.order, scene);
         lin.fill(scene);
+        if lin.params.len() >= 1 << ENTRY_ROW_BITS {
+            return Err(SceneError::new(
+                "nodes",
+                format!("the scene's parameters take {} rows, above the limit of {} (a pruned view's entry holds the row in {ENTRY_ROW_BITS} bits)", lin.params.len(), (1u32 << ENTRY_ROW_BITS) - 1),
+            ));
+        }
         Ok(lin)
     }
 
     /// Parent, isLeft and operands from the scene's operators.
     fn link(&mut self, scene: &Scene, index: &[u32], swap: &[bool]) {
         for (k, &i) in self.order.iter().enumerate() {
-            if let Node::Operator { left, right, .. } = scene.nodes()[i] {
-                let (l, r) = if swap[i] { (right, left) } else { (left, right) };
-                let (l, r) = (index[l], index[r]);
-                self.children[k] = [l, r];
-                self.parent[l as usize] = k as u32;
-                self.parent[r as usize] = k as u32;
-                self.is_left[l as usize] = true;
+            match scene.nodes()[i] {
+                Node::Operator { left, right, .. } => {
+                    let (l, r) = if swap[i] { (right, left) } else { (left, right) };
+                    let (l, r) = (index[l], index[r]);
+                    self.children[k] = [l, r];
+                    self.parent[l as usize] = k as u32;
+                    self.parent[r as usize] = k as u32;
+                    self.is_left[l as usize] = true;
+                }
+                // A unary node's operand counts as a left one: no traversal
+                // ever waits for a second operand there.
+                Node::Unary { child, .. } => {
+                    let c = index[child];
+                    self.children[k][0] = c;
+                    self.parent[c as usize] = k as u32;
+                    self.is_left[c as usize] = true;
+                }
+                Node::Primitive(_) => {}
             }
         }
     }
@@ -304,6 +391,7 @@ impl Linear {
                     let (b, r) = op.blend.map_or((0.0, 0.0), |b| (b.beta as f32, b.range as f32));
                     self.params.push([b, r, 0.0, 0.0]);
                 }
+                Node::Unary { op, .. } => self.params.push(unary_row(op)),
             }
             self.nodes.push([x, y, self.fast[k], 0]);
         }
@@ -328,6 +416,11 @@ impl Linear {
     pub fn is_leaf(&self, k: u32) -> bool {
         self.nodes[k as usize][0] & NODE_LEAF_BIT != 0
     }
+
+    /// Whether node `k` is a unary node.
+    pub fn is_unary(&self, k: u32) -> bool {
+        is_unary_code((self.nodes[k as usize][0] >> NODE_TYPE_SHIFT) & NODE_TYPE_MASK)
+    }
 }
 
 /// For every operator, whether to swap its operands, and the root's stack need.
@@ -336,6 +429,9 @@ fn operand_order(scene: &Scene) -> Result<(Vec<bool>, u32), SceneError> {
     let mut need = vec![1u32; nodes.len()];
     let mut swap = vec![false; nodes.len()];
     for &i in scene.post_order() {
+        if let Node::Unary { child, .. } = nodes[i] {
+            need[i] = need[child];
+        }
         if let Node::Operator { op, left, right } = nodes[i] {
             let (mut l, mut r) = (need[left], need[right]);
             if op.commutative() && r > l {
@@ -371,19 +467,27 @@ fn ordered_post(scene: &Scene, swap: &[bool]) -> Vec<NodeId> {
                 stack.push((r, false));
                 stack.push((l, false));
             }
+            Node::Unary { child, .. } if !expanded => {
+                stack.push((i, true));
+                stack.push((child, false));
+            }
             _ => out.push(i),
         }
     }
     out
 }
 
-/// Whether a chain on side `left` may jump over operator `m`: union-like on
-/// both sides, difference-like on the left only, intersection never.
-fn passes(op: &Operator, left: bool) -> bool {
-    match op.kind {
-        OpKind::Union => true,
-        OpKind::Difference => left,
-        OpKind::Intersection => false,
+/// Whether a chain on side `left` may jump over `node`: union-like
+/// operators on both sides, difference-like on the left only, intersections
+/// and unary nodes (which change the value) never.
+fn passes(node: &Node, left: bool) -> bool {
+    match node {
+        Node::Operator { op, .. } => match op.kind {
+            OpKind::Union => true,
+            OpKind::Difference => left,
+            OpKind::Intersection => false,
+        },
+        _ => false,
     }
 }
 
@@ -393,16 +497,12 @@ fn passes(op: &Operator, left: bool) -> bool {
 fn fast_ancestors(parent: &[u32], is_left: &[bool], order: &[NodeId], scene: &Scene) -> Vec<u32> {
     let n = parent.len();
     let root = n - 1;
-    let op = |m: usize| match scene.nodes()[order[m]] {
-        Node::Operator { op, .. } => op,
-        Node::Primitive(_) => unreachable!("a parent is an operator"),
-    };
     let mut jump = vec![root; n];
     for m in (0..root).rev() {
         if !is_operator(scene, order[m]) {
             continue;
         }
-        jump[m] = if !passes(&op(m), is_left[m]) {
+        jump[m] = if !passes(&scene.nodes()[order[m]], is_left[m]) {
             m
         } else {
             let p = parent[m] as usize;
@@ -418,11 +518,54 @@ fn fast_ancestors(parent: &[u32], is_left: &[bool], order: &[NodeId], scene: &Sc
 }
 
 fn is_operator(scene: &Scene, i: NodeId) -> bool {
-    matches!(scene.nodes()[i], Node::Operator { .. })
+    !matches!(scene.nodes()[i], Node::Primitive(_))
+}
+
+/// A unary node's parameter row (its type code tells the interpreter
+/// which): offset (d), shell (t/2), infill (k = 2π/period, thickness/2,
+/// 1/(k√6)), displace (amplitude, frequency).
+fn unary_row(op: &Unary) -> [f32; 4] {
+    let f = |v: f64| v as f32;
+    match *op {
+        Unary::Offset { distance } => [f(distance), 0.0, 0.0, 0.0],
+        Unary::Shell { thickness } => [f(0.5 * thickness), 0.0, 0.0, 0.0],
+        Unary::Infill { period, thickness } => {
+            let k = std::f64::consts::TAU / period;
+            [f(k), f(0.5 * thickness), f(1.0 / (k * 6f64.sqrt())), 0.0]
+        }
+        Unary::Displace { amplitude, frequency } => [f(amplitude), f(frequency), 0.0, 0.0],
+    }
+}
+
+/// The `FEATURE_*` bits of the node types `scene` uses.
+fn features(scene: &Scene) -> u32 {
+    scene.nodes().iter().fold(0, |acc, n| {
+        acc | match n {
+            Node::Primitive(p) => match p.shape {
+                Shape::Extrude { profile: Profile::Polygon { .. }, .. } | Shape::Revolve { profile: Profile::Polygon { .. }, .. } => FEATURE_PROFILE | FEATURE_POLYGON,
+                Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
+                _ => 0,
+            },
+            Node::Operator { .. } => 0,
+            Node::Unary { op: Unary::Infill { .. }, .. } => FEATURE_UNARY | FEATURE_INFILL,
+            Node::Unary { op: Unary::Displace { .. }, .. } => FEATURE_UNARY | FEATURE_DISPLACE,
+            Node::Unary { .. } => FEATURE_UNARY,
+        }
+    })
+}
+
+/// The bound [`Linear::lipschitz`] returns for `scene`.
+fn lipschitz_bound(scene: &Scene) -> f64 {
+    let smooth = scene.nodes().iter().any(|n| matches!(n, Node::Operator { op, .. } if op.blend.is_some()));
+    let base = if smooth { SMOOTH_LIPSCHITZ } else { 1.0 };
+    base * roi::displacement_lipschitz(scene)
 }
 
 /// A primitive's rows in `params`: the matrix, then its parameters.
 pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
+    if let Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } = p.shape {
+        return profile_rows(p, &profile);
+    }
     let mut m = p.transform.matrix();
     let s = p.transform.scale as f32;
     let f = |v: f64| v as f32;
@@ -451,10 +594,41 @@ pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
             let len = glam::DVec3::from(normal).length();
             (normal.map(|n| n / len), 0.0, offset, FORM_PLANE)
         }
+        Shape::Extrude { .. } | Shape::Revolve { .. } => unreachable!("profiles have rows of their own"),
     };
     let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
     rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
     rows.push([f(round), f(major), form as f32, 0.0]);
+    rows
+}
+
+/// An extruded or revolved profile's rows: the matrix, (s, e.x, e.y, half
+/// height), (r, R, form, polygon vertices), the segment (a, b), then the
+/// polygon's vertices two a row. Every profile but the polygon is
+/// box₂(u − a − (b − a)·h, e) − r (profile.rs).
+fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
+    let f = |v: f64| v as f32;
+    let (e, r, a, b) = match *profile {
+        Profile::Circle { radius } => ([0.0; 2], radius, [0.0; 2], [0.0; 2]),
+        Profile::Rect { half } => (half, 0.0, [0.0; 2], [0.0; 2]),
+        Profile::RoundRect { half, radius } => (half.map(|h| h - radius), radius, [0.0; 2], [0.0; 2]),
+        Profile::Capsule { a, b, radius } => ([0.0; 2], radius, a, b),
+        Profile::Polygon { .. } => ([0.0; 2], 0.0, [0.0; 2], [0.0; 2]),
+    };
+    let (h, major, form) = match p.shape {
+        Shape::Extrude { half_height, .. } => (half_height, 0.0, FORM_EXTRUDE),
+        Shape::Revolve { offset, .. } => (0.0, offset, FORM_REVOLVE),
+        _ => unreachable!("a profile primitive"),
+    };
+    let vertices = profile.vertices();
+    let mut rows: Vec<[f32; 4]> = p.transform.matrix().iter().map(|r| r.map(f)).collect();
+    rows.push([f(p.transform.scale), f(e[0]), f(e[1]), f(h)]);
+    rows.push([f(r), f(major), form as f32, vertices.len() as f32]);
+    rows.push([f(a[0]), f(a[1]), f(b[0]), f(b[1])]);
+    for pair in vertices.chunks(2) {
+        let q = pair.get(1).copied().unwrap_or([0.0; 2]);
+        rows.push([f(pair[0][0]), f(pair[0][1]), f(q[0]), f(q[1])]);
+    }
     rows
 }
 
@@ -547,7 +721,7 @@ impl Linear {
     /// an infinite radius and is active everywhere).
     pub fn field_data(&self) -> crate::codegen::SceneData {
         let balls = self.abvs.iter().map(ball).collect();
-        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls }
+        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls, features: self.features }
     }
 
     /// Replaces primitive number `j` (in `primitives` order) by `p` of the
@@ -582,10 +756,11 @@ impl Linear {
     }
 
     /// The Lipschitz bound to trace the scene with: 1, or
-    /// [`SMOOTH_LIPSCHITZ`] when it has a compact smooth operator.
+    /// [`SMOOTH_LIPSCHITZ`] when it has a compact smooth operator, times
+    /// the bound its displacements give ([`roi::displacement_lipschitz`];
+    /// 1 without any).
     pub fn lipschitz(&self) -> f64 {
-        let smooth = self.nodes.iter().any(|n| (n[0] >> NODE_TYPE_SHIFT) & NODE_TYPE_MASK >= SMOOTH_UNION);
-        if smooth { SMOOTH_LIPSCHITZ } else { 1.0 }
+        self.lipschitz
     }
 
     /// Parameter rows of node `k`: up to the next node's first row.

@@ -33,12 +33,16 @@ pub mod linear;
 pub mod lower;
 pub mod operator;
 pub mod primitive;
+pub mod profile;
 pub mod roi;
 pub mod sparse;
+pub mod unary;
 
 pub use lower::{from_formula, NotBlobtree};
 pub use operator::{Blend, OpKind, Operator};
 pub use primitive::{Primitive, Rotation, Shape, ShapeKind, Transform};
+pub use profile::Profile;
+pub use unary::{Unary, UnaryKind};
 
 use std::collections::BTreeMap;
 
@@ -70,6 +74,38 @@ pub enum Node {
         /// The right operand.
         right: NodeId,
     },
+    /// A function of one operand's value (offset, shell, infill, displace).
+    Unary {
+        /// The operation.
+        op: Unary,
+        /// The operand.
+        child: NodeId,
+    },
+}
+
+impl Node {
+    /// The operands in order (left before right): none, one or two.
+    pub fn children(&self) -> Children {
+        match *self {
+            Node::Primitive(_) => Children { ids: [0; 2], len: 0 },
+            Node::Operator { left, right, .. } => Children { ids: [left, right], len: 2 },
+            Node::Unary { child, .. } => Children { ids: [child, 0], len: 1 },
+        }
+    }
+}
+
+/// A node's operands, without an allocation.
+#[derive(Debug, Clone, Copy)]
+pub struct Children {
+    ids: [NodeId; 2],
+    len: usize,
+}
+
+impl std::ops::Deref for Children {
+    type Target = [NodeId];
+    fn deref(&self) -> &[NodeId] {
+        &self.ids[..self.len]
+    }
 }
 
 /// An invalid scene: the JSON path of the bad value and what is wrong
@@ -167,9 +203,8 @@ impl Scene {
         depth[self.root] = 1;
         let mut max = 1;
         for &i in self.post.iter().rev() {
-            if let Node::Operator { left, right, .. } = self.nodes[i] {
-                depth[left] = depth[i] + 1;
-                depth[right] = depth[i] + 1;
+            for &c in self.nodes[i].children().iter() {
+                depth[c] = depth[i] + 1;
                 max = max.max(depth[i] + 1);
             }
         }
@@ -189,6 +224,10 @@ impl Scene {
                     s.operators += 1;
                     *s.ops.entry(op.name()).or_default() += 1;
                 }
+                Node::Unary { op, .. } => {
+                    s.operators += 1;
+                    *s.ops.entry(op.kind().name()).or_default() += 1;
+                }
             }
         }
         s
@@ -202,13 +241,13 @@ pub struct Summary {
     pub nodes: usize,
     /// Leaves.
     pub primitives: usize,
-    /// Operators.
+    /// Operators, binary and unary.
     pub operators: usize,
     /// Longest root-to-leaf path, in nodes.
     pub depth: usize,
     /// Primitives per type name.
     pub shapes: BTreeMap<&'static str, usize>,
-    /// Operators per type name.
+    /// Operators (binary and unary) per type name.
     pub ops: BTreeMap<&'static str, usize>,
 }
 
@@ -232,6 +271,24 @@ fn check_node(i: usize, node: &Node, n: usize) -> Result<(), SceneError> {
             }
             Ok(())
         }
+        Node::Unary { op, child } => {
+            op.check().map_err(|(field, reason)| SceneError::at(i, &field, reason))?;
+            if *child >= n {
+                return Err(SceneError::at(i, "child", format!("refers to nodes[{child}], but the scene has {n} nodes")));
+            }
+            if *child == i {
+                return Err(SceneError::at(i, "child", "refers to the node itself"));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The field name of operand `k` of `node` in a scene file.
+fn operand_field(node: &Node, k: usize) -> &'static str {
+    match node {
+        Node::Unary { .. } => "child",
+        _ => ["left", "right"][k],
     }
 }
 
@@ -239,8 +296,9 @@ fn check_node(i: usize, node: &Node, n: usize) -> Result<(), SceneError> {
 fn parents(nodes: &[Node], root: NodeId) -> Result<Vec<Option<NodeId>>, SceneError> {
     let mut parent: Vec<Option<NodeId>> = vec![None; nodes.len()];
     for (i, node) in nodes.iter().enumerate() {
-        if let Node::Operator { left, right, .. } = *node {
-            for (field, c) in [("left", left), ("right", right)] {
+        for (k, &c) in node.children().iter().enumerate() {
+            let field = operand_field(node, k);
+            {
                 if c == root {
                     return Err(SceneError::at(i, field, format!("refers to the root, nodes[{root}]")));
                 }
@@ -260,13 +318,12 @@ fn post_order(nodes: &[Node], root: NodeId) -> Vec<NodeId> {
     let mut out = Vec::with_capacity(nodes.len());
     let mut stack = vec![(root, false)];
     while let Some((i, expanded)) = stack.pop() {
-        match nodes[i] {
-            Node::Operator { left, right, .. } if !expanded => {
-                stack.push((i, true));
-                stack.push((right, false));
-                stack.push((left, false));
-            }
-            _ => out.push(i),
+        let children = nodes[i].children();
+        if expanded || children.is_empty() {
+            out.push(i);
+        } else {
+            stack.push((i, true));
+            stack.extend(children.iter().rev().map(|&c| (c, false)));
         }
     }
     out
@@ -301,6 +358,12 @@ impl Builder {
     /// Adds a primitive.
     pub fn primitive(&mut self, p: Primitive) -> NodeId {
         self.nodes.push(Node::Primitive(p));
+        self.nodes.len() - 1
+    }
+
+    /// Adds `op(child)`.
+    pub fn unary(&mut self, op: Unary, child: NodeId) -> NodeId {
+        self.nodes.push(Node::Unary { op, child });
         self.nodes.len() - 1
     }
 

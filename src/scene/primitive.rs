@@ -16,7 +16,8 @@
 //! transform is an isometry times s, so an exact distance stays exact and a
 //! 1-Lipschitz bound stays 1-Lipschitz.
 
-use glam::DVec3;
+use super::profile::{self, Profile};
+use glam::{DVec2, DVec3};
 
 /// The shape of a primitive, in its local frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,6 +77,23 @@ pub enum Shape {
         /// Offset along the unit normal.
         offset: f64,
     },
+    /// A 2D profile in the local xy plane extruded along z: exact for the
+    /// exact profiles of [`Profile`] (`extrude(h, profile)`).
+    Extrude {
+        /// The cross-section.
+        profile: Profile,
+        /// Half height h > 0.
+        half_height: f64,
+    },
+    /// A 2D profile revolved around the local z axis: the profile's u.x is
+    /// the distance from the axis minus `offset`, u.y is z
+    /// (`revolve(R, profile)`).
+    Revolve {
+        /// The cross-section.
+        profile: Profile,
+        /// R ≥ 0: where the profile's origin sits from the axis.
+        offset: f64,
+    },
 }
 
 /// The primitive types, with the type codes of the linear form
@@ -98,11 +116,15 @@ pub enum ShapeKind {
     Octahedron = 7,
     /// `plane`
     Plane = 8,
+    /// `extrude`
+    Extrude = 9,
+    /// `revolve`
+    Revolve = 10,
 }
 
 impl ShapeKind {
     /// Every kind, in type-code order.
-    pub const ALL: [ShapeKind; 8] = [
+    pub const ALL: [ShapeKind; 10] = [
         ShapeKind::Sphere,
         ShapeKind::Box,
         ShapeKind::RoundBox,
@@ -111,6 +133,8 @@ impl ShapeKind {
         ShapeKind::Cylinder,
         ShapeKind::Octahedron,
         ShapeKind::Plane,
+        ShapeKind::Extrude,
+        ShapeKind::Revolve,
     ];
 
     /// The `type` of a scene file node.
@@ -124,6 +148,8 @@ impl ShapeKind {
             ShapeKind::Cylinder => "cylinder",
             ShapeKind::Octahedron => "octahedron",
             ShapeKind::Plane => "plane",
+            ShapeKind::Extrude => "extrude",
+            ShapeKind::Revolve => "revolve",
         }
     }
 
@@ -145,6 +171,8 @@ impl Shape {
             Shape::Cylinder { .. } => ShapeKind::Cylinder,
             Shape::Octahedron { .. } => ShapeKind::Octahedron,
             Shape::Plane { .. } => ShapeKind::Plane,
+            Shape::Extrude { .. } => ShapeKind::Extrude,
+            Shape::Revolve { .. } => ShapeKind::Revolve,
         }
     }
 
@@ -169,6 +197,8 @@ impl Shape {
                 let n = DVec3::from(normal);
                 n.dot(q) / n.length() - offset
             }
+            Shape::Extrude { profile, half_height } => profile::extrude(profile.distance(DVec2::new(q.x, q.y)), q.z, half_height),
+            Shape::Revolve { profile, offset } => profile.distance(DVec2::new(q.x.hypot_like(q.y) - offset, q.z)),
         }
     }
 
@@ -217,6 +247,20 @@ impl Shape {
                     Err(("normal".into(), "must not be zero".into()))
                 }
             }
+            Shape::Extrude { profile, half_height } => {
+                profile.check()?;
+                positive("half_height", half_height)
+            }
+            Shape::Revolve { profile, offset } => {
+                profile.check()?;
+                if !(offset >= 0.0) {
+                    return Err(("offset".into(), "must be >= 0".into()));
+                }
+                if !(profile.bounds().1[0] + offset > 0.0) {
+                    return Err(("offset".into(), "the profile lies on the far side of the axis (u.x <= -offset everywhere): nothing is revolved".into()));
+                }
+                Ok(())
+            }
         }
     }
 }
@@ -235,6 +279,8 @@ impl Shape {
             Shape::Cylinder { radius, half_height } => [one("radius", radius), one("half_height", half_height)].concat(),
             Shape::Octahedron { size } => one("size", size),
             Shape::Plane { normal, offset } => [three("normal", normal), one("offset", offset)].concat(),
+            Shape::Extrude { profile, half_height } => [profile.fields(), one("half_height", half_height)].concat(),
+            Shape::Revolve { profile, offset } => [profile.fields(), one("offset", offset)].concat(),
         }
     }
 }

@@ -37,6 +37,10 @@ pub fn ranges(scene: &Scene) -> Vec<Roi> {
     let nodes = scene.nodes();
     let mut roi = vec![Roi { lo: 0.0, hi: 0.0 }; nodes.len()];
     for &i in scene.post_order().iter().rev() {
+        if let Node::Unary { op, child } = nodes[i] {
+            let (lo, hi) = op.operand_range(roi[i].lo, roi[i].hi);
+            roi[child] = Roi { lo, hi };
+        }
         if let Node::Operator { op, left, right } = nodes[i] {
             let Roi { lo, hi } = roi[i];
             let ro = op.range();
@@ -55,17 +59,41 @@ pub fn ranges(scene: &Scene) -> Vec<Roi> {
 /// Every node's Lipschitz factor from the operators above it: the product
 /// of 6r_o/(6r_o − β) along the path from the root (1 for sharp ones).
 /// Loose: the brief measured max |∇f| ≤ 1.23 where this product is larger.
+/// A displacement above a node adds to the bound of its operand's field,
+/// which is then at most the sum, so it is carried as a separate term:
+/// see [`displacement_lipschitz`].
 pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
     let nodes = scene.nodes();
     let mut lip = vec![1.0; nodes.len()];
     for &i in scene.post_order().iter().rev() {
-        if let Node::Operator { op, left, right } = nodes[i] {
-            let l = lip[i] * op.lipschitz_factor();
-            lip[left] = l;
-            lip[right] = l;
+        let l = match nodes[i] {
+            Node::Operator { op, .. } => lip[i] * op.lipschitz_factor(),
+            _ => lip[i],
+        };
+        for &c in nodes[i].children().iter() {
+            lip[c] = l;
         }
     }
     lip
+}
+
+/// A Lipschitz bound of the whole field from its exact (1-Lipschitz)
+/// primitives and its displacements, ignoring the compact operators'
+/// factors (which the renderer covers with its empirical 1.45): bottom up,
+/// a primitive is 1, a binary operator the larger of its operands, a
+/// displacement its operand's plus a·f·NOISE_GRADIENT, other unary nodes
+/// their operand's.
+pub fn displacement_lipschitz(scene: &Scene) -> f64 {
+    let nodes = scene.nodes();
+    let mut lip = vec![1.0f64; nodes.len()];
+    for &i in scene.post_order() {
+        lip[i] = match nodes[i] {
+            Node::Primitive(_) => 1.0,
+            Node::Operator { left, right, .. } => lip[left].max(lip[right]),
+            Node::Unary { op, child } => lip[child] + op.lipschitz_increase(),
+        };
+    }
+    lip[scene.root()]
 }
 
 /// An augmented bounding volume, in world coordinates.
@@ -102,6 +130,9 @@ pub enum Abv {
 
 /// The ABV of primitive `p` whose range of interest reaches `r_plus`.
 pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
+    // Below an erosion r⁺ may be negative; a volume grown by 0 still holds
+    // the smaller set.
+    let r_plus = r_plus.max(0.0);
     let t = &p.transform;
     let s = t.scale;
     let centre = t.to_world(DVec3::ZERO).to_array();
@@ -122,6 +153,28 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
         Shape::Cylinder { radius, half_height } => obb([radius, radius, half_height]),
         Shape::Octahedron { size } => Abv::Sphere { centre, radius: s * size + 3f64.sqrt() * r_plus },
         Shape::Plane { .. } => Abv::Always,
+        Shape::Extrude { profile, half_height } => {
+            let (lo, hi) = profile.bounds();
+            let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.0];
+            profile_box(p, c, [0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]), half_height], r_plus)
+        }
+        Shape::Revolve { profile, offset } => {
+            // The profile's (u.x, u.y) is (distance from the axis − R, z).
+            let (lo, hi) = profile.bounds();
+            let radius = offset + hi[0];
+            profile_box(p, [0.0, 0.0, 0.5 * (lo[1] + hi[1])], [radius, radius, 0.5 * (hi[1] - lo[1])], r_plus)
+        }
+    }
+}
+
+/// The oriented box of local centre `c` and local half extents `h`, grown
+/// by `r_plus` in world units.
+fn profile_box(p: &Primitive, c: [f64; 3], h: [f64; 3], r_plus: f64) -> Abv {
+    let t = &p.transform;
+    Abv::Box {
+        centre: t.to_world(DVec3::from(c)).to_array(),
+        axes: [DVec3::X, DVec3::Y, DVec3::Z].map(|e| t.world_direction(e).to_array()),
+        half: h.map(|v| t.scale * v + r_plus),
     }
 }
 
@@ -228,6 +281,9 @@ pub fn bounds(scene: &Scene, roi: &[Roi]) -> Aabb {
                 super::OpKind::Intersection => b[*left].intersection(&b[*right]),
                 super::OpKind::Difference => b[*left],
             },
+            // The operand's box holds {operand ≤ its r⁺}, which holds
+            // {node ≤ r⁺} (operand_range): the same box.
+            Node::Unary { child, .. } => b[*child],
         };
     }
     b[scene.root()]

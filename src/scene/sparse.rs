@@ -20,7 +20,7 @@
 
 use super::linear::Linear;
 use super::operator::select_kind;
-use super::{Node, Operator, Scene};
+use super::{Node, Operator, Scene, Unary};
 
 /// Which ancestor index the traversal climbs by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,20 +79,38 @@ fn check_active(lin: &Linear, active: &[u32]) -> Result<(), SparseError> {
 pub fn operator_at(lin: &Linear, scene: &Scene, m: u32) -> Operator {
     match scene.nodes()[lin.order[m as usize]] {
         Node::Operator { op, .. } => op,
-        Node::Primitive(_) => unreachable!("node {m} is a primitive"),
+        _ => unreachable!("node {m} is not a binary operator"),
     }
 }
 
-/// The traversal over any value type: `prim(b)` evaluates primitive b,
-/// `op(m, l, r)` operator m with both operands present.
-fn walk<V: Copy>(
+/// The unary node at post-order index `m`.
+pub fn unary_at(lin: &Linear, scene: &Scene, m: u32) -> Unary {
+    match scene.nodes()[lin.order[m as usize]] {
+        Node::Unary { op, .. } => op,
+        _ => unreachable!("node {m} is not a unary node"),
+    }
+}
+
+/// How a traversal computes values: `prim(b)` evaluates primitive b,
+/// `op(m, l, r)` binary operator m with both operands present, `un(m, v)`
+/// unary node m with its operand present.
+struct Eval<P, O, U> {
+    prim: P,
+    op: O,
+    un: U,
+}
+
+/// The traversal over any value type (see [`Eval`]). A unary node's
+/// operand is a left one (linear.rs), so the climb reaches it with no
+/// pending operand: present, it joins the view; missing, it is missing.
+fn walk<V: Copy, P: FnMut(u32) -> V, O: FnMut(u32, V, V) -> V, U: FnMut(u32, V) -> V>(
     lin: &Linear,
     scene: &Scene,
     active: &[u32],
     anc: Ancestors,
-    mut prim: impl FnMut(u32) -> V,
-    mut op: impl FnMut(u32, V, V) -> V,
+    ev: Eval<P, O, U>,
 ) -> Result<Traversal<V>, SparseError> {
+    let Eval { mut prim, mut op, mut un } = ev;
     check_active(lin, active)?;
     let n = lin.len() as u32;
     let root = n - 1;
@@ -143,13 +161,21 @@ fn walk<V: Copy>(
                 (None, f)
             };
             f = match (l, r) {
+                (Some(l), None) if lin.is_unary(m) => {
+                    view.push(m);
+                    Some(un(m, l))
+                }
                 (Some(l), Some(r)) => {
                     view.push(m);
                     Some(op(m, l, r))
                 }
                 _ => {
-                    let kind = operator_at(lin, scene, m).kind;
-                    let v = select_kind(kind, l.is_some(), r.is_some()).and_then(|keep_left| if keep_left { l } else { r });
+                    let v = if lin.is_unary(m) {
+                        None
+                    } else {
+                        let kind = operator_at(lin, scene, m).kind;
+                        select_kind(kind, l.is_some(), r.is_some()).and_then(|keep_left| if keep_left { l } else { r })
+                    };
                     if v.is_none() {
                         view.truncate(start);
                     }
@@ -166,21 +192,26 @@ fn walk<V: Copy>(
 /// The field of the active primitives `active` (post-order indices,
 /// increasing) at `p`, by the sparse traversal.
 pub fn traverse(lin: &Linear, scene: &Scene, p: [f64; 3], active: &[u32], anc: Ancestors) -> Result<Traversal<f64>, SparseError> {
-    walk(lin, scene, active, anc, |b| primitive_value(lin, scene, b, p), |m, l, r| operator_at(lin, scene, m).apply(l, r))
+    let ev = Eval {
+        prim: |b| primitive_value(lin, scene, b, p),
+        op: |m, l, r| operator_at(lin, scene, m).apply(l, r),
+        un: |m, v| unary_at(lin, scene, m).apply(v, p),
+    };
+    walk(lin, scene, active, anc, ev)
 }
 
 /// The pruned view only: which operators evaluate depends on the tree and
 /// on A, not on field values, so one view serves a whole depth range.
 /// `value` is `Some(())` when the view is not empty.
 pub fn build_view(lin: &Linear, scene: &Scene, active: &[u32], anc: Ancestors) -> Result<Traversal<()>, SparseError> {
-    walk(lin, scene, active, anc, |_| (), |_, _, _| ())
+    walk(lin, scene, active, anc, Eval { prim: |_| (), op: |_, _, _| (), un: |_, _| () })
 }
 
 /// The value of primitive `b` (a post-order index) at `p`.
 pub fn primitive_value(lin: &Linear, scene: &Scene, b: u32, p: [f64; 3]) -> f64 {
     match &scene.nodes()[lin.order[b as usize]] {
         Node::Primitive(prim) => prim.distance(p),
-        Node::Operator { .. } => unreachable!("node {b} is an operator"),
+        _ => unreachable!("node {b} is an operator"),
     }
 }
 
@@ -190,6 +221,9 @@ pub fn eval_view(lin: &Linear, scene: &Scene, p: [f64; 3], view: &[u32]) -> Opti
     for &i in view {
         if lin.is_leaf(i) {
             stack.push(primitive_value(lin, scene, i, p));
+        } else if lin.is_unary(i) {
+            let v = stack.pop().expect("a unary node in the view has its operand");
+            stack.push(unary_at(lin, scene, i).apply(v, p));
         } else {
             let r = stack.pop().expect("an operator in the view has two operands");
             let l = stack.pop().expect("an operator in the view has two operands");

@@ -17,7 +17,11 @@
 // form, 0). An operator's record: (beta, r_o, 0, 0).
 //
 // Node type codes and SCENE_MAX_STACK come from Rust (src/scene/linear.rs,
-// spliced before this file).
+// spliced before this file), and so does SCENE_FEATURES: the FEATURE_* bits
+// of the node types the scene uses. Code for the others sits behind
+// constant-false conditions that the driver's compiler removes, so a scene
+// of basic primitives runs the interpreter it ran before profiles, unary
+// nodes and displacements existed (a kernel per feature set, cached).
 
 @group(1) @binding(0) var scene_nodes: texture_2d<u32>;
 @group(1) @binding(1) var scene_params: texture_2d<f32>;
@@ -35,11 +39,64 @@ fn sd_box(q: vec3<f32>, h: vec3<f32>) -> f32 {
     return length(max(d, vec3<f32>(0.0))) + min(max(d.x, max(d.y, d.z)), 0.0);
 }
 
-// The distance of the primitive whose record is rows r0..r4 (the layout of
-// src/scene/linear.rs), at p. One branch-free formula for every type:
-// lavapipe runs the branches of a switch on SIMD lanes one after another
-// under masks, so a switch over eight types cost all eight every node.
-fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>) -> f32 {
+fn sd_box2(u: vec2<f32>, h: vec2<f32>) -> f32 {
+    let d = abs(u) - h;
+    return length(max(d, vec2<f32>(0.0))) + min(max(d.x, d.y), 0.0);
+}
+
+// Vertex k of the polygon whose vertices start at row `row`, two a row.
+fn scene_vertex(row: u32, k: u32) -> vec2<f32> {
+    let t = scene_param(row + k / 2u);
+    return select(t.xy, t.zw, (k & 1u) == 1u);
+}
+
+// The signed distance to a closed polygon of n vertices, even-odd sign
+// (src/scene/profile.rs, after Quilez's sdPolygon).
+fn scene_polygon(u: vec2<f32>, row: u32, n: u32) -> f32 {
+    let v0 = scene_vertex(row, 0u);
+    var d = dot(u - v0, u - v0);
+    var s = 1.0;
+    var vj = scene_vertex(row, n - 1u);
+    for (var i = 0u; i < n; i = i + 1u) {
+        let vi = scene_vertex(row, i);
+        let e = vj - vi;
+        let w = u - vi;
+        let b = w - e * clamp(dot(w, e) / dot(e, e), 0.0, 1.0);
+        d = min(d, dot(b, b));
+        let c = vec3<bool>((u.y >= vi.y), (u.y < vj.y), (e.x * w.y > e.y * w.x));
+        if (all(c) || !any(c)) { s = -s; }
+        vj = vi;
+    }
+    return s * sqrt(d);
+}
+
+// An extruded or revolved profile at local point q (rows: r3 = (s, e,
+// half height), r4 = (r, R, form, polygon vertices), row o + 5 the segment
+// (a, b), vertices from row o + PROFILE_ROWS): box2(u - a - (b - a) h, e) - r
+// for every profile but the polygon (src/scene/linear.rs, profile_rows).
+fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32, leaf: bool) -> f32 {
+    let revolve = u32(r4.z) == FORM_REVOLVE;
+    let u = select(q.xy, vec2<f32>(length(q.xy) - r4.y, q.z), revolve);
+    let seg = scene_param(o + 5u);
+    let ba = seg.zw - seg.xy;
+    let h = clamp(dot(u - seg.xy, ba) / max(dot(ba, ba), 1e-30), 0.0, 1.0);
+    var d2 = sd_box2(u - seg.xy - ba * h, r3.yz) - r4.x;
+    if ((SCENE_FEATURES & FEATURE_POLYGON) != 0u) {
+        // Only a polygon's lanes loop (an operator's row 4 is another node's).
+        let n = select(0u, min(u32(r4.w), MAX_POLYGON), leaf && u32(r4.z) >= FORM_EXTRUDE);
+        if (n >= 3u) { d2 = scene_polygon(u, o + PROFILE_ROWS, n); }
+    }
+    let w = vec2<f32>(d2, abs(q.z) - r3.w);
+    let extruded = min(max(w.x, w.y), 0.0) + length(max(w, vec2<f32>(0.0)));
+    return select(extruded, d2, revolve);
+}
+
+// The distance of the primitive whose record starts at row o with rows
+// r0..r4 (the layout of src/scene/linear.rs), at p. One branch-free formula
+// for every basic type: lavapipe runs the branches of a switch on SIMD
+// lanes one after another under masks, so a switch over eight types cost
+// all eight every node. Profiles only where the scene has them.
+fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
     let p4 = vec4<f32>(p, 1.0);
     let q = vec3<f32>(dot(r0, p4), dot(r1, p4), dot(r2, p4));
     let form = u32(r4.z);
@@ -47,7 +104,27 @@ fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r
     var d = sd_box(v, r3.yzw) - r4.x;
     d = select(d, (abs(q.x) + abs(q.y) + abs(q.z) - r3.y) * 0.57735027, form == FORM_OCTAHEDRON);
     d = select(d, dot(r3.yzw, q) - r4.y, form == FORM_PLANE);
+    if ((SCENE_FEATURES & FEATURE_PROFILE) != 0u) {
+        d = select(d, scene_profiled(q, r3, r4, o, leaf), form == FORM_EXTRUDE || form == FORM_REVOLVE);
+    }
     return r3.x * d;
+}
+
+// A unary node of type `ty` with record k on operand value v at p (src/scene/
+// unary.rs; rows in linear.rs, unary_row): offset v - d, shell |v| - t/2,
+// infill max(v, |gyroid(k p)| / (k sqrt 6) - thickness/2), displace
+// v + a n(p).
+fn scene_unary(ty: u32, k: vec4<f32>, v: f32, p: vec3<f32>) -> f32 {
+    var r = select(v - k.x, abs(v) - k.x, ty == NODE_SHELL);
+    if ((SCENE_FEATURES & FEATURE_INFILL) != 0u) {
+        let q = p * k.x;
+        let g = sin(q.x) * cos(q.y) + sin(q.y) * cos(q.z) + sin(q.z) * cos(q.x);
+        r = select(r, max(v, abs(g) * k.z - k.y), ty == NODE_INFILL);
+    }
+    if ((SCENE_FEATURES & FEATURE_DISPLACE) != 0u) {
+        r = select(r, v + k.x * scene_noise(p, k.y), ty == NODE_DISPLACE);
+    }
+    return r;
 }
 
 // Zanni's blend d(a, b, beta) = beta/6 max(1 - |a - b|/beta, 0)^3, NaN-free.
@@ -227,14 +304,19 @@ var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 // would run both branches anyway.
 fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f32>) {
     let o = entry_row(e);
+    let leaf = (e >> 31u) != 0u;
+    let ty = entry_type(e);
     let r0 = scene_param(o);
-    let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), scene_param(o + 3u), scene_param(o + 4u), p);
+    let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), scene_param(o + 3u), scene_param(o + 4u), p, o, leaf);
     let below = g_scene_stack[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
-    let op_value = scene_operator(entry_type(e), r0, below, *top);
-    if ((e >> 31u) != 0u) {
+    let op_value = scene_operator(ty, r0, below, *top);
+    if (leaf) {
         g_scene_stack[min(*sp, SCENE_MAX_STACK - 1u)] = *top;
         *sp = *sp + 1u;
         *top = leaf_value;
+    } else if ((SCENE_FEATURES & FEATURE_UNARY) != 0u && ty >= NODE_OFFSET) {
+        // A unary node changes the top in place.
+        *top = scene_unary(ty, r0, *top, p);
     } else {
         *sp = *sp - 1u;
         *top = op_value;

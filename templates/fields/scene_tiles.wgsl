@@ -228,7 +228,8 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
                 rp = present;
             }
             let kind = node_type(scene_node(m).x);
-            if (lp && rp) {
+            // A unary node (its operand is a left one) needs only that.
+            if (lp && (rp || kind >= NODE_OFFSET)) {
                 if (vlen >= room) { ok = false; break; }
                 present = true;
                 scene_tile_view[at + vlen] = scene_entry(m);

@@ -173,3 +173,92 @@ pub fn eval_rows(ty: u32, rows: &[[f32; 4]], p: [f64; 3]) -> f64 {
     };
     (s * local) as f64
 }
+
+/// A random profile of size about `scale` (every type; polygons of 3 to
+/// 16 vertices, star-shaped around the origin so they are simple).
+pub fn random_profile(rng: &mut Rng, scale: f64) -> isotrace::scene::Profile {
+    use isotrace::scene::Profile;
+    let u = |rng: &mut Rng, lo: f64, hi: f64| scale * rng.range(lo, hi);
+    match rng.below(5) {
+        0 => Profile::Circle { radius: u(rng, 0.2, 0.7) },
+        1 => Profile::Rect { half: [u(rng, 0.2, 0.7), u(rng, 0.2, 0.7)] },
+        2 => {
+            let half = [u(rng, 0.2, 0.7), u(rng, 0.2, 0.7)];
+            Profile::RoundRect { half, radius: rng.range(0.0, 1.0) * half[0].min(half[1]) }
+        }
+        3 => Profile::Capsule { a: [u(rng, -0.5, 0.5), u(rng, -0.5, 0.5)], b: [u(rng, -0.5, 0.5), u(rng, -0.5, 0.5)], radius: u(rng, 0.1, 0.3) },
+        _ => {
+            let n = 3 + rng.below(14) as usize;
+            let pts: Vec<[f64; 2]> = (0..n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * (k as f64 + rng.range(0.0, 0.8)) / n as f64;
+                    let r = u(rng, 0.2, 0.8);
+                    [r * a.cos(), r * a.sin()]
+                })
+                .collect();
+            Profile::polygon(&pts)
+        }
+    }
+}
+
+/// A random extruded or revolved primitive near `centre`, randomly placed.
+pub fn random_profiled(rng: &mut Rng, centre: [f64; 3], scale: f64) -> Primitive {
+    let profile = random_profile(rng, scale);
+    let shape = if rng.unit() < 0.5 {
+        Shape::Extrude { profile, half_height: scale * rng.range(0.1, 0.6) }
+    } else {
+        // Keep some of the profile on the near side of the axis.
+        let reach = profile.bounds().1[0];
+        Shape::Revolve { profile, offset: (scale * rng.range(0.0, 0.8)).max(-reach + 0.05 * scale) }
+    };
+    let axis = rng.direction().to_array();
+    Primitive::new(shape).rotated(axis, rng.range(-3.0, 3.0)).scaled(rng.range(0.6, 1.4)).translated(centre)
+}
+
+/// A random unary node's operation (displacements gentle, so sampled
+/// Lipschitz checks stay meaningful).
+pub fn random_unary(rng: &mut Rng) -> isotrace::scene::Unary {
+    use isotrace::scene::Unary;
+    match rng.below(4) {
+        0 => Unary::Offset { distance: rng.range(-0.1, 0.25) },
+        1 => Unary::Shell { thickness: rng.range(0.05, 0.3) },
+        2 => Unary::Infill { period: rng.range(0.3, 1.2), thickness: rng.range(0.03, 0.15) },
+        _ => Unary::Displace { amplitude: rng.range(0.0, 0.08), frequency: rng.range(1.0, 6.0) },
+    }
+}
+
+/// A random tree of `n` primitives of every type (basic and profiled; no
+/// planes), clustered, combined at random by every operator, sharp or
+/// compact smooth, with a unary node over a leaf or a combination now and
+/// then.
+pub fn zoo_tree(rng: &mut Rng, n: usize) -> Scene {
+    let mut b = Builder::default();
+    let mut c = [0.0f64; 3];
+    let mut items: Vec<NodeId> = Vec::new();
+    for _ in 0..n {
+        c = c.map(|x| x + rng.range(-1.0, 1.0) * 0.6);
+        let scale = rng.range(0.4, 1.0);
+        let p = if rng.unit() < 0.5 { random_profiled(rng, c, scale) } else { random_primitive(rng, c, scale, false) };
+        let mut id = b.primitive(p);
+        if rng.unit() < 0.2 {
+            id = b.unary(random_unary(rng), id);
+        }
+        items.push(id);
+    }
+    while items.len() > 1 {
+        let i = rng.below(items.len() as u64 - 1) as usize;
+        let kind = [OpKind::Union, OpKind::Union, OpKind::Intersection, OpKind::Difference][rng.below(4) as usize];
+        let op = if rng.unit() < 0.5 {
+            let beta = rng.range(0.1, 0.6);
+            Operator::smooth(kind, Blend { beta, range: beta * rng.range(7.0 / 6.0, 3.0) })
+        } else {
+            Operator { kind, blend: None }
+        };
+        let mut m = b.operator(op, items[i], items[i + 1]);
+        if rng.unit() < 0.2 {
+            m = b.unary(random_unary(rng), m);
+        }
+        items.splice(i..i + 2, [m]);
+    }
+    b.finish(items[0]).unwrap()
+}

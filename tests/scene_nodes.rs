@@ -1,0 +1,360 @@
+//! The scene node zoo (issue "Scene nodes beyond the basic primitives"):
+//! extruded and revolved 2D profiles and unary nodes (offset, shell, gyroid
+//! infill, noise displacement). For each: the f64 reference against
+//! analytic or brute-force values, its Lipschitz bound by sampling, its
+//! bounding volume against its region of interest, the sparse traversal and
+//! the ranges of interest with it in the tree, and the device's
+//! interpreter against the reference at random points.
+
+mod scene_common;
+
+use glam::{DVec2, DVec3};
+use isotrace::scene::generate::Rng;
+use isotrace::scene::linear::{self, Linear};
+use isotrace::scene::profile::{self, Profile};
+use isotrace::scene::roi;
+use isotrace::scene::sparse::{self, Ancestors};
+use isotrace::scene::unary;
+use isotrace::scene::{format, Builder, Node, Primitive, Scene, Shape, Unary};
+use scene_common::{random_profile, random_profiled, surface_points, zoo_tree};
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * a.abs().max(b.abs()).max(1.0)
+}
+
+#[test]
+fn profiles_are_the_shapes_they_stand_for() {
+    let mut rng = Rng::new(1);
+    let prim = |shape: Shape| Primitive::new(shape);
+    let pairs = [
+        (prim(Shape::Extrude { profile: Profile::Circle { radius: 0.7 }, half_height: 0.4 }), prim(Shape::Cylinder { radius: 0.7, half_height: 0.4 })),
+        (prim(Shape::Revolve { profile: Profile::Circle { radius: 0.2 }, offset: 0.8 }), prim(Shape::Torus { major: 0.8, minor: 0.2 })),
+        (prim(Shape::Revolve { profile: Profile::Rect { half: [0.6, 0.3] }, offset: 0.0 }), prim(Shape::Cylinder { radius: 0.6, half_height: 0.3 })),
+        (prim(Shape::Extrude { profile: Profile::Rect { half: [0.6, 0.3] }, half_height: 0.2 }), prim(Shape::Box { half: [0.6, 0.3, 0.2] })),
+        (
+            prim(Shape::Extrude { profile: Profile::polygon(&[[-0.6, -0.3], [0.6, -0.3], [0.6, 0.3], [-0.6, 0.3]]), half_height: 0.2 }),
+            prim(Shape::Box { half: [0.6, 0.3, 0.2] }),
+        ),
+        (
+            prim(Shape::Extrude { profile: Profile::RoundRect { half: [0.6, 0.4], radius: 0.4 }, half_height: 0.5 }).rotated([1.0, 2.0, 0.5], 0.7),
+            prim(Shape::Extrude { profile: Profile::Capsule { a: [-0.2, 0.0], b: [0.2, 0.0], radius: 0.4 }, half_height: 0.5 }).rotated([1.0, 2.0, 0.5], 0.7),
+        ),
+    ];
+    for (a, b) in pairs {
+        for _ in 0..3000 {
+            let p = [0, 1, 2].map(|_| rng.range(-2.0, 2.0));
+            assert!(close(a.distance(p), b.distance(p), 1e-12), "{a:?} vs {b:?} at {p:?}: {} {}", a.distance(p), b.distance(p));
+        }
+    }
+}
+
+/// Brute force: the distance to a polygon's edges, sampled densely, and the
+/// even-odd rule by counting crossings of a ray towards +x.
+fn brute_polygon(u: DVec2, v: &[[f64; 2]]) -> f64 {
+    let n = v.len();
+    let mut d = f64::INFINITY;
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (DVec2::from(v[i]), DVec2::from(v[(i + 1) % n]));
+        for k in 0..=2000 {
+            d = d.min((a + (b - a) * (k as f64 / 2000.0) - u).length());
+        }
+        if (a.y > u.y) != (b.y > u.y) && u.x < a.x + (u.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            inside = !inside;
+        }
+    }
+    if inside { -d } else { d }
+}
+
+#[test]
+fn polygons_are_signed_distances_to_their_edges() {
+    let mut rng = Rng::new(2);
+    let mut checked = 0;
+    for _ in 0..40 {
+        let p = loop {
+            let p = random_profile(&mut rng, 1.0);
+            if let Profile::Polygon { .. } = p {
+                break p;
+            }
+        };
+        for _ in 0..60 {
+            let u = DVec2::new(rng.range(-1.2, 1.2), rng.range(-1.2, 1.2));
+            let (got, want) = (p.distance(u), brute_polygon(u, p.vertices()));
+            // The brute force samples edges every 1/2000 of their length.
+            assert!((got - want).abs() < 2e-3 && got.signum() == want.signum(), "{p:?} at {u}: {got} vs {want}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 600, "{checked}");
+}
+
+#[test]
+fn unary_nodes_follow_their_definitions() {
+    let mut b = Builder::default();
+    let s = b.primitive(Primitive::new(Shape::Sphere { radius: 1.0 }));
+    let o = b.unary(Unary::Offset { distance: 0.25 }, s);
+    let sh = b.unary(Unary::Shell { thickness: 0.2 }, o);
+    let scene = b.finish(sh).unwrap();
+    assert_eq!(scene.eval([0.0; 3]), 1.25 - 0.1);
+    assert_eq!(scene.eval([2.0, 0.0, 0.0]), 0.75 - 0.1);
+    assert!(close(scene.eval([1.25, 0.0, 0.0]), -0.1, 1e-15));
+    let p = DVec3::new(0.3, -0.2, 0.7);
+    let g = {
+        let k = std::f64::consts::TAU / 0.5;
+        let q = p * k;
+        (q.x.sin() * q.y.cos() + q.y.sin() * q.z.cos() + q.z.sin() * q.x.cos()).abs() / (k * 6f64.sqrt()) - 0.05
+    };
+    assert_eq!(Unary::Infill { period: 0.5, thickness: 0.1 }.apply(-1.0, p.to_array()), g.max(-1.0));
+    let n = unary::noise(p.to_array(), 3.0);
+    assert_eq!(Unary::Displace { amplitude: 0.1, frequency: 3.0 }.apply(0.5, p.to_array()), 0.5 + 0.1 * n);
+    // |n| ≤ 1 (the weights sum to 1) and its gradient is within the bound.
+    let mut rng = Rng::new(3);
+    let h = 1e-5;
+    for _ in 0..5000 {
+        let q = DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
+        let f = 4.0;
+        assert!(unary::noise(q.to_array(), f).abs() <= 1.0);
+        let grad: DVec3 = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (unary::noise((q + e * h).to_array(), f) - unary::noise((q - e * h).to_array(), f)) / (2.0 * h)).into();
+        assert!(grad.length() <= unary::NOISE_GRADIENT * f * (1.0 + 1e-6), "{}", grad.length());
+    }
+}
+
+/// The largest |f(a) − f(b)| / |a − b| over random close pairs.
+fn sampled_lipschitz(f: impl Fn([f64; 3]) -> f64, rng: &mut Rng, pairs: usize) -> f64 {
+    let mut worst = 0.0f64;
+    for _ in 0..pairs {
+        let a = DVec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+        let b = a + rng.direction() * rng.range(1e-4, 0.05);
+        worst = worst.max((f(a.to_array()) - f(b.to_array())).abs() / (a - b).length());
+    }
+    worst
+}
+
+#[test]
+fn lipschitz_bounds_hold_by_sampling() {
+    let mut rng = Rng::new(4);
+    for _ in 0..60 {
+        let p = random_profiled(&mut rng, [0.0; 3], 1.0);
+        let l = sampled_lipschitz(|x| p.distance(x), &mut rng, 3000);
+        assert!(l <= 1.0 + 1e-6, "{p:?}: {l}");
+    }
+    // Zoo trees: the bound the renderer uses (which covers displacements)
+    // holds for the whole field.
+    for _ in 0..30 {
+        let n = 1 + rng.below(12) as usize;
+        let scene = zoo_tree(&mut rng, n);
+        let lin = Linear::new(&scene).unwrap();
+        let l = sampled_lipschitz(|x| scene.eval(x), &mut rng, 4000);
+        assert!(l <= lin.lipschitz() * (1.0 + 1e-6), "{l} > {}: {}", lin.lipschitz(), format::to_json(&scene));
+    }
+}
+
+#[test]
+fn abvs_of_profiled_primitives_contain_their_region_of_interest() {
+    let mut rng = Rng::new(5);
+    let mut inside = 0;
+    for _ in 0..300 {
+        let centre = [0, 1, 2].map(|_| rng.range(-2.0, 2.0));
+        let size = rng.range(0.3, 1.5);
+        let prim = random_profiled(&mut rng, centre, size);
+        let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
+        let abv = roi::abv(&prim, r_plus);
+        let bb = abv.aabb();
+        for _ in 0..400 {
+            let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
+            if prim.distance(p) <= r_plus {
+                inside += 1;
+                assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
+            }
+        }
+    }
+    assert!(inside > 5_000, "{inside}");
+}
+
+fn same(a: Option<f64>, b: Option<f64>) -> bool {
+    a.map(f64::to_bits) == b.map(f64::to_bits)
+}
+
+/// Unary nodes in the tree: the sparse traversal still equals the masked
+/// evaluation bit for bit (with fast and parent ancestors, directly and
+/// through the pruned view), and with A = {p : f_p ≤ r_p⁺} every node is
+/// exact inside its range of interest and on the same side outside.
+#[test]
+fn sparse_traversal_and_ranges_hold_with_unary_nodes() {
+    let mut rng = Rng::new(6);
+    let (mut checks, mut unary_nodes, mut roi_checks) = (0, 0, 0);
+    for _ in 0..120 {
+        let n = 1 + rng.below(24) as usize;
+        let scene = zoo_tree(&mut rng, n);
+        unary_nodes += scene.nodes().iter().filter(|n| matches!(n, Node::Unary { .. })).count();
+        let lin = Linear::new(&scene).unwrap();
+        let r = roi::ranges(&scene);
+        for p in surface_points(&scene, &mut rng, 40, 0.5) {
+            let mut active = vec![false; scene.len()];
+            let mut a = Vec::new();
+            for &k in &lin.primitives {
+                let i = lin.order[k as usize];
+                let Node::Primitive(q) = scene.nodes()[i] else { unreachable!() };
+                if q.distance(p) <= r[i].hi {
+                    active[i] = true;
+                    a.push(k);
+                }
+            }
+            let reference = scene.eval_masked(p, &active);
+            for anc in [Ancestors::Fast, Ancestors::Parent] {
+                let t = sparse::traverse(&lin, &scene, p, &a, anc).unwrap();
+                assert!(same(t.value, reference), "{anc:?}: {:?} vs {reference:?}", t.value);
+                assert!(same(sparse::eval_view(&lin, &scene, p, &t.view), reference));
+                assert_eq!(sparse::build_view(&lin, &scene, &a, anc).unwrap().view, t.view);
+                checks += 1;
+            }
+            let (full, masked) = (scene.eval_nodes(p), scene.eval_masked_nodes(p, &active));
+            for i in 0..scene.len() {
+                let (f, s) = (full[i], masked[i].unwrap_or(f64::INFINITY));
+                let ok = if f > r[i].hi { s > r[i].hi } else if f < r[i].lo { s < r[i].lo } else { s == f };
+                assert!(ok, "node {i} ({:?}): full {f}, masked {s}, range {:?}", scene.nodes()[i], r[i]);
+                roi_checks += 1;
+            }
+        }
+    }
+    assert!(checks > 5_000 && unary_nodes > 200 && roi_checks > 50_000, "{checks} {unary_nodes} {roi_checks}");
+}
+
+/// A scene with every new node type: each profile extruded and revolved,
+/// each unary node, combined by sharp and smooth operators.
+pub fn every_node_scene() -> Scene {
+    let mut b = Builder::default();
+    let profiles = [
+        Profile::Circle { radius: 0.3 },
+        Profile::Rect { half: [0.35, 0.2] },
+        Profile::RoundRect { half: [0.35, 0.25], radius: 0.1 },
+        Profile::Capsule { a: [-0.2, -0.1], b: [0.25, 0.2], radius: 0.1 },
+        Profile::polygon(&[[0.0, 0.5], [0.12, 0.15], [0.48, 0.15], [0.2, -0.05], [0.3, -0.4], [0.0, -0.18], [-0.3, -0.4], [-0.2, -0.05], [-0.48, 0.15], [-0.12, 0.15]]),
+    ];
+    let mut items = Vec::new();
+    for (k, p) in profiles.into_iter().enumerate() {
+        let x = -2.0 + k as f64;
+        items.push(b.primitive(Primitive::new(Shape::Extrude { profile: p, half_height: 0.2 }).rotated([1.0, 0.3, 0.0], 0.6).translated([x, 0.8, 0.0])));
+        items.push(b.primitive(Primitive::new(Shape::Revolve { profile: p, offset: 0.3 }).rotated([0.2, 1.0, 0.0], 0.9).translated([x, -0.8, 0.0])));
+    }
+    let sphere = b.primitive(Primitive::new(Shape::Sphere { radius: 0.5 }).translated([0.0, 0.0, 1.5]));
+    let shell = b.unary(Unary::Shell { thickness: 0.1 }, sphere);
+    let cube = b.primitive(Primitive::new(Shape::RoundBox { half: [0.4; 3], radius: 0.05 }).translated([1.5, 0.0, 1.5]));
+    let infill = b.unary(Unary::Infill { period: 0.4, thickness: 0.05 }, cube);
+    let torus = b.primitive(Primitive::new(Shape::Torus { major: 0.4, minor: 0.12 }).translated([-1.5, 0.0, 1.5]));
+    let bumpy = b.unary(Unary::Displace { amplitude: 0.04, frequency: 5.0 }, torus);
+    let grown = b.unary(Unary::Offset { distance: 0.05 }, items[0]);
+    items[0] = grown;
+    let sharp = b.fold(isotrace::scene::Operator::UNION, &items);
+    let smooth = isotrace::scene::Operator::smooth(isotrace::scene::OpKind::Union, isotrace::scene::Blend::new(0.1));
+    let top = b.fold(smooth, &[shell, infill, bumpy]);
+    let root = b.operator(isotrace::scene::Operator::UNION, sharp, top);
+    b.finish(root).unwrap()
+}
+
+#[test]
+fn the_device_interpreter_agrees_with_the_reference_at_random_points() {
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let mut rng = Rng::new(7);
+    let mut scenes = vec![every_node_scene()];
+    scenes.extend((0..6).map(|_| zoo_tree(&mut rng, 20)));
+    for scene in scenes {
+        let lin = Linear::new(&scene).unwrap();
+        let bb = lin.bounds;
+        let points: Vec<[f64; 3]> = (0..4000).map(|_| [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.3, bb.max[k] + 0.3))).collect();
+        let p32: Vec<[f32; 3]> = points.iter().map(|p| p.map(|c| c as f32)).collect();
+        let got = isotrace::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
+        let mut worst = 0.0f64;
+        for (p, g) in p32.iter().zip(&got) {
+            let want = scene.eval(p.map(f64::from));
+            worst = worst.max((*g as f64 - want).abs());
+        }
+        // f32 parameters and arithmetic on fields of size about 1; the
+        // polygon's sign is exact away from its edges, where |f| is large.
+        assert!(worst < 2e-4, "worst difference {worst} (features {})", lin.features);
+    }
+}
+
+#[test]
+fn features_name_the_node_types_a_scene_uses() {
+    let scene = every_node_scene();
+    let lin = Linear::new(&scene).unwrap();
+    let all = linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE;
+    assert_eq!(lin.features, all);
+    let basic = isotrace::scene::generate::generate(isotrace::scene::generate::Kind::Aggregate, 1, isotrace::scene::generate::Blending::Smooth, 1).unwrap();
+    assert_eq!(Linear::new(&basic).unwrap().features, 0);
+    // Displacement raises the bound the scene is traced with.
+    assert!(lin.lipschitz() > linear::SMOOTH_LIPSCHITZ * (1.0 + 0.04 * 5.0 * unary::NOISE_GRADIENT) - 1e-9);
+}
+
+#[test]
+fn a_renderer_built_without_a_feature_refuses_a_scene_that_needs_it() {
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let basic = isotrace::scene::generate::generate(isotrace::scene::generate::Kind::Aggregate, 0, isotrace::scene::generate::Blending::Sharp, 1).unwrap();
+    let data = Linear::new(&basic).unwrap().field_data();
+    let o = isotrace::render::SphereOptions::default();
+    let mut r = isotrace::gpu::Renderer::new(&own, isotrace::codegen::FieldSource::Scene(&data), isotrace::render::Traversal::Sphere(o)).unwrap();
+    let zoo = Linear::new(&every_node_scene()).unwrap().field_data();
+    let e = r.set_field(isotrace::codegen::FieldSource::Scene(&zoo)).err().expect("refused").to_string();
+    assert!(e.contains("the scene uses node types the kernel was built without"), "{e}");
+    // The other way round works: a kernel with every feature draws a basic scene.
+    let mut r = isotrace::gpu::Renderer::new(&own, isotrace::codegen::FieldSource::Scene(&zoo), isotrace::render::Traversal::Sphere(isotrace::render::SphereOptions::default())).unwrap();
+    r.set_field(isotrace::codegen::FieldSource::Scene(&data)).unwrap();
+}
+
+#[test]
+fn new_nodes_round_trip_through_the_file_format() {
+    let scene = every_node_scene();
+    assert_eq!(format::parse(&format::to_json(&scene)).unwrap(), scene);
+    let mut rng = Rng::new(8);
+    for _ in 0..20 {
+        let s = zoo_tree(&mut rng, 8);
+        assert_eq!(format::parse(&format::to_json(&s)).unwrap(), s);
+    }
+}
+
+#[test]
+fn bad_new_nodes_are_named_by_their_json_path() {
+    let e = |node: &str| {
+        let text = format!("{{\"isotrace_scene\": 1, \"root\": 1, \"nodes\": [{{\"type\": \"sphere\", \"radius\": 1}}, {node}]}}");
+        format::parse(&text).unwrap_err().to_string()
+    };
+    let single = |node: &str| {
+        let text = format!("{{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{node}]}}");
+        format::parse(&text).unwrap_err().to_string()
+    };
+    assert_eq!(single(r#"{"type": "extrude", "profile": {"type": "circle", "radius": 0}, "half_height": 1}"#), "nodes[0].profile.radius: must be > 0");
+    assert_eq!(single(r#"{"type": "extrude", "profile": {"type": "cirle", "radius": 1}, "half_height": 1}"#), "nodes[0].profile.type: unknown profile 'cirle'; did you mean 'circle'?");
+    assert_eq!(single(r#"{"type": "extrude", "profile": {"type": "rect", "half": [1, 1], "radius": 2}, "half_height": 1}"#), "nodes[0].profile.radius: unknown field for a rect; expected half");
+    assert_eq!(single(r#"{"type": "extrude", "profile": {"type": "polygon", "points": [[0, 0], [1, 0]]}, "half_height": 1}"#), "nodes[0].profile.points: a polygon has 3 to 16 vertices, found 2");
+    assert_eq!(single(r#"{"type": "extrude", "profile": {"type": "polygon", "points": [[0, 0], [1, 0], [1]]}, "half_height": 1}"#), "nodes[0].profile.points[2]: expected [x, y], found an array");
+    assert_eq!(single(r#"{"type": "extrude", "profile": {"type": "circle", "radius": 1}}"#), "nodes[0].half_height: missing");
+    assert_eq!(single(r#"{"type": "revolve", "profile": {"type": "circle", "radius": 1}, "offset": -1}"#), "nodes[0].offset: must be >= 0");
+    assert_eq!(
+        single(r#"{"type": "revolve", "profile": {"type": "capsule", "a": [-3, 0], "b": [-2, 0], "radius": 0.5}, "offset": 1}"#),
+        "nodes[0].offset: the profile lies on the far side of the axis (u.x <= -offset everywhere): nothing is revolved"
+    );
+    assert_eq!(e(r#"{"type": "shell", "child": 0, "thickness": 0}"#), "nodes[1].thickness: must be > 0");
+    assert_eq!(e(r#"{"type": "shell", "child": 5, "thickness": 1}"#), "nodes[1].child: refers to nodes[5], but the scene has 2 nodes");
+    assert_eq!(e(r#"{"type": "infill", "child": 0, "period": 1}"#), "nodes[1].thickness: missing");
+    assert_eq!(e(r#"{"type": "displace", "child": 0, "amplitude": -1, "frequency": 2}"#), "nodes[1].amplitude: must be >= 0");
+    assert_eq!(e(r#"{"type": "offset", "child": 0, "distance": 1, "left": 0}"#), "nodes[1].left: unknown field for a offset; expected child or distance");
+}
+
+/// The f32 rows a profile primitive gets hold its parameters where the
+/// interpreter reads them (the layout of `linear.rs`).
+#[test]
+fn profile_rows_follow_the_layout() {
+    let p = Primitive::new(Shape::Extrude { profile: Profile::polygon(&[[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]]), half_height: 0.25 });
+    let rows = linear::primitive_rows(&p);
+    assert_eq!(rows.len() as u32, linear::PROFILE_ROWS + 2);
+    assert_eq!(rows[3], [1.0, 0.0, 0.0, 0.25]);
+    assert_eq!(rows[4], [0.0, 0.0, linear::FORM_EXTRUDE as f32, 3.0]);
+    assert_eq!(rows[6], [0.0, 0.0, 1.0, 0.0]);
+    assert_eq!(rows[7], [0.5, 1.0, 0.0, 0.0]);
+    let c = Primitive::new(Shape::Revolve { profile: Profile::Capsule { a: [0.1, 0.2], b: [0.3, 0.4], radius: 0.05 }, offset: 0.5 });
+    let rows = linear::primitive_rows(&c);
+    assert_eq!(rows[4], [0.05, 0.5, linear::FORM_REVOLVE as f32, 0.0]);
+    assert_eq!(rows[5], [0.1, 0.2, 0.3, 0.4]);
+    let _ = profile::MAX_POLYGON;
+}
