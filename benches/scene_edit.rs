@@ -28,14 +28,14 @@ fn edit(c: &mut Criterion) {
     let mut r = Renderer::new(&gpu, FieldSource::Scene(&data), Traversal::Sphere(o)).expect("renderer");
     let s = Settings::for_box([-1.3, 1.3, -1.3, 1.3, -1.3, 1.3], 256, 256);
     let j = lin.primitives.len() / 2;
-    let Node::Primitive(p) = scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!("a primitive") };
+    let Node::Primitive(p) = &scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!("a primitive") };
     let mut g = c.benchmark_group("scene edit, 11110 primitives");
     g.sample_size(20);
     let mut step = 0u32;
     g.bench_function("in place (set_primitive + patch_scene)", |b| {
         b.iter(|| {
             step += 1;
-            let mut q = p;
+            let mut q = p.clone();
             q.transform.translate[0] += 1e-3 * (step % 7) as f64;
             let patch = lin.set_primitive(j, black_box(&q)).expect("same type");
             r.patch_scene(&patch).expect("fits");
@@ -45,7 +45,7 @@ fn edit(c: &mut Criterion) {
     g.bench_function("rebuild (Linear::new + field_data + set_field)", |b| {
         b.iter(|| {
             let mut nodes = scene.nodes().to_vec();
-            let mut q = p;
+            let mut q = p.clone();
             q.transform.translate[0] += 1e-3;
             nodes[lin.order[lin.primitives[j] as usize]] = Node::Primitive(q);
             let edited = Scene::new(nodes, scene.root()).expect("valid");

@@ -92,12 +92,12 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
 
     // Move and grow the first primitive: same type, new rows and ball.
     let j = 0;
-    let Node::Primitive(p) = scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!() };
-    let mut q: Primitive = p;
+    let Node::Primitive(p) = &scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!() };
+    let mut q: Primitive = p.clone();
     q.transform.translate[0] += 0.2;
     q.transform.scale *= 1.3;
     let patch = lin.set_primitive(j, &q).unwrap();
-    let edited = with_primitive(&scene, &Linear::new(&scene).unwrap(), j, q);
+    let edited = with_primitive(&scene, &Linear::new(&scene).unwrap(), j, q.clone());
     let rebuilt = Linear::new(&edited).unwrap();
     assert_eq!((&lin.params, &lin.abv, &lin.nodes), (&rebuilt.params, &rebuilt.abv, &rebuilt.nodes));
     assert_eq!(lin.field_data(), rebuilt.field_data());

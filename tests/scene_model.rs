@@ -138,7 +138,7 @@ fn sparse_traversal_equals_masked_evaluation_bit_for_bit() {
             let mut a = Vec::new();
             for &k in &lin.primitives {
                 let i = lin.order[k as usize];
-                let Node::Primitive(q) = scene.nodes()[i] else { unreachable!() };
+                let Node::Primitive(q) = &scene.nodes()[i] else { unreachable!() };
                 if q.distance(p) <= r[i].hi || rng.unit() < 0.3 {
                     active[i] = true;
                     a.push(k);
@@ -229,21 +229,21 @@ fn decode_abv(rows: &[[f32; 4]; 4]) -> Abv {
 
 #[test]
 fn primitive_distances_match_analytic_values() {
-    let d = |p: Primitive, x: [f64; 3]| p.distance(x);
+    let d = |p: &Primitive, x: [f64; 3]| p.distance(x);
     let sphere = Primitive::new(Shape::Sphere { radius: 1.5 }).translated([1.0, 2.0, 3.0]);
-    assert_eq!(d(sphere, [1.0, 2.0, 7.0]), 2.5);
-    assert_eq!(d(sphere, [1.0, 2.0, 3.0]), -1.5);
+    assert_eq!(d(&sphere, [1.0, 2.0, 7.0]), 2.5);
+    assert_eq!(d(&sphere, [1.0, 2.0, 3.0]), -1.5);
     let bx = Primitive::new(Shape::Box { half: [1.0, 2.0, 3.0] });
-    assert_eq!(d(bx, [3.0, 0.0, 0.0]), 2.0);
-    assert_eq!(d(bx, [0.0, 0.0, 0.0]), -1.0);
-    assert!((d(bx, [2.0, 3.0, 4.0]) - 3f64.sqrt()).abs() < 1e-15);
+    assert_eq!(d(&bx, [3.0, 0.0, 0.0]), 2.0);
+    assert_eq!(d(&bx, [0.0, 0.0, 0.0]), -1.0);
+    assert!((d(&bx, [2.0, 3.0, 4.0]) - 3f64.sqrt()).abs() < 1e-15);
     // A quarter turn about z swaps the x and y extents.
-    let turned = bx.rotated([0.0, 0.0, 1.0], std::f64::consts::FRAC_PI_2);
-    assert!((d(turned, [3.0, 0.0, 0.0]) - 1.0).abs() < 1e-12);
+    let turned = bx.clone().rotated([0.0, 0.0, 1.0], std::f64::consts::FRAC_PI_2);
+    assert!((d(&turned, [3.0, 0.0, 0.0]) - 1.0).abs() < 1e-12);
     // Scale multiplies distances.
-    assert_eq!(d(Primitive::new(Shape::Sphere { radius: 1.0 }).scaled(2.0), [5.0, 0.0, 0.0]), 3.0);
+    assert_eq!(d(&Primitive::new(Shape::Sphere { radius: 1.0 }).scaled(2.0), [5.0, 0.0, 0.0]), 3.0);
     let plane = Primitive::new(Shape::Plane { normal: [0.0, 0.0, 2.0], offset: 1.0 });
-    assert_eq!(d(plane, [5.0, 5.0, 3.0]), 2.0);
+    assert_eq!(d(&plane, [5.0, 5.0, 3.0]), 2.0);
 }
 
 fn formula_value(src: &str, p: [f64; 3]) -> f64 {
@@ -319,7 +319,7 @@ fn params_rows_reproduce_each_primitive() {
         let word = lin.nodes[k as usize];
         let ty = (word[0] >> 22) & 0xff;
         let rows = &lin.params[word[1] as usize..];
-        let Node::Primitive(prim) = scene.nodes()[lin.order[k as usize]] else { unreachable!() };
+        let Node::Primitive(prim) = &scene.nodes()[lin.order[k as usize]] else { unreachable!() };
         for _ in 0..50 {
             let p = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
             let gpu = scene_common::eval_rows(ty, rows, p);

@@ -194,7 +194,7 @@ fn sparse_traversal_and_ranges_hold_with_unary_nodes() {
             let mut a = Vec::new();
             for &k in &lin.primitives {
                 let i = lin.order[k as usize];
-                let Node::Primitive(q) = scene.nodes()[i] else { unreachable!() };
+                let Node::Primitive(q) = &scene.nodes()[i] else { unreachable!() };
                 if q.distance(p) <= r[i].hi {
                     active[i] = true;
                     a.push(k);

@@ -294,6 +294,8 @@ async function sceneEdited() {
   if (!S.server) return;
   try {
     const r = await api('scene', { args: cliArgs(), scene: S.scene });
+    // A node type the kernel was built without needs a new kernel.
+    if ((r.features & ~S.scene_features) !== 0) return recompile();
     host.setFieldData(r.buffers);
     view.sceneMs = r.layout_ms;
     if (view.selected != null) await select(view.selected);

@@ -106,7 +106,7 @@ impl Backend {
             let t = Traversal::Sphere(p.options.clone());
             let program = isotrace::view::program(FieldSource::Scene(&data), &t, &p.settings).map_err(|e| bad(super::render_error(e)))?;
             let scene_json: Value = serde_json::from_str(&isotrace::scene::format::to_json(&scene)).unwrap_or(Value::Null);
-            (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [] }))
+            (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "scene_features": data.features }))
         } else {
             let p = super::render::plan(&r).map_err(bad)?;
             let program = isotrace::view::program(FieldSource::Compiled(&p.loaded.formula.ir), &p.traversal, &p.settings).map_err(|e| bad(super::render_error(e)))?;
@@ -137,7 +137,7 @@ impl Backend {
         let scene = self.scene(body)?;
         let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
         let buffers = isotrace::view::scene_buffers(&p.lin.field_data());
-        Ok(json!({ "buffers": buffers, "layout_ms": t0.elapsed().as_secs_f64() * 1e3 }))
+        Ok(json!({ "buffers": buffers, "features": p.lin.features, "layout_ms": t0.elapsed().as_secs_f64() * 1e3 }))
     }
 
     /// A full-size PNG or EXR of the request through the render path.

@@ -209,7 +209,7 @@ fn base_shape(rng: &mut Rng, k: usize) -> Shape {
 /// Places `shape` at `pos` (base units) in a part at `centre`, `scale`,
 /// with a random rotation unless it is a sphere.
 fn place(rng: &mut Rng, shape: Shape, pos: DVec3, centre: DVec3, scale: f64) -> Primitive {
-    let mut p = Primitive::new(shape);
+    let mut p = Primitive::new(shape.clone());
     if !matches!(shape, Shape::Sphere { .. }) {
         let (axis, angle) = rotation(rng);
         p = p.rotated(axis, angle);
@@ -281,7 +281,7 @@ fn base_parts(rng: &mut Rng, kind: Kind) -> Vec<Part> {
 
 /// `p` (base units) in the instance at `centre`, `scale`.
 fn instance_of(p: &Primitive, centre: DVec3, scale: f64) -> Primitive {
-    let mut q = *p;
+    let mut q = p.clone();
     q.transform.scale = p.transform.scale * scale;
     q.transform.translate = (centre + DVec3::from(p.transform.translate) * scale).to_array();
     q

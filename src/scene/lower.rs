@@ -316,7 +316,7 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
     while let Some(task) = stack.pop() {
         let (id, span) = match task {
             Task::Visit(Tree::Leaf(p, span), tf) => {
-                let p = Primitive { shape: p.shape, transform: compose(&tf, &p.transform) };
+                let p = Primitive { shape: p.shape.clone(), transform: compose(&tf, &p.transform) };
                 (b.primitive(p), *span)
             }
             Task::Visit(Tree::Moved(t, sub), tf) => {

@@ -35,6 +35,7 @@ pub mod operator;
 pub mod primitive;
 pub mod profile;
 pub mod roi;
+pub mod rows;
 pub mod sparse;
 pub mod unary;
 
@@ -61,7 +62,7 @@ pub const MAX_DEPTH: usize = MAX_NODES;
 pub type NodeId = usize;
 
 /// A node of the tree.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Node {
     /// A leaf.
     Primitive(Primitive),

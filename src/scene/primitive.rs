@@ -20,7 +20,7 @@ use super::profile::{self, Profile};
 use glam::{DVec2, DVec3};
 
 /// The shape of a primitive, in its local frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// `sphere(r)`: |p| − r.
     Sphere {
@@ -428,7 +428,7 @@ impl Transform {
 }
 
 /// A shape placed in the world.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Primitive {
     /// The local shape.
     pub shape: Shape,

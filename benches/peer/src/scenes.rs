@@ -146,12 +146,14 @@ fn framing(lin: &Linear) -> Result<isotrace::render::View, String> {
 pub fn scene_expr(ctx: &mut Context, scene: &Scene) -> Result<Node, BadNode> {
     let mut map: Vec<Option<Node>> = vec![None; scene.len()];
     for &i in scene.post_order() {
-        let n = match scene.nodes()[i] {
-            sc::Node::Primitive(p) => primitive(ctx, &p)?,
-            sc::Node::Operator { op, left, right } => {
+        let n = match &scene.nodes()[i] {
+            sc::Node::Primitive(p) => primitive(ctx, p)?,
+            &sc::Node::Operator { op, left, right } => {
                 let (a, b) = (map[left].expect("operands first"), map[right].expect("operands first"));
                 operator(ctx, op, a, b)?
             }
+            // The harness renders the generated series, which have none.
+            sc::Node::Unary { op, .. } => unimplemented!("the peer harness has no {} node", op.kind().name()),
         };
         map[i] = Some(n);
     }
@@ -244,6 +246,7 @@ fn local(ctx: &mut Context, shape: &Shape, q: [Node; 3]) -> Result<Node, BadNode
             ctx.sub(d, radius as f32)
         }
         Shape::Capsule { a, b, radius } => capsule(ctx, q, a, b, radius),
+        Shape::Extrude { .. } | Shape::Revolve { .. } => unimplemented!("the peer harness has no profile primitives"),
         Shape::Torus { major, minor } => {
             let l = length(ctx, &q[..2])?;
             let ring = ctx.sub(l, major as f32)?;

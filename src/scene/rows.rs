@@ -1,0 +1,148 @@
+//! The parameter rows of the GPU layout (linear.rs's module doc): each
+//! primitive's transform and shape, each unary node's parameters, and the
+//! bounding volumes the tile passes test. Written here, read by
+//! templates/fields/scene.wgsl and scene_tiles.wgsl.
+
+use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED};
+use super::roi::Abv;
+use super::{Primitive, Profile, Shape, Unary};
+use glam::DVec3;
+
+/// A unary node's parameter row (its type code tells the interpreter
+/// which): offset (d), shell (t/2), infill (k = 2π/period, thickness/2,
+/// 1/(k√6)), displace (amplitude, frequency).
+pub fn unary_row(op: &Unary) -> [f32; 4] {
+    let f = |v: f64| v as f32;
+    match *op {
+        Unary::Offset { distance } => [f(distance), 0.0, 0.0, 0.0],
+        Unary::Shell { thickness } => [f(0.5 * thickness), 0.0, 0.0, 0.0],
+        Unary::Infill { period, thickness } => {
+            let k = std::f64::consts::TAU / period;
+            [f(k), f(0.5 * thickness), f(1.0 / (k * 6f64.sqrt())), 0.0]
+        }
+        Unary::Displace { amplitude, frequency } => [f(amplitude), f(frequency), 0.0, 0.0],
+    }
+}
+
+/// A primitive's rows in `params`: the matrix, then its parameters.
+pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
+    if let Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } = p.shape {
+        return profile_rows(p, &profile);
+    }
+    let mut m = p.transform.matrix();
+    let s = p.transform.scale as f32;
+    let f = |v: f64| v as f32;
+    // Row 3: (s, half extents of the box part); row 4: (rounding radius,
+    // major radius or plane offset, form, 0).
+    let (half, round, major, form) = match p.shape {
+        Shape::Sphere { radius } => ([0.0; 3], radius, 0.0, FORM_BOX),
+        Shape::Box { half } => (half, 0.0, 0.0, FORM_BOX),
+        Shape::RoundBox { half, radius } => (half.map(|h| h - radius), radius, 0.0, FORM_BOX),
+        Shape::Capsule { a, b, radius } => {
+            // The segment in a frame of its own: centred, along local z.
+            let (a, b) = (glam::DVec3::from(a), glam::DVec3::from(b));
+            let (c, len) = ((a + b) * 0.5, (b - a).length());
+            let u = if len > 0.0 { (b - a) / len } else { glam::DVec3::Z };
+            let (e1, e2) = u.any_orthonormal_pair();
+            m = [e1, e2, u].map(|e| {
+                let row = |j: usize| e.x * m[0][j] + e.y * m[1][j] + e.z * m[2][j];
+                [row(0), row(1), row(2), row(3) - e.dot(c)]
+            });
+            ([0.0, 0.0, len * 0.5], radius, 0.0, FORM_BOX)
+        }
+        Shape::Torus { major, minor } => ([0.0, BIG, 0.0], minor, major, FORM_REVOLVED),
+        Shape::Cylinder { radius, half_height } => ([radius, BIG, half_height], 0.0, 0.0, FORM_REVOLVED),
+        Shape::Octahedron { size } => ([size, 0.0, 0.0], 0.0, 0.0, FORM_OCTAHEDRON),
+        Shape::Plane { normal, offset } => {
+            let len = glam::DVec3::from(normal).length();
+            (normal.map(|n| n / len), 0.0, offset, FORM_PLANE)
+        }
+        Shape::Extrude { .. } | Shape::Revolve { .. } => unreachable!("profiles have rows of their own"),
+    };
+    let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
+    rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
+    rows.push([f(round), f(major), form as f32, 0.0]);
+    rows
+}
+
+/// An extruded or revolved profile's rows: the matrix, (s, e.x, e.y, half
+/// height), (r, R, form, polygon vertices), the segment (a, b), then the
+/// polygon's vertices two a row. Every profile but the polygon is
+/// box₂(u − a − (b − a)·h, e) − r (profile.rs).
+fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
+    let f = |v: f64| v as f32;
+    let (e, r, a, b) = match *profile {
+        Profile::Circle { radius } => ([0.0; 2], radius, [0.0; 2], [0.0; 2]),
+        Profile::Rect { half } => (half, 0.0, [0.0; 2], [0.0; 2]),
+        Profile::RoundRect { half, radius } => (half.map(|h| h - radius), radius, [0.0; 2], [0.0; 2]),
+        Profile::Capsule { a, b, radius } => ([0.0; 2], radius, a, b),
+        Profile::Polygon { .. } => ([0.0; 2], 0.0, [0.0; 2], [0.0; 2]),
+    };
+    let (h, major, form) = match p.shape {
+        Shape::Extrude { half_height, .. } => (half_height, 0.0, FORM_EXTRUDE),
+        Shape::Revolve { offset, .. } => (0.0, offset, FORM_REVOLVE),
+        _ => unreachable!("a profile primitive"),
+    };
+    let vertices = profile.vertices();
+    let mut rows: Vec<[f32; 4]> = p.transform.matrix().iter().map(|r| r.map(f)).collect();
+    rows.push([f(p.transform.scale), f(e[0]), f(e[1]), f(h)]);
+    rows.push([f(r), f(major), form as f32, vertices.len() as f32]);
+    rows.push([f(a[0]), f(a[1]), f(b[0]), f(b[1])]);
+    for pair in vertices.chunks(2) {
+        let q = pair.get(1).copied().unwrap_or([0.0; 2]);
+        rows.push([f(pair[0][0]), f(pair[0][1]), f(q[0]), f(q[1])]);
+    }
+    rows
+}
+
+/// A half extent that never bounds: the unused axis of a revolved form.
+const BIG: f64 = 1e30;
+
+/// `v` as an f32 no smaller than `v`.
+fn up(v: f64) -> f32 {
+    let f = v as f32;
+    if (f as f64) < v { f.next_up() } else { f }
+}
+
+/// An ABV's [`ABV_STRIDE`](super::linear::ABV_STRIDE) rows (module doc).
+pub fn abv_rows(a: &Abv) -> [[f32; 4]; 4] {
+    let mut rows = [[0.0f32; 4]; 4];
+    let pad = |size: f64, at: &[f64]| size + (size + at.iter().fold(0.0f64, |m, c| m.max(c.abs()))) * (1.0 / (1 << 20) as f64);
+    let v = |p: [f64; 3], w: f32| [p[0] as f32, p[1] as f32, p[2] as f32, w];
+    match *a {
+        Abv::Always => {}
+        Abv::Sphere { centre, radius } => {
+            rows[0] = v(centre, ABV_SPHERE as f32);
+            rows[1] = [0.0, 0.0, 0.0, up(pad(radius, &centre))];
+        }
+        Abv::Box { centre, axes, half } => {
+            rows[0] = v(centre, ABV_BOX as f32);
+            for k in 0..3 {
+                rows[k + 1] = v(axes[k], up(pad(half[k], &centre)));
+            }
+        }
+        Abv::Capsule { a, b, radius } => {
+            rows[0] = v(a, ABV_CAPSULE as f32);
+            let ends = [a[0], a[1], a[2], b[0], b[1], b[2]];
+            rows[1] = v(b, up(pad(radius, &ends)));
+        }
+    }
+    rows
+}
+
+/// The bounding ball of an ABV as the tile pre-pass reads it (centre,
+/// radius), rounded outwards: f32 must not shrink the ball. An unbounded
+/// primitive has an infinite radius and is active everywhere.
+pub fn ball(a: &Abv) -> [f32; 4] {
+    let (c, r) = match *a {
+        Abv::Always => ([0.0; 3], f64::INFINITY),
+        Abv::Sphere { centre, radius } => (centre, radius),
+        Abv::Box { centre, half, .. } => (centre, DVec3::from(half).length()),
+        Abv::Capsule { a, b, radius } => {
+            let (a, b) = (DVec3::from(a), DVec3::from(b));
+            ((0.5 * (a + b)).to_array(), 0.5 * (b - a).length() + radius)
+        }
+    };
+    let r32 = r as f32;
+    [c[0] as f32, c[1] as f32, c[2] as f32, if (r32 as f64) < r { r32.next_up() * (1.0 + 1e-6) } else { r32 * (1.0 + 1e-6) }]
+}
