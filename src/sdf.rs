@@ -20,8 +20,24 @@
 //! (1 - w)∇a + w∇b with w ∈ [0, ½] in the blend zone, a convex combination,
 //! so they keep it too. Anything else (adding a displacement, multiplying,
 //! scaling one axis) can raise the bound: then pass `--lipschitz L`.
+//!
+//! **Profiles and modifiers.** `circle`, `rect`, `roundrect`, `capsule2d`
+//! and `polygon` are exact 2D distances in x and y (module `profile`):
+//! valid 3D fields (prisms along z) that `extrude` and `revolve` turn into
+//! bounded solids, both keeping the bound. `offset`, `shell` and `infill`
+//! wrap any shape and keep it too; `displace` adds a fixed noise whose
+//! gradient raises it by 1.92·a·f (module `modifier`). A blobtree scene
+//! implements the same definitions, so each is stated once, in the
+//! [`FORMS`] table and the doc comment of its expansion.
 
 use crate::ir::{Func1, Func2, Func3, NodeId, Op, Var};
+
+mod modifier;
+mod operator;
+mod primitive;
+mod profile;
+
+pub use modifier::{noise, NOISE_GRADIENT, NOISE_WAVES};
 
 /// A distance-field form (primitive, transform or operator).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -66,6 +82,28 @@ pub enum Form {
     CompactIntersect,
     /// `compact_subtract(a, b, beta[, r_o])`: G\, a minus b
     CompactSubtract,
+    /// `circle(r)`: a 2D profile of x and y (a prism along z)
+    Circle,
+    /// `rect(hx, hy)`, half extents
+    Rect,
+    /// `roundrect(hx, hy, r)`
+    RoundRect,
+    /// `capsule2d(ax, ay, bx, by, r)`
+    Capsule2d,
+    /// `polygon(x0, y0, x1, y1, ...)`, 3 to 16 vertices
+    Polygon,
+    /// `extrude(h, shape)`: a 2D shape extruded along z
+    Extrude,
+    /// `revolve(R, shape)`: a 2D shape revolved around the z axis
+    Revolve,
+    /// `offset(d, shape)`
+    Offset,
+    /// `shell(t, shape)`
+    Shell,
+    /// `infill(period, thickness, shape)`: intersected with a gyroid sheet
+    Infill,
+    /// `displace(a, f, shape)`: plus a·noise
+    Displace,
 }
 
 /// How many arguments a form takes.
@@ -77,6 +115,8 @@ pub enum Arity {
     AtLeast(usize),
     /// From the first to the second, inclusive.
     Between(usize, usize),
+    /// x, y pairs: an even number from twice the first to twice the second.
+    Pairs(usize, usize),
 }
 
 /// One row of the language reference: name, form, arity, signature and
@@ -104,6 +144,13 @@ pub const FORMS: &[Info] = &[
     Info { name: "capsule", form: Form::Capsule, arity: Arity::Exactly(7), signature: "capsule(ax, ay, az, bx, by, bz, r)", doc: "segment a-b thickened by r; exact, L = 1" },
     Info { name: "plane", form: Form::Plane, arity: Arity::Exactly(4), signature: "plane(nx, ny, nz, d)", doc: "half-space n.p <= d, n normalised; exact, L = 1" },
     Info { name: "octahedron", form: Form::Octahedron, arity: Arity::Exactly(1), signature: "octahedron(s)", doc: "(|x| + |y| + |z| - s)/sqrt(3); a bound (exact on the faces), L = 1" },
+    Info { name: "circle", form: Form::Circle, arity: Arity::Exactly(1), signature: "circle(r)", doc: "2D profile: sqrt(x^2 + y^2) - r, r > 0 (independent of z: a prism along z); exact, L = 1" },
+    Info { name: "rect", form: Form::Rect, arity: Arity::Exactly(2), signature: "rect(hx, hy)", doc: "2D profile: length(max(d, 0)) + min(max(d.x, d.y), 0), d = (|x| - hx, |y| - hy); exact, L = 1" },
+    Info { name: "roundrect", form: Form::RoundRect, arity: Arity::Exactly(3), signature: "roundrect(hx, hy, r)", doc: "2D profile: rect(hx - r, hy - r) - r: same extents, corners rounded by r; exact, L = 1" },
+    Info { name: "capsule2d", form: Form::Capsule2d, arity: Arity::Exactly(5), signature: "capsule2d(ax, ay, bx, by, r)", doc: "2D profile: distance from (x, y) to the segment a-b, minus r; exact, L = 1" },
+    Info { name: "polygon", form: Form::Polygon, arity: Arity::Pairs(3, 16), signature: "polygon(x0, y0, x1, y1, ...)", doc: "2D profile: simple closed polygon of 3 to 16 vertices, s * sqrt(min over edges of the squared distance), s = -1 inside (Quilez's sdPolygon); exact except where y equals a vertex's y (there |f| <= the distance), L = 1" },
+    Info { name: "extrude", form: Form::Extrude, arity: Arity::Exactly(2), signature: "extrude(h, shape)", doc: "min(max(w.x, w.y), 0) + length(max(w, 0)), w = (shape, |z| - h), h > 0: a 2D shape extruded along z; exact for an exact 2D distance, L = 1 (the shape's)" },
+    Info { name: "revolve", form: Form::Revolve, arity: Arity::Exactly(2), signature: "revolve(R, shape)", doc: "shape(sqrt(x^2 + y^2) - R, z, 0), R >= 0: a 2D shape revolved around the z axis; exact for an exact 2D distance not crossing the axis, L = 1 (the shape's)" },
     Info { name: "translate", form: Form::Translate, arity: Arity::Exactly(4), signature: "translate(dx, dy, dz, shape)", doc: "shape(p - d); an isometry, keeps L" },
     Info { name: "rotate", form: Form::Rotate, arity: Arity::Exactly(5), signature: "rotate(ax, ay, az, angle, shape)", doc: "shape rotated by angle (radians, right-handed) about the axis a through the origin; keeps L" },
     Info { name: "scale", form: Form::Scale, arity: Arity::Exactly(2), signature: "scale(s, shape)", doc: "s * shape(p / s), s > 0; keeps L" },
@@ -116,6 +163,10 @@ pub const FORMS: &[Info] = &[
     Info { name: "compact_union", form: Form::CompactUnion, arity: Arity::Between(3, 4), signature: "compact_union(a, b, beta[, r_o])", doc: "Zanni's compact G (eq. 12, 17, 18): the blend of smooth_union, closed beyond r_o (default 2 beta, at least 7/6 beta); the same field as a scene's smooth_union; L = the operands' times 6 r_o/(6 r_o - beta)" },
     Info { name: "compact_intersect", form: Form::CompactIntersect, arity: Arity::Between(3, 4), signature: "compact_intersect(a, b, beta[, r_o])", doc: "compact G of smooth_intersect, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
     Info { name: "compact_subtract", form: Form::CompactSubtract, arity: Arity::Between(3, 4), signature: "compact_subtract(a, b, beta[, r_o])", doc: "compact G of smooth_subtract, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
+    Info { name: "offset", form: Form::Offset, arity: Arity::Exactly(2), signature: "offset(d, shape)", doc: "shape - d: dilates by d > 0, erodes by d < 0; keeps L" },
+    Info { name: "shell", form: Form::Shell, arity: Arity::Exactly(2), signature: "shell(t, shape)", doc: "|shape| - t/2, t > 0: a wall of thickness t centred on the surface; keeps L" },
+    Info { name: "infill", form: Form::Infill, arity: Arity::Exactly(3), signature: "infill(period, thickness, shape)", doc: "max(shape, |G|/(k sqrt 6) - thickness/2), G = sin(kx) cos(ky) + sin(ky) cos(kz) + sin(kz) cos(kx), k = 2 pi/period: the shape cut to a gyroid sheet at least thickness thick; L = max(the shape's, 1)" },
+    Info { name: "displace", form: Form::Displace, arity: Arity::Exactly(3), signature: "displace(a, f, shape)", doc: "shape + a n(p), a >= 0, f > 0, n = sum of w_k sin(f m_k (a_k.p) + phi_k) (sdf::NOISE_WAVES), |n| <= 1; L = the shape's + 1.92 a f: give --lipschitz" },
 ];
 
 /// The form called `name`, if any.
@@ -232,30 +283,83 @@ impl<S: Sink> B<'_, S> {
     fn xyz(&mut self) -> Result<[NodeId; 3], S::Error> {
         Ok([self.var(Var::X)?, self.var(Var::Y)?, self.var(Var::Z)?])
     }
-    /// a·u + b·v + c·w.
-    fn dot(&mut self, a: [NodeId; 3], b: [NodeId; 3]) -> Result<NodeId, S::Error> {
+    /// a₀b₀ + a₁b₁ [+ a₂b₂], summed left to right.
+    fn dot(&mut self, a: &[NodeId], b: &[NodeId]) -> Result<NodeId, S::Error> {
         let mut acc = self.mul(a[0], b[0])?;
-        for k in 1..3 {
+        for k in 1..a.len() {
             let m = self.mul(a[k], b[k])?;
             acc = self.add(acc, m)?;
         }
         Ok(acc)
     }
-    /// The exact box distance for half extents `b` at coordinates `p`.
-    fn boxd(&mut self, p: [NodeId; 3], b: [NodeId; 3]) -> Result<NodeId, S::Error> {
+    /// The exact box distance for half extents `b` at coordinates `p`, in
+    /// 3D (`box`) or 2D (`rect`): with q = |p| − b,
+    /// length(max(q, 0)) + min(max(q₀, max(q₁[, q₂])), 0).
+    fn boxd(&mut self, p: &[NodeId], b: &[NodeId]) -> Result<NodeId, S::Error> {
         let zero = self.c(0.0)?;
+        let n = p.len();
         let mut q = [0; 3];
         let mut qp = [0; 3];
-        for k in 0..3 {
+        for k in 0..n {
             let a = self.f1(Func1::Abs, p[k])?;
             q[k] = self.sub(a, b[k])?;
             qp[k] = self.max(q[k], zero)?;
         }
-        let outside = self.length(&qp)?;
-        let m = self.max(q[1], q[2])?;
-        let m = self.max(q[0], m)?;
+        let outside = self.length(&qp[..n])?;
+        let mut m = q[n - 1];
+        for k in (0..n - 1).rev() {
+            m = self.max(q[k], m)?;
+        }
         let inside = self.min(m, zero)?;
         self.add(outside, inside)
+    }
+    /// pa − ba·h, h = clamp(dot(pa, ba)/dot(ba, ba), 0, 1): the offset from
+    /// the segment a–b to the point (pa = p − a, ba = b − a). For a = b
+    /// (|ba|² the constant 0) it is pa; a |ba|² that is not constant may
+    /// still reach 0, so it is kept at 1e-12 or above to keep h finite.
+    fn segment_offset(&mut self, pa: &[NodeId], ba: &[NodeId]) -> Result<Vec<NodeId>, S::Error> {
+        let bb = self.dot(ba, ba)?;
+        let konst = self.0.konst(bb);
+        if konst == Some(0.0) {
+            return Ok(pa.to_vec());
+        }
+        let bb = if konst.is_some() { bb } else { let tiny = self.c(1e-12)?; self.max(bb, tiny)? };
+        let pb = self.dot(pa, ba)?;
+        let h = self.div(pb, bb)?;
+        let (zero, one) = (self.c(0.0)?, self.c(1.0)?);
+        let h = self.0.push(Op::Call3(Func3::Clamp, h, zero, one))?;
+        let mut w = Vec::with_capacity(pa.len());
+        for k in 0..pa.len() {
+            let s = self.mul(ba[k], h)?;
+            w.push(self.sub(pa[k], s)?);
+        }
+        Ok(w)
+    }
+    /// min(max(u, v), 0) + length(max(u, 0), max(v, 0)): the exact distance
+    /// to a capped prism from the distances u across and v along its axis
+    /// (`cylinder`, `extrude`).
+    fn capped(&mut self, u: NodeId, v: NodeId) -> Result<NodeId, S::Error> {
+        let zero = self.c(0.0)?;
+        let m = self.max(u, v)?;
+        let inside = self.min(m, zero)?;
+        let ou = self.max(u, zero)?;
+        let ov = self.max(v, zero)?;
+        let outside = self.length(&[ou, ov])?;
+        self.add(inside, outside)
+    }
+    /// An error at argument `i` unless it is positive (when it is constant).
+    fn positive(&self, v: &[NodeId], i: usize, what: &str) -> Result<(), S::Error> {
+        match self.0.konst(v[i]) {
+            Some(c) if !(c > 0.0) => Err(self.0.bad_argument(i, format!("{what} must be positive, got {c}"))),
+            _ => Ok(()),
+        }
+    }
+    /// An error at argument `i` if it is a negative constant.
+    fn non_negative(&self, v: &[NodeId], i: usize, what: &str) -> Result<(), S::Error> {
+        match self.0.konst(v[i]) {
+            Some(c) if !(c >= 0.0) => Err(self.0.bad_argument(i, format!("{what} must not be negative, got {c}"))),
+            _ => Ok(()),
+        }
     }
     /// d(a, b, k) written NaN-free, as the scene operators compute it:
     /// h³ / (6 · max(k², 1e-30)) with h = max(k − |a − b|, 0).
@@ -290,161 +394,30 @@ impl<S: Sink> B<'_, S> {
     }
 }
 
-/// Zanni's compact operator G (eq. 12, 17, 18; `crate::scene::operator`)
-/// from ordinary operations. The IR has no branch, so "both operands in
-/// R_o" becomes a blend range forced to 0 outside R_o:
-/// β'' = min(b_r(x), 1e30 · max(r_o − m, 0)) with m = max(a, b) for ∪ and
-/// max(|a|, |b|) for ∩ and \. That is eq. 12 everywhere but on the edge of
-/// R_o itself, where G is continuous (r_o ≥ 7β/6) so both sides are sharp.
-/// The blend d is the NaN-free h³ / (6 max(k², 1e-30)), h = max(k − |a − b|, 0).
-fn compact<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
-    let beta = v[2];
-    let kb = b.0.konst(beta);
-    if let Some(k) = kb {
-        if !(k > 0.0) {
-            return Err(b.0.bad_argument(2, format!("the blend range beta must be positive, got {k}")));
-        }
-    }
-    let ro = match v.get(3) {
-        Some(&r) => r,
-        None => {
-            let two = b.c(2.0)?;
-            b.mul(two, beta)?
-        }
-    };
-    if let (Some(k), Some(r)) = (kb, b.0.konst(ro)) {
-        let min = 7.0 * k / 6.0;
-        if !(r >= min * (1.0 - 1e-12)) {
-            return Err(b.0.bad_argument(3, format!("r_o must be at least 7/6 of beta ({}), got {r}: below it the compact blend is discontinuous", crate::diag::short_number(min))));
-        }
-    }
-    let union = form == Form::CompactUnion;
-    let (a, o) = if form == Form::CompactSubtract { (v[0], b.neg(v[1])?) } else { (v[0], v[1]) };
-    let sharp = if union { b.min(a, o)? } else { b.max(a, o)? };
-    let d = b.blend_nan_free(a, o, beta)?;
-    let x = if union { b.sub(sharp, d)? } else { let s = b.add(sharp, d)?; b.f1(Func1::Abs, s)? };
-    // b_r(x) = beta · max(1 − 6x / (6 r_o − beta), 0)
-    let six = b.c(6.0)?;
-    let six_ro = b.mul(six, ro)?;
-    let den = b.sub(six_ro, beta)?;
-    let six_x = b.mul(six, x)?;
-    let q = b.div(six_x, den)?;
-    let one = b.c(1.0)?;
-    let t = b.sub(one, q)?;
-    let zero = b.c(0.0)?;
-    let t = b.max(t, zero)?;
-    let br = b.mul(beta, t)?;
-    let m = if union {
-        b.max(a, o)?
-    } else {
-        let (aa, ao) = (b.f1(Func1::Abs, a)?, b.f1(Func1::Abs, o)?);
-        b.max(aa, ao)?
-    };
-    let room = b.sub(ro, m)?;
-    let room = b.max(room, zero)?;
-    let big = b.c(1e30)?;
-    let gate = b.mul(big, room)?;
-    let k = b.min(br, gate)?;
-    let d = b.blend_nan_free(a, o, k)?;
-    if union { b.sub(sharp, d) } else { b.add(sharp, d) }
-}
-
 /// Expands a call of `form` whose arguments are already lowered (`v`, in
 /// order; a transform's shape was lowered over the plain x, y, z).
 pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
     let mut b = B(sink);
+    let b = &mut b;
     match form {
-        Form::Sphere => {
-            let p = b.xyz()?;
-            let l = b.length(&p)?;
-            b.sub(l, v[0])
+        Form::Sphere | Form::Box | Form::RoundBox | Form::Torus | Form::Cylinder | Form::Capsule | Form::Plane | Form::Octahedron => {
+            primitive::lower(b, form, v)
         }
-        Form::Box => {
-            let p = b.xyz()?;
-            b.boxd(p, [v[0], v[1], v[2]])
+        Form::Translate | Form::Rotate | Form::Scale => transform(b, form, v),
+        Form::Union | Form::Intersect | Form::Subtract => operator::sharp(b, form, v),
+        Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => operator::smooth(b, form, v),
+        Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => operator::compact(b, form, v),
+        Form::Circle | Form::Rect | Form::RoundRect | Form::Capsule2d | Form::Polygon | Form::Extrude | Form::Revolve => {
+            profile::lower(b, form, v)
         }
-        Form::RoundBox => {
-            let p = b.xyz()?;
-            let mut inner = [0; 3];
-            for k in 0..3 {
-                inner[k] = b.sub(v[k], v[3])?;
-            }
-            let d = b.boxd(p, inner)?;
-            b.sub(d, v[3])
-        }
-        Form::Torus => {
-            let [x, y, z] = b.xyz()?;
-            let ring = b.length(&[x, y])?;
-            let q = b.sub(ring, v[0])?;
-            let l = b.length(&[q, z])?;
-            b.sub(l, v[1])
-        }
-        Form::Cylinder => {
-            let [x, y, z] = b.xyz()?;
-            let radial = b.length(&[x, y])?;
-            let dx = b.sub(radial, v[0])?;
-            let az = b.f1(Func1::Abs, z)?;
-            let dz = b.sub(az, v[1])?;
-            let zero = b.c(0.0)?;
-            let m = b.max(dx, dz)?;
-            let inside = b.min(m, zero)?;
-            let ox = b.max(dx, zero)?;
-            let oz = b.max(dz, zero)?;
-            let outside = b.length(&[ox, oz])?;
-            b.add(inside, outside)
-        }
-        Form::Capsule => {
-            let p = b.xyz()?;
-            let mut pa = [0; 3];
-            let mut ba = [0; 3];
-            for k in 0..3 {
-                pa[k] = b.sub(p[k], v[k])?;
-                ba[k] = b.sub(v[3 + k], v[k])?;
-            }
-            let bb = b.dot(ba, ba)?;
-            let konst = b.0.konst(bb);
-            let along = match konst {
-                // a = b: a sphere around a.
-                Some(c) if c == 0.0 => b.length(&pa)?,
-                _ => {
-                    // A non-constant |b - a|² may reach 0: keep the division finite.
-                    let bb = if konst.is_some() { bb } else { let tiny = b.c(1e-12)?; b.max(bb, tiny)? };
-                    let pb = b.dot(pa, ba)?;
-                    let h = b.div(pb, bb)?;
-                    let (zero, one) = (b.c(0.0)?, b.c(1.0)?);
-                    let h = b.0.push(Op::Call3(Func3::Clamp, h, zero, one))?;
-                    let mut w = [0; 3];
-                    for k in 0..3 {
-                        let s = b.mul(ba[k], h)?;
-                        w[k] = b.sub(pa[k], s)?;
-                    }
-                    b.length(&w)?
-                }
-            };
-            b.sub(along, v[6])
-        }
-        Form::Plane => {
-            let p = b.xyz()?;
-            let n = [v[0], v[1], v[2]];
-            let len = b.length(&n)?;
-            if b.0.konst(len) == Some(0.0) {
-                return Err(b.0.bad_argument(0, "the plane's normal (nx, ny, nz) must not be zero".into()));
-            }
-            let np = b.dot(n, p)?;
-            let np = if b.is(len, 1.0) { np } else { b.div(np, len)? };
-            b.sub(np, v[3])
-        }
-        Form::Octahedron => {
-            let p = b.xyz()?;
-            let mut s = b.f1(Func1::Abs, p[0])?;
-            for &c in &p[1..] {
-                let a = b.f1(Func1::Abs, c)?;
-                s = b.add(s, a)?;
-            }
-            let d = b.sub(s, v[0])?;
-            let k = b.c(1.0 / 3f64.sqrt())?;
-            b.mul(d, k)
-        }
+        Form::Offset | Form::Shell | Form::Infill | Form::Displace => modifier::lower(b, form, v),
+    }
+}
+
+/// `translate`, `rotate` and `scale`: the shape rebuilt over substituted
+/// coordinates (the inverse motion applied to p).
+fn transform<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
+    match form {
         Form::Translate => {
             let p = b.xyz()?;
             let mut q = [0; 3];
@@ -474,7 +447,7 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
             let sin = b.snap(sin)?;
             let one = b.c(1.0)?;
             let oc = b.sub(one, cos)?;
-            let kp = b.dot(k, p)?;
+            let kp = b.dot(&k, &p)?;
             let kpoc = b.mul(kp, oc)?;
             let mut q = [0; 3];
             for i in 0..3 {
@@ -505,42 +478,6 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
             let d = b.0.substitute(v[1], q)?;
             b.mul(d, s)
         }
-        Form::Union | Form::Intersect | Form::Subtract => {
-            let mut acc = v[0];
-            for &n in &v[1..] {
-                acc = match form {
-                    Form::Union => b.min(acc, n)?,
-                    Form::Intersect => b.max(acc, n)?,
-                    _ => {
-                        let m = b.neg(n)?;
-                        b.max(acc, m)?
-                    }
-                };
-            }
-            Ok(acc)
-        }
-        Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => compact(&mut b, form, v),
-        Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => {
-            if let Some(k) = b.0.konst(v[2]) {
-                if !(k > 0.0) {
-                    return Err(b.0.bad_argument(2, format!("the blend range k must be positive, got {k}")));
-                }
-            }
-            let (a, o) = match form {
-                Form::SmoothSubtract => (v[0], b.neg(v[1])?),
-                _ => (v[0], v[1]),
-            };
-            let d = b.blend(a, o, v[2])?;
-            match form {
-                Form::SmoothUnion => {
-                    let m = b.min(a, o)?;
-                    b.sub(m, d)
-                }
-                _ => {
-                    let m = b.max(a, o)?;
-                    b.add(m, d)
-                }
-            }
-        }
+        _ => unreachable!("{form:?} is not a transform"),
     }
 }

@@ -106,6 +106,21 @@ fn points(b: [f64; 6], n: usize) -> Vec<[f64; 3]> {
     (0..n).map(|_| [b[0] + (b[1] - b[0]) * r(), b[2] + (b[3] - b[2]) * r(), b[4] + (b[5] - b[4]) * r()]).collect()
 }
 
+/// The largest |f(p) - f(q)| / |p - q| of `src` on random pairs in the box
+/// `b`, far apart and 1e-3 of that apart.
+fn lipschitz_ratio(src: &str, b: [f64; 6]) -> f64 {
+    let g = f(src);
+    let pts = points(b, 1500);
+    let mut worst: f64 = 0.0;
+    for w in pts.windows(2) {
+        for (p, q) in [(w[0], w[1]), (w[0], [w[0][0] + 1e-3 * (w[1][0] - w[0][0]), w[0][1] + 1e-3 * (w[1][1] - w[0][1]), w[0][2] + 1e-3 * (w[1][2] - w[0][2])])] {
+            let dist = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+            worst = worst.max((at(&g, p) - at(&g, q)).abs() / dist);
+        }
+    }
+    worst
+}
+
 /// The scenes are 1-Lipschitz, so sphere tracing's step |f(p)| never
 /// passes the surface: |f(p) - f(q)| <= |p - q| on random pairs, near and far.
 #[test]
@@ -121,16 +136,43 @@ fn scenes_and_smooth_operators_are_1_lipschitz() {
     cases.push(("smooth_subtract(smooth_union(box(1,0.4,0.4), torus(0.8,0.3), 0.5), rotate(1,2,3,0.7,cylinder(0.3,2)), 0.2)".into(), [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0]));
     cases.push(("scale(0.7, smooth_intersect(octahedron(1), roundbox(0.7,0.7,0.7,0.2), 0.4))".into(), [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0]));
     for (src, b) in cases {
-        let g = f(&src);
-        let pts = points(b, 1500);
-        let mut worst: f64 = 0.0;
-        for w in pts.windows(2) {
-            for (p, q) in [(w[0], w[1]), (w[0], [w[0][0] + 1e-3 * (w[1][0] - w[0][0]), w[0][1] + 1e-3 * (w[1][1] - w[0][1]), w[0][2] + 1e-3 * (w[1][2] - w[0][2])])] {
-                let dist = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
-                worst = worst.max((at(&g, p) - at(&g, q)).abs() / dist);
-            }
-        }
+        let worst = lipschitz_ratio(&src, b);
         assert!(worst <= 1.0 + 1e-6, "{}: Lipschitz ratio {worst}", &src[..src.len().min(60)]);
+    }
+}
+
+/// Formulas with every profile, extrude, revolve and modifier (the ones
+/// the kernels are validated for too).
+const PROFILE_SCENES: [&str; 6] = [
+    "extrude(0.3, polygon(-1, -1, 1, -1, 0.2, 0, 1, 1, -1, 1))",
+    "union(circle(0.5), rect(1, 0.2), roundrect(0.3, 1.2, 0.1), capsule2d(-1, 0.5, 1, 1, 0.2))",
+    "shell(0.1, union(extrude(0.5, capsule2d(-1, 0, 1, 0.5, 0.3)), revolve(0.5, circle(0.2)), revolve(1, roundrect(0.3, 0.5, 0.1))))",
+    "offset(0.2, infill(0.5, 0.05, box(1, 1, 1)))",
+    "smooth_union(extrude(0.2, rect(1, 0.5)), rotate(1, 0, 0, pi/2, extrude(0.4, polygon(0, 0, 1, 0, 0, 1))), 0.3)",
+    "revolve(0.8, polygon(0, 0.6, 0.6, 0, 0.2, 0, 0.2, -0.4, -0.2, -0.4, -0.2, 0, -0.6, 0))",
+];
+
+/// Profiles are exact 2D distances and extrude, revolve, offset, shell and
+/// infill keep the bound: still 1.
+#[test]
+fn profiles_extrusions_and_modifiers_are_1_lipschitz() {
+    for src in PROFILE_SCENES {
+        let worst = lipschitz_ratio(src, [-2.0, 2.0, -2.0, 2.0, -2.0, 2.0]);
+        assert!(worst <= 1.0 + 1e-6, "{src}: Lipschitz ratio {worst}");
+        assert!(worst > 0.9, "{src}: Lipschitz ratio {worst}, is it a distance?");
+    }
+}
+
+/// `displace(a, f, s)` is s + a·n with |∇n| <= 1.92 f: the bound its
+/// documentation tells users to pass with --lipschitz.
+#[test]
+fn displace_raises_the_bound_by_its_noise_gradient() {
+    for (a, freq) in [(0.1, 3.0), (0.05, 10.0)] {
+        let src = format!("displace({a}, {freq}, torus(1, 0.3))");
+        let worst = lipschitz_ratio(&src, [-2.0, 2.0, -2.0, 2.0, -1.0, 1.0]);
+        let bound = 1.0 + isotrace::sdf::NOISE_GRADIENT * a * freq;
+        assert!(worst <= bound, "{src}: Lipschitz ratio {worst} above {bound}");
+        assert!(worst > 1.0 + 0.3 * (bound - 1.0), "{src}: Lipschitz ratio {worst}: does the noise displace?");
     }
 }
 
@@ -157,12 +199,48 @@ fn bad_arguments_point_at_the_argument() {
     assert!(diag("sphere + 1").starts_with("error: function 'sphere' used without arguments\n"));
 }
 
+#[test]
+fn profiles_and_modifiers_report_bad_arguments() {
+    assert_eq!(
+        diag("polygon(0, 0, 1, 0, 0, 1, 2)"),
+        "error: wrong number of arguments to 'polygon': expected an even number from 6 to 32 (3 to 16 vertices), found 7\n  ┌─ <formula>:1:1\n  │\n1 │ polygon(0, 0, 1, 0, 0, 1, 2)\n  │ ^^^^^^^^^^^^^^^^^^^^^^^^^^^^ 7 arguments\n\n"
+    );
+    assert_eq!(
+        diag("circle(0)"),
+        "error: invalid argument to 'circle': the radius r must be positive, got 0\n  ┌─ <formula>:1:8\n  │\n1 │ circle(0)\n  │        ^ this argument\n  │\n  = usage: circle(r)\n\n"
+    );
+    assert_eq!(
+        diag("extrude(-1, circle(1))"),
+        "error: invalid argument to 'extrude': the half height h must be positive, got -1\n  ┌─ <formula>:1:9\n  │\n1 │ extrude(-1, circle(1))\n  │         ^^ this argument\n  │\n  = usage: extrude(h, shape)\n\n"
+    );
+    let first = |src: &str| diag(src).lines().next().unwrap().to_string();
+    let polygon_count = "error: wrong number of arguments to 'polygon': expected an even number from 6 to 32 (3 to 16 vertices), found";
+    assert_eq!(first("polygon(0, 0, 1, 0)"), format!("{polygon_count} 4"));
+    assert_eq!(first(&format!("polygon({})", ["0, 0"; 17].join(", "))), format!("{polygon_count} 34"));
+    let cases = [
+        ("revolve(-1, circle(1))", "'revolve': the distance R from the axis must not be negative, got -1"),
+        ("shell(0, sphere(1))", "'shell': the wall thickness t must be positive, got 0"),
+        ("infill(0, 0.1, sphere(1))", "'infill': the period must be positive, got 0"),
+        ("infill(1, -0.1, sphere(1))", "'infill': the sheet thickness must be positive, got -0.1"),
+        ("displace(1, 0, sphere(1))", "'displace': the frequency f must be positive, got 0"),
+        ("displace(-0.5, 1, sphere(1))", "'displace': the amplitude a must not be negative, got -0.5"),
+    ];
+    for (src, message) in cases {
+        assert_eq!(first(src), format!("error: invalid argument to {message}"));
+    }
+    // Non-constant arguments are not checked; 16 vertices are allowed.
+    f("circle(t)");
+    f(&format!("polygon({})", (0..16).map(|k| format!("cos({k}*pi/8), sin({k}*pi/8)")).collect::<Vec<_>>().join(", ")));
+}
+
 /// Distance fields are ordinary formulas: every evaluator and kernel
 /// (interval, affine, scalar; bisection and sphere tracing) validates.
 #[test]
 fn every_kernel_validates_for_the_scenes() {
-    for name in isotrace::catalog::suite("sdf").unwrap() {
-        let ir = isotrace::catalog::lookup(name).unwrap().compile().unwrap().ir;
+    let catalog = isotrace::catalog::suite("sdf").unwrap().into_iter().map(|n| (n.to_string(), isotrace::catalog::lookup(n).unwrap().compile().unwrap().ir));
+    let profiles = PROFILE_SCENES.iter().chain(&["displace(0.05, 4, revolve(1, rect(0.2, 0.4)))"]).map(|s| (s.to_string(), f(s).ir));
+    for (name, ir) in catalog.chain(profiles) {
+        let name = &name[..name.len().min(40)];
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
             validate(&codegen::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));
         }

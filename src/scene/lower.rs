@@ -271,7 +271,7 @@ impl Walker<'_> {
                 let (l, r, k) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 Ok(Rc::new(Tree::Op(smooth(kind, k, super::operator::DEFAULT_RANGE_FACTOR * k), l, r, span)))
             }
-            _ => {
+            Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => {
                 let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::CompactUnion as usize];
                 let (l, r, beta) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 let range = match a.get(3) {
@@ -279,6 +279,12 @@ impl Walker<'_> {
                     None => super::operator::DEFAULT_RANGE_FACTOR * beta,
                 };
                 Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
+            }
+            // The profiles, extrude, revolve and the modifiers have no scene
+            // node here (yet): the compiled field renders them.
+            _ => {
+                let name = sdf::FORMS.iter().find(|i| i.form == form).map_or("?", |i| i.name);
+                Err(not(format!("'{name}' has no blobtree node"), span))
             }
         }
     }

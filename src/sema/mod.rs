@@ -428,6 +428,10 @@ impl Builder {
                 sdf::Arity::Exactly(n) => (n.to_string(), nargs == n),
                 sdf::Arity::AtLeast(n) => (format!("{n} or more"), nargs >= n),
                 sdf::Arity::Between(lo, hi) => (format!("{lo} or {hi}"), (lo..=hi).contains(&nargs)),
+                sdf::Arity::Pairs(lo, hi) => (
+                    format!("an even number from {} to {} ({lo} to {hi} vertices)", 2 * lo, 2 * hi),
+                    nargs % 2 == 0 && (2 * lo..=2 * hi).contains(&nargs),
+                ),
             },
         };
         if !ok {
