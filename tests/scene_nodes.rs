@@ -14,7 +14,6 @@ use isotrace::scene::linear::{self, Linear};
 use isotrace::scene::profile::{self, Profile};
 use isotrace::scene::roi;
 use isotrace::scene::sparse::{self, Ancestors};
-use isotrace::scene::unary;
 use isotrace::scene::{format, Builder, Node, Primitive, Scene, Shape, Unary};
 use scene_common::{random_profile, random_profiled, surface_points, zoo_tree};
 
@@ -105,7 +104,7 @@ fn unary_nodes_follow_their_definitions() {
         (q.x.sin() * q.y.cos() + q.y.sin() * q.z.cos() + q.z.sin() * q.x.cos()).abs() / (k * 6f64.sqrt()) - 0.05
     };
     assert_eq!(Unary::Infill { period: 0.5, thickness: 0.1 }.apply(-1.0, p.to_array()), g.max(-1.0));
-    let n = unary::noise(p.to_array(), 3.0);
+    let n = isotrace::sdf::noise(p.to_array(), 3.0);
     assert_eq!(Unary::Displace { amplitude: 0.1, frequency: 3.0 }.apply(0.5, p.to_array()), 0.5 + 0.1 * n);
     // |n| ≤ 1 (the weights sum to 1) and its gradient is within the bound.
     let mut rng = Rng::new(3);
@@ -113,9 +112,9 @@ fn unary_nodes_follow_their_definitions() {
     for _ in 0..5000 {
         let q = DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
         let f = 4.0;
-        assert!(unary::noise(q.to_array(), f).abs() <= 1.0);
-        let grad: DVec3 = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (unary::noise((q + e * h).to_array(), f) - unary::noise((q - e * h).to_array(), f)) / (2.0 * h)).into();
-        assert!(grad.length() <= unary::NOISE_GRADIENT * f * (1.0 + 1e-6), "{}", grad.length());
+        assert!(isotrace::sdf::noise(q.to_array(), f).abs() <= 1.0);
+        let grad: DVec3 = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (isotrace::sdf::noise((q + e * h).to_array(), f) - isotrace::sdf::noise((q - e * h).to_array(), f)) / (2.0 * h)).into();
+        assert!(grad.length() <= isotrace::sdf::NOISE_GRADIENT * f * (1.0 + 1e-6), "{}", grad.length());
     }
 }
 
@@ -284,7 +283,7 @@ fn features_name_the_node_types_a_scene_uses() {
     let basic = isotrace::scene::generate::generate(isotrace::scene::generate::Kind::Aggregate, 1, isotrace::scene::generate::Blending::Smooth, 1).unwrap();
     assert_eq!(Linear::new(&basic).unwrap().features, 0);
     // Displacement raises the bound the scene is traced with.
-    assert!(lin.lipschitz() > linear::SMOOTH_LIPSCHITZ * (1.0 + 0.04 * 5.0 * unary::NOISE_GRADIENT) - 1e-9);
+    assert!(lin.lipschitz() > linear::SMOOTH_LIPSCHITZ * (1.0 + 0.04 * 5.0 * isotrace::sdf::NOISE_GRADIENT) - 1e-9);
 }
 
 #[test]
@@ -357,4 +356,64 @@ fn profile_rows_follow_the_layout() {
     assert_eq!(rows[4], [0.05, 0.5, linear::FORM_REVOLVE as f32, 0.0]);
     assert_eq!(rows[5], [0.1, 0.2, 0.3, 0.4]);
     let _ = profile::MAX_POLYGON;
+}
+
+/// Every new form in one formula: lowered to a scene, its field equals the
+/// compiled formula's (the same functions; f64 on both sides).
+const EVERY_FORM: &str = "\
+    star = polygon(0, 0.5, 0.12, 0.15, 0.48, 0.15, 0.2, -0.05, 0.3, -0.4, 0, -0.18, -0.3, -0.4, -0.2, -0.05, -0.48, 0.15, -0.12, 0.15);
+    a = translate(-1.5, 0.8, 0, extrude(0.2, star));
+    b = translate(-0.5, 0.8, 0, rotate(1, 0, 0, 0.6, extrude(0.15, roundrect(0.35, 0.25, 0.1))));
+    c = translate(0.5, 0.8, 0, revolve(0.3, capsule2d(-0.1, -0.2, 0.15, 0.2, 0.08)));
+    d = translate(1.5, 0.8, 0, scale(1.5, revolve(0.2, rect(0.1, 0.15))));
+    m = translate(-0.5, -0.8, 0, offset(0.05, extrude(0.2, circle(0.3))));
+    g = translate(0.5, -0.8, 0, shell(0.06, sphere(0.4)));
+    h = infill(0.4, 0.05, translate(1.5, -0.8, 0, roundbox(0.4, 0.4, 0.4, 0.05)));
+    k = displace(0.04, 5, translate(-1.5, -0.8, 0, torus(0.35, 0.1)));
+    union(a, b, c, d, compact_union(m, g, 0.1), h, k)";
+
+#[test]
+fn a_formula_of_every_new_form_lowers_to_the_same_field() {
+    let f = isotrace::Formula::compile("<zoo>", EVERY_FORM).unwrap();
+    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    let lin = Linear::new(&scene).unwrap();
+    assert_eq!(lin.features, linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE);
+    let mut rng = Rng::new(9);
+    let mut worst = 0.0f64;
+    for _ in 0..20_000 {
+        let p = [rng.range(-2.2, 2.2), rng.range(-1.5, 1.5), rng.range(-0.8, 0.8)];
+        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        worst = worst.max((scene.eval(p) - want).abs());
+    }
+    assert!(worst < 1e-9, "{worst}");
+}
+
+/// The same formula traced through the scene field and the compiled one:
+/// the same picture, depth within a pixel's footprint.
+#[test]
+fn every_new_form_draws_the_compiled_picture_through_the_scene_path() {
+    use isotrace::render::{Settings, SphereOptions, Status, Traversal};
+    let f = isotrace::Formula::compile("<zoo>", EVERY_FORM).unwrap();
+    let t = Traversal::Sphere(SphereOptions::default());
+    let (scene, lipschitz) = isotrace::codegen::choice::scene(&f, &[], &t).unwrap();
+    let o = SphereOptions { lipschitz, ..SphereOptions::default() };
+    let s = Settings::for_box([-2.3, 2.3, -1.6, 1.6, -0.9, 0.9], 128, 96);
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let a = isotrace::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(&s).unwrap();
+    let b = isotrace::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(&s).unwrap();
+    let (mut both, mut differ, mut far) = (0, 0, 0);
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        if p.status != q.status {
+            differ += 1;
+        } else if p.status == Status::Hit {
+            both += 1;
+            let footprint = 2.0 * p.depth * (s.camera.fov_deg as f32 / 2.0).to_radians().tan() / 96.0;
+            far += ((p.depth - q.depth).abs() > footprint) as usize;
+        }
+    }
+    assert!(both > 1000, "{both}");
+    assert!(far * 50 < both, "{far} of {both} pixels differ by more than a footprint");
+    assert!(differ * 100 < a.pixels.len(), "{differ} pixels hit in one picture only");
+    assert_eq!((a.stats.unresolved, a.stats.field.overflow_tiles), (0, 0));
+    eprintln!("both {both}, far {far}, differ {differ} of {}", a.pixels.len());
 }

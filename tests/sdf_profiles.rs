@@ -265,15 +265,21 @@ fn displace_adds_bounded_noise_with_a_bounded_gradient() {
     assert!(steepest > 0.5 * freq, "|grad n| = {steepest}");
 }
 
-/// A blobtree scene has no node for these forms yet: lowering a formula
-/// with one says which, at its call, rather than taking it for another
-/// form, and the compiled field renders it.
+/// The new forms lower to blobtree nodes; where they cannot, the reason
+/// points at the form (the compiled field renders those).
 #[test]
-fn the_scene_path_declines_the_new_forms_by_name() {
-    for (src, name) in [("extrude(1, circle(1))", "extrude"), ("union(sphere(1), shell(0.1, box(1, 1, 1)))", "shell"), ("translate(1, 0, 0, displace(0.1, 2, sphere(1)))", "displace")] {
+fn the_scene_path_lowers_the_new_forms_or_says_why_not() {
+    for src in ["extrude(1, circle(1))", "union(sphere(1), shell(0.1, box(1, 1, 1)))", "scale(2, offset(0.1, revolve(1, polygon(0, 0, 1, 0, 0, 1))))"] {
+        assert!(isotrace::scene::from_formula(&f(src), &[]).is_ok(), "{src}");
+    }
+    for (src, at, reason) in [
+        ("translate(1, 0, 0, displace(0.1, 2, sphere(1)))", "displace", "a transform over 'displace' is not a blobtree node (its pattern is fixed in the world): transform its operand instead"),
+        ("union(sphere(1), circle(2))", "circle", "a 2D profile is a blobtree node only inside extrude or revolve"),
+        ("extrude(1, sphere(1))", "sphere", "extrude and revolve take a 2D profile here (circle, rect, roundrect, capsule2d or polygon)"),
+    ] {
         let e = isotrace::scene::from_formula(&f(src), &[]).expect_err(src);
-        assert_eq!(e.reason, format!("'{name}' has no blobtree node"), "{src}");
+        assert_eq!(e.reason, reason, "{src}");
         let start = e.span.start as usize;
-        assert_eq!(&src[start..start + name.len()], name, "{src}: {:?}", e.span);
+        assert_eq!(&src[start..start + at.len()], at, "{src}: {:?}", e.span);
     }
 }

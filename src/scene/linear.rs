@@ -238,7 +238,7 @@ pub fn wgsl_constants() -> String {
         ("FEATURE_UNARY", FEATURE_UNARY),
         ("FEATURE_INFILL", FEATURE_INFILL),
         ("FEATURE_DISPLACE", FEATURE_DISPLACE),
-        ("NOISE_WAVES", super::unary::NOISE_WAVES.len() as u32),
+        ("NOISE_WAVES", crate::sdf::NOISE_WAVES.len() as u32),
     ];
     let mut s = String::new();
     for (name, v) in consts {
@@ -248,9 +248,9 @@ pub fn wgsl_constants() -> String {
 }
 
 /// `scene_noise(p, f)`, the displacement's pseudo-noise
-/// ([`super::unary::noise`]), as WGSL written from the same table.
+/// ([`crate::sdf::noise`]), as WGSL written from the same table.
 pub fn wgsl_noise() -> String {
-    let terms: Vec<String> = super::unary::NOISE_WAVES
+    let terms: Vec<String> = crate::sdf::NOISE_WAVES
         .iter()
         .map(|&(a, m, w, phase)| format!("{w:?} * sin(f * {m:?} * dot(vec3<f32>({:?}, {:?}, {:?}), p) + {phase:?})", a[0], a[1], a[2]))
         .collect();

@@ -26,7 +26,7 @@
 //! So the zero set (the picture) is the same; `tests/scene_lower.rs` checks
 //! the signs by sampling.
 
-use super::{Blend, Builder, OpKind, Operator, Primitive, Rotation, Scene, Shape, Transform};
+use super::{Blend, Builder, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
 use crate::sdf::{self, Form};
@@ -55,6 +55,7 @@ fn not(reason: impl Into<String>, span: Span) -> NotBlobtree {
 enum Tree {
     Leaf(Primitive, Span),
     Op(Operator, Rc<Tree>, Rc<Tree>, Span),
+    Unary(Unary, Rc<Tree>, Span),
     Moved(Transform, Rc<Tree>),
 }
 
@@ -62,6 +63,8 @@ enum Tree {
 enum Val {
     Num(f64),
     Shape(Rc<Tree>),
+    /// A 2D form, waiting for `extrude` or `revolve`.
+    Profile(Profile, Span),
 }
 
 /// Lowers `program` (a formula that compiled) to a scene; `param` gives a
@@ -80,6 +83,7 @@ pub fn lower(program: &Program, param: &dyn Fn(&str) -> Option<f64>) -> Result<S
     let tree = match w.eval(body)? {
         Val::Shape(t) => t,
         Val::Num(_) => return Err(not("the formula is a constant, not a shape", body.span)),
+        Val::Profile(_, span) => return Err(not("a 2D profile is a blobtree node only inside extrude or revolve", span)),
     };
     let mut b = Builder::default();
     let mut spans = vec![];
@@ -115,7 +119,7 @@ impl Walker<'_> {
             ExprKind::Name(n) => self.name(n, e.span),
             ExprKind::Neg(a) => match self.eval(a)? {
                 Val::Num(v) => Ok(Val::Num(-v)),
-                Val::Shape(_) => Err(not("a shape under unary minus is not a blobtree node", e.span)),
+                _ => Err(not("a shape under unary minus is not a blobtree node", e.span)),
             },
             ExprKind::Binary(op, a, b) => {
                 let (x, y) = (self.num(a)?, self.num(b)?);
@@ -136,7 +140,7 @@ impl Walker<'_> {
     fn num(&mut self, e: &Expr) -> Result<f64, NotBlobtree> {
         match self.eval(e)? {
             Val::Num(v) => Ok(v),
-            Val::Shape(_) => Err(not("arithmetic on a shape is not a blobtree node", e.span)),
+            _ => Err(not("arithmetic on a shape is not a blobtree node", e.span)),
         }
     }
 
@@ -144,6 +148,15 @@ impl Walker<'_> {
         match self.eval(e)? {
             Val::Shape(t) => Ok(t),
             Val::Num(_) => Err(not("a number where the form takes a shape", e.span)),
+            Val::Profile(_, span) => Err(not("a 2D profile is a blobtree node only inside extrude or revolve", span)),
+        }
+    }
+
+    /// The 2D profile argument of `extrude` or `revolve`.
+    fn profile(&mut self, e: &Expr) -> Result<Profile, NotBlobtree> {
+        match self.eval(e)? {
+            Val::Profile(p, _) => Ok(p),
+            _ => Err(not("extrude and revolve take a 2D profile here (circle, rect, roundrect, capsule2d or polygon)", e.span)),
         }
     }
 
@@ -172,6 +185,9 @@ impl Walker<'_> {
 
     fn call(&mut self, c: &Call, span: Span) -> Result<Val, NotBlobtree> {
         if let Some(info) = sdf::lookup(&c.name) {
+            if let Some(p) = self.profile_form(info.form, &c.args)? {
+                return Ok(Val::Profile(p, span));
+            }
             return self.form(info.form, c, span).map(Val::Shape);
         }
         let a: Vec<f64> = c.args.iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
@@ -207,6 +223,27 @@ impl Walker<'_> {
         Ok(v)
     }
 
+    /// A 2D form's profile; `None` for any other form.
+    fn profile_form(&mut self, form: Form, a: &[Expr]) -> Result<Option<Profile>, NotBlobtree> {
+        Ok(Some(match form {
+            Form::Circle => Profile::Circle { radius: self.num(&a[0])? },
+            Form::Rect => Profile::Rect { half: self.nums(a)? },
+            Form::RoundRect => {
+                let [x, y, radius] = self.nums(a)?;
+                Profile::RoundRect { half: [x, y], radius }
+            }
+            Form::Capsule2d => {
+                let [ax, ay, bx, by, radius] = self.nums(a)?;
+                Profile::Capsule { a: [ax, ay], b: [bx, by], radius }
+            }
+            Form::Polygon => {
+                let v: Vec<f64> = a.iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+                Profile::polygon(&v.chunks(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>())
+            }
+            _ => return Ok(None),
+        }))
+    }
+
     /// One distance form (the front end has checked the arity).
     fn form(&mut self, form: Form, c: &Call, span: Span) -> Result<Rc<Tree>, NotBlobtree> {
         let a = &c.args[..];
@@ -234,6 +271,8 @@ impl Walker<'_> {
                 Shape::Plane { normal: [x, y, z], offset }
             }
             Form::Octahedron => Shape::Octahedron { size: self.num(&a[0])? },
+            Form::Extrude => Shape::Extrude { half_height: self.num(&a[0])?, profile: self.profile(&a[1])? },
+            Form::Revolve => Shape::Revolve { offset: self.num(&a[0])?, profile: self.profile(&a[1])? },
             _ => return self.composite(form, a, span),
         };
         Ok(Rc::new(Tree::Leaf(Primitive::new(shape), span)))
@@ -280,8 +319,16 @@ impl Walker<'_> {
                 };
                 Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
             }
-            // The profiles, extrude, revolve and the modifiers have no scene
-            // node here (yet): the compiled field renders them.
+            Form::Offset => Ok(Rc::new(Tree::Unary(Unary::Offset { distance: self.num(&a[0])? }, self.shape(&a[1])?, span))),
+            Form::Shell => Ok(Rc::new(Tree::Unary(Unary::Shell { thickness: self.num(&a[0])? }, self.shape(&a[1])?, span))),
+            Form::Infill => {
+                let [period, thickness] = self.nums(a)?;
+                Ok(Rc::new(Tree::Unary(Unary::Infill { period, thickness }, self.shape(&a[2])?, span)))
+            }
+            Form::Displace => {
+                let [amplitude, frequency] = self.nums(a)?;
+                Ok(Rc::new(Tree::Unary(Unary::Displace { amplitude, frequency }, self.shape(&a[2])?, span)))
+            }
             _ => {
                 let name = sdf::FORMS.iter().find(|i| i.form == form).map_or("?", |i| i.name);
                 Err(not(format!("'{name}' has no blobtree node"), span))
@@ -309,6 +356,20 @@ fn compose(outer: &Transform, inner: &Transform) -> Transform {
     Transform { translate: t.into(), rotate, scale: outer.scale * inner.scale }
 }
 
+/// A unary node under transform `tf` (whose scale multiplies values):
+/// offsets and walls scale with it. The gyroid and the noise are fixed in
+/// the world, and a scene's unary node has no frame of its own, so a
+/// transform over them is not a blobtree node.
+fn moved_unary(op: &Unary, tf: &Transform, span: Span) -> Result<Unary, NotBlobtree> {
+    let s = tf.scale;
+    match *op {
+        Unary::Offset { distance } => Ok(Unary::Offset { distance: s * distance }),
+        Unary::Shell { thickness } => Ok(Unary::Shell { thickness: s * thickness }),
+        _ if *tf == Transform::default() => Ok(*op),
+        _ => Err(not(format!("a transform over '{}' is not a blobtree node (its pattern is fixed in the world): transform its operand instead", op.kind().name()), span)),
+    }
+}
+
 /// Builds the scene in post-order with an explicit stack (an n-ary union
 /// of thousands of shapes is a comb that deep); `spans[i]` is where node i
 /// was written.
@@ -316,6 +377,7 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
     enum Task<'t> {
         Visit(&'t Tree, Transform),
         Combine(Operator, Span),
+        Wrap(Unary, Span),
     }
     let mut stack = vec![Task::Visit(tree, Transform::default())];
     let mut out: Vec<usize> = vec![];
@@ -339,6 +401,15 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
                 let r = out.pop().expect("two operands");
                 let l = out.pop().expect("two operands");
                 (b.operator(op, l, r), span)
+            }
+            Task::Visit(Tree::Unary(op, sub, span), tf) => {
+                stack.push(Task::Wrap(moved_unary(op, &tf, *span)?, *span));
+                stack.push(Task::Visit(sub, tf));
+                continue;
+            }
+            Task::Wrap(op, span) => {
+                let c = out.pop().expect("an operand");
+                (b.unary(op, c), span)
             }
         };
         if b.len() > MAX_LOWERED_NODES {

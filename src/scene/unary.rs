@@ -26,6 +26,7 @@
 //! **Lipschitz**: offset, shell and infill keep their operand's bound;
 //! displace adds a·f·NOISE_GRADIENT.
 
+use crate::sdf::{noise, NOISE_GRADIENT};
 use glam::DVec3;
 
 /// A unary node's operation.
@@ -192,22 +193,3 @@ pub fn gyroid_sheet(p: DVec3, period: f64, thickness: f64) -> f64 {
     g.abs() / (k * 6f64.sqrt()) - 0.5 * thickness
 }
 
-/// The pseudo-noise's waves: (unit direction a, frequency multiplier m,
-/// weight w, phase φ); the weights sum to 1.
-pub const NOISE_WAVES: [([f64; 3], f64, f64, f64); 4] = [
-    ([0.6, 0.8, 0.0], 1.0, 0.4, 0.0),
-    ([0.0, 0.6, 0.8], 1.7, 0.3, 1.3),
-    ([0.8, 0.0, 0.6], 2.9, 0.2, 2.1),
-    ([0.48, 0.64, 0.6], 4.3, 0.1, 4.2),
-];
-
-/// The bound Σ w·m of |∇n| / f.
-pub const NOISE_GRADIENT: f64 = 1.92;
-
-/// n(p) = Σ w sin(f·m·(a·p) + φ): smooth, in [−1, 1], with |∇n| ≤
-/// NOISE_GRADIENT·f; sines rather than lattice noise so that the formula
-/// language (and its interval and affine arithmetic) can write the same
-/// function.
-pub fn noise(p: [f64; 3], f: f64) -> f64 {
-    NOISE_WAVES.iter().map(|&(a, m, w, phase)| w * (f * m * (a[0] * p[0] + a[1] * p[1] + a[2] * p[2]) + phase).sin()).sum()
-}
