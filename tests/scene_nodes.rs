@@ -417,3 +417,27 @@ fn every_new_form_draws_the_compiled_picture_through_the_scene_path() {
     assert_eq!((a.stats.unresolved, a.stats.field.overflow_tiles), (0, 0));
     eprintln!("both {both}, far {far}, differ {differ} of {}", a.pixels.len());
 }
+
+/// The modelling examples are the scenes their formulas lower to
+/// (`isotrace scene lower -f examples/scene-src/NAME.txt`), and they trace
+/// to the end on every pixel.
+#[test]
+fn the_modelling_examples_are_their_formulas() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    for name in ["heat-exchanger", "carved", "profiles"] {
+        let src = std::fs::read_to_string(format!("{dir}/examples/scene-src/{name}.txt")).unwrap();
+        let f = isotrace::Formula::compile(name, &src).unwrap();
+        let lowered = isotrace::scene::from_formula(&f, &[]).unwrap();
+        let file = format::load(std::path::Path::new(&format!("{dir}/examples/{name}.scene.json"))).unwrap();
+        assert_eq!(file, lowered, "{name}: regenerate with isotrace scene lower");
+        let lin = Linear::new(&file).unwrap();
+        let data = lin.field_data();
+        let o = isotrace::render::SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
+        let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 96, 96);
+        let frame = isotrace::gpu::Renderer::new(&own, isotrace::codegen::FieldSource::Scene(&data), isotrace::render::Traversal::Sphere(o)).unwrap().render(&s).unwrap();
+        let hits = frame.pixels.iter().filter(|p| p.status == isotrace::render::Status::Hit).count();
+        assert!(hits > 500, "{name}: {hits} hits");
+        assert_eq!((frame.stats.unresolved, frame.stats.field.overflow_tiles), (0, 0), "{name}");
+    }
+}
