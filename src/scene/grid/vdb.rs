@@ -1,7 +1,8 @@
 //! OpenVDB level sets, through the `vdb-rs` crate (0.6), made dense.
 //!
-//! **What is read.** A float grid (`Tree_float_5_4_3`) of class "level set": its active voxels and active tiles, and its
-//! transform when it is a uniform scale with or without a translation
+//! **What is read.** A float grid (`Tree_float_5_4_3`) of class "level
+//! set": its active voxels and active tiles, and its transform when it is
+//! a uniform scale with or without a translation
 //! (world = index · voxel size + translation; OpenVDB puts voxel (i, j, k)'s
 //! sample at index point (i, j, k)). The dense grid covers the bounding box
 //! of the active voxels, one sample per voxel, so the narrow band is
@@ -13,10 +14,8 @@
 //! to 0 ("jb-todo: proper background value support" in `read_compressed`),
 //! so the sign of the inactive voxels — inside or outside — is lost, and
 //! with it the level set's interior. So this module
-//! - reads the background and the root tiles itself ([`tree_head`]: the
-//!   grid's metadata, transform and tree header are length-prefixed records
-//!   at the grid's offset, skipped the way OpenVDB's `Archive::readGrid`
-//!   reads them),
+//! - reads the background and the root tiles itself (in the walk of
+//!   [`vdb_layout`], which reads the file as vdb-rs will),
 //! - fills every inactive voxel of the box with ±background, the sign
 //!   flooded from the active voxels (breadth-first, 6 neighbours): each
 //!   inactive region is bounded by band voxels of one sign in a well-formed
@@ -34,17 +33,23 @@
 //! before 222 (OpenVDB 3.0: vdb-rs has `todo!()`s for older ones), active
 //! root tiles (4096³ voxels each), and boxes above the voxel limit.
 //!
-//! **Hardening limits.** vdb-rs asserts and panics on some malformed input;
-//! each call into it runs under `catch_unwind`, so such a file gives an
-//! error (the panic message still reaches stderr through the panic hook).
-//! It also allocates buffers of sizes read from the file before checking
-//! them against the data, so a crafted file can make the process abort on
-//! an allocation failure, and it decodes the whole tree before the voxel
+//! **Hardening.** vdb-rs allocates buffers of sizes read from the file
+//! before reading them, so the file is first walked by [`vdb_layout`],
+//! which checks every length against the bytes left (a corrupted file
+//! otherwise aborted the process: "memory allocation of
+//! 221869629939707904 bytes failed"). vdb-rs also asserts and panics on
+//! some malformed input; each call into it runs under `catch_unwind`, so
+//! such a file gives an error (the panic message still reaches stderr
+//! through the panic hook). It decodes the whole tree before the voxel
 //! limit can be checked on the actual voxels (the file's own bounding-box
-//! metadata is checked first, which stops honest large files early). Blosc
-//! blocks are decompressed by the C library c-blosc (through `blosc-src`).
+//! metadata is checked first, which stops honest large files early); after
+//! the walk, the decoded tree is at most about 16 times the file's size (a
+//! leaf decodes to 2 KiB of values and takes at least 137 bytes of the
+//! file: two 64-byte masks, a flag and a block size). Blosc blocks are decompressed by the C library c-blosc 1.21
+//! (through `blosc-src`), after the walk has checked that each block's
+//! header agrees with its length and with the values it should hold.
 
-use super::{check_dims, Grid, GridErrorKind};
+use super::{check_dims, vdb_layout, Grid, GridErrorKind, MAX_GRID_VOXELS};
 use std::collections::VecDeque;
 use std::io::Cursor;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -69,10 +74,7 @@ pub(super) fn read(bytes: &[u8], grid_name: Option<&str>) -> Result<Grid, GridEr
     if bytes.len() < 8 || bytes[..8] != MAGIC {
         return Err(err("not an OpenVDB file (no ' BDV' magic)"));
     }
-    let version = u32::from_le_bytes(bytes.get(8..12).ok_or_else(|| err("truncated header"))?.try_into().unwrap());
-    if version < 222 {
-        return Err(err(format!("OpenVDB file version {version} is not supported (vdb-rs reads version 222, OpenVDB 3.0, and later)")));
-    }
+    vdb_layout::archive(bytes).map_err(err)?;
     let mut reader = guarded("the file header", || VdbReader::new(Cursor::new(bytes)).map_err(|e| parse_error("the file header", e)))?;
     let name = pick_grid(&reader, grid_name)?;
     let gd = reader.grid_descriptors[&name].clone();
@@ -84,7 +86,7 @@ pub(super) fn read(bytes: &[u8], grid_name: Option<&str>) -> Result<Grid, GridEr
             "grid '{name}' is saved as half floats, which vdb-rs 0.6 misreads (it expects a size field that OpenVDB omits for empty half-float blocks); save it with full floats"
         )));
     }
-    let head = tree_head(bytes, gd.grid_pos as usize).map_err(|m| err(format!("grid '{name}': {m}")))?;
+    let background = vdb_layout::grid(bytes, gd.grid_pos, gd.block_pos).map_err(|m| err(format!("grid '{name}': {m}")))?;
     check_file_bbox(&name, &gd.meta_data.0)?;
     let grid = guarded(&format!("grid '{name}'"), || reader.read_grid::<f32>(&name).map_err(|e| parse_error(&format!("grid '{name}'"), e)))?;
     let (scale, translation) = match grid.transform {
@@ -92,14 +94,14 @@ pub(super) fn read(bytes: &[u8], grid_name: Option<&str>) -> Result<Grid, GridEr
         Map::ScaleTranslateMap { scale_values: s, translation: t, .. } => ([s.x, s.y, s.z], [t.x, t.y, t.z]),
     };
     let spacing = scale[0];
-    if !(spacing > 0.0) || scale.iter().any(|&s| (s - spacing).abs() > 1e-9 * spacing) {
+    if spacing.is_nan() || spacing <= 0.0 || scale.iter().any(|&s| (s - spacing).abs() > 1e-9 * spacing) {
         return Err(err(format!("grid '{name}': voxel size {scale:?} is not uniform and positive; a grid has one spacing")));
     }
     // Two passes over the decoded tree (box, then values) rather than a
     // list of every voxel: 16.8 M voxels would be 670 MB as a list.
     let items = || grid.iter().map(|(c, v, level)| ([c.x as i64, c.y as i64, c.z as i64], v, level_size(level)));
     let (lo, dims) = guarded(&format!("grid '{name}'"), || active_box(&name, items()))?;
-    let values = guarded(&format!("grid '{name}'"), || Ok(densify(lo, dims, items(), head.background)))?;
+    let values = guarded(&format!("grid '{name}'"), || Ok(densify(lo, dims, items(), background)))?;
     let origin = [0, 1, 2].map(|k| lo[k] as f64 * spacing + translation[k]);
     Grid::new(dims.map(|d| d as u32), origin, spacing, values)
 }
@@ -178,7 +180,7 @@ fn active_box(name: &str, items: impl Iterator<Item = ([i64; 3], f32, i64)>) -> 
         return Err(err(format!("grid '{name}' has no active voxels")));
     }
     let dims = [0, 1, 2].map(|k| (hi[k] - lo[k] + 1) as u64);
-    check_dims(dims).map_err(|e| err(format!("grid '{name}': the active voxels span {e}")))?;
+    check_dims(dims).map_err(|_| err(format!("grid '{name}': its active voxels span {} x {} x {}, above the limit of {MAX_GRID_VOXELS} voxels (or below 2 a side)", dims[0], dims[1], dims[2])))?;
     Ok((lo, dims))
 }
 
@@ -224,70 +226,4 @@ fn densify(lo: [i64; 3], dims: [u64; 3], items: impl Iterator<Item = ([i64; 3], 
         }
     }
     values
-}
-
-/// What vdb-rs drops from the tree's header.
-struct TreeHead {
-    background: f32,
-}
-
-/// A little-endian cursor over the file that reports running off its end.
-struct Bytes<'a> {
-    b: &'a [u8],
-    i: usize,
-}
-
-impl Bytes<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8], String> {
-        let s = self.b.get(self.i..self.i.saturating_add(n)).ok_or("the file ends inside the grid's header")?;
-        self.i += n;
-        Ok(s)
-    }
-    fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
-    }
-    fn string(&mut self) -> Result<String, String> {
-        let n = self.u32()? as usize;
-        Ok(String::from_utf8_lossy(self.take(n)?).into_owned())
-    }
-}
-
-/// Reads, at the grid's offset, the records vdb-rs skips or drops: the
-/// compression flags (u32), the metadata (a count, then name, type name and
-/// value, each a u32 length and bytes), the transform (its type name, then
-/// 5 or 6 f64 triples), then the tree: buffer count (u32), background (the
-/// value type), root tile count, child count, the tiles (3 × i32 origin,
-/// value, active byte). Also refuses what would make vdb-rs panic.
-fn tree_head(bytes: &[u8], grid_pos: usize) -> Result<TreeHead, String> {
-    let mut r = Bytes { b: bytes, i: grid_pos };
-    r.u32()?;
-    for _ in 0..r.u32()? {
-        r.string()?;
-        r.string()?;
-        r.string()?;
-    }
-    let map = r.string()?;
-    let triples = match map.as_str() {
-        "UniformScaleMap" => 5,
-        "UniformScaleTranslateMap" | "ScaleTranslateMap" => 6,
-        other => return Err(format!("transform '{other}' is not supported (vdb-rs reads UniformScaleMap, UniformScaleTranslateMap and ScaleTranslateMap)")),
-    };
-    r.take(triples * 24)?;
-    let buffers = r.u32()?;
-    if buffers != 1 {
-        return Err(format!("{buffers} buffers per node are not supported (vdb-rs reads 1)"));
-    }
-    let background = f32::from_le_bytes(r.take(4)?.try_into().unwrap());
-    let tiles = r.u32()?;
-    r.u32()?;
-    for _ in 0..tiles {
-        r.take(16)?;
-        if r.take(1)?[0] != 0 {
-            return Err("an active root tile (4096³ voxels) is above the voxel limit".into());
-        }
-    }
-    if !background.is_finite() {
-        return Err(format!("the background value {background} is not finite"));
-    }
-    Ok(TreeHead { background })
 }
