@@ -29,6 +29,7 @@ pub mod eval;
 pub mod format;
 pub mod formula;
 pub mod generate;
+pub mod grid;
 pub mod linear;
 pub mod lower;
 pub mod operator;
