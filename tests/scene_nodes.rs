@@ -441,3 +441,93 @@ fn the_modelling_examples_are_their_formulas() {
         assert_eq!((frame.stats.unresolved, frame.stats.field.overflow_tiles), (0, 0), "{name}");
     }
 }
+
+/// Two pebbles from `examples/pebble.npy` (one moved, turned and scaled)
+/// blended on a ground plane.
+fn pebbles() -> Scene {
+    format::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/pebbles.scene.json"))).unwrap()
+}
+
+#[test]
+fn grid_nodes_read_their_file_once_and_round_trip() {
+    let scene = pebbles();
+    let grids: Vec<_> = scene.nodes().iter().filter_map(|n| match n {
+        Node::Primitive(Primitive { shape: Shape::Grid(g), .. }) => Some(g.grid.clone()),
+        _ => None,
+    }).collect();
+    assert_eq!(grids.len(), 2);
+    assert!(std::sync::Arc::ptr_eq(&grids[0], &grids[1]), "one file, one grid");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
+    assert_eq!(format::parse_in(&format::to_json(&scene), std::path::Path::new(dir)).unwrap(), scene);
+    assert_eq!(Linear::new(&scene).unwrap().features, linear::FEATURE_GRID);
+    // The field is the grid's interpolant under the primitive's transform.
+    let g = isotrace::scene::grid::Grid::pebble();
+    for p in [[0.1, 0.2, 0.3], [0.9, -0.4, 0.2], [3.0, 2.0, 1.0]] {
+        let Node::Primitive(prim) = &scene.nodes()[0] else { unreachable!() };
+        assert_eq!(prim.distance(p), g.eval(p));
+    }
+    assert!(scene.to_formula().unwrap_err().to_string().contains("is a grid, which the formula language has no form for"));
+}
+
+#[test]
+fn bad_grid_nodes_name_the_field_and_the_file() {
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/examples"));
+    let e = |node: &str| {
+        let text = format!("{{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{node}]}}");
+        format::parse_in(&text, dir).unwrap_err().to_string()
+    };
+    let missing = e(r#"{"type": "grid", "file": "nothere.npy", "spacing": 0.1, "origin": [0, 0, 0]}"#);
+    assert!(missing.starts_with("nodes[0].file: ") && missing.contains("nothere.npy"), "{missing}");
+    assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy", "spacing": 0.1}"#), "nodes[0].origin: missing: a grid with a spacing needs its origin too");
+    assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy"}"#), format!("nodes[0].file: {}: a .npy file holds only values: the grid's spacing and origin must be given", dir.join("pebble.npy").display()));
+    assert_eq!(e(r#"{"type": "grid", "file": 3}"#), "nodes[0].file: expected a file name, found 3");
+    assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy", "spacing": 0.1, "origin": [0, 0, 0], "radius": 1}"#), "nodes[0].radius: unknown field for a grid; expected file, spacing, origin, translate, rotate or scale");
+    let vdb = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/grid/sphere.vdb");
+    let ok = format::parse(&format!("{{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{{\"type\": \"grid\", \"file\": \"{vdb}\"}}]}}")).unwrap();
+    assert!(ok.eval([0.0, 0.0, 0.0]) < 0.0);
+}
+
+#[test]
+fn grid_bounding_volumes_and_bounds_hold_by_sampling() {
+    let scene = pebbles();
+    let lin = Linear::new(&scene).unwrap();
+    let mut rng = Rng::new(10);
+    let mut inside = 0;
+    for (k, &node) in lin.primitives.iter().enumerate() {
+        let Node::Primitive(p) = &scene.nodes()[lin.order[node as usize]] else { unreachable!() };
+        let Shape::Grid(_) = p.shape else { continue };
+        let r_plus = lin.roi[node as usize].hi;
+        let bb = lin.abvs[k].aabb();
+        for _ in 0..20_000 {
+            let x = [0, 1, 2].map(|a| rng.range(bb.min[a] - 1.0, bb.max[a] + 1.0));
+            if p.distance(x) <= r_plus {
+                inside += 1;
+                assert!(lin.abvs[k].contains(x), "{x:?} outside {:?}", lin.abvs[k]);
+            }
+        }
+    }
+    assert!(inside > 2_000, "{inside}");
+    // The bound the scene is traced with holds where the field is >= 0.
+    let mut worst = 0.0f64;
+    for _ in 0..40_000 {
+        let a = DVec3::new(rng.range(-1.5, 3.5), rng.range(-1.5, 2.0), rng.range(-0.6, 1.4));
+        let b = a + rng.direction() * rng.range(1e-4, 0.03);
+        let (fa, fb) = (scene.eval(a.to_array()), scene.eval(b.to_array()));
+        if fa >= 0.0 && fb >= 0.0 {
+            worst = worst.max((fa - fb).abs() / (a - b).length());
+        }
+    }
+    assert!(worst <= lin.lipschitz(), "{worst} > {}", lin.lipschitz());
+}
+
+#[test]
+fn the_device_interpolates_grids_as_the_reference_does() {
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let scene = pebbles();
+    let lin = Linear::new(&scene).unwrap();
+    let mut rng = Rng::new(11);
+    let p32: Vec<[f32; 3]> = (0..20_000).map(|_| [rng.range(-1.6, 3.6) as f32, rng.range(-1.6, 2.2) as f32, rng.range(-1.4, 1.4) as f32]).collect();
+    let got = isotrace::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
+    let worst = p32.iter().zip(&got).map(|(p, g)| (*g as f64 - scene.eval(p.map(f64::from))).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-4, "{worst}");
+}

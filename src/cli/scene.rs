@@ -251,7 +251,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
             "file": a.file.display().to_string(), "nodes": sum.nodes, "primitives": sum.primitives, "operators": sum.operators,
             "shapes": sum.shapes, "ops": sum.ops, "depth": sum.depth, "stack_depth": lin.stack_depth, "stack_limit": MAX_STACK,
             "bounds": { "min": b.min.map(finite), "max": b.max.map(finite) }, "always_active": always, "lipschitz_path_bound": lip,
-            "lipschitz_displacement": roi::displacement_lipschitz(&scene), "lipschitz_traced": lin.lipschitz(), "features": feature_names(lin.features),
+            "lipschitz_field": roi::field_lipschitz(&scene), "lipschitz_traced": lin.lipschitz(), "features": feature_names(lin.features),
         });
         if let Some(p) = &probe {
             v["probe"] = serde_json::json!({
@@ -274,9 +274,9 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let _ = writeln!(out, "bounds:        {}", bounds_text(&lin.bounds));
     let _ = writeln!(out, "always active: {always} (planes)");
     let _ = writeln!(out, "lipschitz:     {} (largest product of 6 r_o/(6 r_o - beta) on a root-to-leaf path)", short3(lip));
-    let disp = roi::displacement_lipschitz(&scene);
+    let disp = roi::field_lipschitz(&scene);
     if disp > 1.0 {
-        let _ = writeln!(out, "displacement:  {} (bound of the field with its displacements; traced with L = {})", short3(disp), short3(lin.lipschitz()));
+        let _ = writeln!(out, "field bound:   {} (displacements and voxel grids where the field is >= 0; traced with L = {})", short3(disp), short3(lin.lipschitz()));
     }
     if lin.features != 0 {
         let _ = writeln!(out, "interpreter:   {} (a kernel with this node code; scenes without it run the basic one)", feature_names(lin.features).join(", "));
@@ -293,8 +293,8 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
 
 /// The names of the interpreter features in `bits` (`scene::linear::FEATURE_*`).
 fn feature_names(bits: u32) -> Vec<&'static str> {
-    use isotrace::scene::linear::{FEATURE_DISPLACE, FEATURE_INFILL, FEATURE_POLYGON, FEATURE_PROFILE, FEATURE_UNARY};
-    [(FEATURE_PROFILE, "profiles"), (FEATURE_POLYGON, "polygons"), (FEATURE_UNARY, "unary nodes"), (FEATURE_INFILL, "infill"), (FEATURE_DISPLACE, "displacement")]
+    use isotrace::scene::linear::{FEATURE_DISPLACE, FEATURE_GRID, FEATURE_INFILL, FEATURE_POLYGON, FEATURE_PROFILE, FEATURE_UNARY};
+    [(FEATURE_PROFILE, "profiles"), (FEATURE_POLYGON, "polygons"), (FEATURE_UNARY, "unary nodes"), (FEATURE_INFILL, "infill"), (FEATURE_DISPLACE, "displacement"), (FEATURE_GRID, "voxel grids")]
         .into_iter()
         .filter(|(b, _)| bits & b != 0)
         .map(|(_, n)| n)

@@ -89,7 +89,11 @@ impl Backend {
     /// The scene of a request: the edited one in the body, else the file.
     fn scene(&self, body: &Value) -> Result<isotrace::scene::Scene, ApiError> {
         match body.get("scene") {
-            Some(v) if !v.is_null() => isotrace::scene::format::parse(&v.to_string()).map_err(|e| ApiError::bad(format!("the edited scene: {e}"))),
+            // Grid files are found next to the scene file, as when it is loaded.
+            Some(v) if !v.is_null() => {
+                let base = std::path::Path::new(&self.input).parent().unwrap_or(std::path::Path::new(""));
+                isotrace::scene::format::parse_in(&v.to_string(), base).map_err(|e| ApiError::bad(format!("the edited scene: {e}")))
+            }
             _ => isotrace::scene::format::load(std::path::Path::new(&self.input)).map_err(|e| ApiError::bad(e.to_string())),
         }
     }

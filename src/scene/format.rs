@@ -19,9 +19,13 @@ use super::{Blend, Node, Operator, Primitive, Profile, Rotation, Scene, SceneErr
 use crate::bounded::{self, ReadError};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
+use super::grid::{self, Grid, Placement};
+use super::primitive::GridRef;
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The format version this isotrace reads and writes.
 pub const VERSION: u64 = 1;
@@ -47,16 +51,40 @@ pub enum FormatError {
     Invalid(#[from] SceneError),
 }
 
-/// Reads and validates the scene file at `path`.
+/// The most grid samples one scene may load, over all its grid files (each
+/// file is also limited, [`grid::MAX_GRID_VOXELS`]): 2²⁶ samples are
+/// 256 MiB as f32, and a quarter of the parameter texture's rows.
+pub const MAX_SCENE_GRID_VOXELS: u64 = 1 << 26;
+
+/// Reads and validates the scene file at `path`; grid files are found
+/// relative to its directory.
 pub fn load(path: &Path) -> Result<Scene, FormatError> {
-    parse(&bounded::read_file_text(path, MAX_SCENE_BYTES)?)
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    parse_in(&bounded::read_file_text(path, MAX_SCENE_BYTES)?, &base)
 }
 
-/// Parses and validates scene file text.
+/// Parses and validates scene file text; grid files are found relative to
+/// the working directory.
 pub fn parse(text: &str) -> Result<Scene, FormatError> {
+    parse_in(text, Path::new(""))
+}
+
+/// What parsing keeps besides the nodes: where grid files are, the grids
+/// read so far (a file named by several nodes is read once) and their
+/// samples in all.
+struct Ctx {
+    base: PathBuf,
+    grids: RefCell<HashMap<(PathBuf, Option<[u64; 4]>), Arc<Grid>>>,
+    voxels: std::cell::Cell<u64>,
+}
+
+/// Parses and validates scene file text whose grid files are relative to
+/// `base`.
+pub fn parse_in(text: &str, base: &Path) -> Result<Scene, FormatError> {
     let failure = RefCell::new(None);
+    let ctx = Ctx { base: base.to_path_buf(), grids: RefCell::new(HashMap::new()), voxels: std::cell::Cell::new(0) };
     let mut de = serde_json::Deserializer::from_str(text);
-    let parsed = de::Deserializer::deserialize_any(&mut de, FileVisitor { failure: &failure }).and_then(|v| de.end().map(|_| v));
+    let parsed = de::Deserializer::deserialize_any(&mut de, FileVisitor { failure: &failure, ctx: &ctx }).and_then(|v| de.end().map(|_| v));
     let (nodes, root) = match parsed {
         Ok(v) => v,
         Err(e) => {
@@ -78,6 +106,7 @@ fn fail<E: de::Error>(cell: &RefCell<Option<SceneError>>, e: SceneError) -> E {
 
 struct FileVisitor<'a> {
     failure: &'a RefCell<Option<SceneError>>,
+    ctx: &'a Ctx,
 }
 
 impl<'de> Visitor<'de> for FileVisitor<'_> {
@@ -93,7 +122,7 @@ impl<'de> Visitor<'de> for FileVisitor<'_> {
         while let Some(key) = map.next_key::<String>()? {
             let seen = match key.as_str() {
                 "isotrace_scene" => version.replace(check_version(&map.next_value::<Value>()?).map_err(|e| fail(cell, e))?).is_some(),
-                "nodes" => nodes.replace(map.next_value_seed(NodesSeed { failure: cell })?).is_some(),
+                "nodes" => nodes.replace(map.next_value_seed(NodesSeed { failure: cell, ctx: self.ctx })?).is_some(),
                 "root" => root.replace(index(&map.next_value::<Value>()?).map_err(|r| fail(cell, SceneError::new("root", r)))?).is_some(),
                 _ => return Err(fail(cell, SceneError::new(key, "unknown field; a scene file has isotrace_scene, nodes and root"))),
             };
@@ -119,6 +148,7 @@ fn check_version(v: &Value) -> Result<u64, SceneError> {
 
 struct NodesSeed<'a> {
     failure: &'a RefCell<Option<SceneError>>,
+    ctx: &'a Ctx,
 }
 
 impl<'de> DeserializeSeed<'de> for NodesSeed<'_> {
@@ -152,7 +182,7 @@ impl<'de> Visitor<'de> for NodesSeed<'_> {
             if i >= MAX_NODES {
                 return Err(fail(cell, SceneError::new("nodes", format!("more than {MAX_NODES} nodes (the limit)"))));
             }
-            nodes.push(node(i, &v).map_err(|e| fail(cell, e))?);
+            nodes.push(node(i, &v, self.ctx).map_err(|e| fail(cell, e))?);
         }
     }
 }
@@ -262,6 +292,7 @@ fn shape_fields(kind: ShapeKind) -> &'static [&'static str] {
         ShapeKind::Plane => &["normal", "offset"],
         ShapeKind::Extrude => &["profile", "half_height"],
         ShapeKind::Revolve => &["profile", "offset"],
+        ShapeKind::Grid => &["file", "spacing", "origin"],
     }
 }
 
@@ -277,7 +308,7 @@ fn profile_fields(name: &str) -> &'static [&'static str] {
 }
 
 /// Converts node `i` from JSON (parameters are checked later, by [`Scene::new`]).
-fn node(i: usize, v: &Value) -> Result<Node, SceneError> {
+fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
     let obj = v.as_object().ok_or_else(|| SceneError::at(i, "", format!("expected an object, found {}", describe(v))))?;
     let f = Fields { i, obj, prefix: "" };
     let ty = match obj.get("type") {
@@ -288,7 +319,8 @@ fn node(i: usize, v: &Value) -> Result<Node, SceneError> {
     if let Some(kind) = ShapeKind::parse(ty) {
         let fields: Vec<&str> = shape_fields(kind).iter().chain(&TRANSFORM_FIELDS).copied().collect();
         f.only(ty, &fields)?;
-        return Ok(Node::Primitive(Primitive { shape: shape(&f, kind)?, transform: transform(&f)? }));
+        let shape = if kind == ShapeKind::Grid { Shape::Grid(grid_ref(&f, ctx)?) } else { shape(&f, kind)? };
+        return Ok(Node::Primitive(Primitive { shape, transform: transform(&f)? }));
     }
     if let Some(kind) = UnaryKind::parse(ty) {
         let fields: Vec<&str> = ["child"].iter().chain(kind.fields()).copied().collect();
@@ -333,7 +365,39 @@ fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
         ShapeKind::Plane => Shape::Plane { normal: f.vec3("normal")?, offset: f.number("offset")? },
         ShapeKind::Extrude => Shape::Extrude { profile: profile(f)?, half_height: f.number("half_height")? },
         ShapeKind::Revolve => Shape::Revolve { profile: profile(f)?, offset: f.number("offset")? },
+        ShapeKind::Grid => unreachable!("grids are read by grid_ref"),
     })
+}
+
+/// A grid node's file, read (or shared with an earlier node naming the same
+/// file and placement): `file` relative to the scene file, and for a `.npy`
+/// its `spacing` and `origin`.
+fn grid_ref(f: &Fields, ctx: &Ctx) -> Result<GridRef, SceneError> {
+    let file = match f.obj.get("file") {
+        Some(Value::String(s)) => s.clone(),
+        Some(v) => return Err(f.err("file", format!("expected a file name, found {}", describe(v)))),
+        None => return Err(f.err("file", "missing")),
+    };
+    let placement = match (f.obj.get("spacing"), f.obj.get("origin")) {
+        (None, None) => None,
+        (Some(_), None) => return Err(f.err("origin", "missing: a grid with a spacing needs its origin too")),
+        (None, Some(_)) => return Err(f.err("spacing", "missing: a grid with an origin needs its spacing too")),
+        (Some(v), Some(_)) => Some(Placement { spacing: f.number_of("spacing", v)?, origin: f.vec3("origin")? }),
+    };
+    let path = ctx.base.join(&file);
+    let key = (path.clone(), placement.map(|p| [p.spacing.to_bits(), p.origin[0].to_bits(), p.origin[1].to_bits(), p.origin[2].to_bits()]));
+    if let Some(g) = ctx.grids.borrow().get(&key) {
+        return Ok(GridRef { file, placement, grid: g.clone() });
+    }
+    let g = grid::load(&path, placement).map_err(|e| f.err("file", e.to_string()))?;
+    let total = ctx.voxels.get() + g.values().len() as u64;
+    if total > MAX_SCENE_GRID_VOXELS {
+        return Err(f.err("file", format!("the scene's grids hold {total} samples with this one, above the limit of {MAX_SCENE_GRID_VOXELS}")));
+    }
+    ctx.voxels.set(total);
+    let g = Arc::new(g);
+    ctx.grids.borrow_mut().insert(key, g.clone());
+    Ok(GridRef { file, placement, grid: g })
 }
 
 /// The `profile` object of an extrusion or revolution (parameters are
@@ -419,6 +483,13 @@ fn node_json(n: &Node) -> String {
                 Shape::Plane { normal, offset } => vec![nums(&normal), num(offset)],
                 Shape::Extrude { profile, half_height } => vec![profile_json(&profile), num(half_height)],
                 Shape::Revolve { profile, offset } => vec![profile_json(&profile), num(offset)],
+                Shape::Grid(ref g) => {
+                    let file = serde_json::to_string(&g.file).unwrap_or_else(|_| "\"\"".into());
+                    match g.placement {
+                        Some(pl) => vec![file, num(pl.spacing), nums(&pl.origin)],
+                        None => vec![file],
+                    }
+                }
             };
             for (k, v) in shape_fields(p.shape.kind()).iter().zip(values) {
                 s += &format!(", \"{k}\": {v}");

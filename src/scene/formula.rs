@@ -12,19 +12,30 @@
 use super::{Node, OpKind, Primitive, Profile, Scene, Shape};
 use crate::syntax::parser::MAX_SOURCE_BYTES;
 
-/// The formula would exceed the formula language's size limit.
+/// Why a scene has no formula.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("the scene's formula would be {bytes} bytes or more, above the formula language's limit of {limit} bytes")]
-pub struct TooLarge {
-    /// Bytes written when the limit was passed.
-    pub bytes: usize,
-    /// The limit.
-    pub limit: usize,
+pub enum NoFormula {
+    /// The formula would exceed the formula language's size limit.
+    #[error("the scene's formula would be {bytes} bytes or more, above the formula language's limit of {limit} bytes")]
+    TooLarge {
+        /// Bytes written when the limit was passed.
+        bytes: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// A node type the formula language has no form for.
+    #[error("nodes[{node}] is a {kind}, which the formula language has no form for")]
+    NoForm {
+        /// The scene node.
+        node: usize,
+        /// Its type.
+        kind: &'static str,
+    },
 }
 
 impl Scene {
     /// The scene as a formula program ([`to_formula`]).
-    pub fn to_formula(&self) -> Result<String, TooLarge> {
+    pub fn to_formula(&self) -> Result<String, NoFormula> {
         to_formula(self)
     }
 }
@@ -38,9 +49,11 @@ fn args(v: &[f64]) -> String {
     v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", ")
 }
 
-/// `translate(t, rotate(axis, angle, scale(s, form)))`, identity parts left out.
-pub fn primitive_formula(p: &Primitive) -> String {
+/// `translate(t, rotate(axis, angle, scale(s, form)))`, identity parts left
+/// out; `None` for a shape the formula language has no form for (a grid).
+pub fn primitive_formula(p: &Primitive) -> Option<String> {
     let mut s = match p.shape {
+        Shape::Grid(_) => return None,
         Shape::Sphere { radius } => format!("sphere({})", num(radius)),
         Shape::Box { half } => format!("box({})", args(&half)),
         Shape::RoundBox { half, radius } => format!("roundbox({}, {})", args(&half), num(radius)),
@@ -62,7 +75,7 @@ pub fn primitive_formula(p: &Primitive) -> String {
     if t.translate != [0.0; 3] {
         s = format!("translate({}, {s})", args(&t.translate));
     }
-    s
+    Some(s)
 }
 
 /// A profile as the formula language's 2D form of the same name.
@@ -78,12 +91,12 @@ fn profile_formula(p: &Profile) -> String {
 
 /// The scene as a formula program; an error if it passes the formula
 /// language's 64 KiB limit.
-pub fn to_formula(scene: &Scene) -> Result<String, TooLarge> {
+pub fn to_formula(scene: &Scene) -> Result<String, NoFormula> {
     let mut out = String::new();
     let name = |i: usize| format!("n{i}");
     for &i in scene.post_order() {
         let rhs = match &scene.nodes()[i] {
-            Node::Primitive(p) => primitive_formula(p),
+            Node::Primitive(p) => primitive_formula(p).ok_or(NoFormula::NoForm { node: i, kind: p.shape.kind().name() })?,
             Node::Operator { op, left, right } => {
                 let (l, r) = (name(*left), name(*right));
                 match (op.kind, op.blend) {
@@ -100,13 +113,13 @@ pub fn to_formula(scene: &Scene) -> Result<String, TooLarge> {
         };
         out += &format!("{} = {rhs};\n", name(i));
         if out.len() > MAX_SOURCE_BYTES {
-            return Err(TooLarge { bytes: out.len(), limit: MAX_SOURCE_BYTES });
+            return Err(NoFormula::TooLarge { bytes: out.len(), limit: MAX_SOURCE_BYTES });
         }
     }
     out += &name(scene.root());
     out.push('\n');
     if out.len() > MAX_SOURCE_BYTES {
-        return Err(TooLarge { bytes: out.len(), limit: MAX_SOURCE_BYTES });
+        return Err(NoFormula::TooLarge { bytes: out.len(), limit: MAX_SOURCE_BYTES });
     }
     Ok(out)
 }

@@ -79,6 +79,8 @@ pub const PLANE: u32 = 8;
 pub const EXTRUDE: u32 = 9;
 /// Type code of a revolved profile.
 pub const REVOLVE: u32 = 10;
+/// Type code of a voxel grid.
+pub const GRID: u32 = 11;
 /// Type code of a sharp union.
 pub const UNION: u32 = 32;
 /// Type code of a sharp intersection.
@@ -110,6 +112,8 @@ pub const FEATURE_UNARY: u32 = 4;
 pub const FEATURE_INFILL: u32 = 8;
 /// Feature bit: noise displacement.
 pub const FEATURE_DISPLACE: u32 = 16;
+/// Feature bit: voxel grids (trilinear interpolation of their samples).
+pub const FEATURE_GRID: u32 = 32;
 
 /// Rows of the transform matrix before a primitive's parameters.
 pub const PRIM_MATRIX_ROWS: u32 = 3;
@@ -133,6 +137,10 @@ pub const FORM_PLANE: u32 = 3;
 pub const FORM_EXTRUDE: u32 = 4;
 /// Primitive form: a 2D profile at (|q.xy| − R, q.z).
 pub const FORM_REVOLVE: u32 = 5;
+/// Primitive form: a voxel grid's samples, trilinearly interpolated.
+pub const FORM_GRID: u32 = 6;
+/// Rows of a grid primitive before its samples.
+pub const GRID_ROWS: u32 = 6;
 /// Rows of a profile primitive before its polygon vertices: the five of
 /// every primitive and the capsule's segment (a.x, a.y, b.x, b.y).
 pub const PROFILE_ROWS: u32 = 6;
@@ -188,7 +196,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 50] = [
+    let consts: [(&str, u32); 54] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -238,6 +246,10 @@ pub fn wgsl_constants() -> String {
         ("FEATURE_UNARY", FEATURE_UNARY),
         ("FEATURE_INFILL", FEATURE_INFILL),
         ("FEATURE_DISPLACE", FEATURE_DISPLACE),
+        ("FEATURE_GRID", FEATURE_GRID),
+        ("NODE_GRID", GRID),
+        ("FORM_GRID", FORM_GRID),
+        ("GRID_ROWS", GRID_ROWS),
         ("NOISE_WAVES", crate::sdf::NOISE_WAVES.len() as u32),
     ];
     let mut s = String::new();
@@ -529,6 +541,7 @@ fn features(scene: &Scene) -> u32 {
             Node::Primitive(p) => match p.shape {
                 Shape::Extrude { profile: Profile::Polygon { .. }, .. } | Shape::Revolve { profile: Profile::Polygon { .. }, .. } => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
+                Shape::Grid(_) => FEATURE_GRID,
                 _ => 0,
             },
             Node::Operator { .. } => 0,
@@ -543,7 +556,7 @@ fn features(scene: &Scene) -> u32 {
 fn lipschitz_bound(scene: &Scene) -> f64 {
     let smooth = scene.nodes().iter().any(|n| matches!(n, Node::Operator { op, .. } if op.blend.is_some()));
     let base = if smooth { SMOOTH_LIPSCHITZ } else { 1.0 };
-    base * roi::displacement_lipschitz(scene)
+    base * roi::field_lipschitz(scene)
 }
 
 #[cfg(test)]
@@ -636,7 +649,7 @@ impl Linear {
 
     /// The Lipschitz bound to trace the scene with: 1, or
     /// [`SMOOTH_LIPSCHITZ`] when it has a compact smooth operator, times
-    /// the bound its displacements give ([`roi::displacement_lipschitz`];
+    /// the bound its displacements and voxel grids give ([`roi::field_lipschitz`];
     /// 1 without any).
     pub fn lipschitz(&self) -> f64 {
         self.lipschitz

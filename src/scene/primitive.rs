@@ -16,8 +16,10 @@
 //! transform is an isometry times s, so an exact distance stays exact and a
 //! 1-Lipschitz bound stays 1-Lipschitz.
 
+use super::grid::{Grid, Placement};
 use super::profile::{self, Profile};
 use glam::{DVec2, DVec3};
+use std::sync::Arc;
 
 /// The shape of a primitive, in its local frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,6 +96,33 @@ pub enum Shape {
         /// R ≥ 0: where the profile's origin sits from the axis.
         offset: f64,
     },
+    /// A voxel grid of signed distances from a file, trilinearly
+    /// interpolated ([`super::grid`]), in the local frame.
+    Grid(GridRef),
+}
+
+/// A loaded voxel grid and where it came from (a scene file names the
+/// file; several nodes naming the same file share one grid).
+#[derive(Clone)]
+pub struct GridRef {
+    /// The file as the scene names it (relative to the scene file).
+    pub file: String,
+    /// Origin and spacing for a `.npy` (a `.vdb` has its own).
+    pub placement: Option<Placement>,
+    /// The samples.
+    pub grid: Arc<Grid>,
+}
+
+impl PartialEq for GridRef {
+    fn eq(&self, o: &GridRef) -> bool {
+        self.file == o.file && self.placement == o.placement && (Arc::ptr_eq(&self.grid, &o.grid) || self.grid == o.grid)
+    }
+}
+
+impl std::fmt::Debug for GridRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "GridRef {{ file: {:?}, dims: {:?} }}", self.file, self.grid.dims())
+    }
 }
 
 /// The primitive types, with the type codes of the linear form
@@ -120,11 +149,13 @@ pub enum ShapeKind {
     Extrude = 9,
     /// `revolve`
     Revolve = 10,
+    /// `grid`
+    Grid = 11,
 }
 
 impl ShapeKind {
     /// Every kind, in type-code order.
-    pub const ALL: [ShapeKind; 10] = [
+    pub const ALL: [ShapeKind; 11] = [
         ShapeKind::Sphere,
         ShapeKind::Box,
         ShapeKind::RoundBox,
@@ -135,6 +166,7 @@ impl ShapeKind {
         ShapeKind::Plane,
         ShapeKind::Extrude,
         ShapeKind::Revolve,
+        ShapeKind::Grid,
     ];
 
     /// The `type` of a scene file node.
@@ -150,6 +182,7 @@ impl ShapeKind {
             ShapeKind::Plane => "plane",
             ShapeKind::Extrude => "extrude",
             ShapeKind::Revolve => "revolve",
+            ShapeKind::Grid => "grid",
         }
     }
 
@@ -173,11 +206,20 @@ impl Shape {
             Shape::Plane { .. } => ShapeKind::Plane,
             Shape::Extrude { .. } => ShapeKind::Extrude,
             Shape::Revolve { .. } => ShapeKind::Revolve,
+            Shape::Grid(_) => ShapeKind::Grid,
         }
     }
 
     /// The distance (or, for the octahedron, the bound) at local point `q`.
     pub fn local_distance(&self, q: DVec3) -> f64 {
+        match self {
+            Shape::Grid(g) => g.grid.eval(q.to_array()),
+            shape => shape.analytic_distance(q),
+        }
+    }
+
+    /// [`Shape::local_distance`] of the shapes given by numbers.
+    fn analytic_distance(&self, q: DVec3) -> f64 {
         match *self {
             Shape::Sphere { radius } => q.length() - radius,
             Shape::Box { half } => box_distance(q, DVec3::from(half)),
@@ -199,6 +241,7 @@ impl Shape {
             }
             Shape::Extrude { profile, half_height } => profile::extrude(profile.distance(DVec2::new(q.x, q.y)), q.z, half_height),
             Shape::Revolve { profile, offset } => profile.distance(DVec2::new(q.x.hypot_like(q.y) - offset, q.z)),
+            Shape::Grid(_) => unreachable!("a grid is not given by numbers"),
         }
     }
 
@@ -220,6 +263,8 @@ impl Shape {
             }
         }
         match *self {
+            // Checked when its file was read.
+            Shape::Grid(_) => Ok(()),
             Shape::Sphere { radius } => positive("radius", radius),
             Shape::Box { half } => positive3("half", half),
             Shape::RoundBox { half, radius } => {
@@ -281,6 +326,7 @@ impl Shape {
             Shape::Plane { normal, offset } => [three("normal", normal), one("offset", offset)].concat(),
             Shape::Extrude { profile, half_height } => [profile.fields(), one("half_height", half_height)].concat(),
             Shape::Revolve { profile, offset } => [profile.fields(), one("offset", offset)].concat(),
+            Shape::Grid(_) => Vec::new(),
         }
     }
 }

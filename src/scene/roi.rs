@@ -61,7 +61,7 @@ pub fn ranges(scene: &Scene) -> Vec<Roi> {
 /// Loose: the brief measured max |∇f| ≤ 1.23 where this product is larger.
 /// A displacement above a node adds to the bound of its operand's field,
 /// which is then at most the sum, so it is carried as a separate term:
-/// see [`displacement_lipschitz`].
+/// see [`field_lipschitz`].
 pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
     let nodes = scene.nodes();
     let mut lip = vec![1.0; nodes.len()];
@@ -77,23 +77,70 @@ pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
     lip
 }
 
-/// A Lipschitz bound of the whole field from its exact (1-Lipschitz)
-/// primitives and its displacements, ignoring the compact operators'
-/// factors (which the renderer covers with its empirical 1.45): bottom up,
-/// a primitive is 1, a binary operator the larger of its operands, a
-/// displacement its operand's plus a·f·NOISE_GRADIENT, other unary nodes
+/// A Lipschitz bound of the whole field where it is ≥ 0 (what sphere
+/// tracing steps on), ignoring the compact operators' factors (which the
+/// renderer covers with its empirical 1.45): bottom up, an exact primitive
+/// is 1, a voxel grid the bound of its interpolant where it can decide the
+/// field ([`trace_levels`]), a binary operator the larger of its operands',
+/// a displacement its operand's plus a·f·NOISE_GRADIENT, other unary nodes
 /// their operand's.
-pub fn displacement_lipschitz(scene: &Scene) -> f64 {
+pub fn field_lipschitz(scene: &Scene) -> f64 {
     let nodes = scene.nodes();
+    let levels = trace_levels(scene);
     let mut lip = vec![1.0f64; nodes.len()];
     for &i in scene.post_order() {
-        lip[i] = match nodes[i] {
-            Node::Primitive(_) => 1.0,
-            Node::Operator { left, right, .. } => lip[left].max(lip[right]),
-            Node::Unary { op, child } => lip[child] + op.lipschitz_increase(),
+        lip[i] = match &nodes[i] {
+            Node::Primitive(p) => match &p.shape {
+                Shape::Grid(g) => levels[i].map_or(g.grid.lipschitz(), |l| g.grid.lipschitz_above(l / p.transform.scale)),
+                _ => 1.0,
+            },
+            Node::Operator { left, right, .. } => lip[*left].max(lip[*right]),
+            Node::Unary { op, child } => lip[*child] + op.lipschitz_increase(),
         };
     }
     lip[scene.root()]
+}
+
+/// For every node, a level at or above which its value must be where it
+/// decides the root's value and the root is ≥ 0 (where sphere tracing
+/// steps), or `None` when no such level exists (its values below any
+/// level can decide it). The root: 0. ∪ (sharp or G∪ ≤ min): both
+/// operands the node's level; ∩: the deciding operand is at least the
+/// level and the other, in a blend, within β of it, so the level − 2β;
+/// \: the left likewise, the right `None` (−b decides where b is low);
+/// offset d: the level + d; shell: `None` (|f| reads both sides);
+/// infill: the level; displace a: the level − a. A voxel grid's gradient
+/// only matters above its level, where its interpolant is much tamer than
+/// at its kinks (`Grid::lipschitz_above`).
+pub fn trace_levels(scene: &Scene) -> Vec<Option<f64>> {
+    let nodes = scene.nodes();
+    let mut level: Vec<Option<f64>> = vec![None; nodes.len()];
+    level[scene.root()] = Some(0.0);
+    for &i in scene.post_order().iter().rev() {
+        let l = level[i];
+        match nodes[i] {
+            Node::Operator { op, left, right } => {
+                let beta = op.blend.map_or(0.0, |b| b.beta);
+                let (a, b) = match op.kind {
+                    super::OpKind::Union => (l, l),
+                    super::OpKind::Intersection => (l.map(|v| v - 2.0 * beta), l.map(|v| v - 2.0 * beta)),
+                    super::OpKind::Difference => (l.map(|v| v - 2.0 * beta), None),
+                };
+                level[left] = a;
+                level[right] = b;
+            }
+            Node::Unary { op, child } => {
+                level[child] = match op {
+                    super::Unary::Offset { distance } => l.map(|v| v + distance),
+                    super::Unary::Shell { .. } => None,
+                    super::Unary::Infill { .. } => l,
+                    super::Unary::Displace { amplitude, .. } => l.map(|v| v - amplitude),
+                };
+            }
+            Node::Primitive(_) => {}
+        }
+    }
+    level
 }
 
 /// An augmented bounding volume, in world coordinates.
@@ -142,6 +189,15 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
         half: h.map(|c| s * c + r_plus),
     };
     match p.shape {
+        // The grid's box of {g ≤ r⁺/s} in its local frame (an empty set: a
+        // point, never active).
+        Shape::Grid(ref g) => match g.grid.bounding_box(r_plus / s) {
+            Some(b) => {
+                let c = [0, 1, 2].map(|k| 0.5 * (b.min[k] + b.max[k]));
+                profile_box(p, c, [0, 1, 2].map(|k| 0.5 * (b.max[k] - b.min[k])), 0.0)
+            }
+            None => Abv::Sphere { centre, radius: 0.0 },
+        },
         Shape::Sphere { radius } => Abv::Sphere { centre, radius: s * radius + r_plus },
         Shape::Box { half } | Shape::RoundBox { half, .. } => obb(half),
         Shape::Capsule { a, b, radius } => Abv::Capsule {

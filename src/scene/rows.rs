@@ -3,7 +3,7 @@
 //! bounding volumes the tile passes test. Written here, read by
 //! templates/fields/scene.wgsl and scene_tiles.wgsl.
 
-use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED};
+use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED};
 use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
 use glam::DVec3;
@@ -28,6 +28,9 @@ pub fn unary_row(op: &Unary) -> [f32; 4] {
 pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
     if let Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } = p.shape {
         return profile_rows(p, &profile);
+    }
+    if let Shape::Grid(g) = &p.shape {
+        return grid_rows(p, &g.grid);
     }
     let mut m = p.transform.matrix();
     let s = p.transform.scale as f32;
@@ -57,7 +60,7 @@ pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
             let len = glam::DVec3::from(normal).length();
             (normal.map(|n| n / len), 0.0, offset, FORM_PLANE)
         }
-        Shape::Extrude { .. } | Shape::Revolve { .. } => unreachable!("profiles have rows of their own"),
+        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unreachable!("profiles and grids have rows of their own"),
     };
     let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
     rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
@@ -92,6 +95,21 @@ fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
         let q = pair.get(1).copied().unwrap_or([0.0; 2]);
         rows.push([f(pair[0][0]), f(pair[0][1]), f(q[0]), f(q[1])]);
     }
+    rows
+}
+
+/// A voxel grid's rows: the matrix, (s, nx, ny, nz), (1/spacing, spacing,
+/// form, 0), (origin, 0), then the samples four a row, x fastest
+/// (`scene_grid` in templates/fields/scene.wgsl interpolates them as
+/// `Grid::eval` does).
+fn grid_rows(p: &Primitive, g: &super::grid::Grid) -> Vec<[f32; 4]> {
+    let f = |v: f64| v as f32;
+    let (d, o) = (g.dims(), g.origin());
+    let mut rows: Vec<[f32; 4]> = p.transform.matrix().iter().map(|r| r.map(f)).collect();
+    rows.push([f(p.transform.scale), d[0] as f32, d[1] as f32, d[2] as f32]);
+    rows.push([f(1.0 / g.spacing()), f(g.spacing()), FORM_GRID as f32, 0.0]);
+    rows.push([f(o[0]), f(o[1]), f(o[2]), 0.0]);
+    rows.extend(g.values().chunks(4).map(|c| [0, 1, 2, 3].map(|k| c.get(k).copied().unwrap_or(0.0))));
     rows
 }
 

@@ -91,6 +91,37 @@ fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32, leaf: bool
     return select(extruded, d2, revolve);
 }
 
+// Sample k of the grid whose samples start at row `row`, four a row.
+fn scene_sample(row: u32, k: u32) -> f32 {
+    return scene_param(row + k / 4u)[k & 3u];
+}
+
+// A voxel grid at local point q (rows: r3 = (s, nx, ny, nz), r4 =
+// (1/spacing, spacing, form, 0), row o + 5 the origin, samples from row
+// o + GRID_ROWS, x fastest): the trilinear interpolation of the cell
+// holding the point nearest q in the grid's box, extended outside the box
+// by sqrt(g^2 + h^2) (g >= 0) or g + h (g < 0), h the distance to the box
+// (src/scene/grid.rs, Grid::eval).
+fn scene_grid(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
+    let n = r3.yzw;
+    let lo = scene_param(o + 5u).xyz;
+    let c = clamp(q, lo, lo + (n - 1.0) * r4.y);
+    let u = (c - lo) * r4.x;
+    let i = clamp(floor(u), vec3<f32>(0.0), n - 2.0);
+    let t = clamp(u - i, vec3<f32>(0.0), vec3<f32>(1.0));
+    let nx = u32(n.x);
+    let sz = nx * u32(n.y);
+    let k = u32(i.x) + nx * u32(i.y) + sz * u32(i.z);
+    let row = o + GRID_ROWS;
+    let x00 = mix(scene_sample(row, k), scene_sample(row, k + 1u), t.x);
+    let x10 = mix(scene_sample(row, k + nx), scene_sample(row, k + nx + 1u), t.x);
+    let x01 = mix(scene_sample(row, k + sz), scene_sample(row, k + sz + 1u), t.x);
+    let x11 = mix(scene_sample(row, k + sz + nx), scene_sample(row, k + sz + nx + 1u), t.x);
+    let g = mix(mix(x00, x10, t.y), mix(x01, x11, t.y), t.z);
+    let h = length(q - c);
+    return select(g + h, sqrt(g * g + h * h), g >= 0.0);
+}
+
 // The distance of the primitive whose record starts at row o with rows
 // r0..r4 (the layout of src/scene/linear.rs), at p. One branch-free formula
 // for every basic type: lavapipe runs the branches of a switch on SIMD
@@ -106,6 +137,10 @@ fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r
     d = select(d, dot(r3.yzw, q) - r4.y, form == FORM_PLANE);
     if ((SCENE_FEATURES & FEATURE_PROFILE) != 0u) {
         d = select(d, scene_profiled(q, r3, r4, o, leaf), form == FORM_EXTRUDE || form == FORM_REVOLVE);
+    }
+    if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
+        // A branch: the eight sample fetches only on a grid's lanes.
+        if (leaf && form == FORM_GRID) { d = scene_grid(q, r3, r4, o); }
     }
     return r3.x * d;
 }

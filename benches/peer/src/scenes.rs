@@ -246,7 +246,7 @@ fn local(ctx: &mut Context, shape: &Shape, q: [Node; 3]) -> Result<Node, BadNode
             ctx.sub(d, radius as f32)
         }
         Shape::Capsule { a, b, radius } => capsule(ctx, q, a, b, radius),
-        Shape::Extrude { .. } | Shape::Revolve { .. } => unimplemented!("the peer harness has no profile primitives"),
+        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unimplemented!("the peer harness has no profile or grid primitives"),
         Shape::Torus { major, minor } => {
             let l = length(ctx, &q[..2])?;
             let ring = ctx.sub(l, major as f32)?;
