@@ -274,7 +274,7 @@ fn primitives_equal_the_formula_path() {
         for _ in 0..10 {
             let (centre, size) = ([0, 1, 2].map(|_| rng.range(-1.0, 1.0)), rng.range(0.5, 1.5));
             let prim = scene_common::primitive_of_kind(&mut rng, k, centre, size);
-            let src = isotrace::scene::formula::primitive_formula(&prim);
+            let src = isotrace::scene::formula::primitive_formula(&prim).expect("a basic primitive has a form");
             let f = Formula::compile("<scene>", &src).unwrap();
             for _ in 0..100 {
                 let p = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
