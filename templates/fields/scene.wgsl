@@ -74,7 +74,7 @@ fn scene_polygon(u: vec2<f32>, row: u32, n: u32) -> f32 {
 // half height), r4 = (r, R, form, polygon vertices), row o + 5 the segment
 // (a, b), vertices from row o + PROFILE_ROWS): box2(u - a - (b - a) h, e) - r
 // for every profile but the polygon (src/scene/linear.rs, profile_rows).
-fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32, leaf: bool) -> f32 {
+fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
     let revolve = u32(r4.z) == FORM_REVOLVE;
     let u = select(q.xy, vec2<f32>(length(q.xy) - r4.y, q.z), revolve);
     let seg = scene_param(o + 5u);
@@ -82,8 +82,8 @@ fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32, leaf: bool
     let h = clamp(dot(u - seg.xy, ba) / max(dot(ba, ba), 1e-30), 0.0, 1.0);
     var d2 = sd_box2(u - seg.xy - ba * h, r3.yz) - r4.x;
     if ((SCENE_FEATURES & FEATURE_POLYGON) != 0u) {
-        // Only a polygon's lanes loop (an operator's row 4 is another node's).
-        let n = select(0u, min(u32(r4.w), MAX_POLYGON), leaf && u32(r4.z) >= FORM_EXTRUDE);
+        // Only a polygon's lanes loop.
+        let n = min(u32(r4.w), MAX_POLYGON);
         if (n >= 3u) { d2 = scene_polygon(u, o + PROFILE_ROWS, n); }
     }
     let w = vec2<f32>(d2, abs(q.z) - r3.w);
@@ -136,7 +136,8 @@ fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r
     d = select(d, (abs(q.x) + abs(q.y) + abs(q.z) - r3.y) * 0.57735027, form == FORM_OCTAHEDRON);
     d = select(d, dot(r3.yzw, q) - r4.y, form == FORM_PLANE);
     if ((SCENE_FEATURES & FEATURE_PROFILE) != 0u) {
-        d = select(d, scene_profiled(q, r3, r4, o, leaf), form == FORM_EXTRUDE || form == FORM_REVOLVE);
+        // A branch: SIMD groups without a profile's lane skip it.
+        if (leaf && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r3, r4, o); }
     }
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         // A branch: the eight sample fetches only on a grid's lanes.
