@@ -104,6 +104,8 @@ pub enum Form {
     Infill,
     /// `displace(a, f, shape)`: plus a·noise
     Displace,
+    /// `repeat(sx, sy, sz, nx, ny, nz, shape)`: a centred grid of copies
+    Repeat,
 }
 
 /// How many arguments a form takes.
@@ -166,6 +168,7 @@ pub const FORMS: &[Info] = &[
     Info { name: "offset", form: Form::Offset, arity: Arity::Exactly(2), signature: "offset(d, shape)", doc: "shape - d: dilates by d > 0, erodes by d < 0; keeps L" },
     Info { name: "shell", form: Form::Shell, arity: Arity::Exactly(2), signature: "shell(t, shape)", doc: "|shape| - t/2, t > 0: a wall of thickness t centred on the surface; keeps L" },
     Info { name: "infill", form: Form::Infill, arity: Arity::Exactly(3), signature: "infill(period, thickness, shape)", doc: "max(shape, |G|/(k sqrt 6) - thickness/2), G = sin(kx) cos(ky) + sin(ky) cos(kz) + sin(kz) cos(kx), k = 2 pi/period: the shape cut to a gyroid sheet at least thickness thick; L = max(the shape's, 1)" },
+    Info { name: "repeat", form: Form::Repeat, arity: Arity::Exactly(7), signature: "repeat(sx, sy, sz, nx, ny, nz, shape)", doc: "the union of nx ny nz copies of shape translated by s (i - (n - 1)/2), a centred grid; n constant whole numbers >= 1, at most 4096 copies; keeps L" },
     Info { name: "displace", form: Form::Displace, arity: Arity::Exactly(3), signature: "displace(a, f, shape)", doc: "shape + a n(p), a >= 0, f > 0, n = sum of w_k sin(f m_k (a_k.p) + phi_k) (sdf::NOISE_WAVES), |n| <= 1; L = the shape's + 1.92 a f: give --lipschitz" },
 ];
 
@@ -411,7 +414,61 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
             profile::lower(b, form, v)
         }
         Form::Offset | Form::Shell | Form::Infill | Form::Displace => modifier::lower(b, form, v),
+        Form::Repeat => repeat(b, v),
     }
+}
+
+/// The most copies `repeat` makes: each is the whole shape again, in the
+/// IR and in a lowered scene.
+pub const MAX_REPEAT: u64 = 4096;
+
+/// The copy counts of `repeat(sx, sy, sz, nx, ny, nz, shape)` (arguments 3
+/// to 5), checked: constant whole numbers ≥ 1, at most [`MAX_REPEAT`]
+/// copies in all. `konst` gives an argument's constant value.
+pub fn repeat_counts<E>(konst: impl Fn(usize) -> Option<f64>, bad: impl Fn(usize, String) -> E) -> Result<[u64; 3], E> {
+    let mut n = [0u64; 3];
+    for k in 0..3 {
+        match konst(3 + k) {
+            Some(c) if c >= 1.0 && c.fract() == 0.0 && c <= MAX_REPEAT as f64 => n[k] = c as u64,
+            Some(c) => return Err(bad(3 + k, format!("a copy count must be a whole number from 1 to {MAX_REPEAT}, got {c}"))),
+            None => return Err(bad(3 + k, "a copy count must be a constant".into())),
+        }
+    }
+    if n[0] * n[1] * n[2] > MAX_REPEAT {
+        return Err(bad(3, format!("{} copies, above the limit of {MAX_REPEAT}", n[0] * n[1] * n[2])));
+    }
+    Ok(n)
+}
+
+/// The centred offset of copy `i` of `n` along an axis, in spacings.
+pub fn repeat_offset(i: u64, n: u64) -> f64 {
+    i as f64 - (n as f64 - 1.0) / 2.0
+}
+
+/// `repeat`: the min over the copies, each the shape over coordinates
+/// shifted by its offset.
+fn repeat<S: Sink>(b: &mut B<'_, S>, v: &[NodeId]) -> Result<NodeId, S::Error> {
+    let n = repeat_counts(|k| b.0.konst(v[k]), |k, m| b.0.bad_argument(k, m))?;
+    let p = b.xyz()?;
+    let mut acc: Option<NodeId> = None;
+    for i in 0..n[0] {
+        for j in 0..n[1] {
+            for k in 0..n[2] {
+                let mut q = [0; 3];
+                for (a, idx) in [i, j, k].into_iter().enumerate() {
+                    let c = b.c(repeat_offset(idx, n[a]))?;
+                    let o = b.mul(v[a], c)?;
+                    q[a] = b.sub(p[a], o)?;
+                }
+                let copy = b.0.substitute(v[6], q)?;
+                acc = Some(match acc {
+                    Some(a) => b.min(a, copy)?,
+                    None => copy,
+                });
+            }
+        }
+    }
+    Ok(acc.expect("at least one copy"))
 }
 
 /// `translate`, `rotate` and `scale`: the shape rebuilt over substituted

@@ -531,3 +531,37 @@ fn the_device_interpolates_grids_as_the_reference_does() {
     let worst = p32.iter().zip(&got).map(|(p, g)| (*g as f64 - scene.eval(p.map(f64::from))).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-4, "{worst}");
 }
+
+/// `repeat`: a centred grid of copies, the same union in the compiled
+/// formula and in the scene it lowers to (one primitive per copy, so the
+/// tile lists cull copy by copy).
+#[test]
+fn repeat_is_a_centred_grid_of_copies_on_both_paths() {
+    let src = "repeat(0.5, 0.6, 1, 3, 2, 1, shell(0.04, extrude(0.1, circle(0.15))))";
+    let f = isotrace::Formula::compile("<repeat>", src).unwrap();
+    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    assert_eq!(scene.primitive_count(), 6);
+    let one = |p: [f64; 3]| {
+        let q = DVec2::new(p[0], p[1]);
+        (profile::extrude(q.length() - 0.15, p[2], 0.1)).abs() - 0.02
+    };
+    let mut rng = Rng::new(12);
+    for _ in 0..5000 {
+        let p = [rng.range(-1.5, 1.5), rng.range(-1.0, 1.0), rng.range(-0.5, 0.5)];
+        let mut want = f64::INFINITY;
+        for i in 0..3 {
+            for j in 0..2 {
+                want = want.min(one([p[0] - 0.5 * (i as f64 - 1.0), p[1] - 0.6 * (j as f64 - 0.5), p[2]]));
+            }
+        }
+        let compiled = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        assert!((compiled - want).abs() < 1e-12 && (scene.eval(p) - want).abs() < 1e-12, "{p:?}: {compiled} {} {want}", scene.eval(p));
+    }
+    for (bad, message) in [
+        ("repeat(1, 1, 1, 2.5, 1, 1, sphere(0.2))", "a copy count must be a whole number from 1 to 4096, got 2.5"),
+        ("repeat(1, 1, 1, 100, 100, 1, sphere(0.2))", "10000 copies, above the limit of 4096"),
+    ] {
+        let e = isotrace::Formula::compile("<repeat>", bad).unwrap_err();
+        assert!(format!("{e:?}").contains(message), "{bad}: {e:?}");
+    }
+}

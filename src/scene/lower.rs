@@ -319,6 +319,26 @@ impl Walker<'_> {
                 };
                 Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
             }
+            Form::Repeat => {
+                let spacing: [f64; 3] = self.nums(a)?;
+                let counts: Vec<f64> = a[3..6].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+                let n = sdf::repeat_counts(|k| Some(counts[k - 3]), |k, m| not(m, a[k].span))?;
+                let shape = self.shape(&a[6])?;
+                let mut acc: Option<Rc<Tree>> = None;
+                for i in 0..n[0] {
+                    for j in 0..n[1] {
+                        for k in 0..n[2] {
+                            let translate = [0, 1, 2].map(|q| spacing[q] * sdf::repeat_offset([i, j, k][q], n[q]));
+                            let copy = Rc::new(Tree::Moved(Transform { translate, ..Transform::default() }, shape.clone()));
+                            acc = Some(match acc {
+                                Some(l) => Rc::new(Tree::Op(Operator::UNION, l, copy, span)),
+                                None => copy,
+                            });
+                        }
+                    }
+                }
+                Ok(acc.expect("at least one copy"))
+            }
             Form::Offset => Ok(Rc::new(Tree::Unary(Unary::Offset { distance: self.num(&a[0])? }, self.shape(&a[1])?, span))),
             Form::Shell => Ok(Rc::new(Tree::Unary(Unary::Shell { thickness: self.num(&a[0])? }, self.shape(&a[1])?, span))),
             Form::Infill => {
