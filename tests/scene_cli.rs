@@ -198,3 +198,24 @@ fn lower_writes_the_scene_a_formula_describes_or_points_at_what_is_not_one() {
         "error: not a blobtree: 'x' outside a distance form: the field is not built from primitives alone\n  ┌─ <formula>:1:28\n  │\n1 │ union(sphere(1), translate(x, 0, 0, box(1, 1, 1)))\n  │                            ^ here\n\n"
     );
 }
+
+/// Grid files are found next to the scene file; a missing one is named
+/// with the scene, the node and the path tried, and no image is written.
+#[test]
+fn grid_scenes_render_and_missing_grids_are_named() {
+    let out = tmp("pebbles.png");
+    let o = isotrace(&["render", "examples/pebbles.scene.json", "--size", "48", "--force", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.exists());
+    let f = tmp("nogrid.scene.json");
+    let p = f.to_str().unwrap();
+    std::fs::write(&f, "{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{\"type\": \"grid\", \"file\": \"nothere.npy\", \"spacing\": 0.1, \"origin\": [0, 0, 0]}]}").unwrap();
+    let never = tmp("nogrid.png");
+    let grid = f.parent().unwrap().join("nothere.npy");
+    fails(
+        &["render", p, "-o", never.to_str().unwrap()],
+        &format!("error: {p}: nodes[0].file: {}: No such file or directory (os error 2)\n", grid.display()),
+    );
+    assert!(!never.exists());
+    fails(&["scene", "formula", "examples/pebbles.scene.json"], "error: examples/pebbles.scene.json: nodes[0] is a grid, which the formula language has no form for\n");
+}

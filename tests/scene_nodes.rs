@@ -443,7 +443,7 @@ fn the_modelling_examples_are_their_formulas() {
 }
 
 /// Two pebbles from `examples/pebble.npy` (one moved, turned and scaled)
-/// blended on a ground plane.
+/// blended, on a ground slab.
 fn pebbles() -> Scene {
     format::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/pebbles.scene.json"))).unwrap()
 }

@@ -86,7 +86,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     if let Some(m) = misplaced(a) {
         return Err(input(m));
     }
-    let scene = isotrace::scene::format::load(path).map_err(|e| input(e.to_string()))?;
+    let scene = super::scene::load(path)?;
     let ScenePlan { lin, settings: s, options: o, color } = plan(a, &scene, path)?;
     let outputs = super::frames::Outputs::new(&a.output, None, None, false)?;
     outputs.check(a.force, false)?;
