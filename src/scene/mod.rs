@@ -1,5 +1,5 @@
-//! Blobtree scenes (Zanni et al. 2024): a binary tree of primitives and
-//! operators kept as data, so thousands of primitives need no shader
+//! Blobtree scenes (Zanni et al. 2024): a tree of primitives, binary
+//! operators and unary nodes kept as data, so thousands of primitives need no shader
 //! compilation, and evaluated sparsely, so the cost at a point follows the
 //! primitives that matter there, not the size of the tree.
 //!
