@@ -219,3 +219,29 @@ fn grid_scenes_render_and_missing_grids_are_named() {
     assert!(!never.exists());
     fails(&["scene", "formula", "examples/pebbles.scene.json"], "error: examples/pebbles.scene.json: nodes[0] is a grid, which the formula language has no form for\n");
 }
+
+/// `eval FILE.scene.json --algebra scalar`: the device's interpreter at
+/// points, against the f64 reference (`--cpu`); other algebras refused.
+#[test]
+fn eval_evaluates_a_scene_at_points() {
+    let pts = tmp("scene-points.txt");
+    std::fs::write(&pts, "0 0 0\n1.5 0 0\n# a comment\n2.2 0.3 0.1\n0.3 -0.4 0.2\n").unwrap();
+    let p = pts.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["eval", "examples/pebbles.scene.json", "--algebra", "scalar", "--boxes", p];
+        args.extend_from_slice(extra);
+        let o = isotrace(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o).lines().map(|l| l.parse::<f64>().unwrap()).collect::<Vec<f64>>()
+    };
+    let (device, cpu) = (run(&[]), run(&["--cpu"]));
+    assert_eq!(device.len(), 4);
+    for (d, c) in device.iter().zip(&cpu) {
+        assert!((d - c).abs() < 1e-5, "{d} vs {c}");
+    }
+    assert!(cpu[0] < 0.0 && cpu[1] > 0.0);
+    fails(
+        &["eval", "examples/pebbles.scene.json", "--boxes", p],
+        "error: a scene has no interval or affine extension: evaluate it at points with --algebra scalar (for examples/pebbles.scene.json)\n",
+    );
+}

@@ -100,6 +100,9 @@ fn parse_box(name: &str, n: usize, line: &str, scalar: bool, time: f64) -> Resul
 }
 
 pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
+    if let Some(path) = a.formula.scene_path() {
+        return run_scene(&a, &path);
+    }
     let loaded = a.formula.load_with_header()?;
     let f = &loaded.formula;
     let domain = match a.algebra {
@@ -145,6 +148,39 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
             (_, true) => writeln!(out, "empty"),
             _ => writeln!(out, "{} {}", r[0], r[1]),
         };
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `eval FILE.scene.json --algebra scalar`: the scene's field at points, by
+/// the device's interpreter over the whole tree (or `--cpu`, the f64
+/// reference). A scene has no interval or affine extension, parameters,
+/// time or user WGSL; those flags are refused, before any input is read.
+fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError> {
+    let refuse = |m: &str| Err(CliError::Input(format!("{m} (for {})", path.display())));
+    if !matches!(a.algebra, AlgebraArg::Scalar) {
+        return refuse("a scene has no interval or affine extension: evaluate it at points with --algebra scalar");
+    }
+    if a.field.is_some() {
+        return refuse("--field chooses a formula's evaluator: a scene is evaluated by its interpreter");
+    }
+    if a.formula.inline.is_some() || !a.params.is_empty() {
+        return refuse("--inline and --param apply to formulas");
+    }
+    let scene = super::scene::load(path)?;
+    let boxes = read_boxes(&a.boxes, true, a.time)?;
+    let values: Vec<f64> = if a.cpu {
+        boxes.iter().map(|b| scene.eval([b[0] as f64, b[2] as f64, b[4] as f64])).collect()
+    } else {
+        let lin = isotrace::scene::linear::Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        let points: Vec<[f32; 3]> = boxes.iter().map(|b| [b[0], b[2], b[4]]).collect();
+        let gpu = super::render::open_gpu()?;
+        let got = isotrace::gpu::eval::eval_points_scene(&gpu, &lin.field_data(), &points).map_err(|e| CliError::Internal(e.to_string()))?;
+        got.into_iter().map(f64::from).collect()
+    };
+    let mut out = std::io::stdout().lock();
+    for v in values {
+        let _ = writeln!(out, "{v}");
     }
     Ok(ExitCode::SUCCESS)
 }
