@@ -106,6 +106,8 @@ pub enum Form {
     Displace,
     /// `repeat(sx, sy, sz, nx, ny, nz, shape)`: a centred grid of copies
     Repeat,
+    /// `mirror(nx, ny, nz, shape)`: with its reflection across a plane
+    Mirror,
 }
 
 /// How many arguments a form takes.
@@ -169,6 +171,7 @@ pub const FORMS: &[Info] = &[
     Info { name: "shell", form: Form::Shell, arity: Arity::Exactly(2), signature: "shell(t, shape)", doc: "|shape| - t/2, t > 0: a wall of thickness t centred on the surface; keeps L" },
     Info { name: "infill", form: Form::Infill, arity: Arity::Exactly(3), signature: "infill(period, thickness, shape)", doc: "max(shape, |G|/(k sqrt 6) - thickness/2), G = sin(kx) cos(ky) + sin(ky) cos(kz) + sin(kz) cos(kx), k = 2 pi/period: the shape cut to a gyroid sheet at least thickness thick; L = max(the shape's, 1)" },
     Info { name: "repeat", form: Form::Repeat, arity: Arity::Exactly(7), signature: "repeat(sx, sy, sz, nx, ny, nz, shape)", doc: "the union of nx ny nz copies of shape translated by s (i - (n - 1)/2), a centred grid; n constant whole numbers >= 1, at most 4096 copies; keeps L" },
+    Info { name: "mirror", form: Form::Mirror, arity: Arity::Exactly(4), signature: "mirror(nx, ny, nz, shape)", doc: "the union of shape and its reflection across the plane through the origin with normal n (n not zero); keeps L" },
     Info { name: "displace", form: Form::Displace, arity: Arity::Exactly(3), signature: "displace(a, f, shape)", doc: "shape + a n(p), a >= 0, f > 0, n = sum of w_k sin(f m_k (a_k.p) + phi_k) (sdf::NOISE_WAVES), |n| <= 1; L = the shape's + 1.92 a f: give --lipschitz" },
 ];
 
@@ -415,7 +418,29 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
         }
         Form::Offset | Form::Shell | Form::Infill | Form::Displace => modifier::lower(b, form, v),
         Form::Repeat => repeat(b, v),
+        Form::Mirror => mirror(b, v),
     }
+}
+
+/// `mirror`: min(shape(p), shape(p − 2(n·p)n/|n|²)).
+fn mirror<S: Sink>(b: &mut B<'_, S>, v: &[NodeId]) -> Result<NodeId, S::Error> {
+    let n = [v[0], v[1], v[2]];
+    let nn = b.dot(&n, &n)?;
+    if b.0.konst(nn) == Some(0.0) {
+        return Err(b.0.bad_argument(0, "the mirror plane's normal (nx, ny, nz) must not be zero".into()));
+    }
+    let p = b.xyz()?;
+    let np = b.dot(&n, &p)?;
+    let two = b.c(2.0)?;
+    let k = b.mul(two, np)?;
+    let k = b.div(k, nn)?;
+    let mut q = [0; 3];
+    for a in 0..3 {
+        let o = b.mul(k, n[a])?;
+        q[a] = b.sub(p[a], o)?;
+    }
+    let image = b.0.substitute(v[3], q)?;
+    b.min(v[3], image)
 }
 
 /// The most copies `repeat` makes: each is the whole shape again, in the

@@ -565,3 +565,33 @@ fn repeat_is_a_centred_grid_of_copies_on_both_paths() {
         assert!(format!("{e:?}").contains(message), "{bad}: {e:?}");
     }
 }
+
+/// `mirror`: a shape and its reflection, the same field compiled and as a
+/// scene, where each reflected primitive is a rotated twin of its type
+/// (asymmetric shapes mirrored in their own frame), also nested, tilted,
+/// scaled and under unary nodes.
+#[test]
+fn mirror_reflects_every_shape_on_both_paths() {
+    let src = "\
+        star = polygon(0.1, 0.4, 0.2, 0.1, 0.5, 0.05, 0.25, -0.1, 0.35, -0.45, 0.05, -0.2, -0.2, -0.3, -0.1, 0);
+        parts = union(
+            translate(0.8, 0.3, 0.1, rotate(1, 2, 3, 0.7, extrude(0.1, star))),
+            translate(0.6, -0.5, 0.2, rotate(0, 1, 1, 0.4, capsule(0, 0, 0, 0.3, 0.2, -0.1, 0.08))),
+            translate(1.2, 0.1, -0.3, rotate(1, 0, 0, 0.9, revolve(0.2, capsule2d(0, -0.1, 0.1, 0.12, 0.04)))),
+            shell(0.05, translate(0.9, 0.6, -0.2, scale(0.7, rotate(0, 0, 1, 0.3, roundbox(0.2, 0.1, 0.15, 0.03))))),
+            intersect(translate(0.5, 0, 0, sphere(0.6)), plane(1, 0.3, 0.2, 0.5)));
+        mirror(0, 1, 0, scale(1.3, mirror(1, 0.2, -0.1, translate(0.2, 0, 0, parts))))";
+    let f = isotrace::Formula::compile("<mirror>", src).unwrap();
+    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    assert_eq!(scene.primitive_count(), 24);
+    let mut rng = Rng::new(13);
+    let mut worst = 0.0f64;
+    for _ in 0..20_000 {
+        let p = [rng.range(-2.5, 2.5), rng.range(-2.0, 2.0), rng.range(-1.5, 1.5)];
+        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        worst = worst.max((scene.eval(p) - want).abs());
+    }
+    assert!(worst < 1e-9, "{worst}");
+    let e = isotrace::scene::from_formula(&isotrace::Formula::compile("<m>", "mirror(1, 0, 0, infill(0.5, 0.1, sphere(1)))").unwrap(), &[]).unwrap_err();
+    assert_eq!(e.reason, "a transform over 'infill' is not a blobtree node (its pattern is fixed in the world): transform its operand instead");
+}

@@ -26,6 +26,7 @@
 //! So the zero set (the picture) is the same; `tests/scene_lower.rs` checks
 //! the signs by sampling.
 
+use super::frame::Frame;
 use super::{Blend, Builder, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
@@ -57,6 +58,8 @@ enum Tree {
     Op(Operator, Rc<Tree>, Rc<Tree>, Span),
     Unary(Unary, Rc<Tree>, Span),
     Moved(Transform, Rc<Tree>),
+    /// Reflected across the plane through the origin with this normal.
+    Reflected([f64; 3], Rc<Tree>),
 }
 
 #[derive(Debug, Clone)]
@@ -339,6 +342,15 @@ impl Walker<'_> {
                 }
                 Ok(acc.expect("at least one copy"))
             }
+            Form::Mirror => {
+                let n: [f64; 3] = self.nums(a)?;
+                if n == [0.0; 3] {
+                    return Err(not("the mirror plane's normal must not be zero", a[0].span));
+                }
+                let shape = self.shape(&a[3])?;
+                let image = Rc::new(Tree::Reflected(n, shape.clone()));
+                Ok(Rc::new(Tree::Op(Operator::UNION, shape, image, span)))
+            }
             Form::Offset => Ok(Rc::new(Tree::Unary(Unary::Offset { distance: self.num(&a[0])? }, self.shape(&a[1])?, span))),
             Form::Shell => Ok(Rc::new(Tree::Unary(Unary::Shell { thickness: self.num(&a[0])? }, self.shape(&a[1])?, span))),
             Form::Infill => {
@@ -380,12 +392,12 @@ fn compose(outer: &Transform, inner: &Transform) -> Transform {
 /// offsets and walls scale with it. The gyroid and the noise are fixed in
 /// the world, and a scene's unary node has no frame of its own, so a
 /// transform over them is not a blobtree node.
-fn moved_unary(op: &Unary, tf: &Transform, span: Span) -> Result<Unary, NotBlobtree> {
-    let s = tf.scale;
+fn moved_unary(op: &Unary, tf: &Frame, span: Span) -> Result<Unary, NotBlobtree> {
+    let s = tf.scale();
     match *op {
         Unary::Offset { distance } => Ok(Unary::Offset { distance: s * distance }),
         Unary::Shell { thickness } => Ok(Unary::Shell { thickness: s * thickness }),
-        _ if *tf == Transform::default() => Ok(*op),
+        _ if tf.is_identity() => Ok(*op),
         _ => Err(not(format!("a transform over '{}' is not a blobtree node (its pattern is fixed in the world): transform its operand instead", op.kind().name()), span)),
     }
 }
@@ -395,25 +407,29 @@ fn moved_unary(op: &Unary, tf: &Transform, span: Span) -> Result<Unary, NotBlobt
 /// was written.
 fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usize, NotBlobtree> {
     enum Task<'t> {
-        Visit(&'t Tree, Transform),
+        Visit(&'t Tree, Frame),
         Combine(Operator, Span),
         Wrap(Unary, Span),
     }
-    let mut stack = vec![Task::Visit(tree, Transform::default())];
+    let mut stack = vec![Task::Visit(tree, Frame::identity())];
     let mut out: Vec<usize> = vec![];
     while let Some(task) = stack.pop() {
         let (id, span) = match task {
             Task::Visit(Tree::Leaf(p, span), tf) => {
-                let p = Primitive { shape: p.shape.clone(), transform: compose(&tf, &p.transform) };
+                let p = tf.place(p, compose).ok_or_else(|| not("a voxel grid cannot be mirrored", *span))?;
                 (b.primitive(p), *span)
             }
             Task::Visit(Tree::Moved(t, sub), tf) => {
-                stack.push(Task::Visit(sub, compose(&tf, t)));
+                stack.push(Task::Visit(sub, tf.then(t, compose)));
+                continue;
+            }
+            Task::Visit(Tree::Reflected(n, sub), tf) => {
+                stack.push(Task::Visit(sub, tf.reflected(DVec3::from(*n))));
                 continue;
             }
             Task::Visit(Tree::Op(op, l, r, span), tf) => {
                 stack.push(Task::Combine(*op, *span));
-                stack.push(Task::Visit(r, tf));
+                stack.push(Task::Visit(r, tf.clone()));
                 stack.push(Task::Visit(l, tf));
                 continue;
             }

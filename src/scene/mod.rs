@@ -27,6 +27,7 @@
 
 pub mod eval;
 pub mod format;
+pub mod frame;
 pub mod formula;
 pub mod generate;
 pub mod grid;

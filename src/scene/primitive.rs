@@ -311,6 +311,21 @@ impl Shape {
 }
 
 impl Shape {
+    /// The shape reflected across its local yz plane (x ↦ −x), as a shape
+    /// of the same type; `None` for a voxel grid, whose samples a scene file
+    /// names by file. Shapes symmetric in x are themselves.
+    pub fn mirror_x(&self) -> Option<Shape> {
+        let flip = |v: [f64; 3]| [-v[0], v[1], v[2]];
+        Some(match *self {
+            Shape::Capsule { a, b, radius } => Shape::Capsule { a: flip(a), b: flip(b), radius },
+            Shape::Plane { normal, offset } => Shape::Plane { normal: flip(normal), offset },
+            Shape::Extrude { profile, half_height } => Shape::Extrude { profile: profile.mirror_x(), half_height },
+            // A revolution is symmetric about every plane through its axis.
+            Shape::Grid(_) => return None,
+            ref s => s.clone(),
+        })
+    }
+
     /// Every number of the shape with its field name (`half[1]`).
     pub fn fields(&self) -> Vec<(String, f64)> {
         let one = |n: &str, v: f64| vec![(n.to_string(), v)];

@@ -92,6 +92,16 @@ impl Profile {
         }
     }
 
+    /// The profile reflected across its u.y axis (u.x ↦ −u.x).
+    pub fn mirror_x(&self) -> Profile {
+        let flip = |v: [f64; 2]| [-v[0], v[1]];
+        match *self {
+            Profile::Capsule { a, b, radius } => Profile::Capsule { a: flip(a), b: flip(b), radius },
+            Profile::Polygon { .. } => Profile::polygon(&self.vertices().iter().map(|&v| flip(v)).collect::<Vec<_>>()),
+            p => p,
+        }
+    }
+
     /// The signed distance at `u`.
     pub fn distance(&self, u: DVec2) -> f64 {
         match *self {
