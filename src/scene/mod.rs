@@ -34,6 +34,7 @@ pub mod grid;
 pub mod linear;
 pub mod lower;
 pub mod operator;
+pub mod patch;
 pub mod primitive;
 pub mod profile;
 pub mod roi;

@@ -1,0 +1,71 @@
+//! Edits of a laid-out scene in place, and the buffers the scene field
+//! source binds: what changes between frames without a new layout, shader
+//! or pipeline (`gpu::Renderer::patch_scene` uploads a [`ScenePatch`]).
+
+use super::linear::{Linear, ABV_STRIDE, NODE_TYPE_SHIFT};
+use super::roi;
+use super::rows::{abv_rows, ball, primitive_rows};
+use super::{Node, SceneError};
+
+impl Linear {
+    /// The buffers of the scene field source: nodes, parameters, every
+    /// primitive's node index and a bounding ball of its ABV (the tile
+    /// pre-pass tests balls against tile frusta; an unbounded primitive has
+    /// an infinite radius and is active everywhere).
+    pub fn field_data(&self) -> crate::codegen::SceneData {
+        let balls = self.abvs.iter().map(ball).collect();
+        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls, features: self.features }
+    }
+
+    /// Replaces primitive number `j` (in `primitives` order) by `p` of the
+    /// same type, in place: its parameter rows, ABV and ball change, and
+    /// nothing else can (ranges of interest come from the operators above
+    /// it, the topology is untouched). Returns the rows to upload, so an
+    /// edit costs a few hundred bytes of buffer writes instead of a new
+    /// linearisation. `bounds` grows to hold the moved primitive (it only
+    /// frames the default view). Another type, or a parameter count that
+    /// differs, is an error: build a new `Linear`.
+    pub fn set_primitive(&mut self, j: usize, p: &crate::scene::Primitive) -> Result<ScenePatch, SceneError> {
+        let Some(&k) = self.primitives.get(j) else {
+            return Err(SceneError::new("primitive", format!("{j} is not a primitive index (the scene has {})", self.primitives.len())));
+        };
+        let k = k as usize;
+        if let Err((field, reason)) = p.check() {
+            return Err(SceneError::at(self.order[k], &field, reason));
+        }
+        let (row, old_type) = (self.nodes[k][1] as usize, (self.nodes[k][0] >> NODE_TYPE_SHIFT) & 0xff);
+        let rows = primitive_rows(p);
+        let new_type = super::linear::type_code(&Node::Primitive(p.clone()));
+        let old_rows = self.row_count(k);
+        if new_type != old_type || rows.len() != old_rows {
+            return Err(SceneError::at(self.order[k], "type", "an edit in place keeps the primitive's type: build a new scene to change it"));
+        }
+        self.params[row..row + rows.len()].copy_from_slice(&rows);
+        let a = roi::abv(p, self.roi[k].hi);
+        self.abv[j * ABV_STRIDE as usize..(j + 1) * ABV_STRIDE as usize].copy_from_slice(&abv_rows(&a));
+        self.abvs[j] = a;
+        self.bounds = self.bounds.hull(&a.aabb());
+        Ok(ScenePatch { param_row: row as u32, params: rows, ball_index: j as u32, ball: ball(&a) })
+    }
+
+    /// Parameter rows of node `k`: up to the next node's first row.
+    fn row_count(&self, k: usize) -> usize {
+        let next = self.nodes.get(k + 1).map_or(self.params.len(), |n| n[1] as usize);
+        next - self.nodes[k][1] as usize
+    }
+}
+
+/// What an edit in place changes in the scene field's buffers
+/// ([`Linear::set_primitive`]; uploaded by `gpu::Renderer::patch_scene`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScenePatch {
+    /// First changed row of the parameter buffer.
+    pub param_row: u32,
+    /// The new rows.
+    pub params: Vec<[f32; 4]>,
+    /// The primitive whose bounding ball changed.
+    pub ball_index: u32,
+    /// Its new ball.
+    pub ball: [f32; 4],
+}
+
