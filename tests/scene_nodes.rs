@@ -595,3 +595,32 @@ fn mirror_reflects_every_shape_on_both_paths() {
     let e = isotrace::scene::from_formula(&isotrace::Formula::compile("<m>", "mirror(1, 0, 0, infill(0.5, 0.1, sphere(1)))").unwrap(), &[]).unwrap_err();
     assert_eq!(e.reason, "a transform over 'infill' is not a blobtree node (its pattern is fixed in the world): transform its operand instead");
 }
+
+/// `repeat` and `mirror` nodes in a scene file expand when it is read into
+/// the scene their formula forms lower to.
+#[test]
+fn repeat_and_mirror_nodes_expand_as_their_forms_lower() {
+    let text = r#"{"isotrace_scene": 1, "root": 4, "nodes": [
+        {"type": "capsule", "a": [0, 0, 0], "b": [0.3, 0.2, -0.1], "radius": 0.08, "translate": [0.6, 0.1, 0]},
+        {"type": "extrude", "profile": {"type": "polygon", "points": [[0, 0], [0.3, 0], [0.1, 0.2]]}, "half_height": 0.05, "translate": [0.9, -0.4, 0]},
+        {"type": "union", "left": 0, "right": 1},
+        {"type": "mirror", "child": 2, "normal": [1, 0.2, 0]},
+        {"type": "repeat", "child": 3, "spacing": [3, 1.5, 1], "count": [2, 3, 1]}
+    ]}"#;
+    let scene = format::parse(text).unwrap();
+    assert_eq!(scene.primitive_count(), 2 * 2 * 6);
+    let src = "repeat(3, 1.5, 1, 2, 3, 1, mirror(1, 0.2, 0, union(translate(0.6, 0.1, 0, capsule(0, 0, 0, 0.3, 0.2, -0.1, 0.08)), \
+               translate(0.9, -0.4, 0, extrude(0.05, polygon(0, 0, 0.3, 0, 0.1, 0.2))))))";
+    let lowered = isotrace::scene::from_formula(&isotrace::Formula::compile("<copies>", src).unwrap(), &[]).unwrap();
+    let mut rng = Rng::new(14);
+    for _ in 0..5000 {
+        let p = [rng.range(-3.5, 3.5), rng.range(-2.5, 2.5), rng.range(-0.6, 0.6)];
+        assert!((scene.eval(p) - lowered.eval(p)).abs() < 1e-12, "{p:?}");
+    }
+    let bad = |node: &str| format::parse(&format!("{{\"isotrace_scene\": 1, \"root\": 1, \"nodes\": [{{\"type\": \"sphere\", \"radius\": 1}}, {node}]}}")).unwrap_err().to_string();
+    assert_eq!(bad(r#"{"type": "repeat", "child": 0, "spacing": [1, 1, 1], "count": [2, 0.5, 1]}"#), "nodes[1].count[1]: a copy count must be a whole number from 1 to 4096, got 0.5");
+    assert_eq!(bad(r#"{"type": "mirror", "child": 0, "normal": [0, 0, 0]}"#), "nodes[1].normal: must not be zero");
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/examples"));
+    let grid = r#"{"isotrace_scene": 1, "root": 1, "nodes": [{"type": "grid", "file": "pebble.npy", "spacing": 0.05, "origin": [0, 0, 0]}, {"type": "mirror", "child": 0, "normal": [1, 0, 0]}]}"#;
+    assert_eq!(format::parse_in(grid, dir).unwrap_err().to_string(), "nodes: a voxel grid cannot be mirrored");
+}

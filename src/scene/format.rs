@@ -74,6 +74,9 @@ pub fn parse(text: &str) -> Result<Scene, FormatError> {
 /// samples in all.
 struct Ctx {
     base: PathBuf,
+    /// The `repeat` and `mirror` nodes, by index (held as placeholders with
+    /// one operand until the tree is checked, then expanded).
+    copies: RefCell<HashMap<usize, super::lower::Copies>>,
     grids: RefCell<HashMap<(PathBuf, Option<[u64; 4]>), Arc<Grid>>>,
     voxels: std::cell::Cell<u64>,
 }
@@ -82,7 +85,7 @@ struct Ctx {
 /// `base`.
 pub fn parse_in(text: &str, base: &Path) -> Result<Scene, FormatError> {
     let failure = RefCell::new(None);
-    let ctx = Ctx { base: base.to_path_buf(), grids: RefCell::new(HashMap::new()), voxels: std::cell::Cell::new(0) };
+    let ctx = Ctx { base: base.to_path_buf(), copies: RefCell::new(HashMap::new()), grids: RefCell::new(HashMap::new()), voxels: std::cell::Cell::new(0) };
     let mut de = serde_json::Deserializer::from_str(text);
     let parsed = de::Deserializer::deserialize_any(&mut de, FileVisitor { failure: &failure, ctx: &ctx }).and_then(|v| de.end().map(|_| v));
     let (nodes, root) = match parsed {
@@ -94,7 +97,12 @@ pub fn parse_in(text: &str, base: &Path) -> Result<Scene, FormatError> {
             });
         }
     };
-    Ok(Scene::new(nodes, root)?)
+    let scene = Scene::new(nodes, root)?;
+    let copies = ctx.copies.into_inner();
+    if copies.is_empty() {
+        return Ok(scene);
+    }
+    super::lower::expand(&scene, &copies).map_err(|e| FormatError::Invalid(SceneError::new("nodes", e.reason)))
 }
 
 /// Records the scene error and returns a placeholder serde error (the
@@ -322,6 +330,9 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         let shape = if kind == ShapeKind::Grid { Shape::Grid(grid_ref(&f, ctx)?) } else { shape(&f, kind)? };
         return Ok(Node::Primitive(Primitive { shape, transform: transform(&f)? }));
     }
+    if ty == "repeat" || ty == "mirror" {
+        return copies_node(&f, ty, ctx);
+    }
     if let Some(kind) = UnaryKind::parse(ty) {
         let fields: Vec<&str> = ["child"].iter().chain(kind.fields()).copied().collect();
         f.only(ty, &fields)?;
@@ -344,7 +355,8 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         };
         return Ok(Node::Operator { op: Operator { kind, blend }, left: f.index("left")?, right: f.index("right")? });
     }
-    let names: Vec<&str> = ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).collect();
+    let names: Vec<&str> =
+        ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror"]).collect();
     let near = crate::diag::closest(ty, names.iter().copied());
     let hint = match near.first() {
         Some(n) => format!("did you mean '{n}'?"),
@@ -398,6 +410,29 @@ fn grid_ref(f: &Fields, ctx: &Ctx) -> Result<GridRef, SceneError> {
     let g = Arc::new(g);
     ctx.grids.borrow_mut().insert(key, g.clone());
     Ok(GridRef { file, placement, grid: g })
+}
+
+/// A `repeat` (`child`, `spacing`: [x, y, z], `count`: [nx, ny, nz]) or
+/// `mirror` (`child`, `normal`) node: recorded for expansion, held as a
+/// placeholder with one operand so the tree's structure is checked first.
+fn copies_node(f: &Fields, ty: &str, ctx: &Ctx) -> Result<Node, SceneError> {
+    use super::lower::Copies;
+    let c = if ty == "repeat" {
+        f.only(ty, &["child", "spacing", "count"])?;
+        let spacing = f.vec3("spacing")?;
+        let raw = f.vec3("count")?;
+        let count = crate::sdf::repeat_counts(|k| Some(raw[k - 3]), |k, m| f.err(&format!("count[{}]", k - 3), m))?;
+        Copies::Repeat { spacing, count }
+    } else {
+        f.only(ty, &["child", "normal"])?;
+        let normal = f.vec3("normal")?;
+        if normal == [0.0; 3] {
+            return Err(f.err("normal", "must not be zero"));
+        }
+        Copies::Mirror { normal }
+    };
+    ctx.copies.borrow_mut().insert(f.i, c);
+    Ok(Node::Unary { op: Unary::Offset { distance: 0.0 }, child: f.index("child")? })
 }
 
 /// The `profile` object of an extrusion or revolution (parameters are

@@ -457,6 +457,79 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
     Ok(out.pop().expect("a root"))
 }
 
+/// A scene file's `repeat` or `mirror` node: expanded into plain nodes
+/// when the file is read ([`expand`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Copies {
+    /// A centred grid of copies, `count` a side, `spacing` apart.
+    Repeat {
+        /// Distance between copies along x, y, z.
+        spacing: [f64; 3],
+        /// Copies along x, y, z.
+        count: [u64; 3],
+    },
+    /// The operand and its reflection across the plane through the origin
+    /// with this normal.
+    Mirror {
+        /// Not zero.
+        normal: [f64; 3],
+    },
+}
+
+/// The union of the copies of `shape` that `c` makes.
+fn copies(c: &Copies, shape: Rc<Tree>, span: Span) -> Rc<Tree> {
+    match *c {
+        Copies::Mirror { normal } => {
+            let image = Rc::new(Tree::Reflected(normal, shape.clone()));
+            Rc::new(Tree::Op(Operator::UNION, shape, image, span))
+        }
+        Copies::Repeat { spacing, count: n } => {
+            let mut acc: Option<Rc<Tree>> = None;
+            for i in 0..n[0] {
+                for j in 0..n[1] {
+                    for k in 0..n[2] {
+                        let translate = [0, 1, 2].map(|q| spacing[q] * sdf::repeat_offset([i, j, k][q], n[q]));
+                        let copy = Rc::new(Tree::Moved(Transform { translate, ..Transform::default() }, shape.clone()));
+                        acc = Some(match acc {
+                            Some(l) => Rc::new(Tree::Op(Operator::UNION, l, copy, span)),
+                            None => copy,
+                        });
+                    }
+                }
+            }
+            acc.expect("at least one copy")
+        }
+    }
+}
+
+/// `scene` with its `repeat` and `mirror` nodes (`copies[i]` for node i,
+/// which `scene` holds as a placeholder with one operand) expanded into
+/// plain nodes, as a formula's `repeat` and `mirror` are: copies, and
+/// reflected twins. The error says why a subtree cannot be copied (a
+/// mirrored voxel grid, a moved infill).
+pub fn expand(scene: &Scene, copies_of: &HashMap<usize, Copies>) -> Result<Scene, NotBlobtree> {
+    let nodes = scene.nodes();
+    let mut trees: Vec<Option<Rc<Tree>>> = vec![None; nodes.len()];
+    let span = Span::default();
+    for &i in scene.post_order() {
+        let sub = |c: usize, trees: &mut Vec<Option<Rc<Tree>>>| trees[c].take().expect("operands first");
+        let t = match (&nodes[i], copies_of.get(&i)) {
+            (super::Node::Unary { child, .. }, Some(c)) => copies(c, sub(*child, &mut trees), span),
+            (super::Node::Primitive(p), _) => Rc::new(Tree::Leaf(p.clone(), span)),
+            (super::Node::Operator { op, left, right }, _) => {
+                let (l, r) = (sub(*left, &mut trees), sub(*right, &mut trees));
+                Rc::new(Tree::Op(*op, l, r, span))
+            }
+            (super::Node::Unary { op, child }, None) => Rc::new(Tree::Unary(*op, sub(*child, &mut trees), span)),
+        };
+        trees[i] = Some(t);
+    }
+    let root = trees[scene.root()].take().expect("the root is in the post-order");
+    let mut b = Builder::default();
+    let id = build(&root, &mut b, &mut vec![])?;
+    b.finish(id).map_err(|e| not(format!("after expanding repeat and mirror: {e}"), span))
+}
+
 /// Lowers a compiled formula with its parameter values (in the formula's
 /// parameter order, as in `Settings::params`).
 pub fn from_formula(f: &crate::Formula, params: &[f32]) -> Result<Scene, NotBlobtree> {
