@@ -1,6 +1,6 @@
 //! f64 reference evaluation of a scene: the whole tree at a point, and the
 //! masked tree, where inactive primitives are a missing operand ∅ and each
-//! operator applies the selection rules of [`Operator::select`].
+//! operator applies the selection rules of [`super::Operator::select`].
 //!
 //! The masked value is what the sparse traversal (`sparse.rs`) and the GPU
 //! must reproduce bit for bit; the full value is what the masked one must

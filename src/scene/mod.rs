@@ -4,16 +4,21 @@
 //! primitives that matter there, not the size of the tree.
 //!
 //! The CPU side, in pipeline order:
-//! - this module: the model ([`Scene`], [`Node`], [`Primitive`], [`Operator`]),
-//!   validated on construction;
-//! - [`format`]: the `.scene.json` file (docs/scene-format.md);
+//! - this module: the model ([`Scene`], [`Node`], [`Primitive`], [`Operator`],
+//!   [`Unary`]), validated on construction, with the node types in
+//!   [`primitive`], [`profile`] (2D cross-sections), [`grid`] (voxel grids
+//!   read from files), [`operator`] and [`unary`];
+//! - [`mod@format`]: the `.scene.json` file (docs/scene-format.md);
 //! - [`eval`]: f64 reference evaluation, full and masked (inactive
 //!   primitives are a missing operand ∅);
-//! - [`roi`]: ranges of interest and augmented bounding volumes;
-//! - [`linear`]: the post-order buffers the GPU reads;
+//! - [`roi`]: ranges of interest, augmented bounding volumes, Lipschitz
+//!   bounds;
+//! - [`linear`], [`rows`], [`patch`]: the post-order buffers the GPU reads,
+//!   their parameter rows, edits in place;
 //! - [`sparse`]: the sparse bottom-up traversal, the GPU's oracle;
 //! - [`generate`]: the paper's synthetic scenes (Fig. 16, Fig. 18);
-//! - [`formula`]: the same field as formula text, for the compiled path.
+//! - [`formula`]: the same field as formula text, for the compiled path;
+//!   [`lower`] and [`frame`]: a formula of distance forms as a scene.
 //!
 //! ```
 //! use isotrace::scene::{Builder, Operator, Primitive, Shape};
