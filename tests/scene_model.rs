@@ -14,7 +14,7 @@ use isotrace::scene::roi::{self, Abv};
 use isotrace::scene::sparse::{self, Ancestors};
 use isotrace::scene::{Builder, Node, Operator, Primitive, Scene, Shape};
 use isotrace::Formula;
-use scene_common::{random_primitive, random_tree, surface_points, TreeShape};
+use scene_common::{assert_sparse_is_masked, random_primitive, random_tree, surface_points, TreeShape};
 
 const KINDS: [OpKind; 3] = [OpKind::Union, OpKind::Intersection, OpKind::Difference];
 
@@ -114,10 +114,6 @@ fn masked_evaluation_keeps_every_node_within_its_range_of_interest() {
     assert!(bad > 0);
 }
 
-fn same(a: Option<f64>, b: Option<f64>) -> bool {
-    a.map(f64::to_bits) == b.map(f64::to_bits)
-}
-
 /// §4.3: the sparse traversal with parent or fast ancestors, directly or
 /// through the pruned view, gives the masked value bit for bit; its sign is
 /// the full field's when A holds every needed primitive; the traversal
@@ -144,17 +140,9 @@ fn sparse_traversal_equals_masked_evaluation_bit_for_bit() {
                     a.push(k);
                 }
             }
-            let reference = scene.eval_masked(p, &active);
-            for anc in [Ancestors::Fast, Ancestors::Parent] {
-                let t = sparse::traverse(&lin, &scene, p, &a, anc).unwrap();
-                assert!(same(t.value, reference), "{anc:?}: {:?} vs {reference:?}", t.value);
-                assert!(same(sparse::eval_view(&lin, &scene, p, &t.view), reference));
-                let v = sparse::build_view(&lin, &scene, &a, anc).unwrap();
-                assert_eq!(v.view, t.view);
-                assert!(t.max_stack < lin.stack_depth.max(1), "stack {} of depth {}", t.max_stack, lin.stack_depth);
-                max_stack = max_stack.max(t.max_stack);
-                checks += 1;
-            }
+            let (reference, stack) = assert_sparse_is_masked(&lin, &scene, p, &active, &a);
+            max_stack = max_stack.max(stack);
+            checks += 2;
             let full = scene.eval(p);
             match reference {
                 _ if full.abs() < 1e-9 => {}

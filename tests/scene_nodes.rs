@@ -13,9 +13,8 @@ use isotrace::scene::generate::Rng;
 use isotrace::scene::linear::{self, Linear};
 use isotrace::scene::profile::{self, Profile};
 use isotrace::scene::roi;
-use isotrace::scene::sparse::{self, Ancestors};
 use isotrace::scene::{format, Builder, Node, Primitive, Scene, Shape, Unary};
-use scene_common::{random_profile, random_profiled, surface_points, zoo_tree};
+use scene_common::{assert_sparse_is_masked, random_profile, random_profiled, surface_points, zoo_tree};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * a.abs().max(b.abs()).max(1.0)
@@ -170,10 +169,6 @@ fn abvs_of_profiled_primitives_contain_their_region_of_interest() {
     assert!(inside > 5_000, "{inside}");
 }
 
-fn same(a: Option<f64>, b: Option<f64>) -> bool {
-    a.map(f64::to_bits) == b.map(f64::to_bits)
-}
-
 /// Unary nodes in the tree: the sparse traversal still equals the masked
 /// evaluation bit for bit (with fast and parent ancestors, directly and
 /// through the pruned view), and with A = {p : f_p ≤ r_p⁺} every node is
@@ -199,14 +194,8 @@ fn sparse_traversal_and_ranges_hold_with_unary_nodes() {
                     a.push(k);
                 }
             }
-            let reference = scene.eval_masked(p, &active);
-            for anc in [Ancestors::Fast, Ancestors::Parent] {
-                let t = sparse::traverse(&lin, &scene, p, &a, anc).unwrap();
-                assert!(same(t.value, reference), "{anc:?}: {:?} vs {reference:?}", t.value);
-                assert!(same(sparse::eval_view(&lin, &scene, p, &t.view), reference));
-                assert_eq!(sparse::build_view(&lin, &scene, &a, anc).unwrap().view, t.view);
-                checks += 1;
-            }
+            assert_sparse_is_masked(&lin, &scene, p, &active, &a);
+            checks += 2;
             let (full, masked) = (scene.eval_nodes(p), scene.eval_masked_nodes(p, &active));
             for i in 0..scene.len() {
                 let (f, s) = (full[i], masked[i].unwrap_or(f64::INFINITY));

@@ -197,7 +197,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 54] = [
+    let consts: [(&str, u32); 53] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -251,7 +251,6 @@ pub fn wgsl_constants() -> String {
         ("NODE_GRID", GRID),
         ("FORM_GRID", FORM_GRID),
         ("GRID_ROWS", GRID_ROWS),
-        ("NOISE_WAVES", crate::sdf::NOISE_WAVES.len() as u32),
     ];
     let mut s = String::new();
     for (name, v) in consts {

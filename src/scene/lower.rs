@@ -326,30 +326,14 @@ impl Walker<'_> {
                 let spacing: [f64; 3] = self.nums(a)?;
                 let counts: Vec<f64> = a[3..6].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
                 let n = sdf::repeat_counts(|k| Some(counts[k - 3]), |k, m| not(m, a[k].span))?;
-                let shape = self.shape(&a[6])?;
-                let mut acc: Option<Rc<Tree>> = None;
-                for i in 0..n[0] {
-                    for j in 0..n[1] {
-                        for k in 0..n[2] {
-                            let translate = [0, 1, 2].map(|q| spacing[q] * sdf::repeat_offset([i, j, k][q], n[q]));
-                            let copy = Rc::new(Tree::Moved(Transform { translate, ..Transform::default() }, shape.clone()));
-                            acc = Some(match acc {
-                                Some(l) => Rc::new(Tree::Op(Operator::UNION, l, copy, span)),
-                                None => copy,
-                            });
-                        }
-                    }
-                }
-                Ok(acc.expect("at least one copy"))
+                Ok(copies(&Copies::Repeat { spacing, count: n }, self.shape(&a[6])?, span))
             }
             Form::Mirror => {
                 let n: [f64; 3] = self.nums(a)?;
                 if n == [0.0; 3] {
                     return Err(not("the mirror plane's normal must not be zero", a[0].span));
                 }
-                let shape = self.shape(&a[3])?;
-                let image = Rc::new(Tree::Reflected(n, shape.clone()));
-                Ok(Rc::new(Tree::Op(Operator::UNION, shape, image, span)))
+                Ok(copies(&Copies::Mirror { normal: n }, self.shape(&a[3])?, span))
             }
             Form::Offset => Ok(Rc::new(Tree::Unary(Unary::Offset { distance: self.num(&a[0])? }, self.shape(&a[1])?, span))),
             Form::Shell => Ok(Rc::new(Tree::Unary(Unary::Shell { thickness: self.num(&a[0])? }, self.shape(&a[1])?, span))),

@@ -262,3 +262,29 @@ pub fn zoo_tree(rng: &mut Rng, n: usize) -> Scene {
     }
     b.finish(items[0]).unwrap()
 }
+
+/// Equal bit for bit, ∅ included.
+pub fn same(a: Option<f64>, b: Option<f64>) -> bool {
+    a.map(f64::to_bits) == b.map(f64::to_bits)
+}
+
+/// The sparse traversal of the active primitives `a` (post-order indices;
+/// `active` the same set by scene node) at `p` equals the masked evaluation
+/// bit for bit, with fast and parent ancestors, directly and through its
+/// pruned view, the view built alone is the same, and the traversal stack
+/// stays below the scene's evaluation stack. Returns the masked value and
+/// the deepest traversal stack.
+pub fn assert_sparse_is_masked(lin: &isotrace::scene::linear::Linear, scene: &Scene, p: [f64; 3], active: &[bool], a: &[u32]) -> (Option<f64>, u32) {
+    use isotrace::scene::sparse::{self, Ancestors};
+    let reference = scene.eval_masked(p, active);
+    let mut max_stack = 0;
+    for anc in [Ancestors::Fast, Ancestors::Parent] {
+        let t = sparse::traverse(lin, scene, p, a, anc).unwrap();
+        assert!(same(t.value, reference), "{anc:?}: {:?} vs {reference:?}", t.value);
+        assert!(same(sparse::eval_view(lin, scene, p, &t.view), reference));
+        assert_eq!(sparse::build_view(lin, scene, a, anc).unwrap().view, t.view);
+        assert!(t.max_stack < lin.stack_depth.max(1), "stack {} of depth {}", t.max_stack, lin.stack_depth);
+        max_stack = max_stack.max(t.max_stack);
+    }
+    (reference, max_stack)
+}
