@@ -32,12 +32,16 @@
 
 use crate::ir::{Func1, Func2, Func3, NodeId, Op, Var};
 
+mod blend;
 mod modifier;
 mod operator;
 mod primitive;
 mod profile;
+mod warp;
 
+pub use blend::{chamfer_intersect, chamfer_range, chamfer_union, density, density_default_range, density_lipschitz, round_intersect, round_union, sum_union, DENSITY_SLOPE};
 pub use modifier::{noise, NOISE_GRADIENT, NOISE_WAVES};
+pub use warp::{bend_lipschitz, bend_point, twist_lipschitz, twist_point};
 
 /// A distance-field form (primitive, transform or operator).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
