@@ -15,7 +15,7 @@
 //! follows the scene, not a JSON tree of it. Every error names the JSON path
 //! of the bad value: `nodes[812].radius: must be > 0`.
 
-use super::{Blend, Node, Operator, Primitive, Profile, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, Unary, UnaryKind, MAX_NODES};
+use super::{Node, Operator, Primitive, Profile, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, Unary, UnaryKind, MAX_NODES};
 use crate::bounded::{self, ReadError};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
@@ -340,20 +340,25 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         return Ok(Node::Unary { op: Unary::from_values(kind, &values), child: f.index("child")? });
     }
     if let Some(k) = Operator::NAMES.iter().position(|n| *n == ty) {
-        let smooth = k >= 3;
-        let kind = [super::OpKind::Union, super::OpKind::Intersection, super::OpKind::Difference][k % 3];
-        f.only(ty, if smooth { &["left", "right", "beta", "r_o"] } else { &["left", "right"] })?;
-        let blend = if smooth {
-            let beta = f.number("beta")?;
-            let range = match obj.get("r_o") {
-                Some(v) => f.number_of("r_o", v)?,
-                None => super::operator::DEFAULT_RANGE_FACTOR * beta,
-            };
-            Some(Blend { beta, range })
-        } else {
-            None
+        let size = match k {
+            0..=2 => None,
+            3..=5 => Some("beta"),
+            6..=11 => Some("radius"),
+            _ => Some("range"),
         };
-        return Ok(Node::Operator { op: Operator { kind, blend }, left: f.index("left")?, right: f.index("right")? });
+        let fields: &[&str] = match size {
+            None => &["left", "right"],
+            Some("beta") => &["left", "right", "beta", "r_o"],
+            Some(name) => &["left", "right", name],
+        };
+        f.only(ty, fields)?;
+        let mut op = Operator::parse(ty, size.map(|n| f.number(n)).transpose()?.unwrap_or(0.0)).expect("a listed name");
+        if let Some(b) = &mut op.blend {
+            if let Some(v) = obj.get("r_o") {
+                b.range = f.number_of("r_o", v)?;
+            }
+        }
+        return Ok(Node::Operator { op, left: f.index("left")?, right: f.index("right")? });
     }
     let names: Vec<&str> =
         ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror"]).collect();
@@ -544,6 +549,10 @@ fn node_json(n: &Node) -> String {
             s += &format!("\"type\": \"{}\", \"left\": {left}, \"right\": {right}", op.name());
             if let Some(b) = &op.blend {
                 s += &format!(", \"beta\": {}, \"r_o\": {}", num(b.beta), num(b.range));
+            }
+            if let Some(j) = &op.join {
+                let (name, v) = j.size();
+                s += &format!(", \"{name}\": {}", num(v));
             }
         }
         Node::Unary { op, child } => {

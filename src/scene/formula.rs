@@ -9,7 +9,7 @@
 //! Only small scenes fit: the formula language reads at most 64 KiB of text
 //! (about 500 primitives) and compiles at most 50,000 operations.
 
-use super::{Node, OpKind, Primitive, Profile, Scene, Shape};
+use super::{Join, Node, Primitive, Profile, Scene, Shape};
 use crate::syntax::parser::MAX_SOURCE_BYTES;
 
 /// Why a scene has no formula.
@@ -99,14 +99,13 @@ pub fn to_formula(scene: &Scene) -> Result<String, NoFormula> {
             Node::Primitive(p) => primitive_formula(p).ok_or(NoFormula::NoForm { node: i, kind: p.shape.kind().name() })?,
             Node::Operator { op, left, right } => {
                 let (l, r) = (name(*left), name(*right));
-                match (op.kind, op.blend) {
-                    (OpKind::Union, None) => format!("union({l}, {r})"),
-                    (OpKind::Intersection, None) => format!("intersect({l}, {r})"),
-                    (OpKind::Difference, None) => format!("subtract({l}, {r})"),
-                    (k, Some(b)) => {
-                        let f = ["compact_union", "compact_intersect", "compact_subtract"][k as usize];
-                        format!("{f}({l}, {r}, {}, {})", num(b.beta), num(b.range))
-                    }
+                let verb = ["union", "intersect", "subtract"][op.kind as usize];
+                match (op.blend, op.join) {
+                    (Some(b), _) => format!("compact_{verb}({l}, {r}, {}, {})", num(b.beta), num(b.range)),
+                    (None, Some(Join::Chamfer { radius })) => format!("chamfer_{verb}({l}, {r}, {})", num(radius)),
+                    (None, Some(Join::Round { radius })) => format!("round_{verb}({l}, {r}, {})", num(radius)),
+                    (None, Some(Join::Sum { range })) => format!("sum_union({l}, {r}, {})", num(range)),
+                    (None, None) => format!("{verb}({l}, {r})"),
                 }
             }
             Node::Unary { op, child } => format!("{}({}, {})", op.kind().name(), args(&op.values()), name(*child)),

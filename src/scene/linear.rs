@@ -44,7 +44,7 @@
 //! [`MAX_STACK`], and such scenes are refused.
 
 use super::roi::{self, Aabb, Abv, Roi};
-use super::{Node, NodeId, OpKind, Operator, Profile, Scene, SceneError, Shape, Unary};
+use super::{Join, Node, NodeId, OpKind, Operator, Profile, Scene, SceneError, Shape, Unary};
 pub use super::patch::ScenePatch;
 pub use super::rows::{abv_rows, primitive_rows};
 use super::rows::unary_row;
@@ -94,14 +94,30 @@ pub const SMOOTH_UNION: u32 = 35;
 pub const SMOOTH_INTERSECTION: u32 = 36;
 /// Type code of a compact smooth difference.
 pub const SMOOTH_DIFFERENCE: u32 = 37;
-/// Type code of an offset, the first unary node (codes 40-47 are unary).
-pub const OFFSET: u32 = 40;
+/// Type code of a chamfer union. The binary operators are three codes a
+/// style from 32 (union, intersection, difference), so (code − 32) mod 3
+/// tells the operation.
+pub const CHAMFER_UNION: u32 = 38;
+/// Type code of a chamfer intersection.
+pub const CHAMFER_INTERSECTION: u32 = 39;
+/// Type code of a chamfer difference.
+pub const CHAMFER_DIFFERENCE: u32 = 40;
+/// Type code of a round union.
+pub const ROUND_UNION: u32 = 41;
+/// Type code of a round intersection.
+pub const ROUND_INTERSECTION: u32 = 42;
+/// Type code of a round difference.
+pub const ROUND_DIFFERENCE: u32 = 43;
+/// Type code of the sum blend (a union).
+pub const SUM_UNION: u32 = 44;
+/// Type code of an offset, the first unary node (codes 48-55 are unary).
+pub const OFFSET: u32 = 48;
 /// Type code of a shell.
-pub const SHELL: u32 = 41;
+pub const SHELL: u32 = 49;
 /// Type code of a gyroid infill.
-pub const INFILL: u32 = 42;
+pub const INFILL: u32 = 50;
 /// Type code of a displacement.
-pub const DISPLACE: u32 = 43;
+pub const DISPLACE: u32 = 51;
 
 /// Feature bit: extruded or revolved profiles (their rows and formula).
 pub const FEATURE_PROFILE: u32 = 1;
@@ -115,6 +131,12 @@ pub const FEATURE_INFILL: u32 = 8;
 pub const FEATURE_DISPLACE: u32 = 16;
 /// Feature bit: voxel grids (trilinear interpolation of their samples).
 pub const FEATURE_GRID: u32 = 32;
+/// Feature bit: chamfer, round and sum blends.
+pub const FEATURE_JOIN: u32 = 64;
+/// Feature bit: twisted or bent primitives.
+pub const FEATURE_WARP: u32 = 128;
+/// Feature bit: normalized density primitives.
+pub const FEATURE_DENSITY: u32 = 256;
 
 /// Rows of the transform matrix before a primitive's parameters.
 pub const PRIM_MATRIX_ROWS: u32 = 3;
@@ -192,12 +214,19 @@ fn op_code(op: &Operator) -> u32 {
         OpKind::Intersection => INTERSECTION,
         OpKind::Difference => DIFFERENCE,
     };
-    if op.blend.is_some() { base + 3 } else { base }
+    let style = match (op.blend, op.join) {
+        (Some(_), _) => 1,
+        (None, Some(Join::Chamfer { .. })) => 2,
+        (None, Some(Join::Round { .. })) => 3,
+        (None, Some(Join::Sum { .. })) => return SUM_UNION,
+        (None, None) => 0,
+    };
+    base + 3 * style
 }
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 53] = [
+    let consts: [(&str, u32); 63] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -238,6 +267,13 @@ pub fn wgsl_constants() -> String {
         ("NODE_SHELL", SHELL),
         ("NODE_INFILL", INFILL),
         ("NODE_DISPLACE", DISPLACE),
+        ("NODE_CHAMFER_UNION", CHAMFER_UNION),
+        ("NODE_CHAMFER_INTERSECTION", CHAMFER_INTERSECTION),
+        ("NODE_CHAMFER_DIFFERENCE", CHAMFER_DIFFERENCE),
+        ("NODE_ROUND_UNION", ROUND_UNION),
+        ("NODE_ROUND_INTERSECTION", ROUND_INTERSECTION),
+        ("NODE_ROUND_DIFFERENCE", ROUND_DIFFERENCE),
+        ("NODE_SUM_UNION", SUM_UNION),
         ("FORM_EXTRUDE", FORM_EXTRUDE),
         ("FORM_REVOLVE", FORM_REVOLVE),
         ("PROFILE_ROWS", PROFILE_ROWS),
@@ -248,6 +284,9 @@ pub fn wgsl_constants() -> String {
         ("FEATURE_INFILL", FEATURE_INFILL),
         ("FEATURE_DISPLACE", FEATURE_DISPLACE),
         ("FEATURE_GRID", FEATURE_GRID),
+        ("FEATURE_JOIN", FEATURE_JOIN),
+        ("FEATURE_WARP", FEATURE_WARP),
+        ("FEATURE_DENSITY", FEATURE_DENSITY),
         ("NODE_GRID", GRID),
         ("FORM_GRID", FORM_GRID),
         ("GRID_ROWS", GRID_ROWS),
@@ -274,7 +313,7 @@ pub fn wgsl_noise() -> String {
 /// scene within [`super::MAX_NODES`] fits.
 pub const ENTRY_ROW_BITS: u32 = 25;
 const _: () = assert!((super::MAX_NODES as u64) * (PRIM_ROWS as u64) < 1 << ENTRY_ROW_BITS);
-const _: () = assert!(SMOOTH_DIFFERENCE < 1 << (31 - ENTRY_ROW_BITS));
+const _: () = assert!(DISPLACE < 1 << (31 - ENTRY_ROW_BITS));
 
 /// A scene in post-order: the GPU buffers and the topology the CPU
 /// traversal uses. Vectors indexed "by node" use post-order indices.
@@ -401,8 +440,9 @@ impl Linear {
                     self.primitives.push(k as u32);
                 }
                 Node::Operator { op, .. } => {
-                    let (b, r) = op.blend.map_or((0.0, 0.0), |b| (b.beta as f32, b.range as f32));
-                    self.params.push([b, r, 0.0, 0.0]);
+                    let b = op.blend.map_or(0.0, |b| b.beta as f32);
+                    let size = op.join.map_or(0.0, |j| j.size().1 as f32);
+                    self.params.push([b, op.range() as f32, size, 0.0]);
                 }
                 Node::Unary { op, .. } => self.params.push(unary_row(op)),
             }
@@ -552,7 +592,7 @@ fn features(scene: &Scene) -> u32 {
                 Shape::Grid(_) => FEATURE_GRID,
                 _ => 0,
             },
-            Node::Operator { .. } => 0,
+            Node::Operator { op, .. } => if op.join.is_some() { FEATURE_JOIN } else { 0 },
             Node::Unary { op: Unary::Infill { .. }, .. } => FEATURE_UNARY | FEATURE_INFILL,
             Node::Unary { op: Unary::Displace { .. }, .. } => FEATURE_UNARY | FEATURE_DISPLACE,
             Node::Unary { .. } => FEATURE_UNARY,

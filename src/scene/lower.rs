@@ -284,8 +284,8 @@ impl Walker<'_> {
     /// Transforms and operators.
     fn composite(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
         let moved = |t: Transform, s: Rc<Tree>| Ok(Rc::new(Tree::Moved(t, s)));
-        let sharp = |kind| Operator { kind, blend: None };
-        let smooth = |kind, beta: f64, range: f64| Operator { kind, blend: Some(Blend { beta, range }) };
+        let sharp = Operator::sharp;
+        let smooth = |kind, beta: f64, range: f64| Operator::smooth(kind, Blend { beta, range });
         match form {
             Form::Translate => {
                 let translate = self.nums(a)?;

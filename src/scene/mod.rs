@@ -48,7 +48,7 @@ pub mod sparse;
 pub mod unary;
 
 pub use lower::{from_formula, NotBlobtree};
-pub use operator::{Blend, OpKind, Operator};
+pub use operator::{Blend, Join, OpKind, Operator};
 pub use primitive::{Primitive, Rotation, Shape, ShapeKind, Transform};
 pub use profile::Profile;
 pub use unary::{Unary, UnaryKind};
@@ -266,6 +266,9 @@ fn check_node(i: usize, node: &Node, n: usize) -> Result<(), SceneError> {
         Node::Operator { op, left, right } => {
             if let Some(b) = &op.blend {
                 b.check().map_err(|(field, reason)| SceneError::at(i, &field, reason))?;
+            }
+            if let Some(j) = &op.join {
+                j.check().map_err(|(field, reason)| SceneError::at(i, &field, reason))?;
             }
             for (field, c) in [("left", *left), ("right", *right)] {
                 if c >= n {

@@ -69,42 +69,139 @@ impl Blend {
     }
 }
 
+/// A compact edge blend other than Zanni's G (definitions in
+/// [`crate::sdf`]'s `blend` module): each equals the sharp operator outside
+/// its operator range, so ranges of interest and bounding volumes treat it
+/// like G with that r_o.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Join {
+    /// A 45° bevel of width `radius` (r_o = r/(2 − √2); Lipschitz ×√2).
+    Chamfer {
+        /// r > 0.
+        radius: f64,
+    },
+    /// A circular fillet of radius `radius` (r_o = r; Lipschitz ×√2).
+    Round {
+        /// r > 0.
+        radius: f64,
+    },
+    /// min(a, b) + min(max(a, b), T) − T: the summation blend of normalized
+    /// density fields with this T (r_o = T; Lipschitz: the operands' sum).
+    /// Unions only.
+    Sum {
+        /// T > 0.
+        range: f64,
+    },
+}
+
+impl Join {
+    /// Its size parameter and that parameter's field name in a scene file.
+    pub fn size(&self) -> (&'static str, f64) {
+        match *self {
+            Join::Chamfer { radius } | Join::Round { radius } => ("radius", radius),
+            Join::Sum { range } => ("range", range),
+        }
+    }
+
+    /// The operator range r_o beyond which the blend is the sharp operator.
+    pub fn range(&self) -> f64 {
+        match *self {
+            Join::Chamfer { radius } => crate::sdf::chamfer_range(radius),
+            Join::Round { radius } => radius,
+            Join::Sum { range } => range,
+        }
+    }
+
+    /// Checks the size; the error names the field.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        let (name, v) = self.size();
+        if !v.is_finite() {
+            return Err((name.into(), "must be finite".into()));
+        }
+        if !(v > 0.0) {
+            return Err((name.into(), "must be > 0".into()));
+        }
+        Ok(())
+    }
+}
+
 /// An operator node's operation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Operator {
     /// Which operation.
     pub kind: OpKind,
-    /// `None`: sharp CSG.
+    /// `None`: sharp CSG (unless `join` is set).
     pub blend: Option<Blend>,
+    /// A chamfer, round or sum blend instead (then `blend` is `None`).
+    pub join: Option<Join>,
 }
 
 impl Operator {
     /// Sharp union (min).
-    pub const UNION: Operator = Operator { kind: OpKind::Union, blend: None };
+    pub const UNION: Operator = Operator { kind: OpKind::Union, blend: None, join: None };
     /// Sharp intersection (max).
-    pub const INTERSECTION: Operator = Operator { kind: OpKind::Intersection, blend: None };
+    pub const INTERSECTION: Operator = Operator { kind: OpKind::Intersection, blend: None, join: None };
     /// Sharp difference.
-    pub const DIFFERENCE: Operator = Operator { kind: OpKind::Difference, blend: None };
+    pub const DIFFERENCE: Operator = Operator { kind: OpKind::Difference, blend: None, join: None };
 
     /// A compact smooth operator.
     pub fn smooth(kind: OpKind, blend: Blend) -> Operator {
-        Operator { kind, blend: Some(blend) }
+        Operator { kind, blend: Some(blend), join: None }
+    }
+
+    /// A sharp operator.
+    pub fn sharp(kind: OpKind) -> Operator {
+        Operator { kind, blend: None, join: None }
+    }
+
+    /// A chamfer, round or sum blend (the caller keeps sums to unions).
+    pub fn joined(kind: OpKind, join: Join) -> Operator {
+        Operator { kind, blend: None, join: Some(join) }
+    }
+
+    /// The operator of scene file type `name`, with its size (β for the
+    /// smooth ones, else the join's size) when it has one.
+    pub fn parse(name: &str, size: f64) -> Option<Operator> {
+        let k = Self::NAMES.iter().position(|n| *n == name)?;
+        let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][k % 3];
+        Some(match k {
+            0..=2 => Operator::sharp(kind),
+            3..=5 => Operator::smooth(kind, Blend::new(size)),
+            6..=8 => Operator::joined(kind, Join::Chamfer { radius: size }),
+            9..=11 => Operator::joined(kind, Join::Round { radius: size }),
+            _ => Operator::joined(OpKind::Union, Join::Sum { range: size }),
+        })
     }
 
     /// The `type` of a scene file node.
     pub fn name(&self) -> &'static str {
-        match (self.kind, self.blend.is_some()) {
-            (OpKind::Union, false) => "union",
-            (OpKind::Intersection, false) => "intersection",
-            (OpKind::Difference, false) => "difference",
-            (OpKind::Union, true) => "smooth_union",
-            (OpKind::Intersection, true) => "smooth_intersection",
-            (OpKind::Difference, true) => "smooth_difference",
-        }
+        let style = match (self.blend, self.join) {
+            (Some(_), _) => 1,
+            (None, Some(Join::Chamfer { .. })) => 2,
+            (None, Some(Join::Round { .. })) => 3,
+            (None, Some(Join::Sum { .. })) => return "sum_union",
+            (None, None) => 0,
+        };
+        Self::NAMES[3 * style + self.kind as usize]
     }
 
-    /// Every operator type name, in type-code order.
-    pub const NAMES: [&'static str; 6] = ["union", "intersection", "difference", "smooth_union", "smooth_intersection", "smooth_difference"];
+    /// Every operator type name, in type-code order (three a style: union,
+    /// intersection, difference; the sum only as a union).
+    pub const NAMES: [&'static str; 13] = [
+        "union",
+        "intersection",
+        "difference",
+        "smooth_union",
+        "smooth_intersection",
+        "smooth_difference",
+        "chamfer_union",
+        "chamfer_intersection",
+        "chamfer_difference",
+        "round_union",
+        "round_intersection",
+        "round_difference",
+        "sum_union",
+    ];
 
     /// Whether swapping the operands leaves the value unchanged, bit for
     /// bit (min, max and |a − b| are symmetric), so the linear form may
@@ -115,11 +212,26 @@ impl Operator {
 
     /// r_o, or 0 for a sharp operator (its range of interest is {0}).
     pub fn range(&self) -> f64 {
-        self.blend.map_or(0.0, |b| b.range)
+        match (self.blend, self.join) {
+            (Some(b), _) => b.range,
+            (None, Some(j)) => j.range(),
+            (None, None) => 0.0,
+        }
     }
 
     /// The value for two present operands.
     pub fn apply(&self, a: f64, b: f64) -> f64 {
+        use crate::sdf::{chamfer_intersect, chamfer_union, round_intersect, round_union, sum_union};
+        if let Some(j) = self.join {
+            let c = if self.kind == OpKind::Difference { -b } else { b };
+            return match (j, self.kind) {
+                (Join::Chamfer { radius }, OpKind::Union) => chamfer_union(a, c, radius),
+                (Join::Chamfer { radius }, _) => chamfer_intersect(a, c, radius),
+                (Join::Round { radius }, OpKind::Union) => round_union(a, c, radius),
+                (Join::Round { radius }, _) => round_intersect(a, c, radius),
+                (Join::Sum { range }, _) => sum_union(a, c, range),
+            };
+        }
         match self.blend {
             None => g(self.kind, a, b, 0.0),
             Some(bl) => compact(self.kind, a, b, bl.beta, bl.range),
@@ -138,8 +250,22 @@ impl Operator {
     }
 
     /// The factor by which this operator can raise the Lipschitz bound.
+    /// (Zanni's G; a join's bound is exact and carried by
+    /// [`super::roi::field_lipschitz`] instead.)
     pub fn lipschitz_factor(&self) -> f64 {
         self.blend.map_or(1.0, |b| b.lipschitz_factor())
+    }
+
+    /// The bound of this operator's value from its operands' bounds
+    /// `la`, `lb`: the larger for sharp operators and G (whose own factor
+    /// the renderer's 1.45 covers), √2 times it for a chamfer or a round
+    /// fillet, the sum for the sum blend.
+    pub fn combine_lipschitz(&self, la: f64, lb: f64) -> f64 {
+        match self.join {
+            None => la.max(lb),
+            Some(Join::Chamfer { .. } | Join::Round { .. }) => std::f64::consts::SQRT_2 * la.max(lb),
+            Some(Join::Sum { .. }) => la + lb,
+        }
     }
 }
 

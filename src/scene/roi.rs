@@ -81,7 +81,8 @@ pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
 /// tracing steps on), ignoring the compact operators' factors (which the
 /// renderer covers with its empirical 1.45): bottom up, an exact primitive
 /// is 1, a voxel grid the bound of its interpolant where it can decide the
-/// field ([`trace_levels`]), a binary operator the larger of its operands',
+/// field ([`trace_levels`]), a binary operator the larger of its operands'
+/// (√2 times it for a chamfer or round join, their sum for a sum blend),
 /// a displacement its operand's plus a·f·NOISE_GRADIENT, other unary nodes
 /// their operand's.
 pub fn field_lipschitz(scene: &Scene) -> f64 {
@@ -94,7 +95,7 @@ pub fn field_lipschitz(scene: &Scene) -> f64 {
                 Shape::Grid(g) => levels[i].map_or(g.grid.lipschitz(), |l| g.grid.lipschitz_above(l / p.transform.scale)),
                 _ => 1.0,
             },
-            Node::Operator { left, right, .. } => lip[*left].max(lip[*right]),
+            Node::Operator { op, left, right } => op.combine_lipschitz(lip[*left], lip[*right]),
             Node::Unary { op, child } => lip[*child] + op.lipschitz_increase(),
         };
     }
@@ -120,7 +121,8 @@ pub fn trace_levels(scene: &Scene) -> Vec<Option<f64>> {
         let l = level[i];
         match nodes[i] {
             Node::Operator { op, left, right } => {
-                let beta = op.blend.map_or(0.0, |b| b.beta);
+                // A join's other operand can be anywhere in its range.
+                let beta = op.blend.map_or(op.range(), |b| b.beta);
                 let (a, b) = match op.kind {
                     super::OpKind::Union => (l, l),
                     super::OpKind::Intersection => (l.map(|v| v - 2.0 * beta), l.map(|v| v - 2.0 * beta)),

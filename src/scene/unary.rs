@@ -62,13 +62,13 @@ pub enum Unary {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum UnaryKind {
     /// `offset`
-    Offset = 40,
+    Offset = 48,
     /// `shell`
-    Shell = 41,
+    Shell = 49,
     /// `infill`
-    Infill = 42,
+    Infill = 50,
     /// `displace`
-    Displace = 43,
+    Displace = 51,
 }
 
 impl UnaryKind {

@@ -50,21 +50,35 @@ pub fn chamfer_intersect(a: f64, b: f64, r: f64) -> f64 {
     a.max(b).max((a + b + r) * DIAGONAL)
 }
 
-/// round_union(a, b, r) = max(r, min(a, b)) − |(max(r − a, 0), max(r − b, 0))|.
+/// round_union(a, b, r) = max(r, min(a, b)) − |(max(r − a, 0), max(r − b, 0))|,
+/// which is r − |(r − a, r − b)| where both operands are below r and
+/// min(a, b) elsewhere: written so, it is min(a, b) to the bit there, as a
+/// blobtree's pruned evaluation (which drops an operand beyond r) needs.
 pub fn round_union(a: f64, b: f64, r: f64) -> f64 {
-    let (u, v) = ((r - a).max(0.0), (r - b).max(0.0));
-    r.max(a.min(b)) - (u * u + v * v).sqrt()
+    if a.max(b) < r {
+        let (u, v) = (r - a, r - b);
+        r - (u * u + v * v).sqrt()
+    } else {
+        a.min(b)
+    }
 }
 
-/// round_intersect(a, b, r) = min(−r, max(a, b)) + |(max(r + a, 0), max(r + b, 0))|.
+/// round_intersect(a, b, r) = min(−r, max(a, b)) + |(max(r + a, 0), max(r + b, 0))|,
+/// as [`round_union`]: −r + |(r + a, r + b)| where both are above −r, else max(a, b).
 pub fn round_intersect(a: f64, b: f64, r: f64) -> f64 {
-    let (u, v) = ((r + a).max(0.0), (r + b).max(0.0));
-    (-r).min(a.max(b)) + (u * u + v * v).sqrt()
+    if a.min(b) > -r {
+        let (u, v) = (r + a, r + b);
+        (u * u + v * v).sqrt() - r
+    } else {
+        a.max(b)
+    }
 }
 
-/// sum_union(a, b, T) = min(a, b) + min(max(a, b), T) − T.
+/// sum_union(a, b, T) = min(a, b) + (min(max(a, b), T) − T): the bracket is
+/// exactly 0 where an operand is at or beyond T, so the value is min(a, b)
+/// to the bit there.
 pub fn sum_union(a: f64, b: f64, t: f64) -> f64 {
-    a.min(b) + a.max(b).min(t) - t
+    a.min(b) + (a.max(b).min(t) - t)
 }
 
 /// The normalized density at distance `d` from the skeleton:
@@ -110,12 +124,16 @@ mod tests {
                     assert_eq!(chamfer_intersect(a, b, r), a.max(b), "{a} {b}");
                 }
                 if a.max(b) >= ro {
-                    assert!((round_union(a, b, r) - a.min(b)).abs() < 1e-15, "{a} {b}");
-                    assert!((sum_union(a, b, r) - a.min(b)).abs() < 1e-15, "{a} {b}");
+                    assert_eq!(round_union(a, b, r), a.min(b), "{a} {b}");
+                    assert_eq!(sum_union(a, b, r), a.min(b), "{a} {b}");
                 }
                 if a.min(b) <= -ro {
-                    assert!((round_intersect(a, b, r) - a.max(b)).abs() < 1e-15, "{a} {b}");
+                    assert_eq!(round_intersect(a, b, r), a.max(b), "{a} {b}");
                 }
+                // Continuous across the edge of the range (the fillet meets min).
+                let e = 1e-9;
+                assert!((round_union(a, r - e, r) - round_union(a, r + e, r)).abs() < 1e-6);
+                assert!((round_intersect(a, -r - e, r) - round_intersect(a, -r + e, r)).abs() < 1e-6);
             }
         }
     }

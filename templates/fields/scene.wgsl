@@ -175,13 +175,26 @@ fn scene_blend_range(x: f32, beta: f32, r_o: f32) -> f32 {
     return beta * max(1.0 - 6.0 * x / max(6.0 * r_o - beta, 1e-30), 0.0);
 }
 
-// Operator `ty` with record k = (beta, r_o, 0, 0) on operands a (left) and
-// b (right), branch-free for the reason above. G (eq. 12, 17): the compact
-// blend where both operands are in the operator's range R_o, sharp CSG
-// elsewhere and for the sharp operators (beta = 0).
+// The chamfer, round and sum joins of x and y as unions (src/sdf/blend.rs);
+// an intersection is the negated union of the negated operands, which is
+// the same arithmetic as its own formula (negation and min/max are exact).
+fn scene_join(ty: u32, x: f32, y: f32, s: f32) -> f32 {
+    let chamfer = min(min(x, y), (x + y - s) * 0.70710678);
+    // Exactly min(x, y) where an operand is beyond s, as on the host.
+    let round = select(min(x, y), s - length(vec2<f32>(s - x, s - y)), max(x, y) < s);
+    let sum = min(x, y) + (min(max(x, y), s) - s);
+    return select(select(sum, round, ty <= NODE_ROUND_DIFFERENCE), chamfer, ty <= NODE_CHAMFER_DIFFERENCE);
+}
+
+// Operator `ty` with record k = (beta, r_o, join size, 0) on operands a
+// (left) and b (right), branch-free for the reason above. G (eq. 12, 17):
+// the compact blend where both operands are in the operator's range R_o,
+// sharp CSG elsewhere and for the sharp operators (beta = 0). The codes
+// come three a style from NODE_UNION (union, intersection, difference).
 fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
-    let uni = ty == NODE_UNION || ty == NODE_SMOOTH_UNION;
-    let c = select(b, -b, ty == NODE_DIFFERENCE || ty == NODE_SMOOTH_DIFFERENCE);
+    let cls = (ty - NODE_UNION) % 3u;
+    let uni = cls == 0u;
+    let c = select(b, -b, cls == 2u);
     let beta = k.x;
     let r_o = k.y;
     let lo = min(a, c);
@@ -191,7 +204,12 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
     let g = scene_blend(a, c, scene_blend_range(x, beta, r_o));
     let blended = select(hi + g, lo - g, uni);
     let outside = select(abs(a) > r_o || abs(c) > r_o, a > r_o || c > r_o, uni);
-    return select(select(hi, lo, uni), blended, beta > 0.0 && !outside);
+    var r = select(select(hi, lo, uni), blended, beta > 0.0 && !outside);
+    if ((SCENE_FEATURES & FEATURE_JOIN) != 0u) {
+        let m = select(-1.0, 1.0, uni);
+        r = select(r, m * scene_join(ty, m * a, m * c, k.z), ty >= NODE_CHAMFER_UNION && ty <= NODE_SUM_UNION);
+    }
+    return r;
 }
 
 // Per primitive: its node index and its augmented bounding ball (centre,

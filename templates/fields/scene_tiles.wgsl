@@ -235,9 +235,11 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
                 scene_tile_view[at + vlen] = scene_entry(m);
                 vlen = vlen + 1u;
             } else {
-                if (kind == NODE_UNION || kind == NODE_SMOOTH_UNION) {
+                // Binary codes come three a style: union, intersection, difference.
+                let cls = (kind - NODE_UNION) % 3u;
+                if (kind < NODE_OFFSET && cls == 0u) {
                     present = lp || rp;
-                } else if (kind == NODE_DIFFERENCE || kind == NODE_SMOOTH_DIFFERENCE) {
+                } else if (kind < NODE_OFFSET && cls == 2u) {
                     present = lp;
                 } else {
                     present = false;

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 use isotrace::scene::generate::Rng;
-use isotrace::scene::{Blend, Builder, NodeId, OpKind, Operator, Primitive, Scene, Shape};
+use isotrace::scene::{Blend, Builder, Join, NodeId, OpKind, Operator, Primitive, Scene, Shape};
 
 /// How leaves are combined.
 #[derive(Clone, Copy, Debug)]
@@ -79,7 +79,7 @@ pub fn random_tree(rng: &mut Rng, n: usize, shape: TreeShape, smooth: f64, clust
             let beta = if cluster { rng.range(0.1, 0.8) } else { rng.range(0.05, 0.6) };
             Operator::smooth(kind, Blend { beta, range: beta * rng.range(7.0 / 6.0, 3.0) })
         } else {
-            Operator { kind, blend: None }
+            Operator::sharp(kind)
         };
         b.operator(o, l, r)
     };
@@ -248,11 +248,19 @@ pub fn zoo_tree(rng: &mut Rng, n: usize) -> Scene {
     while items.len() > 1 {
         let i = rng.below(items.len() as u64 - 1) as usize;
         let kind = [OpKind::Union, OpKind::Union, OpKind::Intersection, OpKind::Difference][rng.below(4) as usize];
-        let op = if rng.unit() < 0.5 {
+        let w = rng.unit();
+        let op = if w < 0.35 {
             let beta = rng.range(0.1, 0.6);
             Operator::smooth(kind, Blend { beta, range: beta * rng.range(7.0 / 6.0, 3.0) })
+        } else if w < 0.6 {
+            let size = rng.range(0.05, 0.4);
+            match rng.below(3) {
+                0 => Operator::joined(kind, Join::Chamfer { radius: size }),
+                1 => Operator::joined(kind, Join::Round { radius: size }),
+                _ => Operator::joined(OpKind::Union, Join::Sum { range: size }),
+            }
         } else {
-            Operator { kind, blend: None }
+            Operator::sharp(kind)
         };
         let mut m = b.operator(op, items[i], items[i + 1]);
         if rng.unit() < 0.2 {
