@@ -301,6 +301,7 @@ fn shape_fields(kind: ShapeKind) -> &'static [&'static str] {
         ShapeKind::Extrude => &["profile", "half_height"],
         ShapeKind::Revolve => &["profile", "offset"],
         ShapeKind::Grid => &["file", "spacing", "origin"],
+        ShapeKind::Density => &["radius", "half_length", "iso", "range"],
     }
 }
 
@@ -325,13 +326,16 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         None => return Err(f.err("type", "missing")),
     };
     if let Some(kind) = ShapeKind::parse(ty) {
-        let fields: Vec<&str> = shape_fields(kind).iter().chain(&TRANSFORM_FIELDS).copied().collect();
+        let fields: Vec<&str> = shape_fields(kind).iter().chain(&TRANSFORM_FIELDS).chain(&["warp"]).copied().collect();
         f.only(ty, &fields)?;
         let shape = if kind == ShapeKind::Grid { Shape::Grid(grid_ref(&f, ctx)?) } else { shape(&f, kind)? };
-        return Ok(Node::Primitive(Primitive { shape, transform: transform(&f)? }));
+        return Ok(Node::Primitive(Primitive { shape, transform: transform(&f)?, warp: warp(&f)? }));
     }
     if ty == "repeat" || ty == "mirror" {
         return copies_node(&f, ty, ctx);
+    }
+    if let Some(kind) = super::warp::WarpKind::parse(ty) {
+        return warp_node(&f, kind, ctx);
     }
     if let Some(kind) = UnaryKind::parse(ty) {
         let fields: Vec<&str> = ["child"].iter().chain(kind.fields()).copied().collect();
@@ -361,7 +365,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         return Ok(Node::Operator { op, left: f.index("left")?, right: f.index("right")? });
     }
     let names: Vec<&str> =
-        ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror"]).collect();
+        ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
     let near = crate::diag::closest(ty, names.iter().copied());
     let hint = match near.first() {
         Some(n) => format!("did you mean '{n}'?"),
@@ -383,6 +387,14 @@ fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
         ShapeKind::Extrude => Shape::Extrude { profile: profile(f)?, half_height: f.number("half_height")? },
         ShapeKind::Revolve => Shape::Revolve { profile: profile(f)?, offset: f.number("offset")? },
         ShapeKind::Grid => unreachable!("grids are read by grid_ref"),
+        // h 0, c ½ and the T that makes the primitive 1-Lipschitz by default.
+        ShapeKind::Density => {
+            let radius = f.number("radius")?;
+            let or = |name: &str, default: f64| f.obj.get(name).map_or(Ok(default), |v| f.number_of(name, v));
+            let iso = or("iso", 0.5)?;
+            let range = or("range", crate::sdf::density_default_range(radius, iso))?;
+            Shape::Density { radius, half_length: or("half_length", 0.0)?, iso, range }
+        }
     })
 }
 
@@ -486,6 +498,37 @@ fn points(p: &Fields) -> Result<Vec<[f64; 2]>, SceneError> {
     Ok(out)
 }
 
+/// A primitive's `warp` object: `type` (twist, bend), `rate` and the
+/// warp's frame as a transform (the primitive's own is in that frame).
+fn warp(f: &Fields) -> Result<Option<super::warp::Warp>, SceneError> {
+    use super::warp::{Warp, WarpKind};
+    let Some(v) = f.obj.get("warp") else { return Ok(None) };
+    let obj = v.as_object().ok_or_else(|| f.err("warp", format!("expected a warp object, found {}", describe(v))))?;
+    let w = Fields { i: f.i, obj, prefix: "warp." };
+    let kind = match obj.get("type") {
+        Some(Value::String(s)) => WarpKind::parse(s).ok_or_else(|| w.err("type", format!("unknown warp '{s}'; the warps are twist and bend")))?,
+        Some(other) => return Err(w.err("type", format!("expected a warp name, found {}", describe(other)))),
+        None => return Err(w.err("type", "missing")),
+    };
+    w.only(kind.name(), &["rate", "translate", "rotate", "scale"])?;
+    Ok(Some(Warp { kind, rate: w.number("rate")?, frame: transform(&w)?, clamp: None }))
+}
+
+/// A file's `twist` or `bend` node: its operand warped about the z axis of
+/// the node's own frame (`translate`, `rotate`, `scale`), expanded when
+/// read into a warp on each of the operand's primitives.
+fn warp_node(f: &Fields, kind: super::warp::WarpKind, ctx: &Ctx) -> Result<Node, SceneError> {
+    f.only(kind.name(), &["child", "rate", "translate", "rotate", "scale"])?;
+    let rate = f.number("rate")?;
+    if !rate.is_finite() {
+        return Err(f.err("rate", "must be finite"));
+    }
+    let frame = transform(f)?;
+    frame.check().map_err(|(field, reason)| f.err(&field, reason))?;
+    ctx.copies.borrow_mut().insert(f.i, super::lower::Copies::Warp { kind, rate, frame });
+    Ok(Node::Unary { op: Unary::Offset { distance: 0.0 }, child: f.index("child")? })
+}
+
 fn transform(f: &Fields) -> Result<Transform, SceneError> {
     let translate = f.numbers::<3>("translate")?.unwrap_or([0.0; 3]);
     let rotate = f.numbers::<4>("rotate")?.map(|r| Rotation { axis: [r[0], r[1], r[2]], angle: r[3] });
@@ -506,6 +549,21 @@ fn nums(v: &[f64]) -> String {
     format!("[{}]", parts.join(", "))
 }
 
+/// A transform's fields that differ from the identity, each after ", ".
+fn transform_json(t: &Transform) -> String {
+    let mut s = String::new();
+    if t.translate != [0.0; 3] {
+        s += &format!(", \"translate\": {}", nums(&t.translate));
+    }
+    if let Some(r) = &t.rotate {
+        s += &format!(", \"rotate\": {}", nums(&[r.axis[0], r.axis[1], r.axis[2], r.angle]));
+    }
+    if t.scale != 1.0 {
+        s += &format!(", \"scale\": {}", num(t.scale));
+    }
+    s
+}
+
 /// One node as a JSON object on one line.
 fn node_json(n: &Node) -> String {
     let mut s = String::from("{");
@@ -523,6 +581,7 @@ fn node_json(n: &Node) -> String {
                 Shape::Plane { normal, offset } => vec![nums(&normal), num(offset)],
                 Shape::Extrude { profile, half_height } => vec![profile_json(&profile), num(half_height)],
                 Shape::Revolve { profile, offset } => vec![profile_json(&profile), num(offset)],
+                Shape::Density { radius, half_length, iso, range } => vec![num(radius), num(half_length), num(iso), num(range)],
                 Shape::Grid(ref g) => {
                     let file = serde_json::to_string(&g.file).unwrap_or_else(|_| "\"\"".into());
                     match g.placement {
@@ -534,15 +593,9 @@ fn node_json(n: &Node) -> String {
             for (k, v) in shape_fields(p.shape.kind()).iter().zip(values) {
                 s += &format!(", \"{k}\": {v}");
             }
-            let t = &p.transform;
-            if t.translate != [0.0; 3] {
-                s += &format!(", \"translate\": {}", nums(&t.translate));
-            }
-            if let Some(r) = &t.rotate {
-                s += &format!(", \"rotate\": {}", nums(&[r.axis[0], r.axis[1], r.axis[2], r.angle]));
-            }
-            if t.scale != 1.0 {
-                s += &format!(", \"scale\": {}", num(t.scale));
+            s += &transform_json(&p.transform);
+            if let Some(w) = &p.warp {
+                s += &format!(", \"warp\": {{\"type\": \"{}\", \"rate\": {}{}}}", w.kind.name(), num(w.rate), transform_json(&w.frame));
             }
         }
         Node::Operator { op, left, right } => {

@@ -64,6 +64,7 @@ pub fn primitive_formula(p: &Primitive) -> Option<String> {
         Shape::Plane { normal, offset } => format!("plane({}, {})", args(&normal), num(offset)),
         Shape::Extrude { profile, half_height } => format!("extrude({}, {})", num(half_height), profile_formula(&profile)),
         Shape::Revolve { profile, offset } => format!("revolve({}, {})", num(offset), profile_formula(&profile)),
+        Shape::Density { radius, half_length, iso, range } => format!("density({}, {}, {}, {})", num(radius), num(half_length), num(iso), num(range)),
     };
     let t = &p.transform;
     if t.scale != 1.0 {

@@ -82,10 +82,18 @@ impl Frame {
     }
 
     /// Primitive `p` placed by this frame; `None` for a reflected shape that
-    /// has no mirrored twin (a voxel grid).
+    /// has no mirrored twin (a voxel grid, a warped primitive).
     pub fn place(&self, p: &Primitive, compose: impl Fn(&Transform, &Transform) -> Transform) -> Option<Primitive> {
         let (t, l, s) = match self {
-            Frame::Plain(tf) => return Some(Primitive { shape: p.shape.clone(), transform: compose(tf, &p.transform) }),
+            // A warped primitive's frame moves; its own transform is in it.
+            Frame::Plain(tf) => {
+                return Some(match &p.warp {
+                    None => Primitive { shape: p.shape.clone(), transform: compose(tf, &p.transform), warp: None },
+                    Some(w) => Primitive { warp: Some(super::warp::Warp { frame: compose(tf, &w.frame), clamp: None, ..*w }), ..p.clone() },
+                });
+            }
+            // A reflected warp is another warp (the twist's sense flips).
+            Frame::General { .. } if p.warp.is_some() => return None,
             Frame::General { t, l, s } => (*t, *l, *s),
         };
         let translate = (t + l * DVec3::from(p.transform.translate) * s).into();
@@ -97,6 +105,6 @@ impl Frame {
             // the shape mirrored in its own frame.
             (p.shape.mirror_x()?, m * DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)))
         };
-        Some(Primitive { shape, transform: Transform { translate, rotate: rotation_of(m), scale: s * p.transform.scale } })
+        Some(Primitive { shape, transform: Transform { translate, rotate: rotation_of(m), scale: s * p.transform.scale }, warp: None })
     }
 }

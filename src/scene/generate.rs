@@ -161,7 +161,7 @@ fn rounded(mut p: Primitive) -> Primitive {
         Shape::Octahedron { size } => Shape::Octahedron { size: sig(size) },
         Shape::Plane { normal, offset } => Shape::Plane { normal: r3(normal), offset: sig(offset) },
         // Generated scenes have none of these; they keep their numbers.
-        shape @ (Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_)) => shape,
+        shape @ (Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Density { .. }) => shape,
     };
     let t = &mut p.transform;
     t.translate = r3(t.translate);

@@ -46,7 +46,7 @@
 use super::roi::{self, Aabb, Abv, Roi};
 use super::{Join, Node, NodeId, OpKind, Operator, Profile, Scene, SceneError, Shape, Unary};
 pub use super::patch::ScenePatch;
-pub use super::rows::{abv_rows, primitive_rows};
+pub use super::rows::{abv_rows, primitive_rows, warp_rows};
 use super::rows::unary_row;
 
 /// isLeaf bit of a node word.
@@ -162,6 +162,13 @@ pub const FORM_EXTRUDE: u32 = 4;
 pub const FORM_REVOLVE: u32 = 5;
 /// Primitive form: a voxel grid's samples, trilinearly interpolated.
 pub const FORM_GRID: u32 = 6;
+/// The bit of a primitive's form where its warp kind (1 twist, 2 bend)
+/// starts: the form proper is the low 4 bits.
+pub const FORM_WARP_SHIFT: u32 = 4;
+/// Rows of a warped primitive's warp, before its own rows (`rows::warp_rows`).
+pub const WARP_ROWS: u32 = 4;
+/// Primitive form: a normalized density around a segment along z.
+pub const FORM_DENSITY: u32 = 7;
 /// Rows of a grid primitive before its samples.
 pub const GRID_ROWS: u32 = 6;
 /// Rows of a profile primitive before its polygon vertices: the five of
@@ -226,7 +233,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 63] = [
+    let consts: [(&str, u32); 67] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -287,8 +294,12 @@ pub fn wgsl_constants() -> String {
         ("FEATURE_JOIN", FEATURE_JOIN),
         ("FEATURE_WARP", FEATURE_WARP),
         ("FEATURE_DENSITY", FEATURE_DENSITY),
+        ("FORM_WARP_SHIFT", FORM_WARP_SHIFT),
+        ("WARP_ROWS", WARP_ROWS),
         ("NODE_GRID", GRID),
         ("FORM_GRID", FORM_GRID),
+        ("FORM_DENSITY", FORM_DENSITY),
+        ("NODE_DENSITY", super::ShapeKind::Density as u32),
         ("GRID_ROWS", GRID_ROWS),
     ];
     let mut s = String::new();
@@ -429,10 +440,12 @@ impl Linear {
             if self.is_left[k] {
                 x |= NODE_LEFT_BIT;
             }
-            let y = self.params.len() as u32;
+            let mut y = self.params.len() as u32;
             match node {
                 Node::Primitive(p) => {
                     x |= NODE_LEAF_BIT;
+                    self.params.extend(warp_rows(p));
+                    y = self.params.len() as u32;
                     self.params.extend(primitive_rows(p));
                     let a = roi::abv(p, self.roi[k].hi);
                     self.abv.extend(abv_rows(&a));
@@ -586,12 +599,13 @@ fn is_operator(scene: &Scene, i: NodeId) -> bool {
 fn features(scene: &Scene) -> u32 {
     scene.nodes().iter().fold(0, |acc, n| {
         acc | match n {
-            Node::Primitive(p) => match p.shape {
+            Node::Primitive(p) => (match p.shape {
                 Shape::Extrude { profile: Profile::Polygon { .. }, .. } | Shape::Revolve { profile: Profile::Polygon { .. }, .. } => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
                 Shape::Grid(_) => FEATURE_GRID,
+                Shape::Density { .. } => FEATURE_DENSITY,
                 _ => 0,
-            },
+            }) | if p.warp.is_some() { FEATURE_WARP } else { 0 },
             Node::Operator { op, .. } => if op.join.is_some() { FEATURE_JOIN } else { 0 },
             Node::Unary { op: Unary::Infill { .. }, .. } => FEATURE_UNARY | FEATURE_INFILL,
             Node::Unary { op: Unary::Displace { .. }, .. } => FEATURE_UNARY | FEATURE_DISPLACE,

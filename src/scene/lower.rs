@@ -27,6 +27,7 @@
 //! the signs by sampling.
 
 use super::frame::Frame;
+use super::warp::WarpKind;
 use super::{Blend, Builder, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
@@ -60,6 +61,8 @@ enum Tree {
     Moved(Transform, Rc<Tree>),
     /// Reflected across the plane through the origin with this normal.
     Reflected([f64; 3], Rc<Tree>),
+    /// Twisted or bent about the z axis of the frame it is in.
+    Warped(WarpKind, f64, Rc<Tree>, Span),
 }
 
 #[derive(Debug, Clone)]
@@ -390,31 +393,49 @@ fn moved_unary(op: &Unary, tf: &Frame, span: Span) -> Result<Unary, NotBlobtree>
 /// of thousands of shapes is a comb that deep); `spans[i]` is where node i
 /// was written.
 fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usize, NotBlobtree> {
+    // Below a warp: the warp, its frame being the frame it was met in.
+    type Warping = Option<(WarpKind, f64, Transform)>;
     enum Task<'t> {
-        Visit(&'t Tree, Frame),
+        Visit(&'t Tree, Frame, Warping),
         Combine(Operator, Span),
         Wrap(Unary, Span),
     }
-    let mut stack = vec![Task::Visit(tree, Frame::identity())];
+    let mut stack = vec![Task::Visit(tree, Frame::identity(), None)];
     let mut out: Vec<usize> = vec![];
     while let Some(task) = stack.pop() {
         let (id, span) = match task {
-            Task::Visit(Tree::Leaf(p, span), tf) => {
-                let p = tf.place(p, compose).ok_or_else(|| not("a voxel grid cannot be mirrored", *span))?;
+            Task::Visit(Tree::Leaf(p, span), tf, w) => {
+                let mut p = tf.place(p, compose).ok_or_else(|| not("a voxel grid or a twisted or bent shape cannot be mirrored", *span))?;
+                if let Some((kind, rate, frame)) = w {
+                    if p.warp.is_some() {
+                        return Err(not("a twist or bend inside another is not a blobtree node (a primitive carries one warp)", *span));
+                    }
+                    p.warp = Some(super::warp::Warp { kind, rate, frame, clamp: None });
+                }
                 (b.primitive(p), *span)
             }
-            Task::Visit(Tree::Moved(t, sub), tf) => {
-                stack.push(Task::Visit(sub, tf.then(t, compose)));
+            Task::Visit(Tree::Moved(t, sub), tf, w) => {
+                stack.push(Task::Visit(sub, tf.then(t, compose), w));
                 continue;
             }
-            Task::Visit(Tree::Reflected(n, sub), tf) => {
-                stack.push(Task::Visit(sub, tf.reflected(DVec3::from(*n))));
+            Task::Visit(Tree::Reflected(n, sub), tf, w) => {
+                stack.push(Task::Visit(sub, tf.reflected(DVec3::from(*n)), w));
                 continue;
             }
-            Task::Visit(Tree::Op(op, l, r, span), tf) => {
+            Task::Visit(Tree::Warped(kind, rate, sub, span), tf, w) => {
+                let Frame::Plain(frame) = tf else {
+                    return Err(not(format!("a mirrored '{}' is not a blobtree node (reflect its operand instead)", kind.name()), *span));
+                };
+                if w.is_some() {
+                    return Err(not("a twist or bend inside another is not a blobtree node (a primitive carries one warp)", *span));
+                }
+                stack.push(Task::Visit(sub, Frame::identity(), Some((*kind, *rate, frame))));
+                continue;
+            }
+            Task::Visit(Tree::Op(op, l, r, span), tf, w) => {
                 stack.push(Task::Combine(*op, *span));
-                stack.push(Task::Visit(r, tf.clone()));
-                stack.push(Task::Visit(l, tf));
+                stack.push(Task::Visit(r, tf.clone(), w));
+                stack.push(Task::Visit(l, tf, w));
                 continue;
             }
             Task::Combine(op, span) => {
@@ -422,9 +443,12 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
                 let l = out.pop().expect("two operands");
                 (b.operator(op, l, r), span)
             }
-            Task::Visit(Tree::Unary(op, sub, span), tf) => {
+            Task::Visit(Tree::Unary(op, sub, span), tf, w) => {
+                if w.is_some() && matches!(op, Unary::Infill { .. } | Unary::Displace { .. }) {
+                    return Err(not(format!("'{}' under a twist or bend is not a blobtree node (its pattern is fixed in the world)", op.kind().name()), *span));
+                }
                 stack.push(Task::Wrap(moved_unary(op, &tf, *span)?, *span));
-                stack.push(Task::Visit(sub, tf));
+                stack.push(Task::Visit(sub, tf, w));
                 continue;
             }
             Task::Wrap(op, span) => {
@@ -458,6 +482,16 @@ pub enum Copies {
         /// Not zero.
         normal: [f64; 3],
     },
+    /// Not copies: the operand twisted or bent about the z axis of `frame`
+    /// (a file's `twist` and `bend` nodes, expanded the same way).
+    Warp {
+        /// Twist or bend.
+        kind: WarpKind,
+        /// Radians per unit of the frame's length.
+        rate: f64,
+        /// World from the warp's frame.
+        frame: Transform,
+    },
 }
 
 /// The union of the copies of `shape` that `c` makes.
@@ -466,6 +500,11 @@ fn copies(c: &Copies, shape: Rc<Tree>, span: Span) -> Rc<Tree> {
         Copies::Mirror { normal } => {
             let image = Rc::new(Tree::Reflected(normal, shape.clone()));
             Rc::new(Tree::Op(Operator::UNION, shape, image, span))
+        }
+        // The operand is in world coordinates: A · warp · A⁻¹.
+        Copies::Warp { kind, rate, frame } => {
+            let inside = Rc::new(Tree::Moved(super::warp::inverse(&frame), shape));
+            Rc::new(Tree::Moved(frame, Rc::new(Tree::Warped(kind, rate, inside, span))))
         }
         Copies::Repeat { spacing, count: n } => {
             let mut acc: Option<Rc<Tree>> = None;

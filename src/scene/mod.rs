@@ -46,6 +46,7 @@ pub mod roi;
 pub mod rows;
 pub mod sparse;
 pub mod unary;
+pub mod warp;
 
 pub use lower::{from_formula, NotBlobtree};
 pub use operator::{Blend, Join, OpKind, Operator};
@@ -173,7 +174,24 @@ impl Scene {
         if post.len() < n {
             return Err(unreachable(&parent, &post, root, n));
         }
-        Ok(Scene { nodes, root, post })
+        let mut scene = Scene { nodes, root, post };
+        scene.fit_warps();
+        Ok(scene)
+    }
+
+    /// Clamps every warped primitive for its range of interest
+    /// ([`warp::fit`]): a scene's field is defined with the clamps.
+    fn fit_warps(&mut self) {
+        let warped = |n: &Node| matches!(n, Node::Primitive(p) if p.warp.is_some());
+        if !self.nodes.iter().any(warped) {
+            return;
+        }
+        let roi = roi::ranges(self);
+        for (i, n) in self.nodes.iter_mut().enumerate() {
+            if let Node::Primitive(p) = n {
+                p.warp = warp::fit(p, roi[i].hi);
+            }
+        }
     }
 
     /// The nodes, in their stored order.

@@ -2,9 +2,9 @@
 //! source binds: what changes between frames without a new layout, shader
 //! or pipeline (`gpu::Renderer::patch_scene` uploads a [`ScenePatch`]).
 
-use super::linear::{Linear, ABV_STRIDE, NODE_TYPE_SHIFT};
+use super::linear::{Linear, ABV_STRIDE, FORM_WARP_SHIFT, NODE_TYPE_SHIFT, WARP_ROWS};
 use super::roi;
-use super::rows::{abv_rows, ball, primitive_rows};
+use super::rows::{abv_rows, ball, primitive_rows, warp_rows};
 use super::{Node, SceneError};
 
 impl Linear {
@@ -33,8 +33,17 @@ impl Linear {
         if let Err((field, reason)) = p.check() {
             return Err(SceneError::at(self.order[k], &field, reason));
         }
-        let (row, old_type) = (self.nodes[k][1] as usize, (self.nodes[k][0] >> NODE_TYPE_SHIFT) & 0xff);
-        let rows = primitive_rows(p);
+        let old_type = (self.nodes[k][0] >> NODE_TYPE_SHIFT) & 0xff;
+        let row = self.first_row(k);
+        // A warp is clamped for the primitive's range of interest, which
+        // the edit does not change; a stronger warp would need a smaller
+        // step everywhere (the bound the scene is traced with).
+        let p = &crate::scene::Primitive { warp: super::warp::fit(p, self.roi[k].hi), ..p.clone() };
+        if p.warp.map_or(1.0, |w| w.lipschitz()) > self.lipschitz() {
+            return Err(SceneError::at(self.order[k], "warp", "the edit raises the scene's Lipschitz bound: build a new scene"));
+        }
+        let mut rows = warp_rows(p);
+        rows.extend(primitive_rows(p));
         let new_type = super::linear::type_code(&Node::Primitive(p.clone()));
         let old_rows = self.row_count(k);
         if new_type != old_type || rows.len() != old_rows {
@@ -50,8 +59,16 @@ impl Linear {
 
     /// Parameter rows of node `k`: up to the next node's first row.
     fn row_count(&self, k: usize) -> usize {
-        let next = self.nodes.get(k + 1).map_or(self.params.len(), |n| n[1] as usize);
-        next - self.nodes[k][1] as usize
+        let next = if k + 1 < self.nodes.len() { self.first_row(k + 1) } else { self.params.len() };
+        next - self.first_row(k)
+    }
+
+    /// The first parameter row of node `k`: its warp's, for a warped
+    /// primitive (whose node word points at its own rows, after them).
+    fn first_row(&self, k: usize) -> usize {
+        let y = self.nodes[k][1] as usize;
+        let warped = self.is_leaf(k as u32) && (self.params[y + 4][2] as u32) >> FORM_WARP_SHIFT != 0;
+        if warped { y - WARP_ROWS as usize } else { y }
     }
 }
 

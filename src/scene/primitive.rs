@@ -99,6 +99,20 @@ pub enum Shape {
     /// A voxel grid of signed distances from a file, trilinearly
     /// interpolated ([`super::grid`]), in the local frame.
     Grid(GridRef),
+    /// A normalized density field (`crate::sdf::density`): the kernel
+    /// (1 − (d/R)²)³ of the distance d to a segment along the local z axis,
+    /// at isovalue c, in length units T·(1 − K/c) + max(d − R, 0). Summed
+    /// with others of the same T by the `sum_union` operator.
+    Density {
+        /// R > 0: the support radius.
+        radius: f64,
+        /// h ≥ 0: the skeleton segment's half length (0: a point).
+        half_length: f64,
+        /// 0 < c < 1: the isovalue.
+        iso: f64,
+        /// T > 0: the value at the support's edge (the sum's range).
+        range: f64,
+    },
 }
 
 /// A loaded voxel grid and where it came from (a scene file names the
@@ -151,11 +165,13 @@ pub enum ShapeKind {
     Revolve = 10,
     /// `grid`
     Grid = 11,
+    /// `density`
+    Density = 12,
 }
 
 impl ShapeKind {
     /// Every kind, in type-code order.
-    pub const ALL: [ShapeKind; 11] = [
+    pub const ALL: [ShapeKind; 12] = [
         ShapeKind::Sphere,
         ShapeKind::Box,
         ShapeKind::RoundBox,
@@ -167,6 +183,7 @@ impl ShapeKind {
         ShapeKind::Extrude,
         ShapeKind::Revolve,
         ShapeKind::Grid,
+        ShapeKind::Density,
     ];
 
     /// The `type` of a scene file node.
@@ -183,6 +200,7 @@ impl ShapeKind {
             ShapeKind::Extrude => "extrude",
             ShapeKind::Revolve => "revolve",
             ShapeKind::Grid => "grid",
+            ShapeKind::Density => "density",
         }
     }
 
@@ -207,6 +225,7 @@ impl Shape {
             Shape::Extrude { .. } => ShapeKind::Extrude,
             Shape::Revolve { .. } => ShapeKind::Revolve,
             Shape::Grid(_) => ShapeKind::Grid,
+            Shape::Density { .. } => ShapeKind::Density,
         }
     }
 
@@ -241,6 +260,10 @@ impl Shape {
             }
             Shape::Extrude { profile, half_height } => profile::extrude(profile.distance(DVec2::new(q.x, q.y)), q.z, half_height),
             Shape::Revolve { profile, offset } => profile.distance(DVec2::new(q.x.hypot_like(q.y) - offset, q.z)),
+            Shape::Density { radius, half_length, iso, range } => {
+                let d = q.x.hypot_like(q.y).hypot_like(q.z - q.z.clamp(-half_length, half_length));
+                crate::sdf::density(d, radius, iso, range)
+            }
             Shape::Grid(_) => unreachable!("a grid is not given by numbers"),
         }
     }
@@ -265,6 +288,17 @@ impl Shape {
         match *self {
             // Checked when its file was read.
             Shape::Grid(_) => Ok(()),
+            Shape::Density { radius, half_length, iso, range } => {
+                positive("radius", radius)?;
+                positive("range", range)?;
+                if !(half_length >= 0.0) {
+                    return Err(("half_length".into(), "must be >= 0".into()));
+                }
+                if !(iso > 0.0 && iso < 1.0) {
+                    return Err(("iso".into(), "must be between 0 and 1 (exclusive): the kernel's values".into()));
+                }
+                Ok(())
+            }
             Shape::Sphere { radius } => positive("radius", radius),
             Shape::Box { half } => positive3("half", half),
             Shape::RoundBox { half, radius } => {
@@ -342,6 +376,9 @@ impl Shape {
             Shape::Extrude { profile, half_height } => [profile.fields(), one("half_height", half_height)].concat(),
             Shape::Revolve { profile, offset } => [profile.fields(), one("offset", offset)].concat(),
             Shape::Grid(_) => Vec::new(),
+            Shape::Density { radius, half_length, iso, range } => {
+                [one("radius", radius), one("half_length", half_length), one("iso", iso), one("range", range)].concat()
+            }
         }
     }
 }
@@ -493,14 +530,16 @@ impl Transform {
 pub struct Primitive {
     /// The local shape.
     pub shape: Shape,
-    /// Where it is.
+    /// Where it is (in the warp's frame when it has a warp).
     pub transform: Transform,
+    /// A twist or a bend over it ([`super::warp`]).
+    pub warp: Option<super::warp::Warp>,
 }
 
 impl Primitive {
     /// A primitive with the identity transform.
     pub fn new(shape: Shape) -> Primitive {
-        Primitive { shape, transform: Transform::default() }
+        Primitive { shape, transform: Transform::default(), warp: None }
     }
 
     /// Moved by `t`.
@@ -522,14 +561,31 @@ impl Primitive {
     }
 
     /// The field s · f_local(Rᵀ(p − t)/s) at world point `p`.
+    /// Warped: s_A · that field at w(A⁻¹p), clamped far from the warp's
+    /// axis ([`super::warp`]).
     pub fn distance(&self, p: [f64; 3]) -> f64 {
-        self.transform.scale * self.shape.local_distance(self.transform.to_local(DVec3::from(p)))
+        match &self.warp {
+            None => self.unwarped(DVec3::from(p)),
+            Some(w) => w.distance(DVec3::from(p), |q| self.unwarped(q)),
+        }
     }
 
-    /// Checks shape and transform; the error names the field.
+    /// The field without the warp, in the warp's frame.
+    fn unwarped(&self, p: DVec3) -> f64 {
+        self.transform.scale * self.shape.local_distance(self.transform.to_local(p))
+    }
+
+    /// Checks shape, transform and warp; the error names the field.
     pub fn check(&self) -> Result<(), (String, String)> {
         self.shape.check()?;
-        self.transform.check()
+        self.transform.check()?;
+        if let Some(w) = &self.warp {
+            w.check()?;
+            if let Shape::Plane { .. } = self.shape {
+                return Err(("warp".into(), "a plane cannot be warped: it is unbounded, and a warp is bounded by its operand's cylinder".into()));
+            }
+        }
+        Ok(())
     }
 }
 

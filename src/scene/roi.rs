@@ -84,17 +84,23 @@ pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
 /// field ([`trace_levels`]), a binary operator the larger of its operands'
 /// (√2 times it for a chamfer or round join, their sum for a sum blend),
 /// a displacement its operand's plus a·f·NOISE_GRADIENT, other unary nodes
-/// their operand's.
+/// their operand's; a warped primitive's is multiplied by its warp's
+/// stretch within its clamp radius (`warp`).
 pub fn field_lipschitz(scene: &Scene) -> f64 {
     let nodes = scene.nodes();
     let levels = trace_levels(scene);
     let mut lip = vec![1.0f64; nodes.len()];
     for &i in scene.post_order() {
         lip[i] = match &nodes[i] {
-            Node::Primitive(p) => match &p.shape {
-                Shape::Grid(g) => levels[i].map_or(g.grid.lipschitz(), |l| g.grid.lipschitz_above(l / p.transform.scale)),
-                _ => 1.0,
-            },
+            Node::Primitive(p) => {
+                let scale = p.transform.scale * p.warp.map_or(1.0, |w| w.frame.scale);
+                let own = match p.shape {
+                    Shape::Grid(ref g) => levels[i].map_or(g.grid.lipschitz(), |l| g.grid.lipschitz_above(l / scale)),
+                    Shape::Density { radius, iso, range, .. } => crate::sdf::density_lipschitz(radius, iso, range),
+                    _ => 1.0,
+                };
+                own * p.warp.map_or(1.0, |w| w.lipschitz())
+            }
             Node::Operator { op, left, right } => op.combine_lipschitz(lip[*left], lip[*right]),
             Node::Unary { op, child } => lip[*child] + op.lipschitz_increase(),
         };
@@ -182,6 +188,9 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
     // Below an erosion r⁺ may be negative; a volume grown by 0 still holds
     // the smaller set.
     let r_plus = r_plus.max(0.0);
+    if let Some(w) = &p.warp {
+        return super::warp::abv(p, w, r_plus);
+    }
     let t = &p.transform;
     let s = t.scale;
     let centre = t.to_world(DVec3::ZERO).to_array();
@@ -211,6 +220,12 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
         Shape::Cylinder { radius, half_height } => obb([radius, radius, half_height]),
         Shape::Octahedron { size } => Abv::Sphere { centre, radius: s * size + 3f64.sqrt() * r_plus },
         Shape::Plane { .. } => Abv::Always,
+        // {T·(1 − K/c) + max(d − R, 0) ≤ r} lies within R + max(r − T, 0) of the skeleton.
+        Shape::Density { radius, half_length, range, .. } => Abv::Capsule {
+            a: t.to_world(DVec3::new(0.0, 0.0, -half_length)).to_array(),
+            b: t.to_world(DVec3::new(0.0, 0.0, half_length)).to_array(),
+            radius: s * radius + (r_plus - s * range).max(0.0),
+        },
         Shape::Extrude { profile, half_height } => {
             let (lo, hi) = profile.bounds();
             let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.0];

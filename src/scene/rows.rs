@@ -3,7 +3,7 @@
 //! bounding volumes the tile passes test. Written here, read by
 //! templates/fields/scene.wgsl and scene_tiles.wgsl.
 
-use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED};
+use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED, FORM_WARP_SHIFT, FORM_DENSITY};
 use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
 use glam::DVec3;
@@ -24,8 +24,31 @@ pub fn unary_row(op: &Unary) -> [f32; 4] {
     }
 }
 
-/// A primitive's rows in `params`: the matrix, then its parameters.
+/// A primitive's rows in `params`: the matrix, then its parameters. A
+/// warped primitive's form says which warp, in bits 4 and 5
+/// (`FORM_WARP_SHIFT`); its warp's rows come before these
+/// ([`warp_rows`]).
 pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
+    let mut rows = shape_rows(p);
+    if let Some(w) = &p.warp {
+        rows[4][2] += ((w.kind as u32) << FORM_WARP_SHIFT) as f32;
+    }
+    rows
+}
+
+/// A warped primitive's rows before its own (`WARP_ROWS` of them): the
+/// matrix of A⁻¹ (world to the warp's frame), then (s_A, rate, clamp
+/// radius, clamp floor). None for another primitive.
+pub fn warp_rows(p: &Primitive) -> Vec<[f32; 4]> {
+    let Some(w) = &p.warp else { return Vec::new() };
+    let c = w.clamp.expect("a scene's warps are fitted");
+    let m = w.frame.matrix();
+    let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
+    rows.push([w.frame.scale as f32, w.rate as f32, c.radius as f32, c.floor as f32]);
+    rows
+}
+
+fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
     if let Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } = p.shape {
         return profile_rows(p, &profile);
     }
@@ -60,6 +83,8 @@ pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
             let len = glam::DVec3::from(normal).length();
             (normal.map(|n| n / len), 0.0, offset, FORM_PLANE)
         }
+        // (s, R, h, T), (c, 0, form, 0).
+        Shape::Density { radius, half_length, iso, range } => ([radius, half_length, range], iso, 0.0, FORM_DENSITY),
         Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unreachable!("profiles and grids have rows of their own"),
     };
     let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();

@@ -75,7 +75,7 @@ fn scene_polygon(u: vec2<f32>, row: u32, n: u32) -> f32 {
 // (a, b), vertices from row o + PROFILE_ROWS): box2(u - a - (b - a) h, e) - r
 // for every profile but the polygon (src/scene/linear.rs, profile_rows).
 fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
-    let revolve = u32(r4.z) == FORM_REVOLVE;
+    let revolve = (u32(r4.z) & 15u) == FORM_REVOLVE;
     let u = select(q.xy, vec2<f32>(length(q.xy) - r4.y, q.z), revolve);
     let seg = scene_param(o + 5u);
     let ba = seg.zw - seg.xy;
@@ -127,10 +127,10 @@ fn scene_grid(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
 // for every basic type: lavapipe runs the branches of a switch on SIMD
 // lanes one after another under masks, so a switch over eight types cost
 // all eight every node. Profiles only where the scene has them.
-fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
     let p4 = vec4<f32>(p, 1.0);
     let q = vec3<f32>(dot(r0, p4), dot(r1, p4), dot(r2, p4));
-    let form = u32(r4.z);
+    let form = u32(r4.z) & 15u;
     let v = select(q, vec3<f32>(length(q.xy) - r4.y, 0.0, q.z), form == FORM_REVOLVED);
     var d = sd_box(v, r3.yzw) - r4.x;
     d = select(d, (abs(q.x) + abs(q.y) + abs(q.z) - r3.y) * 0.57735027, form == FORM_OCTAHEDRON);
@@ -139,11 +139,55 @@ fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r
         // A branch: SIMD groups without a profile's lane skip it.
         if (leaf && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r3, r4, o); }
     }
+    if ((SCENE_FEATURES & FEATURE_DENSITY) != 0u) {
+        // r3 = (s, R, h, T), r4.x = c (src/sdf/blend.rs, density).
+        let dd = length(vec3<f32>(q.xy, q.z - clamp(q.z, -r3.z, r3.z)));
+        let t = dd / r3.y;
+        let k = max(1.0 - t * t, 0.0);
+        d = select(d, r3.w * (1.0 - k * k * k / r4.x) + max(dd - r3.y, 0.0), form == FORM_DENSITY);
+    }
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         // A branch: the eight sample fetches only on a grid's lanes.
         if (leaf && form == FORM_GRID) { d = scene_grid(q, r3, r4, o); }
     }
     return r3.x * d;
+}
+
+// The stretch of a twist ((a + sqrt(a^2 + 4)) / 2) or a bend (1 + a) within
+// radius rho of its axis, a = |k| rho (src/sdf/warp.rs).
+fn scene_stretch(bend: bool, k: f32, rho: f32) -> f32 {
+    let a = abs(k) * rho;
+    return select((a + sqrt(a * a + 4.0)) * 0.5, 1.0 + a, bend);
+}
+
+// A warped primitive (src/scene/warp.rs): its warp's rows come before its
+// own, (A^-1 as 3 rows, (s_A, k, clamp radius, clamp floor)). The frame
+// point q, turned by -k q.z (twist) or k q.x (bend) about z, is where the
+// primitive's own rows are evaluated; beyond the clamp radius the value is
+// scaled down by the ratio of stretches, to no less than the floor.
+fn scene_warped(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32) -> f32 {
+    let w = scene_param(o - 1u);
+    let p4 = vec4<f32>(p, 1.0);
+    let q = vec3<f32>(dot(scene_param(o - 4u), p4), dot(scene_param(o - 3u), p4), dot(scene_param(o - 2u), p4));
+    let bend = (u32(r4.z) >> FORM_WARP_SHIFT) == 2u;
+    let a = w.y * select(q.z, q.x, bend);
+    let c = cos(a);
+    let s = sin(a);
+    let twisted = vec3<f32>(c * q.x + s * q.y, c * q.y - s * q.x, q.z);
+    let bent = vec3<f32>(c * q.x - s * q.y, s * q.x + c * q.y, q.z);
+    let f = w.x * scene_shape(r0, r1, r2, r3, r4, select(twisted, bent, bend), o, true);
+    let rho = length(q.xy);
+    let far = min(f, max(f * (scene_stretch(bend, w.y, w.z) / scene_stretch(bend, w.y, rho)), w.w));
+    return select(f, far, rho > w.z);
+}
+
+// A primitive: warped or not.
+fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+    if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
+        // A branch: the warp's rows are fetched only on its lanes.
+        if (leaf && u32(r4.z) >= (1u << FORM_WARP_SHIFT)) { return scene_warped(r0, r1, r2, r3, r4, p, o); }
+    }
+    return scene_shape(r0, r1, r2, r3, r4, p, o, leaf);
 }
 
 // A unary node of type `ty` with record k on operand value v at p (src/scene/
