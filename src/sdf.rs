@@ -18,8 +18,13 @@
 //! of their operands; and the smooth operators of Zanni et al. (eq. 8-11),
 //! g = min(a, b) - k/6·max(1 - |a - b|/k, 0)^3, have gradient
 //! (1 - w)∇a + w∇b with w ∈ [0, ½] in the blend zone, a convex combination,
-//! so they keep it too. Anything else (adding a displacement, multiplying,
-//! scaling one axis) can raise the bound: then pass `--lipschitz L`.
+//! so they keep it too. The chamfer and round blends (module `blend`) have
+//! √2 times the operands' bound, `sum_union` their sum where both are below
+//! T, `density` max(1, T·1.7173/(c·R)) (1 at its default T); `twist` and
+//! `bend` (module `warp`) multiply it by (a + √(a² + 4))/2 and 1 + a,
+//! a = |k|·ρ with ρ the distance from the z axis, unbounded far from it.
+//! These, and anything else that raises the bound (adding a displacement,
+//! multiplying, scaling one axis), need `--lipschitz L`.
 //!
 //! **Profiles and modifiers.** `circle`, `rect`, `roundrect`, `capsule2d`
 //! and `polygon` are exact 2D distances in x and y (module `profile`):
@@ -112,6 +117,26 @@ pub enum Form {
     Repeat,
     /// `mirror(nx, ny, nz, shape)`: with its reflection across a plane
     Mirror,
+    /// `twist(k, shape)`: turned by k·z about the z axis
+    Twist,
+    /// `bend(k, shape)`: the xy plane turned by k·x
+    Bend,
+    /// `chamfer_union(a, b, r)`: a 45° bevel of width r
+    ChamferUnion,
+    /// `chamfer_intersect(a, b, r)`
+    ChamferIntersect,
+    /// `chamfer_subtract(a, b, r)`: a minus b
+    ChamferSubtract,
+    /// `round_union(a, b, r)`: a circular fillet of radius r
+    RoundUnion,
+    /// `round_intersect(a, b, r)`
+    RoundIntersect,
+    /// `round_subtract(a, b, r)`: a minus b
+    RoundSubtract,
+    /// `sum_union(a, b, T)`: a + b − T where both are below T
+    SumUnion,
+    /// `density(R, h, c[, T])`: the normalized density of a segment along z
+    Density,
 }
 
 /// How many arguments a form takes.
@@ -177,6 +202,16 @@ pub const FORMS: &[Info] = &[
     Info { name: "repeat", form: Form::Repeat, arity: Arity::Exactly(7), signature: "repeat(sx, sy, sz, nx, ny, nz, shape)", doc: "the union of nx ny nz copies of shape translated by s (i - (n - 1)/2), a centred grid; n constant whole numbers >= 1, at most 4096 copies; keeps L" },
     Info { name: "mirror", form: Form::Mirror, arity: Arity::Exactly(4), signature: "mirror(nx, ny, nz, shape)", doc: "the union of shape and its reflection across the plane through the origin with normal n (n not zero); keeps L" },
     Info { name: "displace", form: Form::Displace, arity: Arity::Exactly(3), signature: "displace(a, f, shape)", doc: "shape + a n(p), a >= 0, f > 0, n = sum of w_k sin(f m_k (a_k.p) + phi_k) (sdf::NOISE_WAVES), |n| <= 1; L = the shape's + 1.92 a f: give --lipschitz" },
+    Info { name: "twist", form: Form::Twist, arity: Arity::Exactly(2), signature: "twist(k, shape)", doc: "shape(c x + s y, c y - s x, z), c = cos(k z), s = sin(k z): turned by k z radians about the z axis; L = the shape's times (a + sqrt(a^2 + 4))/2, a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
+    Info { name: "bend", form: Form::Bend, arity: Arity::Exactly(2), signature: "bend(k, shape)", doc: "shape(c x - s y, s x + c y, z), c = cos(k x), s = sin(k x): a bar along x curls into an arc of radius 1/k; L = the shape's times (1 + a), a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
+    Info { name: "chamfer_union", form: Form::ChamferUnion, arity: Arity::Exactly(3), signature: "chamfer_union(a, b, r)", doc: "min(min(a, b), (a + b - r)/sqrt(2)), r > 0: a 45 degree bevel of width r, min(a, b) where either is above r/(2 - sqrt(2)); L = sqrt(2) times the operands'" },
+    Info { name: "chamfer_intersect", form: Form::ChamferIntersect, arity: Arity::Exactly(3), signature: "chamfer_intersect(a, b, r)", doc: "max(max(a, b), (a + b + r)/sqrt(2)), r > 0; L = sqrt(2) times the operands'" },
+    Info { name: "chamfer_subtract", form: Form::ChamferSubtract, arity: Arity::Exactly(3), signature: "chamfer_subtract(a, b, r)", doc: "chamfer_intersect(a, -b, r): a minus b; L = sqrt(2) times the operands'" },
+    Info { name: "round_union", form: Form::RoundUnion, arity: Arity::Exactly(3), signature: "round_union(a, b, r)", doc: "max(r, min(a, b)) - length(max(r - a, 0), max(r - b, 0)), r > 0: a circular fillet of radius r, min(a, b) where either is above r; L = sqrt(2) times the operands'" },
+    Info { name: "round_intersect", form: Form::RoundIntersect, arity: Arity::Exactly(3), signature: "round_intersect(a, b, r)", doc: "min(-r, max(a, b)) + length(max(r + a, 0), max(r + b, 0)), r > 0; L = sqrt(2) times the operands'" },
+    Info { name: "round_subtract", form: Form::RoundSubtract, arity: Arity::Exactly(3), signature: "round_subtract(a, b, r)", doc: "round_intersect(a, -b, r): a minus b; L = sqrt(2) times the operands'" },
+    Info { name: "sum_union", form: Form::SumUnion, arity: Arity::Exactly(3), signature: "sum_union(a, b, T)", doc: "min(a, b) + min(max(a, b), T) - T, T > 0: a + b - T where both are below T, else min(a, b); on densities with the same T the density blend; L = the sum of the operands' where both are below T, else the larger" },
+    Info { name: "density", form: Form::Density, arity: Arity::Between(3, 4), signature: "density(R, h, c[, T])", doc: "T (1 - K/c) + max(d - R, 0), K = max(1 - (d/R)^2, 0)^3, d the distance to the segment (0, 0, -h)-(0, 0, h); R > 0, h >= 0, 0 < c < 1, T > 0 (default c R/1.7173, needs R and c constant); L = max(1, T 1.7173/(c R)), 1 at the default T" },
 ];
 
 /// The form called `name`, if any.
@@ -423,6 +458,9 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
         Form::Offset | Form::Shell | Form::Infill | Form::Displace => modifier::lower(b, form, v),
         Form::Repeat => repeat(b, v),
         Form::Mirror => mirror(b, v),
+        Form::Twist | Form::Bend => warp::lower(b, form, v),
+        Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract | Form::RoundUnion | Form::RoundIntersect | Form::RoundSubtract
+        | Form::SumUnion | Form::Density => blend::lower(b, form, v),
     }
 }
 

@@ -15,6 +15,12 @@
 //! A blobtree scene bounds ρ by the warped leaf's bounding cylinder and
 //! scales the field down outside it (`scene::warp`); a formula needs
 //! `--lipschitz` from the user.
+//!
+//! The formula forms expand to [`twist_point`] and [`bend_point`] in their
+//! order of operations, so a compiled formula and a scene agree to rounding.
+
+use super::{Form, Sink, B};
+use crate::ir::{Func1, NodeId};
 
 /// twist(k, ·) at `p`: the point the operand is evaluated at. The shape
 /// turns by +k·z radians about the z axis at height z (right-handed for
@@ -44,6 +50,28 @@ pub fn twist_lipschitz(k: f64, rho: f64) -> f64 {
 /// The bend's Lipschitz factor within radius ρ of the z axis: 1 + |k|ρ.
 pub fn bend_lipschitz(k: f64, rho: f64) -> f64 {
     1.0 + k.abs() * rho
+}
+
+/// Expands `twist(k, shape)` or `bend(k, shape)`: the shape rebuilt over
+/// the warped point. k is not checked: any k (0 too, where the sine and
+/// cosine fold to 0 and 1 and the identities of [`B`] leave x, y, z) gives
+/// a warp, only its Lipschitz factor grows with |k|.
+pub(super) fn lower<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
+    let [x, y, z] = b.xyz()?;
+    // The angle grows along z for a twist, along x for a bend.
+    let along = if form == Form::Twist { z } else { x };
+    let a = b.mul(v[0], along)?;
+    let (s, c) = (b.f1(Func1::Sin, a)?, b.f1(Func1::Cos, a)?);
+    let (cx, sy) = (b.mul(c, x)?, b.mul(s, y)?);
+    let (cy, sx) = (b.mul(c, y)?, b.mul(s, x)?);
+    let q = match form {
+        // (c·x + s·y, c·y − s·x, z)
+        Form::Twist => [b.add(cx, sy)?, b.sub(cy, sx)?, z],
+        // (c·x − s·y, s·x + c·y, z)
+        Form::Bend => [b.sub(cx, sy)?, b.add(sx, cy)?, z],
+        _ => unreachable!("{form:?} is not a warp"),
+    };
+    b.0.substitute(v[1], q)
 }
 
 #[cfg(test)]
