@@ -28,7 +28,7 @@
 
 use super::frame::Frame;
 use super::warp::WarpKind;
-use super::{Blend, Builder, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
+use super::{Blend, Builder, Join, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
 use crate::sdf::{self, Form};
@@ -279,6 +279,14 @@ impl Walker<'_> {
             Form::Octahedron => Shape::Octahedron { size: self.num(&a[0])? },
             Form::Extrude => Shape::Extrude { half_height: self.num(&a[0])?, profile: self.profile(&a[1])? },
             Form::Revolve => Shape::Revolve { offset: self.num(&a[0])?, profile: self.profile(&a[1])? },
+            Form::Density => {
+                let [radius, half_length, iso] = self.nums(a)?;
+                let range = match a.get(3) {
+                    Some(e) => self.num(e)?,
+                    None => sdf::density_default_range(radius, iso),
+                };
+                Shape::Density { radius, half_length, iso, range }
+            }
             _ => return self.composite(form, a, span),
         };
         Ok(Rc::new(Tree::Leaf(Primitive::new(shape), span)))
@@ -324,6 +332,24 @@ impl Walker<'_> {
                     None => super::operator::DEFAULT_RANGE_FACTOR * beta,
                 };
                 Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
+            }
+            Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract => {
+                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::ChamferUnion as usize];
+                let (l, r, radius) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
+                Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::Chamfer { radius }), l, r, span)))
+            }
+            Form::RoundUnion | Form::RoundIntersect | Form::RoundSubtract => {
+                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::RoundUnion as usize];
+                let (l, r, radius) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
+                Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::Round { radius }), l, r, span)))
+            }
+            Form::SumUnion => {
+                let (l, r, range) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
+                Ok(Rc::new(Tree::Op(Operator::joined(OpKind::Union, Join::Sum { range }), l, r, span)))
+            }
+            Form::Twist | Form::Bend => {
+                let kind = if form == Form::Twist { WarpKind::Twist } else { WarpKind::Bend };
+                Ok(Rc::new(Tree::Warped(kind, self.num(&a[0])?, self.shape(&a[1])?, span)))
             }
             Form::Repeat => {
                 let spacing: [f64; 3] = self.nums(a)?;

@@ -89,6 +89,7 @@ pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
 pub fn field_lipschitz(scene: &Scene) -> f64 {
     let nodes = scene.nodes();
     let levels = trace_levels(scene);
+    let groups = nodes.iter().any(is_sum).then(|| SumGroups::new(scene));
     let mut lip = vec![1.0f64; nodes.len()];
     for &i in scene.post_order() {
         lip[i] = match &nodes[i] {
@@ -101,11 +102,91 @@ pub fn field_lipschitz(scene: &Scene) -> f64 {
                 };
                 own * p.warp.map_or(1.0, |w| w.lipschitz())
             }
-            Node::Operator { op, left, right } => op.combine_lipschitz(lip[*left], lip[*right]),
+            Node::Operator { op, left, right } => {
+                let sum = op.combine_lipschitz(lip[*left], lip[*right]);
+                match &groups {
+                    Some(g) if g.is_top(scene, i) => sum.min(g.bound(scene, i, &lip)),
+                    _ => sum,
+                }
+            }
             Node::Unary { op, child } => lip[*child] + op.lipschitz_increase(),
         };
     }
     lip[scene.root()]
+}
+
+fn is_sum(n: &Node) -> bool {
+    matches!(n, Node::Operator { op, .. } if matches!(op.join, Some(super::Join::Sum { .. })))
+}
+
+/// What bounds a group of sum blends (a maximal subtree of `sum_union`
+/// nodes, a blob of density fields) more tightly than the sum of its
+/// operands' bounds, which holds everywhere: an operand adds its slope only
+/// where it is below the group's range (elsewhere the sum leaves it out),
+/// which is inside the box of its primitives' ABVs (they hold where each
+/// primitive is below its range of interest, at least the sum's range). At
+/// a point, the operands below their range all have boxes holding it, so
+/// they all meet the box of any one of them: the bound is the largest, over
+/// the operands, of the sum of the bounds of those whose boxes meet its own.
+struct SumGroups {
+    boxes: Vec<Aabb>,
+    parent: Vec<usize>,
+}
+
+impl SumGroups {
+    fn new(scene: &Scene) -> SumGroups {
+        let nodes = scene.nodes();
+        let roi = ranges(scene);
+        let mut boxes = vec![Aabb::EMPTY; nodes.len()];
+        let mut parent = vec![usize::MAX; nodes.len()];
+        for &i in scene.post_order() {
+            boxes[i] = match &nodes[i] {
+                Node::Primitive(p) => abv(p, roi[i].hi).aabb(),
+                n => n.children().iter().fold(Aabb::EMPTY, |b, &c| b.hull(&boxes[c])),
+            };
+            for &c in nodes[i].children().iter() {
+                parent[c] = i;
+            }
+        }
+        SumGroups { boxes, parent }
+    }
+
+    /// Whether node `i` is a sum whose parent is not.
+    fn is_top(&self, scene: &Scene, i: usize) -> bool {
+        let nodes = scene.nodes();
+        is_sum(&nodes[i]) && (self.parent[i] == usize::MAX || !is_sum(&nodes[self.parent[i]]))
+    }
+
+    /// The bound of the group under `top`, its operands' bounds in `lip`.
+    fn bound(&self, scene: &Scene, top: usize, lip: &[f64]) -> f64 {
+        let nodes = scene.nodes();
+        let (mut operands, mut todo) = (Vec::new(), vec![top]);
+        while let Some(n) = todo.pop() {
+            if is_sum(&nodes[n]) {
+                todo.extend(nodes[n].children().iter());
+            } else {
+                operands.push(n);
+            }
+        }
+        // A sweep along x: operands in order of their boxes' low x.
+        let boxes = &self.boxes;
+        operands.sort_by(|&a, &b| boxes[a].min[0].total_cmp(&boxes[b].min[0]));
+        let mut reach: Vec<f64> = operands.iter().map(|&o| lip[o]).collect();
+        for i in 0..operands.len() {
+            let a = &boxes[operands[i]];
+            for j in i + 1..operands.len() {
+                let b = &boxes[operands[j]];
+                if b.min[0] > a.max[0] {
+                    break;
+                }
+                if (1..3).all(|k| b.min[k] <= a.max[k] && a.min[k] <= b.max[k]) {
+                    reach[i] += lip[operands[j]];
+                    reach[j] += lip[operands[i]];
+                }
+            }
+        }
+        reach.into_iter().fold(0.0, f64::max)
+    }
 }
 
 /// For every node, a level at or above which its value must be where it
@@ -305,6 +386,8 @@ pub struct Aabb {
 impl Aabb {
     /// All of space.
     pub const EVERYTHING: Aabb = Aabb { min: [f64::NEG_INFINITY; 3], max: [f64::INFINITY; 3] };
+    /// Nothing (the hull of it and a box is the box).
+    pub const EMPTY: Aabb = Aabb { min: [f64::INFINITY; 3], max: [f64::NEG_INFINITY; 3] };
 
     /// The smallest box holding both.
     pub fn hull(&self, o: &Aabb) -> Aabb {

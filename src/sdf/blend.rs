@@ -121,14 +121,14 @@ pub(super) fn lower<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Resu
             let (a, o) = operands(b, form == Form::RoundSubtract, v)?;
             round(b, form == Form::RoundUnion, a, o, v[2])
         }
-        // min(a, b) + min(max(a, b), T) − T, as [`sum_union`].
+        // min(a, b) + (min(max(a, b), T) − T), as [`sum_union`].
         Form::SumUnion => {
             b.positive(v, 2, "the range T")?;
             let lo = b.min(v[0], v[1])?;
             let hi = b.max(v[0], v[1])?;
             let hi = b.min(hi, v[2])?;
-            let s = b.add(lo, hi)?;
-            b.sub(s, v[2])
+            let excess = b.sub(hi, v[2])?;
+            b.add(lo, excess)
         }
         Form::Density => density_form(b, v),
         _ => unreachable!("{form:?} is not a blend"),
@@ -157,8 +157,10 @@ fn chamfer<S: Sink>(b: &mut B<'_, S>, union: bool, a: NodeId, o: NodeId, r: Node
 }
 
 /// max(r, min(a, b)) − |(max(r − a, 0), max(r − b, 0))| for a union,
-/// min(−r, max(a, b)) + |(max(r + a, 0), max(r + b, 0))| otherwise, as
-/// [`round_union`] and [`round_intersect`].
+/// min(−r, max(a, b)) + |(max(r + a, 0), max(r + b, 0))| otherwise: the
+/// same function as [`round_union`] and [`round_intersect`], which branch
+/// (the IR has no branch) so as to be min or max to the bit beyond r; here
+/// r − (r − a) may differ from a in the last bit.
 fn round<S: Sink>(b: &mut B<'_, S>, union: bool, a: NodeId, o: NodeId, r: NodeId) -> Result<NodeId, S::Error> {
     let zero = b.c(0.0)?;
     let mut uv = [0; 2];
