@@ -414,7 +414,7 @@ fn every_new_form_draws_the_compiled_picture_through_the_scene_path() {
 fn the_modelling_examples_are_their_formulas() {
     let dir = env!("CARGO_MANIFEST_DIR");
     let own = isotrace::gpu::Gpu::new().unwrap();
-    for name in ["heat-exchanger", "carved", "profiles"] {
+    for name in ["heat-exchanger", "carved", "profiles", "procedural"] {
         let src = std::fs::read_to_string(format!("{dir}/examples/scene-src/{name}.txt")).unwrap();
         let f = isotrace::Formula::compile(name, &src).unwrap();
         let lowered = isotrace::scene::from_formula(&f, &[]).unwrap();

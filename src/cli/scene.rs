@@ -276,7 +276,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let _ = writeln!(out, "lipschitz:     {} (largest product of 6 r_o/(6 r_o - beta) on a root-to-leaf path)", short3(lip));
     let disp = roi::field_lipschitz(&scene);
     if disp > 1.0 {
-        let _ = writeln!(out, "field bound:   {} (displacements and voxel grids where the field is >= 0; traced with L = {})", short3(disp), short3(lin.lipschitz()));
+        let _ = writeln!(out, "field bound:   {} (displacements, voxel grids, warps and joins where the field is >= 0; traced with L = {})", short3(disp), short3(lin.lipschitz()));
     }
     if lin.features != 0 {
         let _ = writeln!(out, "interpreter:   {} (a kernel with this node code; scenes without it run the basic one)", feature_names(lin.features).join(", "));
@@ -293,8 +293,18 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
 
 /// The names of the interpreter features in `bits` (`scene::linear::FEATURE_*`).
 fn feature_names(bits: u32) -> Vec<&'static str> {
-    use isotrace::scene::linear::{FEATURE_DISPLACE, FEATURE_GRID, FEATURE_INFILL, FEATURE_POLYGON, FEATURE_PROFILE, FEATURE_UNARY};
-    [(FEATURE_PROFILE, "profiles"), (FEATURE_POLYGON, "polygons"), (FEATURE_UNARY, "unary nodes"), (FEATURE_INFILL, "infill"), (FEATURE_DISPLACE, "displacement"), (FEATURE_GRID, "voxel grids")]
+    use isotrace::scene::linear::*;
+    [
+        (FEATURE_PROFILE, "profiles"),
+        (FEATURE_POLYGON, "polygons"),
+        (FEATURE_UNARY, "unary nodes"),
+        (FEATURE_INFILL, "infill"),
+        (FEATURE_DISPLACE, "displacement"),
+        (FEATURE_GRID, "voxel grids"),
+        (FEATURE_JOIN, "chamfer, round and sum joins"),
+        (FEATURE_WARP, "twists and bends"),
+        (FEATURE_DENSITY, "density fields"),
+    ]
         .into_iter()
         .filter(|(b, _)| bits & b != 0)
         .map(|(_, n)| n)

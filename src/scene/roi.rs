@@ -168,10 +168,22 @@ impl SumGroups {
                 operands.push(n);
             }
         }
+        // Below its range a density primitive's slope is its kernel's, not
+        // the 1 of its outside (where the sum leaves it out); where every
+        // operand is above the range the group is their min.
+        let below = |o: usize| match &nodes[o] {
+            Node::Primitive(p) => match p.shape {
+                Shape::Density { radius, iso, range, .. } => range * crate::sdf::DENSITY_SLOPE / (iso * radius) * p.warp.map_or(1.0, |w| w.lipschitz()),
+                _ => lip[o],
+            },
+            _ => lip[o],
+        };
+        let outside = operands.iter().map(|&o| lip[o]).fold(0.0, f64::max);
         // A sweep along x: operands in order of their boxes' low x.
         let boxes = &self.boxes;
         operands.sort_by(|&a, &b| boxes[a].min[0].total_cmp(&boxes[b].min[0]));
-        let mut reach: Vec<f64> = operands.iter().map(|&o| lip[o]).collect();
+        let slope: Vec<f64> = operands.iter().map(|&o| below(o)).collect();
+        let mut reach = slope.clone();
         for i in 0..operands.len() {
             let a = &boxes[operands[i]];
             for j in i + 1..operands.len() {
@@ -180,12 +192,12 @@ impl SumGroups {
                     break;
                 }
                 if (1..3).all(|k| b.min[k] <= a.max[k] && a.min[k] <= b.max[k]) {
-                    reach[i] += lip[operands[j]];
-                    reach[j] += lip[operands[i]];
+                    reach[i] += slope[j];
+                    reach[j] += slope[i];
                 }
             }
         }
-        reach.into_iter().fold(0.0, f64::max)
+        reach.into_iter().fold(outside, f64::max)
     }
 }
 
