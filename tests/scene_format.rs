@@ -22,7 +22,7 @@ fn parameter_errors_name_the_field() {
         ("{\"type\": \"sphere\", \"radius\": 0}", "nodes[0].radius: must be > 0"),
         ("{\"type\": \"sphere\"}", "nodes[0].radius: missing"),
         ("{\"type\": \"sphere\", \"radius\": \"big\"}", "nodes[0].radius: expected a number, found \"big\""),
-        ("{\"type\": \"sphere\", \"radiu\": 1}", "nodes[0].radiu: unknown field for a sphere; expected radius, translate, rotate or scale"),
+        ("{\"type\": \"sphere\", \"radiu\": 1}", "nodes[0].radiu: unknown field for a sphere; expected radius, translate, rotate, scale or warp"),
         ("{\"type\": \"sphre\", \"radius\": 1}", "nodes[0].type: unknown type 'sphre'; did you mean 'sphere'?"),
         ("{\"type\": \"blob\"}", "nodes[0].type: unknown type 'blob'; did you mean 'box'?"),
         ("{\"radius\": 1}", "nodes[0].type: missing"),

@@ -470,7 +470,7 @@ fn bad_grid_nodes_name_the_field_and_the_file() {
     assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy", "spacing": 0.1}"#), "nodes[0].origin: missing: a grid with a spacing needs its origin too");
     assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy"}"#), format!("nodes[0].file: {}: a .npy file holds only values: the grid's spacing and origin must be given", dir.join("pebble.npy").display()));
     assert_eq!(e(r#"{"type": "grid", "file": 3}"#), "nodes[0].file: expected a file name, found 3");
-    assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy", "spacing": 0.1, "origin": [0, 0, 0], "radius": 1}"#), "nodes[0].radius: unknown field for a grid; expected file, spacing, origin, translate, rotate or scale");
+    assert_eq!(e(r#"{"type": "grid", "file": "pebble.npy", "spacing": 0.1, "origin": [0, 0, 0], "radius": 1}"#), "nodes[0].radius: unknown field for a grid; expected file, spacing, origin, translate, rotate, scale or warp");
     let vdb = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/grid/sphere.vdb");
     let ok = format::parse(&format!("{{\"isotrace_scene\": 1, \"root\": 0, \"nodes\": [{{\"type\": \"grid\", \"file\": \"{vdb}\"}}]}}")).unwrap();
     assert!(ok.eval([0.0, 0.0, 0.0]) < 0.0);
@@ -611,5 +611,5 @@ fn repeat_and_mirror_nodes_expand_as_their_forms_lower() {
     assert_eq!(bad(r#"{"type": "mirror", "child": 0, "normal": [0, 0, 0]}"#), "nodes[1].normal: must not be zero");
     let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/examples"));
     let grid = r#"{"isotrace_scene": 1, "root": 1, "nodes": [{"type": "grid", "file": "pebble.npy", "spacing": 0.05, "origin": [0, 0, 0]}, {"type": "mirror", "child": 0, "normal": [1, 0, 0]}]}"#;
-    assert_eq!(format::parse_in(grid, dir).unwrap_err().to_string(), "nodes: a voxel grid cannot be mirrored");
+    assert_eq!(format::parse_in(grid, dir).unwrap_err().to_string(), "nodes: a voxel grid or a twisted or bent shape cannot be mirrored");
 }
