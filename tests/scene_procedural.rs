@@ -14,7 +14,7 @@ use isotrace::scene::generate::Rng;
 use isotrace::scene::linear::{self, Linear};
 use isotrace::scene::warp::{Warp, WarpKind};
 use isotrace::scene::{format, roi, Builder, Join, Node, NodeId, OpKind, Operator, Primitive, Scene, Shape, Transform};
-use scene_common::{assert_sparse_is_masked, random_primitive, surface_points};
+use scene_common::{assert_sparse_is_masked, random_primitive, surface_points, EVERY_FORM};
 
 fn warp(kind: WarpKind, rate: f64, frame: Transform) -> Option<Warp> {
     Some(Warp { kind, rate, frame, clamp: None })
@@ -292,15 +292,21 @@ fn the_procedural_formula_lowers_to_the_same_surface() {
     assert!(near > 500 && worst < 0.02, "{near} points near the surface, worst relative difference {worst}");
 }
 
+/// Every node type with a formula form in one formula (the zoo of
+/// `EVERY_FORM` beside the procedural example, below it): the scene path draws the
+/// compiled formula's picture.
 #[test]
-fn procedural_nodes_draw_the_compiled_picture_through_the_scene_path() {
+fn every_node_type_draws_the_compiled_picture_through_the_scene_path() {
     use isotrace::render::{Settings, SphereOptions, Status, Traversal};
-    let text = include_str!("../examples/scene-src/procedural.txt");
-    let f = isotrace::Formula::compile("procedural.txt", text).unwrap();
+    let (defs, zoo) = EVERY_FORM.rsplit_once(';').unwrap();
+    let procedural = include_str!("../examples/scene-src/procedural.txt");
+    let (pdefs, proc_root) = procedural.trim_end().rsplit_once(';').unwrap();
+    let text = format!("{defs};\nzoo = {};\n{pdefs};\nunion(zoo, translate(0, 0, -2.4, {}))", zoo.trim(), proc_root.trim());
+    let f = isotrace::Formula::compile("every.txt", &text).unwrap();
     let t = Traversal::Sphere(SphereOptions::default());
     let (scene, lipschitz) = isotrace::codegen::choice::scene(&f, &[], &t).unwrap();
     let o = SphereOptions { lipschitz, ..SphereOptions::default() };
-    let s = Settings::for_box([-2.0, 2.0, -2.0, 2.0, -1.2, 1.2], 128, 128);
+    let s = Settings::for_box([-2.0, 2.0, -2.0, 2.0, -3.6, 1.0], 128, 128);
     let own = isotrace::gpu::Gpu::new().unwrap();
     let a = isotrace::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(&s).unwrap();
     let b = isotrace::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(&s).unwrap();

@@ -163,31 +163,55 @@ fn scene_stretch(bend: bool, k: f32, rho: f32) -> f32 {
 // A warped primitive (src/scene/warp.rs): its warp's rows come before its
 // own, (A^-1 as 3 rows, (s_A, k, clamp radius, clamp floor)). The frame
 // point q, turned by -k q.z (twist) or k q.x (bend) about z, is where the
-// primitive's own rows are evaluated; beyond the clamp radius the value is
-// scaled down by the ratio of stretches, to no less than the floor.
-fn scene_warped(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32) -> f32 {
-    let w = scene_param(o - 1u);
+// primitive's own rows are evaluated; the value is then scaled by s_A and,
+// beyond the clamp radius, scaled down by the ratio of stretches, to no
+// less than the floor.
+struct SceneWarp {
+    point: vec3<f32>,
+    // (s_A, k, clamp radius, clamp floor).
+    w: vec4<f32>,
+    rho: f32,
+    bend: bool,
+}
+
+fn scene_warp(r4: vec4<f32>, p: vec3<f32>, o: u32) -> SceneWarp {
     let p4 = vec4<f32>(p, 1.0);
     let q = vec3<f32>(dot(scene_param(o - 4u), p4), dot(scene_param(o - 3u), p4), dot(scene_param(o - 2u), p4));
+    let w = scene_param(o - 1u);
     let bend = (u32(r4.z) >> FORM_WARP_SHIFT) == 2u;
     let a = w.y * select(q.z, q.x, bend);
     let c = cos(a);
     let s = sin(a);
     let twisted = vec3<f32>(c * q.x + s * q.y, c * q.y - s * q.x, q.z);
     let bent = vec3<f32>(c * q.x - s * q.y, s * q.x + c * q.y, q.z);
-    let f = w.x * scene_shape(r0, r1, r2, r3, r4, select(twisted, bent, bend), o, true);
-    let rho = length(q.xy);
-    let far = min(f, max(f * (scene_stretch(bend, w.y, w.z) / scene_stretch(bend, w.y, rho)), w.w));
-    return select(f, far, rho > w.z);
+    return SceneWarp(select(twisted, bent, bend), w, length(q.xy), bend);
 }
 
-// A primitive: warped or not.
+fn scene_warp_value(sw: SceneWarp, d: f32) -> f32 {
+    let f = sw.w.x * d;
+    let far = min(f, max(f * (scene_stretch(sw.bend, sw.w.y, sw.w.z) / scene_stretch(sw.bend, sw.w.y, sw.rho)), sw.w.w));
+    return select(f, far, sw.rho > sw.w.z);
+}
+
+// A primitive: warped or not. The shape's code is inlined once: a warp only
+// moves the point it is evaluated at and changes the value after.
 fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+    var at = p;
+    var warped = false;
+    var sw: SceneWarp;
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         // A branch: the warp's rows are fetched only on its lanes.
-        if (leaf && u32(r4.z) >= (1u << FORM_WARP_SHIFT)) { return scene_warped(r0, r1, r2, r3, r4, p, o); }
+        warped = leaf && u32(r4.z) >= (1u << FORM_WARP_SHIFT);
+        if (warped) {
+            sw = scene_warp(r4, p, o);
+            at = sw.point;
+        }
     }
-    return scene_shape(r0, r1, r2, r3, r4, p, o, leaf);
+    var d = scene_shape(r0, r1, r2, r3, r4, at, o, leaf);
+    if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
+        if (warped) { d = scene_warp_value(sw, d); }
+    }
+    return d;
 }
 
 // A unary node of type `ty` with record k on operand value v at p (src/scene/

@@ -296,3 +296,17 @@ pub fn assert_sparse_is_masked(lin: &isotrace::scene::linear::Linear, scene: &Sc
     }
     (reference, max_stack)
 }
+
+/// A formula of every distance form of the scene node zoo but the newest
+/// (profiles, extrusions, revolutions, unary nodes).
+pub const EVERY_FORM: &str = "\
+    star = polygon(0, 0.5, 0.12, 0.15, 0.48, 0.15, 0.2, -0.05, 0.3, -0.4, 0, -0.18, -0.3, -0.4, -0.2, -0.05, -0.48, 0.15, -0.12, 0.15);
+    a = translate(-1.5, 0.8, 0, extrude(0.2, star));
+    b = translate(-0.5, 0.8, 0, rotate(1, 0, 0, 0.6, extrude(0.15, roundrect(0.35, 0.25, 0.1))));
+    c = translate(0.5, 0.8, 0, revolve(0.3, capsule2d(-0.1, -0.2, 0.15, 0.2, 0.08)));
+    d = translate(1.5, 0.8, 0, scale(1.5, revolve(0.2, rect(0.1, 0.15))));
+    m = translate(-0.5, -0.8, 0, offset(0.05, extrude(0.2, circle(0.3))));
+    g = translate(0.5, -0.8, 0, shell(0.06, sphere(0.4)));
+    h = infill(0.4, 0.05, translate(1.5, -0.8, 0, roundbox(0.4, 0.4, 0.4, 0.05)));
+    k = displace(0.04, 5, translate(-1.5, -0.8, 0, torus(0.35, 0.1)));
+    union(a, b, c, d, compact_union(m, g, 0.1), h, k)";

@@ -164,6 +164,7 @@ pub fn scene_expr(ctx: &mut Context, scene: &Scene) -> Result<Node, BadNode> {
 /// operator's β: g∪ = min(a, b) − d, g∩ = max(a, b) + d, g\ = max(a, −b) +
 /// d(a, −b), d = h³/(6β²), h = max(β − |a − b|, 0) (operator.rs's `g`).
 fn operator(ctx: &mut Context, op: Operator, a: Node, b: Node) -> Result<Node, BadNode> {
+    assert!(op.join.is_none(), "the peer harness has no chamfer, round or sum joins");
     let b = if op.kind == OpKind::Difference { ctx.neg(b)? } else { b };
     let sharp = if op.kind == OpKind::Union { ctx.min(a, b)? } else { ctx.max(a, b)? };
     let Some(blend) = op.blend else { return Ok(sharp) };
@@ -180,6 +181,7 @@ fn operator(ctx: &mut Context, op: Operator, a: Node, b: Node) -> Result<Node, B
 
 /// s · f_local(M·(p, 1)).
 fn primitive(ctx: &mut Context, p: &Primitive) -> Result<Node, BadNode> {
+    assert!(p.warp.is_none(), "the peer harness has no twists or bends");
     let m = p.transform.matrix();
     let xyz = [ctx.x(), ctx.y(), ctx.z()];
     let q = [affine(ctx, &xyz, m[0])?, affine(ctx, &xyz, m[1])?, affine(ctx, &xyz, m[2])?];
@@ -246,7 +248,7 @@ fn local(ctx: &mut Context, shape: &Shape, q: [Node; 3]) -> Result<Node, BadNode
             ctx.sub(d, radius as f32)
         }
         Shape::Capsule { a, b, radius } => capsule(ctx, q, a, b, radius),
-        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unimplemented!("the peer harness has no profile or grid primitives"),
+        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Density { .. } => unimplemented!("the peer harness has no profile, grid or density primitives"),
         Shape::Torus { major, minor } => {
             let l = length(ctx, &q[..2])?;
             let ring = ctx.sub(l, major as f32)?;
