@@ -1,0 +1,284 @@
+//! The constants of the GPU layout (docs/scene-format.md, "The GPU
+//! layout"): node word bits, type codes, primitive forms, feature bits,
+//! row counts and texture widths, and the WGSL that declares them for the
+//! interpreter (`wgsl_constants`). `linear` re-exports them all.
+
+use super::{Join, Node, OpKind, Operator};
+
+/// isLeaf bit of a node word.
+pub const NODE_LEAF_BIT: u32 = 1 << 31;
+/// isLeft bit of a node word.
+pub const NODE_LEFT_BIT: u32 = 1 << 30;
+/// Position of the 8-bit type field.
+pub const NODE_TYPE_SHIFT: u32 = 22;
+/// Mask of the type field after shifting.
+pub const NODE_TYPE_MASK: u32 = 0xff;
+/// Mask of the parent field.
+pub const NODE_PARENT_MASK: u32 = (1 << 22) - 1;
+
+/// Type code of a sphere.
+pub const SPHERE: u32 = 1;
+/// Type code of a box.
+pub const BOX: u32 = 2;
+/// Type code of a round box.
+pub const ROUND_BOX: u32 = 3;
+/// Type code of a capsule.
+pub const CAPSULE: u32 = 4;
+/// Type code of a torus.
+pub const TORUS: u32 = 5;
+/// Type code of a capped cylinder.
+pub const CYLINDER: u32 = 6;
+/// Type code of an octahedron.
+pub const OCTAHEDRON: u32 = 7;
+/// Type code of a plane.
+pub const PLANE: u32 = 8;
+/// Type code of an extruded profile.
+pub const EXTRUDE: u32 = 9;
+/// Type code of a revolved profile.
+pub const REVOLVE: u32 = 10;
+/// Type code of a voxel grid.
+pub const GRID: u32 = 11;
+/// Type code of a sharp union.
+pub const UNION: u32 = 32;
+/// Type code of a sharp intersection.
+pub const INTERSECTION: u32 = 33;
+/// Type code of a sharp difference.
+pub const DIFFERENCE: u32 = 34;
+/// Type code of a compact smooth union.
+pub const SMOOTH_UNION: u32 = 35;
+/// Type code of a compact smooth intersection.
+pub const SMOOTH_INTERSECTION: u32 = 36;
+/// Type code of a compact smooth difference.
+pub const SMOOTH_DIFFERENCE: u32 = 37;
+/// Type code of a chamfer union. The binary operators are three codes a
+/// style from 32 (union, intersection, difference), so (code − 32) mod 3
+/// tells the operation.
+pub const CHAMFER_UNION: u32 = 38;
+/// Type code of a chamfer intersection.
+pub const CHAMFER_INTERSECTION: u32 = 39;
+/// Type code of a chamfer difference.
+pub const CHAMFER_DIFFERENCE: u32 = 40;
+/// Type code of a round union.
+pub const ROUND_UNION: u32 = 41;
+/// Type code of a round intersection.
+pub const ROUND_INTERSECTION: u32 = 42;
+/// Type code of a round difference.
+pub const ROUND_DIFFERENCE: u32 = 43;
+/// Type code of the sum blend (a union).
+pub const SUM_UNION: u32 = 44;
+/// Type code of an offset, the first unary node (codes 48-55 are unary).
+pub const OFFSET: u32 = 48;
+/// Type code of a shell.
+pub const SHELL: u32 = 49;
+/// Type code of a gyroid infill.
+pub const INFILL: u32 = 50;
+/// Type code of a displacement.
+pub const DISPLACE: u32 = 51;
+
+/// Feature bit: extruded or revolved profiles (their rows and formula).
+pub const FEATURE_PROFILE: u32 = 1;
+/// Feature bit: polygon profiles (a loop over the vertices).
+pub const FEATURE_POLYGON: u32 = 2;
+/// Feature bit: unary nodes (offset, shell).
+pub const FEATURE_UNARY: u32 = 4;
+/// Feature bit: gyroid infill.
+pub const FEATURE_INFILL: u32 = 8;
+/// Feature bit: noise displacement.
+pub const FEATURE_DISPLACE: u32 = 16;
+/// Feature bit: voxel grids (trilinear interpolation of their samples).
+pub const FEATURE_GRID: u32 = 32;
+/// Feature bit: chamfer, round and sum blends.
+pub const FEATURE_JOIN: u32 = 64;
+/// Feature bit: twisted or bent primitives.
+pub const FEATURE_WARP: u32 = 128;
+/// Feature bit: normalized density primitives.
+pub const FEATURE_DENSITY: u32 = 256;
+
+/// Rows of the transform matrix before a primitive's parameters.
+pub const PRIM_MATRIX_ROWS: u32 = 3;
+/// The largest evaluation stack a scene may need.
+pub const MAX_STACK: u32 = 32;
+/// Rows of `abv` per primitive.
+pub const ABV_STRIDE: u32 = 4;
+/// Parameter rows of every primitive (module doc).
+pub const PRIM_ROWS: u32 = 5;
+/// Primitive form: a rounded box in local q (sphere, box, round box,
+/// capsule in its own frame).
+pub const FORM_BOX: u32 = 0;
+/// Primitive form: a rounded box in (ρ − R, 0, z), ρ = |q.xy| (torus,
+/// cylinder).
+pub const FORM_REVOLVED: u32 = 1;
+/// Primitive form: the octahedron's bound (|x| + |y| + |z| − size)/√3.
+pub const FORM_OCTAHEDRON: u32 = 2;
+/// Primitive form: the half-space n·q − d.
+pub const FORM_PLANE: u32 = 3;
+/// Primitive form: a 2D profile in q.xy extruded along z.
+pub const FORM_EXTRUDE: u32 = 4;
+/// Primitive form: a 2D profile at (|q.xy| − R, q.z).
+pub const FORM_REVOLVE: u32 = 5;
+/// Primitive form: a voxel grid's samples, trilinearly interpolated.
+pub const FORM_GRID: u32 = 6;
+/// The bit of a primitive's form where its warp kind (1 twist, 2 bend)
+/// starts: the form proper is the low 4 bits.
+pub const FORM_WARP_SHIFT: u32 = 4;
+/// Rows of a warped primitive's warp, before its own rows (`rows::warp_rows`).
+pub const WARP_ROWS: u32 = 4;
+/// Primitive form: a normalized density around a segment along z.
+pub const FORM_DENSITY: u32 = 7;
+/// Rows of a grid primitive before its samples.
+pub const GRID_ROWS: u32 = 6;
+/// Rows of a profile primitive before its polygon vertices: the five of
+/// every primitive and the capsule's segment (a.x, a.y, b.x, b.y).
+pub const PROFILE_ROWS: u32 = 6;
+/// log2 of the width in texels of the node and parameter textures.
+pub const TEXTURE_SHIFT: u32 = 12;
+/// Width in texels of the node and parameter textures (a vec4 a texel).
+/// The GPU reads nodes and parameters through `textureLoad`, not from
+/// storage buffers: lavapipe turns every storage-buffer load of a
+/// non-uniform address into a loop over its 8 SIMD lanes with a branch per
+/// lane and component (about 300 cycles a vec4; Mesa 22.3's
+/// `emit_load_mem`), while a texel fetch is a vector gather. On the
+/// scene kernels that made the interpreter several times faster.
+pub const TEXTURE_WIDTH: u32 = 1 << TEXTURE_SHIFT;
+
+/// ABV kind: none, always active (planes).
+pub const ABV_NONE: u32 = 0;
+/// ABV kind: sphere.
+pub const ABV_SPHERE: u32 = 1;
+/// ABV kind: oriented box.
+pub const ABV_BOX: u32 = 2;
+/// ABV kind: capsule.
+pub const ABV_CAPSULE: u32 = 3;
+
+/// The Lipschitz bound sphere tracing assumes for a scene with compact
+/// smooth operators: Zanni et al.'s empirical 1.45 (each operator scales
+/// the bound by 6 r_o / (6 r_o - beta) at most; the product along a path
+/// is far looser than what random scenes show, max |grad f| <= 1.23).
+/// Scenes of sharp operators on exact distances are 1-Lipschitz.
+pub const SMOOTH_LIPSCHITZ: f64 = 1.45;
+
+/// The type code of a node.
+pub fn type_code(node: &Node) -> u32 {
+    match node {
+        Node::Primitive(p) => p.shape.kind() as u32,
+        Node::Operator { op, .. } => op_code(op),
+        Node::Unary { op, .. } => op.kind() as u32,
+    }
+}
+
+/// Whether type code `t` is a unary node's.
+pub fn is_unary_code(t: u32) -> bool {
+    (OFFSET..OFFSET + 8).contains(&t)
+}
+
+fn op_code(op: &Operator) -> u32 {
+    let base = match op.kind {
+        OpKind::Union => UNION,
+        OpKind::Intersection => INTERSECTION,
+        OpKind::Difference => DIFFERENCE,
+    };
+    let style = match (op.blend, op.join) {
+        (Some(_), _) => 1,
+        (None, Some(Join::Chamfer { .. })) => 2,
+        (None, Some(Join::Round { .. })) => 3,
+        (None, Some(Join::Sum { .. })) => return SUM_UNION,
+        (None, None) => 0,
+    };
+    base + 3 * style
+}
+
+/// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
+pub fn wgsl_constants() -> String {
+    let consts: [(&str, u32); 67] = [
+        ("NODE_LEAF_BIT", NODE_LEAF_BIT),
+        ("NODE_LEFT_BIT", NODE_LEFT_BIT),
+        ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
+        ("NODE_TYPE_MASK", NODE_TYPE_MASK),
+        ("NODE_PARENT_MASK", NODE_PARENT_MASK),
+        ("NODE_SPHERE", SPHERE),
+        ("NODE_BOX", BOX),
+        ("NODE_ROUND_BOX", ROUND_BOX),
+        ("NODE_CAPSULE", CAPSULE),
+        ("NODE_TORUS", TORUS),
+        ("NODE_CYLINDER", CYLINDER),
+        ("NODE_OCTAHEDRON", OCTAHEDRON),
+        ("NODE_PLANE", PLANE),
+        ("NODE_UNION", UNION),
+        ("NODE_INTERSECTION", INTERSECTION),
+        ("NODE_DIFFERENCE", DIFFERENCE),
+        ("NODE_SMOOTH_UNION", SMOOTH_UNION),
+        ("NODE_SMOOTH_INTERSECTION", SMOOTH_INTERSECTION),
+        ("NODE_SMOOTH_DIFFERENCE", SMOOTH_DIFFERENCE),
+        ("PRIM_MATRIX_ROWS", PRIM_MATRIX_ROWS),
+        ("SCENE_MAX_STACK", MAX_STACK),
+        ("ABV_STRIDE", ABV_STRIDE),
+        ("ABV_NONE", ABV_NONE),
+        ("ABV_SPHERE", ABV_SPHERE),
+        ("ABV_BOX", ABV_BOX),
+        ("ABV_CAPSULE", ABV_CAPSULE),
+        ("SCENE_MAX_NODES", super::MAX_NODES as u32),
+        ("SCENE_TEX_SHIFT", TEXTURE_SHIFT),
+        ("FORM_BOX", FORM_BOX),
+        ("FORM_REVOLVED", FORM_REVOLVED),
+        ("FORM_OCTAHEDRON", FORM_OCTAHEDRON),
+        ("FORM_PLANE", FORM_PLANE),
+        ("SCENE_TEX_WIDTH", TEXTURE_WIDTH),
+        ("SCENE_ENTRY_ROW_BITS", ENTRY_ROW_BITS),
+        ("NODE_EXTRUDE", EXTRUDE),
+        ("NODE_REVOLVE", REVOLVE),
+        ("NODE_OFFSET", OFFSET),
+        ("NODE_SHELL", SHELL),
+        ("NODE_INFILL", INFILL),
+        ("NODE_DISPLACE", DISPLACE),
+        ("NODE_CHAMFER_UNION", CHAMFER_UNION),
+        ("NODE_CHAMFER_INTERSECTION", CHAMFER_INTERSECTION),
+        ("NODE_CHAMFER_DIFFERENCE", CHAMFER_DIFFERENCE),
+        ("NODE_ROUND_UNION", ROUND_UNION),
+        ("NODE_ROUND_INTERSECTION", ROUND_INTERSECTION),
+        ("NODE_ROUND_DIFFERENCE", ROUND_DIFFERENCE),
+        ("NODE_SUM_UNION", SUM_UNION),
+        ("FORM_EXTRUDE", FORM_EXTRUDE),
+        ("FORM_REVOLVE", FORM_REVOLVE),
+        ("PROFILE_ROWS", PROFILE_ROWS),
+        ("MAX_POLYGON", super::profile::MAX_POLYGON as u32),
+        ("FEATURE_PROFILE", FEATURE_PROFILE),
+        ("FEATURE_POLYGON", FEATURE_POLYGON),
+        ("FEATURE_UNARY", FEATURE_UNARY),
+        ("FEATURE_INFILL", FEATURE_INFILL),
+        ("FEATURE_DISPLACE", FEATURE_DISPLACE),
+        ("FEATURE_GRID", FEATURE_GRID),
+        ("FEATURE_JOIN", FEATURE_JOIN),
+        ("FEATURE_WARP", FEATURE_WARP),
+        ("FEATURE_DENSITY", FEATURE_DENSITY),
+        ("FORM_WARP_SHIFT", FORM_WARP_SHIFT),
+        ("WARP_ROWS", WARP_ROWS),
+        ("NODE_GRID", GRID),
+        ("FORM_GRID", FORM_GRID),
+        ("FORM_DENSITY", FORM_DENSITY),
+        ("NODE_DENSITY", super::ShapeKind::Density as u32),
+        ("GRID_ROWS", GRID_ROWS),
+    ];
+    let mut s = String::new();
+    for (name, v) in consts {
+        s.push_str(&format!("const {name}: u32 = {v}u;\n"));
+    }
+    s
+}
+
+/// `scene_noise(p, f)`, the displacement's pseudo-noise
+/// ([`crate::sdf::noise`]), as WGSL written from the same table.
+pub fn wgsl_noise() -> String {
+    let terms: Vec<String> = crate::sdf::NOISE_WAVES
+        .iter()
+        .map(|&(a, m, w, phase)| format!("{w:?} * sin(f * {m:?} * dot(vec3<f32>({:?}, {:?}, {:?}), p) + {phase:?})", a[0], a[1], a[2]))
+        .collect();
+    format!("fn scene_noise(p: vec3<f32>, f: f32) -> f32 {{\n    return {};\n}}\n", terms.join("\n        + "))
+}
+
+/// Bits of a pruned view's entry that hold the node's first parameter row
+/// (`scene_entry` in templates/fields/scene.wgsl: isLeaf, type, row): every
+/// scene within [`super::MAX_NODES`] fits.
+pub const ENTRY_ROW_BITS: u32 = 25;
+const _: () = assert!((super::MAX_NODES as u64) * (PRIM_ROWS as u64) < 1 << ENTRY_ROW_BITS);
+const _: () = assert!(DISPLACE < 1 << (31 - ENTRY_ROW_BITS));
+

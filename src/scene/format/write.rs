@@ -1,0 +1,116 @@
+//! Writing a scene as `.scene.json` text (the reading is `format`'s):
+//! one node a line, numbers in the shortest form that reads back the same,
+//! identity transforms left out, a warped primitive's warp as its `warp`
+//! object.
+
+use super::{profile_fields, shape_fields, VERSION};
+use crate::scene::{Node, Profile, Scene, Shape, Transform};
+
+/// A number as JSON (shortest form that reads back the same f64).
+fn num(v: f64) -> String {
+    serde_json::to_string(&v).unwrap_or_else(|_| "null".into())
+}
+
+fn nums(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|&x| num(x)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// A transform's fields that differ from the identity, each after ", ".
+fn transform_json(t: &Transform) -> String {
+    let mut s = String::new();
+    if t.translate != [0.0; 3] {
+        s += &format!(", \"translate\": {}", nums(&t.translate));
+    }
+    if let Some(r) = &t.rotate {
+        s += &format!(", \"rotate\": {}", nums(&[r.axis[0], r.axis[1], r.axis[2], r.angle]));
+    }
+    if t.scale != 1.0 {
+        s += &format!(", \"scale\": {}", num(t.scale));
+    }
+    s
+}
+
+/// One node as a JSON object on one line.
+fn node_json(n: &Node) -> String {
+    let mut s = String::from("{");
+    match n {
+        Node::Primitive(p) => {
+            s += &format!("\"type\": \"{}\"", p.shape.kind().name());
+            let values: Vec<String> = match p.shape {
+                Shape::Sphere { radius } => vec![num(radius)],
+                Shape::Box { half } => vec![nums(&half)],
+                Shape::RoundBox { half, radius } => vec![nums(&half), num(radius)],
+                Shape::Capsule { a, b, radius } => vec![nums(&a), nums(&b), num(radius)],
+                Shape::Torus { major, minor } => vec![num(major), num(minor)],
+                Shape::Cylinder { radius, half_height } => vec![num(radius), num(half_height)],
+                Shape::Octahedron { size } => vec![num(size)],
+                Shape::Plane { normal, offset } => vec![nums(&normal), num(offset)],
+                Shape::Extrude { profile, half_height } => vec![profile_json(&profile), num(half_height)],
+                Shape::Revolve { profile, offset } => vec![profile_json(&profile), num(offset)],
+                Shape::Density { radius, half_length, iso, range } => vec![num(radius), num(half_length), num(iso), num(range)],
+                Shape::Grid(ref g) => {
+                    let file = serde_json::to_string(&g.file).unwrap_or_else(|_| "\"\"".into());
+                    match g.placement {
+                        Some(pl) => vec![file, num(pl.spacing), nums(&pl.origin)],
+                        None => vec![file],
+                    }
+                }
+            };
+            for (k, v) in shape_fields(p.shape.kind()).iter().zip(values) {
+                s += &format!(", \"{k}\": {v}");
+            }
+            s += &transform_json(&p.transform);
+            if let Some(w) = &p.warp {
+                s += &format!(", \"warp\": {{\"type\": \"{}\", \"rate\": {}{}}}", w.kind.name(), num(w.rate), transform_json(&w.frame));
+            }
+        }
+        Node::Operator { op, left, right } => {
+            s += &format!("\"type\": \"{}\", \"left\": {left}, \"right\": {right}", op.name());
+            if let Some(b) = &op.blend {
+                s += &format!(", \"beta\": {}, \"r_o\": {}", num(b.beta), num(b.range));
+            }
+            if let Some(j) = &op.join {
+                let (name, v) = j.size();
+                s += &format!(", \"{name}\": {}", num(v));
+            }
+        }
+        Node::Unary { op, child } => {
+            s += &format!("\"type\": \"{}\", \"child\": {child}", op.kind().name());
+            for (k, v) in op.kind().fields().iter().zip(op.values()) {
+                s += &format!(", \"{k}\": {}", num(v));
+            }
+        }
+    }
+    s + "}"
+}
+
+/// A profile as a JSON object.
+fn profile_json(p: &Profile) -> String {
+    let two = |v: [f64; 2]| nums(&v);
+    let values: Vec<String> = match *p {
+        Profile::Circle { radius } => vec![num(radius)],
+        Profile::Rect { half } => vec![two(half)],
+        Profile::RoundRect { half, radius } => vec![two(half), num(radius)],
+        Profile::Capsule { a, b, radius } => vec![two(a), two(b), num(radius)],
+        Profile::Polygon { .. } => vec![format!("[{}]", p.vertices().iter().map(|&v| two(v)).collect::<Vec<_>>().join(", "))],
+    };
+    let mut s = format!("{{\"type\": \"{}\"", p.name());
+    for (k, v) in profile_fields(p.name()).iter().zip(values) {
+        s += &format!(", \"{k}\": {v}");
+    }
+    s + "}"
+}
+
+/// The scene as version-1 JSON, one node per line, in stored order.
+pub fn to_json(scene: &Scene) -> String {
+    let mut s = format!("{{\"isotrace_scene\": {VERSION}, \"root\": {},\n \"nodes\": [\n", scene.root());
+    let n = scene.nodes().len();
+    for (i, node) in scene.nodes().iter().enumerate() {
+        s += "  ";
+        s += &node_json(node);
+        s += if i + 1 < n { ",\n" } else { "\n" };
+    }
+    s + " ]}\n"
+}
+
