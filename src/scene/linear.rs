@@ -348,7 +348,7 @@ fn lipschitz_bound(scene: &Scene) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Builder, Primitive, Shape};
+    use crate::scene::{Builder, Operator, Primitive, Shape};
 
     fn sphere(b: &mut Builder) -> NodeId {
         b.primitive(Primitive::new(Shape::Sphere { radius: 1.0 }))
