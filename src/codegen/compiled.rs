@@ -147,7 +147,9 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 
 /// A compiled field has no loops: it adds nothing to an invocation's loop
 /// count.
-const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\n";
+/// And it is one field everywhere (`field_view`: the scene's changes with
+/// its slab).
+const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\nfn field_view() -> u32 { return 0u; }\n";
 
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).

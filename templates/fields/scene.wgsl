@@ -344,8 +344,16 @@ var<private> g_slab_margin: f32;
 // pass; the whole line outside a tile).
 var<private> g_scene_depths: vec2<f32>;
 
+// Counts the changes of the evaluated view (slab or whole tree): two values
+// of f taken under different views are values of different fields (each
+// exact only near its slab), so the traversal's check of how fast f changes
+// compares only values of one view (field_view).
+var<private> g_scene_epoch: u32 = 0u;
+fn field_view() -> u32 { return g_scene_epoch; }
+
 // Makes slab k (0-based) of the current tile the one evaluated.
 fn scene_use_slab(k: u32) {
+    g_scene_epoch = g_scene_epoch + 1u;
     let lo = select(g_slab_start[min(k, 3u)], -F.inf, k == 0u);
     let hi = select(g_slab_start[min(k + 1u, 3u)], F.inf, k >= 3u);
     g_scene_core = vec2<f32>(lo, hi);
@@ -381,6 +389,7 @@ fn field_enter_pixel(px: vec2<u32>) {
     scene_use_slab(0u);
 }
 fn field_leave_frustum() {
+    g_scene_epoch = g_scene_epoch + 1u;
     g_scene_tile = SCENE_NO_TILE;
     g_scene_len = SCENE_VIEW_FULL;
     g_scene_vbase = 0u;
