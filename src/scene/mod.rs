@@ -30,6 +30,7 @@
 //! assert_eq!(scene.eval([0.0, 0.0, 0.0]), -1.0);
 //! ```
 
+pub mod blob;
 pub mod codes;
 pub mod eval;
 pub mod format;

@@ -131,6 +131,8 @@ fn is_sum(n: &Node) -> bool {
 struct SumGroups {
     boxes: Vec<Aabb>,
     parent: Vec<usize>,
+    /// Boxes the blobs' slope searches may still look at.
+    budget: std::cell::RefCell<usize>,
 }
 
 impl SumGroups {
@@ -148,7 +150,7 @@ impl SumGroups {
                 parent[c] = i;
             }
         }
-        SumGroups { boxes, parent }
+        SumGroups { boxes, parent, budget: std::cell::RefCell::new(super::blob::SCENE_BOXES) }
     }
 
     /// Whether node `i` is a sum whose parent is not.
@@ -197,7 +199,31 @@ impl SumGroups {
                 }
             }
         }
-        reach.into_iter().fold(outside, f64::max)
+        let swept = reach.into_iter().fold(0.0, f64::max);
+        // Kernels are not at their steepest all at once: search space for
+        // the largest sum of slopes (`blob`).
+        let searched = (operands.len() <= super::blob::MAX_PARTS).then(|| {
+            let parts: Vec<super::blob::Part> = operands.iter().map(|&o| self.part(scene, o, below(o))).collect();
+            let hull = operands.iter().fold(Aabb::EMPTY, |b, &o| b.hull(&boxes[o]));
+            super::blob::slope_bound(&parts, hull, &mut self.budget.borrow_mut())
+        });
+        swept.min(searched.flatten().unwrap_or(f64::INFINITY)).max(outside)
+    }
+
+    /// Operand `o` of a blob as the slope search sees it.
+    fn part(&self, scene: &Scene, o: usize, slope: f64) -> super::blob::Part {
+        if let Node::Primitive(p) = &scene.nodes()[o] {
+            if let (Shape::Density { radius, half_length, .. }, None) = (&p.shape, &p.warp) {
+                let t = &p.transform;
+                return super::blob::Part::Kernel {
+                    a: t.to_world(DVec3::new(0.0, 0.0, -half_length)),
+                    b: t.to_world(DVec3::new(0.0, 0.0, *half_length)),
+                    radius: t.scale * radius,
+                    peak: slope,
+                };
+            }
+        }
+        super::blob::Part::Other { region: self.boxes[o], slope }
     }
 }
 
