@@ -219,6 +219,18 @@ async function sceneCase(browser) {
   } finally { proc.kill(); }
 }
 
+// The procedural nodes (twists, a bend, chamfer and round joins, density
+// fields summed): the page's kernel with those features, compiled by
+// Chromium's WGSL compiler, draws what lavapipe draws.
+async function proceduralCase(browser) {
+  const { url, proc } = await startServer('examples/procedural.scene.json');
+  try {
+    const page = await openPage(browser, url, 'procedural');
+    await matchesCli(page, 'scene-procedural');
+    await page.close();
+  } finally { proc.kill(); }
+}
+
 async function exportCase(browser) {
   const file = path.join(ART, 'export-sphere.html');
   execFileSync(BIN, ['view', '@sphere', '--export', file], { stdio: ['ignore', 'ignore', 'inherit'] });
@@ -239,7 +251,7 @@ async function exportCase(browser) {
   try {
     // CASES=scene,export runs only those (for debugging).
     const only = (process.env.CASES || '').split(',').filter(Boolean);
-    for (const c of [sphereCase, torusCase, sceneCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
       try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
     }
   } finally { await browser.close(); }
