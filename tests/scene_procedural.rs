@@ -355,6 +355,25 @@ fn procedural_nodes_round_trip_and_file_nodes_expand_as_the_forms_lower() {
     }
 }
 
+/// A scene with warps, joins and density fields written as formula text
+/// (`scene formula`) is the same scene again: every warp with its frame.
+#[test]
+fn procedural_scenes_are_their_formula_text() {
+    let mut rng = Rng::new(29);
+    let mut scenes = vec![procedural_scene()];
+    scenes.extend((0..10).map(|_| procedural_tree(&mut rng, 6)));
+    for scene in scenes {
+        let text = scene.to_formula().unwrap();
+        let f = isotrace::Formula::compile("<scene>", &text).unwrap();
+        let back = isotrace::scene::from_formula(&f, &[]).unwrap();
+        for _ in 0..500 {
+            let p = [0, 1, 2].map(|_| rng.range(-4.0, 4.0));
+            let (a, b) = (scene.eval(p), back.eval(p));
+            assert!((a - b).abs() <= 1e-9 * a.abs().max(1.0), "{p:?}: {a} vs {b}\n{text}");
+        }
+    }
+}
+
 #[test]
 fn bad_procedural_nodes_are_named_by_their_json_path() {
     let one = |node: &str| format::parse(&format!(r#"{{"isotrace_scene": 1, "root": 0, "nodes": [{node}]}}"#)).unwrap_err().to_string();

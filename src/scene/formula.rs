@@ -66,7 +66,17 @@ pub fn primitive_formula(p: &Primitive) -> Option<String> {
         Shape::Revolve { profile, offset } => format!("revolve({}, {})", num(offset), profile_formula(&profile)),
         Shape::Density { radius, half_length, iso, range } => format!("density({}, {}, {}, {})", num(radius), num(half_length), num(iso), num(range)),
     };
-    let t = &p.transform;
+    s = placed(s, &p.transform);
+    // A warp turns the primitive as placed in the warp's frame, which the
+    // frame's transform then places in the world.
+    if let Some(w) = &p.warp {
+        s = placed(format!("{}({}, {s})", w.kind.name(), num(w.rate)), &w.frame);
+    }
+    Some(s)
+}
+
+/// `translate(t, rotate(axis, angle, scale(s, form)))`, identity parts left out.
+fn placed(mut s: String, t: &super::Transform) -> String {
     if t.scale != 1.0 {
         s = format!("scale({}, {s})", num(t.scale));
     }
@@ -76,7 +86,7 @@ pub fn primitive_formula(p: &Primitive) -> Option<String> {
     if t.translate != [0.0; 3] {
         s = format!("translate({}, {s})", args(&t.translate));
     }
-    Some(s)
+    s
 }
 
 /// A profile as the formula language's 2D form of the same name.
