@@ -17,7 +17,7 @@
 //!
 //! ```sh
 //! cargo run --release --manifest-path benches/peer/Cargo.toml -- --size 1024 --repeat 5 [--view both] [--images DIR] [NAME…]
-//! cargo run --release --manifest-path benches/peer/Cargo.toml -- --scenes --max-level 2 --size 512 --repeat 3
+//! cargo run --release --manifest-path benches/peer/Cargo.toml -- --scenes --max-level 2 --size 512 --repeat 3 [aggregate|boxes|sphere-pairs]
 //! ```
 //!
 //! The same view: fidget's voxel renderer maps voxel (u, v, k) through a 4×4
@@ -63,7 +63,8 @@ const USAGE: &str = "usage: isotrace-peer-bench [--size N] [--repeat N] [--view 
   --sign S        Knoll surfaces: which side of f fidget treats as solid (fidget: negative = inside).
                   auto (default): render both f and -f in the warm-up and keep the one whose
                   hit/miss mask agrees best with isotrace's; keep: f; flip: -f
-  NAME...         catalog names (default: the 16 Knoll surfaces)
+  NAME...         catalog names (default: the 16 Knoll surfaces); with --scenes,
+                  series kinds: aggregate, boxes, sphere-pairs (default: all)
   --scenes        instead of catalog surfaces, the generated scene series of `isotrace bench
                   --suite scenes` (aggregate, boxes, sphere-pairs; sharp and smooth; levels 0..L)
   --max-level L   the highest level of the series (2; at most 4)";
@@ -135,8 +136,12 @@ fn parse_args() -> Result<Args, String> {
         return Err("--guard must be a positive number of seconds".into());
     }
     if scenes {
-        if sign_given || !a.names.is_empty() {
-            return Err("--sign and surface names apply to the Knoll run, not to --scenes".into());
+        if sign_given {
+            return Err("--sign applies to the Knoll run, not to --scenes".into());
+        }
+        // With --scenes, names choose series kinds.
+        if let Some(bad) = a.names.iter().find(|n| !["aggregate", "boxes", "sphere-pairs"].contains(&n.as_str())) {
+            return Err(format!("--scenes {bad}: the series are aggregate, boxes and sphere-pairs"));
         }
         let l = max_level.unwrap_or(2);
         if l > MAX_LEVEL {

@@ -69,7 +69,7 @@ pub fn run(gpu: &Gpu, args: &Args, kind: ViewKind, max_level: u32) {
     let mut table = Table::start(&title, COLUMNS);
     // a kind whose fidget build timed out at one level is not built again at a larger one
     let mut too_slow: Vec<(Kind, Blending)> = vec![];
-    for (k, b, level) in series(max_level) {
+    for (k, b, level) in series(max_level).into_iter().filter(|(k, ..)| args.names.is_empty() || args.names.iter().any(|n| n == k.name())) {
         let left = format!("{:<12} {:<6} {:>5} {:>6}", k.name(), blend_name(b), level, k.primitives(level));
         if too_slow.contains(&(k, b)) {
             table.skip(&left, &format!("skipped: fidget build > {} s at a lower level", args.guard));
