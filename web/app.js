@@ -387,10 +387,16 @@ function sceneControls() {
     // Opening a node selects it: it is traced alone and its visible part tinted.
     g.onOpenClose((x) => { if (!x._closed) select(i); else if (view.selected === i) select(null); });
     const edit = (obj, key, name) => { const c = g.add(obj, key).name(name); if (!S.server) c.disable(); c.onFinishChange(sceneEdited); };
-    for (const [k, val] of Object.entries(node)) {
-      if (typeof val === 'number' && k !== 'left' && k !== 'right') edit(node, k, k);
-      else if (Array.isArray(val)) val.forEach((_, j) => { if (typeof val[j] === 'number') edit(val, j, `${k}[${j}]`); });
-    }
+    // Numbers, lists of numbers, and the same one level down (a profile,
+    // a warp): `warp.rate`, `profile.half[0]`.
+    const fields = (obj, prefix) => {
+      for (const [k, val] of Object.entries(obj)) {
+        if (typeof val === 'number' && !(prefix === '' && (k === 'left' || k === 'right' || k === 'child'))) edit(obj, k, prefix + k);
+        else if (Array.isArray(val)) val.forEach((_, j) => { if (typeof val[j] === 'number') edit(val, j, `${prefix}${k}[${j}]`); });
+        else if (prefix === '' && val && typeof val === 'object') fields(val, `${k}.`);
+      }
+    };
+    fields(node, '');
   });
 }
 

@@ -226,7 +226,20 @@ async function proceduralCase(browser) {
   const { url, proc } = await startServer('examples/procedural.scene.json');
   try {
     const page = await openPage(browser, url, 'procedural');
-    await matchesCli(page, 'scene-procedural');
+    const before = await matchesCli(page, 'scene-procedural');
+    // A warp's rate (a field one level down, `warp.rate`) is edited like any
+    // number: the scene is laid out again, no pipeline is created.
+    const p0 = await pipelines(page);
+    await page.evaluate(() => {
+      const c = __view.gui().controllersRecursive().find((c) => c._name === 'warp.rate');
+      c.setValue(c.getValue() * 2.0);
+      c._callOnFinishChange();
+    });
+    await page.waitForFunction(() => __view.sceneMs !== undefined, null, { timeout: 60000 });
+    await page.waitForTimeout(300);
+    const after = await capture(page);
+    check('procedural: editing warp.rate changes the picture', differs(before, after));
+    check('procedural: no pipeline created', (await pipelines(page)) === p0);
     await page.close();
   } finally { proc.kill(); }
 }
