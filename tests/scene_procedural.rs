@@ -428,3 +428,30 @@ fn a_warped_primitive_is_edited_in_place_within_the_scenes_bound() {
     assert_eq!(patch.params.len(), linear::WARP_ROWS as usize + linear::PRIM_ROWS as usize);
 }
 
+
+/// The box `render` and `view` frame a scene with is the ABVs' box shrunk
+/// by sampling the field: it still holds the whole solid, and for the
+/// procedural example (a bent lintel, whose ABV is its disc's box) it is
+/// much smaller.
+#[test]
+fn sampled_bounds_hold_the_solid_and_are_tighter() {
+    let scene = procedural_scene();
+    let lin = Linear::new(&scene).unwrap();
+    let tight = roi::sampled_bounds(&scene, &lin.bounds, lin.lipschitz(), 32, 64 << 20).unwrap();
+    let volume = |b: &roi::Aabb| (0..3).map(|k| b.max[k] - b.min[k]).product::<f64>();
+    // The lintel's top is at z ≈ 1.05; its ABV reaches 2.33.
+    assert!(tight.max[2] < 1.25 && lin.bounds.max[2] > 2.0 && volume(&tight) < 0.7 * volume(&lin.bounds), "{tight:?} against {:?}", lin.bounds);
+    let mut rng = Rng::new(30);
+    let mut inside = 0;
+    let b = lin.bounds;
+    for _ in 0..200_000 {
+        let p = [0, 1, 2].map(|k| rng.range(b.min[k], b.max[k]));
+        if scene.eval(p) <= 0.0 {
+            inside += 1;
+            assert!((0..3).all(|k| tight.min[k] <= p[k] && p[k] <= tight.max[k]), "{p:?} of the solid outside {tight:?}");
+        }
+    }
+    assert!(inside > 2_000, "{inside}");
+    // Too large to sample: the caller keeps the ABVs' box.
+    assert_eq!(roi::sampled_bounds(&scene, &lin.bounds, lin.lipschitz(), 32, 1000), None);
+}

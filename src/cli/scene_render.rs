@@ -35,9 +35,20 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
 }
 
 /// The default view of a scene: its solid's box with a margin, so
-/// silhouettes are not cut; `None` when a plane is not cut off.
+/// silhouettes are not cut; `None` when a plane is not cut off. The box
+/// is the ABVs' (what `bench --suite scenes` frames, so its series stay
+/// comparable).
 pub fn framing(lin: &Linear) -> Option<View> {
     lin.bounds.padded().map(|bbox| View { bbox, ..View::default() })
+}
+
+/// The view `render` and `view` start from: [`framing`] with the ABVs' box
+/// shrunk by sampling the field (`roi::sampled_bounds`, a 32³ grid, scenes
+/// up to about 2,000 nodes), so a scene whose bounding volumes are loose
+/// (smooth blends, a bent bar) still fills the frame.
+pub fn default_framing(lin: &Linear, scene: &isotrace::scene::Scene) -> Option<View> {
+    let tight = isotrace::scene::roi::sampled_bounds(scene, &lin.bounds, lin.lipschitz(), 32, 64 << 20);
+    tight.unwrap_or(lin.bounds).padded().map(|bbox| View { bbox, ..View::default() })
 }
 
 /// A scene render as the flags ask for it, before any device work (what
@@ -59,7 +70,7 @@ pub fn plan(a: &RenderArgs, scene: &isotrace::scene::Scene, path: &Path) -> Resu
         return Err(input(m));
     }
     let lin = Linear::new(scene).map_err(|e| input(format!("{}: {e}", path.display())))?;
-    let base = match framing(&lin) {
+    let base = match default_framing(&lin, scene) {
         Some(v) => v,
         None if a.view.bbox.is_some() => View::default(),
         None => return Err(input(format!("{}: the scene is unbounded (a plane is not cut off): give --box", path.display()))),

@@ -459,6 +459,35 @@ impl Aabb {
     }
 }
 
+/// `bounds` (a box holding the solid) shrunk to the cells of an n³ grid over
+/// it that can hold a point of the solid: a cell whose centre has f > L·h
+/// (h its half diagonal, L the bound the scene is traced with) has none,
+/// since a sphere-tracing step of f/L from the centre is safe. For framing:
+/// the ABVs' box is loose around smooth blends and warps (a bent bar's box
+/// is its disc's). `None` when the scene is too large to sample (more than
+/// `max_evals` node evaluations) or `bounds` is not finite.
+pub fn sampled_bounds(scene: &Scene, bounds: &Aabb, lipschitz: f64, n: usize, max_evals: usize) -> Option<Aabb> {
+    if !bounds.is_bounded() || bounds.is_empty() || n.pow(3).saturating_mul(scene.len()) > max_evals {
+        return None;
+    }
+    let size: [f64; 3] = [0, 1, 2].map(|k| (bounds.max[k] - bounds.min[k]) / n as f64);
+    let half = 0.5 * (size[0] * size[0] + size[1] * size[1] + size[2] * size[2]).sqrt();
+    let mut out = Aabb::EMPTY;
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let lo = [i, j, k].iter().enumerate().map(|(a, &c)| bounds.min[a] + c as f64 * size[a]).collect::<Vec<_>>();
+                let centre = [0, 1, 2].map(|a| lo[a] + 0.5 * size[a]);
+                if scene.eval(centre) <= lipschitz * half {
+                    out = out.hull(&Aabb { min: [lo[0], lo[1], lo[2]], max: [0, 1, 2].map(|a| lo[a] + size[a]) });
+                }
+            }
+        }
+    }
+    // Clamp to the ABVs' box (a cell may stick out of it).
+    Some(if out.is_empty() { *bounds } else { out.intersection(bounds) })
+}
+
 /// A box holding the solid {f ≤ 0} (so the surface), from the ABVs by the
 /// tree: ∪ the hull of its operands' boxes, ∩ their intersection, \ its
 /// left operand's. Each node's box holds {f_n ≤ r_n⁺}: G∪ ≤ r⁺ needs an
