@@ -455,3 +455,37 @@ fn sampled_bounds_hold_the_solid_and_are_tighter() {
     // Too large to sample: the caller keeps the ABVs' box.
     assert_eq!(roi::sampled_bounds(&scene, &lin.bounds, lin.lipschitz(), 32, 1000), None);
 }
+
+/// A large blob (400 kernels on a grid, each overlapping its neighbours):
+/// the search keeps only the kernels that can add slope in each box, so it
+/// bounds blobs of thousands, far below the overlap count, and the bound
+/// holds by sampling.
+#[test]
+fn a_large_blobs_bound_is_searched_too() {
+    let mut b = Builder::default();
+    let t = isotrace::sdf::density_default_range(0.5, 0.5);
+    let mut acc = None;
+    for i in 0..20 {
+        for j in 0..20 {
+            let p = b.primitive(Primitive::new(density(0.5, 0.0)).translated([i as f64 * 0.6 - 5.7, j as f64 * 0.6 - 5.7, 0.1 * ((i * j) % 3) as f64]));
+            acc = Some(match acc {
+                None => p,
+                Some(x) => b.operator(Operator::joined(OpKind::Union, Join::Sum { range: t }), x, p),
+            });
+        }
+    }
+    let scene = b.finish(acc.unwrap()).unwrap();
+    let started = std::time::Instant::now();
+    let l = Linear::new(&scene).unwrap().lipschitz();
+    eprintln!("blob of 400: bound {l} in {:?}", started.elapsed());
+    assert!(l < 3.5, "the bound {l} should be far below the overlap count (9)");
+    let mut rng = Rng::new(31);
+    let mut worst = 0.0f64;
+    for _ in 0..30_000 {
+        let a = DVec3::new(rng.range(-6.5, 6.5), rng.range(-6.5, 6.5), rng.range(-0.7, 0.9));
+        let c = a + rng.direction() * rng.range(1e-4, 0.02);
+        worst = worst.max((scene.eval(a.to_array()) - scene.eval(c.to_array())).abs() / (a - c).length());
+    }
+    assert!(worst <= l * (1.0 + 1e-9), "sampled {worst}, bound {l}");
+    eprintln!("blob of 400: sampled {worst}");
+}
