@@ -3,6 +3,7 @@
 //! compiled formula and agreeing with it; edits change buffers only.
 
 mod common;
+mod scene_common;
 
 use common::gpu;
 use isotrace::codegen::{FieldSource, SceneData};
@@ -168,22 +169,12 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
     }
     let a = Renderer::new(gpu(), scene.source(&f.ir), t).unwrap().render(&s).unwrap();
     let b = Renderer::sphere(gpu(), &f.ir, o).unwrap().render(&s).unwrap();
-    let (mut both, mut differ, mut far) = (0, 0, 0);
-    for (p, q) in a.pixels.iter().zip(&b.pixels) {
-        if p.status != q.status {
-            differ += 1;
-        } else if p.status == Status::Hit {
-            both += 1;
-            // Both stop within the screen-space hit criterion, a pixel's
-            // footprint from the surface (f / L below it): along a grazing
-            // ray that is farther, so a few pixels may differ by more.
-            let footprint = 2.0 * p.depth * (s.camera.fov_deg as f32 / 2.0).to_radians().tan() / 72.0;
-            // (Thin parts, the antennae, come within that criterion of
-            // rays that pass them, so a pixel can stop on one in one
-            // picture and behind it in the other.)
-            far += ((p.depth - q.depth).abs() > footprint) as usize;
-        }
-    }
+    // Both stop within the screen-space hit criterion, a pixel's footprint
+    // from the surface (f / L below it): along a grazing ray that is
+    // farther, so a few pixels may differ by more. (Thin parts, the
+    // antennae, come within that criterion of rays that pass them, so a
+    // pixel can stop on one in one picture and behind it in the other.)
+    let (both, far, differ) = scene_common::picture_agreement(&a, &b, &s);
     assert!(both > 1500, "{both}");
     assert!(far * 33 < both, "{far} of {both} pixels differ by more than a footprint (measured: 39 of 2062)");
     assert!(differ * 100 < a.pixels.len(), "{differ} pixels hit in one picture only (measured: 53 of 6912, silhouettes)");

@@ -14,7 +14,7 @@ use isotrace::scene::linear::{self, Linear};
 use isotrace::scene::profile::{self, Profile};
 use isotrace::scene::roi;
 use isotrace::scene::{format, Builder, Node, Primitive, Scene, Shape, Unary};
-use scene_common::{assert_sparse_is_masked, EVERY_FORM, random_profile, random_profiled, surface_points, zoo_tree};
+use scene_common::{assert_sparse_and_ranges, picture_agreement, random_profile, random_profiled, scene_and_compiled, surface_points, zoo_tree, EVERY_FORM};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * a.abs().max(b.abs()).max(1.0)
@@ -181,29 +181,9 @@ fn sparse_traversal_and_ranges_hold_with_unary_nodes() {
         let n = 1 + rng.below(24) as usize;
         let scene = zoo_tree(&mut rng, n);
         unary_nodes += scene.nodes().iter().filter(|n| matches!(n, Node::Unary { .. })).count();
-        let lin = Linear::new(&scene).unwrap();
-        let r = roi::ranges(&scene);
-        for p in surface_points(&scene, &mut rng, 40, 0.5) {
-            let mut active = vec![false; scene.len()];
-            let mut a = Vec::new();
-            for &k in &lin.primitives {
-                let i = lin.order[k as usize];
-                let Node::Primitive(q) = &scene.nodes()[i] else { unreachable!() };
-                if q.distance(p) <= r[i].hi {
-                    active[i] = true;
-                    a.push(k);
-                }
-            }
-            assert_sparse_is_masked(&lin, &scene, p, &active, &a);
-            checks += 2;
-            let (full, masked) = (scene.eval_nodes(p), scene.eval_masked_nodes(p, &active));
-            for i in 0..scene.len() {
-                let (f, s) = (full[i], masked[i].unwrap_or(f64::INFINITY));
-                let ok = if f > r[i].hi { s > r[i].hi } else if f < r[i].lo { s < r[i].lo } else { s == f };
-                assert!(ok, "node {i} ({:?}): full {f}, masked {s}, range {:?}", scene.nodes()[i], r[i]);
-                roi_checks += 1;
-            }
-        }
+        let points = surface_points(&scene, &mut rng, 40, 0.5);
+        checks += 2 * points.len();
+        roi_checks += assert_sparse_and_ranges(&scene, &points);
     }
     assert!(checks > 5_000 && unary_nodes > 200 && roi_checks > 50_000, "{checks} {unary_nodes} {roi_checks}");
 }
@@ -369,25 +349,11 @@ fn a_formula_of_every_new_form_lowers_to_the_same_field() {
 /// the same picture, depth within a pixel's footprint.
 #[test]
 fn every_new_form_draws_the_compiled_picture_through_the_scene_path() {
-    use isotrace::render::{Settings, SphereOptions, Status, Traversal};
+    use isotrace::render::Settings;
     let f = isotrace::Formula::compile("<zoo>", EVERY_FORM).unwrap();
-    let t = Traversal::Sphere(SphereOptions::default());
-    let (scene, lipschitz) = isotrace::codegen::choice::scene(&f, &[], &t).unwrap();
-    let o = SphereOptions { lipschitz, ..SphereOptions::default() };
     let s = Settings::for_box([-2.3, 2.3, -1.6, 1.6, -0.9, 0.9], 128, 96);
-    let own = isotrace::gpu::Gpu::new().unwrap();
-    let a = isotrace::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(&s).unwrap();
-    let b = isotrace::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(&s).unwrap();
-    let (mut both, mut differ, mut far) = (0, 0, 0);
-    for (p, q) in a.pixels.iter().zip(&b.pixels) {
-        if p.status != q.status {
-            differ += 1;
-        } else if p.status == Status::Hit {
-            both += 1;
-            let footprint = 2.0 * p.depth * (s.camera.fov_deg as f32 / 2.0).to_radians().tan() / 96.0;
-            far += ((p.depth - q.depth).abs() > footprint) as usize;
-        }
-    }
+    let (a, b) = scene_and_compiled(&f, &s);
+    let (both, far, differ) = picture_agreement(&a, &b, &s);
     assert!(both > 1000, "{both}");
     assert!(far * 50 < both, "{far} of {both} pixels differ by more than a footprint");
     assert!(differ * 100 < a.pixels.len(), "{differ} pixels hit in one picture only");

@@ -6,6 +6,9 @@
 //! written out from their specification. The bounds by sampling, the
 //! diagnostics and the kernels are in `tests/sphere_sdf.rs`.
 
+mod common;
+
+use common::points;
 use isotrace::Formula;
 
 fn f(src: &str) -> Formula {
@@ -29,17 +32,6 @@ fn check(src: &str, cases: &[([f64; 3], f64)]) {
     }
 }
 
-/// A deterministic point cloud in the box [-s, s]³.
-fn points(s: f64, n: usize, seed: u64) -> Vec<[f64; 3]> {
-    let mut st = 0x9e3779b97f4a7c15u64 ^ seed;
-    let mut r = move || {
-        st ^= st << 13;
-        st ^= st >> 7;
-        st ^= st << 17;
-        (st >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n).map(|_| [s * (2.0 * r() - 1.0), s * (2.0 * r() - 1.0), s * (2.0 * r() - 1.0)]).collect()
-}
 
 /// `a` and `b` agree within `tol` at random points of [-s, s]³.
 #[track_caller]

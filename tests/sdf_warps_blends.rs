@@ -6,8 +6,11 @@
 //! density's surface radius), the argument checks, and one evaluation on
 //! the device.
 
+mod common;
+
 use isotrace::codegen::Domain;
 use isotrace::sdf;
+use common::points;
 use isotrace::Formula;
 
 fn f(src: &str) -> Formula {
@@ -23,17 +26,6 @@ fn close(got: f64, want: f64) -> bool {
     (got - want).abs() <= 1e-12 * want.abs().max(1.0)
 }
 
-/// A deterministic point cloud in the box [-s, s]³.
-fn points(s: f64, n: usize, seed: u64) -> Vec<[f64; 3]> {
-    let mut st = 0x9e3779b97f4a7c15u64 ^ seed;
-    let mut r = move || {
-        st ^= st << 13;
-        st ^= st >> 7;
-        st ^= st << 17;
-        (st >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n).map(|_| [s * (2.0 * r() - 1.0), s * (2.0 * r() - 1.0), s * (2.0 * r() - 1.0)]).collect()
-}
 
 fn sphere(p: [f64; 3], r: f64) -> f64 {
     (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - r

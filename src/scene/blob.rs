@@ -48,7 +48,7 @@ const MAX_BOXES: usize = 16384;
 /// The most part evaluations the searches of one scene make together (a
 /// box evaluates the parts that can add slope in it): past it a blob keeps
 /// a looser bound.
-pub const SCENE_BOXES: usize = 1 << 24;
+pub const SCENE_EVALS: usize = 1 << 24;
 /// The most parts the search takes; a larger blob keeps the sweep's bound.
 pub const MAX_PARTS: usize = 1 << 16;
 
@@ -189,7 +189,7 @@ mod tests {
     fn a_lone_kernels_bound_is_its_peak_and_two_apart_do_not_add_up() {
         let k = |x: f64| Part::Kernel { a: DVec3::new(x, 0.0, 0.0), b: DVec3::new(x, 0.0, 0.0), radius: 1.0, peak: 1.0 };
         let bounds = Aabb { min: [-3.0; 3], max: [4.0, 3.0, 3.0] };
-        let mut budget = SCENE_BOXES;
+        let mut budget = SCENE_EVALS;
         let one = slope_bound(&[k(0.0)], bounds, &mut budget).unwrap();
         assert!((0.99..=1.031).contains(&one), "{one}");
         // Supports overlap (centres 1.5 apart), peaks are 0.45 from each centre: far apart.

@@ -119,6 +119,9 @@ impl Linear {
             lipschitz: lipschitz_bound(scene),
             order,
         };
+        if !lin.lipschitz.is_finite() {
+            return Err(unbounded_slope(scene));
+        }
         lin.link(scene, &index, &swap);
         lin.fast = fast_ancestors(&lin.parent, &lin.is_left, &lin.order, scene);
         lin.fill(scene);
@@ -336,6 +339,26 @@ fn features(scene: &Scene) -> u32 {
             Node::Unary { .. } => FEATURE_UNARY,
         }
     })
+}
+
+/// The error for a scene whose traced bound overflowed: it names the first
+/// primitive whose own bound did (a density's range against its radius, a
+/// warp's rate against its radius), or the scene.
+fn unbounded_slope(scene: &Scene) -> SceneError {
+    let reason = "its Lipschitz bound is not finite, so sphere tracing could not take a step";
+    for &i in scene.post_order() {
+        if let Node::Primitive(p) = &scene.nodes()[i] {
+            if let Shape::Density { radius, iso, range, .. } = p.shape {
+                if !crate::sdf::density_lipschitz(radius, iso, range).is_finite() {
+                    return SceneError::at(i, "range", reason);
+                }
+            }
+            if !p.warp.map_or(1.0, |w| w.lipschitz()).is_finite() {
+                return SceneError::at(i, "warp.rate", reason);
+            }
+        }
+    }
+    SceneError::new("nodes", format!("the scene: {reason}"))
 }
 
 /// The bound [`Linear::lipschitz`] returns for `scene`.

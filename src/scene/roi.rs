@@ -89,7 +89,7 @@ pub fn path_lipschitz(scene: &Scene) -> Vec<f64> {
 pub fn field_lipschitz(scene: &Scene) -> f64 {
     let nodes = scene.nodes();
     let levels = trace_levels(scene);
-    let groups = nodes.iter().any(is_sum).then(|| SumGroups::new(scene));
+    let mut groups = nodes.iter().any(is_sum).then(|| SumGroups::new(scene));
     let mut lip = vec![1.0f64; nodes.len()];
     for &i in scene.post_order() {
         lip[i] = match &nodes[i] {
@@ -104,7 +104,7 @@ pub fn field_lipschitz(scene: &Scene) -> f64 {
             }
             Node::Operator { op, left, right } => {
                 let sum = op.combine_lipschitz(lip[*left], lip[*right]);
-                match &groups {
+                match &mut groups {
                     Some(g) if g.is_top(scene, i) => sum.min(g.bound(scene, i, &lip)),
                     _ => sum,
                 }
@@ -131,8 +131,8 @@ fn is_sum(n: &Node) -> bool {
 struct SumGroups {
     boxes: Vec<Aabb>,
     parent: Vec<usize>,
-    /// Boxes the blobs' slope searches may still look at.
-    budget: std::cell::RefCell<usize>,
+    /// Kernel evaluations the blobs' slope searches may still make.
+    budget: usize,
 }
 
 impl SumGroups {
@@ -150,7 +150,7 @@ impl SumGroups {
                 parent[c] = i;
             }
         }
-        SumGroups { boxes, parent, budget: std::cell::RefCell::new(super::blob::SCENE_BOXES) }
+        SumGroups { boxes, parent, budget: super::blob::SCENE_EVALS }
     }
 
     /// Whether node `i` is a sum whose parent is not.
@@ -160,7 +160,7 @@ impl SumGroups {
     }
 
     /// The bound of the group under `top`, its operands' bounds in `lip`.
-    fn bound(&self, scene: &Scene, top: usize, lip: &[f64]) -> f64 {
+    fn bound(&mut self, scene: &Scene, top: usize, lip: &[f64]) -> f64 {
         let nodes = scene.nodes();
         let (mut operands, mut todo) = (Vec::new(), vec![top]);
         while let Some(n) = todo.pop() {
@@ -202,12 +202,13 @@ impl SumGroups {
         let swept = reach.into_iter().fold(0.0, f64::max);
         // Kernels are not at their steepest all at once: search space for
         // the largest sum of slopes (`blob`).
-        let searched = (operands.len() <= super::blob::MAX_PARTS).then(|| {
+        let mut searched = None;
+        if operands.len() <= super::blob::MAX_PARTS {
             let parts: Vec<super::blob::Part> = operands.iter().map(|&o| self.part(scene, o, below(o))).collect();
-            let hull = operands.iter().fold(Aabb::EMPTY, |b, &o| b.hull(&boxes[o]));
-            super::blob::slope_bound(&parts, hull, &mut self.budget.borrow_mut())
-        });
-        swept.min(searched.flatten().unwrap_or(f64::INFINITY)).max(outside)
+            let hull = operands.iter().fold(Aabb::EMPTY, |b, &o| b.hull(&self.boxes[o]));
+            searched = super::blob::slope_bound(&parts, hull, &mut self.budget);
+        }
+        swept.min(searched.unwrap_or(f64::INFINITY)).max(outside)
     }
 
     /// Operand `o` of a blob as the slope search sees it.
@@ -476,10 +477,11 @@ pub fn sampled_bounds(scene: &Scene, bounds: &Aabb, lipschitz: f64, n: usize, ma
     for i in 0..n {
         for j in 0..n {
             for k in 0..n {
-                let lo = [i, j, k].iter().enumerate().map(|(a, &c)| bounds.min[a] + c as f64 * size[a]).collect::<Vec<_>>();
+                let cell = [i, j, k];
+                let lo = [0, 1, 2].map(|a| bounds.min[a] + cell[a] as f64 * size[a]);
                 let centre = [0, 1, 2].map(|a| lo[a] + 0.5 * size[a]);
                 if scene.eval(centre) <= lipschitz * half {
-                    out = out.hull(&Aabb { min: [lo[0], lo[1], lo[2]], max: [0, 1, 2].map(|a| lo[a] + size[a]) });
+                    out = out.hull(&Aabb { min: lo, max: [0, 1, 2].map(|a| lo[a] + size[a]) });
                 }
             }
         }

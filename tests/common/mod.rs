@@ -95,3 +95,15 @@ pub fn exr_channel(frame: &Frame, name: &str) -> Vec<f32> {
     assert_eq!((w, h), (frame.width, frame.height));
     channels.into_iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no EXR channel {name}")).1
 }
+
+/// A deterministic point cloud in the box [-s, s]³.
+pub fn points(s: f64, n: usize, seed: u64) -> Vec<[f64; 3]> {
+    let mut st = 0x9e3779b97f4a7c15u64 ^ seed;
+    let mut r = move || {
+        st ^= st << 13;
+        st ^= st >> 7;
+        st ^= st << 17;
+        (st >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n).map(|_| [s * (2.0 * r() - 1.0), s * (2.0 * r() - 1.0), s * (2.0 * r() - 1.0)]).collect()
+}

@@ -310,3 +310,69 @@ pub const EVERY_FORM: &str = "\
     h = infill(0.4, 0.05, translate(1.5, -0.8, 0, roundbox(0.4, 0.4, 0.4, 0.05)));
     k = displace(0.04, 5, translate(-1.5, -0.8, 0, torus(0.35, 0.1)));
     union(a, b, c, d, compact_union(m, g, 0.1), h, k)";
+
+/// Two pictures of one view compared pixel by pixel: (pixels both hit,
+/// of those the ones whose depths differ by more than a pixel's footprint,
+/// pixels hit in one picture only). A footprint is the pixel's height at
+/// its depth: both traversals stop within the screen-space hit criterion.
+pub fn picture_agreement(a: &isotrace::render::Frame, b: &isotrace::render::Frame, s: &isotrace::render::Settings) -> (usize, usize, usize) {
+    use isotrace::render::Status;
+    let (mut both, mut far, mut differ) = (0, 0, 0);
+    let per_pixel = 2.0 * (s.camera.fov_deg as f32 / 2.0).to_radians().tan() / s.height as f32;
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        if p.status != q.status {
+            differ += 1;
+        } else if p.status == Status::Hit {
+            both += 1;
+            far += ((p.depth - q.depth).abs() > p.depth * per_pixel) as usize;
+        }
+    }
+    (both, far, differ)
+}
+
+/// At each of `points`, with the active set A = {p : f_p ≤ r_p⁺}: every
+/// active primitive's ABV holds the point, the sparse traversal equals the
+/// masked evaluation ([`assert_sparse_is_masked`]), and every node of the
+/// masked tree is exact inside its range of interest and on the same side
+/// outside. Returns the number of node checks.
+pub fn assert_sparse_and_ranges(scene: &Scene, points: &[[f64; 3]]) -> usize {
+    use isotrace::scene::{linear::Linear, roi, Node};
+    let lin = Linear::new(scene).unwrap();
+    let r = roi::ranges(scene);
+    let mut checks = 0;
+    for &p in points {
+        let mut active = vec![false; scene.len()];
+        let mut a = Vec::new();
+        for (j, &k) in lin.primitives.iter().enumerate() {
+            let i = lin.order[k as usize];
+            let Node::Primitive(q) = &scene.nodes()[i] else { unreachable!() };
+            if q.distance(p) <= r[i].hi {
+                assert!(lin.abvs[j].contains(p), "{q:?} at {p:?} outside its ABV");
+                active[i] = true;
+                a.push(k);
+            }
+        }
+        assert_sparse_is_masked(&lin, scene, p, &active, &a);
+        let (full, masked) = (scene.eval_nodes(p), scene.eval_masked_nodes(p, &active));
+        for i in 0..scene.len() {
+            let (f, s) = (full[i], masked[i].unwrap_or(f64::INFINITY));
+            let ok = if f > r[i].hi { s > r[i].hi } else if f < r[i].lo { s < r[i].lo } else { s == f };
+            assert!(ok, "node {i} ({:?}): full {f}, masked {s}, range {:?}", scene.nodes()[i], r[i]);
+            checks += 1;
+        }
+    }
+    checks
+}
+
+/// Formula `f` drawn through the scene field (with the bound its blobtree
+/// is traced with) and compiled, sphere traced with that bound, in view `s`.
+pub fn scene_and_compiled(f: &isotrace::Formula, s: &isotrace::render::Settings) -> (isotrace::render::Frame, isotrace::render::Frame) {
+    use isotrace::render::{SphereOptions, Traversal};
+    let t = Traversal::Sphere(SphereOptions::default());
+    let (scene, lipschitz) = isotrace::codegen::choice::scene(f, &[], &t).unwrap();
+    let o = SphereOptions { lipschitz, ..SphereOptions::default() };
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let a = isotrace::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(s).unwrap();
+    let b = isotrace::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(s).unwrap();
+    (a, b)
+}
