@@ -56,7 +56,7 @@ fn segment_field(domain: Domain) -> String {
         "var<private> g_field_work: u32;\n{}{}\n{}\nfn seg_field(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{ return {surf}(x, y, z, t); }}",
         codegen::libraries(&[Domain::Scalar, domain]),
         codegen::derivative::library(domain),
-        codegen::tape_field::interpreter(domain)
+        codegen::tape_field::interpreter(domain, codegen::tape::features::ALL)
     )
 }
 

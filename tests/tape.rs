@@ -6,6 +6,7 @@
 mod common;
 
 use common::gpu;
+use isotrace::codegen::tape::features;
 use isotrace::codegen::{assemble, Domain, FieldSource, TapeData};
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, Settings, SphereOptions, Status, Traversal};
@@ -19,18 +20,49 @@ fn tape(src: &str) -> (Formula, TapeData) {
 }
 
 #[test]
-fn tape_kernels_do_not_depend_on_the_formula() {
+fn tape_kernels_depend_on_the_operation_groups_not_the_formula() {
     let (_, a) = tape("x^2 + y^2 + z^2 - 1");
+    let (_, a2) = tape("(x^2 + y^2 + z^2 + 0.75)^2 - 4*(x^2 + y^2) + x*y*z");
     let (_, b) = tape("sin(x*y) + pow(abs(z), 1.5) - atan2(y, x)*min(x, z)/(1 + y^2)");
+    assert_eq!(a.features, a2.features);
+    assert_ne!(a.features, b.features);
+    let (mut wide_a, mut wide_b) = (a.clone(), b.clone());
+    wide_a.features = features::ALL;
+    wide_b.features = features::ALL;
     for t in [
         Traversal::Bisect(BisectOptions::new(Domain::Interval)),
         Traversal::Bisect(BisectOptions::new(Domain::Affine)),
         Traversal::Sphere(SphereOptions::default()),
     ] {
         let ka = assemble(FieldSource::Tape(&a), &t).wgsl;
-        assert_eq!(ka, assemble(FieldSource::Tape(&b), &t).wgsl);
-        isotrace::validate::validate(&ka).unwrap_or_else(|e| panic!("{t:?}: {e}"));
+        assert_eq!(ka, assemble(FieldSource::Tape(&a2), &t).wgsl);
+        let kb = assemble(FieldSource::Tape(&b), &t).wgsl;
+        assert!(ka.len() < kb.len(), "{t:?}: the polynomial kernel has fewer cases");
+        assert!(!ka.contains("case TAPE_SIN") && kb.contains("case TAPE_SIN"));
+        let wide = assemble(FieldSource::Tape(&wide_a), &t).wgsl;
+        assert_eq!(wide, assemble(FieldSource::Tape(&wide_b), &t).wgsl);
+        for k in [&ka, &kb, &wide] {
+            isotrace::validate::validate(k).unwrap_or_else(|e| panic!("{t:?}: {e}"));
+        }
     }
+}
+
+/// A kernel built for a polynomial refuses a tape with sines (naming what
+/// is missing) and draws any polynomial; one built wider draws both.
+#[test]
+fn a_tape_beyond_the_kernel_is_refused_by_name() {
+    let s = common::settings(common::cube(2.0), 16, 16);
+    let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
+    let (_, wavy) = tape("x^2 + y^2 + z^2 - 1 + 0.1*sin(5*x)/(1 + y^2)");
+    let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let mut r = Renderer::new(gpu(), FieldSource::Tape(&sphere), t.clone()).unwrap();
+    let e = r.set_field(FieldSource::Tape(&wavy)).err().expect("refused").to_string();
+    assert!(e.contains("the formula needs what the tape kernel was built without (division, trigonometry): build a new renderer"), "{e}");
+    let mut wide = sphere.clone();
+    wide.features |= wavy.features;
+    let mut r = Renderer::new(gpu(), FieldSource::Tape(&wide), t).unwrap();
+    r.set_field(FieldSource::Tape(&wavy)).unwrap();
+    assert!(r.render(&s).unwrap().stats.hits > 0);
 }
 
 #[test]
@@ -111,7 +143,11 @@ fn bisection_agrees_with_the_compiled_field_on_the_knoll_suite() {
                     r.set_field(FieldSource::Tape(&data)).unwrap();
                     r
                 }
-                none => none.insert(Renderer::new(gpu(), FieldSource::Tape(&data), t.clone()).unwrap()),
+                none => {
+                    // One kernel for the whole suite: built for every operation.
+                    let wide = TapeData { features: features::ALL, ..data.clone() };
+                    none.insert(Renderer::new(gpu(), FieldSource::Tape(&wide), t.clone()).unwrap())
+                }
             };
             let taped = r.render(&s).unwrap();
             let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();

@@ -104,19 +104,7 @@ pub fn inclusion(ir: &Ir, domain: Domain) -> String {
 /// su and sv go into e2.
 pub(crate) fn enclosures(domain: Domain, derivative: bool) -> String {
     let p = domain.prefix();
-    let (forms, lift) = match domain {
-        Domain::Interval => (
-            "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
-             let X = vec2<f32>(lo.x, hi.x);\n    let Y = vec2<f32>(lo.y, hi.y);\n    let Z = vec2<f32>(lo.z, hi.z);",
-            "vec2<f32>",
-        ),
-        Domain::Affine => (
-            "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
-             let X = vec3<f32>(c.x, r.x, 0.0);\n    let Y = vec3<f32>(c.y, r.y, 0.0);\n    let Z = vec3<f32>(c.z, r.z, 0.0);",
-            "ra_from_ia",
-        ),
-        Domain::Scalar => unreachable!("the traversal needs an inclusion domain"),
-    };
+    let (forms, lift) = segment_forms(domain);
     let s_form = match domain {
         Domain::Affine => "vec3<f32>(0.5 * (s.x + s.y), 0.5 * (s.y - s.x), 0.0)",
         _ => "s",
@@ -141,6 +129,30 @@ return surf_{p}({}, {}, {}, {p}_const(F.time));\n}}\n",
         axis("z"),
     )
 }
+
+/// The box X, Y, Z of the ray segment o + dir·[s0, s1] in `domain` (WGSL
+/// statements), and the function lifting an interval into it.
+pub(crate) fn segment_forms(domain: Domain) -> (&'static str, &'static str) {
+    match domain {
+        Domain::Interval => (
+            "    let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
+             let X = vec2<f32>(lo.x, hi.x);\n    let Y = vec2<f32>(lo.y, hi.y);\n    let Z = vec2<f32>(lo.z, hi.z);",
+            "vec2<f32>",
+        ),
+        Domain::Affine => (
+            "    let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
+             let X = vec3<f32>(c.x, r.x, 0.0);\n    let Y = vec3<f32>(c.y, r.y, 0.0);\n    let Z = vec3<f32>(c.z, r.z, 0.0);",
+            "ra_from_ia",
+        ),
+        Domain::Scalar => unreachable!("the traversal needs an inclusion domain"),
+    }
+}
+
+/// `cell_enclosure(o, dir, s0, s1, slope)`, the one enclosure call of the
+/// bisection: `cell_range_d` with `slope`, else `cell_range` with the whole
+/// line for the slope. (The tape field has its own: one interpreter run.)
+const CELL_ENCLOSURE: &str = "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {\n    \
+    if (slope) { return cell_range_d(o, dir, s0, s1); }\n    return vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf);\n}\n";
 
 /// The scalar field of a single-surface formula.
 const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, F.time); }\n";
@@ -180,5 +192,6 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
         out.push_str(&derivative::emit_evaluator_d(ir, d));
     }
     out.push_str(&inclusion(ir, d));
+    out.push_str(CELL_ENCLOSURE);
     out
 }

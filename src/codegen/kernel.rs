@@ -4,8 +4,8 @@
 //! the GPU side only runs what it gets here.
 //!
 //! The two axes are independent. A traversal template calls nothing of the
-//! field but `field(p)` (and, bisecting, the enclosures `cell_range`,
-//! `cell_range_d`, `slab_range`); a field source provides exactly those,
+//! field but `field(p)` (and, bisecting, the enclosures `cell_enclosure`
+//! and `slab_range`); a field source provides exactly those,
 //! generated (a compiled formula) or as an interpreter over buffers bound in
 //! the field group (`@group(1)`), without touching traversal code.
 
@@ -125,7 +125,7 @@ impl FieldSource<'_> {
         match self {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
             FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features), template::SCENE_TILES),
-            FieldSource::Tape(_) => tape_field::field_code(domain),
+            FieldSource::Tape(t) => tape_field::field_code(domain, t.features),
         }
     }
 
@@ -206,7 +206,7 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
                 field.code(Some(b.algebra), user),
-                bisect(b, field.surfaces()),
+                bisect(b, field.surfaces(), matches!(field, FieldSource::Tape(_))),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
@@ -230,14 +230,16 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
     Kernel { wgsl, entries, inline }
 }
 
-/// The bisection traversal with its modalities' code and configuration.
-fn bisect(b: &BisectOptions, surfaces: usize) -> String {
+/// The bisection traversal with its modalities' code and configuration;
+/// `one_call` runs a cell's scalar work from one call site of f (an
+/// interpreted field, whose every call site is a whole interpreter).
+fn bisect(b: &BisectOptions, surfaces: usize, one_call: bool) -> String {
     let m = &b.modalities;
     let config = format!("{}{}", bisect_config(m, surfaces), hooks(m.inline.as_ref()));
     let modalities = format!("{}{}", template::optional(template::BISECT_SHADOWS, m.shadows), template::optional(template::BISECT_REFLECTIONS, m.reflect > 0));
     template::splice(
         template::BISECT,
-        &[("config", &config), ("shading", template::BISECT_SHADE), ("modalities", &modalities), ("tiles", template::BISECT_TILES)],
+        &[("config", &config), ("cells", template::optional(template::BISECT_CELLS, one_call)), ("shading", template::BISECT_SHADE), ("modalities", &modalities), ("tiles", template::BISECT_TILES)],
     )
     .expect("the bisection template has its markers")
 }

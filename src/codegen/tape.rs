@@ -18,8 +18,9 @@ use super::tape_derivative::derivative_program;
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::collections::HashMap;
 
-/// Registers of the interpreter (a power of two: operands are masked, so a
-/// register index can never leave the array).
+/// Most registers of the interpreter (a power of two: operands are masked,
+/// so a register index can never leave the array). A kernel has 16, 32 or
+/// 64 of them, as its tapes need ([`TapeData::features`]).
 pub const TAPE_SLOTS: u32 = 64;
 /// Instructions the interpreter runs per loop iteration: lavapipe counts
 /// loop iterations against a silent cap of 65,535 per invocation, so the
@@ -77,6 +78,8 @@ impl Code {
         }
     }
 }
+
+pub mod features;
 
 /// Flag bit of an instruction's first word: the result may be empty.
 pub const TAPE_RESTRICTS: u32 = 1 << 8;
@@ -176,6 +179,11 @@ pub struct TapeData {
     pub ops: usize,
     /// Most registers either program uses.
     pub registers: u32,
+    /// The operation groups and register file the interpreter needs
+    /// ([`features`]): part of the kernel, so a kernel built for one set
+    /// draws every tape whose set is within it. Widen it (up to
+    /// [`features::ALL`]) to build a kernel for tapes still to come.
+    pub features: u32,
 }
 
 impl TapeData {
@@ -216,7 +224,9 @@ impl TapeData {
         words[2] = [value.iterations, deriv.iterations, 0, 0];
         words.extend(value.words);
         words.extend(deriv.words);
-        Ok(TapeData { words, ops: value.ops, registers: value.registers.max(deriv.registers) })
+        let registers = value.registers.max(deriv.registers);
+        let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
+        Ok(TapeData { words, ops: value.ops, registers, features: ops | features::for_registers(registers) })
     }
 
     /// Loop iterations of one value evaluation.
@@ -428,15 +438,17 @@ fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
     }
 }
 
-/// The operation codes and the interpreter's limits as WGSL constants.
-pub fn wgsl_constants() -> String {
+/// The operation codes and the interpreter's limits as WGSL constants, for
+/// a kernel with `features`.
+pub fn wgsl_constants(features: u32) -> String {
     let mut s = String::new();
     for c in Code::ALL {
-        s.push_str(&format!("const TAPE_{}: u32 = {}u;\n", format!("{c:?}").to_uppercase(), c as u8));
+        s.push_str(&format!("const {}: u32 = {}u;\n", c.wgsl_name(), c as u8));
     }
+    let slots = features::slots(features);
     for (name, v) in [
-        ("TAPE_SLOTS", TAPE_SLOTS),
-        ("TAPE_SLOT_MASK", TAPE_SLOTS - 1),
+        ("TAPE_SLOTS", slots),
+        ("TAPE_SLOT_MASK", slots - 1),
         ("TAPE_UNROLL", TAPE_UNROLL),
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
         ("TAPE_RESTRICTS", TAPE_RESTRICTS),

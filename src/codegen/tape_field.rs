@@ -2,9 +2,12 @@
 //! `templates/fields/tape.wgsl` instantiated for the scalar domain (the
 //! field `field(p)`) and for the traversal's inclusion domain (the
 //! enclosures), around the tape buffer of the field group. Nothing here
-//! depends on the formula: the code is a function of the domain only, so
-//! the kernel compiles once and a formula is a buffer ([`super::tape`]).
+//! depends on the formula itself: the code is a function of the domain and
+//! of the operation groups and register file the kernel is built for
+//! ([`features`]), so every formula within them is a buffer
+//! ([`super::tape`]).
 
+use super::tape::Code;
 use super::{compiled, derivative, libraries, template, Domain};
 
 /// The interpreter template, written against `T` and `op_*`.
@@ -12,8 +15,9 @@ pub const TAPE: &str = include_str!("../../templates/fields/tape.wgsl");
 
 /// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
 /// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
-/// several domains' interpreters live in one module.
-pub fn instantiate(domain: Domain) -> String {
+/// several domains' interpreters live in one module. The switch keeps the
+/// cases of the operation groups in `features` only.
+pub fn instantiate(domain: Domain, features: u32) -> String {
     let (p, ty) = (domain.prefix(), domain.ty());
     let mut out = String::with_capacity(TAPE.len() + 512);
     let mut word = String::new();
@@ -30,6 +34,9 @@ pub fn instantiate(domain: Domain) -> String {
         word.clear();
     };
     for line in TAPE.lines() {
+        if !keeps_case(line, features) {
+            continue;
+        }
         // Comments pass through untouched.
         let (code, comment) = line.find("//").map_or((line, ""), |i| line.split_at(i));
         for ch in code.chars() {
@@ -47,17 +54,25 @@ pub fn instantiate(domain: Domain) -> String {
     out
 }
 
+/// Whether the template line `line` stays in a kernel with `features`: a
+/// `case TAPE_X:` line only when X's group is among them.
+fn keeps_case(line: &str, features: u32) -> bool {
+    let Some(rest) = line.trim_start().strip_prefix("case ") else { return true };
+    let name = rest.split(':').next().unwrap_or("").trim();
+    Code::from_wgsl_name(name).is_none_or(|c| c.group() & !features == 0)
+}
+
 /// The interpreter in `domain` with its declarations, for kernels of its
 /// own (the eval kernel, tests): `surf_<p>` and `evald_<p>` over the tape
 /// in `@group(1) @binding(0)`. The kernel provides `iso_inf`, `iso_param`,
 /// the op libraries and `g_field_work`.
-pub fn interpreter(domain: Domain) -> String {
-    format!("{}{}", prelude(), instantiate(domain))
+pub fn interpreter(domain: Domain, features: u32) -> String {
+    format!("{}{}", prelude(features), instantiate(domain, features))
 }
 
 /// Declarations every tape kernel shares: the constants, the tape buffer
 /// of the field group and the exhaustion flag.
-fn prelude() -> String {
+fn prelude(features: u32) -> String {
     format!(
         "{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
          // a texture of {w} texels a row (TapeData::texels).\n\
@@ -65,7 +80,7 @@ fn prelude() -> String {
          fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
          var<private> g_tape_exhausted: bool;\n",
-        super::tape::wgsl_constants(),
+        super::tape::wgsl_constants(features),
         w = crate::scene::linear::TEXTURE_WIDTH,
         mask = crate::scene::linear::TEXTURE_WIDTH - 1,
         shift = crate::scene::linear::TEXTURE_SHIFT,
@@ -93,31 +108,46 @@ fn field_view() -> u32 { return 0u; }
 ";
 
 /// The tape field for a traversal that needs enclosures in `domain`
-/// (bisection) or, with `None`, only the scalar field (sphere tracing).
-pub fn field_code(domain: Option<Domain>) -> String {
+/// (bisection) or, with `None`, only the scalar field (sphere tracing), for
+/// tapes within `features`.
+pub fn field_code(domain: Option<Domain>, features: u32) -> String {
     let mut out = match domain {
         Some(d) => format!("{}{}", libraries(&[Domain::Scalar, d]), derivative::library(d)),
         None => libraries(&[Domain::Scalar]),
     };
-    out.push_str(&prelude());
-    out.push_str(&instantiate(Domain::Scalar));
+    out.push_str(&prelude(features));
+    out.push_str(&instantiate(Domain::Scalar, features));
     out.push_str(SCALAR_FIELD);
     out.push_str(super::UNTILED_FIELD_HOOKS);
     if let Some(d) = domain {
-        out.push_str(&instantiate(d));
+        out.push_str(&instantiate(d, features));
         out.push_str(&compiled::enclosures(d, true));
+        out.push_str(&cell_enclosure(d));
     }
     out
 }
 
+/// The bisection's one enclosure call, `cell_enclosure(o, dir, s0, s1,
+/// slope)`: one run of the interpreter, of the value or the derivative
+/// program, where `cell_range` and `cell_range_d` would inline two.
+fn cell_enclosure(domain: Domain) -> String {
+    let p = domain.prefix();
+    let (forms, _) = compiled::segment_forms(domain);
+    format!(
+        "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n    \
+         return tape_enclosure_{p}(X, Y, Z, {p}_const(F.time), {p}_const(dir.x), {p}_const(dir.y), {p}_const(dir.z), slope);\n}}\n"
+    )
+}
+
 /// The `isotrace eval` kernel over a tape in `domain`: the same boxes and
-/// results as [`super::eval_shader`], with the tape in `@group(1)`.
-pub fn eval_shader(domain: Domain) -> String {
+/// results as [`super::eval_shader`], with the tape in `@group(1)`, for
+/// tapes within `features`.
+pub fn eval_shader(domain: Domain, features: u32) -> String {
     let lib = match domain {
         Domain::Scalar => libraries(&[Domain::Scalar]),
         d => format!("{}{}", libraries(&[Domain::Scalar, d]), derivative::library(d)),
     };
-    let interp = format!("var<private> g_field_work: u32;\n{}", interpreter(domain));
+    let interp = format!("var<private> g_field_work: u32;\n{}", interpreter(domain, features));
     let call = match domain {
         Domain::Scalar => "    return surf_s(x.x, y.x, z.x, t.x);",
         Domain::Interval => "    return surf_ia(x, y, z, t);",
@@ -132,6 +162,7 @@ pub fn eval_shader(domain: Domain) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::codegen::tape::features;
 
     #[test]
     fn the_template_unrolls_as_the_host_pads() {
@@ -139,9 +170,24 @@ mod tests {
     }
 
     #[test]
+    fn kernels_keep_the_cases_of_their_groups() {
+        let cases = |f: u32| instantiate(Domain::Interval, f).matches("case TAPE_").count();
+        // Every code but Nop (an early return) and Whole (the default).
+        assert_eq!(cases(features::ALL), 33);
+        // Const, Input, Param, Neg, Add, Sub, Mul, Sqr, PowChain.
+        assert_eq!(cases(0), 9);
+        assert_eq!(cases(features::TRIG), 14);
+        // Every case named in the template is a code.
+        for line in TAPE.lines().filter(|l| l.trim_start().starts_with("case ")) {
+            let name = line.trim_start()[5..].split(':').next().unwrap().trim();
+            assert!(Code::from_wgsl_name(name).is_some(), "{name}");
+        }
+    }
+
+    #[test]
     fn instances_keep_no_generic_names() {
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
-            let code: String = instantiate(d).lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
+            let code: String = instantiate(d, features::ALL).lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
             assert!(!code.contains("op_") && !code.contains("_T(") && !code.contains(": T"), "{d:?}");
         }
     }
@@ -149,7 +195,7 @@ mod tests {
     #[test]
     fn every_tape_kernel_validates() {
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
-            crate::validate::validate(&eval_shader(d)).unwrap_or_else(|e| panic!("{d:?}: {e}"));
+            crate::validate::validate(&eval_shader(d, features::ALL)).unwrap_or_else(|e| panic!("{d:?}: {e}"));
         }
     }
 }

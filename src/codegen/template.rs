@@ -26,6 +26,12 @@ pub const SCENE_TILES: &str = include_str!("../../templates/fields/scene_tiles.w
 
 /// Bisection: stackless interval bisection per pixel.
 pub const BISECT: &str = include_str!("../../templates/traverse/bisect/kernel.wgsl");
+/// Bisection's cells with their scalar work inline (compiled fields), and
+/// with it run from one call site of f (interpreted fields).
+pub const BISECT_CELLS: [&str; 2] = [
+    include_str!("../../templates/traverse/bisect/cells.wgsl"),
+    include_str!("../../templates/traverse/bisect/cells_probe.wgsl"),
+];
 /// Bisection's tile pass (entry point `tiles`).
 pub const BISECT_TILES: &str = include_str!("../../templates/traverse/bisect/tiles.wgsl");
 /// Bisection's shading, colour modes and environment.

@@ -73,7 +73,7 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domai
     if boxes.is_empty() {
         return Ok(vec![]);
     }
-    let src = crate::codegen::tape_field::eval_shader(domain);
+    let src = crate::codegen::tape_field::eval_shader(domain, tape.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (tape)", &src)?;
     let (_texture, view) = gpu.texture("tape", &tape.texels(), wgpu::TextureFormat::Rgba32Uint)?;

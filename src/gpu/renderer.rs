@@ -100,8 +100,9 @@ pub struct Renderer<'g> {
     field: field::FieldBinding,
     outputs: dispatch::Outputs,
     surfaces: usize,
-    /// The scene interpreter features compiled in (0 for other fields).
-    scene_features: u32,
+    /// The interpreter features compiled in: a scene's node types or a
+    /// tape's operation groups and register file (0 for a compiled field).
+    features: u32,
 }
 
 impl<'g> Renderer<'g> {
@@ -154,8 +155,8 @@ impl<'g> Renderer<'g> {
         let mut pipelines = pipelines.into_iter();
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
-        let scene_features = scene_features(field);
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), scene_features })
+        let features = field_features(field);
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
@@ -166,18 +167,23 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
-        let missing = scene_features(field) & !self.scene_features;
-        if missing != 0 {
-            return Err(SettingsError::new(
-                crate::render::SettingsField::Features,
-                "scene",
-                "the scene uses node types the kernel was built without (profiles, unary nodes, infill or displacement): build a new renderer",
-            )
-            .into());
-        }
         let bound = field::bind(self.gpu, field)?;
         if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
+        }
+        let missing = field_features(field) & !self.features;
+        if missing != 0 {
+            let (value, reason) = match field {
+                FieldSource::Tape(_) => {
+                    let mut what = codegen::tape::features::names(missing);
+                    if missing & (codegen::tape::features::SLOTS_32 | codegen::tape::features::SLOTS_64) != 0 {
+                        what.push("more registers");
+                    }
+                    ("tape", format!("the formula needs what the tape kernel was built without ({}): build a new renderer", what.join(", ")))
+                }
+                _ => ("scene", "the scene uses node types the kernel was built without (profiles, unary nodes, infill or displacement): build a new renderer".to_string()),
+            };
+            return Err(SettingsError::new(crate::render::SettingsField::Features, value, reason).into());
         }
         let dense = self.field.dense;
         self.field = bound;
@@ -190,7 +196,15 @@ impl<'g> Renderer<'g> {
     /// features are within them can replace its field with
     /// [`Renderer::set_field`].
     pub fn scene_features(&self) -> u32 {
-        self.scene_features
+        if self.field.tape { 0 } else { self.features }
+    }
+
+    /// The tape operation groups and register file this renderer's kernel
+    /// has (`codegen::tape::features`; 0 for other fields): a tape whose
+    /// features are within them can replace its field with
+    /// [`Renderer::set_field`].
+    pub fn tape_features(&self) -> u32 {
+        if self.field.tape { self.features } else { 0 }
     }
 
     /// A scene field evaluates its whole tree for every pixel instead of
@@ -476,10 +490,11 @@ fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
     }
 }
 
-/// The scene interpreter features `field` needs (0 for other fields).
-fn scene_features(field: FieldSource<'_>) -> u32 {
+/// The interpreter features `field` needs (0 for a compiled field).
+fn field_features(field: FieldSource<'_>) -> u32 {
     match field {
         FieldSource::Scene(d) => d.features,
-        _ => 0,
+        FieldSource::Tape(t) => t.features,
+        FieldSource::Compiled(_) => 0,
     }
 }

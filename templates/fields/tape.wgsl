@@ -101,25 +101,14 @@ fn tape_run_T(start: u32, len: u32, iters: u32) -> u32 {
     return select(TAPE_DONE, TAPE_EMPTY, empty);
 }
 
-// The enclosure of f over the box (x, y, z, t): what `surf_*` is for a
-// compiled formula, so the traversal's cell and slab functions are shared.
-// An evaluation past the work limit gives the whole line: the cell is kept,
-// never wrongly rejected, and the pixel is reported (field_exhausted).
-fn surf_T(x: T, y: T, z: T, t: T) -> vec2<f32> {
-    g_in_T[0] = x;
-    g_in_T[1] = y;
-    g_in_T[2] = z;
-    g_in_T[3] = t;
-    let h = tape_word(0u);
-    let st = tape_run_T(h.x, h.y, tape_word(2u).x);
-    if (st == TAPE_EXHAUSTED) { return vec2<f32>(-iso_inf(), iso_inf()); }
-    if (st == TAPE_EMPTY) { return op_range(op_empty()); }
-    return op_range(tape_reg_T(tape_word(1u).x));
-}
-
-// f and its derivative along the ray direction (dx, dy, dz): what
-// `evald_*` is for a compiled formula.
-fn evald_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T) -> vec4<f32> {
+// The enclosure of f over the box (x, y, z, t) and, with `slope`, of its
+// derivative along the ray direction (dx, dy, dz): one interpreter run of
+// the value or of the derivative program, whichever is asked, so a
+// traversal that needs both inlines one copy of the interpreter (lavapipe
+// compiles each inlined copy in full). An evaluation past the work limit
+// gives the whole line: the cell is kept, never wrongly rejected, and the
+// pixel is reported (field_exhausted).
+fn tape_enclosure_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T, slope: bool) -> vec4<f32> {
     g_in_T[0] = x;
     g_in_T[1] = y;
     g_in_T[2] = z;
@@ -128,9 +117,24 @@ fn evald_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T) -> vec4<f32> {
     g_in_T[5] = dy;
     g_in_T[6] = dz;
     let h = tape_word(0u);
-    let st = tape_run_T(h.z, h.w, tape_word(2u).y);
+    let n = tape_word(2u);
+    let st = tape_run_T(select(h.x, h.z, slope), select(h.y, h.w, slope), select(n.x, n.y, slope));
     if (st == TAPE_EXHAUSTED) { return vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()); }
     if (st == TAPE_EMPTY) { return vec4<f32>(op_range(op_empty()), 0.0, 0.0); }
     let o = tape_word(1u);
-    return vec4<f32>(op_range(tape_reg_T(o.y)), op_range(tape_reg_T(o.z)));
+    let f = op_range(tape_reg_T(select(o.x, o.y, slope)));
+    if (!slope) { return vec4<f32>(f, -iso_inf(), iso_inf()); }
+    return vec4<f32>(f, op_range(tape_reg_T(o.z)));
+}
+
+// The enclosure of f over the box: what `surf_*` is for a compiled formula,
+// so the traversal's cell and slab functions are shared.
+fn surf_T(x: T, y: T, z: T, t: T) -> vec2<f32> {
+    return tape_enclosure_T(x, y, z, t, x, x, x, false).xy;
+}
+
+// f and its derivative along the ray direction (dx, dy, dz): what
+// `evald_*` is for a compiled formula.
+fn evald_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T) -> vec4<f32> {
+    return tape_enclosure_T(x, y, z, t, dx, dy, dz, true);
 }

@@ -1,0 +1,341 @@
+// Bisection's cells for an interpreted field (the tape): the scalar work on
+// a cell (the mean-value midpoint, a monotone cell's ends and regula falsi,
+// a leaf's sign test and refinement; the steps of cells.wgsl) runs as
+// phases of an inner loop with one call of f. A shader compiler inlines
+// every call site, and lavapipe compiles each inlined copy of the
+// interpreter in full: one site instead of ten.
+
+// Stackless bisection of the ray between depths s_lo and s_hi. Cells (d, k)
+// cover [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
+// finished level at once (the trailing one bits of k) and steps right.
+//
+// One enclosure call and one scalar call: a shader compiler inlines every
+// call site of the field, and lavapipe compiles each inlined copy in full
+// (an interpreted field's copy is its whole interpreter), so the scalar
+// work on a cell (the mean-value midpoint, a monotone cell's ends and
+// regula falsi, a leaf's sign test and refinement) is a sequence of phases
+// (`Probe`, probe.wgsl) run by an inner loop, one evaluation of f per
+// iteration. The inner loop keeps the enclosure out of those iterations.
+fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
+    var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
+    var d = 0u;
+    var k = 0u;
+    let len = s_hi - s_lo;
+    let d_last = d_max + EXTRA_LEVELS;
+    var c = vec2<f32>(0.0);
+    var r = vec2<f32>(0.0);
+    var D = vec2<f32>(0.0);
+    var p = probe_idle();
+    loop {
+        if (h.iters >= budget || field_exhausted()) {
+            // Budget exhausted (the traversal's, or an interpreted field's
+            // work limit): report it, and keep the nearest cell that may
+            // still hold the surface as the best guess.
+            h.status = STATUS_UNRESOLVED;
+            h.s = cell_s(s_lo, len, d, k).x;
+            return h;
+        }
+        h.iters = h.iters + 1u;
+        c = cell_s(s_lo, len, d, k);
+        // From depth U.mono_depth on, cells are evaluated together with the
+        // enclosure of f's derivative along the ray: where it excludes 0, f
+        // is monotone on the cell, which then holds a root iff f changes
+        // sign across it, and that root is unique (found by scalar solving).
+        // Otherwise the slope tightens the enclosure (the mean-value form,
+        // which needs f at the midpoint).
+        let slope = d >= U.mono_depth;
+        let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
+        h.evals = h.evals + 1u;
+        r = q.xy;
+        D = q.zw;
+        p.monotone = slope && (q.z > 0.0 || q.w < 0.0);
+        p.phase = PH_DECIDE;
+        if (slope && !p.monotone) {
+            p.phase = PH_MEAN;
+            p.s = 0.5 * (c.x + c.y);
+        }
+        // The cell's scalar work, one evaluation of f per iteration (the
+        // test at the end: code after a break still runs for the lanes
+        // left, so a test at the top would cost an evaluation).
+        probe_decide(&p, c, r, d, d_max, d_last);
+        if (probe_scalar(p.phase)) {
+            loop {
+                let f = field(ray.o + ray.dir * p.s);
+                if (p.phase == PH_MEAN) {
+                    r = mean_value(c, r, D, f);
+                    p.phase = PH_DECIDE;
+                } else {
+                    probe_step(&p, ray, c, f);
+                }
+                probe_decide(&p, c, r, d, d_max, d_last);
+                if (!probe_scalar(p.phase)) { break; }
+            }
+        }
+        if (p.phase == PH_FOUND) {
+            if (accept_hit(ray.o + ray.dir * p.best)) {
+                h.iso = p.best_iso;
+                h.s = p.best;
+                h.status = STATUS_HIT;
+                return h;
+            }
+            p.phase = PH_ADVANCE;
+        }
+        if (p.phase == PH_DESCEND) {
+            d = d + 1u;
+            k = k * 2u;
+        } else {
+            let up = countTrailingZeros(~k);
+            if (up >= d) { return h; } // the whole segment is done
+            d = d - up;
+            k = (k >> up) + 1u;
+        }
+    }
+    return h;
+}
+
+// Phases of a cell's scalar work (traverse). PH_CELL: the cell's enclosure;
+// PH_DECIDE: reject the cell or start its scalar work; PH_MEAN: f at the midpoint;
+// PH_ENDS: f at a monotone cell's two ends; PH_SOLVE: regula falsi for one
+// isovalue; PH_LEAF: f − c at a leaf's ends; PH_LOOK: looking further along
+// the ray for a sign change; PH_BISECT: bisecting the bracket found. The
+// others say what comes next: PH_SPLIT (descend or test the leaf),
+// PH_FOUND (a root at `best`), PH_DESCEND, PH_ADVANCE (next cell).
+const PH_CELL: u32 = 0u;
+const PH_MEAN: u32 = 1u;
+const PH_ENDS: u32 = 2u;
+const PH_SOLVE: u32 = 3u;
+const PH_LEAF: u32 = 4u;
+const PH_LOOK: u32 = 5u;
+const PH_BISECT: u32 = 6u;
+const PH_SPLIT: u32 = 7u;
+const PH_FOUND: u32 = 8u;
+const PH_DESCEND: u32 = 9u;
+const PH_ADVANCE: u32 = 10u;
+const PH_DECIDE: u32 = 11u;
+
+// A cell's scalar work in progress: f is evaluated at `s` next; [a, b] with
+// fa, fb is the bracket being narrowed (f minus the isovalue `c`), `n` the
+// steps taken in the phase; `best` the nearest root so far, of `best_iso`.
+struct Probe {
+    phase: u32,
+    n: u32,
+    s: f32,
+    a: f32,
+    b: f32,
+    fa: f32,
+    fb: f32,
+    f0: f32,
+    f1: f32,
+    side: i32,
+    c: f32,
+    iso: u32,
+    best: f32,
+    best_iso: u32,
+    monotone: bool,
+    finite: bool,
+}
+
+// Whether the phase evaluates f.
+fn probe_scalar(phase: u32) -> bool { return phase >= PH_MEAN && phase <= PH_BISECT; }
+
+// After the cell's enclosure is final (PH_DECIDE): reject the cell, or start
+// on its scalar work; not monotone (PH_SPLIT, also when a monotone cell's
+// ends are not finite): descend, or at the last level test the cell itself.
+fn probe_decide(p: ptr<function, Probe>, c: vec2<f32>, r: vec2<f32>, d: u32, d_max: u32, d_last: u32) {
+    if ((*p).phase == PH_DECIDE) {
+        (*p).finite = is_finite_range(r);
+        if (!keep_cell(r)) {
+            (*p).phase = PH_ADVANCE;
+        } else if ((*p).monotone) {
+            (*p).phase = PH_ENDS;
+            (*p).n = 0u;
+            (*p).s = c.x;
+        } else {
+            (*p).phase = PH_SPLIT;
+        }
+    }
+    if ((*p).phase == PH_SPLIT) {
+        if (d < d_max || (!(*p).finite && d < d_last)) {
+            (*p).phase = PH_DESCEND;
+        } else {
+            probe_leaf(p, c, first_iso(r));
+        }
+    }
+}
+
+fn probe_idle() -> Probe {
+    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false);
+}
+
+// One evaluation f = f(s) taken into the phase it was asked for.
+fn probe_step(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>, f: f32) {
+    switch ((*p).phase) {
+        case PH_ENDS: {
+            if ((*p).n == 0u) {
+                (*p).f0 = f;
+                (*p).n = 1u;
+                (*p).s = c.y;
+            } else if (abs((*p).f0) < F.inf && abs(f) < F.inf) {
+                // At most one root per isovalue, and one exactly when f − c
+                // changes sign; the nearest of them is the hit.
+                (*p).f1 = f;
+                (*p).iso = 0u;
+                (*p).best = F.inf;
+                next_solve(p, ray, c);
+            } else {
+                (*p).monotone = false;
+                (*p).phase = PH_SPLIT;
+            }
+        }
+        case PH_SOLVE: {
+            solve_step(p, f - (*p).c);
+            if ((*p).n >= 40u || !((*p).b - (*p).a > ray.eps_s)) {
+                take_root(p, 0.5 * ((*p).a + (*p).b));
+                (*p).iso = (*p).iso + 1u;
+                next_solve(p, ray, c);
+            } else {
+                (*p).s = falsi_point(*p);
+            }
+        }
+        case PH_LEAF: {
+            if ((*p).n == 0u) {
+                (*p).fa = f - (*p).c;
+                (*p).n = 1u;
+                (*p).s = c.y;
+            } else {
+                (*p).fb = f - (*p).c;
+                let found = brackets((*p).fa, (*p).fb);
+                // A non-finite enclosure proves nothing: without a sign change there is no root.
+                (*p).n = 0u;
+                if (!(*p).finite && !found) { (*p).phase = PH_ADVANCE; } else { refine_next(p, ray, c, found); }
+            }
+        }
+        case PH_LOOK: {
+            (*p).fb = f - (*p).c;
+            (*p).n = (*p).n + 1u;
+            refine_next(p, ray, c, brackets((*p).fa, (*p).fb));
+        }
+        default: { // PH_BISECT
+            if (((*p).fa <= 0.0) == (f - (*p).c <= 0.0)) {
+                (*p).a = (*p).s;
+                (*p).fa = f - (*p).c;
+            } else {
+                (*p).b = (*p).s;
+            }
+            (*p).n = (*p).n + 1u;
+            if ((*p).n == 10u) {
+                (*p).best = 0.5 * ((*p).a + (*p).b);
+                (*p).phase = PH_FOUND;
+            } else {
+                (*p).s = 0.5 * ((*p).a + (*p).b);
+            }
+        }
+    }
+}
+
+// The next isovalue (from p.iso on) whose f − c changes sign across the
+// monotone cell: its regula falsi starts, or the scan ends with the nearest
+// root found (PH_FOUND) or none (PH_ADVANCE).
+fn next_solve(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>) {
+    loop {
+        if ((*p).iso >= ISO_COUNT) {
+            (*p).phase = select(PH_ADVANCE, PH_FOUND, (*p).best < F.inf);
+            return;
+        }
+        let c_i = iso_value((*p).iso);
+        let fa = (*p).f0 - c_i;
+        let fb = (*p).f1 - c_i;
+        if (brackets(fa, fb)) {
+            if (fa == 0.0) {
+                take_root(p, c.x);
+            } else if (fb == 0.0) {
+                take_root(p, c.y);
+            } else if (!(c.y - c.x > ray.eps_s)) {
+                take_root(p, 0.5 * (c.x + c.y));
+            } else {
+                (*p).c = c_i;
+                (*p).a = c.x;
+                (*p).b = c.y;
+                (*p).fa = fa;
+                (*p).fb = fb;
+                (*p).side = 0;
+                (*p).n = 0u;
+                (*p).phase = PH_SOLVE;
+                (*p).s = falsi_point(*p);
+                return;
+            }
+        }
+        (*p).iso = (*p).iso + 1u;
+    }
+}
+
+// The regula falsi point of the bracket (its midpoint where the secant
+// leaves it).
+fn falsi_point(p: Probe) -> f32 {
+    var m = (p.a * p.fb - p.b * p.fa) / (p.fb - p.fa);
+    if (!(m > p.a && m < p.b)) { m = 0.5 * (p.a + p.b); }
+    return m;
+}
+
+// One Illinois regula falsi step with fm = f(p.s) − c: the unique root of a
+// monotone f in the bracket, down to the eps width along the ray.
+fn solve_step(p: ptr<function, Probe>, fm: f32) {
+    if ((fm <= 0.0) == ((*p).fa <= 0.0)) {
+        (*p).a = (*p).s;
+        (*p).fa = fm;
+        if ((*p).side == -1) { (*p).fb = 0.5 * (*p).fb; }
+        (*p).side = -1;
+    } else {
+        (*p).b = (*p).s;
+        (*p).fb = fm;
+        if ((*p).side == 1) { (*p).fa = 0.5 * (*p).fa; }
+        (*p).side = 1;
+    }
+    (*p).n = (*p).n + 1u;
+}
+
+// A root s of isovalue p.iso: kept when nearer than the best so far.
+fn take_root(p: ptr<function, Probe>, s: f32) {
+    if (s < (*p).best) {
+        (*p).best = s;
+        (*p).best_iso = (*p).iso;
+    }
+}
+
+// A leaf cell whose enclosure contains isovalue `iso`: f − c at its ends
+// first (PH_LEAF).
+fn probe_leaf(p: ptr<function, Probe>, c: vec2<f32>, iso: u32) {
+    (*p).iso = iso;
+    (*p).best_iso = iso;
+    (*p).c = iso_value(iso);
+    (*p).a = c.x;
+    (*p).b = c.y;
+    (*p).n = 0u;
+    (*p).s = c.x;
+    (*p).phase = PH_LEAF;
+}
+
+// Root position for the hit cell c. An enclosure can contain 0 a little
+// before the surface (overestimation), so when f does not change sign
+// across the cell we look up to LOOKAHEAD cells further for a sign change
+// (IA overestimates most where the gradient is nearly perpendicular to the
+// ray) and bisect there 10 times; without one (a tangent root or a feature
+// thinner than a cell) the cell's midpoint is the answer (as `refine` in
+// cells.wgsl). `found`: [a, b] brackets a sign change; p.n: the cells
+// looked ahead so far.
+fn refine_next(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>, found: bool) {
+    if (found) {
+        (*p).n = 0u;
+        (*p).s = 0.5 * ((*p).a + (*p).b);
+        (*p).phase = PH_BISECT;
+    } else if ((*p).n < LOOKAHEAD && (*p).b < ray.s_exit) {
+        (*p).a = (*p).b;
+        (*p).fa = (*p).fb;
+        (*p).b = min((*p).b + (c.y - c.x), ray.s_exit);
+        (*p).s = (*p).b;
+        (*p).phase = PH_LOOK;
+    } else {
+        (*p).best = 0.5 * (c.x + c.y);
+        (*p).phase = PH_FOUND;
+    }
+}
