@@ -58,6 +58,17 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     let mut r = Renderer::new(gpu(), FieldSource::Tape(&sphere), t.clone()).unwrap();
     let e = r.set_field(FieldSource::Tape(&wavy)).err().expect("refused").to_string();
     assert!(e.contains("the formula needs what the tape kernel was built without (division, trigonometry): build a new renderer"), "{e}");
+    // A long polynomial asks for the unrolled loop: a kernel without it runs
+    // it, one instruction an iteration, so fewer evaluations fit in the work
+    // limit (pixels past it are reported); the unrolled kernel resolves all.
+    let terms: Vec<String> = (1..=30).map(|i| format!("0.01*(x - {i}*0.01)*(y + {i}*0.02)")).collect();
+    let (_, long) = tape(&format!("x^2 + y^2 + z^2 - 1 + {}", terms.join(" + ")));
+    assert_ne!(long.features & features::UNROLL_4, 0);
+    r.set_field(FieldSource::Tape(&long)).unwrap();
+    let rolled = r.render(&s).unwrap().stats;
+    let unrolled = Renderer::new(gpu(), FieldSource::Tape(&long), t.clone()).unwrap().render(&s).unwrap().stats;
+    assert_eq!(unrolled.unresolved, 0, "{unrolled:?}");
+    assert!(unrolled.hits > 0 && rolled.hits + rolled.unresolved >= unrolled.hits, "{rolled:?} {unrolled:?}");
     let mut wide = sphere.clone();
     wide.features |= wavy.features;
     let mut r = Renderer::new(gpu(), FieldSource::Tape(&wide), t).unwrap();

@@ -22,10 +22,17 @@ use std::collections::HashMap;
 /// so a register index can never leave the array). A kernel has 16, 32 or
 /// 64 of them, as its tapes need ([`TapeData::features`]).
 pub const TAPE_SLOTS: u32 = 64;
-/// Instructions the interpreter runs per loop iteration: lavapipe counts
-/// loop iterations against a silent cap of 65,535 per invocation, so the
-/// loop is unrolled; programs are padded to a multiple of this.
-pub const TAPE_UNROLL: u32 = 1;
+/// Programs are padded with no-ops to a multiple of this: the most
+/// instructions a kernel's interpreter runs per loop iteration (1, or 4
+/// with [`features::UNROLL_4`]). lavapipe counts loop iterations against a
+/// silent cap of 65,535, so an unrolled loop leaves a long tape 4 times the
+/// evaluations; it doubles the compile, so short tapes run one instruction
+/// an iteration.
+pub const TAPE_UNROLL: u32 = 4;
+/// Value programs from this many instructions on ask for the unrolled
+/// interpreter: below it the work limit leaves a pixel over 80 evaluations
+/// at one instruction an iteration.
+pub const TAPE_UNROLL_FROM: usize = 64;
 /// Loop iterations the interpreter may spend in one invocation; past it an
 /// evaluation gives up (enclosures become the whole line, the pixel is
 /// reported unresolved). lavapipe's silent cap of 65,535 iterations counts
@@ -226,12 +233,14 @@ impl TapeData {
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
         let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
-        Ok(TapeData { words, ops: value.ops, registers, features: ops | features::for_registers(registers) })
+        let unroll = if value.ops >= TAPE_UNROLL_FROM { features::UNROLL_4 } else { 0 };
+        Ok(TapeData { words, ops: value.ops, registers, features: ops | unroll | features::for_registers(registers) })
     }
 
-    /// Loop iterations of one value evaluation.
-    pub fn value_iterations(&self) -> u32 {
-        self.words[2][0]
+    /// Loop iterations of one value evaluation by an interpreter running
+    /// `unroll` instructions an iteration.
+    pub fn value_iterations(&self, unroll: u32) -> u32 {
+        self.words[2][0] + self.words[0][1] / unroll
     }
 }
 
@@ -405,7 +414,6 @@ fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
     while words.len() % TAPE_UNROLL as usize != 0 {
         words.push([Code::Nop as u32, 0, 0, 0]);
     }
-    iterations += words.len() as u32 / TAPE_UNROLL;
     Ok(Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: regs.count, iterations })
 }
 
@@ -449,7 +457,7 @@ pub fn wgsl_constants(features: u32) -> String {
     for (name, v) in [
         ("TAPE_SLOTS", slots),
         ("TAPE_SLOT_MASK", slots - 1),
-        ("TAPE_UNROLL", TAPE_UNROLL),
+        ("TAPE_UNROLL", features::unroll(features)),
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
         ("TAPE_RESTRICTS", TAPE_RESTRICTS),
         ("TAPE_DONE", 0),
@@ -492,7 +500,8 @@ mod tests {
         assert_eq!(ds, vs + vl);
         assert_eq!(t.words.len() as u32, ds + dl);
         assert_eq!(vl % TAPE_UNROLL, 0);
-        assert_eq!(t.value_iterations(), vl / TAPE_UNROLL);
+        assert_eq!(t.value_iterations(1), vl);
+        assert_eq!(t.value_iterations(4), vl / 4);
     }
 
     #[test]

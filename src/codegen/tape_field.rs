@@ -7,7 +7,7 @@
 //! ([`features`]), so every formula within them is a buffer
 //! ([`super::tape`]).
 
-use super::tape::Code;
+use super::tape::{features, Code};
 use super::{compiled, derivative, libraries, template, Domain};
 
 /// The interpreter template, written against `T` and `op_*`.
@@ -34,7 +34,7 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
         word.clear();
     };
     for line in TAPE.lines() {
-        if !keeps_case(line, features) {
+        if !keeps_line(line, features) {
             continue;
         }
         // Comments pass through untouched.
@@ -55,8 +55,12 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
 }
 
 /// Whether the template line `line` stays in a kernel with `features`: a
-/// `case TAPE_X:` line only when X's group is among them.
-fn keeps_case(line: &str, features: u32) -> bool {
+/// `case TAPE_X:` line only when X's group is among them, a line marked
+/// `// unrolled` only in an unrolled interpreter.
+fn keeps_line(line: &str, features: u32) -> bool {
+    if line.trim_end().ends_with("// unrolled") && features::unroll(features) == 1 {
+        return false;
+    }
     let Some(rest) = line.trim_start().strip_prefix("case ") else { return true };
     let name = rest.split(':').next().unwrap_or("").trim();
     Code::from_wgsl_name(name).is_none_or(|c| c.group() & !features == 0)
@@ -101,7 +105,7 @@ fn field(p: vec3<f32>) -> f32 {
     return tape_reg_s(tape_word(1u).x);
 }
 // Loop iterations of one evaluation of the value program.
-fn field_cost() -> u32 { return tape_word(2u).x; }
+fn field_cost() -> u32 { return tape_word(2u).x + tape_word(0u).y / TAPE_UNROLL; }
 fn field_exhausted() -> bool { return g_tape_exhausted; }
 // One field everywhere (see the scene's field_view).
 fn field_view() -> u32 { return 0u; }
@@ -162,11 +166,14 @@ pub fn eval_shader(domain: Domain, features: u32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::codegen::tape::features;
 
     #[test]
     fn the_template_unrolls_as_the_host_pads() {
-        assert_eq!(TAPE.matches("= tape_step_T(pc").count() as u32, super::super::tape::TAPE_UNROLL);
+        for (f, n) in [(0, 1), (features::UNROLL_4, 4)] {
+            assert_eq!(instantiate(Domain::Scalar, f).matches("= tape_step_s(pc").count() as u32, n);
+            assert!(super::super::tape::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
+        }
+        assert_eq!(features::unroll(features::ALL), super::super::tape::TAPE_UNROLL);
     }
 
     #[test]

@@ -171,7 +171,11 @@ impl<'g> Renderer<'g> {
         if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
         }
-        let missing = field_features(field) & !self.features;
+        let required = match field {
+            FieldSource::Tape(t) => t.features & codegen::tape::features::REQUIRED,
+            _ => field_features(field),
+        };
+        let missing = required & !self.features;
         if missing != 0 {
             let (value, reason) = match field {
                 FieldSource::Tape(_) => {

@@ -83,11 +83,13 @@ fn tape_step_T(pc: u32) -> bool {
     return (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
 }
 
-// Runs `len` instructions from `start` (a multiple of TAPE_UNROLL, padded
-// with no-ops), TAPE_UNROLL per loop iteration. `iters` is the program's
-// loop iterations (from the header, counting power chains): past
-// TAPE_WORK_LIMIT for this invocation it runs nothing and says so.
-fn tape_run_T(start: u32, len: u32, iters: u32) -> u32 {
+// Runs `len` instructions from `start` (a multiple of 4, padded with
+// no-ops), TAPE_UNROLL per loop iteration (lines marked `unrolled` are left
+// out of a kernel that runs one). `pow_iters` is the power chains' loop
+// iterations (from the header): past TAPE_WORK_LIMIT for this invocation
+// it runs nothing and says so.
+fn tape_run_T(start: u32, len: u32, pow_iters: u32) -> u32 {
+    let iters = pow_iters + len / TAPE_UNROLL;
     if (g_field_work + iters > TAPE_WORK_LIMIT) {
         g_tape_exhausted = true;
         return TAPE_EXHAUSTED;
@@ -97,6 +99,10 @@ fn tape_run_T(start: u32, len: u32, iters: u32) -> u32 {
     for (var pc = start; pc < start + len; pc = pc + TAPE_UNROLL) {
         let e0 = tape_step_T(pc);
         empty = empty || e0;
+        let e1 = tape_step_T(pc + 1u); // unrolled
+        let e2 = tape_step_T(pc + 2u); // unrolled
+        let e3 = tape_step_T(pc + 3u); // unrolled
+        empty = empty || e1 || e2 || e3; // unrolled
     }
     return select(TAPE_DONE, TAPE_EMPTY, empty);
 }

@@ -24,9 +24,22 @@ pub const MISC: u32 = 32;
 pub const SLOTS_32: u32 = 1 << 8;
 /// A register file of 64.
 pub const SLOTS_64: u32 = 1 << 9;
+/// An interpreter loop running 4 instructions an iteration (tapes of
+/// [`super::TAPE_UNROLL_FROM`] instructions on): 4 times the evaluations
+/// within lavapipe's loop cap, twice the compile. Not a requirement: a
+/// kernel without it runs such a tape, with fewer evaluations.
+pub const UNROLL_4: u32 = 1 << 10;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
-pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | SLOTS_32 | SLOTS_64;
+pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | SLOTS_32 | SLOTS_64 | UNROLL_4;
+
+/// What a kernel must have to run a tape: its operations and registers.
+pub const REQUIRED: u32 = ALL & !UNROLL_4;
+
+/// Instructions a kernel with `features` runs per loop iteration.
+pub fn unroll(features: u32) -> u32 {
+    if features & UNROLL_4 != 0 { 4 } else { 1 }
+}
 
 /// Registers of a kernel with `features`.
 pub fn slots(features: u32) -> u32 {
@@ -117,5 +130,12 @@ mod tests {
             assert_eq!(slots(for_registers(r)), s, "{r} registers");
         }
         assert_eq!(names(ALL).len(), 6);
+        // A long tape asks for the unrolled loop, which no kernel requires.
+        let long: Vec<String> = (1..=40).map(|i| format!("(x - {i})*(y + {i})")).collect();
+        let f = features_of(&long.join(" + "));
+        assert_eq!(f & UNROLL_4, UNROLL_4);
+        assert_eq!(f & REQUIRED & !(SLOTS_32 | SLOTS_64), 0);
+        assert_eq!(unroll(f), 4);
+        assert_eq!(unroll(0), 1);
     }
 }
