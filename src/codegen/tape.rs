@@ -29,9 +29,11 @@ pub const TAPE_SLOTS: u32 = 64;
 /// evaluations; it doubles the compile, so short tapes run one instruction
 /// an iteration.
 pub const TAPE_UNROLL: u32 = 4;
-/// Value programs from this many instructions on ask for the unrolled
-/// interpreter: below it the work limit leaves a pixel over 80 evaluations
-/// at one instruction an iteration.
+/// Tapes whose value and derivative programs have this many instructions
+/// together ask for the unrolled interpreter. A cell from the monotonicity
+/// depth on runs both (the derivative program and f at its midpoint), and
+/// hard pixels take over 100 cells (`@tangle` in IA: 87): below this the
+/// work limit leaves them 85 such cells at one instruction an iteration.
 pub const TAPE_UNROLL_FROM: usize = 64;
 /// Loop iterations the interpreter may spend in one invocation; past it an
 /// evaluation gives up (enclosures become the whole line, the pixel is
@@ -233,7 +235,7 @@ impl TapeData {
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
         let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
-        let unroll = if value.ops >= TAPE_UNROLL_FROM { features::UNROLL_4 } else { 0 };
+        let unroll = if value.ops + deriv.ops >= TAPE_UNROLL_FROM { features::UNROLL_4 } else { 0 };
         Ok(TapeData { words, ops: value.ops, registers, features: ops | unroll | features::for_registers(registers) })
     }
 

@@ -25,7 +25,7 @@ pub const SLOTS_32: u32 = 1 << 8;
 /// A register file of 64.
 pub const SLOTS_64: u32 = 1 << 9;
 /// An interpreter loop running 4 instructions an iteration (tapes of
-/// [`super::TAPE_UNROLL_FROM`] instructions on): 4 times the evaluations
+/// [`super::TAPE_UNROLL_FROM`] instructions on, both programs): 4 times the evaluations
 /// within lavapipe's loop cap, twice the compile. Not a requirement: a
 /// kernel without it runs such a tape, with fewer evaluations.
 pub const UNROLL_4: u32 = 1 << 10;
