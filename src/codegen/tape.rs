@@ -1,9 +1,10 @@
 //! The tape field source: a formula's IR flattened into instructions with
 //! register operands, run on the device by one fixed interpreter
-//! (`templates/fields/tape.wgsl`). The shader depends only on the traversal
-//! and the number domain, never on the formula, so a new formula or an edit
+//! (`templates/fields/tape.wgsl`). The shader depends on the traversal, the
+//! number domain and the operation groups and register file the tape needs
+//! ([`features`]), never on the formula itself, so a new formula or an edit
 //! is a buffer upload; lavapipe's compile time, which grows steeply with the
-//! size of generated code, is paid once.
+//! size of generated code, is paid once per kernel.
 //!
 //! The tape holds two programs: the value program (f) and the derivative
 //! program (f and its derivative along the ray, for bisection's
