@@ -356,13 +356,24 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
 }
 
 /// Pixels whose traversal ran out of budget hold a best guess, not a hit:
-/// always say so (with or without `--stats`), and how they are drawn.
-pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings) {
+/// always say so (with or without `--stats`), and how they are drawn. A
+/// tape field also stops at its interpreter's work limit: say which way
+/// out there is.
+pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: isotrace::codegen::FieldKind) {
     let n = frame.stats.unresolved;
     if n == 0 {
         return;
     }
     let (what, guess) = match t {
+        Traversal::Bisect(_) if field == isotrace::codegen::FieldKind::Tape => (
+            format!(
+                "exhausted the iteration budget (--max-iter {}) or the tape interpreter's work limit ({} loop iterations a pixel, \
+                 which lavapipe's loop cap imposes; --field compiled has none)",
+                s.max_iter,
+                isotrace::codegen::tape::TAPE_WORK_LIMIT
+            ),
+            "the nearest cell that may hold the surface",
+        ),
         Traversal::Bisect(_) => (
             format!("exhausted the iteration budget (--max-iter {})", s.max_iter),
             "the nearest cell that may hold the surface",
@@ -542,7 +553,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_kind().name()),
             Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_kind().name()),
         }
-        warn_unresolved(&frame, &renderer.traversal(), &s);
+        warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind());
         if let Traversal::Sphere(o) = renderer.traversal() {
             warn_lipschitz(&frame, &o);
         }
