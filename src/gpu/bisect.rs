@@ -79,18 +79,21 @@ impl TraversalHost for Host {
     }
 
     fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry> {
-        vec![storage_entry(1, false), storage_entry(2, false), storage_entry(3, false)]
+        vec![storage_entry(1, false), storage_entry(2, false), storage_entry(3, false), storage_entry(4, false)]
     }
 
     /// Per 8×8 tile: its candidate-slab mask (vec4<u32>), and the list of
-    /// tiles with candidates with the indirect dispatch counts of `main`.
+    /// tiles with candidates with the indirect dispatch counts of `main`;
+    /// per pixel, its resume state across rounds of `main` (new buffers
+    /// are zeroed: every pixel starts new).
     fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers {
         use wgpu::BufferUsages as B;
         let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
         let masks = buffer("tile masks", rect.tiles() * 16, B::STORAGE);
         let list = buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST);
         let ids = buffer("tile ids", rect.tiles() * 4, B::STORAGE);
-        PassBuffers { entries: vec![(1, masks), (2, list.clone()), (3, ids)], list: Some(list) }
+        let resume = buffer("resume states", rect.pixels() * 16, B::STORAGE);
+        PassBuffers { entries: vec![(1, masks), (2, list.clone()), (3, ids), (4, resume)], list: Some(list) }
     }
 
     fn tiles_per_group(&self) -> u32 {

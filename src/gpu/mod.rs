@@ -13,7 +13,7 @@ mod field;
 pub mod renderer;
 mod sphere;
 
-pub use renderer::{RenderError, Renderer};
+pub use renderer::{RenderError, Renderer, TAPE_RESUME_ROUNDS};
 
 use std::time::Duration;
 

@@ -103,6 +103,9 @@ pub struct Renderer<'g> {
     /// The interpreter features compiled in: a scene's node types or a
     /// tape's operation groups and register file (0 for a compiled field).
     features: u32,
+    /// Rounds of the per-pixel pass after the first, resuming pixels a
+    /// tape left at its work limit (bisection of a tape only).
+    resume_rounds: u32,
 }
 
 impl<'g> Renderer<'g> {
@@ -156,7 +159,7 @@ impl<'g> Renderer<'g> {
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
         let features = field_features(field);
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features })
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features, resume_rounds: TAPE_RESUME_ROUNDS })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
@@ -201,6 +204,14 @@ impl<'g> Renderer<'g> {
     /// [`Renderer::set_field`].
     pub fn scene_features(&self) -> u32 {
         if self.field.tape { 0 } else { self.features }
+    }
+
+    /// How many rounds of the per-pixel pass after the first resume the
+    /// pixels a tape field left at its interpreter's work limit (default
+    /// [`TAPE_RESUME_ROUNDS`]; bisection of a tape only, else no effect).
+    /// 0 leaves them unresolved: the comparison the tests and benchmarks make.
+    pub fn set_resume_rounds(&mut self, rounds: u32) {
+        self.resume_rounds = rounds;
     }
 
     /// The tape operation groups and register file this renderer's kernel
@@ -416,14 +427,22 @@ impl<'g> Renderer<'g> {
             .enumerate()
             .map(|(i, (pipeline, g))| Stage { pipeline, groups: Groups::Direct(g), copy: view_copy.filter(|_| i + 1 == n) })
             .collect();
+        // Bisecting a tape, pixels past the interpreter's work limit are
+        // resumed by further rounds of the per-pixel pass: each is a
+        // dispatch of its own, with lavapipe's loop count afresh.
+        let rounds = if self.field.tape && self.host.method() == crate::render::Method::Bisect { 1 + self.resume_rounds } else { 1 };
         match (&self.pre, &pass.list) {
             (Some(tiles), Some(list)) if self.host.pre_pass() => {
                 stages.push(Stage { pipeline: tiles, groups: Groups::Direct([rect.w.div_ceil(64), rect.h.div_ceil(64), 1]), copy: None });
-                stages.push(Stage { pipeline: &self.main, groups: Groups::Indirect(list), copy: None });
+                for _ in 0..rounds {
+                    stages.push(Stage { pipeline: &self.main, groups: Groups::Indirect(list), copy: None });
+                }
             }
             _ => {
                 let groups = [rect.w.div_ceil(8), rect.h.div_ceil(8).div_ceil(self.host.tiles_per_group()), 1];
-                stages.push(Stage { pipeline: &self.main, groups: Groups::Direct(groups), copy: None });
+                for _ in 0..rounds {
+                    stages.push(Stage { pipeline: &self.main, groups: Groups::Direct(groups), copy: None });
+                }
             }
         }
         stages
@@ -493,6 +512,12 @@ fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
         params,
     }
 }
+
+/// Rounds of the per-pixel pass after the first that resume the pixels a
+/// tape field left at its work limit (each round gives a pixel another
+/// `TAPE_WORK_LIMIT` of interpreter work). The rounds of pixels already
+/// done return at once.
+pub const TAPE_RESUME_ROUNDS: u32 = 7;
 
 /// The interpreter features `field` needs (0 for a compiled field).
 fn field_features(field: FieldSource<'_>) -> u32 {

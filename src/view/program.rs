@@ -263,6 +263,9 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             pass.push(scratch(1, "tile masks", Size::PerTile { bytes: 16 }));
             pass.push(Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
             pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
+            // Zeroed every frame: the page runs one round of `main`, so a
+            // pixel past a tape's work limit stays unresolved there.
+            pass.push(scratch(4, "resume states", Size::PerPixel { bytes: 16 }));
             let tpg = crate::gpu::bisect::TILES_PER_GROUP;
             if b.optimizations.tile_culling {
                 stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None });

@@ -37,6 +37,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         }
         h.iters = h.iters + 1u;
         c = cell_s(s_lo, len, d, k);
+        g_proven = max(g_proven, c.x);
         // From depth U.mono_depth on, cells are evaluated together with the
         // enclosure of f's derivative along the ray: where it excludes 0, f
         // is monotone on the cell, which then holds a root iff f changes

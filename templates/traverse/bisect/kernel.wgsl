@@ -22,6 +22,15 @@
 struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
 @group(2) @binding(2) var<storage, read_write> tile_list: TileList;
 @group(2) @binding(3) var<storage, read_write> tile_ids: array<u32>;
+// Per pixel, across the rounds of `main` in one submission (an interpreted
+// field that reaches its work limit is resumed by the next round, whose
+// dispatch starts lavapipe's loop count afresh): x the state (0: not traced,
+// 1: suspended, 2: done), y the depth from which the ray is still unproven
+// (f32 bits), z the evaluations so far. Zeroed with each dispatch.
+@group(2) @binding(4) var<storage, read_write> resume: array<vec4<u32>>;
+const RESUME_NEW: u32 = 0u;
+const RESUME_SUSPENDED: u32 = 1u;
+const RESUME_DONE: u32 = 2u;
 // Environment image for reflections and the background (equirectangular,
 // rgba8 packed; one dummy texel when the environment is procedural): a
 // frame resource.
@@ -125,6 +134,13 @@ fn depth_range() -> vec2<f32> {
 // Per-invocation bookkeeping shared by primary and secondary rays.
 var<private> g_budget: u32;
 var<private> g_evals: u32;
+// The depth before which the primary ray is proven free of the surface:
+// the start of the cell being worked on (set by traverse). Where an
+// interpreted field stops at its work limit, the next round resumes there.
+var<private> g_proven: f32;
+// Only a lone primary ray resumes: secondary rays reuse traverse (and
+// g_proven), and layers would need their own state.
+const RESUMABLE: bool = LAYERS == 1u && !SHADOWS && REFLECT == 0u;
 
 // The d_max of a segment of world length `len`.
 fn depth_for(len: f32) -> u32 {
@@ -233,6 +249,8 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
 
     g_budget = U.max_iter;
     g_evals = share; // this pixel's share of the tile pass
+    let rs = resume[idx];
+    if (rs.x == RESUME_DONE) { return; } // finished in an earlier round
     var acc = vec3<f32>(0.0);
     var transmit = 1.0;
     var normal = vec3<f32>(0.0);
@@ -245,6 +263,11 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         let ray = Ray(o, dir, seg.y, F.eps * inv_len);
         d_ray = depth_for((seg.y - seg.x) / inv_len);
         var s_from = seg.x;
+        if (rs.x == RESUME_SUSPENDED) {
+            s_from = max(seg.x, bitcast<f32>(rs.y));
+            g_evals = rs.z;
+        }
+        g_proven = s_from;
         for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
             let hit = trace_primary(ray, mask, s_from, seg, dr, inv_len);
             if (hit.status == STATUS_MISS) { break; }
@@ -270,6 +293,9 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             s_from = hit.s + 2.0 * ray.eps_s;
         }
     }
+    // Resumable: the next round takes the ray on from g_proven (this
+    // round's record stays if there is none).
+    resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted()), bitcast<u32>(g_proven), g_evals, 0u);
     if (field_exhausted()) {
         // An interpreted field gave up on an evaluation (its work limit):
         // nothing this pixel found is proven.
