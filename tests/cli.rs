@@ -306,7 +306,7 @@ fn settings_errors_name_the_flag() {
     assert!(r.status.success(), "{}", stderr(&r));
     assert!(stderr(&r).contains("pixels exhausted the iteration budget (--max-iter 1)"), "{}", stderr(&r));
     // A tape field names its work limit and the way out.
-    let r = isotrace(&["render", "@superquadric", "--algebra", "raa", "--field", "tape", "--size", "24", "-o", o]);
+    let r = isotrace(&["render", "@tangle", "--field", "tape", "--size", "24", "-o", o, "--max-iter", "1"]);
     assert!(r.status.success(), "{}", stderr(&r));
     assert!(
         stderr(&r).contains("or the tape interpreter's work limit (5500 loop iterations a pixel, which lavapipe's loop cap imposes; --field compiled has none)"),
