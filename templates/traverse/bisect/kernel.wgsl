@@ -294,8 +294,11 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         }
     }
     // Resumable: the next round takes the ray on from g_proven (this
-    // round's record stays if there is none).
-    resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted()), bitcast<u32>(g_proven), g_evals, 0u);
+    // round's record stays if there is none). A resumed pixel that proved
+    // nothing further (one cell's work is past the limit) is given up:
+    // more rounds would repeat it.
+    let stuck = rs.x == RESUME_SUSPENDED && !(g_proven > bitcast<f32>(rs.y));
+    resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted() && !stuck), bitcast<u32>(g_proven), g_evals, 0u);
     if (field_exhausted()) {
         // An interpreted field gave up on an evaluation (its work limit):
         // nothing this pixel found is proven.
