@@ -3,7 +3,7 @@
 //! register file only as many registers as they need. lavapipe runs every
 //! case of a switch for every instruction and compiles each inlined copy of
 //! the interpreter in full, so the groups halve the compile of a polynomial
-//! kernel (`@sphere` in IA: 9.2 s to 4.5 s cold) and speed its frames. The
+//! kernel (`@sphere` in IA: 9.2 s to 4.5 s cold). The
 //! constants, inputs, +, −, ×, squares and powers are always in.
 
 use super::Code;

@@ -5,6 +5,9 @@
 // copies are whole interpreters, cells_probe.wgsl runs the same steps from
 // one call site instead (each frame here is 10-45 % faster, so both are kept).
 
+// Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
+const CELLS_ROUNDS: bool = false;
+
 // Stackless bisection of the ray between depths s_lo and s_hi. Cells (d, k)
 // cover [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
 // finished level at once (the trailing one bits of k) and steps right.

@@ -5,6 +5,9 @@
 // every call site, and lavapipe compiles each inlined copy of the
 // interpreter in full: one site instead of ten.
 
+// Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
+const CELLS_ROUNDS: bool = true;
+
 // Stackless bisection of the ray between depths s_lo and s_hi. Cells (d, k)
 // cover [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
 // finished level at once (the trailing one bits of k) and steps right.

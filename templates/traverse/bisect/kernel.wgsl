@@ -140,6 +140,8 @@ var<private> g_evals: u32;
 var<private> g_proven: f32;
 // Only a lone primary ray resumes: secondary rays reuse traverse (and
 // g_proven), and layers would need their own state.
+// CELLS_ROUNDS (the cells part): whether the host runs several rounds of
+// `main` (an interpreted field); a compiled field never touches `resume`.
 const RESUMABLE: bool = LAYERS == 1u && !SHADOWS && REFLECT == 0u;
 
 // The d_max of a segment of world length `len`.
@@ -249,7 +251,8 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
 
     g_budget = U.max_iter;
     g_evals = share; // this pixel's share of the tile pass
-    let rs = resume[idx];
+    var rs = vec4<u32>(RESUME_NEW, 0u, 0u, 0u);
+    if (CELLS_ROUNDS) { rs = resume[idx]; }
     if (rs.x == RESUME_DONE) { return; } // finished in an earlier round
     var acc = vec3<f32>(0.0);
     var transmit = 1.0;
@@ -298,7 +301,9 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     // nothing further (one cell's work is past the limit) is given up:
     // more rounds would repeat it.
     let stuck = rs.x == RESUME_SUSPENDED && !(g_proven > bitcast<f32>(rs.y));
-    resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted() && !stuck), bitcast<u32>(g_proven), g_evals, 0u);
+    if (CELLS_ROUNDS) {
+        resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted() && !stuck), bitcast<u32>(g_proven), g_evals, 0u);
+    }
     if (field_exhausted()) {
         // An interpreted field gave up on an evaluation (its work limit):
         // nothing this pixel found is proven.
