@@ -46,18 +46,27 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
     let fine = SLABS / COARSE;
     var mask = vec2<u32>(0u);
     var n = 0u;
-    if (dr.x < dr.y) {
-        for (var c = 0u; c < COARSE; c = c + 1u) {
-            n = n + 1u;
-            if (!slab_may_hold(slab_span(dr, c * fine, c * fine + fine - 1u), su, sv)) { continue; }
-            for (var j = 0u; j < fine; j = j + 1u) {
-                let k = c * fine + j;
-                n = n + 1u;
-                if (slab_may_hold(slab_span(dr, k, k), su, sv)) {
-                    if (k < 32u) { mask.x = mask.x | (1u << k); } else { mask.y = mask.y | (1u << (k - 32u)); }
-                }
-            }
+    // One loop and one enclosure call site for both levels: the coarse slab
+    // c (j == fine), then its fine slabs j = 0..fine-1 if it may hold the
+    // surface. A second call site would double this pass's compile time
+    // (the field is inlined at each one) for the same work.
+    var c = 0u;
+    var j = fine;
+    if (dr.x >= dr.y) { c = COARSE; }
+    while (c < COARSE) {
+        let coarse = j == fine;
+        let k = c * fine + select(j, 0u, coarse);
+        n = n + 1u;
+        let hold = slab_may_hold(slab_span(dr, k, select(k, k + fine - 1u, coarse)), su, sv);
+        if (coarse) {
+            if (hold) { j = 0u; } else { c = c + 1u; }
+            continue;
         }
+        if (hold) {
+            if (k < 32u) { mask.x = mask.x | (1u << k); } else { mask.y = mask.y | (1u << (k - 32u)); }
+        }
+        j = j + 1u;
+        if (j == fine) { c = c + 1u; }
     }
     if (mask.x != 0u || mask.y != 0u) {
         // Rays of this tile may meet the surface: queue it for `main`, and
