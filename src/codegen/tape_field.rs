@@ -193,6 +193,14 @@ mod tests {
     }
 
     #[test]
+    fn the_tile_pass_inlines_the_field_once() {
+        // Each call site of a slab test inlines the whole field (an
+        // interpreter, or the generated code): coarse and fine slabs share one.
+        let calls = template::BISECT_TILES.lines().filter(|l| !l.trim_start().starts_with("//") && !l.contains("fn slab_may_hold")).map(|l| l.matches("slab_may_hold(").count()).sum::<usize>();
+        assert_eq!(calls, 1);
+    }
+
+    #[test]
     fn instances_keep_no_generic_names() {
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
             let code: String = instantiate(d, features::ALL).lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
