@@ -23,6 +23,12 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
     var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
     var d = 0u;
     var k = 0u;
+    if (g_resume.y != RESUME_NONE && g_resume.x == bitcast<u32>(s_lo)) {
+        // Resuming a suspended pixel at its cell (kernel.wgsl, g_at).
+        d = g_resume.y & 31u;
+        k = g_resume.y >> 5u;
+        g_resume.y = RESUME_NONE;
+    }
     let len = s_hi - s_lo;
     let d_last = d_max + EXTRA_LEVELS;
     var c = vec2<f32>(0.0);
@@ -40,7 +46,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         }
         h.iters = h.iters + 1u;
         c = cell_s(s_lo, len, d, k);
-        g_proven = max(g_proven, c.x);
+        g_at = vec2<u32>(bitcast<u32>(s_lo), d | (k << 5u));
         // From depth U.mono_depth on, cells are evaluated together with the
         // enclosure of f's derivative along the ray: where it excludes 0, f
         // is monotone on the cell, which then holds a root iff f changes

@@ -25,8 +25,9 @@ struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
 // Per pixel, across the rounds of `main` in one submission (an interpreted
 // field that reaches its work limit is resumed by the next round, whose
 // dispatch starts lavapipe's loop count afresh): x the state (0: not traced,
-// 1: suspended, 2: done), y the depth from which the ray is still unproven
-// (f32 bits), z the evaluations so far. Zeroed with each dispatch.
+// 1: suspended, 2: done), y the start of the segment being bisected (f32
+// bits), z the evaluations so far, w the cell of that segment being worked
+// on (d | k << 5). Zeroed with each dispatch.
 @group(2) @binding(4) var<storage, read_write> resume: array<vec4<u32>>;
 const RESUME_NEW: u32 = 0u;
 const RESUME_SUSPENDED: u32 = 1u;
@@ -134,12 +135,19 @@ fn depth_range() -> vec2<f32> {
 // Per-invocation bookkeeping shared by primary and secondary rays.
 var<private> g_budget: u32;
 var<private> g_evals: u32;
-// The depth before which the primary ray is proven free of the surface:
-// the start of the cell being worked on (set by traverse). Where an
-// interpreted field stops at its work limit, the next round resumes there.
-var<private> g_proven: f32;
+// Where the primary ray's bisection is (set by traverse for every cell): the
+// start of the segment being bisected (f32 bits) and its cell d | k << 5.
+// Where an interpreted field stops at its work limit, the next round resumes
+// at that very cell, without descending to it again (a descent costs an
+// enclosure a level, and a long tape only affords a dozen evaluations a
+// round); everything before the cell is proven free of the surface.
+var<private> g_at: vec2<u32>;
+// The cell traverse starts at when its segment starts at g_resume.x (one
+// use: RESUME_NONE afterwards).
+var<private> g_resume: vec2<u32>;
+const RESUME_NONE: u32 = 0xffffffffu;
 // Only a lone primary ray resumes: secondary rays reuse traverse (and
-// g_proven), and layers would need their own state.
+// g_at), and layers would need their own state.
 // CELLS_ROUNDS (the cells part): whether the host runs several rounds of
 // `main` (an interpreted field); a compiled field never touches `resume`.
 const RESUMABLE: bool = LAYERS == 1u && !SHADOWS && REFLECT == 0u;
@@ -266,11 +274,15 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         let ray = Ray(o, dir, seg.y, F.eps * inv_len);
         d_ray = depth_for((seg.y - seg.x) / inv_len);
         var s_from = seg.x;
+        g_resume = vec2<u32>(0u, RESUME_NONE);
         if (rs.x == RESUME_SUSPENDED) {
+            // The run that held the cell starts at rs.y: trace_primary
+            // computes the same segment, and traverse starts at the cell.
             s_from = max(seg.x, bitcast<f32>(rs.y));
             g_evals = rs.z;
+            g_resume = rs.yw;
         }
-        g_proven = s_from;
+        g_at = vec2<u32>(bitcast<u32>(s_from), 0u);
         for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
             let hit = trace_primary(ray, mask, s_from, seg, dr, inv_len);
             if (hit.status == STATUS_MISS) { break; }
@@ -296,13 +308,12 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             s_from = hit.s + 2.0 * ray.eps_s;
         }
     }
-    // Resumable: the next round takes the ray on from g_proven (this
-    // round's record stays if there is none). A resumed pixel that proved
-    // nothing further (one cell's work is past the limit) is given up:
-    // more rounds would repeat it.
-    let stuck = rs.x == RESUME_SUSPENDED && !(g_proven > bitcast<f32>(rs.y));
+    // Resumable: the next round takes the ray on at the cell g_at. A
+    // resumed pixel that stopped at the cell it resumed at (one cell's work
+    // is past the limit) is given up: more rounds would repeat it.
+    let stuck = rs.x == RESUME_SUSPENDED && all(g_at == rs.yw);
     if (CELLS_ROUNDS) {
-        resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted() && !stuck), bitcast<u32>(g_proven), g_evals, 0u);
+        resume[idx] = vec4<u32>(select(RESUME_DONE, RESUME_SUSPENDED, RESUMABLE && field_exhausted() && !stuck), g_at.x, g_evals, g_at.y);
     }
     if (field_exhausted()) {
         // An interpreted field gave up on an evaluation (its work limit):
