@@ -12,12 +12,23 @@ pub struct ValidateError {
     pub report: String,
 }
 
+/// naga's validator with the capabilities isotrace's kernels may use:
+/// the defaults, and subgroup operations in compute shaders (a tape's
+/// bisection counts work per SIMD bundle where the device has them; a
+/// kernel that uses them only reaches such a device).
+fn validator() -> Validator {
+    let mut v = Validator::new(ValidationFlags::all(), Capabilities::default() | Capabilities::SUBGROUP);
+    v.subgroup_stages(naga::valid::ShaderStages::COMPUTE);
+    v.subgroup_operations(naga::valid::SubgroupOperationSet::BASIC | naga::valid::SubgroupOperationSet::ARITHMETIC | naga::valid::SubgroupOperationSet::BALLOT);
+    v
+}
+
 /// Parses and validates WGSL, returning the module on success.
 pub fn validate(source: &str) -> Result<naga::Module, ValidateError> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| ValidateError {
         report: e.emit_to_string_with_path(source, "generated.wgsl"),
     })?;
-    Validator::new(ValidationFlags::all(), Capabilities::default())
+    validator()
         .validate(&module)
         .map_err(|e| ValidateError { report: e.emit_to_string_with_path(source, "generated.wgsl") })?;
     Ok(module)
@@ -40,7 +51,7 @@ pub fn validate_with_inline(
                 e.labels().filter_map(|(s, l)| s.to_range().map(|r| (r, l.to_string()))).collect(),
                 vec![],
             ),
-            Ok(module) => match Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module) {
+            Ok(module) => match validator().validate(&module) {
                 Ok(_) => return Ok(module),
                 Err(e) => {
                     let mut notes = vec![];

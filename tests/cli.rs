@@ -309,7 +309,7 @@ fn settings_errors_name_the_flag() {
     let r = isotrace(&["render", "@tangle", "--field", "tape", "--size", "24", "-o", o, "--max-iter", "1"]);
     assert!(r.status.success(), "{}", stderr(&r));
     assert!(
-        stderr(&r).contains("or the tape interpreter's work limit (5500 loop iterations a pixel, which lavapipe's loop cap imposes; --field compiled has none)"),
+        stderr(&r).contains("or the tape interpreter's work limit (5500 loop iterations a pixel, or 40000 per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; --field compiled has none)"),
         "{}",
         stderr(&r)
     );

@@ -94,21 +94,44 @@ fn new_formulas_change_buffers_not_pipelines() {
     assert_eq!(after.stats.unresolved, 0);
 }
 
-/// A tape far past the interpreter's work limit: nothing is culled or drawn
-/// that was not proven; its pixels are reported unresolved.
+/// A tape far past the interpreter's work limit (also when the kernel
+/// counts its work per SIMD bundle): nothing is culled or drawn that was not
+/// proven; its pixels are reported unresolved.
 #[test]
 fn a_tape_past_the_work_limit_reports_its_pixels() {
-    let terms: Vec<String> = (0..600).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
-    let (_, data) = tape(&format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+")));
+    let (f, data) = tape(&sum_of_terms(2000));
     let s = common::settings(common::cube(2.0), 16, 16);
     let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
-    // The sphere covers the middle of the image: those pixels are hits or reported, never misses.
-    for j in 6..10 {
-        for i in 6..10 {
-            let p = frame.pixels[(j * 16 + i) as usize];
-            assert_ne!(p.status, Status::Miss, "pixel ({i},{j}) was culled");
+    assert!(frame.stats.unresolved > 0, "{:?}", frame.stats);
+    let missed = misses_of_the_reference(&f, &s, &frame, 500);
+    assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
+}
+
+/// A unit sphere plus 1e-4 times a sum of `n` bilinear terms: a tape of
+/// about 6n instructions whose surface is known.
+fn sum_of_terms(n: u32) -> String {
+    let terms: Vec<String> = (0..n).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
+    format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"))
+}
+
+/// Pixels where the f64 reference finds a root along the ray and the frame
+/// has neither a hit there nor an unresolved pixel.
+fn misses_of_the_reference(f: &Formula, s: &Settings, frame: &Frame, samples: usize) -> Vec<String> {
+    let mut missed = vec![];
+    for j in 0..s.height {
+        for i in 0..s.width {
+            let p = frame.pixels[(j * s.width + i) as usize];
+            if p.status == Status::Unresolved {
+                continue;
+            }
+            if let Some((t, step)) = common::reference_root(f, s, i, j, samples) {
+                if !(p.status == Status::Hit && f64::from(p.depth) <= t + s.eps + step && f64::from(p.depth) >= t - s.eps - step) {
+                    missed.push(format!("({i},{j}) ref {t:.5} got {:?} {:.5}", p.status, p.depth));
+                }
+            }
         }
     }
+    missed
 }
 
 /// Settings of a catalog entry at a small size.
@@ -203,35 +226,56 @@ fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
     }
 }
 
-/// A tape whose pixels need several times the interpreter's work limit:
-/// the later rounds of the per-pixel pass resume them from the depth
-/// already proven empty, so every pixel resolves and no sign change of the
-/// f64 reference is missed.
+/// A tape whose pixels need several times the interpreter's work limit
+/// (counted per invocation, as on a device without subgroups): the later
+/// rounds of the per-pixel pass resume them at the cell where they stopped,
+/// so every pixel resolves and no sign change of the f64 reference is
+/// missed.
 #[test]
 fn pixels_past_the_work_limit_resume_and_miss_no_root() {
-    let terms: Vec<String> = (0..80).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
-    let (f, data) = tape(&format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+")));
+    let (f, data) = tape(&sum_of_terms(80));
     let s = common::settings(common::cube(1.2), 32, 32);
-    let mut r = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
+    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    per_lane.subgroups = false;
+    let mut r = Renderer::new(&per_lane, FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     r.set_resume_rounds(0);
     let one_round = r.render(&s).unwrap().stats;
     r.set_resume_rounds(isotrace::gpu::TAPE_RESUME_ROUNDS);
     let frame = r.render(&s).unwrap();
     assert!(one_round.unresolved >= 4, "one round resolved it all: {one_round:?}");
     assert_eq!(frame.stats.unresolved, 0);
-    let mut missed = vec![];
-    for j in 0..s.height {
-        for i in 0..s.width {
-            let p = frame.pixels[(j * s.width + i) as usize];
-            if let Some((t, step)) = common::reference_root(&f, &s, i, j, 4000) {
-                if !(p.status == Status::Hit && f64::from(p.depth) <= t + s.eps + step && f64::from(p.depth) >= t - s.eps - step) {
-                    missed.push(format!("({i},{j}) ref {t:.5} got {:?} {:.5}", p.status, p.depth));
-                }
-            }
-        }
-    }
+    let missed = misses_of_the_reference(&f, &s, &frame, 4000);
     assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
     assert!(frame.stats.hits > 100, "{:?}", frame.stats);
+}
+
+/// Where the device has subgroups, a tape's bisection counts its work per
+/// SIMD bundle (what lavapipe's loop cap counts): one round resolves pixels
+/// that the per-invocation count leaves unresolved, and the picture is the
+/// compiled field's.
+#[test]
+fn counting_work_per_bundle_resolves_more_and_draws_the_same_picture() {
+    if !gpu().subgroups {
+        eprintln!("skipped: the device has no subgroup operations");
+        return;
+    }
+    let src = sum_of_terms(120);
+    let (f, data) = tape(&src);
+    let s = common::settings(common::cube(1.2), 32, 32);
+    let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    per_lane.subgroups = false;
+    let mut a = Renderer::new(&per_lane, FieldSource::Tape(&data), ia()).unwrap();
+    a.set_resume_rounds(0);
+    let mut b = Renderer::new(gpu(), FieldSource::Tape(&data), ia()).unwrap();
+    assert!(b.wgsl().contains("subgroupMax"));
+    b.set_resume_rounds(0);
+    let (lane, bundle) = (a.render(&s).unwrap().stats, b.render(&s).unwrap());
+    assert!(bundle.stats.unresolved * 4 < lane.unresolved, "per lane {} vs per bundle {}", lane.unresolved, bundle.stats.unresolved);
+    let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), ia()).unwrap().render(&s).unwrap();
+    let bad = differences(&compiled, &bundle, 2.0 * s.eps);
+    assert!(bad.is_empty(), "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
+    assert!(misses_of_the_reference(&f, &s, &bundle, 2000).is_empty());
 }
 
 #[test]

@@ -368,9 +368,10 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
         Traversal::Bisect(_) if field == isotrace::codegen::FieldKind::Tape => (
             format!(
                 "exhausted the iteration budget (--max-iter {}) or the tape interpreter's work limit ({} loop iterations a pixel, \
-                 which lavapipe's loop cap imposes; --field compiled has none)",
+                 or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; --field compiled has none)",
                 s.max_iter,
-                isotrace::codegen::tape::TAPE_WORK_LIMIT
+                isotrace::codegen::tape::TAPE_WORK_LIMIT,
+                isotrace::codegen::tape::TAPE_BUNDLE_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),

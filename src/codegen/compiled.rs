@@ -161,7 +161,7 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 /// count.
 /// And it is one field everywhere (`field_view`: the scene's changes with
 /// its slab).
-const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\nfn field_view() -> u32 { return 0u; }\n";
+const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\nfn field_view() -> u32 { return 0u; }\nfn field_entry(li: u32) {}\n";
 
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).

@@ -47,6 +47,13 @@ pub const TAPE_UNROLL_FROM: usize = 64;
 /// [`TAPE_MAX_ITER`]) and its short loops leave: 8 × 5,500 + 16,000 +
 /// slack < 65,535.
 pub const TAPE_WORK_LIMIT: u32 = 5_500;
+/// Loop iterations the interpreter may spend in one SIMD bundle of a kernel
+/// that counts them per bundle ([`features::BUNDLE_WORK`]): each run adds
+/// the longest run of its active lanes plus one (the caller's loop
+/// iteration), which is what the bundle's loops execute. The cap of 65,535
+/// less the traversal's budget ([`TAPE_MAX_ITER`]) leaves 9,535 iterations
+/// for the traversal's short loops.
+pub const TAPE_BUNDLE_LIMIT: u32 = 40_000;
 /// Largest bisection iteration budget with a tape field (see
 /// [`TAPE_WORK_LIMIT`]).
 pub const TAPE_MAX_ITER: u32 = 16_000;
@@ -462,6 +469,7 @@ pub fn wgsl_constants(features: u32) -> String {
         ("TAPE_SLOT_MASK", slots - 1),
         ("TAPE_UNROLL", features::unroll(features)),
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
+        ("TAPE_BUNDLE_LIMIT", TAPE_BUNDLE_LIMIT),
         ("TAPE_RESTRICTS", TAPE_RESTRICTS),
         ("TAPE_DONE", 0),
         ("TAPE_EMPTY", 1),

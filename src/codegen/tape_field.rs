@@ -74,17 +74,58 @@ pub fn interpreter(domain: Domain, features: u32) -> String {
     format!("{}{}", prelude(features), instantiate(domain, features))
 }
 
+/// The work limit, counted per invocation: a lane cannot see what the
+/// other lanes of its SIMD bundle ran, so it gets an eighth of lavapipe's
+/// loop cap (`TAPE_WORK_LIMIT`).
+const WORK_PER_LANE: &str = "
+fn field_entry(li: u32) {}
+// Whether an interpreter run of `iters` loop iterations is within the limit
+// (and counts it).
+fn tape_admits(iters: u32) -> bool {
+    if (g_field_work + iters > TAPE_WORK_LIMIT) { return false; }
+    g_field_work = g_field_work + iters;
+    return true;
+}
+";
+
+/// The work limit counted per SIMD bundle with subgroup operations
+/// ([`features::BUNDLE_WORK`]): what lavapipe's loop cap counts. A run's
+/// loop executes as often as its longest active lane needs, so the bundle
+/// adds that (plus the caller's iteration) to one count in workgroup
+/// memory, kept by its lowest active lane. The slot is the smallest local index of the
+/// bundle, taken at the entry point where every lane is active, so it
+/// does not depend on how the driver groups lanes.
+const WORK_PER_BUNDLE: &str = "
+var<workgroup> g_bundle_work: array<atomic<u32>, 256>;
+var<private> g_bundle: u32;
+var<private> g_lane: u32;
+fn field_entry(li: u32) {
+    g_lane = li;
+    g_bundle = subgroupMin(li);
+}
+fn tape_admits(iters: u32) -> bool {
+    let m = subgroupMax(iters) + 1u;
+    var before = 0u;
+    // One active lane (the first) keeps the count.
+    if (g_lane == subgroupBroadcastFirst(g_lane)) { before = atomicAdd(&g_bundle_work[g_bundle], m); }
+    let total = subgroupMax(before) + m;
+    g_field_work = total;
+    return total <= TAPE_BUNDLE_LIMIT;
+}
+";
+
 /// Declarations every tape kernel shares: the constants, the tape buffer
-/// of the field group and the exhaustion flag.
+/// of the field group, the exhaustion flag and the work limit.
 fn prelude(features: u32) -> String {
     format!(
-        "{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
+        "{}{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
          // a texture of {w} texels a row (TapeData::texels).\n\
          @group(1) @binding(0) var tape_code: texture_2d<u32>;\n\
          fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
          var<private> g_tape_exhausted: bool;\n",
         super::tape::wgsl_constants(features),
+        if features::bundle_work(features) { WORK_PER_BUNDLE } else { WORK_PER_LANE },
         w = crate::scene::linear::TEXTURE_WIDTH,
         mask = crate::scene::linear::TEXTURE_WIDTH - 1,
         shift = crate::scene::linear::TEXTURE_SHIFT,

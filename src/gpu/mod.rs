@@ -74,6 +74,13 @@ pub struct Gpu {
     /// Compute pipelines created on this device so far (a data-driven
     /// field's edits must create none: the tests count them).
     pub pipelines_created: std::sync::atomic::AtomicU64,
+    /// Whether the device has subgroup operations: a tape's bisection
+    /// kernel then counts its interpreter's loop iterations per SIMD bundle
+    /// (what lavapipe's loop cap counts) instead of assuming the worst per
+    /// invocation (`codegen::tape::features::BUNDLE_WORK`). Off when
+    /// `ISOTRACE_NO_SUBGROUPS` is set; a caller may clear it before
+    /// building renderers (the tests compare both counts).
+    pub subgroups: bool,
 }
 
 impl Gpu {
@@ -113,6 +120,10 @@ impl Gpu {
         if map_in_place {
             features |= wgpu::Features::MAPPABLE_PRIMARY_BUFFERS;
         }
+        let subgroups = adapter.features().contains(wgpu::Features::SUBGROUP) && std::env::var_os("ISOTRACE_NO_SUBGROUPS").is_none();
+        if subgroups {
+            features |= wgpu::Features::SUBGROUP;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("isotrace"),
             required_features: features,
@@ -132,6 +143,7 @@ impl Gpu {
             timestamp_period,
             map_in_place,
             pipelines_created: Default::default(),
+            subgroups,
         })
     }
 

@@ -121,6 +121,16 @@ impl<'g> Renderer<'g> {
                 return Err(SettingsError::new(crate::render::SettingsField::Features, "inline", "user WGSL hooks need the compiled field").into());
             }
         }
+        // Where the device has subgroups, a tape's bisection counts its
+        // interpreter's work per SIMD bundle (features::BUNDLE_WORK).
+        let counted;
+        let field = match (field, &traversal) {
+            (FieldSource::Tape(t), Traversal::Bisect(_)) if gpu.subgroups => {
+                counted = codegen::TapeData { features: t.features | codegen::tape::features::BUNDLE_WORK, ..t.clone() };
+                FieldSource::Tape(&counted)
+            }
+            _ => field,
+        };
         let kernel = codegen::assemble(field, &traversal);
         if kernel.wgsl.len() > MAX_SHADER_BYTES {
             return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });

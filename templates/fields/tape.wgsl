@@ -86,15 +86,13 @@ fn tape_step_T(pc: u32) -> bool {
 // Runs `len` instructions from `start` (a multiple of 4, padded with
 // no-ops), TAPE_UNROLL per loop iteration (lines marked `unrolled` are left
 // out of a kernel that runs one). `pow_iters` is the power chains' loop
-// iterations (from the header): past TAPE_WORK_LIMIT for this invocation
-// it runs nothing and says so.
+// iterations (from the header): past the work limit (tape_admits) it runs
+// nothing and says so.
 fn tape_run_T(start: u32, len: u32, pow_iters: u32) -> u32 {
-    let iters = pow_iters + len / TAPE_UNROLL;
-    if (g_field_work + iters > TAPE_WORK_LIMIT) {
+    if (!tape_admits(pow_iters + len / TAPE_UNROLL)) {
         g_tape_exhausted = true;
         return TAPE_EXHAUSTED;
     }
-    g_field_work = g_field_work + iters;
     var empty = false;
     for (var pc = start; pc < start + len; pc = pc + TAPE_UNROLL) {
         let e0 = tape_step_T(pc);

@@ -37,12 +37,26 @@ pub const SLOTS_64: u32 = 1 << 9;
 /// within lavapipe's loop cap, twice the compile. Not a requirement: a
 /// kernel without it runs such a tape, with fewer evaluations.
 pub const UNROLL_4: u32 = 1 << 10;
+/// Count the interpreter's work per SIMD bundle with subgroup operations
+/// (the renderer sets it where the device has them,
+/// for bisection). lavapipe's silent loop cap counts a bundle's loop
+/// iterations, and a lane's own count cannot see what its neighbours ran,
+/// so without subgroups each invocation gets an eighth of the cap
+/// ([`super::TAPE_WORK_LIMIT`]); with them the bundle shares one count
+/// ([`super::TAPE_BUNDLE_LIMIT`]), about 7 times as many evaluations when
+/// its lanes evaluate together. A kernel option, never required by a tape.
+pub const BUNDLE_WORK: u32 = 1 << 11;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
 pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4;
 
 /// What a kernel must have to run a tape: its operations and registers.
 pub const REQUIRED: u32 = ALL & !UNROLL_4;
+
+/// Whether a kernel with `features` counts work per bundle.
+pub fn bundle_work(features: u32) -> bool {
+    features & BUNDLE_WORK != 0
+}
 
 /// Instructions a kernel with `features` runs per loop iteration.
 pub fn unroll(features: u32) -> u32 {

@@ -225,8 +225,11 @@ fn shade_hit(o: vec3<f32>, unit: vec3<f32>, p: vec3<f32>, g: vec3<f32>, depth: f
 // tiles.
 @compute @workgroup_size(8, 8, 4)
 fn main(@builtin(local_invocation_id) lid: vec3<u32>,
+        @builtin(local_invocation_index) li: u32,
         @builtin(workgroup_id) wid: vec3<u32>,
         @builtin(num_workgroups) groups: vec3<u32>) {
+    // Before any lane returns (the field may count work per SIMD bundle).
+    field_entry(li);
     load_uniforms();
     let dr = depth_range();
     var mask = vec2<u32>(0xffffffffu, 0xffffffffu);

@@ -31,7 +31,8 @@ fn slab_may_hold(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
 fn tile_share(n: u32, li: u32) -> u32 { return n / 64u + select(0u, 1u, li < n % 64u); }
 
 @compute @workgroup_size(8, 8)
-fn tiles(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    field_entry(li); // before any lane returns
     load_uniforms();
     let tile = gid.xy;
     if (tile.x >= tiles_x() || tile.y >= tiles_y()) { return; }
