@@ -75,12 +75,13 @@ impl PreparedField {
 
 /// Instructions of the value program from which `Auto` takes the tape, per
 /// traversal and algebra. Measured on lavapipe 22.3 (README, "Compiled or
-/// tape"): the tape's first frame costs about 20-70 s cold whatever the
-/// formula (its interpreter kernel) and its frames run 10-100 times slower
-/// than generated code, so it pays only where the compiled kernel's compile
-/// is slower still: from a few thousand operations (compiled: ~35 s at
-/// 2,503, over 120 s at 12,503). RAA has no measured win yet (`@creature`:
-/// over 120 s compiled, over 150 s as a tape), so it uses the same line.
+/// tape"), cold first 512² frame of sums of bilinear terms in bisection,
+/// compiled / tape: 312 instructions 2.2 / 3.1 s, 612 3.8 / 3.4 s (RAA
+/// 3.9 / 5.2 s), 1,212 10.0 / 4.8 s (RAA 9.3 / 6.1 s), 2,512 28.7 / 6.5 s,
+/// every tape picture complete. The tape's frames stay 20-40 times slower,
+/// so below the line the compiled kernel is sooner or even and faster
+/// after; above it the tape is sooner and the compiled kernel's compile
+/// grows steeply (3,572: 67 s). Sphere tracing is not re-measured.
 pub fn crossover(traversal: &Traversal) -> usize {
     match traversal {
         Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
@@ -90,9 +91,9 @@ pub fn crossover(traversal: &Traversal) -> usize {
 }
 
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_IA: usize = 4000;
+pub const CROSSOVER_BISECT_IA: usize = 1000;
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_RAA: usize = 4000;
+pub const CROSSOVER_BISECT_RAA: usize = 1000;
 /// See [`crossover`] (sphere tracing evaluates only the scalar field: its
 /// compiled kernels are the cheapest to build).
 pub const CROSSOVER_SPHERE: usize = 4000;
