@@ -183,6 +183,15 @@ enum KernelArg {
     Sphere,
 }
 
+/// The field sources `isotrace wgsl` can print.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum WgslField {
+    /// The formula generated into WGSL.
+    Compiled,
+    /// The tape interpreter's kernel for this formula's tape.
+    Tape,
+}
+
 #[derive(Args, Debug)]
 struct WgslArgs {
     #[command(flatten)]
@@ -193,6 +202,12 @@ struct WgslArgs {
     /// Which kernel to generate.
     #[arg(long, value_enum, default_value = "render")]
     kernel: KernelArg,
+    /// Field source: the formula generated into the shader, or the tape
+    /// interpreter's kernel (which does not depend on the formula, only on
+    /// its operation groups and register file; the per-invocation work
+    /// count: on a device with subgroups `render` uses the per-bundle one).
+    #[arg(long, value_enum, default_value = "compiled")]
+    field: WgslField,
     /// Write the shader to FILE instead of stdout.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<std::path::PathBuf>,
@@ -329,6 +344,9 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
     let f = &loaded.formula;
     let inline = loaded.inline.as_ref();
     let domain = resolve_algebra(a.algebra, &f.ir);
+    if a.field == WgslField::Tape {
+        return write_wgsl(tape_wgsl(f, domain, a.kernel, inline.is_some())?, a.output, f);
+    }
     let src = match a.kernel {
         KernelArg::Eval => codegen::eval_shader_with(&f.ir, domain, inline),
         KernelArg::Sphere if inline.is_some() => return Err(CliError::Input("--inline applies to the render and eval kernels, not to --kernel sphere".into())),
@@ -343,12 +361,36 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         }
     };
     match inline {
-        Some(user) => validate_inline(&src, user, f)?,
-        None => {
-            validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
+        Some(user) => {
+            validate_inline(&src, user, f)?;
+            write_wgsl(src, a.output, f)
         }
+        None => write_wgsl(src, a.output, f),
     }
-    match a.output {
+}
+
+/// The tape field's kernel of `kernel` for the tape of `f`.
+fn tape_wgsl(f: &isotrace::Formula, domain: Domain, kernel: KernelArg, inline: bool) -> Result<String, CliError> {
+    if inline {
+        return Err(CliError::Input("--field tape: the functions and hooks of --inline need --field compiled".into()));
+    }
+    let tape = codegen::TapeData::new(&f.ir).map_err(|e| CliError::Input(format!("--field tape: {e}; print it with --field compiled")))?;
+    let traversal = match kernel {
+        KernelArg::Eval => return Ok(codegen::tape_field::eval_shader(domain, tape.features)),
+        KernelArg::Sphere => isotrace::render::Traversal::Sphere(Default::default()),
+        KernelArg::Render if domain == Domain::Scalar => {
+            return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
+        }
+        KernelArg::Render => isotrace::render::Traversal::Bisect(isotrace::render::BisectOptions::new(domain)),
+    };
+    Ok(codegen::assemble(codegen::FieldSource::Tape(&tape), &traversal).wgsl)
+}
+
+/// Validates a generated shader (an invalid one is an isotrace bug) and
+/// writes it to `output` or stdout.
+fn write_wgsl(src: String, output: Option<std::path::PathBuf>, f: &isotrace::Formula) -> Result<ExitCode, CliError> {
+    validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
+    match output {
         Some(path) => input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?,
         None => {
             let _ = std::io::stdout().lock().write_all(src.as_bytes());
