@@ -345,7 +345,9 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
     let inline = loaded.inline.as_ref();
     let domain = resolve_algebra(a.algebra, &f.ir);
     if a.field == WgslField::Tape {
-        return write_wgsl(tape_wgsl(f, domain, a.kernel, inline.is_some())?, a.output, f);
+        let src = tape_wgsl(f, domain, a.kernel, inline.is_some())?;
+        validate_generated(&src, f)?;
+        return write_wgsl(src, a.output);
     }
     let src = match a.kernel {
         KernelArg::Eval => codegen::eval_shader_with(&f.ir, domain, inline),
@@ -361,12 +363,10 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         }
     };
     match inline {
-        Some(user) => {
-            validate_inline(&src, user, f)?;
-            write_wgsl(src, a.output, f)
-        }
-        None => write_wgsl(src, a.output, f),
+        Some(user) => validate_inline(&src, user, f)?,
+        None => validate_generated(&src, f)?,
     }
+    write_wgsl(src, a.output)
 }
 
 /// The tape field's kernel of `kernel` for the tape of `f`.
@@ -386,10 +386,14 @@ fn tape_wgsl(f: &isotrace::Formula, domain: Domain, kernel: KernelArg, inline: b
     Ok(codegen::assemble(codegen::FieldSource::Tape(&tape), &traversal).wgsl)
 }
 
-/// Validates a generated shader (an invalid one is an isotrace bug) and
-/// writes it to `output` or stdout.
-fn write_wgsl(src: String, output: Option<std::path::PathBuf>, f: &isotrace::Formula) -> Result<ExitCode, CliError> {
-    validate::validate(&src).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))?;
+/// Validates a generated shader without user WGSL: an invalid one is an
+/// isotrace bug.
+fn validate_generated(src: &str, f: &isotrace::Formula) -> Result<(), CliError> {
+    validate::validate(src).map(|_| ()).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))
+}
+
+/// Writes a validated shader to `output` or stdout.
+fn write_wgsl(src: String, output: Option<std::path::PathBuf>) -> Result<ExitCode, CliError> {
     match output {
         Some(path) => input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?,
         None => {

@@ -96,6 +96,8 @@ fn tape_admits(iters: u32) -> bool {
 /// bundle, taken at the entry point where every lane is active, so it
 /// does not depend on how the driver groups lanes.
 const WORK_PER_BUNDLE: &str = "
+// One count per bundle, indexed by its smallest local index: 256 covers the
+// largest workgroup (bisection's main, 8 x 8 x 4).
 var<workgroup> g_bundle_work: array<atomic<u32>, 256>;
 var<private> g_bundle: u32;
 var<private> g_lane: u32;
@@ -108,9 +110,7 @@ fn tape_admits(iters: u32) -> bool {
     var before = 0u;
     // One active lane (the first) keeps the count.
     if (g_lane == subgroupBroadcastFirst(g_lane)) { before = atomicAdd(&g_bundle_work[g_bundle], m); }
-    let total = subgroupMax(before) + m;
-    g_field_work = total;
-    return total <= TAPE_BUNDLE_LIMIT;
+    return subgroupMax(before) + m <= TAPE_BUNDLE_LIMIT;
 }
 ";
 
