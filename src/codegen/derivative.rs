@@ -33,18 +33,18 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let p = domain.prefix();
     let ty = domain.ty();
     let mut out = String::new();
-    let _ = writeln!(out, "fn evald_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: {ty}, dy: {ty}, dz: {ty}) -> vec4<f32> {{");
-    let mut d: Vec<Option<String>> = vec![None; ir.nodes.len()];
+    let _ = writeln!(out, "fn evald_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{");
+    let mut d: Vec<Option<Term>> = vec![None; ir.nodes.len()];
     let empty = emit_body(&mut out, ir, domain, |out, id, op| {
         if let Some(e) = rule(&mut Wgsl { out, p }, id, op, &d) {
-            let _ = writeln!(out, "    let d{id} = {e};");
-            d[id as usize] = Some(format!("d{id}"));
+            let _ = writeln!(out, "    let d{id} = {};", e.text());
+            d[id as usize] = Some(e.renamed(format!("d{id}")));
         }
     });
     if let Some(empty) = empty {
         let _ = writeln!(out, "    if ({empty}) {{ return vec4<f32>({p}_range({p}_empty()), 0.0, 0.0); }}");
     }
-    let root = d[ir.root as usize].clone().unwrap_or_else(|| format!("{p}_const(0.0)"));
+    let root = d[ir.root as usize].clone().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
     let _ = writeln!(out, "    return vec4<f32>({p}_range(v{}), {p}_range({root}));", ir.root);
     out.push_str("}\n");
     out
@@ -327,6 +327,41 @@ fn wgsl_name(op: D) -> &'static str {
     }
 }
 
+/// A term of the generated code: a WGSL expression, either a plain f32
+/// (`Point`: the ray direction, constants, and what is computed from them
+/// alone, exact points in every domain) or a value of the domain (`Form`).
+/// A cell's derivative enclosure starts from the ray direction, a point, so
+/// the first terms of every chain (2·x·dx of x², say) are a domain value
+/// times an f32: `{p}_scale`, a few instructions where a product of two
+/// intervals is about twenty (lavapipe runs every one of them on every cell).
+#[derive(Debug, Clone)]
+enum Term {
+    Point(String),
+    Form(String),
+}
+
+impl Term {
+    fn text(&self) -> &str {
+        match self {
+            Term::Point(s) | Term::Form(s) => s,
+        }
+    }
+    /// The same kind of term under another name (its `let` binding).
+    fn renamed(&self, name: String) -> Term {
+        match self {
+            Term::Point(_) => Term::Point(name),
+            Term::Form(_) => Term::Form(name),
+        }
+    }
+    /// The term as a value of the domain with prefix `p`.
+    fn lift(&self, p: &str) -> String {
+        match self {
+            Term::Point(s) => format!("{p}_const({s})"),
+            Term::Form(s) => s.clone(),
+        }
+    }
+}
+
 /// The generated code's terms: WGSL expressions in domain prefix `p`, with
 /// bound subterms written to `out` as `let` statements.
 struct Wgsl<'a> {
@@ -335,33 +370,51 @@ struct Wgsl<'a> {
 }
 
 impl Terms for Wgsl<'_> {
-    type T = String;
-    fn value(&mut self, n: NodeId) -> String {
-        format!("v{n}")
+    type T = Term;
+    fn value(&mut self, n: NodeId) -> Term {
+        Term::Form(format!("v{n}"))
     }
-    fn konst(&mut self, c: f32) -> String {
-        format!("{}_const({c:?})", self.p)
+    fn konst(&mut self, c: f32) -> Term {
+        Term::Point(format!("{c:?}"))
     }
-    fn direction(&mut self, axis: u32) -> String {
-        ["dx", "dy", "dz"][axis as usize].into()
+    fn direction(&mut self, axis: u32) -> Term {
+        Term::Point(["dx", "dy", "dz"][axis as usize].into())
     }
-    fn un(&mut self, op: D, a: String) -> String {
-        format!("{}_{}({a})", self.p, wgsl_name(op))
+    fn un(&mut self, op: D, a: Term) -> Term {
+        match (op, &a) {
+            (D::Neg, Term::Point(x)) => Term::Point(format!("(-{x})")),
+            (D::Sqr, Term::Point(x)) => Term::Point(format!("({x} * {x})")),
+            _ => Term::Form(format!("{}_{}({})", self.p, wgsl_name(op), a.lift(self.p))),
+        }
     }
-    fn bin(&mut self, op: D, a: String, b: String) -> String {
-        format!("{}_{}({a}, {b})", self.p, wgsl_name(op))
+    fn bin(&mut self, op: D, a: Term, b: Term) -> Term {
+        let p = self.p;
+        match (op, &a, &b) {
+            (D::Add | D::Sub | D::Mul, Term::Point(x), Term::Point(y)) => {
+                let sym = match op {
+                    D::Add => "+",
+                    D::Sub => "-",
+                    _ => "*",
+                };
+                Term::Point(format!("({x} {sym} {y})"))
+            }
+            (D::Mul, Term::Point(x), Term::Form(v)) | (D::Mul, Term::Form(v), Term::Point(x)) => Term::Form(format!("{p}_scale({v}, {x})")),
+            _ => Term::Form(format!("{p}_{}({}, {})", wgsl_name(op), a.lift(p), b.lift(p))),
+        }
     }
-    fn dminmax(&mut self, max: bool, [a, b, da, db]: [String; 4]) -> String {
-        format!("{}_{}({a}, {b}, {da}, {db})", self.p, if max { "dmax" } else { "dmin" })
+    fn dminmax(&mut self, max: bool, [a, b, da, db]: [Term; 4]) -> Term {
+        let p = self.p;
+        Term::Form(format!("{p}_{}({}, {}, {}, {})", if max { "dmax" } else { "dmin" }, a.lift(p), b.lift(p), da.lift(p), db.lift(p)))
     }
-    fn odd_power(&mut self, id: NodeId, q: String, m: u32) -> String {
-        emit_odd_power(self.out, self.p, &format!("dw{id}"), &q, m)
+    fn odd_power(&mut self, id: NodeId, q: Term, m: u32) -> Term {
+        let q = q.lift(self.p);
+        Term::Form(emit_odd_power(self.out, self.p, &format!("dw{id}"), &q, m))
     }
-    fn bind(&mut self, id: NodeId, tag: &str, x: String) -> String {
-        let _ = writeln!(self.out, "    let {tag}{id} = {x};");
-        format!("{tag}{id}")
+    fn bind(&mut self, id: NodeId, tag: &str, x: Term) -> Term {
+        let _ = writeln!(self.out, "    let {tag}{id} = {};", x.text());
+        x.renamed(format!("{tag}{id}"))
     }
-    fn whole(&mut self) -> String {
-        format!("{}_whole()", self.p)
+    fn whole(&mut self) -> Term {
+        Term::Form(format!("{}_whole()", self.p))
     }
 }

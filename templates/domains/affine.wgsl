@@ -57,6 +57,11 @@ fn ra_narrower(a: vec3<f32>, i: vec2<f32>) -> vec3<f32> {
 fn ra_neg(a: vec3<f32>) -> vec3<f32> { return vec3<f32>(-a.x, -a.y, a.z); }
 fn ra_add(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return a + b; }
 fn ra_sub(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return vec3<f32>(a.x - b.x, a.y - b.y, a.z + b.z); }
+// A product with an exact f32 (ra_mul with ra_const(p), its zero terms
+// dropped; a zero factor gives 0).
+fn ra_scale(a: vec3<f32>, p: f32) -> vec3<f32> {
+    return select(vec3<f32>(a.x * p, a.y * p, abs(a.z * p)), vec3<f32>(0.0), p == 0.0);
+}
 // Knoll et al. eq. (14), sharpened where both forms depend on the ray
 // symbol: the x1*y1*e1^2 part of the product lies in [0, x1*y1] (e1^2 is in
 // [0, 1]), so half of it moves into the centre and only |x1*y1|/2 (not

@@ -37,6 +37,13 @@ fn ia_pad(r: vec2<f32>, abs_err: f32, rel_err: f32) -> vec2<f32> {
 fn ia_neg(a: vec2<f32>) -> vec2<f32> { return -a.yx; }
 fn ia_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a + b; }
 fn ia_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a - b.yx; }
+// A product with an exact f32 (a constant, a ray direction): two products
+// instead of four. A zero factor gives 0, also with an unbounded a (its
+// function is finite everywhere), as ia_mul does.
+fn ia_scale(a: vec2<f32>, p: f32) -> vec2<f32> {
+    let q = a * p;
+    return select(vec2<f32>(min(q.x, q.y), max(q.x, q.y)), vec2<f32>(0.0), p == 0.0);
+}
 fn ia_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     // 0 * inf is 0 for the ends of a product (an unbounded interval never
     // contains inf itself). IEEE gives NaN, which lavapipe's min/max drop:

@@ -8,6 +8,7 @@ fn s_neg(a: f32) -> f32 { return -a; }
 fn s_add(a: f32, b: f32) -> f32 { return a + b; }
 fn s_sub(a: f32, b: f32) -> f32 { return a - b; }
 fn s_mul(a: f32, b: f32) -> f32 { return a * b; }
+fn s_scale(a: f32, p: f32) -> f32 { return a * p; }
 fn s_div(a: f32, b: f32) -> f32 { return a / b; }
 fn s_sqr(a: f32) -> f32 { return a * a; }
 // Odd integer powers: a chain of squarings and products (Russian peasant).

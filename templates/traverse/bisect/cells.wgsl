@@ -35,51 +35,53 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         let slope = d >= U.mono_depth;
         let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
         var r = q.xy;
-        var monotone = false;
-        if (slope) {
-            monotone = q.z > 0.0 || q.w < 0.0;
-            if (!monotone) { r = mean_value(c, r, q.zw, field(ray.o + ray.dir * (0.5 * (c.x + c.y)))); }
-        }
+        var monotone = slope && (q.z > 0.0 || q.w < 0.0);
+        if (slope && !monotone) { r = mean_value(c, r, q.zw, field(ray.o + ray.dir * (0.5 * (c.x + c.y)))); }
         h.evals = h.evals + 1u;
         var descend = false;
         if (keep_cell(r)) {
             let finite = is_finite_range(r);
-            var f0 = 0.0;
-            var f1 = 0.0;
-            if (monotone) {
-                f0 = field(ray.o + ray.dir * c.x);
-                f1 = field(ray.o + ray.dir * c.y);
-                monotone = abs(f0) < F.inf && abs(f1) < F.inf;
-            }
-            if (monotone) {
-                // At most one root per isovalue, and one exactly when f - c
-                // changes sign; the nearest of them is the hit.
-                var best = F.inf;
-                for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
-                    let c_i = iso_value(i);
-                    if (brackets(f0 - c_i, f1 - c_i)) {
-                        let s_i = solve(ray, c.x, c.y, f0 - c_i, f1 - c_i, c_i);
-                        if (s_i < best) { best = s_i; h.iso = i; }
+            let deeper = d < d_max || (!finite && d < d_last);
+            if (monotone || !deeper) {
+                // f at the cell's ends: a monotone cell's bracket, or a
+                // leaf's sign test (one pair of call sites for both).
+                let f0 = field(ray.o + ray.dir * c.x);
+                let f1 = field(ray.o + ray.dir * c.y);
+                // A monotone cell whose ends are not finite is bisected
+                // like any other.
+                monotone = monotone && abs(f0) < F.inf && abs(f1) < F.inf;
+                descend = !monotone && deeper;
+                var iso = ISO_COUNT;
+                if (monotone) {
+                    // At most one root per isovalue, and one exactly when
+                    // f - c changes sign; f is monotone, so the nearest is
+                    // that of the bracketed isovalue nearest f0.
+                    var gap = F.inf;
+                    for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+                        let c_i = iso_value(i);
+                        if (brackets(f0 - c_i, f1 - c_i) && abs(c_i - f0) < gap) {
+                            gap = abs(c_i - f0);
+                            iso = i;
+                        }
                     }
+                } else if (!descend) {
+                    // A leaf: without a finite enclosure, only a sign change
+                    // is taken for a root.
+                    let i = first_iso(r);
+                    if (finite || brackets(f0 - iso_value(i), f1 - iso_value(i))) { iso = i; }
                 }
-                if (best < F.inf && accept_hit(ray.o + ray.dir * best)) {
-                    h.s = best;
-                    h.status = STATUS_HIT;
-                    return h;
-                }
-            } else if (d < d_max || (!finite && d < d_last)) {
-                descend = true;
-            } else {
-                let i = first_iso(r);
-                if (finite || sign_change(ray, c.x, c.y, iso_value(i))) {
-                    let s_hit = refine(ray, c.x, c.y, iso_value(i));
+                if (iso < ISO_COUNT) {
+                    let c_i = iso_value(iso);
+                    let s_hit = narrow(ray, c, f0 - c_i, f1 - c_i, c_i, !monotone);
                     if (accept_hit(ray.o + ray.dir * s_hit)) {
-                        h.iso = i;
+                        h.iso = iso;
                         h.s = s_hit;
                         h.status = STATUS_HIT;
                         return h;
                     }
                 }
+            } else {
+                descend = true;
             }
         }
         if (descend) {
@@ -95,66 +97,76 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
     return h;
 }
 
-// The unique root of a monotone f in [a, b] (fa, fb of opposite signs or
-// zero): Illinois regula falsi down to the eps width along the ray.
-fn solve(ray: Ray, s0: f32, s1: f32, f0: f32, f1: f32, c: f32) -> f32 {
-    var a = s0;
-    var b = s1;
-    var fa = f0;
-    var fb = f1;
-    if (fa == 0.0) { return a; }
-    if (fb == 0.0) { return b; }
+// How narrow() closes in on a root: regula falsi in a monotone cell,
+// looking further along the ray for a sign change, bisecting a bracket.
+const NARROW_FALSI: u32 = 0u;
+const NARROW_LOOK: u32 = 1u;
+const NARROW_BISECT: u32 = 2u;
+
+// The root in cell [cell.x, cell.y], with fa, fb = f − c at its ends, from
+// one call site of f (lavapipe runs every call site of a loop body on
+// every cell, for the lanes that need it or not: ten sites here cost more
+// than the cell's enclosure).
+// - Monotone (`leaf` false): the unique root, by Illinois regula falsi down
+//   to the eps width along the ray (fa, fb bracket it).
+// - A leaf: an enclosure can contain 0 a little before the surface
+//   (overestimation), so when f does not change sign across the cell we
+//   look up to LOOKAHEAD cells further for a sign change (IA overestimates
+//   most where the gradient is nearly perpendicular to the ray) and bisect
+//   there 10 times; without one (a tangent root or a feature thinner than a
+//   cell) the cell's midpoint is the answer.
+fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -> f32 {
+    var a = cell.x;
+    var b = cell.y;
+    var fa = f_lo;
+    var fb = f_hi;
+    var mode = NARROW_FALSI;
+    if (leaf) {
+        mode = select(NARROW_LOOK, NARROW_BISECT, brackets(fa, fb));
+    } else if (fa == 0.0) {
+        return a;
+    } else if (fb == 0.0) {
+        return b;
+    }
+    let w = cell.y - cell.x;
     var side = 0;
-    for (var i = 0; i < 40 && b - a > ray.eps_s; i = i + 1) {
-        var m = (a * fb - b * fa) / (fb - fa);
-        if (!(m > a && m < b)) { m = 0.5 * (a + b); }
-        let fm = field(ray.o + ray.dir * m) - c;
-        if ((fm <= 0.0) == (fa <= 0.0)) {
-            a = m;
+    var n = 0u;
+    loop {
+        var s = 0.5 * (a + b);
+        if (mode == NARROW_FALSI) {
+            if (n >= 40u || !(b - a > ray.eps_s)) { break; }
+            let m = (a * fb - b * fa) / (fb - fa);
+            if (m > a && m < b) { s = m; }
+        } else if (mode == NARROW_BISECT) {
+            if (n >= 10u) { break; }
+        } else {
+            if (n >= LOOKAHEAD || !(b < ray.s_exit)) { return 0.5 * (cell.x + cell.y); }
+            s = min(b + w, ray.s_exit);
+        }
+        let fm = field(ray.o + ray.dir * s) - c;
+        n = n + 1u;
+        if (mode == NARROW_LOOK) {
+            a = b;
+            fa = fb;
+            b = s;
+            fb = fm;
+            if (brackets(fa, fb)) {
+                mode = NARROW_BISECT;
+                n = 0u;
+            }
+        } else if (mode == NARROW_BISECT) {
+            if ((fa <= 0.0) == (fm <= 0.0)) { a = s; fa = fm; } else { b = s; }
+        } else if ((fm <= 0.0) == (fa <= 0.0)) {
+            a = s;
             fa = fm;
             if (side == -1) { fb = 0.5 * fb; }
             side = -1;
         } else {
-            b = m;
+            b = s;
             fb = fm;
             if (side == 1) { fa = 0.5 * fa; }
             side = 1;
         }
-    }
-    return 0.5 * (a + b);
-}
-
-fn sign_change(ray: Ray, t0: f32, t1: f32, c: f32) -> bool {
-    return brackets(field(ray.o + ray.dir * t0) - c, field(ray.o + ray.dir * t1) - c);
-}
-
-// Root position for the hit cell [t0, t1]. An enclosure can contain 0 a
-// little before the surface (overestimation), so when f does not change sign
-// across the cell we look up to LOOKAHEAD cells further for a sign change
-// (IA overestimates most where the gradient is nearly perpendicular to the
-// ray; scalar evaluations only) and bisect there; without one (a tangent root or
-// a feature thinner than a cell) the cell's midpoint is the answer.
-fn refine(ray: Ray, t0: f32, t1: f32, c: f32) -> f32 {
-    let w = t1 - t0;
-    var a = t0;
-    var b = t1;
-    var fa = field(ray.o + ray.dir * a) - c;
-    var fb = field(ray.o + ray.dir * b) - c;
-    var found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
-    for (var k = 0u; k < LOOKAHEAD && !found && b < ray.s_exit; k = k + 1u) {
-        a = b;
-        fa = fb;
-        b = min(b + w, ray.s_exit);
-        fb = field(ray.o + ray.dir * b) - c;
-        found = (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0);
-    }
-    if (!found) {
-        return 0.5 * (t0 + t1);
-    }
-    for (var i = 0; i < 10; i = i + 1) {
-        let m = 0.5 * (a + b);
-        let fm = field(ray.o + ray.dir * m) - c;
-        if ((fa <= 0.0) == (fm <= 0.0)) { a = m; fa = fm; } else { b = m; }
     }
     return 0.5 * (a + b);
 }
