@@ -137,8 +137,8 @@ fn surf_T(x: T, y: T, z: T, t: T) -> vec2<f32> {
     return tape_enclosure_T(x, y, z, t, x, x, x, false).xy;
 }
 
-// f and its derivative along the ray direction (dx, dy, dz): what
-// `evald_*` is for a compiled formula.
-fn evald_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T) -> vec4<f32> {
-    return tape_enclosure_T(x, y, z, t, dx, dy, dz, true);
+// f and its derivative along the ray direction (dx, dy, dz, exact f32):
+// what `evald_*` is for a compiled formula.
+fn evald_T(x: T, y: T, z: T, t: T, dx: f32, dy: f32, dz: f32) -> vec4<f32> {
+    return tape_enclosure_T(x, y, z, t, op_const(dx), op_const(dy), op_const(dz), true);
 }

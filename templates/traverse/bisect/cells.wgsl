@@ -8,15 +8,76 @@
 // Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
 const CELLS_ROUNDS: bool = false;
 
-// Stackless bisection of the ray between depths s_lo and s_hi. Cells (d, k)
-// cover [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
-// finished level at once (the trailing one bits of k) and steps right.
+// A secondary ray's segment [s_lo, s_hi], bisected to depth d_max.
 fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
+    return bisect_runs(ray, vec2<f32>(s_lo, s_hi), d_max, budget, Runs(vec2<u32>(0u), vec2<f32>(0.0), vec2<f32>(0.0), 1.0));
+}
+
+// Primary ray from depth s_from on: the candidate slab runs of the tile,
+// nearest first, in one bisection loop.
+fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec2<f32>, inv_len: f32) -> Hit {
+    var m = mask;
+    let lim = vec2<f32>(max(seg.x, s_from), seg.y);
+    let first = next_run(&m, lim, dr);
+    if (!(first.x < first.y)) { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u); }
+    let h = bisect_runs(ray, first, depth_for((first.y - first.x) / inv_len), g_budget, Runs(m, lim, dr, inv_len));
+    g_evals = g_evals + h.evals;
+    g_budget = g_budget - min(g_budget, h.iters);
+    return h;
+}
+
+// The candidate slab runs a primary ray has left after its current one:
+// the slab bits `m`, the ray's depth limits `lim`, the slabs' depth range
+// `dr`, and 1/|dir| (a secondary ray has none: m = 0).
+struct Runs { m: vec2<u32>, lim: vec2<f32>, dr: vec2<f32>, inv_len: f32 }
+
+// The 64-bit mask of bits [0, n), n in 0..=64 (as two u32: low, high).
+fn bits_below(n: u32) -> vec2<u32> {
+    let lo = select(0xffffffffu, (1u << (n & 31u)) - 1u, n < 32u);
+    let hi = select(0u, select(0xffffffffu, (1u << (n & 31u)) - 1u, n < 64u), n > 32u);
+    return vec2<u32>(lo, hi);
+}
+// The lowest set bit of a 64-bit mask (64 when none).
+fn lowest_bit(v: vec2<u32>) -> u32 {
+    return select(32u + countTrailingZeros(v.y), countTrailingZeros(v.x), v.x != 0u);
+}
+
+// The next run of consecutive candidate slabs in `m` (taken out of it),
+// clipped to `lim`: its depths (lo, hi), or lo >= hi when none is left.
+// Bit arithmetic instead of loops over the bits: this runs on every cell
+// of every lane under lavapipe's masks.
+fn next_run(m: ptr<function, vec2<u32>>, lim: vec2<f32>, dr: vec2<f32>) -> vec2<f32> {
+    loop {
+        if ((*m).x == 0u && (*m).y == 0u) { return vec2<f32>(1.0, 0.0); }
+        let k = lowest_bit(*m);
+        let end = lowest_bit(~(*m) & ~bits_below(k)); // one past the run
+        *m = *m & ~bits_below(end);
+        let span = slab_span(dr, k, end - 1u);
+        let lo = max(lim.x, span.x);
+        let hi = min(lim.y, span.y);
+        if (lo < hi) { return vec2<f32>(lo, hi); }
+    }
+    return vec2<f32>(1.0, 0.0);
+}
+
+// Stackless bisection of the ray, run after run: the first segment `first`
+// to depth d_max0, then the runs left in `runs0`. Cells (d, k) cover
+// [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
+// finished level at once (the trailing one bits of k) and steps right, and
+// past the segment's end onto the next run. One loop for all runs: a lane
+// whose run is done goes on with its next while the others of its SIMD
+// bundle still bisect theirs (a loop per run made each run cost the
+// bundle at least one pass of the whole cell code).
+fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs) -> Hit {
     var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
+    let runs = runs0;
+    var m = runs0.m; // a pointer argument must be a whole variable (naga's SPIR-V back end)
     var d = 0u;
     var k = 0u;
-    let len = s_hi - s_lo;
-    let d_last = d_max + EXTRA_LEVELS;
+    var s_lo = first.x;
+    var len = first.y - first.x;
+    var d_max = d_max0;
+    var d_last = d_max + EXTRA_LEVELS;
     loop {
         if (h.iters >= budget || field_exhausted()) {
             // Budget exhausted (the traversal's, or an interpreted field's
@@ -89,9 +150,20 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
             k = k * 2u;
         } else {
             let up = countTrailingZeros(~k);
-            if (up >= d) { return h; } // the whole segment is done
-            d = d - up;
-            k = (k >> up) + 1u;
+            if (up >= d) {
+                // The whole segment is done: on to the next run, if any.
+                let nxt = next_run(&m, runs.lim, runs.dr);
+                if (!(nxt.x < nxt.y)) { return h; }
+                s_lo = nxt.x;
+                len = nxt.y - nxt.x;
+                d_max = depth_for(len / runs.inv_len);
+                d_last = d_max + EXTRA_LEVELS;
+                d = 0u;
+                k = 0u;
+            } else {
+                d = d - up;
+                k = (k >> up) + 1u;
+            }
         }
     }
     return h;
