@@ -78,93 +78,115 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
     var len = first.y - first.x;
     var d_max = d_max0;
     var d_last = d_max + EXTRA_LEVELS;
+    // The cell at (d, k) is done (its root was turned down by accept_hit):
+    // the cell loop steps past it first.
+    var skip = false;
+    // One pass of this loop per root bracket found; the cell loop inside it
+    // bisects until a cell brackets a root, which narrow() then closes in
+    // on out here: inside, its loop would be one more pass of f on every
+    // cell (lavapipe runs it under a mask for lanes that do not need it).
     loop {
-        if (h.iters >= budget || field_exhausted()) {
-            // Budget exhausted (the traversal's, or an interpreted field's
-            // work limit): report it, and keep the nearest cell that may
-            // still hold the surface as the best guess.
-            h.status = STATUS_UNRESOLVED;
-            h.s = cell_s(s_lo, len, d, k).x;
+        var found = false;
+        var cell = vec2<f32>(0.0);
+        var fc = vec2<f32>(0.0); // f - c_i at the cell's ends
+        var iso = 0u;
+        var leaf = false;
+        loop {
+            var descend = false;
+            if (!skip) {
+                if (h.iters >= budget || field_exhausted()) {
+                    // Budget exhausted (the traversal's, or an interpreted field's
+                    // work limit): report it, and keep the nearest cell that may
+                    // still hold the surface as the best guess.
+                    h.status = STATUS_UNRESOLVED;
+                    h.s = cell_s(s_lo, len, d, k).x;
+                    return h;
+                }
+                h.iters = h.iters + 1u;
+                let c = cell_s(s_lo, len, d, k);
+                // From depth U.mono_depth on, cells are evaluated together with the
+                // enclosure of f's derivative along the ray: where it excludes 0, f
+                // is monotone on the cell, which then holds a root iff f changes
+                // sign across it, and that root is unique (found by scalar solving).
+                let slope = d >= U.mono_depth;
+                let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
+                var r = q.xy;
+                var monotone = slope && (q.z > 0.0 || q.w < 0.0);
+                if (slope && !monotone) { r = mean_value(c, r, q.zw, field(ray.o + ray.dir * (0.5 * (c.x + c.y)))); }
+                h.evals = h.evals + 1u;
+                if (keep_cell(r)) {
+                    let finite = is_finite_range(r);
+                    let deeper = d < d_max || (!finite && d < d_last);
+                    if (monotone || !deeper) {
+                        // f at the cell's ends: a monotone cell's bracket, or a
+                        // leaf's sign test (one pair of call sites for both).
+                        let f0 = field(ray.o + ray.dir * c.x);
+                        let f1 = field(ray.o + ray.dir * c.y);
+                        // A monotone cell whose ends are not finite is bisected
+                        // like any other.
+                        monotone = monotone && abs(f0) < F.inf && abs(f1) < F.inf;
+                        descend = !monotone && deeper;
+                        iso = ISO_COUNT;
+                        if (monotone) {
+                            // At most one root per isovalue, and one exactly when
+                            // f - c changes sign; f is monotone, so the nearest is
+                            // that of the bracketed isovalue nearest f0.
+                            var gap = F.inf;
+                            for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+                                let c_i = iso_value(i);
+                                if (brackets(f0 - c_i, f1 - c_i) && abs(c_i - f0) < gap) {
+                                    gap = abs(c_i - f0);
+                                    iso = i;
+                                }
+                            }
+                        } else if (!descend) {
+                            // A leaf: without a finite enclosure, only a sign change
+                            // is taken for a root.
+                            let i = first_iso(r);
+                            if (finite || brackets(f0 - iso_value(i), f1 - iso_value(i))) { iso = i; }
+                        }
+                        if (iso < ISO_COUNT) {
+                            found = true;
+                            cell = c;
+                            fc = vec2<f32>(f0, f1) - vec2<f32>(iso_value(iso));
+                            leaf = !monotone;
+                        }
+                    } else {
+                        descend = true;
+                    }
+                }
+            }
+            skip = false;
+            if (found) { break; }
+            if (descend) {
+                d = d + 1u;
+                k = k * 2u;
+            } else {
+                let up = countTrailingZeros(~k);
+                if (up >= d) {
+                    // The whole segment is done: on to the next run, if any.
+                    let nxt = next_run(&m, runs.lim, runs.dr);
+                    if (!(nxt.x < nxt.y)) { return h; }
+                    s_lo = nxt.x;
+                    len = nxt.y - nxt.x;
+                    d_max = depth_for(len / runs.inv_len);
+                    d_last = d_max + EXTRA_LEVELS;
+                    d = 0u;
+                    k = 0u;
+                } else {
+                    d = d - up;
+                    k = (k >> up) + 1u;
+                }
+            }
+        }
+        let s_hit = narrow(ray, cell, fc.x, fc.y, iso_value(iso), leaf);
+        if (accept_hit(ray.o + ray.dir * s_hit)) {
+            h.iso = iso;
+            h.s = s_hit;
+            h.status = STATUS_HIT;
             return h;
         }
-        h.iters = h.iters + 1u;
-        let c = cell_s(s_lo, len, d, k);
-        // From depth U.mono_depth on, cells are evaluated together with the
-        // enclosure of f's derivative along the ray: where it excludes 0, f
-        // is monotone on the cell, which then holds a root iff f changes
-        // sign across it, and that root is unique (found by scalar solving).
-        let slope = d >= U.mono_depth;
-        let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
-        var r = q.xy;
-        var monotone = slope && (q.z > 0.0 || q.w < 0.0);
-        if (slope && !monotone) { r = mean_value(c, r, q.zw, field(ray.o + ray.dir * (0.5 * (c.x + c.y)))); }
-        h.evals = h.evals + 1u;
-        var descend = false;
-        if (keep_cell(r)) {
-            let finite = is_finite_range(r);
-            let deeper = d < d_max || (!finite && d < d_last);
-            if (monotone || !deeper) {
-                // f at the cell's ends: a monotone cell's bracket, or a
-                // leaf's sign test (one pair of call sites for both).
-                let f0 = field(ray.o + ray.dir * c.x);
-                let f1 = field(ray.o + ray.dir * c.y);
-                // A monotone cell whose ends are not finite is bisected
-                // like any other.
-                monotone = monotone && abs(f0) < F.inf && abs(f1) < F.inf;
-                descend = !monotone && deeper;
-                var iso = ISO_COUNT;
-                if (monotone) {
-                    // At most one root per isovalue, and one exactly when
-                    // f - c changes sign; f is monotone, so the nearest is
-                    // that of the bracketed isovalue nearest f0.
-                    var gap = F.inf;
-                    for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
-                        let c_i = iso_value(i);
-                        if (brackets(f0 - c_i, f1 - c_i) && abs(c_i - f0) < gap) {
-                            gap = abs(c_i - f0);
-                            iso = i;
-                        }
-                    }
-                } else if (!descend) {
-                    // A leaf: without a finite enclosure, only a sign change
-                    // is taken for a root.
-                    let i = first_iso(r);
-                    if (finite || brackets(f0 - iso_value(i), f1 - iso_value(i))) { iso = i; }
-                }
-                if (iso < ISO_COUNT) {
-                    let c_i = iso_value(iso);
-                    let s_hit = narrow(ray, c, f0 - c_i, f1 - c_i, c_i, !monotone);
-                    if (accept_hit(ray.o + ray.dir * s_hit)) {
-                        h.iso = iso;
-                        h.s = s_hit;
-                        h.status = STATUS_HIT;
-                        return h;
-                    }
-                }
-            } else {
-                descend = true;
-            }
-        }
-        if (descend) {
-            d = d + 1u;
-            k = k * 2u;
-        } else {
-            let up = countTrailingZeros(~k);
-            if (up >= d) {
-                // The whole segment is done: on to the next run, if any.
-                let nxt = next_run(&m, runs.lim, runs.dr);
-                if (!(nxt.x < nxt.y)) { return h; }
-                s_lo = nxt.x;
-                len = nxt.y - nxt.x;
-                d_max = depth_for(len / runs.inv_len);
-                d_last = d_max + EXTRA_LEVELS;
-                d = 0u;
-                k = 0u;
-            } else {
-                d = d - up;
-                k = (k >> up) + 1u;
-            }
-        }
+        skip = true;
     }
     return h;
 }
