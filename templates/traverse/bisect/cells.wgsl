@@ -91,6 +91,7 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
         var fc = vec2<f32>(0.0); // f - c_i at the cell's ends
         var iso = 0u;
         var leaf = false;
+        var leaf_r = vec2<f32>(0.0);
         loop {
             var descend = false;
             if (!skip) {
@@ -112,47 +113,50 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
                 let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
                 var r = q.xy;
                 var monotone = slope && (q.z > 0.0 || q.w < 0.0);
-                if (slope && !monotone) { r = mean_value(c, r, q.zw, field(ray.o + ray.dir * (0.5 * (c.x + c.y)))); }
+                // Two call sites of f per cell: the midpoint for the
+                // mean-value form, or a monotone cell's near end; then its
+                // far end. A leaf's ends are taken after the loop.
+                let mv = slope && !monotone;
+                let f_a = field(ray.o + ray.dir * select(c.x, 0.5 * (c.x + c.y), mv));
+                if (mv) { r = mean_value(c, r, q.zw, f_a); }
                 h.evals = h.evals + 1u;
                 if (keep_cell(r)) {
                     let finite = is_finite_range(r);
                     let deeper = d < d_max || (!finite && d < d_last);
-                    if (monotone || !deeper) {
-                        // f at the cell's ends: a monotone cell's bracket, or a
-                        // leaf's sign test (one pair of call sites for both).
-                        let f0 = field(ray.o + ray.dir * c.x);
-                        let f1 = field(ray.o + ray.dir * c.y);
+                    var f1 = 0.0;
+                    if (monotone) {
+                        f1 = field(ray.o + ray.dir * c.y);
                         // A monotone cell whose ends are not finite is bisected
                         // like any other.
-                        monotone = monotone && abs(f0) < F.inf && abs(f1) < F.inf;
-                        descend = !monotone && deeper;
+                        monotone = abs(f_a) < F.inf && abs(f1) < F.inf;
+                    }
+                    if (monotone) {
+                        // At most one root per isovalue, and one exactly when
+                        // f - c changes sign; f is monotone, so the nearest is
+                        // that of the bracketed isovalue nearest f(c.x).
                         iso = ISO_COUNT;
-                        if (monotone) {
-                            // At most one root per isovalue, and one exactly when
-                            // f - c changes sign; f is monotone, so the nearest is
-                            // that of the bracketed isovalue nearest f0.
-                            var gap = F.inf;
-                            for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
-                                let c_i = iso_value(i);
-                                if (brackets(f0 - c_i, f1 - c_i) && abs(c_i - f0) < gap) {
-                                    gap = abs(c_i - f0);
-                                    iso = i;
-                                }
+                        var gap = F.inf;
+                        for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+                            let c_i = iso_value(i);
+                            if (brackets(f_a - c_i, f1 - c_i) && abs(c_i - f_a) < gap) {
+                                gap = abs(c_i - f_a);
+                                iso = i;
                             }
-                        } else if (!descend) {
-                            // A leaf: without a finite enclosure, only a sign change
-                            // is taken for a root.
-                            let i = first_iso(r);
-                            if (finite || brackets(f0 - iso_value(i), f1 - iso_value(i))) { iso = i; }
                         }
                         if (iso < ISO_COUNT) {
                             found = true;
                             cell = c;
-                            fc = vec2<f32>(f0, f1) - vec2<f32>(iso_value(iso));
-                            leaf = !monotone;
+                            fc = vec2<f32>(f_a, f1) - vec2<f32>(iso_value(iso));
+                            leaf = false;
                         }
-                    } else {
+                    } else if (deeper) {
                         descend = true;
+                    } else {
+                        // A leaf: its sign test and root after the loop.
+                        found = true;
+                        cell = c;
+                        leaf = true;
+                        leaf_r = r;
                     }
                 }
             }
@@ -177,6 +181,18 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
                     d = d - up;
                     k = (k >> up) + 1u;
                 }
+            }
+        }
+        if (leaf) {
+            // f at a leaf's ends; without a finite enclosure, only a sign
+            // change is taken for a root.
+            let f0 = field(ray.o + ray.dir * cell.x);
+            let f1 = field(ray.o + ray.dir * cell.y);
+            iso = first_iso(leaf_r);
+            fc = vec2<f32>(f0, f1) - vec2<f32>(iso_value(iso));
+            if (!(is_finite_range(leaf_r) || brackets(fc.x, fc.y))) {
+                skip = true;
+                continue;
             }
         }
         let s_hit = narrow(ray, cell, fc.x, fc.y, iso_value(iso), leaf);
