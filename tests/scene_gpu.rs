@@ -284,3 +284,66 @@ fn a_scene_split_into_dispatches_draws_the_same_frame() {
         assert_eq!((a.status, a.depth), (b.status, b.depth));
     }
 }
+
+/// Two small spheres far apart: most 8×8 tiles meet no primitive, so the
+/// sphere tracer's tile pass writes them as background and leaves them out
+/// of `main` (tiles.wgsl). No hit is lost to it: every pixel away from the
+/// silhouettes has the status of the analytic ray–sphere test, and hits
+/// its depth.
+#[test]
+fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere() {
+    use isotrace::render::Camera;
+    let f = Formula::compile("<t>", "union(translate(-1, 0, 0, sphere(0.3)), translate(1, 0, 0, sphere(0.3)))").unwrap();
+    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
+    let (w, h) = (192, 144);
+    let s = common::settings(common::cube(1.5), w, h);
+    let frame = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
+    assert!(frame.stats.tile_ms > 0.0, "the tile pass ran");
+    let cf = s.camera.frame().unwrap();
+    let eye = s.camera.eye;
+    // A pixel's footprint at the spheres' distance, in world units.
+    let foot = 2.0 * cf.tan_half_fov * eye.length() / h as f64;
+    let (mut hits, mut misses) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let d = Camera::ray(&cf, i, j, w, h);
+            // The nearest hit (depth, cosine of incidence) of the two spheres.
+            let mut nearest: Option<(f64, f64)> = None;
+            let mut grazing = false;
+            for c in [glam::DVec3::new(-1.0, 0.0, 0.0), glam::DVec3::new(1.0, 0.0, 0.0)] {
+                let oc = eye - c;
+                let b = oc.dot(d);
+                let miss_by = (oc - d * b).length() - 0.3;
+                grazing |= miss_by.abs() < 2.0 * foot;
+                let disc = b * b - (oc.length_squared() - 0.09);
+                if disc >= 0.0 {
+                    let t = -b - disc.sqrt();
+                    let cos = ((eye + d * t - c) / 0.3).dot(d).abs();
+                    if nearest.is_none_or(|(n, _)| t < n) {
+                        nearest = Some((t, cos));
+                    }
+                }
+            }
+            if grazing {
+                continue;
+            }
+            let p = frame.pixels[(j * w + i) as usize];
+            match nearest {
+                Some((t, cos)) => {
+                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) should hit at {t}");
+                    // Screen-space termination stops within half a pixel's
+                    // footprint of the surface, along the ray 1/cos of it.
+                    let tol = foot / cos.max(0.2);
+                    assert!((p.depth as f64 - t).abs() < tol, "pixel ({i}, {j}): depth {} against {t} (tolerance {tol})", p.depth);
+                    hits += 1;
+                }
+                None => {
+                    assert_eq!(p.status, Status::Miss, "pixel ({i}, {j}) should miss");
+                    misses += 1;
+                }
+            }
+        }
+    }
+    assert!(hits > 150 && misses > 20000, "hits {hits}, misses {misses}");
+}

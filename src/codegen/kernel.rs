@@ -211,13 +211,16 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
                 user.cloned(),
             )
         }
-        Traversal::Sphere(s) => (
-            format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
-            field.code(None, None),
-            sphere(s.features()),
-            &["main"][..],
-            None,
-        ),
+        Traversal::Sphere(s) => {
+            let tiles = sphere_tile_pass(field);
+            (
+                format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
+                field.code(None, None),
+                sphere(s.features(), tiles),
+                if tiles { &["main", "tiles"][..] } else { &["main"][..] },
+                None,
+            )
+        }
     };
     let wgsl = template::splice(template::RENDER, &[("uniforms", &uniforms), ("shared", &shared), ("field", &field_code), ("traversal", &traversal_code)])
         .expect("the render template has its markers");
@@ -277,11 +280,22 @@ fn hooks(inline: Option<&InlineWgsl>) -> String {
     s
 }
 
-/// The sphere tracing traversal with the secondary rays of `features`.
-fn sphere(features: SphereFeatures) -> String {
+/// Whether sphere tracing `field` runs a tile pass that leaves the empty
+/// tiles out of the per-pixel pass: a scene knows them (its views pass).
+pub fn sphere_tile_pass(field: FieldSource<'_>) -> bool {
+    matches!(field, FieldSource::Scene(_))
+}
+
+/// The sphere tracing traversal with the secondary rays of `features`, and
+/// with `tiles`, its tile pass (tiles.wgsl).
+fn sphere(features: SphereFeatures, tiles: bool) -> String {
     template::splice(
         template::SPHERE,
-        &[("shadows", template::optional(template::SPHERE_SHADOWS, features.shadows)), ("glass", template::optional(template::SPHERE_GLASS, features.glass))],
+        &[
+            ("shadows", template::optional(template::SPHERE_SHADOWS, features.shadows)),
+            ("glass", template::optional(template::SPHERE_GLASS, features.glass)),
+            ("tiles", template::optional(template::SPHERE_TILES, tiles)),
+        ],
     )
     .expect("the sphere template has its markers")
 }

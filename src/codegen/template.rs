@@ -54,6 +54,11 @@ pub const SPHERE_SHADOWS: [&str; 2] = [
     include_str!("../../templates/traverse/sphere/shadows_off.wgsl"),
     include_str!("../../templates/traverse/sphere/shadows.wgsl"),
 ];
+/// Sphere tracing's tile pass over a scene, and its stand-in.
+pub const SPHERE_TILES: [&str; 2] = [
+    include_str!("../../templates/traverse/sphere/tiles_off.wgsl"),
+    include_str!("../../templates/traverse/sphere/tiles.wgsl"),
+];
 /// Sphere tracing's glass, and its stand-in.
 pub const SPHERE_GLASS: [&str; 2] = [
     include_str!("../../templates/traverse/sphere/glass_off.wgsl"),

@@ -148,7 +148,7 @@ impl<'g> Renderer<'g> {
         }
         let host: Box<dyn TraversalHost + 'g> = match traversal {
             Traversal::Bisect(b) => Box::new(super::bisect::Host::new(gpu, b)?),
-            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o)),
+            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o, codegen::kernel::sphere_tile_pass(field))),
         };
         let d = &gpu.device;
         let bound = field::bind(gpu, field)?;

@@ -16,12 +16,16 @@ use crate::render::{Bound, CameraFrame, Optimizations, Settings, Shading, Sphere
 /// Sphere tracing on the host.
 pub(crate) struct Host {
     options: SphereOptions,
+    /// Whether the kernel has a tile pass (`codegen::kernel::sphere_tile_pass`,
+    /// a scene): `main` then runs by indirect dispatch over the tiles it
+    /// queues.
+    tiles: bool,
 }
 
 impl Host {
-    /// With these options.
-    pub fn new(options: SphereOptions) -> Host {
-        Host { options }
+    /// With these options, and with or without the tile pass.
+    pub fn new(options: SphereOptions, tiles: bool) -> Host {
+        Host { options, tiles }
     }
 }
 
@@ -79,12 +83,25 @@ impl TraversalHost for Host {
         vec![]
     }
 
+    /// The per-ray statistics words; with the tile pass, its tile list
+    /// (with the indirect dispatch counts of `main`) and tile ids.
     fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry> {
-        vec![storage_entry(1, false)]
+        let mut v = vec![storage_entry(1, false)];
+        if self.tiles {
+            v.extend([storage_entry(2, false), storage_entry(3, false)]);
+        }
+        v
     }
 
-    fn pass_buffers(&self, _gpu: &Gpu, _rect: Rect) -> PassBuffers {
-        PassBuffers { entries: vec![], list: None }
+    fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers {
+        if !self.tiles {
+            return PassBuffers { entries: vec![], list: None };
+        }
+        use wgpu::BufferUsages as B;
+        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
+        let list = buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST);
+        let ids = buffer("tile ids", rect.tiles() * 4, B::STORAGE);
+        PassBuffers { entries: vec![(2, list.clone()), (3, ids)], list: Some(list) }
     }
 
     /// One 8×8 tile per workgroup (the kernel's `@workgroup_size(8, 8)`).
@@ -93,7 +110,7 @@ impl TraversalHost for Host {
     }
 
     fn pre_pass(&self) -> bool {
-        false
+        self.tiles
     }
 
     fn ray_stats_binding(&self) -> Option<u32> {

@@ -278,7 +278,15 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         }
         Traversal::Sphere(o) => {
             pass.push(scratch(1, "ray statistics", Size::PerPixel { bytes: 4 }));
-            stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![], copy: None });
+            if codegen::kernel::sphere_tile_pass(field) {
+                // The tile pass leaves the tiles without primitives out of `main`.
+                pass.push(Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
+                pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
+                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None });
+                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![], copy: None });
+            } else {
+                stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![], copy: None });
+            }
             ("sphere", blocks::<SphereBlock>(), Follow { light: true, eps_factor: o.eps_min.is_none().then_some(1.0) })
         }
     };

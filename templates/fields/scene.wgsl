@@ -398,6 +398,15 @@ fn field_leave_frustum() {
     g_scene_depths = g_scene_core;
 }
 
+// Whether no primitive meets tile t's frustum (its views pass found none:
+// a slab table whose depths are empty; 0 slabs is the whole tree), so that
+// no ray of the tile meets the surface (field_ray_range is empty there).
+fn field_tile_empty(t: u32) -> bool {
+    let tb = t * SCENE_VIEW_MAX;
+    if (scene_view_node(tb) == 0u) { return false; }
+    return bitcast<f32>(scene_view_node(tb + 2u)) > bitcast<f32>(scene_view_node(tb + 3u));
+}
+
 // The part of the ray o + d t where the current tile's primitives are (no
 // surface lies elsewhere in the tile's frustum): view depth z is
 // dot(o - eye, forward) + t dot(d, forward).

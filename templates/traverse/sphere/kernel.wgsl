@@ -21,7 +21,8 @@
 //
 // Shadow and refraction rays are spliced in (shadows.wgsl, glass.wgsl) only
 // when asked for, because lavapipe pays for inlined code that never runs;
-// their *_off.wgsl stand-ins take their place otherwise.
+// their *_off.wgsl stand-ins take their place otherwise. So is the tile
+// pass (tiles.wgsl), for a field that knows which tiles are empty (a scene).
 
 // Per-pixel sphere tracing statistics in the pass group after the pixel
 // records: bits 0-15 over-relaxation fallbacks (saturated); bit 31 the
@@ -267,10 +268,18 @@ fn half_bits(v: f32) -> u32 {
     return (u32(e) << 10u) | ((b >> 13u) & 0x3ffu);
 }
 
+//!splice:tiles
+
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(local_invocation_id) lid: vec3<u32>,
+        @builtin(workgroup_id) wid: vec3<u32>,
+        @builtin(num_workgroups) groups: vec3<u32>) {
     load_uniforms();
-    if (gid.x >= F.tile_size.x || gid.y >= F.tile_size.y) { return; }
+    // This workgroup's 8x8 tile: the dispatch's tiles in order, or after a
+    // tile pass (tiles.wgsl) the tiles it queued.
+    let tile = main_tile(wid, groups);
+    let gid = tile * 8u + lid.xy;
+    if (tile.x == 0xffffffffu || gid.x >= F.tile_size.x || gid.y >= F.tile_size.y) { return; }
     let px = F.tile_origin + gid.xy;
     let idx = gid.y * F.tile_size.x + gid.x;
     let d = normalize(primary_dir(px));
