@@ -1,9 +1,11 @@
-// Bisection's cells with the scalar work inline (the compiled field): the
-// mean-value midpoint, a monotone cell's ends and regula falsi, a leaf's
-// sign test and refinement each call f where they need it. Every call site
-// is a copy of the generated evaluator; for an interpreted field, whose
-// copies are whole interpreters, cells_probe.wgsl runs the same steps from
-// one call site instead (each frame here is 10-45 % faster, so both are kept).
+// Bisection's cells for a compiled field. lavapipe runs every call site
+// inside a loop on every pass for all lanes of a SIMD bundle, needed or
+// not, and each call site of f is a copy of the generated evaluator; so a
+// cell costs one derivative enclosure and two call sites of f (visit), and
+// the root finding (narrow) and a leaf's sign test run after the cell loop,
+// once per bracket. For an interpreted field, whose copies are whole
+// interpreters, cells_probe.wgsl runs a cell's scalar work from one call
+// site instead (its phases made the compiled field's frames slower).
 
 // Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
 const CELLS_ROUNDS: bool = false;
@@ -86,7 +88,7 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
     // on out here: inside, its loop would be one more pass of f on every
     // cell (lavapipe runs it under a mask for lanes that do not need it).
     loop {
-        var found = false;
+        var found = false; // the cell at (d, k) brackets a root, or is a leaf
         var cell = vec2<f32>(0.0);
         var fc = vec2<f32>(0.0); // f - c_i at the cell's ends
         var iso = 0u;
@@ -104,60 +106,17 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
                     return h;
                 }
                 h.iters = h.iters + 1u;
-                let c = cell_s(s_lo, len, d, k);
-                // From depth U.mono_depth on, cells are evaluated together with the
-                // enclosure of f's derivative along the ray: where it excludes 0, f
-                // is monotone on the cell, which then holds a root iff f changes
-                // sign across it, and that root is unique (found by scalar solving).
-                let slope = d >= U.mono_depth;
-                let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
-                var r = q.xy;
-                var monotone = slope && (q.z > 0.0 || q.w < 0.0);
-                // Two call sites of f per cell: the midpoint for the
-                // mean-value form, or a monotone cell's near end; then its
-                // far end. A leaf's ends are taken after the loop.
-                let mv = slope && !monotone;
-                let f_a = field(ray.o + ray.dir * select(c.x, 0.5 * (c.x + c.y), mv));
-                if (mv) { r = mean_value(c, r, q.zw, f_a); }
                 h.evals = h.evals + 1u;
-                if (keep_cell(r)) {
-                    let finite = is_finite_range(r);
-                    let deeper = d < d_max || (!finite && d < d_last);
-                    var f1 = 0.0;
-                    if (monotone) {
-                        f1 = field(ray.o + ray.dir * c.y);
-                        // A monotone cell whose ends are not finite is bisected
-                        // like any other.
-                        monotone = abs(f_a) < F.inf && abs(f1) < F.inf;
-                    }
-                    if (monotone) {
-                        // At most one root per isovalue, and one exactly when
-                        // f - c changes sign; f is monotone, so the nearest is
-                        // that of the bracketed isovalue nearest f(c.x).
-                        iso = ISO_COUNT;
-                        var gap = F.inf;
-                        for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
-                            let c_i = iso_value(i);
-                            if (brackets(f_a - c_i, f1 - c_i) && abs(c_i - f_a) < gap) {
-                                gap = abs(c_i - f_a);
-                                iso = i;
-                            }
-                        }
-                        if (iso < ISO_COUNT) {
-                            found = true;
-                            cell = c;
-                            fc = vec2<f32>(f_a, f1) - vec2<f32>(iso_value(iso));
-                            leaf = false;
-                        }
-                    } else if (deeper) {
-                        descend = true;
-                    } else {
-                        // A leaf: its sign test and root after the loop.
-                        found = true;
-                        cell = c;
-                        leaf = true;
-                        leaf_r = r;
-                    }
+                let c = cell_s(s_lo, len, d, k);
+                let v = visit(ray, c, d, d_max, d_last);
+                descend = v.kind == VISIT_DESCEND;
+                if (v.kind >= VISIT_BRACKET) {
+                    found = true;
+                    cell = c;
+                    fc = v.fc;
+                    iso = v.iso;
+                    leaf = v.kind == VISIT_LEAF;
+                    leaf_r = v.r;
                 }
             }
             skip = false;
@@ -167,7 +126,10 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
                 k = k * 2u;
             } else {
                 let up = countTrailingZeros(~k);
-                if (up >= d) {
+                if (up < d) {
+                    d = d - up;
+                    k = (k >> up) + 1u;
+                } else {
                     // The whole segment is done: on to the next run, if any.
                     let nxt = next_run(&m, runs.lim, runs.dr);
                     if (!(nxt.x < nxt.y)) { return h; }
@@ -177,9 +139,6 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
                     d_last = d_max + EXTRA_LEVELS;
                     d = 0u;
                     k = 0u;
-                } else {
-                    d = d - up;
-                    k = (k >> up) + 1u;
                 }
             }
         }
@@ -205,6 +164,71 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs
         skip = true;
     }
     return h;
+}
+
+// What visit() found in a cell: nothing (step past it), a reason to
+// descend, a root bracket (monotone: `fc` is f − c at its ends, for
+// isovalue `iso`) or a leaf (its enclosure `r`; its sign test comes after
+// the cell loop).
+const VISIT_NONE: u32 = 0u;
+const VISIT_DESCEND: u32 = 1u;
+const VISIT_BRACKET: u32 = 2u;
+const VISIT_LEAF: u32 = 3u;
+struct Visit { kind: u32, fc: vec2<f32>, iso: u32, r: vec2<f32> }
+
+// One cell c at depth d: its enclosure and, from depth U.mono_depth on, the
+// enclosure of f's derivative along the ray. Where that excludes 0, f is
+// monotone on the cell, which then holds a root iff f changes sign across
+// it, and that root is unique (found by scalar solving). Two call sites of
+// f: the midpoint for the mean-value form, or a monotone cell's near end;
+// then its far end.
+fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32) -> Visit {
+    var v = Visit(VISIT_NONE, vec2<f32>(0.0), 0u, vec2<f32>(0.0));
+    let slope = d >= U.mono_depth;
+    let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
+    var r = q.xy;
+    var monotone = slope && (q.z > 0.0 || q.w < 0.0);
+    let mv = slope && !monotone;
+    let f_a = field(ray.o + ray.dir * select(c.x, 0.5 * (c.x + c.y), mv));
+    if (mv) { r = mean_value(c, r, q.zw, f_a); }
+    if (!keep_cell(r)) { return v; }
+    let deeper = d < d_max || (!is_finite_range(r) && d < d_last);
+    var f1 = 0.0;
+    if (monotone) {
+        f1 = field(ray.o + ray.dir * c.y);
+        // A monotone cell whose ends are not finite is bisected like any other.
+        monotone = abs(f_a) < F.inf && abs(f1) < F.inf;
+    }
+    if (monotone) {
+        v.iso = nearest_iso(f_a, f1);
+        if (v.iso < ISO_COUNT) {
+            v.kind = VISIT_BRACKET;
+            v.fc = vec2<f32>(f_a, f1) - vec2<f32>(iso_value(v.iso));
+        }
+    } else if (deeper) {
+        v.kind = VISIT_DESCEND;
+    } else {
+        v.kind = VISIT_LEAF;
+        v.r = r;
+    }
+    return v;
+}
+
+// The isovalue whose root a monotone cell holds nearest its start, f0 and
+// f1 its ends (ISO_COUNT: none). At most one root per isovalue, and one
+// exactly when f − c changes sign; f is monotone, so the nearest root is
+// that of the bracketed isovalue nearest f0.
+fn nearest_iso(f0: f32, f1: f32) -> u32 {
+    var iso = ISO_COUNT;
+    var gap = F.inf;
+    for (var i = 0u; i < ISO_COUNT; i = i + 1u) {
+        let c_i = iso_value(i);
+        if (brackets(f0 - c_i, f1 - c_i) && abs(c_i - f0) < gap) {
+            gap = abs(c_i - f0);
+            iso = i;
+        }
+    }
+    return iso;
 }
 
 // How narrow() closes in on a root: regula falsi in a monotone cell,
