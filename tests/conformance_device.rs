@@ -16,7 +16,7 @@ mod harness;
 mod segments;
 
 use harness::*;
-use segments::{run_segments, segment_shader};
+use segments::{check_slopes, run_segments, segment_shader, slope_shader};
 use isotrace::codegen::{self, Domain};
 use isotrace::gpu::eval::eval_boxes;
 use isotrace::gpu::Gpu;
@@ -57,6 +57,30 @@ fn segment_field(ir: &Ir, domain: Domain) -> String {
         codegen::libraries(&[domain]),
         codegen::emit_evaluator(ir, domain)
     )
+}
+
+/// The slope enclosures of the generated `evald_*` (the ray direction an
+/// exact f32: its first terms are `{p}_scale` products) hold the f64 slope
+/// of every Knoll surface, every operation and random trees along random
+/// ray segments, in IA and RAA.
+#[test]
+fn slope_enclosures_hold_the_slope_along_ray_segments() {
+    let mut cases = op_cases();
+    cases.extend(knoll_cases());
+    cases.extend(random_cases(23, 20));
+    check_slopes(&cases, 200, 24, &|case, domain, segs| {
+        let (ty, p) = match domain {
+            Domain::Interval => ("vec2<f32>", "ia"),
+            _ => ("vec3<f32>", "ra"),
+        };
+        let field = format!(
+            "{}\n{}\n{}\nfn seg_slope(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dir: vec3<f32>) -> vec2<f32> {{ return evald_{p}(x, y, z, t, dir.x, dir.y, dir.z).zw; }}",
+            codegen::libraries(&[Domain::Scalar, domain]),
+            codegen::derivative::library(domain),
+            codegen::derivative::emit_evaluator_d(&case.ir, domain)
+        );
+        run_segments(&GPU, &slope_shader(&field, domain), segs, &case.params, None).unwrap_or_else(|e| panic!("slope kernel failed for {} {domain:?}: {e}", case.name))
+    });
 }
 
 // The checks both backends run (`conformance/suite.rs`); the device checks

@@ -12,7 +12,7 @@ mod harness;
 mod segments;
 
 use harness::*;
-use segments::{run_segments, segment_shader};
+use segments::{check_slopes, run_segments, segment_shader, slope_shader};
 use isotrace::codegen::{self, Domain, TapeData};
 use isotrace::gpu::eval::eval_boxes_tape;
 use isotrace::gpu::Gpu;
@@ -52,12 +52,35 @@ fn segment_field(domain: Domain) -> String {
         Domain::Interval => ("vec2<f32>", "surf_ia"),
         _ => ("vec3<f32>", "surf_ra"),
     };
+    format!("{}\nfn seg_field(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{ return {surf}(x, y, z, t); }}", tape_interpreter(domain))
+}
+
+/// The tape interpreter with every operation group, and what it needs.
+fn tape_interpreter(domain: Domain) -> String {
     format!(
-        "var<private> g_field_work: u32;\n{}{}\n{}\nfn seg_field(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{ return {surf}(x, y, z, t); }}",
+        "var<private> g_field_work: u32;\n{}{}\n{}",
         codegen::libraries(&[Domain::Scalar, domain]),
         codegen::derivative::library(domain),
         codegen::tape_field::interpreter(domain, codegen::tape::features::ALL)
     )
+}
+
+/// The tape's slope enclosures (its derivative program, the ray direction
+/// an exact f32) hold the f64 slope along random ray segments, as the
+/// generated code's do (`tests/conformance_device.rs`).
+#[test]
+fn slope_enclosures_hold_the_slope_along_ray_segments() {
+    let mut cases = op_cases();
+    cases.extend(knoll_cases());
+    cases.extend(random_cases(23, 20));
+    check_slopes(&cases, 200, 24, &|case, domain, segs| {
+        let (ty, p) = match domain {
+            Domain::Interval => ("vec2<f32>", "ia"),
+            _ => ("vec3<f32>", "ra"),
+        };
+        let field = format!("{}\nfn seg_slope(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dir: vec3<f32>) -> vec2<f32> {{ return evald_{p}(x, y, z, t, dir.x, dir.y, dir.z).zw; }}", tape_interpreter(domain));
+        run_segments(&GPU, &slope_shader(&field, domain), segs, &case.params, Some(&tape(&case.ir))).unwrap_or_else(|e| panic!("slope kernel failed for {} {domain:?}: {e}", case.name))
+    });
 }
 
 // The checks every backend runs (`conformance/suite.rs`), with the device's budget.

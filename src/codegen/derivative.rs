@@ -329,7 +329,8 @@ fn wgsl_name(op: D) -> &'static str {
 
 /// A term of the generated code: a WGSL expression, either a plain f32
 /// (`Point`: the ray direction, constants, and what is computed from them
-/// alone, exact points in every domain) or a value of the domain (`Form`).
+/// alone; points in every domain, rounded as the domain's own product of
+/// two points would be) or a value of the domain (`Form`).
 /// A cell's derivative enclosure starts from the ray direction, a point, so
 /// the first terms of every chain (2·x·dx of x², say) are a domain value
 /// times an f32: `{p}_scale`, a few instructions where a product of two
@@ -382,7 +383,7 @@ impl Terms for Wgsl<'_> {
     }
     fn un(&mut self, op: D, a: Term) -> Term {
         match (op, &a) {
-            (D::Neg, Term::Point(x)) => Term::Point(format!("(-{x})")),
+            (D::Neg, Term::Point(x)) => Term::Point(format!("(-({x}))")),
             (D::Sqr, Term::Point(x)) => Term::Point(format!("({x} * {x})")),
             _ => Term::Form(format!("{}_{}({})", self.p, wgsl_name(op), a.lift(self.p))),
         }

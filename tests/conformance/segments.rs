@@ -15,11 +15,22 @@ use isotrace::gpu::Gpu;
 /// reduced affine forms for RAA) returning the enclosure `[lo, hi]`, and
 /// whatever it needs (libraries, evaluators, an interpreter).
 pub fn segment_shader(field: &str, domain: Domain) -> String {
-    let body = match domain {
+    segment_kernel(field, domain, "seg_field(X, Y, Z, T)")
+}
+
+/// The same kernel over `seg_slope(x, y, z, t, dir)`, which returns the
+/// enclosure of the derivative of f along `dir` (`evald_*`'s slope).
+pub fn slope_shader(field: &str, domain: Domain) -> String {
+    segment_kernel(field, domain, "seg_slope(X, Y, Z, T, dir)")
+}
+
+/// The segment kernel returning `call` on the segment's lifted X, Y, Z, T.
+fn segment_kernel(field: &str, domain: Domain, call: &str) -> String {
+    let lift = match domain {
         Domain::Interval => "let a = o + dir * s0;\n    let b = o + dir * s1;\n    let lo = min(a, b);\n    let hi = max(a, b);\n    \
-            return seg_field(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), ia_const(U.time));",
+            let X = vec2<f32>(lo.x, hi.x);\n    let Y = vec2<f32>(lo.y, hi.y);\n    let Z = vec2<f32>(lo.z, hi.z);\n    let T = ia_const(U.time);",
         _ => "let sc = 0.5 * (s0 + s1);\n    let sr = 0.5 * (s1 - s0);\n    let c = o + dir * sc;\n    let r = dir * sr;\n    \
-            return seg_field(vec3<f32>(c.x, r.x, 0.0), vec3<f32>(c.y, r.y, 0.0), vec3<f32>(c.z, r.z, 0.0), ra_const(U.time));",
+            let X = vec3<f32>(c.x, r.x, 0.0);\n    let Y = vec3<f32>(c.y, r.y, 0.0);\n    let Z = vec3<f32>(c.z, r.z, 0.0);\n    let T = ra_const(U.time);",
     };
     format!(
         "struct Uniforms {{ inf: f32, time: f32, count: u32, pad: u32, params: array<vec4<f32>, 16> }}
@@ -30,7 +41,8 @@ fn iso_inf() -> f32 {{ return U.inf; }}
 fn iso_param(i: u32) -> f32 {{ return U.params[i / 4u][i % 4u]; }}
 {field}
 fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{
-    {body}
+    {lift}
+    return {call};
 }}
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
@@ -102,4 +114,56 @@ pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Op
         .map_err(|e| e.to_string())?;
     let bytes = gpu.map_read(&staging).map_err(|e| e.to_string())?;
     Ok(bytemuck::cast_slice::<u8, [f32; 2]>(&bytes).iter().map(|r| [f64::from(r[0]), f64::from(r[1])]).collect())
+}
+
+/// Checks the slope enclosures `slopes` returns (the derivative of f along
+/// each segment's direction over the segment, as `evald_*` computes it for
+/// the bisection's monotonicity test and mean-value form) against f64
+/// central differences at 16 points inside each of `n` random segments per
+/// case (starting within 100 of the origin): the slope there must lie in
+/// the enclosure, up to the f32 rounding of its ends. Points where halving
+/// the difference step changes the estimate (a kink or jump of f within the
+/// step) or where the difference's own rounding could move it (f huge
+/// against its change over the step) prove nothing and are skipped, as are
+/// enclosures with an unbounded end.
+pub fn check_slopes(cases: &[super::Case], n: usize, seed: u64, slopes: &dyn Fn(&super::Case, Domain, &[Seg]) -> Vec<[f64; 2]>) {
+    let mut rng = super::Rng::new(seed);
+    let mut failures = Vec::new();
+    let mut compared = 0usize;
+    for case in cases {
+        // Near the origin only: far from it an f32 ray point is off its f64
+        // point by more than the slope's tolerance allows for (the value
+        // checks model that rounding; this one compares slopes).
+        let segs: Vec<Seg> = std::iter::repeat_with(|| super::random_segments(&mut rng, 1)[0]).filter(|s| s[..3].iter().all(|c| c.abs() < 100.0)).take(n).collect();
+        let params: Vec<f64> = case.params.iter().map(|&p| f64::from(p)).collect();
+        for domain in super::ALGEBRAS {
+            for (s, [lo, hi]) in segs.iter().zip(slopes(case, domain, &segs)) {
+                if !(lo.is_finite() && hi.is_finite()) {
+                    continue;
+                }
+                let s = s.map(f64::from);
+                let f = |u: f64| isotrace::reference::eval_scalar(&case.ir, [s[0] + s[3] * u, s[1] + s[4] * u, s[2] + s[5] * u, f64::from(SEG_TIME)], &params);
+                let h = (s[7] - s[6]) * 1e-4;
+                for j in 0..16 {
+                    let u = s[6] + 2.0 * h + (s[7] - s[6] - 4.0 * h) * (j as f64 + 0.5) / 16.0;
+                    let d1 = (f(u + h) - f(u - h)) / (2.0 * h);
+                    let d2 = (f(u + 0.5 * h) - f(u - 0.5 * h)) / h;
+                    // The difference's own f64 rounding: far from the origin f
+                    // is huge and the step tiny, and the estimate is noise.
+                    let noise = 1e-15 * f(u).abs() / h;
+                    if !(d1.is_finite() && d2.is_finite()) || (d1 - d2).abs() > 1e-3 * (d1.abs() + 1.0) || noise > 1e-5 * d1.abs() {
+                        continue;
+                    }
+                    compared += 1;
+                    let tol = 1e-3 * (lo.abs() + hi.abs() + d1.abs()) + 1e-6;
+                    if d1 < lo - tol || d1 > hi + tol {
+                        failures.push(format!("{} ({domain:?}): slope {d1:e} at s = {u:e} outside [{lo:e}, {hi:e}] on segment {s:?}", case.name));
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("slopes: {} formulas, {n} segments each, {compared} slopes compared", cases.len());
+    assert!(compared > cases.len() * n, "too few slopes compared: {compared}");
+    assert!(failures.is_empty(), "{} slope enclosures miss f64 slopes:\n{}", failures.len(), failures.iter().take(20).cloned().collect::<Vec<_>>().join("\n"));
 }

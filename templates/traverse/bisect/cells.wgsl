@@ -33,47 +33,17 @@ fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec
 // `dr`, and 1/|dir| (a secondary ray has none: m = 0).
 struct Runs { m: vec2<u32>, lim: vec2<f32>, dr: vec2<f32>, inv_len: f32 }
 
-// The 64-bit mask of bits [0, n), n in 0..=64 (as two u32: low, high).
-fn bits_below(n: u32) -> vec2<u32> {
-    let lo = select(0xffffffffu, (1u << (n & 31u)) - 1u, n < 32u);
-    let hi = select(0u, select(0xffffffffu, (1u << (n & 31u)) - 1u, n < 64u), n > 32u);
-    return vec2<u32>(lo, hi);
-}
-// The lowest set bit of a 64-bit mask (64 when none).
-fn lowest_bit(v: vec2<u32>) -> u32 {
-    return select(32u + countTrailingZeros(v.y), countTrailingZeros(v.x), v.x != 0u);
-}
-
-// The next run of consecutive candidate slabs in `m` (taken out of it),
-// clipped to `lim`: its depths (lo, hi), or lo >= hi when none is left.
-// Bit arithmetic instead of loops over the bits: this runs on every cell
-// of every lane under lavapipe's masks.
-fn next_run(m: ptr<function, vec2<u32>>, lim: vec2<f32>, dr: vec2<f32>) -> vec2<f32> {
-    loop {
-        if ((*m).x == 0u && (*m).y == 0u) { return vec2<f32>(1.0, 0.0); }
-        let k = lowest_bit(*m);
-        let end = lowest_bit(~(*m) & ~bits_below(k)); // one past the run
-        *m = *m & ~bits_below(end);
-        let span = slab_span(dr, k, end - 1u);
-        let lo = max(lim.x, span.x);
-        let hi = min(lim.y, span.y);
-        if (lo < hi) { return vec2<f32>(lo, hi); }
-    }
-    return vec2<f32>(1.0, 0.0);
-}
-
 // Stackless bisection of the ray, run after run: the first segment `first`
-// to depth d_max0, then the runs left in `runs0`. Cells (d, k) cover
+// to depth d_max0, then the runs left in `runs`. Cells (d, k) cover
 // [k, k+1] / 2^d of the segment; rejecting a cell climbs over every
 // finished level at once (the trailing one bits of k) and steps right, and
 // past the segment's end onto the next run. One loop for all runs: a lane
 // whose run is done goes on with its next while the others of its SIMD
 // bundle still bisect theirs (a loop per run made each run cost the
 // bundle at least one pass of the whole cell code).
-fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs0: Runs) -> Hit {
+fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs) -> Hit {
     var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
-    let runs = runs0;
-    var m = runs0.m; // a pointer argument must be a whole variable (naga's SPIR-V back end)
+    var m = runs.m; // a pointer argument must be a whole variable (naga's SPIR-V back end)
     var d = 0u;
     var k = 0u;
     var s_lo = first.x;

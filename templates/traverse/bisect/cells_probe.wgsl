@@ -9,32 +9,16 @@
 const CELLS_ROUNDS: bool = true;
 
 // Primary ray from depth s_from on: the candidate slab runs of the tile,
-// nearest first.
+// nearest first, each bisected by a traverse of its own (a suspended pixel
+// resumes in the run that holds its cell).
 fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec2<f32>, inv_len: f32) -> Hit {
     var m = mask;
+    let lim = vec2<f32>(max(seg.x, s_from), seg.y);
     var hit = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
     loop {
-        if (m.x == 0u && m.y == 0u) { break; }
-        // Next candidate slab k (lowest set bit) and the run that follows it.
-        var k = 0u;
-        if (m.x != 0u) { k = countTrailingZeros(m.x); } else { k = 32u + countTrailingZeros(m.y); }
-        var k_end = k;
-        loop {
-            let nxt = k_end + 1u;
-            if (nxt >= SLABS) { break; }
-            var bit = false;
-            if (nxt < 32u) { bit = ((m.x >> nxt) & 1u) != 0u; } else { bit = ((m.y >> (nxt - 32u)) & 1u) != 0u; }
-            if (!bit) { break; }
-            k_end = nxt;
-        }
-        for (var j = k; j <= k_end; j = j + 1u) {
-            if (j < 32u) { m.x = m.x & ~(1u << j); } else { m.y = m.y & ~(1u << (j - 32u)); }
-        }
-        let span = slab_span(dr, k, k_end);
-        let lo = max(max(seg.x, s_from), span.x);
-        let hi = min(seg.y, span.y);
-        if (!(lo < hi)) { continue; }
-        hit = traverse(ray, lo, hi, depth_for((hi - lo) / inv_len), g_budget);
+        let run = next_run(&m, lim, dr);
+        if (!(run.x < run.y)) { break; }
+        hit = traverse(ray, run.x, run.y, depth_for((run.y - run.x) / inv_len), g_budget);
         g_evals = g_evals + hit.evals;
         g_budget = g_budget - min(g_budget, hit.iters);
         if (hit.status != STATUS_MISS) { break; }

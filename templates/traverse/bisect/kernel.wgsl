@@ -157,6 +157,35 @@ fn depth_for(len: f32) -> u32 {
     return u32(clamp(ceil(log2(len / F.eps)), 0.0, 18.0));
 }
 
+// The 64-bit mask of bits [0, n), n in 0..=64 (as two u32: low, high).
+fn bits_below(n: u32) -> vec2<u32> {
+    let lo = select(0xffffffffu, (1u << (n & 31u)) - 1u, n < 32u);
+    let hi = select(0u, select(0xffffffffu, (1u << (n & 31u)) - 1u, n < 64u), n > 32u);
+    return vec2<u32>(lo, hi);
+}
+// The lowest set bit of a 64-bit mask (64 when none).
+fn lowest_bit(v: vec2<u32>) -> u32 {
+    return select(32u + countTrailingZeros(v.y), countTrailingZeros(v.x), v.x != 0u);
+}
+
+// The next run of consecutive candidate slabs in `m` (taken out of it),
+// clipped to `lim`: its depths (lo, hi), or lo >= hi when none is left.
+// Bit arithmetic instead of loops over the bits: this runs on every cell
+// of every lane under lavapipe's masks.
+fn next_run(m: ptr<function, vec2<u32>>, lim: vec2<f32>, dr: vec2<f32>) -> vec2<f32> {
+    loop {
+        if ((*m).x == 0u && (*m).y == 0u) { return vec2<f32>(1.0, 0.0); }
+        let k = lowest_bit(*m);
+        let end = lowest_bit(~(*m) & ~bits_below(k)); // one past the run
+        *m = *m & ~bits_below(end);
+        let span = slab_span(dr, k, end - 1u);
+        let lo = max(lim.x, span.x);
+        let hi = min(lim.y, span.y);
+        if (lo < hi) { return vec2<f32>(lo, hi); }
+    }
+    return vec2<f32>(1.0, 0.0);
+}
+
 // A secondary ray (shadow, reflection) from point o along unit direction
 // u, clipped to the domain, from depth s_from up to s_to.
 fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32) -> Hit {
