@@ -90,8 +90,7 @@ impl TraversalHost for Host {
         use wgpu::BufferUsages as B;
         let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
         let masks = buffer("tile masks", rect.tiles() * 16, B::STORAGE);
-        let list = buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST);
-        let ids = buffer("tile ids", rect.tiles() * 4, B::STORAGE);
+        let (list, ids) = super::tile_list_buffers(gpu, rect);
         let resume = buffer("resume states", rect.pixels() * 16, B::STORAGE);
         PassBuffers { entries: vec![(1, masks), (2, list.clone()), (3, ids), (4, resume)], list: Some(list) }
     }

@@ -307,6 +307,16 @@ pub(crate) fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) 
     }
 }
 
+/// The tile list a traversal's tile pass fills (the indirect dispatch
+/// counts of `main`, then the count of queued tiles: 16 bytes) and the ids of
+/// the queued tiles, for the 8×8 tiles of `rect` (pass-group bindings 2 and 3
+/// of bisection and of sphere tracing over a scene).
+pub(crate) fn tile_list_buffers(gpu: &Gpu, rect: dispatch::Rect) -> (wgpu::Buffer, wgpu::Buffer) {
+    use wgpu::BufferUsages as B;
+    let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
+    (buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST), buffer("tile ids", rect.tiles() * 4, B::STORAGE))
+}
+
 /// A compute bind group layout entry for a storage buffer.
 pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {

@@ -97,10 +97,7 @@ impl TraversalHost for Host {
         if !self.tiles {
             return PassBuffers { entries: vec![], list: None };
         }
-        use wgpu::BufferUsages as B;
-        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
-        let list = buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST);
-        let ids = buffer("tile ids", rect.tiles() * 4, B::STORAGE);
+        let (list, ids) = super::tile_list_buffers(gpu, rect);
         PassBuffers { entries: vec![(2, list.clone()), (3, ids)], list: Some(list) }
     }
 

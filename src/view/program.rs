@@ -261,15 +261,13 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             };
             frame.push(data(1, "environment", texels));
             pass.push(scratch(1, "tile masks", Size::PerTile { bytes: 16 }));
-            pass.push(Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
-            pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
+            pass.extend(tile_list());
             // Zeroed every frame: the page runs one round of `main`, so a
             // pixel past a tape's work limit stays unresolved there.
             pass.push(scratch(4, "resume states", Size::PerPixel { bytes: 16 }));
             let tpg = crate::gpu::bisect::TILES_PER_GROUP;
             if b.optimizations.tile_culling {
-                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None });
-                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![], copy: None });
+                stages.extend(tile_pass());
             } else {
                 stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg }, uses: vec![], copy: None });
             }
@@ -280,10 +278,8 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             pass.push(scratch(1, "ray statistics", Size::PerPixel { bytes: 4 }));
             if codegen::kernel::sphere_tile_pass(field) {
                 // The tile pass leaves the tiles without primitives out of `main`.
-                pass.push(Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) });
-                pass.push(scratch(3, "tile ids", Size::PerTile { bytes: 4 }));
-                stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None });
-                stages.push(Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![], copy: None });
+                pass.extend(tile_list());
+                stages.extend(tile_pass());
             } else {
                 stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: 1 }, uses: vec![], copy: None });
             }
@@ -295,6 +291,21 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         st.uses = uses.iter().find(|(e, _)| e == st.entry).map(|(_, u)| u.clone()).unwrap_or_default();
     }
     Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms: words(&uniforms), groups: [frame, field_group, pass], stages, follow })
+}
+
+/// A tile pass's list (the indirect dispatch counts of `main`, binding 2)
+/// and queued tile ids (binding 3) in the pass group.
+fn tile_list() -> [Binding; 2] {
+    [Binding { indirect: true, clear: false, ..scratch(2, "tile list", Size::Fixed { bytes: 16 }) }, scratch(3, "tile ids", Size::PerTile { bytes: 4 })]
+}
+
+/// The tile pass (one invocation per 8×8 tile) and `main` by indirect
+/// dispatch over the tiles it queued.
+fn tile_pass() -> [Stage; 2] {
+    [
+        Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None },
+        Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![], copy: None },
+    ]
 }
 
 /// Every entry point's used resource bindings (naga's per-entry-point
