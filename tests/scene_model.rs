@@ -317,7 +317,8 @@ fn params_rows_reproduce_each_primitive() {
     }
 }
 
-/// Node words: flags, type, parent (the root's is n), fast ancestor, offsets.
+/// Node words: flags, type, parent (the root's is n), fast ancestor,
+/// offsets, primitive index.
 #[test]
 fn node_words_follow_the_fixed_layout() {
     let mut rng = Rng::new(3);
@@ -333,7 +334,9 @@ fn node_words_follow_the_fixed_layout() {
         assert_eq!(w[0] & 0x3f_ffff, lin.parent[k]);
         assert_eq!(w[1], next_param);
         assert_eq!(w[2], lin.fast[k]);
-        assert_eq!(w[3], 0);
+        // A primitive's index among the primitives (its balls'), else 0.
+        let prim = lin.primitives.iter().position(|&q| q == k as u32);
+        assert_eq!(w[3], prim.unwrap_or(0) as u32);
         assert!(w[2] >= lin.parent[k]);
         next_param += match node {
             Node::Primitive(p) => isotrace::scene::linear::primitive_rows(p).len() as u32,

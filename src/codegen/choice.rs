@@ -173,7 +173,7 @@ pub fn auto_scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> 
     }
     let (field, lipschitz) = scene(f, params, traversal).ok()?;
     let PreparedField::Scene(data) = &field else { return None };
-    let bounded = data.balls.iter().filter(|b| b[3].is_finite()).count();
+    let bounded = data.balls.iter().step_by(2).filter(|b| b[3].is_finite()).count();
     (bounded >= SCENE_AUTO_MIN_BOUNDED).then_some((field, lipschitz))
 }
 

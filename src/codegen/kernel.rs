@@ -40,8 +40,9 @@ pub struct SceneData {
     pub params: Vec<[f32; 4]>,
     /// The node index of every primitive.
     pub prims: Vec<u32>,
-    /// Every primitive's augmented bounding ball (centre, radius; +inf for
-    /// an unbounded primitive).
+    /// Two balls a primitive (centre, radius; +inf bounds nothing): its
+    /// augmented bounding ball, then its limit ball, outside which an
+    /// intersection above it is inactive (`scene::reach`).
     pub balls: Vec<[f32; 4]>,
     /// The interpreter features the scene needs (`scene::linear::FEATURE_*`
     /// bits): part of the kernel, so a renderer built for one set draws
@@ -115,6 +116,9 @@ pub const SCENE_SLABS_MAX: u32 = 4;
 /// A tile list up to this long keeps one slab (switching views costs a
 /// copy; a short view gains little from slicing).
 pub const SCENE_SLAB_MIN_LIST: u32 = 4;
+/// Longest tile list whose balls a primary ray tests itself to narrow its
+/// range (longer lists: the tile's depths only).
+pub const SCENE_RAY_BALLS: u32 = 16;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
 
@@ -159,7 +163,7 @@ fn scene_interpreter(features: u32) -> String {
         "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
          const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
          const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
-         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\n{}",
+         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
         template::SCENE,

@@ -166,7 +166,7 @@ impl FieldBinding {
     }
 
     /// Uploads an edit in place of a scene (`Linear::set_primitive`): the
-    /// changed parameter rows and bounding ball, nothing else. The bind
+    /// changed parameter rows and balls, nothing else. The bind
     /// group stays valid (same buffers).
     pub fn patch_scene(&self, gpu: &Gpu, patch: &crate::scene::linear::ScenePatch) -> Result<(), &'static str> {
         let balls = self.buffers.iter().find(|(k, _)| *k == 3).map(|(_, buf)| buf);
@@ -176,7 +176,7 @@ impl FieldBinding {
         };
         let width = crate::scene::linear::TEXTURE_WIDTH as u64;
         let end = patch.param_row as u64 + patch.params.len() as u64;
-        if end > width * params.height() as u64 || (patch.ball_index as u64 + 1) * 16 > balls.size() {
+        if end > width * params.height() as u64 || patch.balls.iter().any(|&(i, _)| (i as u64 + 1) * 16 > balls.size()) {
             return Err("the edit does not fit the scene's buffers: it belongs to another scene");
         }
         // The rows may wrap onto the next texture row: one write per piece.
@@ -194,7 +194,9 @@ impl FieldBinding {
             rest = &rest[n..];
             row += n as u64;
         }
-        gpu.queue.write_buffer(balls, patch.ball_index as u64 * 16, bytemuck::cast_slice(&[patch.ball]));
+        for (i, b) in &patch.balls {
+            gpu.queue.write_buffer(balls, *i as u64 * 16, bytemuck::cast_slice(&[*b]));
+        }
         Ok(())
     }
 

@@ -8,7 +8,7 @@
 //!   (bits 0..21; the root's parent is n, "invalid");
 //! - y: index of the node's first vec4 in `params`;
 //! - z: the fast ancestor (the brief §1.4; the root's is n);
-//! - w: 0.
+//! - w: a primitive's index in `primitives` (its ball's), 0 for other nodes.
 //!
 //! `params: Vec<[f32; 4]>`: a primitive has [`PRIM_ROWS`] = 5 rows: three
 //! of the 3×4 matrix M = [Rᵀ/s | −Rᵀt/s] (local q = M·(p, 1)), then
@@ -168,6 +168,7 @@ impl Linear {
                 x |= NODE_LEFT_BIT;
             }
             let mut y = self.params.len() as u32;
+            let mut w = 0;
             match node {
                 Node::Primitive(p) => {
                     x |= NODE_LEAF_BIT;
@@ -177,6 +178,7 @@ impl Linear {
                     let a = roi::abv(p, self.roi[k].hi);
                     self.abv.extend(abv_rows(&a));
                     self.abvs.push(a);
+                    w = self.primitives.len() as u32;
                     self.primitives.push(k as u32);
                 }
                 Node::Operator { op, .. } => {
@@ -186,7 +188,7 @@ impl Linear {
                 }
                 Node::Unary { op, .. } => self.params.push(unary_row(op)),
             }
-            self.nodes.push([x, y, self.fast[k], 0]);
+            self.nodes.push([x, y, self.fast[k], w]);
         }
     }
 

@@ -44,6 +44,7 @@ pub mod operator;
 pub mod patch;
 pub mod primitive;
 pub mod profile;
+pub mod reach;
 pub mod roi;
 pub mod rows;
 pub mod sparse;

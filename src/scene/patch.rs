@@ -9,12 +9,16 @@ use super::{Node, SceneError};
 
 impl Linear {
     /// The buffers of the scene field source: nodes, parameters, every
-    /// primitive's node index and a bounding ball of its ABV (the tile
-    /// pre-pass tests balls against tile frusta; an unbounded primitive has
-    /// an infinite radius and is active everywhere).
+    /// primitive's node index and its two balls, a bounding ball of its ABV
+    /// and its limit ball (`reach`; the tile pre-pass tests both against
+    /// tile frusta; an infinite radius bounds nothing).
     pub fn field_data(&self) -> crate::codegen::SceneData {
-        let balls = self.abvs.iter().map(ball).collect();
-        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls, features: self.features }
+        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls: self.balls(), features: self.features }
+    }
+
+    /// The balls of [`Linear::field_data`]: two a primitive.
+    fn balls(&self) -> Vec<[f32; 4]> {
+        self.abvs.iter().zip(self.limit_balls()).flat_map(|(a, l)| [ball(a), l]).collect()
     }
 
     /// Replaces primitive number `j` (in `primitives` order) by `p` of the
@@ -35,6 +39,7 @@ impl Linear {
         }
         let old_type = (self.nodes[k][0] >> NODE_TYPE_SHIFT) & 0xff;
         let row = self.first_row(k);
+        let old_balls = self.balls();
         // A warp is clamped for the primitive's range of interest, which
         // the edit does not change; a stronger warp would need a smaller
         // step everywhere (the bound the scene is traced with).
@@ -54,7 +59,10 @@ impl Linear {
         self.abv[j * ABV_STRIDE as usize..(j + 1) * ABV_STRIDE as usize].copy_from_slice(&abv_rows(&a));
         self.abvs[j] = a;
         self.bounds = self.bounds.hull(&a.aabb());
-        Ok(ScenePatch { param_row: row as u32, params: rows, ball_index: j as u32, ball: ball(&a) })
+        // The primitive's own ball, and the limits of the primitives under
+        // the other operand of an intersection above it.
+        let balls = self.balls().into_iter().enumerate().filter(|&(i, b)| b != old_balls[i]).map(|(i, b)| (i as u32, b)).collect();
+        Ok(ScenePatch { param_row: row as u32, params: rows, balls })
     }
 
     /// Parameter rows of node `k`: up to the next node's first row.
@@ -80,9 +88,8 @@ pub struct ScenePatch {
     pub param_row: u32,
     /// The new rows.
     pub params: Vec<[f32; 4]>,
-    /// The primitive whose bounding ball changed.
-    pub ball_index: u32,
-    /// Its new ball.
-    pub ball: [f32; 4],
+    /// The balls that changed (the primitive's own, limits of others), by
+    /// their index in [`SceneData::balls`](crate::codegen::SceneData).
+    pub balls: Vec<(u32, [f32; 4])>,
 }
 

@@ -343,6 +343,9 @@ var<private> g_slab_margin: f32;
 // The view depths where the tile's primitives are (written by the views
 // pass; the whole line outside a tile).
 var<private> g_scene_depths: vec2<f32>;
+// The tile's balls for a ray's own range (field_ray_range): their first
+// view word in the tile | their count << 16; 0 for none.
+var<private> g_scene_balls: u32 = 0u;
 
 // Counts the changes of the evaluated view (slab or whole tree): two values
 // of f taken under different views are values of different fields (each
@@ -379,6 +382,7 @@ fn field_enter_pixel(px: vec2<u32>) {
     }
     g_slab_margin = bitcast<f32>(scene_view_node(tb + 1u));
     g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
+    g_scene_balls = scene_view_node(tb + 7u);
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
         let e = tb + 4u * (k + 1u);
@@ -396,6 +400,7 @@ fn field_leave_frustum() {
     g_scene_core = vec2<f32>(-F.inf, F.inf);
     g_scene_pad = g_scene_core;
     g_scene_depths = g_scene_core;
+    g_scene_balls = 0u;
 }
 
 // Whether no primitive meets tile t's frustum (its views pass found none:
@@ -415,7 +420,39 @@ fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
     let z0 = dot(o - F.eye.xyz, F.forward.xyz);
     let inside = g_scene_depths.x <= -F.inf && g_scene_depths.y >= F.inf;
     if (inside || !(k > 0.0)) { return select(vec2<f32>(-F.inf, F.inf), vec2<f32>(F.inf, -F.inf), g_scene_depths.x > g_scene_depths.y); }
-    return (g_scene_depths - z0) / k;
+    let tile = (g_scene_depths - z0) / k;
+    if (g_scene_balls == 0u) { return tile; }
+    return scene_balls_range(o, d, tile);
+}
+
+// The part of the ray o + d t (|d| = 1) within `range` that the tile's
+// balls cover, as one interval from the first ball's entry to the last
+// one's exit (empty when it meets none): the surface in the tile's frustum
+// lies in their union, as the tile's depths say of the whole tile.
+fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> {
+    let at = g_scene_tile * SCENE_VIEW_MAX + (g_scene_balls & 0xffffu);
+    let n = g_scene_balls >> 16u;
+    var lo = F.inf;
+    var hi = -F.inf;
+    for (var i = 0u; i < n; i = i + 1u) {
+        let w = at + 4u * i;
+        let c = bitcast<vec3<f32>>(vec3<u32>(scene_view_node(w), scene_view_node(w + 1u), scene_view_node(w + 2u)));
+        let r = bitcast<f32>(scene_view_node(w + 3u));
+        // The distance of c from the line, from the perpendicular itself
+        // (b^2 - |oc|^2 + r^2 cancels badly for a small far ball), padded
+        // by f32's error in it.
+        let oc = c - o;
+        let b = dot(oc, d);
+        let h = oc - b * d;
+        let rr = r + 1e-6 * length(oc);
+        let disc = rr * rr - dot(h, h);
+        if (disc >= 0.0) {
+            let s = sqrt(disc);
+            lo = min(lo, b - s);
+            hi = max(hi, b + s);
+        }
+    }
+    return vec2<f32>(max(range.x, lo), min(range.y, hi));
 }
 
 // The node list this invocation evaluates: the slab's view, or (length

@@ -66,6 +66,44 @@ fn tile_frustum(tile: vec2<u32>) -> vec4<f32> {
     return vec4<f32>(a.x, b.x, b.y, a.y);
 }
 
+// The radius of a primitive's ball as the tiles see it. A traversal may
+// stop where f is below its termination width, not only at f = 0 (sphere
+// tracing's screen-space criterion: half a pixel at the depth): the ball
+// grows by that much, so a near miss of a primitive is seen as with the
+// whole tree.
+fn scene_reach(ball: vec4<f32>) -> f32 {
+    let z = dot(ball.xyz - F.eye.xyz, F.forward.xyz);
+    return ball.w + max(F.eps, 2.0 * F.tan_half_fov / f32(F.size.y) * max(z + ball.w, 0.0));
+}
+
+// The smallest of a, b and the ball around their lens: a ball holding
+// their intersection (a radius < 0: they do not meet). The lens's circle
+// bounds it when each centre is on its own side of the circle's plane.
+// Padded for f32's errors: h^2 = a^2 - x^2 cancels for a thin lens.
+fn scene_meet(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
+    if (!(b.w < F.inf)) { return a; }
+    if (!(a.w < F.inf)) { return b; }
+    let d = length(b.xyz - a.xyz);
+    if (d > a.w + b.w) { return vec4<f32>(a.xyz, -1.0); }
+    var best = select(a, b, b.w < a.w);
+    let x = (d * d + a.w * a.w - b.w * b.w) / (2.0 * d);
+    if (d > 0.0 && x >= 0.0 && x <= d) {
+        let e = 1e-6 * (d + a.w + b.w);
+        let h = sqrt(max(a.w * a.w - x * x, 0.0) + 4.0 * a.w * e) + e;
+        if (h < best.w) { best = vec4<f32>(a.xyz + (b.xyz - a.xyz) * (x / d), h); }
+    }
+    return best;
+}
+
+// Where primitive k can matter, widened by the termination width
+// (scene_reach): its ABV's ball met with its limit ball (src/scene/reach.rs),
+// each widened first. A radius < 0: nowhere.
+fn scene_tight_ball(k: u32) -> vec4<f32> {
+    let a = scene_balls[2u * k];
+    let l = scene_balls[2u * k + 1u];
+    return scene_meet(vec4<f32>(a.xyz, scene_reach(a)), vec4<f32>(l.xyz, select(l.w, scene_reach(l), l.w < F.inf)));
+}
+
 // Pass 1, one invocation per primitive: the tiles whose frustum its ball
 // meets, from the ball's projected screen rectangle; append it there.
 @compute @workgroup_size(64)
@@ -73,7 +111,8 @@ fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     load_uniforms();
     let k = gid.x + gid.y * 65535u * 64u;
     if (k >= arrayLength(&scene_prims)) { return; }
-    let ball = scene_balls[k];
+    let ball = scene_tight_ball(k);
+    if (ball.w < 0.0) { return; }
     let node = scene_prims[k];
     let nx = scene_tiles_x();
     let ny = scene_tiles_y();
@@ -81,11 +120,7 @@ fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     var t1 = vec2<u32>(nx - 1u, ny - 1u);
     let q = ball.xyz - F.eye.xyz;
     let z = dot(q, F.forward.xyz);
-    // A traversal may stop where f is below its termination width, not only
-    // at f = 0 (sphere tracing's screen-space criterion: half a pixel at the
-    // depth): the ball grows by that much, so a near miss of a primitive is
-    // seen as with the whole tree.
-    let r = ball.w + max(F.eps, 2.0 * F.tan_half_fov / f32(F.size.y) * max(z + ball.w, 0.0));
+    let r = ball.w;
     if (abs(r) < F.inf && z - r > 1e-6 * max(z, 1.0)) {
         // In front of the eye: bound x / z and y / z over the ball.
         let x = dot(q, F.right.xyz);
@@ -262,6 +297,23 @@ fn scene_table_write(w: u32, v: vec4<u32>) {
     scene_tile_view[w + 3u] = v.w;
 }
 
+// Writes the balls of the tile's list (base, count) from view word `at`
+// (centre, radius as scene_reach widens it; four words each) when there are
+// at most SCENE_RAY_BALLS, all finite, and they fit in `room` (their
+// scene_tight_ball, as the scatter listed them). Returns the
+// word the slab table keeps for field_ray_range: their offset `off` in the
+// tile's words and their count << 16, or 0 for none (the ray then takes the
+// tile's depths alone).
+fn scene_write_balls(base: u32, count: u32, at: u32, room: u32, off: u32) -> u32 {
+    if (count > SCENE_RAY_BALLS || 4u * count > room) { return 0u; }
+    for (var i = 0u; i < count; i = i + 1u) {
+        let ball = scene_tight_ball(scene_node(scene_tile_prims[base + i]).w);
+        if (!(ball.w < F.inf)) { return 0u; }
+        scene_table_write(at + 4u * i, bitcast<vec4<u32>>(ball));
+    }
+    return off | (count << 16u);
+}
+
 // Pass 2, one invocation per tile: sort the tile's active primitives by
 // node index, cut the depths they span into up to SCENE_SLABS_MAX slabs of
 // equal depth (Zanni's depth ranges; one slab for a short list), and write
@@ -339,6 +391,8 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     // them in the tile's frustum, so primary rays are traced only there
     // (eq. 21-22 at the ends of the list; an empty list: no steps at all).
     scene_table_write(tb, vec4<u32>(slabs, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
+    // A short list's balls after the views, for each ray's own range.
+    scene_tile_view[tb + 7u] = scene_write_balls(base, count, vbase + total, room - total, SCENE_TABLE_WORDS + total);
     // Statistics: the views' total length, the slab count in bits 24-27.
     scene_tile_len[t] = vec2<u32>(total | (slabs << 24u), count);
 }
