@@ -17,14 +17,12 @@ const LEFT: u32 = 1 << 30;
 
 /// union(sphere(1), translate(dx, 0, 0, box(0.5, 0.5, 0.5))) as buffers,
 /// written out in the documented layout (src/scene/linear.rs): a sphere is
-/// the rounded-box form with no extent and rounding 1.
+/// the rounded-box form with no extent and rounding 1. Each primitive has
+/// the identity quaternion, its centre and form, then (extents, rounding).
 fn sphere_and_box(dx: f32) -> SceneData {
-    let id = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
-    let mut params: Vec<[f32; 4]> = id.to_vec();
-    params.extend([[1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]]);
-    params.extend([[1.0, 0.0, 0.0, -dx], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.5, 0.5], [0.0; 4]]);
-    params.push([0.0; 4]);
-    let nodes = vec![[LEAF | LEFT | (1 << 22) | 2, 0, 2, 0], [LEAF | (2 << 22) | 2, 5, 2, 1], [(32 << 22) | 3, 10, 3, 0]];
+    let id = [0.0, 0.0, 0.0, 1.0];
+    let params = vec![id, [0.0; 4], [0.0, 0.0, 0.0, 1.0], id, [dx, 0.0, 0.0, 0.0], [0.5, 0.5, 0.5, 0.0], [0.0; 4]];
+    let nodes = vec![[LEAF | LEFT | (1 << 22) | 2, 0, 2, 0], [LEAF | (2 << 22) | 2, 3, 2, 1], [(32 << 22) | 3, 6, 3, 0]];
     // Each primitive's ball, then its limit (none: a union).
     let none = [0.0, 0.0, 0.0, f32::INFINITY];
     let balls = vec![[0.0, 0.0, 0.0, 1.0], none, [dx, 0.0, 0.0, 0.75f32.sqrt()], none];

@@ -316,14 +316,19 @@ fn profile_rows_follow_the_layout() {
     let p = Primitive::new(Shape::Extrude { profile: Profile::polygon(&[[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]]), half_height: 0.25 });
     let rows = linear::primitive_rows(&p);
     assert_eq!(rows.len() as u32, linear::PROFILE_ROWS + 2);
-    assert_eq!(rows[3], [1.0, 0.0, 0.0, 0.25]);
-    assert_eq!(rows[4], [0.0, 0.0, linear::FORM_EXTRUDE as f32, 3.0]);
-    assert_eq!(rows[6], [0.0, 0.0, 1.0, 0.0]);
-    assert_eq!(rows[7], [0.5, 1.0, 0.0, 0.0]);
+    // The identity frame: Q = (0, 0, 0, 1), c = 0.
+    assert_eq!(rows[0], [0.0, 0.0, 0.0, 1.0]);
+    assert_eq!(rows[1], [0.0, 0.0, 0.0, linear::FORM_EXTRUDE as f32]);
+    assert_eq!(rows[2], [0.0, 0.0, 0.25, 0.0]);
+    assert_eq!(rows[3], [0.0, 3.0, 0.0, 0.0]);
+    assert_eq!(rows[5], [0.0, 0.0, 1.0, 0.0]);
+    assert_eq!(rows[6], [0.5, 1.0, 0.0, 0.0]);
     let c = Primitive::new(Shape::Revolve { profile: Profile::Capsule { a: [0.1, 0.2], b: [0.3, 0.4], radius: 0.05 }, offset: 0.5 });
     let rows = linear::primitive_rows(&c);
-    assert_eq!(rows[4], [0.05, 0.5, linear::FORM_REVOLVE as f32, 0.0]);
-    assert_eq!(rows[5], [0.1, 0.2, 0.3, 0.4]);
+    assert_eq!(rows[1][3], linear::FORM_REVOLVE as f32);
+    assert_eq!(rows[2], [0.0, 0.0, 0.0, 0.05]);
+    assert_eq!(rows[3], [0.5, 0.0, 0.0, 0.0]);
+    assert_eq!(rows[4], [0.1, 0.2, 0.3, 0.4]);
     let _ = profile::MAX_POLYGON;
 }
 

@@ -94,14 +94,15 @@ pub const FEATURE_WARP: u32 = 128;
 /// Feature bit: normalized density primitives.
 pub const FEATURE_DENSITY: u32 = 256;
 
-/// Rows of the transform matrix before a primitive's parameters.
-pub const PRIM_MATRIX_ROWS: u32 = 3;
+/// Rows of a primitive's frame before its parameters (its quaternion,
+/// then its centre and form).
+pub const PRIM_FRAME_ROWS: u32 = 2;
 /// The largest evaluation stack a scene may need.
 pub const MAX_STACK: u32 = 32;
 /// Rows of `abv` per primitive.
 pub const ABV_STRIDE: u32 = 4;
 /// Parameter rows of every primitive (module doc).
-pub const PRIM_ROWS: u32 = 5;
+pub const PRIM_ROWS: u32 = 3;
 /// Primitive form: a rounded box in local q (sphere, box, round box,
 /// capsule in its own frame).
 pub const FORM_BOX: u32 = 0;
@@ -126,10 +127,11 @@ pub const WARP_ROWS: u32 = 4;
 /// Primitive form: a normalized density around a segment along z.
 pub const FORM_DENSITY: u32 = 7;
 /// Rows of a grid primitive before its samples.
-pub const GRID_ROWS: u32 = 6;
-/// Rows of a profile primitive before its polygon vertices: the five of
-/// every primitive and the capsule's segment (a.x, a.y, b.x, b.y).
-pub const PROFILE_ROWS: u32 = 6;
+pub const GRID_ROWS: u32 = 4;
+/// Rows of a profile primitive before its polygon vertices: the three of
+/// every primitive, (R, vertex count) and the capsule's segment (a.x,
+/// a.y, b.x, b.y).
+pub const PROFILE_ROWS: u32 = 5;
 /// log2 of the width in texels of the node and parameter textures.
 pub const TEXTURE_SHIFT: u32 = 12;
 /// Width in texels of the node and parameter textures (a vec4 a texel).
@@ -209,7 +211,7 @@ pub fn wgsl_constants() -> String {
         ("NODE_SMOOTH_UNION", SMOOTH_UNION),
         ("NODE_SMOOTH_INTERSECTION", SMOOTH_INTERSECTION),
         ("NODE_SMOOTH_DIFFERENCE", SMOOTH_DIFFERENCE),
-        ("PRIM_MATRIX_ROWS", PRIM_MATRIX_ROWS),
+        ("PRIM_FRAME_ROWS", PRIM_FRAME_ROWS),
         ("SCENE_MAX_STACK", MAX_STACK),
         ("ABV_STRIDE", ABV_STRIDE),
         ("ABV_NONE", ABV_NONE),

@@ -10,19 +10,27 @@
 //! - z: the fast ancestor (the brief §1.4; the root's is n);
 //! - w: a primitive's index in `primitives` (its ball's), 0 for other nodes.
 //!
-//! `params: Vec<[f32; 4]>`: a primitive has [`PRIM_ROWS`] = 5 rows: three
-//! of the 3×4 matrix M = [Rᵀ/s | −Rᵀt/s] (local q = M·(p, 1)), then
-//! (s, hx, hy, hz) and (r, R, form, 0); the field is s · d(q) with one
-//! branch-free formula for every type (the interpreter runs on SIMD lanes
-//! that evaluate every branch, so a switch over eight types cost eight):
+//! `params: Vec<[f32; 4]>`: a primitive has [`PRIM_ROWS`] = 3 rows. Its
+//! local point is q = A(p − c)/s (A the rotation to its frame, c its
+//! centre, s its scale): row 0 is Q, the unit quaternion of A divided by
+//! √s, so that q = (w² − |u|²)v + 2(u·v)u + 2w(u × v) for Q = (u, w) and
+//! v = p − c, and s = 1/|Q|²; row 1 is (c, form); row 2 is (hx, hy, hz, r).
+//! Three texel fetches where a 3×4 matrix and two parameter rows took five.
+//! The field is s · d(q) with one branch-free formula for every type (the
+//! interpreter runs on SIMD lanes that evaluate every branch, so a switch
+//! over eight types cost eight):
 //! - [`FORM_BOX`]: d = box(q, h) − r. A sphere is h = 0, r = radius; a
 //!   round box h = half − r; a capsule h = (0, 0, |b − a|/2) in a frame
-//!   centred on the segment with z along it (composed into M).
-//! - [`FORM_REVOLVED`]: the same in (|q.xy| − R, 0, q.z) with h.y = 10³⁰
-//!   (no bound): a torus is h = 0, R = major, r = minor; a cylinder
-//!   h = (radius, ·, half height), R = r = 0.
+//!   centred on the segment with z along it (composed into A and c).
+//! - [`FORM_REVOLVED`]: the same in (|q.xy| − R, 0, q.z) with R = hy and
+//!   no bound along y: a torus is h = (0, R, 0), r = minor; a cylinder
+//!   h = (radius, 0, half height), r = 0.
 //! - [`FORM_OCTAHEDRON`]: (|q.x| + |q.y| + |q.z| − hx)/√3.
-//! - [`FORM_PLANE`]: n·q − R with n = (hx, hy, hz) of unit length.
+//! - [`FORM_PLANE`]: n·q with n = (hx, hy, hz) of unit length (the offset
+//!   moves c).
+//! - [`FORM_DENSITY`]: row 2 is (R, h, T, c) (`sdf::blend`'s density).
+//! - Profiles and voxel grids have rows of their own after these
+//!   (`rows::profile_rows`, `rows::grid_rows`).
 //!
 //! An operator has one row (β, r_o, 0, 0), zeros when sharp.
 //!

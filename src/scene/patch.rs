@@ -75,7 +75,7 @@ impl Linear {
     /// primitive (whose node word points at its own rows, after them).
     fn first_row(&self, k: usize) -> usize {
         let y = self.nodes[k][1] as usize;
-        let warped = self.is_leaf(k as u32) && (self.params[y + 4][2] as u32) >> FORM_WARP_SHIFT != 0;
+        let warped = self.is_leaf(k as u32) && (self.params[y + 1][3] as u32) >> FORM_WARP_SHIFT != 0;
         if warped { y - WARP_ROWS as usize } else { y }
     }
 }

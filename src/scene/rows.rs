@@ -6,7 +6,7 @@
 use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED, FORM_WARP_SHIFT, FORM_DENSITY};
 use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
-use glam::DVec3;
+use glam::{DMat3, DQuat, DVec3};
 
 /// A unary node's parameter row (its type code tells the interpreter
 /// which): offset (d), shell (t/2), infill (k = 2π/period, thickness/2,
@@ -24,14 +24,14 @@ pub fn unary_row(op: &Unary) -> [f32; 4] {
     }
 }
 
-/// A primitive's rows in `params`: the matrix, then its parameters. A
-/// warped primitive's form says which warp, in bits 4 and 5
-/// (`FORM_WARP_SHIFT`); its warp's rows come before these
-/// ([`warp_rows`]).
+/// A primitive's rows in `params` (the layout of linear.rs's module doc):
+/// its frame (two rows), then its parameters. A warped primitive's form
+/// says which warp, in bits 4 and 5 (`FORM_WARP_SHIFT`); its warp's rows
+/// come before these ([`warp_rows`]).
 pub fn primitive_rows(p: &Primitive) -> Vec<[f32; 4]> {
     let mut rows = shape_rows(p);
     if let Some(w) = &p.warp {
-        rows[4][2] += ((w.kind as u32) << FORM_WARP_SHIFT) as f32;
+        rows[1][3] += ((w.kind as u32) << FORM_WARP_SHIFT) as f32;
     }
     rows
 }
@@ -48,6 +48,19 @@ pub fn warp_rows(p: &Primitive) -> Vec<[f32; 4]> {
     rows
 }
 
+/// The two frame rows of the local point q = A(p − c)/s given as the
+/// matrix m = [A/s | −A·c/s] (A a rotation): the quaternion of A divided
+/// by √s, which turns p − c into q with the rotation formula for an
+/// unnormalised quaternion (and gives s back as 1/|Q|²), then (c, form).
+/// Two rows where the matrix and s took four: a node's texel fetches are
+/// most of an evaluation on lavapipe.
+fn frame_rows(m: [[f64; 4]; 3], s: f64, form: u32) -> [[f32; 4]; 2] {
+    let a = DMat3::from_cols(DVec3::from_slice(&m[0]), DVec3::from_slice(&m[1]), DVec3::from_slice(&m[2])).transpose() * s;
+    let c = -(a.transpose() * (DVec3::new(m[0][3], m[1][3], m[2][3]) * s));
+    let q = DQuat::from_mat3(&a).normalize() / s.sqrt();
+    [[q.x, q.y, q.z, q.w].map(|v| v as f32), [c.x as f32, c.y as f32, c.z as f32, form as f32]]
+}
+
 fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
     if let Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } = p.shape {
         return profile_rows(p, &profile);
@@ -56,45 +69,50 @@ fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
         return grid_rows(p, &g.grid);
     }
     let mut m = p.transform.matrix();
-    let s = p.transform.scale as f32;
+    let s = p.transform.scale;
     let f = |v: f64| v as f32;
-    // Row 3: (s, half extents of the box part); row 4: (rounding radius,
-    // major radius or plane offset, form, 0).
-    let (half, round, major, form) = match p.shape {
-        Shape::Sphere { radius } => ([0.0; 3], radius, 0.0, FORM_BOX),
-        Shape::Box { half } => (half, 0.0, 0.0, FORM_BOX),
-        Shape::RoundBox { half, radius } => (half.map(|h| h - radius), radius, 0.0, FORM_BOX),
+    // The last row: (the box part's half extents, rounding radius); a
+    // revolved form's major radius in place of its unbounded y extent.
+    let (half, round, form) = match p.shape {
+        Shape::Sphere { radius } => ([0.0; 3], radius, FORM_BOX),
+        Shape::Box { half } => (half, 0.0, FORM_BOX),
+        Shape::RoundBox { half, radius } => (half.map(|h| h - radius), radius, FORM_BOX),
         Shape::Capsule { a, b, radius } => {
-            // The segment in a frame of its own: centred, along local z.
+            // The segment in a frame of its own: centred, along local z,
+            // right-handed (the frame is a rotation).
             let (a, b) = (glam::DVec3::from(a), glam::DVec3::from(b));
             let (c, len) = ((a + b) * 0.5, (b - a).length());
             let u = if len > 0.0 { (b - a) / len } else { glam::DVec3::Z };
             let (e1, e2) = u.any_orthonormal_pair();
+            let e1 = if e1.cross(e2).dot(u) < 0.0 { -e1 } else { e1 };
             m = [e1, e2, u].map(|e| {
                 let row = |j: usize| e.x * m[0][j] + e.y * m[1][j] + e.z * m[2][j];
                 [row(0), row(1), row(2), row(3) - e.dot(c)]
             });
-            ([0.0, 0.0, len * 0.5], radius, 0.0, FORM_BOX)
+            ([0.0, 0.0, len * 0.5], radius, FORM_BOX)
         }
-        Shape::Torus { major, minor } => ([0.0, BIG, 0.0], minor, major, FORM_REVOLVED),
-        Shape::Cylinder { radius, half_height } => ([radius, BIG, half_height], 0.0, 0.0, FORM_REVOLVED),
-        Shape::Octahedron { size } => ([size, 0.0, 0.0], 0.0, 0.0, FORM_OCTAHEDRON),
+        Shape::Torus { major, minor } => ([0.0, major, 0.0], minor, FORM_REVOLVED),
+        Shape::Cylinder { radius, half_height } => ([radius, 0.0, half_height], 0.0, FORM_REVOLVED),
+        Shape::Octahedron { size } => ([size, 0.0, 0.0], 0.0, FORM_OCTAHEDRON),
         Shape::Plane { normal, offset } => {
-            let len = glam::DVec3::from(normal).length();
-            (normal.map(|n| n / len), 0.0, offset, FORM_PLANE)
+            // n·q − offset = n·q' with the origin moved by offset along n
+            // (m's last column is the local point of the world origin).
+            let n = glam::DVec3::from(normal) / glam::DVec3::from(normal).length();
+            for (r, nk) in m.iter_mut().zip(n.to_array()) {
+                r[3] -= offset * nk;
+            }
+            (n.to_array(), 0.0, FORM_PLANE)
         }
-        // (s, R, h, T), (c, 0, form, 0).
-        Shape::Density { radius, half_length, iso, range } => ([radius, half_length, range], iso, 0.0, FORM_DENSITY),
+        // (R, h, T, c).
+        Shape::Density { radius, half_length, iso, range } => ([radius, half_length, range], iso, FORM_DENSITY),
         Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unreachable!("profiles and grids have rows of their own"),
     };
-    let mut rows: Vec<[f32; 4]> = m.iter().map(|r| r.map(|v| v as f32)).collect();
-    rows.push([s, f(half[0]), f(half[1]), f(half[2])]);
-    rows.push([f(round), f(major), form as f32, 0.0]);
-    rows
+    let [r0, r1] = frame_rows(m, s, form);
+    vec![r0, r1, [f(half[0]), f(half[1]), f(half[2]), f(round)]]
 }
 
-/// An extruded or revolved profile's rows: the matrix, (s, e.x, e.y, half
-/// height), (r, R, form, polygon vertices), the segment (a, b), then the
+/// An extruded or revolved profile's rows: the frame, (e.x, e.y, half
+/// height, r), (R, polygon vertices, 0, 0), the segment (a, b), then the
 /// polygon's vertices two a row. Every profile but the polygon is
 /// box₂(u − a − (b − a)·h, e) − r (profile.rs).
 fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
@@ -112,9 +130,9 @@ fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
         _ => unreachable!("a profile primitive"),
     };
     let vertices = profile.vertices();
-    let mut rows: Vec<[f32; 4]> = p.transform.matrix().iter().map(|r| r.map(f)).collect();
-    rows.push([f(p.transform.scale), f(e[0]), f(e[1]), f(h)]);
-    rows.push([f(r), f(major), form as f32, vertices.len() as f32]);
+    let mut rows = frame_rows(p.transform.matrix(), p.transform.scale, form).to_vec();
+    rows.push([f(e[0]), f(e[1]), f(h), f(r)]);
+    rows.push([f(major), vertices.len() as f32, 0.0, 0.0]);
     rows.push([f(a[0]), f(a[1]), f(b[0]), f(b[1])]);
     for pair in vertices.chunks(2) {
         let q = pair.get(1).copied().unwrap_or([0.0; 2]);
@@ -123,23 +141,18 @@ fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
     rows
 }
 
-/// A voxel grid's rows: the matrix, (s, nx, ny, nz), (1/spacing, spacing,
-/// form, 0), (origin, 0), then the samples four a row, x fastest
-/// (`scene_grid` in templates/fields/scene.wgsl interpolates them as
-/// `Grid::eval` does).
+/// A voxel grid's rows: the frame, (nx, ny, nz, 1/spacing), (origin,
+/// spacing), then the samples four a row, x fastest (`scene_grid` in
+/// templates/fields/scene.wgsl interpolates them as `Grid::eval` does).
 fn grid_rows(p: &Primitive, g: &super::grid::Grid) -> Vec<[f32; 4]> {
     let f = |v: f64| v as f32;
     let (d, o) = (g.dims(), g.origin());
-    let mut rows: Vec<[f32; 4]> = p.transform.matrix().iter().map(|r| r.map(f)).collect();
-    rows.push([f(p.transform.scale), d[0] as f32, d[1] as f32, d[2] as f32]);
-    rows.push([f(1.0 / g.spacing()), f(g.spacing()), FORM_GRID as f32, 0.0]);
-    rows.push([f(o[0]), f(o[1]), f(o[2]), 0.0]);
+    let mut rows = frame_rows(p.transform.matrix(), p.transform.scale, FORM_GRID).to_vec();
+    rows.push([d[0] as f32, d[1] as f32, d[2] as f32, f(1.0 / g.spacing())]);
+    rows.push([f(o[0]), f(o[1]), f(o[2]), f(g.spacing())]);
     rows.extend(g.values().chunks(4).map(|c| [0, 1, 2, 3].map(|k| c.get(k).copied().unwrap_or(0.0))));
     rows
 }
-
-/// A half extent that never bounds: the unused axis of a revolved form.
-const BIG: f64 = 1e30;
 
 /// `v` as an f32 no smaller than `v`.
 fn up(v: f64) -> f32 {

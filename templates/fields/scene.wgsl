@@ -70,23 +70,25 @@ fn scene_polygon(u: vec2<f32>, row: u32, n: u32) -> f32 {
     return s * sqrt(d);
 }
 
-// An extruded or revolved profile at local point q (rows: r3 = (s, e,
-// half height), r4 = (r, R, form, polygon vertices), row o + 5 the segment
-// (a, b), vertices from row o + PROFILE_ROWS): box2(u - a - (b - a) h, e) - r
-// for every profile but the polygon (src/scene/linear.rs, profile_rows).
-fn scene_profiled(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
-    let revolve = (u32(r4.z) & 15u) == FORM_REVOLVE;
-    let u = select(q.xy, vec2<f32>(length(q.xy) - r4.y, q.z), revolve);
-    let seg = scene_param(o + 5u);
+// An extruded or revolved profile of form `form` at local point q (rows:
+// r2 = (e, half height, r), row o + 3 (R, polygon vertices), row o + 4 the
+// segment (a, b), vertices from row o + PROFILE_ROWS): box2(u - a - (b - a)
+// h, e) - r for every profile but the polygon (src/scene/rows.rs,
+// profile_rows).
+fn scene_profiled(q: vec3<f32>, r2: vec4<f32>, form: u32, o: u32) -> f32 {
+    let revolve = form == FORM_REVOLVE;
+    let rn = scene_param(o + 3u);
+    let u = select(q.xy, vec2<f32>(length(q.xy) - rn.x, q.z), revolve);
+    let seg = scene_param(o + 4u);
     let ba = seg.zw - seg.xy;
     let h = clamp(dot(u - seg.xy, ba) / max(dot(ba, ba), 1e-30), 0.0, 1.0);
-    var d2 = sd_box2(u - seg.xy - ba * h, r3.yz) - r4.x;
+    var d2 = sd_box2(u - seg.xy - ba * h, r2.xy) - r2.w;
     if ((SCENE_FEATURES & FEATURE_POLYGON) != 0u) {
         // Only a polygon's lanes loop.
-        let n = min(u32(r4.w), MAX_POLYGON);
+        let n = min(u32(rn.y), MAX_POLYGON);
         if (n >= 3u) { d2 = scene_polygon(u, o + PROFILE_ROWS, n); }
     }
-    let w = vec2<f32>(d2, abs(q.z) - r3.w);
+    let w = vec2<f32>(d2, abs(q.z) - r2.z);
     let extruded = min(max(w.x, w.y), 0.0) + length(max(w, vec2<f32>(0.0)));
     return select(extruded, d2, revolve);
 }
@@ -96,17 +98,17 @@ fn scene_sample(row: u32, k: u32) -> f32 {
     return scene_param(row + k / 4u)[k & 3u];
 }
 
-// A voxel grid at local point q (rows: r3 = (s, nx, ny, nz), r4 =
-// (1/spacing, spacing, form, 0), row o + 5 the origin, samples from row
-// o + GRID_ROWS, x fastest): the trilinear interpolation of the cell
+// A voxel grid at local point q (rows: r2 = (nx, ny, nz, 1/spacing), row
+// o + 3 (origin, spacing), samples from row o + GRID_ROWS, x fastest): the trilinear interpolation of the cell
 // holding the point nearest q in the grid's box, extended outside the box
 // by sqrt(g^2 + h^2) (g >= 0) or g + h (g < 0), h the distance to the box
 // (src/scene/grid.rs, Grid::eval).
-fn scene_grid(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
-    let n = r3.yzw;
-    let lo = scene_param(o + 5u).xyz;
-    let c = clamp(q, lo, lo + (n - 1.0) * r4.y);
-    let u = (c - lo) * r4.x;
+fn scene_grid(q: vec3<f32>, r2: vec4<f32>, o: u32) -> f32 {
+    let n = r2.xyz;
+    let origin = scene_param(o + 3u);
+    let lo = origin.xyz;
+    let c = clamp(q, lo, lo + (n - 1.0) * origin.w);
+    let u = (c - lo) * r2.w;
     let i = clamp(floor(u), vec3<f32>(0.0), n - 2.0);
     let t = clamp(u - i, vec3<f32>(0.0), vec3<f32>(1.0));
     let nx = u32(n.x);
@@ -122,35 +124,47 @@ fn scene_grid(q: vec3<f32>, r3: vec4<f32>, r4: vec4<f32>, o: u32) -> f32 {
     return select(g + h, sqrt(g * g + h * h), g >= 0.0);
 }
 
+// The local point A(p - c)/s of a primitive's frame rows: r0 = Q, its
+// quaternion divided by sqrt(s) (an unnormalised quaternion scales as it
+// turns), r1.xyz = c (src/scene/linear.rs).
+fn scene_local(r0: vec4<f32>, r1: vec4<f32>, p: vec3<f32>) -> vec3<f32> {
+    let v = p - r1.xyz;
+    let u = r0.xyz;
+    let w = r0.w;
+    return (w * w - dot(u, u)) * v + 2.0 * dot(u, v) * u + 2.0 * w * cross(u, v);
+}
+
 // The distance of the primitive whose record starts at row o with rows
-// r0..r4 (the layout of src/scene/linear.rs), at p. One branch-free formula
+// r0..r2 (the layout of src/scene/linear.rs), at p. One branch-free formula
 // for every basic type: lavapipe runs the branches of a switch on SIMD
 // lanes one after another under masks, so a switch over eight types cost
 // all eight every node. Profiles only where the scene has them.
-fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
-    let p4 = vec4<f32>(p, 1.0);
-    let q = vec3<f32>(dot(r0, p4), dot(r1, p4), dot(r2, p4));
-    let form = u32(r4.z) & 15u;
-    let v = select(q, vec3<f32>(length(q.xy) - r4.y, 0.0, q.z), form == FORM_REVOLVED);
-    var d = sd_box(v, r3.yzw) - r4.x;
-    d = select(d, (abs(q.x) + abs(q.y) + abs(q.z) - r3.y) * 0.57735027, form == FORM_OCTAHEDRON);
-    d = select(d, dot(r3.yzw, q) - r4.y, form == FORM_PLANE);
+fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+    let q = scene_local(r0, r1, p);
+    let form = u32(r1.w) & 15u;
+    let revolved = form == FORM_REVOLVED;
+    // A revolved form: R in place of its y extent, which bounds nothing.
+    let v = select(q, vec3<f32>(length(q.xy) - r2.y, 0.0, q.z), revolved);
+    var d = sd_box(v, select(r2.xyz, vec3<f32>(r2.x, 1e30, r2.z), revolved)) - r2.w;
+    d = select(d, (abs(q.x) + abs(q.y) + abs(q.z) - r2.x) * 0.57735027, form == FORM_OCTAHEDRON);
+    d = select(d, dot(r2.xyz, q), form == FORM_PLANE);
     if ((SCENE_FEATURES & FEATURE_PROFILE) != 0u) {
         // A branch: SIMD groups without a profile's lane skip it.
-        if (leaf && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r3, r4, o); }
+        if (leaf && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r2, form, o); }
     }
     if ((SCENE_FEATURES & FEATURE_DENSITY) != 0u) {
-        // r3 = (s, R, h, T), r4.x = c (src/sdf/blend.rs, density).
-        let dd = length(vec3<f32>(q.xy, q.z - clamp(q.z, -r3.z, r3.z)));
-        let t = dd / r3.y;
+        // r2 = (R, h, T, c) (src/sdf/blend.rs, density).
+        let dd = length(vec3<f32>(q.xy, q.z - clamp(q.z, -r2.y, r2.y)));
+        let t = dd / r2.x;
         let k = max(1.0 - t * t, 0.0);
-        d = select(d, r3.w * (1.0 - k * k * k / r4.x) + max(dd - r3.y, 0.0), form == FORM_DENSITY);
+        d = select(d, r2.z * (1.0 - k * k * k / r2.w) + max(dd - r2.x, 0.0), form == FORM_DENSITY);
     }
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         // A branch: the eight sample fetches only on a grid's lanes.
-        if (leaf && form == FORM_GRID) { d = scene_grid(q, r3, r4, o); }
+        if (leaf && form == FORM_GRID) { d = scene_grid(q, r2, o); }
     }
-    return r3.x * d;
+    // s = 1/|Q|^2.
+    return d / dot(r0, r0);
 }
 
 // The stretch of a twist ((a + sqrt(a^2 + 4)) / 2) or a bend (1 + a) within
@@ -174,11 +188,11 @@ struct SceneWarp {
     bend: bool,
 }
 
-fn scene_warp(r4: vec4<f32>, p: vec3<f32>, o: u32) -> SceneWarp {
+fn scene_warp(r1: vec4<f32>, p: vec3<f32>, o: u32) -> SceneWarp {
     let p4 = vec4<f32>(p, 1.0);
     let q = vec3<f32>(dot(scene_param(o - 4u), p4), dot(scene_param(o - 3u), p4), dot(scene_param(o - 2u), p4));
     let w = scene_param(o - 1u);
-    let bend = (u32(r4.z) >> FORM_WARP_SHIFT) == 2u;
+    let bend = (u32(r1.w) >> FORM_WARP_SHIFT) == 2u;
     let a = w.y * select(q.z, q.x, bend);
     let c = cos(a);
     let s = sin(a);
@@ -195,19 +209,19 @@ fn scene_warp_value(sw: SceneWarp, d: f32) -> f32 {
 
 // A primitive: warped or not. The shape's code is inlined once: a warp only
 // moves the point it is evaluated at and changes the value after.
-fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, r4: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
     var at = p;
     var warped = false;
     var sw: SceneWarp;
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         // A branch: the warp's rows are fetched only on its lanes.
-        warped = leaf && u32(r4.z) >= (1u << FORM_WARP_SHIFT);
+        warped = leaf && u32(r1.w) >= (1u << FORM_WARP_SHIFT);
         if (warped) {
-            sw = scene_warp(r4, p, o);
+            sw = scene_warp(r1, p, o);
             at = sw.point;
         }
     }
-    var d = scene_shape(r0, r1, r2, r3, r4, at, o, leaf);
+    var d = scene_shape(r0, r1, r2, at, o, leaf);
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         if (warped) { d = scene_warp_value(sw, d); }
     }
@@ -477,14 +491,14 @@ var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 
 // One node of an evaluation: the primitive's or the operator's value with
 // the stack below the top (a leaf pushes, an operator pops into the top).
-// Every node reads the same five rows and runs both formulas: SIMD lanes
+// Every node reads the same three rows and runs both formulas: SIMD lanes
 // would run both branches anyway.
 fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f32>) {
     let o = entry_row(e);
     let leaf = (e >> 31u) != 0u;
     let ty = entry_type(e);
     let r0 = scene_param(o);
-    let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), scene_param(o + 3u), scene_param(o + 4u), p, o, leaf);
+    let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), p, o, leaf);
     let below = g_scene_stack[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
     let op_value = scene_operator(ty, r0, below, *top);
     if (leaf) {

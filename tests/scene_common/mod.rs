@@ -152,10 +152,13 @@ fn boxd(q: Vec3, b: Vec3) -> f32 {
 /// Primitive type `ty` evaluated in f32 from its `params` rows at `p`.
 pub fn eval_rows(ty: u32, rows: &[[f32; 4]], p: [f64; 3]) -> f64 {
     let p = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
-    let m = |r: [f32; 4]| r[0] * p.x + r[1] * p.y + r[2] * p.z + r[3];
-    let q = Vec3::new(m(rows[0]), m(rows[1]), m(rows[2]));
-    let (a, b) = (rows[3], rows[4]);
-    let (s, h) = (a[0], Vec3::new(a[1], a[2], a[3]));
+    // q = (w^2 - |u|^2) v + 2 (u.v) u + 2 w (u x v), s = 1/|Q|^2.
+    let (u, w) = (Vec3::new(rows[0][0], rows[0][1], rows[0][2]), rows[0][3]);
+    let v = p - Vec3::new(rows[1][0], rows[1][1], rows[1][2]);
+    let q = (w * w - u.dot(u)) * v + 2.0 * u.dot(v) * u + 2.0 * w * u.cross(v);
+    let s = 1.0 / (u.dot(u) + w * w);
+    let c = rows[2];
+    let h = Vec3::new(c[0], c[1], c[2]);
     // The form the type must have been given (layout: src/scene/linear.rs).
     let form = match ty {
         1..=4 => 0.0,
@@ -164,12 +167,12 @@ pub fn eval_rows(ty: u32, rows: &[[f32; 4]], p: [f64; 3]) -> f64 {
         8 => 3.0,
         _ => panic!("type {ty}"),
     };
-    assert_eq!(b[2], form, "type {ty}: form");
-    let local = match b[2] as u32 {
-        0 => boxd(q, h) - b[0],
-        1 => boxd(Vec3::new(q.truncate().length() - b[1], 0.0, q.z), h) - b[0],
-        2 => (q.x.abs() + q.y.abs() + q.z.abs() - a[1]) / 3f32.sqrt(),
-        _ => h.dot(q) - b[1],
+    assert_eq!(rows[1][3], form, "type {ty}: form");
+    let local = match form as u32 {
+        0 => boxd(q, h) - c[3],
+        1 => boxd(Vec3::new(q.truncate().length() - c[1], 0.0, q.z), Vec3::new(c[0], 1e30, c[2])) - c[3],
+        2 => (q.x.abs() + q.y.abs() + q.z.abs() - c[0]) / 3f32.sqrt(),
+        _ => h.dot(q),
     };
     (s * local) as f64
 }
