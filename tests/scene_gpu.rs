@@ -397,8 +397,8 @@ fn ray_ball(eye: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Option<
 /// whose rays each take the range of their tile's balls: a thin lens, a
 /// sphere mostly inside the other, a thick lens and a bitten sphere. Every
 /// pixel away from the silhouettes and rims has the status of the analytic
-/// ray test, and hits its depth; and the tile lists are shorter than the
-/// operands' own balls would make them.
+/// ray test, and hits its depth with the sphere's normal there; and each
+/// operand of an intersection, and the bite, has a limit ball.
 #[test]
 fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
     use glam::DVec3;
@@ -426,14 +426,15 @@ fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
     for j in 0..h {
         for i in 0..w {
             let d = Camera::ray(&cf, i, j, w, h);
-            // Nearest hit (depth, cosine of incidence), and whether the ray
-            // passes near an edge where a pixel may go either way.
-            let mut nearest: Option<(f64, f64)> = None;
+            // Nearest hit (depth, the sphere hit: centre and radius), and
+            // whether the ray passes near an edge where a pixel may go
+            // either way. A sphere's surface bounds the solid from outside
+            // (r > 0) or, bitten out, from inside (r < 0).
+            let mut nearest: Option<(f64, DVec3, f64)> = None;
             let mut grazing = false;
             let mut hit = |t: f64, c: DVec3, r: f64| {
-                let cos = ((eye + d * t - c) / r).dot(d).abs();
-                if nearest.is_none_or(|(n, _)| t < n) {
-                    nearest = Some((t, cos));
+                if nearest.is_none_or(|(n, _, _)| t < n) {
+                    nearest = Some((t, c, r));
                 }
             };
             for &(a, b) in pairs.iter().chain(std::iter::once(&bitten)) {
@@ -458,7 +459,7 @@ fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
                         if a.0 < b.0 || a.0 > b.1 {
                             hit(a.0, ca, ra);
                         } else if b.1 < a.1 {
-                            hit(b.1, cb, rb);
+                            hit(b.1, cb, -rb);
                         }
                     }
                     None => hit(a.0, ca, ra),
@@ -469,10 +470,16 @@ fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
             }
             let p = frame.pixels[(j * w + i) as usize];
             match nearest {
-                Some((t, cos)) => {
+                Some((t, c, r)) => {
                     assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) should hit at {t}");
-                    let tol = foot / cos.max(0.2);
+                    let tol = foot / ((eye + d * t - c) / r).dot(d).abs().max(0.2);
                     assert!((p.depth as f64 - t).abs() < tol, "pixel ({i}, {j}): depth {} against {t} (tolerance {tol})", p.depth);
+                    // The normal from differences of f (the sphere tracer's
+                    // forward differences from the last fixed-point value)
+                    // is the sphere's radial direction where the ray stopped.
+                    let n = (eye + d * p.depth as f64 - c).normalize() * r.signum();
+                    let got = DVec3::new(p.normal[0] as f64, p.normal[1] as f64, p.normal[2] as f64);
+                    assert!(got.dot(n) > 0.9995, "pixel ({i}, {j}): normal {got} against {n}");
                     hits += 1;
                 }
                 None => {

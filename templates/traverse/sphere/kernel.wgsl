@@ -43,7 +43,9 @@ fn dist(p: vec3<f32>) -> f32 { return field(p) * U.inv_lipschitz; }
 // distance; otherwise a fixed width. `best` returns the best candidate, not
 // the last point, when the budget runs out.
 struct Crit { e0: f32, e1: f32, best: bool }
-struct March { t: f32, status: u32, steps: u32, fallbacks: u32, f: f32, ratio: f32 }
+// f: the signed distance bound at the result (its sign the march's); raw:
+// the field's own value there (for the normal).
+struct March { t: f32, status: u32, steps: u32, fallbacks: u32, f: f32, ratio: f32, raw: f32 }
 
 fn threshold(c: Crit, t: f32) -> f32 { return max(c.e0 + c.e1 * t, 1e-30); }
 
@@ -65,7 +67,7 @@ fn bracket(o: vec3<f32>, d: vec3<f32>, a0: f32, b0: f32) -> f32 {
 // Listing 2) with the screen-space candidate, the fixed-point
 // post-process, a minimum step and a sign-change bracket.
 fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> March {
-    var m = March(t0, STATUS_MISS, 0u, 0u, 0.0, 0.0);
+    var m = March(t0, STATUS_MISS, 0u, 0u, 0.0, 0.0, 0.0);
     var f_safe = 0.0;
     var omega = U.omega;
     var t = t0;
@@ -159,8 +161,9 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
         // smoothly over the screen, instead of wherever the march stopped.
         // One call site of dist: the last iteration takes f at the result.
         for (var i = 0u; i <= U.fixpoint; i = i + 1u) {
-            let v = fsign * dist(o + d * m.t);
-            if (i == U.fixpoint) { m.f = v; } else { m.t = clamp(m.t + (v - threshold(c, m.t)), t0, max(t1, t0)); }
+            let raw = field(o + d * m.t);
+            let v = fsign * raw * U.inv_lipschitz;
+            if (i == U.fixpoint) { m.f = v; m.raw = raw; } else { m.t = clamp(m.t + (v - threshold(c, m.t)), t0, max(t1, t0)); }
         }
     }
     return m;
@@ -193,7 +196,12 @@ fn clip_ray(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 // the forward direction.
 fn trace(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, c: Crit) -> March {
     // One call of march either way (lavapipe inlines every call site).
-    let back = U.bound_kind != BOUND_NONE && t1 > t0 && dist(o + d * t0) < 0.0;
+    var at_t0 = 0.0;
+    var back = false;
+    if (U.bound_kind != BOUND_NONE && t1 > t0) {
+        at_t0 = field(o + d * t0);
+        back = at_t0 < 0.0;
+    }
     var o2 = o;
     var d2 = d;
     var r = vec2<f32>(t0, t1);
@@ -210,7 +218,10 @@ fn trace(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, c: Crit) -> March {
         // A backward miss can only come from rounding (the start is inside):
         // then the far bound itself is the answer.
         m.t = select(t1 - m.t, t0, m.status == STATUS_MISS);
-        if (m.status == STATUS_MISS) { m.status = STATUS_HIT; }
+        if (m.status == STATUS_MISS) {
+            m.status = STATUS_HIT;
+            m.raw = at_t0;
+        }
     }
     return m;
 }
@@ -313,7 +324,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         // point is drawn as a best guess, and counted as unconverged.
         if (status != STATUS_MISS) {
             let p = o + d * h.t;
-            let g = gradient(p, 0.5 * F.eps);
+            let g = gradient_at(p, 0.5 * F.eps, h.raw);
             let s = surface(p, d, g, h.f);
             steps = steps + s.steps;
             var col = s.color;
