@@ -310,10 +310,14 @@ const SCENE_TABLE_WORDS: u32 = 4u * (SCENE_SLABS_MAX + 1u);
 const SCENE_NO_TILE: u32 = 0xffffffffu;
 // A node as a pruned view holds it: isLeaf (bit 31), type (bits
 // SCENE_ENTRY_ROW_BITS to 30) and its first parameter row (the bits below):
-// what the interpreter needs, without a fetch of the node's own texel.
+// what the interpreter needs, without a fetch of the node's own texel. A
+// leaf's type is 0 (its rows say its form), or in a view the sharp union,
+// intersection or difference whose right operand it is, fused into it
+// (scene_tiles.wgsl): the operator then costs no node of its own.
 fn scene_entry(i: u32) -> u32 {
     let w = scene_node(i);
-    return (w.x & 0x80000000u) | (node_type(w.x) << SCENE_ENTRY_ROW_BITS) | w.y;
+    let leaf = (w.x & 0x80000000u) != 0u;
+    return (w.x & 0x80000000u) | (select(node_type(w.x), 0u, leaf) << SCENE_ENTRY_ROW_BITS) | w.y;
 }
 fn entry_type(e: u32) -> u32 { return (e >> SCENE_ENTRY_ROW_BITS) & 0x3fu; }
 fn entry_row(e: u32) -> u32 { return e & ((1u << SCENE_ENTRY_ROW_BITS) - 1u); }
@@ -490,9 +494,10 @@ fn field_cost() -> u32 {
 var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 
 // One node of an evaluation: the primitive's or the operator's value with
-// the stack below the top (a leaf pushes, an operator pops into the top).
-// Every node reads the same three rows and runs both formulas: SIMD lanes
-// would run both branches anyway.
+// the stack below the top (a leaf pushes, an operator pops into the top, a
+// leaf with a fused sharp operator combines into the top). Every node
+// reads the same three rows and runs both formulas: SIMD lanes would run
+// both branches anyway.
 fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f32>) {
     let o = entry_row(e);
     let leaf = (e >> 31u) != 0u;
@@ -500,8 +505,12 @@ fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f
     let r0 = scene_param(o);
     let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), p, o, leaf);
     let below = g_scene_stack[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
-    let op_value = scene_operator(ty, r0, below, *top);
-    if (leaf) {
+    // A fused operator is sharp (no record) and takes the top as its left
+    // operand, the leaf as its right one.
+    let op_value = scene_operator(ty, select(r0, vec4<f32>(0.0), leaf), select(below, *top, leaf), select(*top, leaf_value, leaf));
+    if (leaf && ty != 0u) {
+        *top = op_value;
+    } else if (leaf) {
         g_scene_stack[min(*sp, SCENE_MAX_STACK - 1u)] = *top;
         *sp = *sp + 1u;
         *top = leaf_value;

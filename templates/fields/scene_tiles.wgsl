@@ -267,8 +267,16 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
             if (lp && (rp || kind >= NODE_OFFSET)) {
                 if (vlen >= room) { ok = false; break; }
                 present = true;
-                scene_tile_view[at + vlen] = scene_entry(m);
-                vlen = vlen + 1u;
+                // A sharp operator whose right operand is a plain leaf (the
+                // last entry, its operand's root) is fused into it.
+                let last = scene_tile_view[at + vlen - 1u];
+                let sharp = kind == NODE_UNION || kind == NODE_INTERSECTION || kind == NODE_DIFFERENCE;
+                if (rp && sharp && (last >> 31u) != 0u && entry_type(last) == 0u) {
+                    scene_tile_view[at + vlen - 1u] = last | (kind << SCENE_ENTRY_ROW_BITS);
+                } else {
+                    scene_tile_view[at + vlen] = scene_entry(m);
+                    vlen = vlen + 1u;
+                }
             } else {
                 // Binary codes come three a style: union, intersection, difference.
                 let cls = (kind - NODE_UNION) % 3u;
