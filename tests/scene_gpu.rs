@@ -150,6 +150,32 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
     assert!(lin.set_primitive(lin.primitives.len(), &q).is_err());
 }
 
+/// Moving one sphere of a lens moves its partner's limit ball too: the
+/// edit in place uploads both balls, as a rebuild would lay them out, and
+/// draws the rebuilt frame.
+#[test]
+fn an_edit_in_place_moves_the_limits_it_bounds() {
+    use isotrace::scene::generate::{generate, Blending, Kind};
+    use isotrace::scene::linear::Linear;
+    use isotrace::scene::{Node, Primitive};
+    let scene = generate(Kind::SpherePairs, 0, Blending::Sharp, 5).unwrap();
+    let mut lin = Linear::new(&scene).unwrap();
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let r = Renderer::new(&own, FieldSource::Scene(&lin.field_data()), Traversal::Sphere(SphereOptions::default())).unwrap();
+    let s = common::settings(common::cube(1.3), 64, 64);
+    let j = (0..lin.primitives.len()).find(|&j| lin.bounds_a_limit(lin.primitives[j] as usize)).expect("a lens");
+    let Node::Primitive(p) = &scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!() };
+    let mut q: Primitive = p.clone();
+    q.transform.translate[1] += 0.05;
+    let patch = lin.set_primitive(j, &q).unwrap();
+    assert!(patch.balls.iter().any(|&(i, _)| i % 2 == 1), "a limit moves: {:?}", patch.balls);
+    let rebuilt = Linear::new(&with_primitive(&scene, &Linear::new(&scene).unwrap(), j, q)).unwrap();
+    assert_eq!(lin.field_data(), rebuilt.field_data());
+    r.patch_scene(&patch).unwrap();
+    let fresh = Renderer::new(gpu(), FieldSource::Scene(&rebuilt.field_data()), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
+    assert_eq!(r.render(&s).unwrap().pixels, fresh.pixels);
+}
+
 #[test]
 fn the_dense_baseline_draws_the_sparse_picture() {
     use isotrace::scene::generate::{generate, Blending, Kind};

@@ -39,7 +39,10 @@ impl Linear {
         }
         let old_type = (self.nodes[k][0] >> NODE_TYPE_SHIFT) & 0xff;
         let row = self.first_row(k);
-        let old_balls = self.balls();
+        // Other primitives' limits change only if this one bounds an
+        // intersection's or a difference's other operand (a walk to the
+        // root, not the whole tree, for the common edit).
+        let old_limits = self.bounds_a_limit(k).then(|| self.limit_balls());
         // A warp is clamped for the primitive's range of interest, which
         // the edit does not change; a stronger warp would need a smaller
         // step everywhere (the bound the scene is traced with).
@@ -61,7 +64,11 @@ impl Linear {
         self.bounds = self.bounds.hull(&a.aabb());
         // The primitive's own ball, and the limits of the primitives under
         // the other operand of an intersection above it.
-        let balls = self.balls().into_iter().enumerate().filter(|&(i, b)| b != old_balls[i]).map(|(i, b)| (i as u32, b)).collect();
+        let mut balls = vec![(2 * j as u32, ball(&a))];
+        if let Some(old) = old_limits {
+            let new = self.limit_balls();
+            balls.extend((0..new.len()).filter(|&i| new[i] != old[i]).map(|i| (2 * i as u32 + 1, new[i])));
+        }
         Ok(ScenePatch { param_row: row as u32, params: rows, balls })
     }
 

@@ -109,6 +109,24 @@ impl Linear {
         }
     }
 
+    /// Whether node `k`'s bound is part of another primitive's limit: an
+    /// intersection above it, or a difference above it with `k` in its
+    /// left operand.
+    pub fn bounds_a_limit(&self, k: usize) -> bool {
+        let n = self.nodes.len();
+        let mut c = k;
+        while (self.parent[c] as usize) < n {
+            let p = self.parent[c] as usize;
+            match self.kind(p) {
+                Kind::Binary(1) => return true,
+                Kind::Binary(2) if self.children[p][0] as usize == c => return true,
+                _ => {}
+            }
+            c = p;
+        }
+        false
+    }
+
     /// Each primitive's limit ball (module doc), in `primitives` order, as
     /// the GPU reads it (an infinite radius: no limit).
     pub fn limit_balls(&self) -> Vec<[f32; 4]> {
