@@ -247,10 +247,13 @@ fn the_device_interpreter_agrees_with_the_reference_at_random_points() {
 fn features_name_the_node_types_a_scene_uses() {
     let scene = every_node_scene();
     let lin = Linear::new(&scene).unwrap();
-    let all = linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE;
+    let all = linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE | linear::FEATURE_SHAPES;
     assert_eq!(lin.features, all);
-    let basic = isotrace::scene::generate::generate(isotrace::scene::generate::Kind::Aggregate, 1, isotrace::scene::generate::Blending::Smooth, 1).unwrap();
-    assert_eq!(Linear::new(&basic).unwrap().features, 0);
+    use isotrace::scene::generate::{generate, Blending, Kind};
+    let basic = generate(Kind::Aggregate, 1, Blending::Smooth, 1).unwrap();
+    assert_eq!(Linear::new(&basic).unwrap().features, linear::FEATURE_SHAPES);
+    let spheres = generate(Kind::SpherePairs, 0, Blending::Smooth, 1).unwrap();
+    assert_eq!(Linear::new(&spheres).unwrap().features, 0, "spheres only: the plain-sphere kernel");
     // Displacement raises the bound the scene is traced with.
     assert!(lin.lipschitz() > linear::SMOOTH_LIPSCHITZ * (1.0 + 0.04 * 5.0 * isotrace::sdf::NOISE_GRADIENT) - 1e-9);
 }
@@ -339,7 +342,7 @@ fn a_formula_of_every_new_form_lowers_to_the_same_field() {
     let f = isotrace::Formula::compile("<zoo>", EVERY_FORM).unwrap();
     let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
     let lin = Linear::new(&scene).unwrap();
-    assert_eq!(lin.features, linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE);
+    assert_eq!(lin.features, linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE | linear::FEATURE_SHAPES);
     let mut rng = Rng::new(9);
     let mut worst = 0.0f64;
     for _ in 0..20_000 {
@@ -407,7 +410,7 @@ fn grid_nodes_read_their_file_once_and_round_trip() {
     assert!(std::sync::Arc::ptr_eq(&grids[0], &grids[1]), "one file, one grid");
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
     assert_eq!(format::parse_in(&format::to_json(&scene), std::path::Path::new(dir)).unwrap(), scene);
-    assert_eq!(Linear::new(&scene).unwrap().features, linear::FEATURE_GRID);
+    assert_eq!(Linear::new(&scene).unwrap().features, linear::FEATURE_GRID | linear::FEATURE_SHAPES);
     // The field is the grid's interpolant under the primitive's transform.
     let g = isotrace::scene::grid::Grid::pebble();
     for p in [[0.1, 0.2, 0.3], [0.9, -0.4, 0.2], [3.0, 2.0, 1.0]] {

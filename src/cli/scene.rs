@@ -304,6 +304,7 @@ fn feature_names(bits: u32) -> Vec<&'static str> {
         (FEATURE_JOIN, "chamfer, round and sum joins"),
         (FEATURE_WARP, "twists and bends"),
         (FEATURE_DENSITY, "density fields"),
+        (FEATURE_SHAPES, "primitives other than spheres"),
     ]
         .into_iter()
         .filter(|(b, _)| bits & b != 0)

@@ -93,6 +93,11 @@ pub const FEATURE_JOIN: u32 = 64;
 pub const FEATURE_WARP: u32 = 128;
 /// Feature bit: normalized density primitives.
 pub const FEATURE_DENSITY: u32 = 256;
+/// Feature bit: primitives other than plain spheres (a frame and extents:
+/// three rows). A scene of plain spheres (unwarped; laid out with the
+/// identity frame, `rows::shape_rows`) runs a kernel that reads two rows a
+/// node, not three, and evaluates |p − c| − r.
+pub const FEATURE_SHAPES: u32 = 512;
 
 /// Rows of a primitive's frame before its parameters (its quaternion,
 /// then its centre and form).
@@ -191,7 +196,7 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 67] = [
+    let consts: [(&str, u32); 68] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
@@ -252,6 +257,7 @@ pub fn wgsl_constants() -> String {
         ("FEATURE_JOIN", FEATURE_JOIN),
         ("FEATURE_WARP", FEATURE_WARP),
         ("FEATURE_DENSITY", FEATURE_DENSITY),
+        ("FEATURE_SHAPES", FEATURE_SHAPES),
         ("FORM_WARP_SHIFT", FORM_WARP_SHIFT),
         ("WARP_ROWS", WARP_ROWS),
         ("NODE_GRID", GRID),

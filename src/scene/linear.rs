@@ -342,7 +342,8 @@ fn features(scene: &Scene) -> u32 {
                 Shape::Grid(_) => FEATURE_GRID,
                 Shape::Density { .. } => FEATURE_DENSITY,
                 _ => 0,
-            }) | if p.warp.is_some() { FEATURE_WARP } else { 0 },
+            }) | if p.warp.is_some() { FEATURE_WARP } else { 0 }
+                | if matches!(p.shape, Shape::Sphere { .. }) && p.warp.is_none() { 0 } else { FEATURE_SHAPES },
             Node::Operator { op, .. } => if op.join.is_some() { FEATURE_JOIN } else { 0 },
             Node::Unary { op: Unary::Infill { .. }, .. } => FEATURE_UNARY | FEATURE_INFILL,
             Node::Unary { op: Unary::Displace { .. }, .. } => FEATURE_UNARY | FEATURE_DISPLACE,

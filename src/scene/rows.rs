@@ -107,6 +107,12 @@ fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
         Shape::Density { radius, half_length, iso, range } => ([radius, half_length, range], iso, FORM_DENSITY),
         Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unreachable!("profiles and grids have rows of their own"),
     };
+    if let (Shape::Sphere { radius }, None) = (&p.shape, &p.warp) {
+        // A plain sphere needs no frame: |p − c| − s·radius (the kernel of
+        // a scene of spheres reads only the last two rows).
+        let c = p.transform.translate.map(|v| v as f32);
+        return vec![[0.0, 0.0, 0.0, 1.0], [c[0], c[1], c[2], FORM_BOX as f32], [0.0, 0.0, 0.0, f(s * radius)]];
+    }
     let [r0, r1] = frame_rows(m, s, form);
     vec![r0, r1, [f(half[0]), f(half[1]), f(half[2]), f(round)]]
 }

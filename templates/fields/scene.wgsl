@@ -502,8 +502,17 @@ fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f
     let o = entry_row(e);
     let leaf = (e >> 31u) != 0u;
     let ty = entry_type(e);
-    let r0 = scene_param(o);
-    let leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), p, o, leaf);
+    var r0: vec4<f32>;
+    var leaf_value: f32;
+    if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
+        r0 = scene_param(o);
+        leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), p, o, leaf);
+    } else {
+        // Plain spheres only: a leaf's centre row in place of its frame
+        // (an operator's record is its first row), then its radius.
+        r0 = scene_param(o + select(0u, 1u, leaf));
+        leaf_value = length(p - r0.xyz) - scene_param(o + 2u).w;
+    }
     let below = g_scene_stack[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
     // A fused operator is sharp (no record) and takes the top as its left
     // operand, the leaf as its right one.
