@@ -334,7 +334,6 @@ fn a_scene_split_into_dispatches_draws_the_same_frame() {
 /// its depth.
 #[test]
 fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere() {
-    use isotrace::render::Camera;
     let f = Formula::compile("<t>", "union(translate(-1, 0, 0, sphere(0.3)), translate(1, 0, 0, sphere(0.3)))").unwrap();
     let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
     let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
@@ -342,42 +341,55 @@ fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere()
     let s = common::settings(common::cube(1.5), w, h);
     let frame = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
     assert!(frame.stats.tile_ms > 0.0, "the tile pass ran");
+    let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
+        let mut nearest: Option<(f64, glam::DVec3, f64)> = None;
+        let mut grazing = false;
+        for c in [glam::DVec3::new(-1.0, 0.0, 0.0), glam::DVec3::new(1.0, 0.0, 0.0)] {
+            grazing |= (((eye - c) - d * (eye - c).dot(d)).length() - 0.3).abs() < 2.0 * foot;
+            if let Some((t, _)) = ray_ball(eye, d, c, 0.3) {
+                if nearest.is_none_or(|(n, _, _)| t < n) {
+                    nearest = Some((t, c, 0.3));
+                }
+            }
+        }
+        (nearest, grazing)
+    });
+    assert!(hits > 150 && misses > 20000, "hits {hits}, misses {misses}");
+}
+
+/// Checks a scene frame of spheres pixel by pixel against the analytic
+/// ray test `expect(eye, d, footprint)`: the nearest hit (depth, the sphere
+/// hit: centre and radius, negative where the sphere bounds the solid from
+/// inside) and whether the ray passes near an edge, where a pixel may go
+/// either way (skipped). Elsewhere the status agrees; a hit's depth is
+/// within the screen-space criterion (a footprint, along the ray 1/cos of
+/// it) and its normal is the sphere's radial direction where the ray
+/// stopped (the tracer's forward differences from its last fixed-point
+/// value). Returns the hits and misses checked.
+fn check_against_spheres(frame: &isotrace::render::Frame, s: &isotrace::render::Settings, mut expect: impl FnMut(glam::DVec3, glam::DVec3, f64) -> (Option<(f64, glam::DVec3, f64)>, bool)) -> (usize, usize) {
+    use glam::DVec3;
+    let (w, h) = (s.width, s.height);
     let cf = s.camera.frame().unwrap();
     let eye = s.camera.eye;
-    // A pixel's footprint at the spheres' distance, in world units.
+    // A pixel's footprint at the scene's distance, in world units.
     let foot = 2.0 * cf.tan_half_fov * eye.length() / h as f64;
     let (mut hits, mut misses) = (0, 0);
     for j in 0..h {
         for i in 0..w {
-            let d = Camera::ray(&cf, i, j, w, h);
-            // The nearest hit (depth, cosine of incidence) of the two spheres.
-            let mut nearest: Option<(f64, f64)> = None;
-            let mut grazing = false;
-            for c in [glam::DVec3::new(-1.0, 0.0, 0.0), glam::DVec3::new(1.0, 0.0, 0.0)] {
-                let oc = eye - c;
-                let b = oc.dot(d);
-                let miss_by = (oc - d * b).length() - 0.3;
-                grazing |= miss_by.abs() < 2.0 * foot;
-                let disc = b * b - (oc.length_squared() - 0.09);
-                if disc >= 0.0 {
-                    let t = -b - disc.sqrt();
-                    let cos = ((eye + d * t - c) / 0.3).dot(d).abs();
-                    if nearest.is_none_or(|(n, _)| t < n) {
-                        nearest = Some((t, cos));
-                    }
-                }
-            }
+            let d = isotrace::render::Camera::ray(&cf, i, j, w, h);
+            let (nearest, grazing) = expect(eye, d, foot);
             if grazing {
                 continue;
             }
             let p = frame.pixels[(j * w + i) as usize];
             match nearest {
-                Some((t, cos)) => {
+                Some((t, c, r)) => {
                     assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) should hit at {t}");
-                    // Screen-space termination stops within half a pixel's
-                    // footprint of the surface, along the ray 1/cos of it.
-                    let tol = foot / cos.max(0.2);
+                    let tol = foot / ((eye + d * t - c) / r).dot(d).abs().max(0.2);
                     assert!((p.depth as f64 - t).abs() < tol, "pixel ({i}, {j}): depth {} against {t} (tolerance {tol})", p.depth);
+                    let n = (eye + d * p.depth as f64 - c).normalize() * r.signum();
+                    let got = DVec3::new(p.normal[0] as f64, p.normal[1] as f64, p.normal[2] as f64);
+                    assert!(got.dot(n) > 0.9995, "pixel ({i}, {j}): normal {got} against {n}");
                     hits += 1;
                 }
                 None => {
@@ -387,7 +399,7 @@ fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere()
             }
         }
     }
-    assert!(hits > 150 && misses > 20000, "hits {hits}, misses {misses}");
+    (hits, misses)
 }
 
 /// The distance from the line eye + t d to the circle where the spheres
@@ -428,7 +440,6 @@ fn ray_ball(eye: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Option<
 #[test]
 fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
     use glam::DVec3;
-    use isotrace::render::Camera;
     let pairs = [
         ((DVec3::new(-0.9, 0.5, 0.0), 0.5), (DVec3::new(-0.1, 0.5, 0.0), 0.45)),
         ((DVec3::new(0.8, 0.5, 0.0), 0.4), (DVec3::new(0.9, 0.5, 0.1), 0.6)),
@@ -445,76 +456,42 @@ fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
     let (w, h) = (240, 180);
     let s = common::settings(common::cube(1.5), w, h);
     let frame = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
-    let cf = s.camera.frame().unwrap();
-    let eye = s.camera.eye;
-    let foot = 2.0 * cf.tan_half_fov * eye.length() / h as f64;
-    let (mut hits, mut misses) = (0, 0);
-    for j in 0..h {
-        for i in 0..w {
-            let d = Camera::ray(&cf, i, j, w, h);
-            // Nearest hit (depth, the sphere hit: centre and radius), and
-            // whether the ray passes near an edge where a pixel may go
-            // either way. A sphere's surface bounds the solid from outside
-            // (r > 0) or, bitten out, from inside (r < 0).
-            let mut nearest: Option<(f64, DVec3, f64)> = None;
-            let mut grazing = false;
-            let mut hit = |t: f64, c: DVec3, r: f64| {
-                if nearest.is_none_or(|(n, _, _)| t < n) {
-                    nearest = Some((t, c, r));
-                }
-            };
-            for &(a, b) in pairs.iter().chain(std::iter::once(&bitten)) {
-                for (c, r) in [a, b] {
-                    let miss_by = ((eye - c) - d * (eye - c).dot(d)).length() - r;
-                    grazing |= miss_by.abs() < 2.0 * foot;
-                }
-                grazing |= ray_rim_distance(eye, d, a, b) < 2.0 * foot;
+    let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
+        let mut nearest: Option<(f64, DVec3, f64)> = None;
+        let mut grazing = false;
+        let mut hit = |t: f64, c: DVec3, r: f64| {
+            if nearest.is_none_or(|(n, _, _)| t < n) {
+                nearest = Some((t, c, r));
             }
-            for &((ca, ra), (cb, rb)) in &pairs {
-                if let (Some(a), Some(b)) = (ray_ball(eye, d, ca, ra), ray_ball(eye, d, cb, rb)) {
-                    let (t0, t1) = (a.0.max(b.0), a.1.min(b.1));
-                    if t0 <= t1 {
-                        if a.0 >= b.0 { hit(t0, ca, ra) } else { hit(t0, cb, rb) }
-                    }
-                }
+        };
+        for &(a, b) in pairs.iter().chain(std::iter::once(&bitten)) {
+            for (c, r) in [a, b] {
+                let miss_by = ((eye - c) - d * (eye - c).dot(d)).length() - r;
+                grazing |= miss_by.abs() < 2.0 * foot;
             }
-            let ((ca, ra), (cb, rb)) = bitten;
-            if let Some(a) = ray_ball(eye, d, ca, ra) {
-                match ray_ball(eye, d, cb, rb) {
-                    Some(b) => {
-                        if a.0 < b.0 || a.0 > b.1 {
-                            hit(a.0, ca, ra);
-                        } else if b.1 < a.1 {
-                            hit(b.1, cb, -rb);
-                        }
-                    }
-                    None => hit(a.0, ca, ra),
-                }
-            }
-            if grazing {
-                continue;
-            }
-            let p = frame.pixels[(j * w + i) as usize];
-            match nearest {
-                Some((t, c, r)) => {
-                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) should hit at {t}");
-                    let tol = foot / ((eye + d * t - c) / r).dot(d).abs().max(0.2);
-                    assert!((p.depth as f64 - t).abs() < tol, "pixel ({i}, {j}): depth {} against {t} (tolerance {tol})", p.depth);
-                    // The normal from differences of f (the sphere tracer's
-                    // forward differences from the last fixed-point value)
-                    // is the sphere's radial direction where the ray stopped.
-                    let n = (eye + d * p.depth as f64 - c).normalize() * r.signum();
-                    let got = DVec3::new(p.normal[0] as f64, p.normal[1] as f64, p.normal[2] as f64);
-                    assert!(got.dot(n) > 0.9995, "pixel ({i}, {j}): normal {got} against {n}");
-                    hits += 1;
-                }
-                None => {
-                    assert_eq!(p.status, Status::Miss, "pixel ({i}, {j}) should miss");
-                    misses += 1;
+            grazing |= ray_rim_distance(eye, d, a, b) < 2.0 * foot;
+        }
+        for &((ca, ra), (cb, rb)) in &pairs {
+            if let (Some(a), Some(b)) = (ray_ball(eye, d, ca, ra), ray_ball(eye, d, cb, rb)) {
+                let (t0, t1) = (a.0.max(b.0), a.1.min(b.1));
+                if t0 <= t1 {
+                    if a.0 >= b.0 { hit(t0, ca, ra) } else { hit(t0, cb, rb) }
                 }
             }
         }
-    }
+        let ((ca, ra), (cb, rb)) = bitten;
+        if let Some(a) = ray_ball(eye, d, ca, ra) {
+            match ray_ball(eye, d, cb, rb) {
+                Some(b) if a.0 >= b.0 && a.0 <= b.1 => {
+                    if b.1 < a.1 {
+                        hit(b.1, cb, -rb);
+                    }
+                }
+                _ => hit(a.0, ca, ra),
+            }
+        }
+        (nearest, grazing)
+    });
     assert!(hits > 400 && misses > 30000, "hits {hits}, misses {misses}");
     // Each lens's limit is its other sphere; the bitten sphere's bite is
     // limited to the sphere; the sphere it bites is not limited.
