@@ -7,7 +7,9 @@
 //!   10 copies of the level − 1 aggregate at 0.3 of the scale around it:
 //!   N(L) = 10 + 10·N(L − 1) = 10, 110, 1110, 11110, 111110. Combined as a
 //!   left comb from largest to smallest (the paper: "to limit ROI
-//!   propagation and detail over-smoothing"); β = 0.15 × the scale.
+//!   propagation and detail over-smoothing"); β = 0.15 × the scale. Smooth
+//!   everywhere is one comb of all primitives sorted by scale, the others
+//!   keep the aggregate's hierarchy (see [`aggregate`]).
 //! - [`Kind::Boxes`] (Fig. 18 a-f): 16 rotated boxes, instanced uniformly on
 //!   a 2^L × 2^L grid over [−1, 1]² at scale 2^−L: 16 · 4^L = 16 … 4096.
 //! - [`Kind::SpherePairs`] (Fig. 18 g-l): 12 lenses, each the sharp
@@ -228,15 +230,28 @@ fn directions() -> [DVec3; 10] {
     })
 }
 
-/// Fig. 16: the aggregate of `level` at `centre` and `scale`.
+/// Fig. 16: the aggregate of `level` at `centre` and `scale`. Sharp and
+/// smooth-inside keep the aggregate's hierarchy: a part's base combined
+/// inside, then its ten sub-aggregates one by one. Smooth everywhere is one
+/// left comb of every primitive from the largest scale to the smallest,
+/// each joined with β of its own scale (the paper's order "to limit ROI
+/// propagation"): a node's r⁺ is the largest r_o above it (`roi`), so in a
+/// hierarchy every small primitive would inherit the top blends' range
+/// (at level 3, 0.09 against primitives of size 0.01), while in the sorted
+/// comb the ops above a primitive are never wider than its own.
 fn aggregate(b: &mut Builder, rng: &mut Rng, level: u32, centre: DVec3, scale: f64, blending: Blending) -> NodeId {
-    let prims: Vec<NodeId> = (0..10)
-        .map(|k| {
-            let shape = base_shape(rng, k);
-            let pos = if k == 0 { DVec3::ZERO } else { rng.in_ball(0.55) };
-            b.primitive(rounded(place(rng, shape, pos, centre, scale)))
-        })
-        .collect();
+    if blending == Blending::Smooth {
+        let mut parts = Vec::new();
+        aggregate_parts(b, rng, level, centre, scale, &mut parts);
+        // Stable: within a scale, the order of generation.
+        parts.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let mut acc = parts[0].0;
+        for &(p, s) in &parts[1..] {
+            acc = b.operator(smooth_union(0.15 * s), acc, p);
+        }
+        return acc;
+    }
+    let prims = aggregate_base(b, rng, centre, scale);
     let (inside, _) = ops(blending, 0.15 * scale);
     let mut acc = b.fold(inside, &prims);
     if level > 0 {
@@ -248,6 +263,28 @@ fn aggregate(b: &mut Builder, rng: &mut Rng, level: u32, centre: DVec3, scale: f
         }
     }
     acc
+}
+
+/// The ten primitives of an aggregate's base at `centre` and `scale`.
+fn aggregate_base(b: &mut Builder, rng: &mut Rng, centre: DVec3, scale: f64) -> Vec<NodeId> {
+    (0..10)
+        .map(|k| {
+            let shape = base_shape(rng, k);
+            let pos = if k == 0 { DVec3::ZERO } else { rng.in_ball(0.55) };
+            b.primitive(rounded(place(rng, shape, pos, centre, scale)))
+        })
+        .collect()
+}
+
+/// Every primitive of the aggregate of `level`, with its scale, in the
+/// order (and so with the random numbers) of the hierarchical aggregate.
+fn aggregate_parts(b: &mut Builder, rng: &mut Rng, level: u32, centre: DVec3, scale: f64, out: &mut Vec<(NodeId, f64)>) {
+    out.extend(aggregate_base(b, rng, centre, scale).into_iter().map(|p| (p, scale)));
+    if level > 0 {
+        for d in directions() {
+            aggregate_parts(b, rng, level - 1, centre + d * (1.6 * scale), 0.3 * scale, out);
+        }
+    }
 }
 
 /// A part of the Fig. 18 base shape, in base units.
@@ -340,5 +377,30 @@ mod tests {
                 assert_eq!(s, generate(kind, level, Blending::Smooth, 7).unwrap());
             }
         }
+    }
+
+    /// The smooth aggregate is sorted so that no blend above a primitive is
+    /// wider than its own: r⁺ = 2β = 0.3 × its scale. The hierarchy gave a
+    /// level-2 primitive (scale 0.09) the top blends' 0.09, over three times.
+    #[test]
+    fn a_smooth_aggregate_keeps_each_range_of_interest_to_its_own_blend() {
+        let s = generate(Kind::Aggregate, 2, Blending::Smooth, 5).unwrap();
+        let roi = super::super::roi::ranges(&s);
+        let mut smallest = f64::MAX;
+        for (i, n) in s.nodes().iter().enumerate() {
+            if let super::super::Node::Primitive(p) = n {
+                let own = 0.3 * p.transform.scale;
+                assert!(roi[i].hi <= own * (1.0 + 1e-6), "primitive {i}: r+ {} above {own}", roi[i].hi);
+                smallest = smallest.min(p.transform.scale);
+            }
+        }
+        assert!((smallest - 0.09).abs() < 1e-6);
+        // The same primitives as the hierarchical variants, in the same order.
+        let h = generate(Kind::Aggregate, 2, Blending::Sharp, 5).unwrap();
+        let prims = |s: &Scene| s.nodes().iter().filter_map(|n| match n {
+            super::super::Node::Primitive(p) => Some(p.clone()),
+            _ => None,
+        }).collect::<Vec<_>>();
+        assert_eq!(prims(&s), prims(&h));
     }
 }
