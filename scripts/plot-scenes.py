@@ -2,7 +2,7 @@
 """Plots `isotrace bench --suite scenes --json FILE` as an SVG: ms per frame
 against primitive count (both axes logarithmic), one panel per series
 (aggregate, boxes, sphere pairs), one line per path: the sparse scene path,
-the dense baseline (the whole tree in every tile), the compiled formula
+the same with the tile's rays walking its slabs together (sync), the dense baseline (the whole tree in every tile), the compiled formula
 where it was measured, and, with --peer, fidget's ms from the table that
 `benches/peer --scenes` prints (its stdout saved to a file). Sharp blends
 are solid lines, smooth ones dashed. Standard library only.
@@ -13,7 +13,7 @@ import argparse
 import json
 import math
 
-PATHS = {"sparse": "#1f77b4", "dense": "#d62728", "compiled": "#7f7f7f", "fidget": "#2ca02c"}
+PATHS = {"sparse": "#1f77b4", "sync": "#9467bd", "dense": "#d62728", "compiled": "#7f7f7f", "fidget": "#2ca02c"}
 KINDS = ["aggregate", "boxes", "sphere-pairs"]
 
 

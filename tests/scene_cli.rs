@@ -245,3 +245,24 @@ fn eval_evaluates_a_scene_at_points() {
         "error: a scene has no interval or affine extension: evaluate it at points with --algebra scalar (for examples/pebbles.scene.json)\n",
     );
 }
+
+/// `--scene-walk tile` renders a scene with the synchronised walk and
+/// says so in the JSON statistics; a compiled formula has no tiles to walk
+/// together, so the flag is refused there rather than ignored.
+#[test]
+fn scene_walk_applies_to_scenes_only() {
+    let blobs = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/blobs.scene.json");
+    let png = tmp("walk.png");
+    let o = isotrace(&["render", blobs, "--size", "64", "--scene-walk", "tile", "-o", png.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(png.exists());
+    assert!(stdout(&o).contains("\"scene_walk\":\"tile\""), "{}", stdout(&o));
+    let out = tmp("walk-formula.png");
+    let o = isotrace(&["render", "sphere(1)", "--method", "sphere", "--scene-walk", "tile", "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stderr(&o), "error: --scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene\n");
+    assert!(!out.exists());
+    let o = isotrace(&["render", "sphere(1)", "--scene-walk", "tile", "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stderr(&o), "error: --scene-walk applies to --method sphere only\n");
+}

@@ -4,11 +4,13 @@
 
 mod common;
 mod scene_common;
+mod scene_pictures;
 
 use common::gpu;
+use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid};
 use isotrace::codegen::{FieldSource, SceneData};
 use isotrace::gpu::Renderer;
-use isotrace::render::{SphereOptions, Status, Traversal};
+use isotrace::render::{SphereOptions, Traversal};
 use isotrace::Formula;
 use std::sync::atomic::Ordering;
 
@@ -27,42 +29,6 @@ fn sphere_and_box(dx: f32) -> SceneData {
     let none = [0.0, 0.0, 0.0, f32::INFINITY];
     let balls = vec![[0.0, 0.0, 0.0, 1.0], none, [dx, 0.0, 0.0, 0.75f32.sqrt()], none];
     SceneData { nodes, params, prims: vec![0, 1], balls, features: isotrace::scene::linear::FEATURE_SHAPES }
-}
-
-/// Two pictures of one surface drawn by different paths (the scene's
-/// pruned views and per-ray ranges against the whole tree or the compiled
-/// formula), at the default 40° field of view and `h` rows: the statuses
-/// agree except on silhouettes of `b` (a pixel with a 4-neighbour of the
-/// other status), where whether a grazing ray comes within the
-/// screen-space criterion depends on the points the march samples, so on
-/// where it starts; those are fewer than 1 % of the hits. Hit depths agree
-/// within `tol` footprints (a pixel's width at that depth). Returns the
-/// hits and the hits whose depths differ by more than a footprint.
-fn same_picture(a: &isotrace::render::Frame, b: &isotrace::render::Frame, w: usize, h: usize, tol: f32) -> (usize, usize) {
-    let (mut hits, mut far, mut edge) = (0, 0, 0);
-    let status = |i: usize, j: usize| b.pixels[j * w + i].status;
-    for j in 0..h {
-        for i in 0..w {
-            let (p, q) = (a.pixels[j * w + i], b.pixels[j * w + i]);
-            if p.status != q.status {
-                let near = [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)].iter().any(|&(di, dj)| {
-                    let (x, y) = (i as i64 + di, j as i64 + dj);
-                    x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h && status(x as usize, y as usize) != q.status
-                });
-                assert!(near, "pixel ({i}, {j}): {:?} against {:?} away from a silhouette", p.status, q.status);
-                edge += 1;
-                continue;
-            }
-            if p.status == Status::Hit {
-                hits += 1;
-                let footprint = 2.0 * p.depth * (20f32).to_radians().tan() / h as f32;
-                assert!((p.depth - q.depth).abs() < tol * footprint, "pixel ({i}, {j}): depth {} against {}", p.depth, q.depth);
-                far += ((p.depth - q.depth).abs() > footprint) as usize;
-            }
-        }
-    }
-    assert!(edge * 100 <= hits, "{edge} silhouette pixels differ, of {hits} hits");
-    (hits, far)
 }
 
 #[test]
@@ -234,19 +200,6 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
 /// A 5×5×5 grid of small spheres, sharp or compactly blended: every tile
 /// sees spheres at several depths, so the views pass cuts its list into
 /// depth slabs.
-fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
-    use isotrace::scene::{Blend, OpKind, Operator, Primitive, Shape};
-    let mut b = isotrace::scene::Builder::default();
-    let mut items = vec![];
-    for i in 0..125 {
-        let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
-        items.push(b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c)));
-    }
-    let op = if smooth { Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 }) } else { Operator::UNION };
-    let root = b.fold(op, &items);
-    b.finish(root).unwrap()
-}
-
 #[test]
 fn depth_slabs_draw_the_whole_tree_picture() {
     for smooth in [false, true] {
@@ -357,51 +310,6 @@ fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere()
     assert!(hits > 150 && misses > 20000, "hits {hits}, misses {misses}");
 }
 
-/// Checks a scene frame of spheres pixel by pixel against the analytic
-/// ray test `expect(eye, d, footprint)`: the nearest hit (depth, the sphere
-/// hit: centre and radius, negative where the sphere bounds the solid from
-/// inside) and whether the ray passes near an edge, where a pixel may go
-/// either way (skipped). Elsewhere the status agrees; a hit's depth is
-/// within the screen-space criterion (a footprint, along the ray 1/cos of
-/// it) and its normal is the sphere's radial direction where the ray
-/// stopped (the tracer's forward differences from its last fixed-point
-/// value). Returns the hits and misses checked.
-fn check_against_spheres(frame: &isotrace::render::Frame, s: &isotrace::render::Settings, mut expect: impl FnMut(glam::DVec3, glam::DVec3, f64) -> (Option<(f64, glam::DVec3, f64)>, bool)) -> (usize, usize) {
-    use glam::DVec3;
-    let (w, h) = (s.width, s.height);
-    let cf = s.camera.frame().unwrap();
-    let eye = s.camera.eye;
-    // A pixel's footprint at the scene's distance, in world units.
-    let foot = 2.0 * cf.tan_half_fov * eye.length() / h as f64;
-    let (mut hits, mut misses) = (0, 0);
-    for j in 0..h {
-        for i in 0..w {
-            let d = isotrace::render::Camera::ray(&cf, i, j, w, h);
-            let (nearest, grazing) = expect(eye, d, foot);
-            if grazing {
-                continue;
-            }
-            let p = frame.pixels[(j * w + i) as usize];
-            match nearest {
-                Some((t, c, r)) => {
-                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) should hit at {t}");
-                    let tol = foot / ((eye + d * t - c) / r).dot(d).abs().max(0.2);
-                    assert!((p.depth as f64 - t).abs() < tol, "pixel ({i}, {j}): depth {} against {t} (tolerance {tol})", p.depth);
-                    let n = (eye + d * p.depth as f64 - c).normalize() * r.signum();
-                    let got = DVec3::new(p.normal[0] as f64, p.normal[1] as f64, p.normal[2] as f64);
-                    assert!(got.dot(n) > 0.9995, "pixel ({i}, {j}): normal {got} against {n}");
-                    hits += 1;
-                }
-                None => {
-                    assert_eq!(p.status, Status::Miss, "pixel ({i}, {j}) should miss");
-                    misses += 1;
-                }
-            }
-        }
-    }
-    (hits, misses)
-}
-
 /// The distance from the line eye + t d to the circle where the spheres
 /// (ca, ra) and (cb, rb) meet (infinite if they do not), by sampling it.
 fn ray_rim_distance(eye: glam::DVec3, d: glam::DVec3, (ca, ra): (glam::DVec3, f64), (cb, rb): (glam::DVec3, f64)) -> f64 {
@@ -420,14 +328,6 @@ fn ray_rim_distance(eye: glam::DVec3, d: glam::DVec3, (ca, ra): (glam::DVec3, f6
             (q - d * q.dot(d)).length()
         })
         .fold(f64::INFINITY, f64::min)
-}
-
-/// The ray's interval in the ball (c, r), if it meets it.
-fn ray_ball(eye: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Option<(f64, f64)> {
-    let oc = eye - c;
-    let b = oc.dot(d);
-    let disc = b * b - (oc.length_squared() - r * r);
-    (disc >= 0.0).then(|| (-b - disc.sqrt(), -b + disc.sqrt()))
 }
 
 /// Intersections and a difference of spheres, which the tile passes list

@@ -246,7 +246,7 @@ fn every_kernel_validates_for_the_scenes() {
         }
         validate(&codegen::render_shader(&ir, Domain::Interval)).unwrap_or_else(|e| panic!("{name} bisect: {e}"));
         for (shadows, glass) in [(false, false), (true, false), (false, true), (true, true)] {
-            let wgsl = isotrace::codegen::sphere_shader(&ir, isotrace::render::SphereFeatures { shadows, glass });
+            let wgsl = isotrace::codegen::sphere_shader(&ir, isotrace::render::SphereFeatures { shadows, glass, synchronized: false });
             validate(&wgsl).unwrap_or_else(|e| panic!("{name} sphere (shadows {shadows}, glass {glass}): {e}"));
             // The traversal only sees the scalar evaluator; unused rays are not compiled.
             assert!(wgsl.contains("fn eval_s(") && !wgsl.contains("fn eval_ia(") && !wgsl.contains("fn eval_ra("));

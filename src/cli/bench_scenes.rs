@@ -1,8 +1,10 @@
 //! `isotrace bench --suite scenes`: the generated series of Zanni et al.
 //! (Fig. 16's recursive aggregates, Fig. 18's instanced boxes and sphere
-//! pairs; sharp and smooth) through the scene field, each traced twice with
-//! the same kernel: sparse (every 8×8 tile evaluates its pruned view) and
-//! dense (every tile evaluates the whole tree, a uniform flag), and, where
+//! pairs; sharp and smooth) through the scene field: sparse (every 8×8 tile
+//! evaluates its pruned views, each ray walking the tile's depth slabs on
+//! its own), sync (the same with the tile's rays walking them together,
+//! Algorithm 3: a kernel of its own), dense (the sparse kernel with every
+//! tile evaluating the whole tree, a uniform flag), and, where
 //! its formula is small enough to compile in about a minute, through the
 //! compiled field (the scene's formula generated into the shader). Dense
 //! rows are skipped where the last level's dense frame, scaled by the
@@ -31,7 +33,7 @@ pub struct SceneRow {
     pub level: u32,
     /// Primitives.
     pub primitives: usize,
-    /// `sparse`, `dense` or `compiled`.
+    /// `sparse`, `sync`, `dense` or `compiled`.
     pub path: String,
     /// Building the renderer (for `compiled`: generating and compiling the
     /// scene's shader, cold or from Mesa's cache), ms.
@@ -136,6 +138,12 @@ fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32,
     let mut r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).map_err(super::render_error)?;
     let setup = t0.elapsed().as_secs_f64() * 1e3;
     let mut rows = vec![row(id, "sparse", setup, &time_frames(&r, &s, repeat)?)];
+    // The same sparse path with the tile's rays walking its slabs together
+    // (Algorithm 3): a kernel of its own.
+    let t0 = std::time::Instant::now();
+    let sync = SphereOptions { synchronized: true, ..o.clone() };
+    let rs = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(sync)).map_err(super::render_error)?;
+    rows.push(row(id, "sync", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&rs, &s, repeat)?));
     match dense_estimate {
         Some(ms) if ms > DENSE_BUDGET_MS => eprintln!("  dense skipped: about {:.0} s a frame expected (the last level's, scaled by the primitives)", ms / 1e3),
         _ => {

@@ -119,13 +119,16 @@ pub struct SphereArgs {
     /// Sphere tracing: render the object as absorbing glass (a refraction ray through it).
     #[arg(long)]
     pub glass: bool,
+    /// Scenes: how the primary rays of an 8x8 tile walk its depth slabs: `ray` (default), each on its own; `tile`, together, each slab's pruned view copied into workgroup memory (Zanni et al.'s Algorithm 3; slower on lavapipe).
+    #[arg(long, value_name = "WALK", value_parser = ["ray", "tile"])]
+    pub scene_walk: Option<String>,
 }
 
 impl SphereArgs {
     /// The sphere tracing flags that were given (for "only with --method sphere").
     fn given(&self) -> Vec<&'static str> {
         let mut v = Vec::new();
-        let flags: [(&str, bool); 11] = [
+        let flags: [(&str, bool); 12] = [
             ("--lipschitz", self.lipschitz.is_some()),
             ("--omega", self.omega.is_some()),
             ("--no-screen-space", self.no_screen_space),
@@ -137,6 +140,7 @@ impl SphereArgs {
             ("--max-steps", self.max_steps.is_some()),
             ("--min-step", self.min_step.is_some()),
             ("--glass", self.glass),
+            ("--scene-walk", self.scene_walk.is_some()),
         ];
         for (name, on) in flags {
             if on {
@@ -181,6 +185,7 @@ pub fn sphere_options(a: &SphereArgs, header: Option<&Header>) -> Result<SphereO
         shadows: a.shadows,
         glass: a.glass,
         shading: Shading::Shade,
+        synchronized: a.scene_walk.as_deref() == Some("tile"),
     };
     o.check().map_err(|e| input(super::settings_message(&e)))?;
     Ok(o)
@@ -529,6 +534,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     // --field, else the .iso header's `field`, else auto.
     let field_given = a.view.field.or(header.and_then(|h| h.field).map(super::field_arg));
     let field = super::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some())?;
+    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && !matches!(field.source(&f.ir), isotrace::codegen::FieldSource::Scene(_)) {
+        return Err(input("--scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene"));
+    }
     // No device is opened when every frame of the run is already there.
     let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
     let renderer = match &gpu {
@@ -622,8 +630,9 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
         if f.tiles > 0 {
             eprintln!(
                 "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}\n\
-                 scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}",
-                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles, f.slabs_mean, f.slab_view_mean
+                 scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}; walk: {}",
+                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles, f.slabs_mean, f.slab_view_mean,
+                if o.synchronized { "tile (synchronised)" } else { "ray" }
             );
         }
     }
@@ -647,6 +656,7 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
             v["overflow_tiles"] = st.field.overflow_tiles.into();
             v["slabs_mean"] = st.field.slabs_mean.into();
             v["slab_view_mean"] = st.field.slab_view_mean.into();
+            v["scene_walk"] = (if o.synchronized { "tile" } else { "ray" }).into();
         }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }

@@ -124,11 +124,12 @@ pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
 
 impl FieldSource<'_> {
     /// The field's WGSL: `field(p)`, and the enclosures in `domain` when a
-    /// traversal needs them (a scene has none: it is sphere traced).
-    fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>) -> String {
+    /// traversal needs them (a scene has none: it is sphere traced); `sync`:
+    /// a scene's side of the synchronised tile walk.
+    fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>, sync: bool) -> String {
         match self {
             FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
-            FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features), template::SCENE_TILES),
+            FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features, sync), template::SCENE_TILES),
             FieldSource::Tape(t) => tape_field::field_code(domain, t.features),
         }
     }
@@ -156,17 +157,19 @@ impl FieldSource<'_> {
     }
 }
 
-/// The scene interpreter (templates/fields/scene.wgsl) with its constants
-/// and the code of the node types in `features`.
-fn scene_interpreter(features: u32) -> String {
+/// The scene interpreter (templates/fields/scene.wgsl) with its constants,
+/// the code of the node types in `features` and, with `sync`, its side of
+/// the synchronised tile walk.
+fn scene_interpreter(features: u32, sync: bool) -> String {
     format!(
         "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
          const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
          const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
-         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n{}",
+         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n{}\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
         template::SCENE,
+        template::optional(template::SCENE_SYNC, sync),
     )
 }
 
@@ -181,7 +184,7 @@ pub fn scene_eval_shader(features: u32) -> String {
                  var<private> F: SceneEvalFrame;\nvar<private> g_field_work: u32;\n";
     let eval = "fn scene_eval_point(p: vec3<f32>) -> f32 {\n    var sp = 0u;\n    var top = iso_inf();\n    \
                 for (var j = 0u; j < scene_node_count(); j = j + 1u) { scene_step(scene_entry(j), p, &sp, &top); }\n    return top;\n}\n";
-    let evaluator = format!("{frame}{}\n{eval}", scene_interpreter(features));
+    let evaluator = format!("{frame}{}\n{eval}", scene_interpreter(features, false));
     let call = "    let v = scene_eval_point(vec3<f32>(x.x, y.x, z.x));\n    return vec2<f32>(v, v);";
     template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
         .expect("the eval template has its markers")
@@ -209,7 +212,7 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
             let user = b.modalities.inline.as_ref();
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
-                field.code(Some(b.algebra), user),
+                field.code(Some(b.algebra), user, false),
                 bisect(b, field.surfaces(), matches!(field, FieldSource::Tape(_))),
                 &["main", "tiles"][..],
                 user.cloned(),
@@ -217,10 +220,11 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
         }
         Traversal::Sphere(s) => {
             let tiles = sphere_tile_pass(field);
+            let sync = tiles && s.synchronized;
             (
                 format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
-                field.code(None, None),
-                sphere(s.features(), tiles),
+                field.code(None, None, sync),
+                sphere(s.features(), tiles, sync),
                 if tiles { &["main", "tiles"][..] } else { &["main"][..] },
                 None,
             )
@@ -290,15 +294,17 @@ pub fn sphere_tile_pass(field: FieldSource<'_>) -> bool {
     matches!(field, FieldSource::Scene(_))
 }
 
-/// The sphere tracing traversal with the secondary rays of `features`, and
-/// with `tiles`, its tile pass (tiles.wgsl).
-fn sphere(features: SphereFeatures, tiles: bool) -> String {
+/// The sphere tracing traversal with the secondary rays of `features`, with
+/// `tiles`, its tile pass (tiles.wgsl), and with `sync`, the synchronised
+/// walk of a scene's tiles (primary_sync.wgsl).
+fn sphere(features: SphereFeatures, tiles: bool, sync: bool) -> String {
     template::splice(
         template::SPHERE,
         &[
             ("shadows", template::optional(template::SPHERE_SHADOWS, features.shadows)),
             ("glass", template::optional(template::SPHERE_GLASS, features.glass)),
             ("tiles", template::optional(template::SPHERE_TILES, tiles)),
+            ("primary", template::optional(template::SPHERE_PRIMARY, sync)),
         ],
     )
     .expect("the sphere template has its markers")
@@ -312,6 +318,6 @@ pub fn render_shader(ir: &Ir, domain: Domain) -> String {
 
 /// The sphere tracing kernel of a formula with the secondary rays of `features`.
 pub fn sphere_shader(ir: &Ir, features: SphereFeatures) -> String {
-    let o = crate::render::SphereOptions { shadows: features.shadows, glass: features.glass, ..Default::default() };
+    let o = crate::render::SphereOptions { shadows: features.shadows, glass: features.glass, synchronized: features.synchronized, ..Default::default() };
     assemble(FieldSource::Compiled(ir), &Traversal::Sphere(o)).wgsl
 }

@@ -59,6 +59,17 @@ pub const SPHERE_TILES: [&str; 2] = [
     include_str!("../../templates/traverse/sphere/tiles_off.wgsl"),
     include_str!("../../templates/traverse/sphere/tiles.wgsl"),
 ];
+/// Sphere tracing's per-pixel pass: each ray on its own, or (a scene) the
+/// rays of a tile walking its depth slabs together.
+pub const SPHERE_PRIMARY: [&str; 2] = [
+    include_str!("../../templates/traverse/sphere/primary.wgsl"),
+    include_str!("../../templates/traverse/sphere/primary_sync.wgsl"),
+];
+/// The scene's side of that walk, and its stand-in.
+pub const SCENE_SYNC: [&str; 2] = [
+    include_str!("../../templates/fields/scene_sync_off.wgsl"),
+    include_str!("../../templates/fields/scene_sync.wgsl"),
+];
 /// Sphere tracing's glass, and its stand-in.
 pub const SPHERE_GLASS: [&str; 2] = [
     include_str!("../../templates/traverse/sphere/glass_off.wgsl"),

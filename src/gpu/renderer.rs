@@ -289,6 +289,14 @@ impl<'g> Renderer<'g> {
         if (want.shadows && !have.shadows) || (want.glass && !have.glass) {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "shadows/glass", "the kernel was compiled without the secondary rays asked for").into());
         }
+        if want.synchronized != have.synchronized {
+            return Err(SettingsError::new(
+                crate::render::SettingsField::Features,
+                "synchronized",
+                "the kernel was compiled for the other walk of a scene's tiles (synchronised or per ray)",
+            )
+            .into());
+        }
         *cur = o;
         Ok(())
     }

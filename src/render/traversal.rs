@@ -245,6 +245,12 @@ pub struct SphereOptions {
     pub glass: bool,
     /// What the colour shows.
     pub shading: Shading,
+    /// A scene's primary rays: the rays of an 8×8 tile walk its depth slabs
+    /// together, each slab's view copied into workgroup memory (Zanni et
+    /// al.'s Algorithm 3); off: each ray walks them on its own, reading the
+    /// views where the views pass wrote them (faster on lavapipe, see the
+    /// README). Part of the kernel; other fields ignore it.
+    pub synchronized: bool,
 }
 
 impl Default for SphereOptions {
@@ -262,6 +268,7 @@ impl Default for SphereOptions {
             shadows: false,
             glass: false,
             shading: Shading::Shade,
+            synchronized: false,
         }
     }
 }
@@ -276,12 +283,14 @@ pub struct SphereFeatures {
     pub shadows: bool,
     /// Refraction rays (glass).
     pub glass: bool,
+    /// A scene's synchronised tile walk (`SphereOptions::synchronized`).
+    pub synchronized: bool,
 }
 
 impl SphereOptions {
     /// The code these options need.
     pub fn features(&self) -> SphereFeatures {
-        SphereFeatures { shadows: self.shadows, glass: self.glass }
+        SphereFeatures { shadows: self.shadows, glass: self.glass, synchronized: self.synchronized }
     }
 
     /// Checks the values a user can get wrong.

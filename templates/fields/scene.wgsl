@@ -358,6 +358,7 @@ var<private> g_slab_start: vec4<f32>;
 var<private> g_slab_off: vec4<u32>;
 var<private> g_slab_len: vec4<u32>;
 var<private> g_slab_margin: f32;
+var<private> g_slab_count: u32 = 0u;
 // The view depths where the tile's primitives are (written by the views
 // pass; the whole line outside a tile).
 var<private> g_scene_depths: vec2<f32>;
@@ -401,6 +402,7 @@ fn field_enter_pixel(px: vec2<u32>) {
     g_slab_margin = bitcast<f32>(scene_view_node(tb + 1u));
     g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
     g_scene_balls = scene_view_node(tb + 7u);
+    g_slab_count = slabs;
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
         let e = tb + 4u * (k + 1u);
@@ -537,7 +539,15 @@ fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f
 // (in its slab: the value is the distance to the slab's end).
 fn field(p: vec3<f32>) -> f32 {
     let z = dot(p - F.eye.xyz, F.forward.xyz);
-    if (z < g_scene_core.x || z >= g_scene_core.y) { scene_find_slab(z); }
+    if (SCENE_SYNC) {
+        // The workgroup's slab is the only view at hand: beyond its padded
+        // depths it says nothing, and 0 there makes an over-relaxed step
+        // fall back and a plain one end the slab's march (the ray's march
+        // is clamped to the slab's core, the next slab's march goes on).
+        if (z < g_scene_pad.x || z >= g_scene_pad.y) { return 0.0; }
+    } else if (z < g_scene_core.x || z >= g_scene_core.y) {
+        scene_find_slab(z);
+    }
     let len = scene_view_len();
     let full = len == SCENE_VIEW_FULL;
     let n = select(len, scene_node_count(), full);
@@ -547,7 +557,7 @@ fn field(p: vec3<f32>) -> f32 {
         // A view holds packed entries; the whole tree's nodes are packed
         // here (a branch, not a select, which would fetch both).
         var e: u32;
-        if (full) { e = scene_entry(j); } else { e = scene_view_node(g_scene_vbase + j); }
+        if (full) { e = scene_entry(j); } else { e = scene_slab_entry(j); }
         scene_step(e, p, &sp, &top);
     }
     g_field_work = g_field_work + n;

@@ -22,7 +22,7 @@ fn glass(p: vec3<f32>, dir: vec3<f32>, g: vec3<f32>, fp: f32) -> Shade {
     let q = offset(p, -n, fp);
     let span = clip_ray(q, r1);
     let diag = length(F.box_max.xyz - F.box_min.xyz);
-    let ex = trace(q, r1, 0.0, max(span.y, 0.0), Crit(U.eps_min, 0.0, true));
+    let ex = trace(q, r1, 0.0, max(span.y, 0.0), U.max_steps, Crit(U.eps_min, 0.0, true));
     out.steps = ex.steps;
     let e = q + r1 * ex.t;
     let ne = normalize(gradient(e, 0.5 * F.eps));

@@ -190,11 +190,11 @@ fn clip_ray(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(max(r.x, bv.x), min(r.y, bv.y));
 }
 
-// First surface point along o + d t, t in [t0, t1]. With a convex bound,
-// a ray that starts inside the object is traced backwards from t1 (on the
-// bound) instead of through the interior (technique 5). `c` is given for
-// the forward direction.
-fn trace(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, c: Crit) -> March {
+// First surface point along o + d t, t in [t0, t1], in at most `budget`
+// steps. With a convex bound, a ray that starts inside the object is traced
+// backwards from t1 (on the bound) instead of through the interior
+// (technique 5). `c` is given for the forward direction.
+fn trace(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> March {
     // One call of march either way (lavapipe inlines every call site).
     var at_t0 = 0.0;
     var back = false;
@@ -212,7 +212,7 @@ fn trace(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, c: Crit) -> March {
         r = vec2<f32>(0.0, t1 - t0);
         c2 = Crit(c.e0 + c.e1 * t1, -c.e1, c.best);
     }
-    var m = march(o2, d2, r.x, r.y, U.max_steps, c2);
+    var m = march(o2, d2, r.x, r.y, budget, c2);
     if (back) {
         m.steps = m.steps + 1u;
         // A backward miss can only come from rounding (the start is inside):
@@ -281,59 +281,36 @@ fn half_bits(v: f32) -> u32 {
 
 //!splice:tiles
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(local_invocation_id) lid: vec3<u32>,
-        @builtin(workgroup_id) wid: vec3<u32>,
-        @builtin(num_workgroups) groups: vec3<u32>) {
-    load_uniforms();
-    // This workgroup's 8x8 tile: the dispatch's tiles in order, or after a
-    // tile pass (tiles.wgsl) the tiles it queued.
-    let tile = main_tile(wid, groups);
-    let gid = tile * 8u + lid.xy;
-    if (tile.x == 0xffffffffu || gid.x >= F.tile_size.x || gid.y >= F.tile_size.y) { return; }
-    let px = F.tile_origin + gid.xy;
-    let idx = gid.y * F.tile_size.x + gid.x;
-    let d = normalize(primary_dir(px));
-    // The primary ray stays in this pixel's tile frustum: a field may
-    // evaluate only what matters there (the scene's pruned view).
-    field_enter_pixel(px);
-    let o = F.eye.xyz;
+// The termination rule of a primary ray.
+fn primary_crit() -> Crit {
+    if ((F.flags & FLAG_SCREEN) != 0u) { return Crit(0.0, U.pixel_radius, true); }
+    return Crit(F.eps, 0.0, false);
+}
 
+// A march that took no step: a ray that meets nothing.
+fn missed_ray(t: f32) -> March { return March(t, STATUS_MISS, 0u, 0u, 0.0, 0.0, 0.0); }
+
+// Shades and writes pixel px (record idx) of the primary ray along d: h is
+// its march from the eye, g the field's gradient at h's point (taken by the
+// caller, under the view the march evaluated), c its termination rule.
+fn finish_pixel(px: vec2<u32>, idx: u32, d: vec3<f32>, h: March, g: vec3<f32>, c: Crit) {
     var color = vec4<f32>(background(d), 0.0);
     var normal = vec3<f32>(0.0);
     var depth = F.inf;
-    var steps = 0u;
-    var status = STATUS_MISS;
-    var fallbacks = 0u;
-    var ratio = 0.0;
-    // A field may know where along the ray its surface can be (a scene:
-    // the depths its tile's primitives span).
-    let clip = clip_ray(o, d);
-    let near = field_ray_range(o, d);
-    let seg = vec2<f32>(max(clip.x, near.x), min(clip.y, near.y));
-    if (seg.x < seg.y) {
-        let screen = (F.flags & FLAG_SCREEN) != 0u;
-        var c = Crit(F.eps, 0.0, false);
-        if (screen) { c = Crit(0.0, U.pixel_radius, true); }
-        let h = trace(o, d, seg.x, seg.y, c);
-        steps = h.steps;
-        fallbacks = h.fallbacks;
-        ratio = h.ratio;
-        status = h.status;
-        // On an exhausted budget the best candidate (technique 2) or the last
-        // point is drawn as a best guess, and counted as unconverged.
-        if (status != STATUS_MISS) {
-            let p = o + d * h.t;
-            let g = gradient_at(p, 0.5 * F.eps, h.raw);
-            let s = surface(p, d, g, h.f);
-            steps = steps + s.steps;
-            var col = s.color;
-            if (U.color_mode == COLOR_FIELD) { col = heat(h.f / threshold(c, h.t)); }
-            normal = normalize(g);
-            if (!(dot(g, g) > 0.0)) { normal = -d; }
-            color = vec4<f32>(col, 1.0);
-            depth = h.t;
-        }
+    var steps = h.steps;
+    var status = h.status;
+    // On an exhausted budget the best candidate (technique 2) or the last
+    // point is drawn as a best guess, and counted as unconverged.
+    if (status != STATUS_MISS) {
+        let p = F.eye.xyz + d * h.t;
+        let s = surface(p, d, g, h.f);
+        steps = steps + s.steps;
+        var col = s.color;
+        if (U.color_mode == COLOR_FIELD) { col = heat(h.f / threshold(c, h.t)); }
+        normal = normalize(g);
+        if (!(dot(g, g) > 0.0)) { normal = -d; }
+        color = vec4<f32>(col, 1.0);
+        depth = h.t;
     }
     // An interpreted field that gave up on an evaluation proves nothing here.
     if (field_exhausted()) { status = STATUS_UNRESOLVED; }
@@ -341,6 +318,8 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     // d_ray 1 marks a ray that crosses the domain (at least one step), so the
     // hit / miss means of the statistics count the same pixels as bisection's.
     write_pixel(idx, color.xyz, status, normal, depth, pack_info(steps, select(0u, 1u, steps > 0u), 0u));
-    let violated = select(0u, 0x80000000u, ratio > LIPSCHITZ_SLACK);
-    ray_stats[idx] = min(fallbacks, 0xffffu) | (half_bits(ratio) << 16u) | violated;
+    let violated = select(0u, 0x80000000u, h.ratio > LIPSCHITZ_SLACK);
+    ray_stats[idx] = min(h.fallbacks, 0xffffu) | (half_bits(h.ratio) << 16u) | violated;
 }
+
+//!splice:primary

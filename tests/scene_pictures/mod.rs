@@ -1,0 +1,111 @@
+//! Checks of scene pictures shared by the scene tests on the device: two
+//! paths' pictures against each other, a picture of spheres against the
+//! analytic ray test, and a grid of spheres that gives tiles several depth
+//! slabs.
+#![allow(dead_code)]
+
+use isotrace::render::Status;
+
+/// Two pictures of one surface drawn by different paths (the scene's
+/// pruned views and per-ray ranges against the whole tree or the compiled
+/// formula), at the default 40° field of view and `h` rows: the statuses
+/// agree except on silhouettes (a pixel with a 4-neighbour of the other
+/// status in either picture), where whether a grazing ray comes within the
+/// screen-space criterion depends on the points the march samples, so on
+/// where it starts; those are fewer than 1 % of the hits. Hit depths agree
+/// within `tol` footprints (a pixel's width at that depth). Returns the
+/// hits and the hits whose depths differ by more than a footprint.
+pub fn same_picture(a: &isotrace::render::Frame, b: &isotrace::render::Frame, w: usize, h: usize, tol: f32) -> (usize, usize) {
+    let (mut hits, mut far, mut edge) = (0, 0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let (p, q) = (a.pixels[j * w + i], b.pixels[j * w + i]);
+            if p.status != q.status {
+                let near = [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)].iter().any(|&(di, dj)| {
+                    let (x, y) = (i as i64 + di, j as i64 + dj);
+                    let k = (y * w as i64 + x) as usize;
+                    x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h && (b.pixels[k].status != q.status || a.pixels[k].status != p.status)
+                });
+                assert!(near, "pixel ({i}, {j}): {:?} against {:?} away from a silhouette", p.status, q.status);
+                edge += 1;
+                continue;
+            }
+            if p.status == Status::Hit {
+                hits += 1;
+                let footprint = 2.0 * p.depth * (20f32).to_radians().tan() / h as f32;
+                assert!((p.depth - q.depth).abs() < tol * footprint, "pixel ({i}, {j}): depth {} against {}", p.depth, q.depth);
+                far += ((p.depth - q.depth).abs() > footprint) as usize;
+            }
+        }
+    }
+    assert!(edge * 100 <= hits, "{edge} silhouette pixels differ, of {hits} hits");
+    (hits, far)
+}
+
+/// Checks a scene frame of spheres pixel by pixel against the analytic
+/// ray test `expect(eye, d, footprint)`: the nearest hit (depth, the sphere
+/// hit: centre and radius, negative where the sphere bounds the solid from
+/// inside) and whether the ray passes near an edge, where a pixel may go
+/// either way (skipped). Elsewhere the status agrees; a hit's depth is
+/// within the screen-space criterion (a footprint, along the ray 1/cos of
+/// it) and its normal is the sphere's radial direction where the ray
+/// stopped (the tracer's forward differences from its last fixed-point
+/// value). Returns the hits and misses checked.
+pub fn check_against_spheres(frame: &isotrace::render::Frame, s: &isotrace::render::Settings, mut expect: impl FnMut(glam::DVec3, glam::DVec3, f64) -> (Option<(f64, glam::DVec3, f64)>, bool)) -> (usize, usize) {
+    use glam::DVec3;
+    let (w, h) = (s.width, s.height);
+    let cf = s.camera.frame().unwrap();
+    let eye = s.camera.eye;
+    // A pixel's footprint at the scene's distance, in world units.
+    let foot = 2.0 * cf.tan_half_fov * eye.length() / h as f64;
+    let (mut hits, mut misses) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let d = isotrace::render::Camera::ray(&cf, i, j, w, h);
+            let (nearest, grazing) = expect(eye, d, foot);
+            if grazing {
+                continue;
+            }
+            let p = frame.pixels[(j * w + i) as usize];
+            match nearest {
+                Some((t, c, r)) => {
+                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) should hit at {t}");
+                    let tol = foot / ((eye + d * t - c) / r).dot(d).abs().max(0.2);
+                    assert!((p.depth as f64 - t).abs() < tol, "pixel ({i}, {j}): depth {} against {t} (tolerance {tol})", p.depth);
+                    let n = (eye + d * p.depth as f64 - c).normalize() * r.signum();
+                    let got = DVec3::new(p.normal[0] as f64, p.normal[1] as f64, p.normal[2] as f64);
+                    assert!(got.dot(n) > 0.9995, "pixel ({i}, {j}): normal {got} against {n}");
+                    hits += 1;
+                }
+                None => {
+                    assert_eq!(p.status, Status::Miss, "pixel ({i}, {j}) should miss");
+                    misses += 1;
+                }
+            }
+        }
+    }
+    (hits, misses)
+}
+
+/// The ray's interval in the ball (c, r), if it meets it.
+pub fn ray_ball(eye: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Option<(f64, f64)> {
+    let oc = eye - c;
+    let b = oc.dot(d);
+    let disc = b * b - (oc.length_squared() - r * r);
+    (disc >= 0.0).then(|| (-b - disc.sqrt(), -b + disc.sqrt()))
+}
+
+/// 125 spheres of radius 0.17 on a 5×5×5 grid of spacing 0.5 in [−1, 1]³,
+/// combined as a left comb of sharp or compact smooth (β 0.1) unions.
+pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
+    use isotrace::scene::{Blend, OpKind, Operator, Primitive, Shape};
+    let mut b = isotrace::scene::Builder::default();
+    let mut items = vec![];
+    for i in 0..125 {
+        let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
+        items.push(b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c)));
+    }
+    let op = if smooth { Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 }) } else { Operator::UNION };
+    let root = b.fold(op, &items);
+    b.finish(root).unwrap()
+}
