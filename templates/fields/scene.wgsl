@@ -341,7 +341,8 @@ var<private> g_scene_tile: u32 = SCENE_NO_TILE;
 var<private> g_scene_len: u32 = SCENE_VIEW_FULL;
 var<private> g_scene_vbase: u32 = 0u;
 
-// A tile's depth slabs (Zanni's depth ranges, Algorithm 3, here per ray):
+// A tile's depth slabs (Zanni's depth ranges; each ray walks them on its
+// own, or the tile's rays together with scene_sync.wgsl):
 // the view of slab k holds the primitives whose bounding volume meets the
 // tile's frustum within the slab's depths widened by a margin. The current
 // slab's core depths (view-space z; the slab is used there) and its padded

@@ -4,9 +4,11 @@
 // 2024 builds a tile A-buffer with depth ranges and synchronises a tile's
 // rays over them; here a tile's list holds every primitive whose augmented
 // bounding sphere (the bounding volume of {f_p <= r_p+}) meets the tile's
-// frustum, with the depths the sphere spans, and each ray walks the tile's
-// slabs on its own, which keeps the tracing kernel free of workgroup
-// barriers (costly on lavapipe).
+// frustum, with the depths the sphere spans, and the views of the tile's
+// depth slabs are built here, once per tile and slab, for the trace to
+// read: each ray walks the slabs on its own (no workgroup barriers in the
+// tracing kernel), or with `--scene-walk tile` the tile's rays walk them
+// together, each slab's view copied into workgroup memory (scene_sync.wgsl).
 //
 // Why it is exact: a primitive missing from a slab's view has its region
 // {f_p <= r_p+} outside the frustum or outside the slab's padded depths, so
