@@ -145,29 +145,30 @@ fn formula_prints_the_scene_as_distance_forms() {
 }
 
 #[test]
-fn bench_suite_scenes_measures_each_series_sparse_and_dense() {
+fn bench_suite_scenes_measures_each_series_sparse_sync_and_dense() {
     let json = tmp("scenes.json");
     let md = tmp("scenes.md");
     let o = isotrace(&["bench", "--suite", "scenes", "--max-level", "0", "--size", "32", "--repeat", "1", "--json", json.to_str().unwrap(), "--markdown", md.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| scene")).collect();
-    // 3 kinds × sharp/smooth × level 0 × sparse/dense/compiled (level 0
-    // scenes are small enough to compile).
-    assert_eq!(rows.len(), 18, "{out}");
-    assert!(rows[0].starts_with("| aggregate | sharp | 0 | 10 | sparse | "), "{}", rows[0]);
-    assert!(rows[1].starts_with("| aggregate | sharp | 0 | 10 | dense | "), "{}", rows[1]);
-    assert!(rows[2].starts_with("| aggregate | sharp | 0 | 10 | compiled | "), "{}", rows[2]);
+    // 3 kinds × sharp/smooth × level 0 × sparse/sync/dense/compiled (level
+    // 0 scenes are small enough to compile).
+    assert_eq!(rows.len(), 24, "{out}");
+    for (k, path) in ["sparse", "sync", "dense", "compiled"].iter().enumerate() {
+        assert!(rows[k].starts_with(&format!("| aggregate | sharp | 0 | 10 | {path} | ")), "{}", rows[k]);
+    }
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let rows = doc["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 18);
+    assert_eq!(rows.len(), 24);
     for r in rows {
         assert_eq!(r["overflow_tiles"], 0, "{r}");
         assert!(r["gpu_ms"].as_f64().unwrap() > 0.0 && r["evals_per_ray"].as_f64().unwrap() > 0.0 && r["setup_ms"].as_f64().unwrap() > 0.0, "{r}");
     }
-    // Sparse and dense see the same active primitives per tile.
+    // Sparse, sync and dense see the same active primitives per tile.
     assert_eq!(rows[0]["active_mean"], rows[1]["active_mean"]);
-    assert_eq!(rows[2]["path"], "compiled");
+    assert_eq!(rows[0]["active_mean"], rows[2]["active_mean"]);
+    assert_eq!(rows[3]["path"], "compiled");
     assert!(std::fs::read_to_string(&md).unwrap().starts_with("Machine: llvmpipe"));
 
     let o = isotrace(&["bench", "--suite", "scenes", "--find-eps"]);
