@@ -64,6 +64,7 @@ fn bad_requests_are_json_errors_and_the_server_goes_on() {
         ("POST", "/api/program", br#"{"args": ["x", "--inline", "a.wgsl"]}"#, 400, "--inline is not available"),
         ("POST", "/api/program", br#"{"args": ["x", "-o", "/tmp/x.png"]}"#, 400, "-o is not available"),
         ("POST", "/api/program", br#"{"args": ["x", "--env", "/etc/passwd"]}"#, 400, "--env is not available"),
+        ("POST", "/api/program", br#"{"args": ["x", "--scene-walk", "tile"]}"#, 400, "--scene-walk is not available"),
         ("POST", "/api/program", br#"{"args": ["x", "--size", "0"]}"#, 400, "invalid --size"),
         ("POST", "/api/program", br#"{"args": ["x^2 + ("]}"#, 400, "expected an expression"),
         ("POST", "/api/render", br#"{"args": ["@sphere"], "format": "gif"}"#, 400, "unknown format"),

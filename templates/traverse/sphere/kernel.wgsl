@@ -287,6 +287,15 @@ fn primary_crit() -> Crit {
     return Crit(F.eps, 0.0, false);
 }
 
+// The part of the primary ray o + d t to trace: the domain (and bound) met
+// with where the field says its surface can be (a scene: the depths, or
+// the balls, of its tile's primitives).
+fn primary_segment(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
+    let clip = clip_ray(o, d);
+    let near = field_ray_range(o, d);
+    return vec2<f32>(max(clip.x, near.x), min(clip.y, near.y));
+}
+
 // A march that took no step: a ray that meets nothing.
 fn missed_ray(t: f32) -> March { return March(t, STATUS_MISS, 0u, 0u, 0.0, 0.0, 0.0); }
 

@@ -20,11 +20,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     field_enter_pixel(px);
     let o = F.eye.xyz;
     let c = primary_crit();
-    // A field may know where along the ray its surface can be (a scene:
-    // the depths its tile's primitives span).
-    let clip = clip_ray(o, d);
-    let near = field_ray_range(o, d);
-    let seg = vec2<f32>(max(clip.x, near.x), min(clip.y, near.y));
+    let seg = primary_segment(o, d);
     var h = missed_ray(seg.x);
     var g = vec3<f32>(0.0);
     if (seg.x < seg.y) {
