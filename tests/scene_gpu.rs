@@ -7,7 +7,7 @@ mod scene_common;
 mod scene_pictures;
 
 use common::gpu;
-use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid};
+use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut};
 use isotrace::codegen::{FieldSource, SceneData};
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
@@ -197,13 +197,15 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
     assert_eq!((a.stats.unresolved, a.stats.field.overflow_tiles), (0, 0));
 }
 
-/// A 5×5×5 grid of small spheres, sharp or compactly blended: every tile
+/// A 5×5×5 grid of small spheres, sharp (cut by a ball that holds it, so
+/// that its tiles are not union tiles) or compactly blended: every tile
 /// sees spheres at several depths, so the views pass cuts its list into
 /// depth slabs.
 #[test]
 fn depth_slabs_draw_the_whole_tree_picture() {
     for smooth in [false, true] {
-        let lin = isotrace::scene::linear::Linear::new(&sphere_grid(smooth)).unwrap();
+        let scene = if smooth { sphere_grid(true) } else { sphere_grid_cut() };
+        let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
         let data = lin.field_data();
         let mut o = SphereOptions::default();
         o.lipschitz = if smooth { 1.45 } else { 1.0 };

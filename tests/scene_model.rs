@@ -293,6 +293,35 @@ fn scenes_equal_their_formula() {
     }
 }
 
+/// A leaf is on a union path when every operator above it is a sharp
+/// union: then a tile's field over such leaves is their least value, which
+/// the views pass relies on to let each ray evaluate only its own.
+#[test]
+fn union_paths_mark_the_leaves_under_sharp_unions_only() {
+    use isotrace::scene::Blend;
+    let mut b = Builder::default();
+    let ball = |b: &mut Builder, x: f64| b.primitive(Primitive::new(Shape::Sphere { radius: 0.2 }).translated([x, 0.0, 0.0]));
+    let [p0, p1, p2, p3, p4, p5] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0].map(|x| ball(&mut b, x));
+    let smooth = b.operator(Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 }), p1, p2);
+    let cut = b.operator(Operator::INTERSECTION, p3, p4);
+    let sharp = b.operator(Operator::UNION, p0, smooth);
+    let right = b.operator(Operator::UNION, cut, p5);
+    let root = b.operator(Operator::UNION, sharp, right);
+    let scene = b.finish(root).unwrap();
+    let lin = Linear::new(&scene).unwrap();
+    let on: Vec<bool> = lin.primitives.iter().map(|&k| lin.on_union_path(k)).collect();
+    let by_leaf: Vec<(usize, bool)> = lin.primitives.iter().zip(&on).map(|(&k, &u)| (lin.order[k as usize], u)).collect();
+    for (node, u) in by_leaf {
+        let expect = node == p0 || node == p5;
+        assert_eq!(u, expect, "scene node {node}");
+    }
+    // A lone primitive is its own union.
+    let mut b = Builder::default();
+    let only = ball(&mut b, 0.0);
+    let lin = Linear::new(&b.finish(only).unwrap()).unwrap();
+    assert!(lin.on_union_path(0));
+}
+
 /// The f32 rows of `params` evaluate each primitive as the GPU will:
 /// q = M·(p, 1), then s · f_local(q) with the parameters of the rows.
 #[test]
@@ -305,7 +334,9 @@ fn params_rows_reproduce_each_primitive() {
     let lin = Linear::new(&scene).unwrap();
     for &k in &lin.primitives {
         let word = lin.nodes[k as usize];
-        let ty = (word[0] >> 22) & 0xff;
+        // The type field's top bit is a leaf's union-path flag (all set here).
+        assert_ne!(word[0] & isotrace::scene::linear::NODE_UNION_PATH_BIT, 0);
+        let ty = (word[0] >> 22) & 0x7f;
         let rows = &lin.params[word[1] as usize..];
         let Node::Primitive(prim) = &scene.nodes()[lin.order[k as usize]] else { unreachable!() };
         for _ in 0..50 {

@@ -11,20 +11,22 @@ use glam::DVec3;
 use isotrace::codegen::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
-use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid};
+use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut};
 
 fn walk(synchronized: bool, lipschitz: f64) -> Traversal {
     Traversal::Sphere(SphereOptions { synchronized, lipschitz, ..SphereOptions::default() })
 }
 
-/// Sharp and compactly blended sphere grids, whose tiles have several
-/// slabs: the two walks agree pixel by pixel (statuses but on silhouettes,
-/// depths within a footprint), and the synchronised one reports what it did.
+/// Sharp (cut by a ball that holds them) and compactly blended sphere
+/// grids, whose tiles have several slabs: the two walks agree pixel by
+/// pixel (statuses but on silhouettes, depths within a footprint), and the
+/// synchronised one reports what it did.
 #[test]
 fn the_synchronised_walk_draws_the_per_ray_picture() {
     let own = isotrace::gpu::Gpu::new().unwrap();
     for smooth in [false, true] {
-        let data = isotrace::scene::linear::Linear::new(&sphere_grid(smooth)).unwrap().field_data();
+        let scene = if smooth { sphere_grid(true) } else { sphere_grid_cut() };
+        let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
         let l = if smooth { 1.45 } else { 1.0 };
         let s = common::settings(common::cube(1.4), 120, 96);
         let ray = Renderer::new(&own, FieldSource::Scene(&data), walk(false, l)).unwrap().render(&s).unwrap();
@@ -44,15 +46,41 @@ fn the_synchronised_walk_draws_the_per_ray_picture() {
     }
 }
 
-/// The sharp grid against the analytic ray test: every pixel away from a
-/// silhouette hits the nearest sphere at its depth with its normal, though
-/// most rays cross from one slab's view into the next.
+/// The sharp grid (cut, so that its tiles have slabs) against the
+/// analytic ray test: every pixel away from a silhouette hits the nearest
+/// sphere at its depth with its normal, though most rays cross from one
+/// slab's view into the next.
 #[test]
 fn the_synchronised_walk_misses_no_sphere_at_a_slab_seam() {
+    let data = isotrace::scene::linear::Linear::new(&sphere_grid_cut()).unwrap().field_data();
+    let (frame, hits, misses) = analytic_grid(&data, true);
+    eprintln!("hits {hits}, misses {misses}, slabs {}", frame.stats.field.slabs_mean);
+    assert!(frame.stats.field.slabs_mean > 1.2 && hits > 1000 && misses > 30000, "hits {hits}, misses {misses}");
+}
+
+/// The plain sharp grid: every tile is a union tile (one slab; each ray
+/// evaluates only the spheres whose balls it meets), and both walks draw
+/// the analytic spheres, status, depth and normal, on every pixel away
+/// from a silhouette. A ray that dropped a sphere it meets would miss it
+/// or stop behind it.
+#[test]
+fn union_tiles_draw_the_analytic_spheres() {
     let data = isotrace::scene::linear::Linear::new(&sphere_grid(false)).unwrap().field_data();
+    for synchronized in [false, true] {
+        let (frame, hits, misses) = analytic_grid(&data, synchronized);
+        let f = &frame.stats.field;
+        assert_eq!((f.slabs_mean, f.overflow_tiles, frame.stats.unresolved), (1.0, 0, 0), "sync {synchronized}");
+        assert!(hits > 1000 && misses > 30000, "sync {synchronized}: hits {hits}, misses {misses}");
+    }
+}
+
+/// The 125-sphere grid's scene `data` rendered at 320×240 with the walk
+/// asked for, checked against the analytic ray test: the frame, the hit
+/// and the miss pixels checked.
+fn analytic_grid(data: &isotrace::codegen::SceneData, synchronized: bool) -> (isotrace::render::Frame, usize, usize) {
     let (w, h) = (320, 240);
     let s = common::settings(common::cube(1.4), w, h);
-    let frame = Renderer::new(common::gpu(), FieldSource::Scene(&data), walk(true, 1.0)).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(common::gpu(), FieldSource::Scene(data), walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
     let centres: Vec<DVec3> = (0..125).map(|i| DVec3::new((i % 5) as f64, (i / 5 % 5) as f64, (i / 25) as f64) * 0.5 - DVec3::ONE).collect();
     let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
         let mut nearest: Option<(f64, DVec3, f64)> = None;
@@ -67,8 +95,7 @@ fn the_synchronised_walk_misses_no_sphere_at_a_slab_seam() {
         }
         (nearest, grazing)
     });
-    eprintln!("hits {hits}, misses {misses}, slabs {}", frame.stats.field.slabs_mean);
-    assert!(frame.stats.field.slabs_mean > 1.2 && hits > 1000 && misses > 30000, "hits {hits}, misses {misses}");
+    (frame, hits, misses)
 }
 
 /// The walk is part of the kernel: a renderer built for one refuses

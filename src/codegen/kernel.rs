@@ -119,6 +119,9 @@ pub const SCENE_SLAB_MIN_LIST: u32 = 4;
 /// Longest tile list whose balls a primary ray tests itself to narrow its
 /// range (longer lists: the tile's depths only).
 pub const SCENE_RAY_BALLS: u32 = 16;
+/// Longest list of a union tile (scene_tiles.wgsl): each ray keeps the
+/// members whose balls it meets in a 32-bit mask.
+pub const SCENE_UNION_MAX: u32 = 32;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
 
@@ -165,7 +168,8 @@ fn scene_interpreter(features: u32, sync: bool) -> String {
         "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
          const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
          const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
-         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n{}\n{}",
+         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n\
+         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\n{}\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
         template::SCENE,

@@ -9,6 +9,12 @@ use super::{Join, Node, OpKind, Operator};
 pub const NODE_LEAF_BIT: u32 = 1 << 31;
 /// isLeft bit of a node word.
 pub const NODE_LEFT_BIT: u32 = 1 << 30;
+/// A leaf's bit in its type field (the top one; leaf types are below
+/// 128): every operator above the leaf is a sharp union, so that the
+/// sparse field of a set of such leaves is the least of their values. The
+/// views pass lets each ray of a tile of such leaves evaluate only those
+/// whose ball it meets (scene_tiles.wgsl, "union tiles").
+pub const NODE_UNION_PATH_BIT: u32 = 1 << 29;
 /// Position of the 8-bit type field.
 pub const NODE_TYPE_SHIFT: u32 = 22;
 /// Mask of the type field after shifting.
@@ -196,8 +202,9 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 68] = [
+    let consts: [(&str, u32); 69] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
+        ("NODE_UNION_PATH_BIT", NODE_UNION_PATH_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),
         ("NODE_TYPE_MASK", NODE_TYPE_MASK),

@@ -133,6 +133,7 @@ impl Linear {
         lin.link(scene, &index, &swap);
         lin.fast = fast_ancestors(&lin.parent, &lin.is_left, &lin.order, scene);
         lin.fill(scene);
+        lin.mark_union_paths();
         if lin.params.len() >= 1 << ENTRY_ROW_BITS {
             return Err(SceneError::new(
                 "nodes",
@@ -198,6 +199,26 @@ impl Linear {
             }
             self.nodes.push([x, y, self.fast[k], w]);
         }
+    }
+
+    /// Sets [`NODE_UNION_PATH_BIT`] on every leaf whose ancestors are all
+    /// sharp unions: top-down, a parent after its children in post-order.
+    fn mark_union_paths(&mut self) {
+        let n = self.nodes.len();
+        let mut path = vec![false; n];
+        for k in (0..n).rev() {
+            let p = self.parent[k] as usize;
+            path[k] = p >= n || (path[p] && (self.nodes[p][0] >> NODE_TYPE_SHIFT) & NODE_TYPE_MASK == UNION);
+            if path[k] && self.is_leaf(k as u32) {
+                self.nodes[k][0] |= NODE_UNION_PATH_BIT;
+            }
+        }
+    }
+
+    /// Whether leaf `k` has only sharp unions above it
+    /// ([`NODE_UNION_PATH_BIT`]).
+    pub fn on_union_path(&self, k: u32) -> bool {
+        self.nodes[k as usize][0] & NODE_UNION_PATH_BIT != 0
     }
 
     /// Number of nodes.

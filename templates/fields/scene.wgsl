@@ -364,8 +364,14 @@ var<private> g_slab_count: u32 = 0u;
 // pass; the whole line outside a tile).
 var<private> g_scene_depths: vec2<f32>;
 // The tile's balls for a ray's own range (field_ray_range): their first
-// view word in the tile | their count << 16; 0 for none.
+// view word in the tile | their count << 16 | SCENE_UNION_TILE for a
+// union tile (scene_tiles.wgsl); 0 for none.
 var<private> g_scene_balls: u32 = 0u;
+// In a union tile, the members (bits by view entry) whose balls this
+// ray meets, set by field_ray_range: the field evaluates only those. All
+// of them until the ray is known.
+var<private> g_ray_mask: u32 = 0u;
+fn scene_union() -> bool { return (g_scene_balls & SCENE_UNION_TILE) != 0u; }
 
 // Counts the changes of the evaluated view (slab or whole tree): two values
 // of f taken under different views are values of different fields (each
@@ -403,6 +409,8 @@ fn field_enter_pixel(px: vec2<u32>) {
     g_slab_margin = bitcast<f32>(scene_view_node(tb + 1u));
     g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
     g_scene_balls = scene_view_node(tb + 7u);
+    let nb = (g_scene_balls >> 16u) & 0xffu;
+    g_ray_mask = select((1u << nb) - 1u, 0xffffffffu, nb >= 32u);
     g_slab_count = slabs;
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
@@ -449,12 +457,14 @@ fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 // The part of the ray o + d t (|d| = 1) within `range` that the tile's
 // balls cover, as one interval from the first ball's entry to the last
 // one's exit (empty when it meets none): the surface in the tile's frustum
-// lies in their union, as the tile's depths say of the whole tile.
+// lies in their union, as the tile's depths say of the whole tile. The
+// balls met within `range` are the ray's members of a union tile.
 fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> {
     let at = g_scene_tile * SCENE_VIEW_MAX + (g_scene_balls & 0xffffu);
-    let n = g_scene_balls >> 16u;
+    let n = (g_scene_balls >> 16u) & 0xffu;
     var lo = F.inf;
     var hi = -F.inf;
+    var mask = 0u;
     for (var i = 0u; i < n; i = i + 1u) {
         let w = at + 4u * i;
         let c = bitcast<vec3<f32>>(vec3<u32>(scene_view_node(w), scene_view_node(w + 1u), scene_view_node(w + 2u)));
@@ -471,8 +481,10 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
             let s = sqrt(disc);
             lo = min(lo, b - s);
             hi = max(hi, b + s);
+            if (b + s >= range.x && b - s <= range.y) { mask = mask | (1u << i); }
         }
     }
+    if (scene_union()) { g_ray_mask = mask; }
     return vec2<f32>(max(range.x, lo), min(range.y, hi));
 }
 
@@ -552,16 +564,27 @@ fn field(p: vec3<f32>) -> f32 {
     let len = scene_view_len();
     let full = len == SCENE_VIEW_FULL;
     let n = select(len, scene_node_count(), full);
+    // A union tile's ray takes its own members, each a leaf with a fused
+    // union, in one loop with the others (a branch would run both loops
+    // under masks on SIMD lanes).
+    let uni = scene_union();
+    let fuse = select(0u, NODE_UNION << SCENE_ENTRY_ROW_BITS, uni);
+    var m = g_ray_mask;
     var sp = 0u;
     var top = F.inf;
-    for (var j = 0u; j < n; j = j + 1u) {
+    var j = 0u;
+    loop {
+        if (select(j >= n, m == 0u, uni)) { break; }
+        let at = select(j, countTrailingZeros(m), uni);
+        m = m & (m - 1u);
         // A view holds packed entries; the whole tree's nodes are packed
         // here (a branch, not a select, which would fetch both).
         var e: u32;
-        if (full) { e = scene_entry(j); } else { e = scene_slab_entry(j); }
+        if (full) { e = scene_entry(at); } else { e = scene_slab_entry(at) | fuse; }
         scene_step(e, p, &sp, &top);
+        j = j + 1u;
     }
-    g_field_work = g_field_work + n;
+    g_field_work = g_field_work + j;
     // The view is exact only within the slab's padded depths: a positive
     // value is no larger than the distance to them, so no step leaves the
     // slab (a ray's depth changes no faster than t). Inside stays inside.

@@ -315,13 +315,46 @@ fn scene_table_write(w: u32, v: vec4<u32>) {
 // tile's words and their count << 16, or 0 for none (the ray then takes the
 // tile's depths alone).
 fn scene_write_balls(base: u32, count: u32, at: u32, room: u32, off: u32) -> u32 {
-    if (count > SCENE_RAY_BALLS || 4u * count > room) { return 0u; }
+    if (count > SCENE_UNION_MAX || 4u * count > room) { return 0u; }
     for (var i = 0u; i < count; i = i + 1u) {
         let ball = scene_tight_ball(scene_node(scene_tile_prims[base + i]).w);
         if (!(ball.w < F.inf)) { return 0u; }
         scene_table_write(at + 4u * i, bitcast<vec4<u32>>(ball));
     }
     return off | (count << 16u);
+}
+
+// A union tile: a list of at most SCENE_UNION_MAX primitives, each with
+// only sharp unions above it (NODE_UNION_PATH_BIT) and a finite ball. The
+// tile's field is then the least of its members' values, and so is a
+// ray's over the members whose balls it meets (the others' surfaces are
+// off the ray, as a primitive off the tile's frustum is off its rays): the
+// view is the members' leaves, in any order, and their balls follow it, so
+// each ray picks its own members (scene.wgsl, field_ray_range) and
+// evaluates only those, the whole depth range in one slab. Writes the
+// tile's table and returns true, or false for any other tile.
+fn scene_union_tile(t: u32, base: u32, count: u32, tb: u32) -> bool {
+    if (count == 0u || count > SCENE_UNION_MAX) { return false; }
+    var front = F.inf;
+    var back = -F.inf;
+    for (var i = 0u; i < count; i = i + 1u) {
+        if ((scene_node(scene_tile_prims[base + i]).x & NODE_UNION_PATH_BIT) == 0u) { return false; }
+        let dv = scene_tile_depth[base + i];
+        front = min(front, dv.x);
+        back = max(back, dv.y);
+    }
+    let vbase = tb + SCENE_TABLE_WORDS;
+    let balls = scene_write_balls(base, count, vbase + count, SCENE_VIEW_MAX - SCENE_TABLE_WORDS - count, SCENE_TABLE_WORDS + count);
+    if (balls == 0u) { return false; }
+    for (var i = 0u; i < count; i = i + 1u) {
+        scene_tile_view[vbase + i] = scene_entry(scene_tile_prims[base + i]);
+    }
+    let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(back, 0.0);
+    let margin = max(0.02 * (back - front), max(8.0 * pixel, 4.0 * F.eps));
+    scene_table_write(tb, vec4<u32>(1u, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
+    scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, count, bitcast<u32>(-F.inf), balls | SCENE_UNION_TILE));
+    scene_tile_len[t] = vec2<u32>(count | (1u << 24u), count);
+    return true;
 }
 
 // Pass 2, one invocation per tile: sort the tile's active primitives by
@@ -346,6 +379,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let base = t * SCENE_TILE_MAX;
+    if (scene_union_tile(t, base, count, tb)) { return; }
     // The depths the list spans, then a heap sort by node index (its
     // iterations are bounded by 2 n log2 n whatever the order the scatter's
     // atomics left: an insertion sort of 459 entries ran past lavapipe's
@@ -402,7 +436,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     // (eq. 21-22 at the ends of the list; an empty list: no steps at all).
     scene_table_write(tb, vec4<u32>(slabs, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
     // A short list's balls after the views, for each ray's own range.
-    scene_tile_view[tb + 7u] = scene_write_balls(base, count, vbase + total, room - total, SCENE_TABLE_WORDS + total);
+    scene_tile_view[tb + 7u] = select(0u, scene_write_balls(base, count, vbase + total, room - total, SCENE_TABLE_WORDS + total), count <= SCENE_RAY_BALLS);
     // Statistics: the views' total length, the slab count in bits 24-27.
     scene_tile_len[t] = vec2<u32>(total | (slabs << 24u), count);
 }

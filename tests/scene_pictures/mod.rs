@@ -109,3 +109,21 @@ pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
     let root = b.fold(op, &items);
     b.finish(root).unwrap()
 }
+
+/// The sharp grid cut by a ball that holds it (the same surface): no leaf
+/// is on a union path, so its tiles are cut into depth slabs where the
+/// plain sharp grid's tiles are union tiles.
+pub fn sphere_grid_cut() -> isotrace::scene::Scene {
+    use isotrace::scene::{Operator, Primitive, Shape};
+    let mut b = isotrace::scene::Builder::default();
+    let items: Vec<_> = (0..125)
+        .map(|i| {
+            let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
+            b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c))
+        })
+        .collect();
+    let grid = b.fold(Operator::UNION, &items);
+    let hull = b.primitive(Primitive::new(Shape::Sphere { radius: 2.5 }));
+    let root = b.operator(Operator::INTERSECTION, grid, hull);
+    b.finish(root).unwrap()
+}
