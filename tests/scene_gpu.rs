@@ -7,7 +7,7 @@ mod scene_common;
 mod scene_pictures;
 
 use common::gpu;
-use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut};
+use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
 use isotrace::codegen::{FieldSource, SceneData};
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
@@ -160,12 +160,17 @@ fn the_dense_baseline_draws_the_sparse_picture() {
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
     assert_eq!((sparse.stats.field.overflow_tiles, dense.stats.field.overflow_tiles), (0, 0));
     assert_eq!(sparse.stats.field.tile_active, dense.stats.field.tile_active, "the same active primitives per tile");
-    // Away from the surface the pruned views give other (smaller) values,
-    // and each ray starts where its tile's balls begin, so the march
-    // samples other points and stops elsewhere within the hit criterion:
-    // the screen-space one, a pixel's footprint at that depth.
-    let (hits, _) = same_picture(&sparse, &dense, 64, 64, 1.0);
+    // Away from the surface the pruned views give other (larger) values,
+    // and each ray starts where its balls begin, so the march samples
+    // other points and stops elsewhere within the hit criterion: the
+    // screen-space one, a pixel's footprint at that depth. Where a ray
+    // grazes a blend within that criterion in front of the surface, one
+    // march may stop at the graze and the other pass it (measured: 2 of
+    // 745 hits; pixel (37, 30) passes f = 0.048 at t = 5.21, below its
+    // footprint 0.059, and hits at 6.17).
+    let (hits, far) = same_picture(&sparse, &dense, 64, 64, f32::INFINITY);
     assert!(hits > 200, "{hits}");
+    assert!(far * 100 < hits, "{far} of {hits} depths differ by more than a footprint");
 }
 
 #[test]
@@ -198,13 +203,13 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
 }
 
 /// A 5×5×5 grid of small spheres, sharp (cut by a ball that holds it, so
-/// that its tiles are not union tiles) or compactly blended: every tile
-/// sees spheres at several depths, so the views pass cuts its list into
-/// depth slabs.
+/// that its tiles are not union tiles) or compactly blended in a balanced
+/// tree (not comb tiles): every tile sees spheres at several depths, so
+/// the views pass cuts its list into depth slabs.
 #[test]
 fn depth_slabs_draw_the_whole_tree_picture() {
     for smooth in [false, true] {
-        let scene = if smooth { sphere_grid(true) } else { sphere_grid_cut() };
+        let scene = if smooth { sphere_grid_tree() } else { sphere_grid_cut() };
         let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
         let data = lin.field_data();
         let mut o = SphereOptions::default();

@@ -294,8 +294,10 @@ fn scenes_equal_their_formula() {
 }
 
 /// A leaf is on a union path when every operator above it is a sharp
-/// union: then a tile's field over such leaves is their least value, which
-/// the views pass relies on to let each ray evaluate only its own.
+/// union (a tile's field over such leaves is their least value), and on a
+/// comb when it hangs off the left spine of union-style operators (their
+/// pruned tree is a chain): the views pass relies on both to let each ray
+/// evaluate only its own.
 #[test]
 fn union_paths_mark_the_leaves_under_sharp_unions_only() {
     use isotrace::scene::Blend;
@@ -315,6 +317,23 @@ fn union_paths_mark_the_leaves_under_sharp_unions_only() {
         let expect = node == p0 || node == p5;
         assert_eq!(u, expect, "scene node {node}");
     }
+    // Under an intersection: on no comb either. (The smooth union of p1
+    // and p2 is the larger operand of the union with p0, so it goes left
+    // and starts the root's left spine: they are on the comb.)
+    for &k in &lin.primitives {
+        let node = lin.order[k as usize];
+        assert_eq!(lin.on_comb(k), [p0, p1, p2].contains(&node), "scene node {node}");
+        if [p3, p4].contains(&node) {
+            assert!(!lin.on_comb(k), "scene node {node}");
+        }
+    }
+    // A left comb of compact smooth unions: every leaf is on it, none on a
+    // union path.
+    let mut b = Builder::default();
+    let items: Vec<_> = (0..6).map(|i| ball(&mut b, i as f64)).collect();
+    let root = b.fold(Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 }), &items);
+    let lin = Linear::new(&b.finish(root).unwrap()).unwrap();
+    assert!(lin.primitives.iter().all(|&k| lin.on_comb(k) && !lin.on_union_path(k)));
     // A lone primitive is its own union.
     let mut b = Builder::default();
     let only = ball(&mut b, 0.0);
@@ -334,9 +353,10 @@ fn params_rows_reproduce_each_primitive() {
     let lin = Linear::new(&scene).unwrap();
     for &k in &lin.primitives {
         let word = lin.nodes[k as usize];
-        // The type field's top bit is a leaf's union-path flag (all set here).
+        // The type field's top bits are a leaf's union-path and comb flags
+        // (the first set for all here).
         assert_ne!(word[0] & isotrace::scene::linear::NODE_UNION_PATH_BIT, 0);
-        let ty = (word[0] >> 22) & 0x7f;
+        let ty = (word[0] >> 22) & 0x3f;
         let rows = &lin.params[word[1] as usize..];
         let Node::Primitive(prim) = &scene.nodes()[lin.order[k as usize]] else { unreachable!() };
         for _ in 0..50 {

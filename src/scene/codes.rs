@@ -15,6 +15,13 @@ pub const NODE_LEFT_BIT: u32 = 1 << 30;
 /// views pass lets each ray of a tile of such leaves evaluate only those
 /// whose ball it meets (scene_tiles.wgsl, "union tiles").
 pub const NODE_UNION_PATH_BIT: u32 = 1 << 29;
+/// A leaf's second flag in its type field (leaf types are below 64): the
+/// leaf hangs off the tree's left spine of union-style operators (sharp,
+/// compact smooth or joined unions, from the root down left operands):
+/// it is the spine's bottom leaf or a spine operator's right operand. The
+/// pruned tree of any set of such leaves is then a chain, each leaf after
+/// the first joined by its own operator (scene_tiles.wgsl, "comb tiles").
+pub const NODE_COMB_BIT: u32 = 1 << 28;
 /// Position of the 8-bit type field.
 pub const NODE_TYPE_SHIFT: u32 = 22;
 /// Mask of the type field after shifting.
@@ -202,8 +209,9 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 69] = [
+    let consts: [(&str, u32); 70] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
+        ("NODE_COMB_BIT", NODE_COMB_BIT),
         ("NODE_UNION_PATH_BIT", NODE_UNION_PATH_BIT),
         ("NODE_LEFT_BIT", NODE_LEFT_BIT),
         ("NODE_TYPE_SHIFT", NODE_TYPE_SHIFT),

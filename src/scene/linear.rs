@@ -202,15 +202,27 @@ impl Linear {
     }
 
     /// Sets [`NODE_UNION_PATH_BIT`] on every leaf whose ancestors are all
-    /// sharp unions: top-down, a parent after its children in post-order.
+    /// sharp unions, and [`NODE_COMB_BIT`] on every leaf hanging off the
+    /// left spine of union-style operators: top-down, a parent after its
+    /// children in post-order.
     fn mark_union_paths(&mut self) {
         let n = self.nodes.len();
+        let ty = |w: [u32; 4]| (w[0] >> NODE_TYPE_SHIFT) & NODE_TYPE_MASK;
+        let union_style = |w: [u32; 4]| w[0] & NODE_LEAF_BIT == 0 && (UNION..OFFSET).contains(&ty(w)) && (ty(w) - UNION) % 3 == 0;
         let mut path = vec![false; n];
+        let mut spine = vec![false; n];
         for k in (0..n).rev() {
             let p = self.parent[k] as usize;
-            path[k] = p >= n || (path[p] && (self.nodes[p][0] >> NODE_TYPE_SHIFT) & NODE_TYPE_MASK == UNION);
-            if path[k] && self.is_leaf(k as u32) {
-                self.nodes[k][0] |= NODE_UNION_PATH_BIT;
+            let w = self.nodes[k];
+            path[k] = p >= n || (path[p] && ty(self.nodes[p]) == UNION);
+            spine[k] = union_style(w) && (p >= n || (spine[p] && self.is_left[k]));
+            if self.is_leaf(k as u32) {
+                if path[k] {
+                    self.nodes[k][0] |= NODE_UNION_PATH_BIT;
+                }
+                if p >= n || spine[p] {
+                    self.nodes[k][0] |= NODE_COMB_BIT;
+                }
             }
         }
     }
@@ -219,6 +231,12 @@ impl Linear {
     /// ([`NODE_UNION_PATH_BIT`]).
     pub fn on_union_path(&self, k: u32) -> bool {
         self.nodes[k as usize][0] & NODE_UNION_PATH_BIT != 0
+    }
+
+    /// Whether leaf `k` hangs off the left spine of union-style operators
+    /// ([`NODE_COMB_BIT`]).
+    pub fn on_comb(&self, k: u32) -> bool {
+        self.nodes[k as usize][0] & NODE_COMB_BIT != 0
     }
 
     /// Number of nodes.

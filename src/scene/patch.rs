@@ -2,7 +2,7 @@
 //! source binds: what changes between frames without a new layout, shader
 //! or pipeline (`gpu::Renderer::patch_scene` uploads a [`ScenePatch`]).
 
-use super::linear::{Linear, ABV_STRIDE, FORM_WARP_SHIFT, NODE_TYPE_SHIFT, NODE_UNION_PATH_BIT, WARP_ROWS};
+use super::linear::{Linear, ABV_STRIDE, FORM_WARP_SHIFT, NODE_COMB_BIT, NODE_TYPE_SHIFT, NODE_UNION_PATH_BIT, WARP_ROWS};
 use super::roi;
 use super::rows::{abv_rows, ball, primitive_rows, warp_rows};
 use super::{Node, SceneError};
@@ -37,7 +37,7 @@ impl Linear {
         if let Err((field, reason)) = p.check() {
             return Err(SceneError::at(self.order[k], &field, reason));
         }
-        let old_type = (self.nodes[k][0] & !NODE_UNION_PATH_BIT) >> NODE_TYPE_SHIFT & 0xff;
+        let old_type = (self.nodes[k][0] & !(NODE_UNION_PATH_BIT | NODE_COMB_BIT)) >> NODE_TYPE_SHIFT & 0xff;
         let row = self.first_row(k);
         // Other primitives' limits change only if this one bounds an
         // intersection's or a difference's other operand (a walk to the

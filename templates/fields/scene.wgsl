@@ -372,6 +372,7 @@ var<private> g_scene_balls: u32 = 0u;
 // of them until the ray is known.
 var<private> g_ray_mask: u32 = 0u;
 fn scene_union() -> bool { return (g_scene_balls & SCENE_UNION_TILE) != 0u; }
+fn scene_comb() -> bool { return (g_scene_balls & SCENE_COMB_TILE) != 0u; }
 
 // Counts the changes of the evaluated view (slab or whole tree): two values
 // of f taken under different views are values of different fields (each
@@ -484,7 +485,7 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
             if (b + s >= range.x && b - s <= range.y) { mask = mask | (1u << i); }
         }
     }
-    if (scene_union()) { g_ray_mask = mask; }
+    if (scene_union() || scene_comb()) { g_ray_mask = mask; }
     return vec2<f32>(max(range.x, lo), min(range.y, hi));
 }
 
@@ -564,19 +565,30 @@ fn field(p: vec3<f32>) -> f32 {
     let len = scene_view_len();
     let full = len == SCENE_VIEW_FULL;
     let n = select(len, scene_node_count(), full);
-    // A union tile's ray takes its own members, each a leaf with a fused
-    // union, in one loop with the others (a branch would run both loops
-    // under masks on SIMD lanes).
+    // A union or comb tile's ray takes its own members, in one loop with
+    // the others (a branch would run both loops under masks on SIMD
+    // lanes): a union tile's are leaves with a fused union, a comb tile's
+    // a leaf and then, after the first member, its operator.
     let uni = scene_union();
+    let comb = scene_comb();
+    let own = uni || comb;
     let fuse = select(0u, NODE_UNION << SCENE_ENTRY_ROW_BITS, uni);
     var m = g_ray_mask;
+    var op = 0u;
+    var first = true;
     var sp = 0u;
     var top = F.inf;
     var j = 0u;
     loop {
-        if (select(j >= n, m == 0u, uni)) { break; }
-        let at = select(j, countTrailingZeros(m), uni);
-        m = m & (m - 1u);
+        if (select(j >= n, m == 0u && op == 0u, own)) { break; }
+        var at = j;
+        if (own) {
+            let k = countTrailingZeros(m);
+            at = select(select(k, 2u * k, comb), op, op != 0u);
+            m = select(m & (m - 1u), m, op != 0u);
+            op = select(select(0u, 2u * k + 1u, comb && !first), 0u, op != 0u);
+            first = false;
+        }
         // A view holds packed entries; the whole tree's nodes are packed
         // here (a branch, not a select, which would fetch both).
         var e: u32;

@@ -331,29 +331,48 @@ fn scene_write_balls(base: u32, count: u32, at: u32, room: u32, off: u32) -> u32
 // off the ray, as a primitive off the tile's frustum is off its rays): the
 // view is the members' leaves, in any order, and their balls follow it, so
 // each ray picks its own members (scene.wgsl, field_ray_range) and
-// evaluates only those, the whole depth range in one slab. Writes the
-// tile's table and returns true, or false for any other tile.
-fn scene_union_tile(t: u32, base: u32, count: u32, tb: u32) -> bool {
+// evaluates only those, the whole depth range in one slab.
+//
+// A comb tile (`comb`; its list sorted by node index): every member hangs
+// off the tree's left spine of union-style operators (NODE_COMB_BIT), so
+// the pruned tree of any of its subsets is a chain in post-order, each
+// member after the first joined by its own operator (the sparse rule: an
+// operator with one operand present is that operand). The view holds two
+// words a member, its leaf and its operator, and a ray evaluates the
+// chain of its own members. Writes the tile's table and returns true, or
+// false for a tile that is neither.
+fn scene_chain_tile(t: u32, base: u32, count: u32, tb: u32, comb: bool) -> bool {
     if (count == 0u || count > SCENE_UNION_MAX) { return false; }
+    let bit = select(NODE_UNION_PATH_BIT, NODE_COMB_BIT, comb);
     var front = F.inf;
     var back = -F.inf;
     for (var i = 0u; i < count; i = i + 1u) {
-        if ((scene_node(scene_tile_prims[base + i]).x & NODE_UNION_PATH_BIT) == 0u) { return false; }
+        if ((scene_node(scene_tile_prims[base + i]).x & bit) == 0u) { return false; }
         let dv = scene_tile_depth[base + i];
         front = min(front, dv.x);
         back = max(back, dv.y);
     }
+    let words = select(count, 2u * count, comb);
     let vbase = tb + SCENE_TABLE_WORDS;
-    let balls = scene_write_balls(base, count, vbase + count, SCENE_VIEW_MAX - SCENE_TABLE_WORDS - count, SCENE_TABLE_WORDS + count);
+    let balls = scene_write_balls(base, count, vbase + words, SCENE_VIEW_MAX - SCENE_TABLE_WORDS - words, SCENE_TABLE_WORDS + words);
     if (balls == 0u) { return false; }
     for (var i = 0u; i < count; i = i + 1u) {
-        scene_tile_view[vbase + i] = scene_entry(scene_tile_prims[base + i]);
+        let b = scene_tile_prims[base + i];
+        if (comb) {
+            // The bottom leaf's parent is not its own operator, but it is
+            // the spine's first node: never joined (nothing comes before).
+            scene_tile_view[vbase + 2u * i] = scene_entry(b);
+            scene_tile_view[vbase + 2u * i + 1u] = scene_entry(min(scene_node(b).x & NODE_PARENT_MASK, scene_node_count() - 1u));
+        } else {
+            scene_tile_view[vbase + i] = scene_entry(b);
+        }
     }
     let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(back, 0.0);
     let margin = max(0.02 * (back - front), max(8.0 * pixel, 4.0 * F.eps));
+    let mode = select(SCENE_UNION_TILE, SCENE_COMB_TILE, comb);
     scene_table_write(tb, vec4<u32>(1u, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
-    scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, count, bitcast<u32>(-F.inf), balls | SCENE_UNION_TILE));
-    scene_tile_len[t] = vec2<u32>(count | (1u << 24u), count);
+    scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, words, bitcast<u32>(-F.inf), balls | mode));
+    scene_tile_len[t] = vec2<u32>(words | (1u << 24u), count);
     return true;
 }
 
@@ -379,7 +398,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let base = t * SCENE_TILE_MAX;
-    if (scene_union_tile(t, base, count, tb)) { return; }
+    if (scene_chain_tile(t, base, count, tb, false)) { return; }
     // The depths the list spans, then a heap sort by node index (its
     // iterations are bounded by 2 n log2 n whatever the order the scatter's
     // atomics left: an insertion sort of 459 entries ran past lavapipe's
@@ -400,6 +419,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         scene_swap(base, 0u, e - 1u);
         scene_sift(base, 0u, e - 1u);
     }
+    if (scene_chain_tile(t, base, count, tb, true)) { return; }
     // The margin: 2 % of the depths, and no less than a few pixels there
     // (so that a step clamped near a slab's end stays well above the
     // termination width).

@@ -110,6 +110,25 @@ pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
     b.finish(root).unwrap()
 }
 
+/// The compactly blended grid as a balanced tree of smooth unions (the
+/// fold of `sphere_grid` is a left comb): its leaves are on no comb, so
+/// its tiles are cut into depth slabs where the comb's are comb tiles.
+pub fn sphere_grid_tree() -> isotrace::scene::Scene {
+    use isotrace::scene::{Blend, OpKind, Operator, Primitive, Shape};
+    let mut b = isotrace::scene::Builder::default();
+    let mut items: Vec<_> = (0..125)
+        .map(|i| {
+            let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
+            b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c))
+        })
+        .collect();
+    let op = Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 });
+    while items.len() > 1 {
+        items = items.chunks(2).map(|p| if p.len() == 2 { b.operator(op, p[0], p[1]) } else { p[0] }).collect();
+    }
+    b.finish(items[0]).unwrap()
+}
+
 /// The sharp grid cut by a ball that holds it (the same surface): no leaf
 /// is on a union path, so its tiles are cut into depth slabs where the
 /// plain sharp grid's tiles are union tiles.
