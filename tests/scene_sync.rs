@@ -33,7 +33,7 @@ fn the_synchronised_walk_draws_the_per_ray_picture() {
         let ray = Renderer::new(&own, FieldSource::Scene(&data), walk(false, l)).unwrap().render(&s).unwrap();
         let tile = Renderer::new(&own, FieldSource::Scene(&data), walk(true, l)).unwrap().render(&s).unwrap();
         let slabs = tile.stats.field.slabs_mean;
-        // (A chain tile holds at most 32 members: a few of the comb's tiles
+        // (A chain tile holds at most 64 members: a few of the comb's tiles
         // have more, and slabs.)
         assert!(if matches!(name, "cut" | "tree") { slabs > 1.5 } else { slabs < 1.1 }, "{name}: {slabs} slabs a tile");
         assert_eq!((tile.stats.unresolved, tile.stats.field.overflow_tiles), (0, 0));

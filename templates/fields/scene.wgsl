@@ -367,10 +367,16 @@ var<private> g_scene_depths: vec2<f32>;
 // view word in the tile | their count << 16 | SCENE_UNION_TILE for a
 // union tile (scene_tiles.wgsl); 0 for none.
 var<private> g_scene_balls: u32 = 0u;
-// In a union tile, the members (bits by view entry) whose balls this
-// ray meets, set by field_ray_range: the field evaluates only those. All
-// of them until the ray is known.
-var<private> g_ray_mask: u32 = 0u;
+// In a union or comb tile, the members (bits by member, the first 32 in
+// x) whose balls this ray meets, set by field_ray_range: the field
+// evaluates only those. All of them until the ray is known.
+var<private> g_ray_mask: vec2<u32>;
+// The mask of the first n members.
+fn scene_first_bits(n: u32) -> vec2<u32> {
+    let lo = select((1u << n) - 1u, 0xffffffffu, n >= 32u);
+    let hi = select(select((1u << (n - 32u)) - 1u, 0xffffffffu, n >= 64u), 0u, n <= 32u);
+    return vec2<u32>(lo, hi);
+}
 fn scene_union() -> bool { return (g_scene_balls & SCENE_UNION_TILE) != 0u; }
 fn scene_comb() -> bool { return (g_scene_balls & SCENE_COMB_TILE) != 0u; }
 
@@ -411,7 +417,7 @@ fn field_enter_pixel(px: vec2<u32>) {
     g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
     g_scene_balls = scene_view_node(tb + 7u);
     let nb = (g_scene_balls >> 16u) & 0xffu;
-    g_ray_mask = select((1u << nb) - 1u, 0xffffffffu, nb >= 32u);
+    g_ray_mask = scene_first_bits(nb);
     g_slab_count = slabs;
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
@@ -465,7 +471,7 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
     let n = (g_scene_balls >> 16u) & 0xffu;
     var lo = F.inf;
     var hi = -F.inf;
-    var mask = 0u;
+    var mask = vec2<u32>(0u);
     for (var i = 0u; i < n; i = i + 1u) {
         let w = at + 4u * i;
         let c = bitcast<vec3<f32>>(vec3<u32>(scene_view_node(w), scene_view_node(w + 1u), scene_view_node(w + 2u)));
@@ -482,7 +488,9 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
             let s = sqrt(disc);
             lo = min(lo, b - s);
             hi = max(hi, b + s);
-            if (b + s >= range.x && b - s <= range.y) { mask = mask | (1u << i); }
+            if (b + s >= range.x && b - s <= range.y) {
+                mask = mask | select(vec2<u32>(1u << i, 0u), vec2<u32>(0u, 1u << (i - 32u)), i >= 32u);
+            }
         }
     }
     if (scene_union() || scene_comb()) { g_ray_mask = mask; }
@@ -580,12 +588,15 @@ fn field(p: vec3<f32>) -> f32 {
     var top = F.inf;
     var j = 0u;
     loop {
-        if (select(j >= n, m == 0u && op == 0u, own)) { break; }
+        let left = m.x != 0u || m.y != 0u;
+        if (select(j >= n, !left && op == 0u, own)) { break; }
         var at = j;
         if (own) {
-            let k = countTrailingZeros(m);
+            // The next member: the lowest bit of the mask.
+            let k = select(32u + countTrailingZeros(m.y), countTrailingZeros(m.x), m.x != 0u);
+            let rest = select(vec2<u32>(m.x, m.y & (m.y - 1u)), vec2<u32>(m.x & (m.x - 1u), m.y), m.x != 0u);
             at = select(select(k, 2u * k, comb), op, op != 0u);
-            m = select(m & (m - 1u), m, op != 0u);
+            m = select(rest, m, op != 0u);
             op = select(select(0u, 2u * k + 1u, comb && !first), 0u, op != 0u);
             first = false;
         }
