@@ -324,6 +324,14 @@ fn scene_write_balls(base: u32, count: u32, at: u32, room: u32, off: u32) -> u32
     return off | (count << 16u);
 }
 
+// The margin of a tile whose primitives span view depths [lo, hi]: 2 % of
+// the depths, and no less than a few pixels there (so that a step clamped
+// near a slab's end stays well above the termination width).
+fn scene_margin(lo: f32, hi: f32) -> f32 {
+    let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(hi, 0.0);
+    return max(0.02 * (hi - lo), max(8.0 * pixel, 4.0 * F.eps));
+}
+
 // A union tile: a list of at most SCENE_UNION_MAX primitives, each with
 // only sharp unions above it (NODE_UNION_PATH_BIT) and a finite ball. The
 // tile's field is then the least of its members' values, and so is a
@@ -367,8 +375,7 @@ fn scene_chain_tile(t: u32, base: u32, count: u32, tb: u32, comb: bool) -> bool 
             scene_tile_view[vbase + i] = scene_entry(b);
         }
     }
-    let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(back, 0.0);
-    let margin = max(0.02 * (back - front), max(8.0 * pixel, 4.0 * F.eps));
+    let margin = scene_margin(front, back);
     let mode = select(SCENE_UNION_TILE, SCENE_COMB_TILE, comb);
     scene_table_write(tb, vec4<u32>(1u, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
     scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, words, bitcast<u32>(-F.inf), balls | mode));
@@ -420,11 +427,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         scene_sift(base, 0u, e - 1u);
     }
     if (scene_chain_tile(t, base, count, tb, true)) { return; }
-    // The margin: 2 % of the depths, and no less than a few pixels there
-    // (so that a step clamped near a slab's end stays well above the
-    // termination width).
-    let pixel = 2.0 * F.tan_half_fov / f32(F.size.y) * max(zhi, 0.0);
-    let margin = max(0.02 * (zhi - zlo), max(8.0 * pixel, 4.0 * F.eps));
+    let margin = scene_margin(zlo, zhi);
     var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);
     // The views follow the slab table; offsets count from the tile's start.
     let vbase = tb + SCENE_TABLE_WORDS;
