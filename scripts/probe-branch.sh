@@ -1,30 +1,33 @@
 #!/usr/bin/env bash
-# Does the driver skip a block of shader code that no invocation of a SIMD
-# bundle enters? The answer decides whether per-tile pruning (fidget's tape
-# simplification, done in generated code: the tile pass marks which min/max
-# operands a tile can drop, the per-pixel kernel branches around their code)
-# can save time: every lane of a bundle belongs to one tile, so all of them
-# agree on the branch.
+# Which shader code does the driver skip when no invocation of a SIMD bundle
+# needs it? The answer decides where per-tile pruning (fidget's tape
+# simplification: a tile drops the min/max operands that cannot matter in
+# it) can save time on this device: every lane of a bundle belongs to one
+# 8x8 tile, so all of them agree on what is pruned.
 #
-# Four renders of a sphere by interval bisection, the same picture each time
+# Renders of a sphere by interval bisection, the same picture each time
 # (the extra term is 0 where it runs, or not run at all):
-#   plain      the sphere alone;
-#   uniform    + heavy(x): 64 sines under a condition read from the frame
-#              uniforms, never true;
-#   divergent  the same under a condition on the interval itself (per lane
-#              as far as the compiler knows), never true;
-#   always     the same under a condition that always holds.
-# If `uniform` and `divergent` cost about what `plain` does and `always`
-# much more, the driver skips code no lane enters.
+#   plain             the sphere alone;
+#   loop-uniform      + heavy(x): a loop of 64 sines under a condition read
+#                     from the frame uniforms, never true;
+#   loop-divergent    the same under a condition on the interval itself (per
+#                     lane as far as the compiler knows), never true;
+#   straight-uniform  the 64 sines written out (no loop) under the uniform
+#                     condition, never true;
+#   straight-divergent  the same under the per-lane condition;
+#   always            the 64 sines written out under a condition that holds.
 #
 # Usage: scripts/probe-branch.sh [ISOTRACE] [SIZE]   (defaults:
 # target/release/isotrace, 512). Prints the median GPU ms of 5 runs each.
 #
 # Measured on lavapipe (Mesa 22.3.6, LLVM 15.0.6, AMD EPYC, 2 cores) at
-# 512², 2026-12-03, medians of 5: plain 7.3, uniform 11.3, divergent 11.6,
-# always 48.0 ms (single runs earlier: 10-11, 11.5, 17-19, 52-55). A block
-# no lane enters is skipped, with or without a uniform condition: the
-# extra term's call and test cost 4 ms, its 64 sines 37 ms.
+# 512², 2026-12-03, three runs: plain 7.3-10.8 ms, loop under a never-true
+# condition 11.3-19.8 ms (uniform or per lane alike), straight-line code
+# under a never-true condition 45-59 ms, always 45-55 ms. The body of an `if` runs
+# under a lane mask whether or not a lane enters it, uniform condition or
+# not; a loop stops after its first pass once no lane is left. Pruning
+# therefore pays on lavapipe only where it shortens a loop (an interpreter's
+# tape), not as branches around generated code.
 set -euo pipefail
 bin=${1:-target/release/isotrace}
 size=${2:-512}
@@ -32,26 +35,34 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export NODEVICE_SELECT=${NODEVICE_SELECT:-1}
 
-for v in uniform divergent always; do
-    case $v in
-        uniform) cond="F.size.x == 12345u" ;;
-        divergent) cond="v.x > 1e30" ;;
-        always) cond="F.size.x != 12345u" ;;
-    esac
-    cat > "$dir/$v.wgsl" <<EOF
+uniform_false="F.size.x == 12345u"
+lane_false="v.x > 1e30"
+always="F.size.x != 12345u"
+loop_body="for (var i = 0; i < 64; i = i + 1) { acc = sin(acc * 1.1 + 0.3); }"
+straight_body=$(for _ in $(seq 64); do printf 'acc = sin(acc * 1.1 + 0.3); '; done)
+
+# heavy(x): `$2` under the condition `$1`, into file `$3`.
+write_heavy() {
+    cat > "$3" <<EOF
 fn s_heavy(v: f32) -> f32 { return 0.0; }
 fn ia_heavy(v: vec2<f32>) -> vec2<f32> {
     var acc = 0.0;
-    if ($cond) {
+    if ($1) {
         acc = v.x;
-        for (var i = 0; i < 64; i = i + 1) { acc = sin(acc * 1.1 + 0.3); }
+        $2
         acc = acc * 1e-30;
     }
     return vec2<f32>(acc - 1e-30, acc + 1e-30);
 }
 fn ra_heavy(v: vec3<f32>) -> vec3<f32> { return ra_from_ia(ia_heavy(ra_range(v))); }
 EOF
-done
+}
+write_heavy "$uniform_false" "$loop_body" "$dir/loop-uniform.wgsl"
+write_heavy "$lane_false" "$loop_body" "$dir/loop-divergent.wgsl"
+write_heavy "$uniform_false" "$straight_body" "$dir/straight-uniform.wgsl"
+write_heavy "$lane_false" "$straight_body" "$dir/straight-divergent.wgsl"
+write_heavy "$always" "$straight_body" "$dir/always.wgsl"
+variants="loop-uniform loop-divergent straight-uniform straight-divergent always"
 
 sphere="x^2 + y^2 + z^2 - 1"
 gpu_ms() { "$bin" render "$@" --algebra ia --size "$size" --stats -o "$dir/out.png" 2>&1 | sed -n 's/^gpu \([0-9.]*\) ms.*/\1/p'; }
@@ -59,12 +70,12 @@ median() { sort -n | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
 
 # One warm-up each (builds the pipeline; a cold shader cache compiles).
 gpu_ms "$sphere" > /dev/null
-for v in uniform divergent always; do gpu_ms "$sphere + heavy(x)" --inline "$dir/$v.wgsl" > /dev/null; done
+for v in $variants; do gpu_ms "$sphere + heavy(x)" --inline "$dir/$v.wgsl" > /dev/null; done
 declare -A runs
 for _ in 1 2 3 4 5; do
     runs[plain]+="$(gpu_ms "$sphere") "
-    for v in uniform divergent always; do runs[$v]+="$(gpu_ms "$sphere + heavy(x)" --inline "$dir/$v.wgsl") "; done
+    for v in $variants; do runs[$v]+="$(gpu_ms "$sphere + heavy(x)" --inline "$dir/$v.wgsl") "; done
 done
-for v in plain uniform divergent always; do
-    printf '%-10s %s ms\n' "$v" "$(tr ' ' '\n' <<< "${runs[$v]}" | grep . | median)"
+for v in plain $variants; do
+    printf '%-19s %s ms\n' "$v" "$(tr ' ' '\n' <<< "${runs[$v]}" | grep . | median)"
 done
