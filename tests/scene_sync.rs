@@ -60,6 +60,7 @@ fn the_synchronised_walk_misses_no_sphere_at_a_slab_seam() {
     let (frame, hits, misses) = analytic_grid(&data, true);
     eprintln!("hits {hits}, misses {misses}, slabs {}", frame.stats.field.slabs_mean);
     assert!(frame.stats.field.slabs_mean > 1.2 && hits > 1000 && misses > 30000, "hits {hits}, misses {misses}");
+    assert_eq!(frame.stats.field.chain_share, 0.0, "no union or comb tile under the cut");
 }
 
 /// The plain sharp grid: every tile is a union tile (one slab; each ray
@@ -73,7 +74,7 @@ fn union_tiles_draw_the_analytic_spheres() {
     for synchronized in [false, true] {
         let (frame, hits, misses) = analytic_grid(&data, synchronized);
         let f = &frame.stats.field;
-        assert_eq!((f.slabs_mean, f.overflow_tiles, frame.stats.unresolved), (1.0, 0, 0), "sync {synchronized}");
+        assert_eq!((f.slabs_mean, f.chain_share, f.overflow_tiles, frame.stats.unresolved), (1.0, 1.0, 0, 0), "sync {synchronized}");
         assert!(hits > 1000 && misses > 30000, "sync {synchronized}: hits {hits}, misses {misses}");
     }
 }

@@ -50,6 +50,9 @@ pub struct SceneRow {
     pub active_max: u32,
     /// Mean nodes in a depth slab's pruned view (what a step evaluates).
     pub slab_view_mean: f64,
+    /// The share of the tiles with primitives that are union or comb
+    /// tiles (each ray evaluates its own primitives).
+    pub chain_share: f64,
     /// Tiles whose active primitives overflowed the tile list.
     pub overflow_tiles: u64,
     /// Pixels that did not converge.
@@ -106,6 +109,7 @@ fn row(scene: (Kind, Blending, u32, usize), path: &str, setup_ms: f64, runs: &[S
         active_mean: st.field.active_mean,
         active_max: st.field.active_max,
         slab_view_mean: st.field.slab_view_mean,
+        chain_share: st.field.chain_share,
         overflow_tiles: st.field.overflow_tiles,
         unconverged: st.unresolved,
     }

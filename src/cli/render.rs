@@ -630,8 +630,8 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
         if f.tiles > 0 {
             eprintln!(
                 "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}\n\
-                 scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}; walk: {}",
-                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles, f.slabs_mean, f.slab_view_mean,
+                 scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}; union or comb tiles (each ray its own primitives): {:.1} %; walk: {}",
+                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles, f.slabs_mean, f.slab_view_mean, 100.0 * f.chain_share,
                 if o.synchronized { "tile (synchronised)" } else { "ray" }
             );
         }
@@ -656,6 +656,7 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
             v["overflow_tiles"] = st.field.overflow_tiles.into();
             v["slabs_mean"] = st.field.slabs_mean.into();
             v["slab_view_mean"] = st.field.slab_view_mean.into();
+            v["chain_share"] = st.field.chain_share.into();
             v["scene_walk"] = (if o.synchronized { "tile" } else { "ray" }).into();
         }
         let _ = writeln!(std::io::stdout().lock(), "{v}");

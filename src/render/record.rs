@@ -191,6 +191,9 @@ pub struct TileStats {
     /// Depth slabs and their views' nodes, summed over tiles with views.
     slabs: u64,
     view_nodes: u64,
+    /// Tiles with primitives, and those of them that are union or comb tiles.
+    listed: u64,
+    chain: u64,
 }
 
 impl TileStats {
@@ -200,7 +203,7 @@ impl TileStats {
         TileStats { tiles_x, active: vec![0; (tiles_x * height.div_ceil(8)) as usize], ..Default::default() }
     }
 
-    /// The words (views' length | slabs << 24, active count) of the tiles of the
+    /// The words (views' length | slabs << 24 | chain << 28, active count) of the tiles of the
     /// rectangle at pixel (x, y) that is `w` pixels wide (x, y multiples of 8).
     pub fn add(&mut self, (x, y, w): (u32, u32, u32), words: &[[u32; 2]]) {
         let rx = w.div_ceil(8);
@@ -215,6 +218,8 @@ impl TileStats {
                 self.slabs += u64::from((w[0] >> 24) & 0xf);
                 self.view_nodes += u64::from(w[0] & 0xff_ffff);
             }
+            self.listed += u64::from(w[1] > 0);
+            self.chain += u64::from(w[1] > 0 && w[0] != crate::codegen::kernel::SCENE_VIEW_FULL && (w[0] >> 28) & 1 == 1);
         }
     }
 
@@ -227,6 +232,7 @@ impl TileStats {
         stats.field.overflow_tiles = self.overflow;
         stats.field.slabs_mean = self.slabs as f64 / n;
         stats.field.slab_view_mean = self.view_nodes as f64 / self.slabs.max(1) as f64;
+        stats.field.chain_share = self.chain as f64 / self.listed.max(1) as f64;
         stats.field.tiles_x = self.tiles_x;
         stats.field.tile_active = self.active;
     }

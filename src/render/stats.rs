@@ -66,8 +66,12 @@ pub struct FieldStats {
     /// Mean depth slabs per tile (Zanni's depth ranges; each slab has a
     /// view of its own).
     pub slabs_mean: f64,
-    /// Mean nodes in a slab's pruned view: what a step evaluates.
+    /// Mean nodes in a slab's pruned view: what a step evaluates (a union
+    /// or comb tile's view holds its members, and a comb's operators).
     pub slab_view_mean: f64,
+    /// The share of the tiles with primitives that are union or comb tiles:
+    /// each ray evaluates only the members whose balls it meets.
+    pub chain_share: f64,
     /// Tiles per row of `tile_active`.
     #[serde(skip)]
     pub tiles_x: u32,

@@ -25,8 +25,9 @@
 @group(1) @binding(5) var<storage, read_write> scene_tile_prims: array<u32>;
 @group(1) @binding(6) var<storage, read_write> scene_tile_view: array<u32>;
 // Per tile, for the statistics: the total length of its slabs' views with
-// the slab count in bits 24-27, or SCENE_VIEW_FULL when the tile evaluates
-// the whole tree (its list overflowed); and the active count.
+// the slab count in bits 24-27 and bit 28 set for a union or comb tile, or
+// SCENE_VIEW_FULL when the tile evaluates the whole tree (its list
+// overflowed); and the active count.
 @group(1) @binding(7) var<storage, read_write> scene_tile_len: array<vec2<u32>>;
 // Per entry of scene_tile_prims: the view depths (z along the camera's
 // forward axis) its primitive's ball spans.
@@ -379,7 +380,8 @@ fn scene_chain_tile(t: u32, base: u32, count: u32, tb: u32, comb: bool) -> bool 
     let mode = select(SCENE_UNION_TILE, SCENE_COMB_TILE, comb);
     scene_table_write(tb, vec4<u32>(1u, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
     scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, words, bitcast<u32>(-F.inf), balls | mode));
-    scene_tile_len[t] = vec2<u32>(words | (1u << 24u), count);
+    // Statistics: one slab, and bit 28 for a chain tile.
+    scene_tile_len[t] = vec2<u32>(words | (1u << 24u) | (1u << 28u), count);
     return true;
 }
 
