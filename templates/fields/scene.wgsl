@@ -279,10 +279,33 @@ var<private> g_scene_depths: vec2<f32>;
 // view word in the tile | their count << 16 | SCENE_UNION_TILE for a
 // union tile (scene_tiles.wgsl); 0 for none.
 var<private> g_scene_balls: u32 = 0u;
-// In a union or comb tile, the members (bits by member, the first 32 in
-// x) whose balls this ray meets, set by field_ray_range: the field
-// evaluates only those. All of them until the ray is known.
-var<private> g_ray_mask: vec2<u32>;
+// In a union or comb tile, the view entries this ray evaluates, in order,
+// and their count (g_ray_own: a list is in use): a union tile's members
+// whose balls the ray meets, a comb tile's the same with each one's
+// operator after it but the first's (the chain of the members present).
+// Set for all members on entering a pixel, then by field_ray_range for the
+// ray. A list read per entry costs the loop less than working out the next
+// member from a mask at every step, which every view's loop would pay.
+var<private> g_ray_list: array<u32, 2 * SCENE_UNION_MAX>;
+var<private> g_ray_len: u32 = 0u;
+var<private> g_ray_own: bool = false;
+// Fills the list from the members in `mask` (bits by member, the first 32
+// in x).
+fn scene_ray_list(mask: vec2<u32>) {
+    let comb = scene_comb();
+    var len = 0u;
+    for (var i = 0u; i < 64u; i = i + 1u) {
+        let w = select(mask.x, mask.y, i >= 32u);
+        if (((w >> (i & 31u)) & 1u) == 0u) { continue; }
+        g_ray_list[min(len, 2u * SCENE_UNION_MAX - 1u)] = select(i, 2u * i, comb);
+        len = len + 1u;
+        if (comb && len > 1u) {
+            g_ray_list[min(len, 2u * SCENE_UNION_MAX - 1u)] = 2u * i + 1u;
+            len = len + 1u;
+        }
+    }
+    g_ray_len = len;
+}
 // The mask of the first n members.
 fn scene_first_bits(n: u32) -> vec2<u32> {
     let lo = select((1u << n) - 1u, 0xffffffffu, n >= 32u);
@@ -328,8 +351,8 @@ fn field_enter_pixel(px: vec2<u32>) {
     g_slab_margin = bitcast<f32>(scene_view_node(tb + 1u));
     g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
     g_scene_balls = scene_view_node(tb + 7u);
-    let nb = (g_scene_balls >> 16u) & 0xffu;
-    g_ray_mask = scene_first_bits(nb);
+    g_ray_own = scene_union() || scene_comb();
+    if (g_ray_own) { scene_ray_list(scene_first_bits((g_scene_balls >> 16u) & 0xffu)); }
     g_slab_count = slabs;
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
@@ -349,6 +372,7 @@ fn field_leave_frustum() {
     g_scene_pad = g_scene_core;
     g_scene_depths = g_scene_core;
     g_scene_balls = 0u;
+    g_ray_own = false;
 }
 
 // Whether no primitive meets tile t's frustum (its views pass found none:
@@ -405,7 +429,7 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
             }
         }
     }
-    if (scene_union() || scene_comb()) { g_ray_mask = mask; }
+    if (g_ray_own) { scene_ray_list(mask); }
     return vec2<f32>(max(range.x, lo), min(range.y, hi));
 }
 
@@ -485,39 +509,22 @@ fn field(p: vec3<f32>) -> f32 {
     let len = scene_view_len();
     let full = len == SCENE_VIEW_FULL;
     let n = select(len, scene_node_count(), full);
-    // A union or comb tile's ray takes its own members, in one loop with
-    // the others (a branch would run both loops under masks on SIMD
-    // lanes): a union tile's are leaves with a fused union, a comb tile's
-    // a leaf and then, after the first member, its operator.
-    let uni = scene_union();
-    let comb = scene_comb();
-    let own = uni || comb;
-    let fuse = select(0u, NODE_UNION << SCENE_ENTRY_ROW_BITS, uni);
-    var m = g_ray_mask;
-    var op = 0u;
-    var first = true;
+    // A union or comb tile's ray takes its own entries from its list, in
+    // one loop with the others (a branch would run both loops under masks
+    // on SIMD lanes): a union tile's entries are leaves with a fused union.
+    let own = g_ray_own;
+    let fuse = select(0u, NODE_UNION << SCENE_ENTRY_ROW_BITS, scene_union());
+    let steps = select(n, g_ray_len, own);
     var sp = 0u;
     var top = F.inf;
     var j = 0u;
-    loop {
-        let left = m.x != 0u || m.y != 0u;
-        if (select(j >= n, !left && op == 0u, own)) { break; }
-        var at = j;
-        if (own) {
-            // The next member: the lowest bit of the mask.
-            let k = select(32u + countTrailingZeros(m.y), countTrailingZeros(m.x), m.x != 0u);
-            let rest = select(vec2<u32>(m.x, m.y & (m.y - 1u)), vec2<u32>(m.x & (m.x - 1u), m.y), m.x != 0u);
-            at = select(select(k, 2u * k, comb), op, op != 0u);
-            m = select(rest, m, op != 0u);
-            op = select(select(0u, 2u * k + 1u, comb && !first), 0u, op != 0u);
-            first = false;
-        }
+    for (; j < steps; j = j + 1u) {
+        let at = select(j, g_ray_list[min(j, 2u * SCENE_UNION_MAX - 1u)], own);
         // A view holds packed entries; the whole tree's nodes are packed
         // here (a branch, not a select, which would fetch both).
         var e: u32;
         if (full) { e = scene_entry(at); } else { e = scene_slab_entry(at) | fuse; }
         scene_step(e, p, &sp, &top);
-        j = j + 1u;
     }
     g_field_work = g_field_work + j;
     // The view is exact only within the slab's padded depths: a positive
