@@ -311,21 +311,14 @@ fn union_paths_mark_the_leaves_under_sharp_unions_only() {
     let root = b.operator(Operator::UNION, sharp, right);
     let scene = b.finish(root).unwrap();
     let lin = Linear::new(&scene).unwrap();
-    let on: Vec<bool> = lin.primitives.iter().map(|&k| lin.on_union_path(k)).collect();
-    let by_leaf: Vec<(usize, bool)> = lin.primitives.iter().zip(&on).map(|(&k, &u)| (lin.order[k as usize], u)).collect();
-    for (node, u) in by_leaf {
-        let expect = node == p0 || node == p5;
-        assert_eq!(u, expect, "scene node {node}");
-    }
-    // Under an intersection: on no comb either. (The smooth union of p1
-    // and p2 is the larger operand of the union with p0, so it goes left
-    // and starts the root's left spine: they are on the comb.)
+    // Union paths: p0 and p5 only. Combs: not p3, p4 (under an
+    // intersection) nor p5 (under the root's right operand); the smooth
+    // union of p1 and p2 is the larger operand of the union with p0, so it
+    // goes left and starts the root's left spine: p0, p1, p2 are on it.
     for &k in &lin.primitives {
         let node = lin.order[k as usize];
-        assert_eq!(lin.on_comb(k), [p0, p1, p2].contains(&node), "scene node {node}");
-        if [p3, p4].contains(&node) {
-            assert!(!lin.on_comb(k), "scene node {node}");
-        }
+        assert_eq!(lin.on_union_path(k), [p0, p5].contains(&node), "scene node {node}: union path");
+        assert_eq!(lin.on_comb(k), [p0, p1, p2].contains(&node), "scene node {node}: comb");
     }
     // A left comb of compact smooth unions: every leaf is on it, none on a
     // union path.

@@ -120,7 +120,8 @@ pub const SCENE_SLAB_MIN_LIST: u32 = 4;
 /// range (longer lists: the tile's depths only).
 pub const SCENE_RAY_BALLS: u32 = 16;
 /// Longest list of a union or comb tile (scene_tiles.wgsl): each ray
-/// keeps the members whose balls it meets in a 64-bit mask.
+/// lists the view entries of the members whose balls it meets (scene.wgsl,
+/// `g_ray_list`), from a 64-bit mask.
 pub const SCENE_UNION_MAX: u32 = 64;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];

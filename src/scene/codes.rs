@@ -10,7 +10,7 @@ pub const NODE_LEAF_BIT: u32 = 1 << 31;
 /// isLeft bit of a node word.
 pub const NODE_LEFT_BIT: u32 = 1 << 30;
 /// A leaf's bit in its type field (the top one; leaf types are below
-/// 128): every operator above the leaf is a sharp union, so that the
+/// 64, see [`NODE_COMB_BIT`]): every operator above the leaf is a sharp union, so that the
 /// sparse field of a set of such leaves is the least of their values. The
 /// views pass lets each ray of a tile of such leaves evaluate only those
 /// whose ball it meets (scene_tiles.wgsl, "union tiles").

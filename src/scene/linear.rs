@@ -217,6 +217,7 @@ impl Linear {
             path[k] = p >= n || (path[p] && ty(self.nodes[p]) == UNION);
             spine[k] = union_style(w) && (p >= n || (spine[p] && self.is_left[k]));
             if self.is_leaf(k as u32) {
+                debug_assert!(ty(w) < 64, "a leaf type code must leave the type field's bits 28-29 to the flags");
                 if path[k] {
                     self.nodes[k][0] |= NODE_UNION_PATH_BIT;
                 }

@@ -7,10 +7,11 @@
 // (src/scene/eval.rs).
 //
 // Node word x: isLeaf (bit 31) | isLeft (bit 30) | type (bits 22-29; a
-// leaf's union-path and comb flags in bits 29 and 28) | parent (bits 0-21); y: the node's first vec4 in scene_params; z: its fast
-// ancestor. Nodes and parameters are textures, read with textureLoad:
-// lavapipe loads from a storage buffer at a per-lane address one lane and
-// one component at a time, a texel fetch is a vector gather (several
+// leaf's union-path and comb flags in bits 29 and 28) | parent (bits
+// 0-21); y: the node's first vec4 in scene_params; z: its fast ancestor.
+// Nodes and parameters are textures, read with textureLoad: lavapipe
+// loads from a storage buffer at a per-lane address one lane and one
+// component at a time, a texel fetch is a vector gather (several
 // times faster per node; src/scene/linear.rs, TEXTURE_WIDTH). A
 // primitive's record: 3 rows of M = [R^T / s | -R^T t / s] (local point
 // q = M (p, 1)), (s, half extents), (rounding, major radius or offset,
@@ -400,8 +401,9 @@ fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 // The part of the ray o + d t (|d| = 1) within `range` that the tile's
 // balls cover, as one interval from the first ball's entry to the last
 // one's exit (empty when it meets none): the surface in the tile's frustum
-// lies in their union, as the tile's depths say of the whole tile. The
-// balls met within `range` are the ray's members of a union tile.
+// lies in their union, as the tile's depths say of the whole tile. In a
+// union or comb tile the balls met within `range` are the ray's members
+// (scene_ray_list).
 fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> {
     let at = g_scene_tile * SCENE_VIEW_MAX + (g_scene_balls & 0xffffu);
     let n = (g_scene_balls >> 16u) & 0xffu;

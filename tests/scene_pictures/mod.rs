@@ -95,17 +95,30 @@ pub fn ray_ball(eye: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Opt
     (disc >= 0.0).then(|| (-b - disc.sqrt(), -b + disc.sqrt()))
 }
 
-/// 125 spheres of radius 0.17 on a 5×5×5 grid of spacing 0.5 in [−1, 1]³,
-/// combined as a left comb of sharp or compact smooth (β 0.1) unions.
+/// The 125 spheres of radius 0.17 on a 5×5×5 grid of spacing 0.5 in
+/// [−1, 1]³, added to `b`.
+fn grid_spheres(b: &mut isotrace::scene::Builder) -> Vec<isotrace::scene::NodeId> {
+    use isotrace::scene::{Primitive, Shape};
+    (0..125)
+        .map(|i| {
+            let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
+            b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c))
+        })
+        .collect()
+}
+
+/// The compact smooth union of the grids below (β 0.1).
+fn grid_blend() -> isotrace::scene::Operator {
+    use isotrace::scene::{Blend, OpKind, Operator};
+    Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 })
+}
+
+/// The grid's spheres combined as a left comb of sharp or compact smooth
+/// unions.
 pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
-    use isotrace::scene::{Blend, OpKind, Operator, Primitive, Shape};
     let mut b = isotrace::scene::Builder::default();
-    let mut items = vec![];
-    for i in 0..125 {
-        let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
-        items.push(b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c)));
-    }
-    let op = if smooth { Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 }) } else { Operator::UNION };
+    let items = grid_spheres(&mut b);
+    let op = if smooth { grid_blend() } else { isotrace::scene::Operator::UNION };
     let root = b.fold(op, &items);
     b.finish(root).unwrap()
 }
@@ -114,17 +127,10 @@ pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
 /// fold of `sphere_grid` is a left comb): its leaves are on no comb, so
 /// its tiles are cut into depth slabs where the comb's are comb tiles.
 pub fn sphere_grid_tree() -> isotrace::scene::Scene {
-    use isotrace::scene::{Blend, OpKind, Operator, Primitive, Shape};
     let mut b = isotrace::scene::Builder::default();
-    let mut items: Vec<_> = (0..125)
-        .map(|i| {
-            let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
-            b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c))
-        })
-        .collect();
-    let op = Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 });
+    let mut items = grid_spheres(&mut b);
     while items.len() > 1 {
-        items = items.chunks(2).map(|p| if p.len() == 2 { b.operator(op, p[0], p[1]) } else { p[0] }).collect();
+        items = items.chunks(2).map(|p| if p.len() == 2 { b.operator(grid_blend(), p[0], p[1]) } else { p[0] }).collect();
     }
     b.finish(items[0]).unwrap()
 }
@@ -135,12 +141,7 @@ pub fn sphere_grid_tree() -> isotrace::scene::Scene {
 pub fn sphere_grid_cut() -> isotrace::scene::Scene {
     use isotrace::scene::{Operator, Primitive, Shape};
     let mut b = isotrace::scene::Builder::default();
-    let items: Vec<_> = (0..125)
-        .map(|i| {
-            let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
-            b.primitive(Primitive::new(Shape::Sphere { radius: 0.17 }).translated(c))
-        })
-        .collect();
+    let items = grid_spheres(&mut b);
     let grid = b.fold(Operator::UNION, &items);
     let hull = b.primitive(Primitive::new(Shape::Sphere { radius: 2.5 }));
     let root = b.operator(Operator::INTERSECTION, grid, hull);
