@@ -1,9 +1,11 @@
 //! Compile and frame time of the compiled and the tape field source for one
 //! formula: `cargo bench --bench field_sources -- FIELD METHOD ALGEBRA SIZE
-//! FORMULA` (FIELD compiled|tape, METHOD bisect|sphere, ALGEBRA ia|raa,
+//! FORMULA` (FIELD compiled|tape|tape-whole, the last a tape bisected
+//! without its per-tile shortening; METHOD bisect|sphere, ALGEBRA ia|raa,
 //! FORMULA text or @name). Prints one line: tape ops, pipeline build ms,
 //! first frame ms (where lavapipe compiles the shader), second frame ms,
-//! unresolved pixels of the second. Run it with
+//! unresolved pixels of the second, and the share of the value program a
+//! shortened tile keeps. Run it with
 //! `MESA_SHADER_CACHE_DISABLE=true` for cold figures, one process per
 //! measurement (the README table: scripts/field-crossover.sh).
 
@@ -27,7 +29,7 @@ fn main() {
         ("sphere", None) => Traversal::Sphere(SphereOptions::default()),
         _ => Traversal::Bisect(BisectOptions::new(domain)),
     };
-    let kind = if field == "tape" { FieldKind::Tape } else { FieldKind::Compiled };
+    let kind = if field.starts_with("tape") { FieldKind::Tape } else { FieldKind::Compiled };
     let gpu = Gpu::new().expect("device");
     let prepared = choice::choose(kind, &f, &[], &traversal).expect("field");
     let ops = match &prepared {
@@ -35,7 +37,10 @@ fn main() {
         _ => isotrace::codegen::TapeData::new(&f.ir).map_or(0, |t| t.ops),
     };
     let t0 = Instant::now();
-    let r = Renderer::new(&gpu, prepared.source(&f.ir), traversal).expect("renderer");
+    let mut r = Renderer::new(&gpu, prepared.source(&f.ir), traversal).expect("renderer");
+    if let Some(o) = r.optimizations_mut() {
+        o.tape_shortening = field != "tape-whole";
+    }
     let build = t0.elapsed().as_secs_f64() * 1e3;
     let n: u32 = size.parse().expect("size");
     let s = match &entry {
@@ -49,8 +54,9 @@ fn main() {
     let frame = r.render(&s).expect("second frame");
     let second = t2.elapsed().as_secs_f64() * 1e3;
     println!(
-        "{field} {method} {algebra} {size} ops {ops} build_ms {build:.0} first_frame_ms {first:.0} cold_total_ms {:.0} frame_ms {second:.0} unresolved {}",
+        "{field} {method} {algebra} {size} ops {ops} build_ms {build:.0} first_frame_ms {first:.0} cold_total_ms {:.0} frame_ms {second:.0} unresolved {} kept_share {:.3}",
         build + first,
-        frame.stats.unresolved
+        frame.stats.unresolved,
+        frame.stats.field.tape_lists.map_or(1.0, |t| t.kept_share())
     );
 }

@@ -240,6 +240,9 @@ pub const FLAG_UNRESOLVED_GUESS: u32 = 64;
 /// Scene field flag: every tile evaluates the whole tree (the dense
 /// baseline the sparse traversal is measured against; `bench --suite scenes`).
 pub const FLAG_SCENE_FULL: u32 = 128;
+/// Bisection flag: a tape field runs its whole tape in every tile, not the
+/// tile's shortened list (the comparison the shortening is tested against).
+pub const FLAG_NO_TAPE_SHORTENING: u32 = 256;
 
 /// Pixel status in the record (bits 30-31 of the colour word).
 pub const STATUS_MISS: u32 = 0;
@@ -267,6 +270,7 @@ pub fn wgsl_constants() -> String {
         ("FLAG_UNRESOLVED_GUESS", FLAG_UNRESOLVED_GUESS),
         ("FLAG_SCENE_FULL", FLAG_SCENE_FULL),
         ("FLAG_NO_TILE_CULLING", FLAG_NO_TILE_CULLING),
+        ("FLAG_NO_TAPE_SHORTENING", FLAG_NO_TAPE_SHORTENING),
         ("FLAG_SCREEN", FLAG_SCREEN),
         ("FLAG_DYNAMIC_EPS", FLAG_DYNAMIC_EPS),
         ("FLAG_SHADOWS", FLAG_SHADOWS),

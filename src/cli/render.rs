@@ -587,9 +587,18 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
             100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved, st.evals_mean, st.evals_p99, st.evals_max,
             st.evals_hit_mean, st.evals_miss_mean, st.bisect.evals_lower_bound, gpu.info.name, gpu.info.backend
         );
+        if let Some(t) = &st.field.tape_lists {
+            eprintln!(
+                "tape: {} of {} tiles with candidate slabs run a shortened tape, keeping {:.1} % of the value program's {} instructions",
+                t.shortened,
+                t.tiles,
+                100.0 * t.kept_share(),
+                t.whole.checked_div(t.shortened).unwrap_or(0)
+            );
+        }
     }
     if a.json {
-        let v = serde_json::json!({
+        let mut v = serde_json::json!({
             "width": frame.width, "height": frame.height, "method": "bisect", "algebra": algebra, "field": field, "eps": s.eps, "d_max": st.bisect.d_max,
             "gpu_ms": st.gpu_ms, "tile_ms": st.tile_ms, "wall_ms": st.wall_ms, "dispatches": st.dispatches,
             "pixels": st.pixels, "hits": st.hits, "unresolved": st.unresolved,
@@ -597,6 +606,11 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
             "evals_hit_mean": st.evals_hit_mean, "evals_miss_mean": st.evals_miss_mean, "evals_lower_bound": st.bisect.evals_lower_bound,
             "device": gpu.info,
         });
+        if let Some(t) = &st.field.tape_lists {
+            v["tape_tiles"] = t.tiles.into();
+            v["tape_shortened_tiles"] = t.shortened.into();
+            v["tape_kept_share"] = t.kept_share().into();
+        }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }
 }

@@ -186,6 +186,7 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
     out.push_str(&emit_evaluator(ir, Domain::Scalar));
     out.push_str(FIELD_COST);
     out.push_str(super::UNTILED_FIELD_HOOKS);
+    out.push_str(super::UNSHORTENED_FIELD_HOOKS);
     let Some(d) = domain else {
         out.push_str(SCALAR_FIELD);
         return out;

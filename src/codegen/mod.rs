@@ -8,8 +8,14 @@
 /// The per-pixel hooks of a field source that has no tiles (a compiled
 /// formula, a tape): the whole ray is its business (a scene narrows it to
 /// the depths its tile's primitives span, templates/fields/scene.wgsl).
-pub(crate) const UNTILED_FIELD_HOOKS: &str = "fn field_enter_pixel(px: vec2<u32>) {}\nfn field_leave_frustum() {}\n\
+pub(crate) const UNTILED_FIELD_HOOKS: &str = "fn field_enter_pixel(px: vec2<u32>) {}\n\
     fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> { return vec2<f32>(-F.inf, F.inf); }\n";
+/// The hooks of bisection's tile pass for a field that runs the same code in
+/// every tile (a tape with min or max shortens itself per tile instead:
+/// `templates/fields/tape_tiles.wgsl`).
+pub(crate) const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\nfn field_tile_begin() {}\n\
+    fn field_slab_begin(fine: bool) {}\nfn field_slab_end(hold: bool) {}\nfn field_tile_done() -> u32 { return 0u; }\n\
+    fn field_enter_tile(list: u32) {}\nfn field_in_tile(inside: bool) {}\n";
 
 pub mod choice;
 pub mod compiled;

@@ -59,7 +59,8 @@ pub const TAPE_BUNDLE_LIMIT: u32 = 40_000;
 pub const TAPE_MAX_ITER: u32 = 16_000;
 /// Words of the header before the first program: `[value start, value len,
 /// derivative start, derivative len]`, `[value out, derivative f out,
-/// derivative d out, 0]`, `[value iterations, derivative iterations, 0, 0]`.
+/// derivative d out, value instructions]`, `[value iterations, derivative
+/// iterations, choice slots, 0]`.
 pub const TAPE_HEADER: u32 = 3;
 
 /// The interpreter's operation codes (one byte of an instruction's first
@@ -127,6 +128,10 @@ pub(crate) struct Builder {
     /// it so the values its derivative needs die there (without it, a sum's
     /// every term would wait in a register for the derivative pass).
     pub partner: HashMap<u32, u32>,
+    /// The choice slot of each min and max node, and of each derivative of
+    /// one (`Dmin`/`Dmax` share their value's slot): where the tile pass
+    /// notes which operand the node can take over a tile ([`choice_slots`]).
+    slots: HashMap<u32, u32>,
 }
 
 impl Builder {
@@ -223,6 +228,7 @@ impl TapeData {
         let values = flatten(ir, &mut b);
         let f = values[ir.root as usize];
         let df = derivative_program(ir, &values, &mut b);
+        let slots = choice_slots(&mut b);
         let value = encode(&b, &[f])?;
         // A derivative program over the register file gives up the
         // monotonicity proof, never the render: its slope is the whole line.
@@ -237,8 +243,8 @@ impl TapeData {
         let start = TAPE_HEADER;
         let dstart = start + value.words.len() as u32;
         words[0] = [start, value.words.len() as u32, dstart, deriv.words.len() as u32];
-        words[1] = [value.outputs[0], deriv.outputs[1], deriv.outputs[0], 0];
-        words[2] = [value.iterations, deriv.iterations, 0, 0];
+        words[1] = [value.outputs[0], deriv.outputs[1], deriv.outputs[0], value.ops as u32];
+        words[2] = [value.iterations, deriv.iterations, slots, 0];
         words.extend(value.words);
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
@@ -452,8 +458,50 @@ fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
             let (near, lo, hi) = super::f32_enclosure(n.imm);
             [head, near.to_bits(), lo.to_bits(), hi.to_bits()]
         }
+        Code::Min | Code::Max | Code::Dmin | Code::Dmax | Code::Sqrt | Code::Log => {
+            let slot = b.slots.get(&(i as u32)).copied().unwrap_or(TAPE_NO_SLOT);
+            [head, ra[0] | ra[1] << 16, ra[2] | ra[3] << 16, slot]
+        }
         _ => [head, ra[0] | ra[1] << 16, ra[2] | ra[3] << 16, n.imm as u32],
     }
+}
+
+/// Choice slots the tile pass keeps per tile (two bits each; 512 slots are
+/// 32 words of the invocation's private memory). A min or max past them is
+/// never shortened.
+pub const TAPE_CHOICE_SLOTS: u32 = 512;
+/// The immediate of a min or max without a slot.
+pub const TAPE_NO_SLOT: u32 = u32::MAX;
+
+/// Gives every min and max node a choice slot, in node order (the value
+/// program's come first: the derivative's nodes are built after them), and
+/// each `Dmin`/`Dmax` the slot of the min or max of the same operands: the
+/// derivative of min(a, b) is da wherever min(a, b) is a. The formula's own
+/// square roots and logarithms get one too: they restrict f's domain, so a
+/// tile keeps them even in a dead operand unless their argument stays in
+/// their domain over the tile (every box distance has a square root of a
+/// sum of squares). Returns how many slots are in use.
+fn choice_slots(b: &mut Builder) -> u32 {
+    let mut next = 0;
+    for (i, n) in b.nodes.iter().enumerate() {
+        let strict_root = matches!(n.code, Code::Sqrt | Code::Log) && b.strict.contains(&(i as u32));
+        if (matches!(n.code, Code::Min | Code::Max) || strict_root) && next < TAPE_CHOICE_SLOTS {
+            b.slots.insert(i as u32, next);
+            next += 1;
+        }
+    }
+    for (i, n) in b.nodes.iter().enumerate() {
+        let value = match n.code {
+            Code::Dmin => Code::Min,
+            Code::Dmax => Code::Max,
+            _ => continue,
+        };
+        let key = (value as u8, [n.args[0], n.args[1], 0, 0], 0f64.to_bits());
+        if let Some(slot) = b.seen.get(&key).and_then(|v| b.slots.get(v)).copied() {
+            b.slots.insert(i as u32, slot);
+        }
+    }
+    next
 }
 
 /// The operation codes and the interpreter's limits as WGSL constants, for
@@ -471,12 +519,24 @@ pub fn wgsl_constants(features: u32) -> String {
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
         ("TAPE_BUNDLE_LIMIT", TAPE_BUNDLE_LIMIT),
         ("TAPE_RESTRICTS", TAPE_RESTRICTS),
+        ("TAPE_CHOICE_SLOTS", TAPE_CHOICE_SLOTS),
+        // A kernel with the power-chain case runs a pass of its loop for
+        // every instruction (lavapipe enters a loop once even when no lane
+        // takes its case): those passes count against the loop cap too.
+        ("TAPE_POW_PASSES", u32::from(features & features::POWERS != 0)),
         ("TAPE_DONE", 0),
         ("TAPE_EMPTY", 1),
         ("TAPE_EXHAUSTED", 2),
     ] {
         s.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }
+    // Operand counts, from the same table the register allocator uses.
+    s.push_str("fn tape_arity(code: u32) -> u32 {\n");
+    for n in 0..4 {
+        let codes: Vec<String> = Code::ALL.iter().filter(|&&c| arity(c) == n).map(|c| format!("code == {}", c.wgsl_name())).collect();
+        s.push_str(&format!("    if ({}) {{ return {n}u; }}\n", codes.join(" || ")));
+    }
+    s.push_str("    return 4u;\n}\n");
     s
 }
 
@@ -523,6 +583,44 @@ mod tests {
                 Ok(t) => assert!(t.registers <= TAPE_SLOTS, "{}: {} registers", e.name, t.registers),
                 Err(TapeError::Csg | TapeError::UserFunction(_)) => {}
                 Err(err) => panic!("{}: {err}", e.name),
+            }
+        }
+    }
+
+    #[test]
+    fn min_max_and_their_derivatives_share_choice_slots() {
+        let t = tape("min(sqrt(x^2+y^2+z^2)-1, max(abs(x)-0.5, y))");
+        let slot = |code: Code| -> Vec<u32> { t.words.iter().skip(TAPE_HEADER as usize).filter(|w| w[0] & 0xff == code as u32).map(|w| w[3]).collect() };
+        // Each min and max appears in both programs, with one slot; its
+        // derivative (Dmin, Dmax) has the same slot; the formula's square
+        // root restricts the domain and has one too.
+        let (min, max, sqrt) = (slot(Code::Min), slot(Code::Max), slot(Code::Sqrt));
+        assert_eq!((min.len(), max.len()), (2, 2));
+        assert!(min.iter().all(|&s| s == min[0]) && max.iter().all(|&s| s == max[0]) && sqrt.iter().all(|&s| s == sqrt[0]));
+        assert_eq!(slot(Code::Dmin), vec![min[0]]);
+        assert_eq!(slot(Code::Dmax), vec![max[0]]);
+        let mut all = vec![min[0], max[0], sqrt[0]];
+        all.sort_unstable();
+        assert_eq!(all, vec![0, 1, 2]);
+        assert_eq!(t.words[2][2], 3, "slots in use");
+        assert_eq!(t.words[1][3], t.ops as u32, "value instructions");
+        // The logarithm a power's derivative adds does not restrict the
+        // domain and gets no slot; the formula's own does and gets one.
+        let d = tape("pow(x^2+1, y) + log(z^2+2)");
+        let logs: Vec<[u32; 4]> = d.words.iter().skip(TAPE_HEADER as usize).copied().filter(|w| w[0] & 0xff == Code::Log as u32).collect();
+        assert!(logs.iter().any(|w| w[0] & TAPE_RESTRICTS == 0), "{logs:?}");
+        assert!(logs.iter().all(|w| (w[0] & TAPE_RESTRICTS != 0) == (w[3] != TAPE_NO_SLOT)), "{logs:?}");
+    }
+
+    #[test]
+    fn the_wgsl_arity_table_is_the_allocators() {
+        let wgsl = wgsl_constants(features::ALL);
+        let body = &wgsl[wgsl.find("fn tape_arity").expect("generated")..];
+        for c in Code::ALL {
+            let line = body.lines().find(|l| l.contains(&format!("code == {} ", c.wgsl_name())) || l.contains(&format!("code == {})", c.wgsl_name())));
+            match line {
+                Some(l) => assert!(l.contains(&format!("return {}u;", arity(c))), "{c:?}: {l}"),
+                None => assert_eq!(arity(c), 4, "{c:?} falls through to 4"),
             }
         }
     }

@@ -12,6 +12,8 @@ use super::{compiled, derivative, libraries, template, Domain};
 
 /// The interpreter template, written against `T` and `op_*`.
 pub const TAPE: &str = include_str!("../../templates/fields/tape.wgsl");
+/// Bisection's per-tile shortening of a tape with min or max.
+pub const TAPE_TILES: &str = include_str!("../../templates/fields/tape_tiles.wgsl");
 
 /// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
 /// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
@@ -71,7 +73,28 @@ fn keeps_line(line: &str, features: u32) -> bool {
 /// in `@group(1) @binding(0)`. The kernel provides `iso_inf`, `iso_param`,
 /// the op libraries and `g_field_work`.
 pub fn interpreter(domain: Domain, features: u32) -> String {
-    format!("{}{}", prelude(features), instantiate(domain, features))
+    format!("{}{}", prelude(features, false), instantiate(domain, features))
+}
+
+/// Whether a bisection kernel for tapes with `features` shortens the tape
+/// per tile: only min and max make parts of a formula dead in a region.
+pub fn shortens(features: u32) -> bool {
+    features & features::MINMAX != 0
+}
+
+/// Most bytes of a tape's per-tile lists in one dispatch: tiles past it run
+/// the whole tape (the lists' allocator says so; the picture is the same
+/// surface).
+pub const TAPE_LISTS_MAX_BYTES: u64 = 32 << 20;
+
+/// Bytes of per-tile lists for `tiles` tiles of bisection over `tape`: a
+/// tile's shortened programs are at most the whole tape and a header (none
+/// when the tape has no min or max), within [`TAPE_LISTS_MAX_BYTES`].
+pub fn list_bytes(tape: &super::TapeData, tiles: u64) -> u64 {
+    if !shortens(tape.features) {
+        return 0;
+    }
+    (tiles * (tape.words.len() as u64 + 4) * 4).min(TAPE_LISTS_MAX_BYTES)
 }
 
 /// The work limit, counted per invocation: a lane cannot see what the
@@ -114,18 +137,48 @@ fn tape_admits(iters: u32) -> bool {
 }
 ";
 
+/// Where the interpreter's instructions come from without per-tile lists:
+/// the tape's programs themselves.
+const WHOLE_TAPE: &str = "
+fn tape_entry(i: u32) -> u32 { return i; }
+fn tape_span(prog: u32) -> vec2<u32> { let h = tape_word(0u); return select(h.xy, h.zw, prog == 1u); }
+";
+
+/// With per-tile lists (`templates/fields/tape_tiles.wgsl`): the rays of a
+/// tile run its list while `g_tape_list` names it.
+const LISTED_TAPE: &str = "
+var<private> g_tape_list: u32;
+fn tape_entry(i: u32) -> u32 { return select(i, tape_lists[i], g_tape_list != 0u); }
+fn tape_span(prog: u32) -> vec2<u32> {
+    if (g_tape_list != 0u) {
+        let b = g_tape_list - 4u + 2u * prog;
+        return vec2<u32>(tape_lists[b], tape_lists[b + 1u]);
+    }
+    let h = tape_word(0u);
+    return select(h.xy, h.zw, prog == 1u);
+}
+";
+
 /// Declarations every tape kernel shares: the constants, the tape buffer
-/// of the field group, the exhaustion flag and the work limit.
-fn prelude(features: u32) -> String {
+/// of the field group, the exhaustion flag and the work limit, and where
+/// instructions come from (`lists`: per-tile lists).
+fn prelude(features: u32, lists: bool) -> String {
     format!(
-        "{}{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
+        "{}{}{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
          // a texture of {w} texels a row (TapeData::texels).\n\
          @group(1) @binding(0) var tape_code: texture_2d<u32>;\n\
          fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
-         var<private> g_tape_exhausted: bool;\n",
+         var<private> g_tape_exhausted: bool;\n\
+         // Set while bisection's tile pass records min/max choices (tape_tiles.wgsl).\n\
+         var<private> g_tape_record: bool;\n\
+         var<private> g_choice_now: array<vec4<u32>, 8>;\n\
+         const TAPE_LIST_NOP: u32 = 0xffffffffu;\n\
+         const TAPE_PC_MASK: u32 = 0x3fffffffu;\n{}",
         super::tape::wgsl_constants(features),
         if features::bundle_work(features) { WORK_PER_BUNDLE } else { WORK_PER_LANE },
+        if lists { TAPE_TILES } else { "" },
+        if lists { LISTED_TAPE } else { WHOLE_TAPE },
         w = crate::scene::linear::TEXTURE_WIDTH,
         mask = crate::scene::linear::TEXTURE_WIDTH - 1,
         shift = crate::scene::linear::TEXTURE_SHIFT,
@@ -141,12 +194,11 @@ fn field(p: vec3<f32>) -> f32 {
     g_in_s[1] = p.y;
     g_in_s[2] = p.z;
     g_in_s[3] = F.time;
-    let h = tape_word(0u);
-    if (tape_run_s(h.x, h.y, tape_word(2u).x) == TAPE_EXHAUSTED) { return iso_nan(); }
+    if (tape_run_s(0u) == TAPE_EXHAUSTED) { return iso_nan(); }
     return tape_reg_s(tape_word(1u).x);
 }
 // Loop iterations of one evaluation of the value program.
-fn field_cost() -> u32 { return tape_word(2u).x + tape_word(0u).y / TAPE_UNROLL; }
+fn field_cost() -> u32 { return tape_word(2u).x + tape_word(0u).y / TAPE_UNROLL + tape_word(0u).y * TAPE_POW_PASSES; }
 fn field_exhausted() -> bool { return g_tape_exhausted; }
 // One field everywhere (see the scene's field_view).
 fn field_view() -> u32 { return 0u; }
@@ -160,10 +212,14 @@ pub fn field_code(domain: Option<Domain>, features: u32) -> String {
         Some(d) => format!("{}{}", libraries(&[Domain::Scalar, d]), derivative::library(d)),
         None => libraries(&[Domain::Scalar]),
     };
-    out.push_str(&prelude(features));
+    let lists = domain.is_some() && shortens(features);
+    out.push_str(&prelude(features, lists));
     out.push_str(&instantiate(Domain::Scalar, features));
     out.push_str(SCALAR_FIELD);
     out.push_str(super::UNTILED_FIELD_HOOKS);
+    if !lists {
+        out.push_str(super::UNSHORTENED_FIELD_HOOKS);
+    }
     if let Some(d) = domain {
         out.push_str(&instantiate(d, features));
         out.push_str(&compiled::enclosures(d, true));
@@ -211,7 +267,7 @@ mod tests {
     #[test]
     fn the_template_unrolls_as_the_host_pads() {
         for (f, n) in [(0, 1), (features::UNROLL_4, 4)] {
-            assert_eq!(instantiate(Domain::Scalar, f).matches("= tape_step_s(pc").count() as u32, n);
+            assert_eq!(instantiate(Domain::Scalar, f).matches("= tape_step_s(tape_entry(i").count() as u32, n);
             assert!(super::super::tape::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
         }
         assert_eq!(features::unroll(features::ALL), super::super::tape::TAPE_UNROLL);

@@ -5,7 +5,7 @@
 use super::dispatch::Rect;
 use super::renderer::{PassBuffers, TraversalHost};
 use super::{storage_entry, Gpu, GpuError};
-use crate::layout::{BisectBlock, FLAG_NO_TILE_CULLING};
+use crate::layout::{BisectBlock, FLAG_NO_TAPE_SHORTENING, FLAG_NO_TILE_CULLING};
 use crate::render::record::RayStats;
 use crate::render::settings::MAX_ITER_LIMIT;
 use crate::render::{BisectOptions, CameraFrame, Environment, Optimizations, Settings, SphereOptions, Stats, Traversal};
@@ -62,7 +62,8 @@ pub(crate) fn block(options: &BisectOptions, s: &Settings, cam: &CameraFrame) ->
 
 /// Bisection's frame flags.
 pub(crate) fn flags(options: &BisectOptions) -> u32 {
-    if options.optimizations.tile_culling { 0 } else { FLAG_NO_TILE_CULLING }
+    let o = &options.optimizations;
+    (if o.tile_culling { 0 } else { FLAG_NO_TILE_CULLING }) | if o.tape_shortening { 0 } else { FLAG_NO_TAPE_SHORTENING }
 }
 
 impl TraversalHost for Host {

@@ -65,7 +65,8 @@ impl Outputs {
             cache.resize(slot + 1, None);
         }
         if cache[slot].as_ref().is_none_or(|(s, _, _)| *s != size) {
-            let map = if gpu.map_in_place { wgpu::BufferUsages::MAP_READ } else { wgpu::BufferUsages::COPY_SRC };
+            // COPY_DST: a field's counts among the outputs are zeroed before the dispatch.
+            let map = wgpu::BufferUsages::COPY_DST | if gpu.map_in_place { wgpu::BufferUsages::MAP_READ } else { wgpu::BufferUsages::COPY_SRC };
             let out = d.create_buffer(&wgpu::BufferDescriptor { label: Some("pass output"), size, usage: wgpu::BufferUsages::STORAGE | map, mapped_at_creation: false });
             let staging = if gpu.map_in_place {
                 out.clone()

@@ -12,8 +12,11 @@ use crate::codegen::FieldSource;
 
 /// Binding of the texture the views pass's output is copied into.
 const VIEW_TEXTURE: u32 = 10;
-/// Binding of the tile counts.
+/// Binding of the counts zeroed before each dispatch: a scene's tile
+/// counts, a tape's words of per-tile lists in use.
 const COUNTS: u32 = 4;
+/// Binding of a tape's per-tile lists (`templates/fields/tape_tiles.wgsl`).
+const TAPE_LISTS: u32 = 1;
 /// Binding of the views pass's output buffer.
 const VIEW_BUFFER: u32 = 6;
 /// Texels a row of the view texture.
@@ -61,6 +64,9 @@ pub(crate) struct FieldBinding {
     pub dense: bool,
     /// An interpreted tape: bisection's budget must leave room for its work.
     pub tape: bool,
+    /// The tape, for the size of its per-tile lists (bisection's; `None`
+    /// for other fields and traversals).
+    tape_lists: Option<crate::codegen::TapeData>,
     /// The last dispatch's own resources and its tile count.
     cached: std::sync::Mutex<Option<(u64, PerDispatch)>>,
 }
@@ -70,6 +76,14 @@ impl FieldBinding {
     pub fn kind(&self) -> crate::codegen::FieldKind {
         use crate::codegen::FieldKind;
         if self.scene { FieldKind::Scene } else if self.tape { FieldKind::Tape } else { FieldKind::Compiled }
+    }
+
+    /// Only bisection's tile pass shortens a tape: other traversals bind
+    /// a token buffer for its lists.
+    pub fn keep_lists(&mut self, keep: bool) {
+        if !keep {
+            self.tape_lists = None;
+        }
     }
 
     /// The field's bits of the frame flags.
@@ -82,11 +96,18 @@ impl FieldBinding {
         self.scene
     }
 
-    /// Bytes of the per-tile statistics a field reports for a rectangle
-    /// (a scene's view length and active primitives per tile), read back
-    /// with the pixels; 0 when it has none.
+    /// Bytes of the statistics a field reports for a rectangle, read back
+    /// with the pixels and bound where the field writes them: a scene's view
+    /// length and active primitives per tile, or a tape's counts of its
+    /// per-tile lists ([`crate::render::TapeListStats`]); 0 when it has none.
     pub fn tile_stats_size(&self, rect: Rect) -> u64 {
-        if self.has_tile_stats() { rect.tiles() * 8 } else { 0 }
+        if self.has_tile_stats() {
+            rect.tiles() * 8
+        } else if self.tape {
+            crate::render::TapeListStats::BYTES
+        } else {
+            0
+        }
     }
 
     /// Bytes per pixel of the field's largest per-dispatch buffer (a
@@ -115,8 +136,15 @@ impl FieldBinding {
     /// tiles, see [`PerDispatch`]), with `stats` (of [`FieldBinding::tile_stats_size`]
     /// bytes, read back by the caller) bound where the field writes them.
     pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> PerDispatch {
-        let (true, Some(stats)) = (self.scene, stats) else { return PerDispatch { buffers: vec![], view: None } };
         let tiles = rect.tiles();
+        if self.tape {
+            let mut own = self.tape_per_dispatch(gpu, tiles);
+            if let Some(counts) = stats {
+                own.buffers.push((COUNTS, counts.clone()));
+            }
+            return own;
+        }
+        let (true, Some(stats)) = (self.scene, stats) else { return PerDispatch { buffers: vec![], view: None } };
         let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
         let mut own = match cached.take() {
             Some((n, own)) if n == tiles => own,
@@ -124,6 +152,24 @@ impl FieldBinding {
         };
         *cached = Some((tiles, own.clone()));
         own.buffers.push((7, stats.clone()));
+        own
+    }
+
+    /// A tape's per-dispatch lists for `tiles` tiles (kept for the next
+    /// dispatch of as many; only the counts are zeroed).
+    fn tape_per_dispatch(&self, gpu: &Gpu, tiles: u64) -> PerDispatch {
+        let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((n, own)) = cached.as_ref() {
+            if *n == tiles {
+                return own.clone();
+            }
+        }
+        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
+        let storage = wgpu::BufferUsages::STORAGE;
+        let bytes = self.tape_lists.as_ref().map_or(0, |t| crate::codegen::tape_field::list_bytes(t, tiles));
+        // The counts (binding COUNTS) are the caller's read-back buffer.
+        let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage))], view: None };
+        *cached = Some((tiles, own.clone()));
         own
     }
 
@@ -213,7 +259,7 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], textures: vec![], prims: 0, scene: false, dense: false, tape: false, cached: Default::default() }),
+        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], textures: vec![], prims: 0, scene: false, dense: false, tape: false, tape_lists: None, cached: Default::default() }),
         FieldSource::Scene(s) => {
             let mut layout = vec![
                 texture_entry(0, wgpu::TextureSampleType::Uint),
@@ -229,12 +275,14 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
             let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
-            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, cached: Default::default() })
+            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, tape_lists: None, cached: Default::default() })
         }
         FieldSource::Tape(t) => {
             let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
-            let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint)];
-            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, cached: Default::default() })
+            // Bisection's per-tile lists (bound for every tape kernel, so
+            // one layout serves every tape; unused by the others).
+            let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false)];
+            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, tape_lists: Some(t.clone()), cached: Default::default() })
         }
     }
 }

@@ -151,7 +151,8 @@ impl<'g> Renderer<'g> {
             Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o, codegen::kernel::sphere_tile_pass(field))),
         };
         let d = &gpu.device;
-        let bound = field::bind(gpu, field)?;
+        let mut bound = field::bind(gpu, field)?;
+        bound.keep_lists(host.method() == crate::render::Method::Bisect);
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries });
         let mut frame_entries = vec![storage_entry(0, true)];
         frame_entries.extend(host.frame_resources().into_iter().map(|(e, _)| e));
@@ -180,7 +181,8 @@ impl<'g> Renderer<'g> {
         if let FieldSource::Compiled(_) = field {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
-        let bound = field::bind(self.gpu, field)?;
+        let mut bound = field::bind(self.gpu, field)?;
+        bound.keep_lists(self.host.method() == crate::render::Method::Bisect);
         if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
         }
@@ -384,6 +386,7 @@ impl<'g> Renderer<'g> {
         let mut stats = Stats { method: self.host.method(), ..Default::default() };
         let mut ray_stats = RayStats::default();
         let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
+        let mut tape_lists = crate::render::TapeListStats::default();
         for rect in dispatch::split(s.width, s.height, side) {
             fb.tile_origin = [rect.x, rect.y];
             fb.tile_size = [rect.w, rect.h];
@@ -413,7 +416,11 @@ impl<'g> Renderer<'g> {
                     ray_stats.add(bytemuck::cast_slice(rest.next().expect("ray words read back")));
                 }
                 if let Some(words) = rest.next() {
-                    tiles.add((rect.x, rect.y, rect.w), bytemuck::cast_slice(words));
+                    if self.field.tape {
+                        tape_lists.add(bytemuck::cast_slice(words));
+                    } else {
+                        tiles.add((rect.x, rect.y, rect.w), bytemuck::cast_slice(words));
+                    }
                 }
             })?;
             stats.gpu_ms += t.total_ms;
@@ -428,6 +435,9 @@ impl<'g> Renderer<'g> {
         self.host.finish(s, &ray_stats, &mut stats);
         if self.field.has_tile_stats() {
             tiles.finish(&mut stats);
+        }
+        if self.field.tape && self.host.method() == crate::render::Method::Bisect {
+            stats.field.tape_lists = Some(tape_lists);
         }
         Ok(stats)
     }

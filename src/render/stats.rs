@@ -78,6 +78,46 @@ pub struct FieldStats {
     /// Active primitives of every tile, row-major (for `--color overlap`).
     #[serde(skip)]
     pub tile_active: Vec<u32>,
+    /// Bisecting a tape: its per-tile shortening.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tape_lists: Option<TapeListStats>,
+}
+
+/// How bisection's tile pass shortened a tape (`templates/fields/tape_tiles.wgsl`):
+/// summed over the frame's queued tiles.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct TapeListStats {
+    /// Tiles with candidate slabs (the per-pixel pass runs on them).
+    pub tiles: u64,
+    /// Of them, tiles that run a shortened list (the others, the whole
+    /// tape: the lists' buffer was full, the work limit came first, or the
+    /// optimisation is off).
+    pub shortened: u64,
+    /// Value-program instructions the shortened tiles keep, summed.
+    pub kept: u64,
+    /// Value-program instructions of the whole tape, summed over the same tiles.
+    pub whole: u64,
+}
+
+impl TapeListStats {
+    /// Bytes of the device's counts (words: list words in use, tiles,
+    /// shortened tiles, kept instructions, whole instructions).
+    pub const BYTES: u64 = 32;
+
+    /// Adds one dispatch's counts.
+    pub fn add(&mut self, words: &[u32]) {
+        if let [_, tiles, shortened, kept, whole, ..] = *words {
+            self.tiles += u64::from(tiles);
+            self.shortened += u64::from(shortened);
+            self.kept += u64::from(kept);
+            self.whole += u64::from(whole);
+        }
+    }
+
+    /// Mean share of the value program a shortened tile runs (1 with none).
+    pub fn kept_share(&self) -> f64 {
+        if self.whole == 0 { 1.0 } else { self.kept as f64 / self.whole as f64 }
+    }
 }
 
 /// Statistics only bisection has.

@@ -70,11 +70,15 @@ pub struct Optimizations {
     /// whole segment) measured fastest: 11 % on the geometric mean of eight
     /// Knoll surfaces against depth 2, up to 36 % on cloth.
     pub monotone_depth: u32,
+    /// A tape field with min or max runs, in each tile, only the
+    /// instructions that can reach f over the tile's candidate slabs (the
+    /// tile pass notes which operand each min and max can take there).
+    pub tape_shortening: bool,
 }
 
 impl Default for Optimizations {
     fn default() -> Self {
-        Optimizations { tile_culling: true, monotone: true, monotone_depth: 0 }
+        Optimizations { tile_culling: true, monotone: true, monotone_depth: 0, tape_shortening: true }
     }
 }
 

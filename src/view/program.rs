@@ -229,7 +229,18 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     let mut stages: Vec<Stage> = Vec::new();
     let field_group = match field {
         FieldSource::Compiled(_) => vec![],
-        FieldSource::Tape(t) => vec![texture(0, "tape", t.texels(), "rgba32uint")],
+        FieldSource::Tape(t) => {
+            let mut group = vec![texture(0, "tape", t.texels(), "rgba32uint")];
+            if matches!(traversal, Traversal::Bisect(_)) {
+                // Bisection's per-tile lists (fields/tape_tiles.wgsl) for the
+                // frame's tiles; a tile that does not fit runs the whole tape.
+                let tiles = u64::from(s.width.div_ceil(8)) * u64::from(s.height.div_ceil(8));
+                let bytes = codegen::tape_field::list_bytes(t, tiles).max(16);
+                group.push(kept(1, "tape lists", Size::Fixed { bytes }));
+                group.push(scratch(4, "tape list words", Size::Fixed { bytes: 16 }));
+            }
+            group
+        }
         FieldSource::Scene(d) => {
             stages.push(Stage { entry: "scene_scatter", groups: Groups::Items { binding: 2, per_group: 64 }, uses: vec![], copy: None });
             let copy = Some(Copy { group: 1, from: 6, to: 10 });

@@ -11,6 +11,15 @@
 //   w: immediate (input, parameter, power); a constant: (near, lo, hi) bits.
 // The operation codes, limits and run results (TAPE_DONE, TAPE_EMPTY,
 // TAPE_EXHAUSTED) are generated from Rust (TAPE_* constants).
+//
+// A min or max carries its choice slot in w, and so does a square root or
+// logarithm that restricts f's domain. Bisection's tile pass (with
+// tape_tiles.wgsl) notes in the slot which operand the result can be over
+// the tile's candidate slabs (or whether the argument stays in its
+// domain), and gives the tile a shortened list of the
+// instructions it needs (tape_entry: pc | pick << 30); a min or max whose
+// pick is 1 or 2 is then a copy of its first or second operand (for Dmin and
+// Dmax: of da or db), whose other operand was never computed.
 
 // The register file: module scope, so it is zero-initialised once per
 // invocation and not on every call (lavapipe zeroes a function-scope array
@@ -34,10 +43,37 @@ fn tape_pow_T(a: T, n: u32) -> T {
 
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 
-// Runs instruction `pc`; true when its result is empty and it is strict
-// (the whole function is then empty).
-fn tape_step_T(pc: u32) -> bool {
-    let w = tape_word(pc);
+// Notes in choice slot `slot` which operand min (or, with `max`, max) of a
+// and b can take: 1 the first, 2 the second, 3 either (also for empty or
+// NaN ranges). Only while the tile pass records (tape_tiles.wgsl).
+fn tape_note_T(slot: u32, a: T, b: T, max: bool) {
+    if (!g_tape_record || slot >= TAPE_CHOICE_SLOTS) { return; }
+    let i = op_range(a);
+    let j = op_range(b);
+    var c = 3u;
+    if (i.x <= i.y && j.x <= j.y) {
+        if (i.y <= j.x) { c = select(1u, 2u, max); }
+        else if (j.y <= i.x) { c = select(2u, 1u, max); }
+    }
+    g_choice_now[slot >> 6u][(slot >> 4u) & 3u] |= c << ((slot & 15u) * 2u);
+}
+
+// Notes in slot `slot` whether the argument `a` of a square root (`open`
+// false: a >= 0) or a logarithm (`open`: a > 0) stays in its domain: 1 it
+// does, 2 it may not.
+fn tape_note_domain_T(slot: u32, a: T, open: bool) {
+    if (!g_tape_record || slot >= TAPE_CHOICE_SLOTS) { return; }
+    let lo = op_range(a).x;
+    let inside = lo > 0.0 || (!open && lo == 0.0);
+    g_choice_now[slot >> 6u][(slot >> 4u) & 3u] |= select(2u, 1u, inside) << ((slot & 15u) * 2u);
+}
+
+// Runs the instruction of list entry `e` (pc | pick << 30, or
+// TAPE_LIST_NOP); true when its result is empty and it is strict (the whole
+// function is then empty).
+fn tape_step_T(e: u32) -> bool {
+    if (e == TAPE_LIST_NOP) { return false; }
+    let w = tape_word(e & TAPE_PC_MASK);
     let code = w.x & 0xffu;
     if (code == TAPE_NOP) { return false; }
     let a = tape_reg_T(w.y);
@@ -54,9 +90,9 @@ fn tape_step_T(pc: u32) -> bool {
         case TAPE_DIV: { r = op_div(a, b); }
         case TAPE_SQR: { r = op_sqr(a); }
         case TAPE_POWCHAIN: { r = tape_pow_T(a, w.w); }
-        case TAPE_SQRT: { r = op_sqrt(a); }
+        case TAPE_SQRT: { r = op_sqrt(a); tape_note_domain_T(w.w, a, false); }
         case TAPE_EXP: { r = op_exp(a); }
-        case TAPE_LOG: { r = op_log(a); }
+        case TAPE_LOG: { r = op_log(a); tape_note_domain_T(w.w, a, true); }
         case TAPE_SIN: { r = op_sin(a); }
         case TAPE_COS: { r = op_cos(a); }
         case TAPE_TAN: { r = op_tan(a); }
@@ -69,8 +105,8 @@ fn tape_step_T(pc: u32) -> bool {
         case TAPE_FLOOR: { r = op_floor(a); }
         case TAPE_POW: { r = op_pow(a, b); }
         case TAPE_ATAN2: { r = op_atan2(a, b); }
-        case TAPE_MIN: { r = op_min(a, b); }
-        case TAPE_MAX: { r = op_max(a, b); }
+        case TAPE_MIN: { r = op_min(a, b); tape_note_T(w.w, a, b, false); }
+        case TAPE_MAX: { r = op_max(a, b); tape_note_T(w.w, a, b, true); }
         case TAPE_CLAMP: { r = op_clamp(a, b, tape_reg_T(w.z)); }
         case TAPE_MIX: { r = op_mix(a, b, tape_reg_T(w.z)); }
         case TAPE_DMIN: { r = op_dmin(a, b, tape_reg_T(w.z), tape_reg_T(w.z >> 16u)); }
@@ -79,27 +115,34 @@ fn tape_step_T(pc: u32) -> bool {
         case TAPE_DFLOOR: { r = op_dfloor(a, b); }
         default: { r = op_whole(); }
     }
+    let pick = e >> 30u;
+    if (pick != 0u) { r = tape_reg_T(select(w.y, w.z, code >= TAPE_DMIN) >> select(0u, 16u, pick == 2u)); }
     g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r;
     return (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
 }
 
-// Runs `len` instructions from `start` (a multiple of 4, padded with
-// no-ops), TAPE_UNROLL per loop iteration (lines marked `unrolled` are left
-// out of a kernel that runs one). `pow_iters` is the power chains' loop
-// iterations (from the header): past the work limit (tape_admits) it runs
-// nothing and says so.
-fn tape_run_T(start: u32, len: u32, pow_iters: u32) -> u32 {
-    if (!tape_admits(pow_iters + len / TAPE_UNROLL)) {
+// Runs program `prog` (0: value, 1: derivative), the whole of it or the
+// tile's shortened list (tape_span), TAPE_UNROLL instructions per loop
+// iteration (lines marked `unrolled` are left out of a kernel that runs
+// one; programs and lists are padded to a multiple of 4). Past the work
+// limit (tape_admits: the power chains' iterations from the header, the
+// loop's, and with the power case one pass of its loop per instruction,
+// which lavapipe runs masked for every instruction) it runs nothing and
+// says so.
+fn tape_run_T(prog: u32) -> u32 {
+    let span = tape_span(prog);
+    let len = span.y;
+    if (!tape_admits(select(tape_word(2u).x, tape_word(2u).y, prog == 1u) + len / TAPE_UNROLL + len * TAPE_POW_PASSES)) {
         g_tape_exhausted = true;
         return TAPE_EXHAUSTED;
     }
     var empty = false;
-    for (var pc = start; pc < start + len; pc = pc + TAPE_UNROLL) {
-        let e0 = tape_step_T(pc);
+    for (var i = span.x; i < span.x + len; i = i + TAPE_UNROLL) {
+        let e0 = tape_step_T(tape_entry(i));
         empty = empty || e0;
-        let e1 = tape_step_T(pc + 1u); // unrolled
-        let e2 = tape_step_T(pc + 2u); // unrolled
-        let e3 = tape_step_T(pc + 3u); // unrolled
+        let e1 = tape_step_T(tape_entry(i + 1u)); // unrolled
+        let e2 = tape_step_T(tape_entry(i + 2u)); // unrolled
+        let e3 = tape_step_T(tape_entry(i + 3u)); // unrolled
         empty = empty || e1 || e2 || e3; // unrolled
     }
     return select(TAPE_DONE, TAPE_EMPTY, empty);
@@ -120,9 +163,7 @@ fn tape_enclosure_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T, slope: bool) ->
     g_in_T[4] = dx;
     g_in_T[5] = dy;
     g_in_T[6] = dz;
-    let h = tape_word(0u);
-    let n = tape_word(2u);
-    let st = tape_run_T(select(h.x, h.z, slope), select(h.y, h.w, slope), select(n.x, n.y, slope));
+    let st = tape_run_T(select(0u, 1u, slope));
     if (st == TAPE_EXHAUSTED) { return vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()); }
     if (st == TAPE_EMPTY) { return vec4<f32>(op_range(op_empty()), 0.0, 0.0); }
     let o = tape_word(1u);

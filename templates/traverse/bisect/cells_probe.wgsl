@@ -88,6 +88,9 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         probe_decide(&p, c, r, d, d_max, d_last);
         if (probe_scalar(p.phase)) {
             loop {
+                // Looking ahead can pass the run's end, where the field's
+                // program for the tile does not hold (fields/tape_tiles.wgsl).
+                field_in_tile(p.s <= s_hi);
                 let f = field(ray.o + ray.dir * p.s);
                 if (p.phase == PH_MEAN) {
                     r = mean_value(c, r, D, f);

@@ -14,7 +14,8 @@
 
 // Per-pixel bindings of the pass group after the pixel records: the tile
 // pass's result, the candidate slabs of each 8x8 tile (xy: slab bits, z:
-// enclosures the tile pass spent on the tile).
+// enclosures the tile pass spent on the tile, w: the field's program for
+// the tile, see field_enter_tile).
 @group(2) @binding(1) var<storage, read_write> tile_masks: array<vec4<u32>>;
 // The tiles that have candidate slabs (`count` of them, ids in tile_ids),
 // and the indirect dispatch of `main` over them: (x, 1, 1) with
@@ -229,6 +230,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     let dr = depth_range();
     var mask = vec2<u32>(0xffffffffu, 0xffffffffu);
     var share = 0u;
+    var list = 0u;
     // With the tile pass, `main` runs over the queued tiles (indirect
     // dispatch); without it, over all tiles.
     let slot = (wid.y * groups.x + wid.x) * TILES_PER_GROUP + lid.z;
@@ -239,6 +241,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         let m = tile_masks[t];
         mask = m.xy;
         share = tile_share(m.z, lid.y * 8u + lid.x);
+        list = m.w;
     } else if (slot >= tiles_x() * tiles_y()) {
         return;
     }
@@ -282,7 +285,12 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         }
         g_at = vec2<u32>(bitcast<u32>(s_from), 0u);
         for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
+            // Inside the tile's candidate slabs the field may run its
+            // program for the tile; shading leaves them (gradient, shadow
+            // and reflection rays).
+            field_enter_tile(list);
             let hit = trace_primary(ray, mask, s_from, seg, dr, inv_len);
+            field_leave_frustum();
             if (hit.status == STATUS_MISS) { break; }
             let surface = g_surface;
             let p = o + dir * hit.s;

@@ -8,7 +8,9 @@
 // slabs only inside a coarse slab that may hold the surface (an empty tile
 // costs 8 enclosures, not 64). Slabs proven root-free are skipped by every
 // ray of the tile. Tiles with a candidate slab are queued for `main`, the
-// others get their background here.
+// others get their background here. The field sees the slabs go by
+// (field_slab_*): a tape notes its min/max choices and shortens itself for
+// the tile (fields/tape_tiles.wgsl).
 //
 // One invocation per tile, not per slab: the per-slab form (a workgroup per
 // tile sharing its mask through workgroup memory and barriers) cost ~20 ms
@@ -54,11 +56,14 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     var c = 0u;
     var j = fine;
     if (dr.x >= dr.y) { c = COARSE; }
+    field_tile_begin();
     while (c < COARSE) {
         let coarse = j == fine;
         let k = c * fine + select(j, 0u, coarse);
         n = n + 1u;
+        field_slab_begin(!coarse);
         let hold = slab_may_hold(slab_span(dr, k, select(k, k + fine - 1u, coarse)), su, sv);
+        field_slab_end(hold);
         if (coarse) {
             if (hold) { j = 0u; } else { c = c + 1u; }
             continue;
@@ -72,7 +77,8 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     if (mask.x != 0u || mask.y != 0u) {
         // Rays of this tile may meet the surface: queue it for `main`, and
         // count a workgroup of `main` for every TILES_PER_GROUP tiles.
-        tile_masks[t] = vec4<u32>(mask, n, 0u);
+        // w: the field's shortened program for the tile (a tape's list).
+        tile_masks[t] = vec4<u32>(mask, n, field_tile_done());
         let slot = atomicAdd(&tile_list.count, 1u);
         tile_ids[slot] = t;
         if (slot % TILES_PER_GROUP == 0u) { atomicAdd(&tile_list.x, 1u); }
