@@ -72,15 +72,15 @@ pub const TAPE_HEADER: u32 = 3;
 pub enum Code {
     Nop = 0, Const, Input, Param, Neg, Add, Sub, Mul, Div, Sqr, PowChain,
     Sqrt, Exp, Log, Sin, Cos, Tan, Atan, Sinh, Cosh, Tanh, Abs, Sign, Floor,
-    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole,
+    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole, PowSmall,
 }
 
 impl Code {
-    const ALL: [Code; 35] = [
+    const ALL: [Code; 36] = [
         Code::Nop, Code::Const, Code::Input, Code::Param, Code::Neg, Code::Add, Code::Sub, Code::Mul, Code::Div, Code::Sqr, Code::PowChain,
         Code::Sqrt, Code::Exp, Code::Log, Code::Sin, Code::Cos, Code::Tan, Code::Atan, Code::Sinh, Code::Cosh, Code::Tanh, Code::Abs,
         Code::Sign, Code::Floor, Code::Pow, Code::Atan2, Code::Min, Code::Max, Code::Clamp, Code::Mix, Code::Dmin, Code::Dmax,
-        Code::Dsign, Code::Dfloor, Code::Whole,
+        Code::Dsign, Code::Dfloor, Code::Whole, Code::PowSmall,
     ];
     fn of1(f: Func1) -> Code {
         match f {
@@ -164,10 +164,18 @@ impl Builder {
             2 => self.un(Code::Sqr, a),
             _ if n % 2 == 0 => {
                 let q = self.un(Code::Sqr, a);
-                if n == 4 { self.un(Code::Sqr, q) } else { self.push(Code::PowChain, [q, 0, 0, 0], f64::from(n / 2)) }
+                if n == 4 { self.un(Code::Sqr, q) } else { self.chain(q, n / 2) }
             }
-            _ => self.push(Code::PowChain, [a, 0, 0, 0], f64::from(n)),
+            _ => self.chain(a, n),
         }
+    }
+    /// a^n (n ≥ 3) by square-and-multiply: written out for n < 8 (at most
+    /// two squarings, `PowSmall`), a loop beyond (`PowChain`). A kernel
+    /// with the loop pays a masked pass of it for every instruction, which
+    /// counts against lavapipe's loop cap; the cubes of smooth blends need
+    /// none.
+    pub fn chain(&mut self, a: u32, n: u32) -> u32 {
+        self.push(if n < 8 { Code::PowSmall } else { Code::PowChain }, [a, 0, 0, 0], f64::from(n))
     }
 }
 

@@ -55,7 +55,7 @@ impl Terms for Tape<'_> {
         self.b.push(if max { Code::Dmax } else { Code::Dmin }, args, 0.0)
     }
     fn odd_power(&mut self, _id: NodeId, q: u32, m: u32) -> u32 {
-        self.b.push(Code::PowChain, [q, 0, 0, 0], f64::from(m))
+        self.b.chain(q, m)
     }
     fn bind(&mut self, _id: NodeId, _tag: &str, x: u32) -> u32 {
         x // a node is computed once already

@@ -41,6 +41,23 @@ fn tape_pow_T(a: T, n: u32) -> T {
     return op_pw_odd(a, w);
 }
 
+// a^n for 1 <= n < 8: tape_pow_T written out (at most two squarings), so
+// a kernel whose powers are all small has no loop in its switch.
+fn tape_pow_small_T(a: T, n: u32) -> T {
+    let b = op_pw_lift(a);
+    let top = 31u - countLeadingZeros(n);
+    var w = b;
+    if (top >= 1u) {
+        w = op_pw_sq(w);
+        if (((n >> ((top - 1u) & 31u)) & 1u) == 1u) { w = op_pw_mul(w, b); }
+    }
+    if (top == 2u) {
+        w = op_pw_sq(w);
+        if ((n & 1u) == 1u) { w = op_pw_mul(w, b); }
+    }
+    return op_pw_odd(a, w);
+}
+
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 
 // Notes in choice slot `slot` which operand min (or, with `max`, max) of a
@@ -90,6 +107,7 @@ fn tape_step_T(e: u32) -> bool {
         case TAPE_DIV: { r = op_div(a, b); }
         case TAPE_SQR: { r = op_sqr(a); }
         case TAPE_POWCHAIN: { r = tape_pow_T(a, w.w); }
+        case TAPE_POWSMALL: { r = tape_pow_small_T(a, w.w); }
         case TAPE_SQRT: { r = op_sqrt(a); tape_note_domain_T(w.w, a, false); }
         case TAPE_EXP: { r = op_exp(a); }
         case TAPE_LOG: { r = op_log(a); tape_note_domain_T(w.w, a, true); }

@@ -24,7 +24,7 @@ pub const EXPLOG: u32 = 8;
 pub const TRIG: u32 = 16;
 /// floor, mix and their slopes.
 pub const MISC: u32 = 32;
-/// Integer powers from 3 on (square-and-multiply chains).
+/// Integer powers from 8 on (square-and-multiply loops).
 pub const POWERS: u32 = 64;
 /// User parameters.
 pub const PARAMS: u32 = 128;
@@ -46,9 +46,12 @@ pub const UNROLL_4: u32 = 1 << 10;
 /// ([`super::TAPE_BUNDLE_LIMIT`]), about 7 times as many evaluations when
 /// its lanes evaluate together. A kernel option, never required by a tape.
 pub const BUNDLE_WORK: u32 = 1 << 11;
+/// Integer powers 3 to 7 (at most two squarings, written out: no loop,
+/// whose masked pass every instruction would pay).
+pub const SMALL_POWERS: u32 = 1 << 12;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
-pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4;
+pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS;
 
 /// What a kernel must have to run a tape: its operations and registers.
 pub const REQUIRED: u32 = ALL & !UNROLL_4;
@@ -85,7 +88,7 @@ pub fn for_registers(registers: u32) -> u32 {
 
 /// The names of the operation groups in `features`, for messages.
 pub fn names(features: u32) -> Vec<&'static str> {
-    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (POWERS, "powers from 3 on"), (PARAMS, "parameters")]
+    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters")]
         .into_iter()
         .filter(|(b, _)| features & b != 0)
         .map(|(_, n)| n)
@@ -103,6 +106,7 @@ impl Code {
             Code::Sin | Code::Cos | Code::Tan | Code::Atan | Code::Atan2 => TRIG,
             Code::Floor | Code::Dfloor | Code::Mix => MISC,
             Code::PowChain => POWERS,
+            Code::PowSmall => SMALL_POWERS,
             Code::Param => PARAMS,
             _ => 0,
         }
@@ -131,7 +135,9 @@ mod tests {
     #[test]
     fn a_tape_needs_the_groups_of_its_operations_and_their_slopes() {
         assert_eq!(features_of("x^2 + y^2 + z^2 - 1"), 0);
-        assert_eq!(features_of("x^5 - 3*x*y + z"), POWERS);
+        assert_eq!(features_of("x^5 - 3*x*y + z"), SMALL_POWERS);
+        // Its slope 9·x^8 is (x²)^4: a small power.
+        assert_eq!(features_of("x^9 - 3*x*y + z"), POWERS | SMALL_POWERS);
         assert_eq!(features_of("x*x*x + y^2 - z"), 0);
         assert_eq!(features_of("x^2 + y^2 + z^2 - a"), PARAMS);
         assert_eq!(features_of("sin(x) + z"), TRIG);
@@ -155,7 +161,7 @@ mod tests {
         for (r, s) in [(1, 16), (16, 16), (17, 32), (32, 32), (33, 64), (64, 64)] {
             assert_eq!(slots(for_registers(r)), s, "{r} registers");
         }
-        assert_eq!(names(ALL).len(), 8);
+        assert_eq!(names(ALL).len(), 9);
         // A long tape asks for the unrolled loop, which no kernel requires.
         let long: Vec<String> = (1..=40).map(|i| format!("(x - {i})*(y + {i})")).collect();
         let f = features_of(&long.join(" + "));
