@@ -406,3 +406,19 @@ fn the_power_loops_pass_counts_against_the_loop_cap() {
     assert!(bad.is_empty(), "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
     assert!(misses_of_the_reference(&f, &s, &taped, 2000).is_empty());
 }
+
+#[test]
+fn auto_takes_the_tape_for_raa_bisection_of_many_min_and_max() {
+    use isotrace::codegen::{choice, FieldKind};
+    let kind = |name: &str, domain: Domain| {
+        let f = isotrace::catalog::lookup(name).unwrap().compile().unwrap();
+        choice::choose(FieldKind::Auto, &f, &[], &Traversal::Bisect(BisectOptions::new(domain))).unwrap().kind()
+    };
+    // The city's 257 min/max compile for minutes in RAA (145 s cold at
+    // 256²), its tape in seconds; in IA, and for the creature's 45, the
+    // compiled kernel is as soon and far faster a frame.
+    assert_eq!(kind("city", Domain::Affine), FieldKind::Tape);
+    assert_eq!(kind("city", Domain::Interval), FieldKind::Compiled);
+    assert_eq!(kind("creature", Domain::Affine), FieldKind::Compiled);
+    assert_eq!(kind("icos.csg", Domain::Affine), FieldKind::Compiled);
+}

@@ -99,6 +99,11 @@ impl Code {
 
 pub mod features;
 
+/// Whether the instruction with first word `w0` is a min, max, clamp, abs or sign.
+pub fn is_minmax(w0: u32) -> bool {
+    Code::ALL.get((w0 & 0xff) as usize).is_some_and(|c| matches!(c, Code::Min | Code::Max | Code::Clamp | Code::Abs | Code::Sign))
+}
+
 /// Flag bit of an instruction's first word: the result may be empty.
 pub const TAPE_RESTRICTS: u32 = 1 << 8;
 
