@@ -446,14 +446,8 @@ fn field_exhausted() -> bool { return false; }
 // Loop iterations one evaluation costs: its nodes.
 fn field_cost() -> u32 {
     let len = scene_view_len();
-    return select(len, scene_node_count(), len == SCENE_VIEW_FULL) * SCENE_STEP_PASSES;
+    return select(len, scene_node_count(), len == SCENE_VIEW_FULL);
 }
-// Loop passes a node step costs: with polygon profiles compiled in, their
-// vertex loop runs one masked pass at every step (lavapipe enters a loop
-// once even when no lane takes it), which counts against the driver's loop
-// cap like the node loop's own; a polygon's own passes are counted where
-// it runs (scene_polygon).
-const SCENE_STEP_PASSES: u32 = select(1u, 2u, (SCENE_FEATURES & FEATURE_POLYGON) != 0u);
 
 // The interpreter's value stack below its top (kept in a register): module
 // scope, so it is zero-initialised once per invocation, not on every call (a
@@ -534,7 +528,7 @@ fn field(p: vec3<f32>) -> f32 {
         if (full) { e = scene_entry(at); } else { e = scene_slab_entry(at) | fuse; }
         scene_step(e, p, &sp, &top);
     }
-    g_field_work = g_field_work + j * SCENE_STEP_PASSES;
+    g_field_work = g_field_work + j;
     // The view is exact only within the slab's padded depths: a positive
     // value is no larger than the distance to them, so no step leaves the
     // slab (a ray's depth changes no faster than t). Inside stays inside.

@@ -36,7 +36,6 @@ fn scene_polygon(u: vec2<f32>, row: u32, n: u32) -> f32 {
         if (all(c) || !any(c)) { s = -s; }
         vj = vi;
     }
-    g_field_work = g_field_work + n;
     return s * sqrt(d);
 }
 
