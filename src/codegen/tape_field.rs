@@ -82,6 +82,9 @@ pub fn shortens(features: u32) -> bool {
     features & features::MINMAX != 0
 }
 
+/// Bytes of a tile's choice notes (two bits a slot).
+pub const NOTE_BYTES_PER_TILE: u64 = super::tape::TAPE_CHOICE_SLOTS as u64 / 16 * 4;
+
 /// Most bytes of a tape's per-tile lists in one dispatch: tiles past it run
 /// the whole tape (the lists' allocator says so; the picture is the same
 /// surface).
@@ -140,6 +143,7 @@ fn tape_admits(iters: u32) -> bool {
 /// Where the interpreter's instructions come from without per-tile lists:
 /// the tape's programs themselves.
 const WHOLE_TAPE: &str = "
+fn tape_note_bits(slot: u32, c: u32) {}
 fn tape_entry(i: u32) -> u32 { return i; }
 fn tape_span(prog: u32) -> vec2<u32> { let h = tape_word(0u); return select(h.xy, h.zw, prog == 1u); }
 ";
@@ -172,7 +176,6 @@ fn prelude(features: u32, lists: bool) -> String {
          var<private> g_tape_exhausted: bool;\n\
          // Set while bisection's tile pass records min/max choices (tape_tiles.wgsl).\n\
          var<private> g_tape_record: bool;\n\
-         var<private> g_choice_now: array<vec4<u32>, 8>;\n\
          const TAPE_LIST_NOP: u32 = 0xffffffffu;\n\
          const TAPE_PC_MASK: u32 = 0x3fffffffu;\n{}",
         super::tape::wgsl_constants(features),

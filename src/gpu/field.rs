@@ -17,6 +17,8 @@ const VIEW_TEXTURE: u32 = 10;
 const COUNTS: u32 = 4;
 /// Binding of a tape's per-tile lists (`templates/fields/tape_tiles.wgsl`).
 const TAPE_LISTS: u32 = 1;
+/// Binding of a tape's per-tile choice notes (32 words a tile).
+const TAPE_NOTES: u32 = 5;
 /// Binding of the views pass's output buffer.
 const VIEW_BUFFER: u32 = 6;
 /// Texels a row of the view texture.
@@ -168,7 +170,8 @@ impl FieldBinding {
         let storage = wgpu::BufferUsages::STORAGE;
         let bytes = self.tape_lists.as_ref().map_or(0, |t| crate::codegen::tape_field::list_bytes(t, tiles));
         // The counts (binding COUNTS) are the caller's read-back buffer.
-        let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage))], view: None };
+        let notes = if self.tape_lists.is_some() { tiles * crate::codegen::tape_field::NOTE_BYTES_PER_TILE } else { 0 };
+        let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage)), (TAPE_NOTES, buffer("tape notes", notes, storage))], view: None };
         *cached = Some((tiles, own.clone()));
         own
     }
@@ -281,7 +284,7 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
             let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
             // Bisection's per-tile lists (bound for every tape kernel, so
             // one layout serves every tape; unused by the others).
-            let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false)];
+            let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false), storage_entry(TAPE_NOTES, false)];
             Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, tape_lists: Some(t.clone()), cached: Default::default() })
         }
     }

@@ -237,7 +237,8 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
                 let tiles = u64::from(s.width.div_ceil(8)) * u64::from(s.height.div_ceil(8));
                 let bytes = codegen::tape_field::list_bytes(t, tiles).max(16);
                 group.push(kept(1, "tape lists", Size::Fixed { bytes }));
-                group.push(scratch(4, "tape list words", Size::Fixed { bytes: 16 }));
+                group.push(scratch(4, "tape list words", Size::Fixed { bytes: 32 }));
+                group.push(kept(5, "tape notes", Size::PerTile { bytes: codegen::tape_field::NOTE_BYTES_PER_TILE }));
             }
             group
         }

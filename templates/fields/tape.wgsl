@@ -60,29 +60,29 @@ fn tape_pow_small_T(a: T, n: u32) -> T {
 
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 
-// Notes in choice slot `slot` which operand min (or, with `max`, max) of a
-// and b can take: 1 the first, 2 the second, 3 either (also for empty or
-// NaN ranges). Only while the tile pass records (tape_tiles.wgsl).
-fn tape_note_T(slot: u32, a: T, b: T, max: bool) {
-    if (!g_tape_record || slot >= TAPE_CHOICE_SLOTS) { return; }
+// Notes in choice slot `slot` what instruction `code` with operands a and b
+// can do over the slab being enclosed (only while the tile pass records,
+// tape_tiles.wgsl; one call site per step, after the switch): a min or a
+// max which operand its result can be (1 the first, 2 the second, 3
+// either, also for empty or NaN ranges); a square root or logarithm with a
+// slot (it restricts f's domain) whether its argument stays in its domain
+// (1) or may not (2).
+fn tape_note_T(code: u32, slot: u32, a: T, b: T) {
+    if (slot >= TAPE_CHOICE_SLOTS) { return; }
     let i = op_range(a);
     let j = op_range(b);
-    var c = 3u;
-    if (i.x <= i.y && j.x <= j.y) {
-        if (i.y <= j.x) { c = select(1u, 2u, max); }
-        else if (j.y <= i.x) { c = select(2u, 1u, max); }
+    var c = 0u;
+    if (code == TAPE_MIN || code == TAPE_MAX) {
+        let max = code == TAPE_MAX;
+        c = 3u;
+        if (i.x <= i.y && j.x <= j.y) {
+            if (i.y <= j.x) { c = select(1u, 2u, max); }
+            else if (j.y <= i.x) { c = select(2u, 1u, max); }
+        }
+    } else if (code == TAPE_SQRT || code == TAPE_LOG) {
+        c = select(2u, 1u, i.x > 0.0 || (code == TAPE_SQRT && i.x == 0.0));
     }
-    g_choice_now[slot >> 6u][(slot >> 4u) & 3u] |= c << ((slot & 15u) * 2u);
-}
-
-// Notes in slot `slot` whether the argument `a` of a square root (`open`
-// false: a >= 0) or a logarithm (`open`: a > 0) stays in its domain: 1 it
-// does, 2 it may not.
-fn tape_note_domain_T(slot: u32, a: T, open: bool) {
-    if (!g_tape_record || slot >= TAPE_CHOICE_SLOTS) { return; }
-    let lo = op_range(a).x;
-    let inside = lo > 0.0 || (!open && lo == 0.0);
-    g_choice_now[slot >> 6u][(slot >> 4u) & 3u] |= select(2u, 1u, inside) << ((slot & 15u) * 2u);
+    tape_note_bits(slot, c);
 }
 
 // Runs the instruction of list entry `e` (pc | pick << 30, or
@@ -108,9 +108,9 @@ fn tape_step_T(e: u32) -> bool {
         case TAPE_SQR: { r = op_sqr(a); }
         case TAPE_POWCHAIN: { r = tape_pow_T(a, w.w); }
         case TAPE_POWSMALL: { r = tape_pow_small_T(a, w.w); }
-        case TAPE_SQRT: { r = op_sqrt(a); tape_note_domain_T(w.w, a, false); }
+        case TAPE_SQRT: { r = op_sqrt(a); }
         case TAPE_EXP: { r = op_exp(a); }
-        case TAPE_LOG: { r = op_log(a); tape_note_domain_T(w.w, a, true); }
+        case TAPE_LOG: { r = op_log(a); }
         case TAPE_SIN: { r = op_sin(a); }
         case TAPE_COS: { r = op_cos(a); }
         case TAPE_TAN: { r = op_tan(a); }
@@ -123,8 +123,8 @@ fn tape_step_T(e: u32) -> bool {
         case TAPE_FLOOR: { r = op_floor(a); }
         case TAPE_POW: { r = op_pow(a, b); }
         case TAPE_ATAN2: { r = op_atan2(a, b); }
-        case TAPE_MIN: { r = op_min(a, b); tape_note_T(w.w, a, b, false); }
-        case TAPE_MAX: { r = op_max(a, b); tape_note_T(w.w, a, b, true); }
+        case TAPE_MIN: { r = op_min(a, b); }
+        case TAPE_MAX: { r = op_max(a, b); }
         case TAPE_CLAMP: { r = op_clamp(a, b, tape_reg_T(w.z)); }
         case TAPE_MIX: { r = op_mix(a, b, tape_reg_T(w.z)); }
         case TAPE_DMIN: { r = op_dmin(a, b, tape_reg_T(w.z), tape_reg_T(w.z >> 16u)); }
@@ -133,6 +133,7 @@ fn tape_step_T(e: u32) -> bool {
         case TAPE_DFLOOR: { r = op_dfloor(a, b); }
         default: { r = op_whole(); }
     }
+    if (g_tape_record) { tape_note_T(code, w.w, a, b); }
     let pick = e >> 30u;
     if (pick != 0u) { r = tape_reg_T(select(w.y, w.z, code >= TAPE_DMIN) >> select(0u, 16u, pick == 2u)); }
     g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r;

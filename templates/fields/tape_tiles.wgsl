@@ -4,8 +4,9 @@
 // Most of a CSG formula is dead in any small region: a min's operand that
 // lies above the other over the region never reaches the result, and nor
 // does the subtree that computes it. The tile pass already encloses f over
-// each 8x8 tile's candidate depth slabs; while it does, every min and max
-// notes in its choice slot which operand it can take there (tape_note_*).
+// each 8x8 tile's candidate depth slabs; it encloses each fine slab that may
+// hold the surface once more, and then every min and max notes in its
+// choice slot which operand it can take there (tape_note_*).
 // Once the tile's candidate slabs are known, a backward pass over each
 // program keeps only the instructions whose results are read on the way to
 // the outputs under those choices, and writes their list for the tile. The
@@ -37,33 +38,30 @@
 struct TapeListCounts { used: atomic<u32>, tiles: atomic<u32>, shortened: atomic<u32>, kept: atomic<u32>, whole: atomic<u32> }
 @group(1) @binding(4) var<storage, read_write> tape_counts: TapeListCounts;
 
-// The choices of the tile's candidate slabs so far (the slabs' own are
-// noted in g_choice_now and merged when the slab may hold the surface).
-var<private> g_choice_tile: array<vec4<u32>, 8>;
+// The choices noted over the tile's candidate slabs, two bits a slot (32
+// words a tile; a storage buffer, not a private array: lavapipe compiles a
+// dynamically indexed private array into code at every access, which cost
+// the tile pass 0.5 s of compile).
+@group(1) @binding(5) var<storage, read_write> tape_notes: array<u32>;
+var<private> g_note_base: u32;
 
-fn field_tile_begin() {
-    g_choice_tile = array<vec4<u32>, 8>();
+fn field_tile_begin(t: u32) {
+    g_note_base = t * (TAPE_CHOICE_SLOTS / 16u);
+    for (var i = 0u; i < TAPE_CHOICE_SLOTS / 16u; i = i + 1u) { tape_notes[g_note_base + i] = 0u; }
 }
 
-// Before a slab's enclosure: fine slabs (the ones rays traverse) record.
-fn field_slab_begin(fine: bool) {
-    g_tape_record = fine;
-    if (fine) { g_choice_now = array<vec4<u32>, 8>(); }
-}
+// Whether the field wants each fine slab that may hold the surface
+// enclosed once more, noting its choices (the tile pass cannot know before
+// the enclosure whether the slab holds, and only those that do count).
+fn field_records() -> bool { return (F.flags & FLAG_NO_TAPE_SHORTENING) == 0u; }
 
-// After it: a fine slab that may hold the surface adds its choices.
-fn field_slab_end(hold: bool) {
-    if (g_tape_record && hold) {
-        g_choice_tile[0] |= g_choice_now[0];
-        g_choice_tile[1] |= g_choice_now[1];
-        g_choice_tile[2] |= g_choice_now[2];
-        g_choice_tile[3] |= g_choice_now[3];
-        g_choice_tile[4] |= g_choice_now[4];
-        g_choice_tile[5] |= g_choice_now[5];
-        g_choice_tile[6] |= g_choice_now[6];
-        g_choice_tile[7] |= g_choice_now[7];
-    }
-    g_tape_record = false;
+// Before a slab's enclosure: whether it is that second enclosure.
+fn field_slab_begin(record: bool) { g_tape_record = record; }
+fn field_slab_end(hold: bool) { g_tape_record = false; }
+
+fn tape_note_bits(slot: u32, c: u32) {
+    let i = g_note_base + (slot >> 4u);
+    tape_notes[i] = tape_notes[i] | (c << ((slot & 15u) * 2u));
 }
 
 // The bit of register r in a 64-register set (two words).
@@ -75,7 +73,7 @@ fn tape_reg_bit(r: u32) -> vec2<u32> {
 // The two bits of choice slot `slot` over the tile's candidate slabs (0:
 // never noted there).
 fn tape_choice(slot: u32) -> u32 {
-    return (g_choice_tile[slot >> 6u][(slot >> 4u) & 3u] >> ((slot & 15u) * 2u)) & 3u;
+    return (tape_notes[g_note_base + (slot >> 4u)] >> ((slot & 15u) * 2u)) & 3u;
 }
 
 // Whether instruction w must run in the tile even when its result is dead:
@@ -142,26 +140,35 @@ fn field_tile_done() -> u32 {
     let h = tape_word(0u);
     let o = tape_word(1u);
     if (!tape_admits(2u * (h.y + h.w))) { return 0u; }
-    let live_v = tape_reg_bit(o.x);
-    let live_d = tape_reg_bit(o.y) | tape_reg_bit(o.z);
-    let nv = tape_keep(h.x, h.y, live_v, 0u);
-    let nd = tape_keep(h.z, h.w, live_d, 0u);
-    let pv = tape_padded(nv);
-    let size = 4u + pv + tape_padded(nd);
-    let base = atomicAdd(&tape_counts.used, size);
-    if (base + size > arrayLength(&tape_lists)) { return 0u; }
-    let l = base + 4u;
-    tape_lists[base] = l;
-    tape_lists[base + 1u] = pv;
-    tape_lists[base + 2u] = l + pv;
-    tape_lists[base + 3u] = size - 4u - pv;
+    // Four backward passes from one call site (lavapipe compiles each
+    // inlined copy): k = 0, 1 count the value and the derivative program's
+    // instructions, the list is allocated, k = 2, 3 write them.
+    var n = vec2<u32>(0u);
+    var l = 0u;
+    var pv = 0u;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let prog = k & 1u;
+        if (k == 2u) {
+            pv = tape_padded(n.x);
+            let size = 4u + pv + tape_padded(n.y);
+            let base = atomicAdd(&tape_counts.used, size);
+            if (base + size > arrayLength(&tape_lists)) { return 0u; }
+            l = base + 4u;
+            tape_lists[base] = l;
+            tape_lists[base + 1u] = pv;
+            tape_lists[base + 2u] = l + pv;
+            tape_lists[base + 3u] = size - 4u - pv;
+            for (var i = l + n.x; i < l + pv; i = i + 1u) { tape_lists[i] = TAPE_LIST_NOP; }
+            for (var i = l + pv + n.y; i < base + size; i = i + 1u) { tape_lists[i] = TAPE_LIST_NOP; }
+        }
+        let live = select(tape_reg_bit(o.x), tape_reg_bit(o.y) | tape_reg_bit(o.z), prog == 1u);
+        let to = select(0u, select(l + n.x, l + pv + n.y, prog == 1u), k >= 2u);
+        let kept = tape_keep(select(h.x, h.z, prog == 1u), select(h.y, h.w, prog == 1u), live, to);
+        if (k < 2u) { n[prog] = kept; }
+    }
     atomicAdd(&tape_counts.shortened, 1u);
-    atomicAdd(&tape_counts.kept, nv);
+    atomicAdd(&tape_counts.kept, n.x);
     atomicAdd(&tape_counts.whole, o.w);
-    tape_keep(h.x, h.y, live_v, l + nv);
-    tape_keep(h.z, h.w, live_d, l + pv + nd);
-    for (var i = l + nv; i < l + pv; i = i + 1u) { tape_lists[i] = TAPE_LIST_NOP; }
-    for (var i = l + pv + nd; i < base + size; i = i + 1u) { tape_lists[i] = TAPE_LIST_NOP; }
     return l;
 }
 

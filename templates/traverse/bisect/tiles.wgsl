@@ -9,8 +9,9 @@
 // costs 8 enclosures, not 64). Slabs proven root-free are skipped by every
 // ray of the tile. Tiles with a candidate slab are queued for `main`, the
 // others get their background here. The field sees the slabs go by
-// (field_slab_*): a tape notes its min/max choices and shortens itself for
-// the tile (fields/tape_tiles.wgsl).
+// (field_slab_*): a tape notes its min/max choices in a second enclosure of
+// each fine slab that may hold the surface and shortens itself for the tile
+// (fields/tape_tiles.wgsl).
 //
 // One invocation per tile, not per slab: the per-slab form (a workgroup per
 // tile sharing its mask through workgroup memory and barriers) cost ~20 ms
@@ -56,18 +57,26 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     var c = 0u;
     var j = fine;
     if (dr.x >= dr.y) { c = COARSE; }
-    field_tile_begin();
+    field_tile_begin(t);
+    // A fine slab that may hold the surface is enclosed again for a field
+    // that records what it saw there (field_records: a tape's choices).
+    var again = false;
     while (c < COARSE) {
         let coarse = j == fine;
         let k = c * fine + select(j, 0u, coarse);
         n = n + 1u;
-        field_slab_begin(!coarse);
+        field_slab_begin(again);
         let hold = slab_may_hold(slab_span(dr, k, select(k, k + fine - 1u, coarse)), su, sv);
         field_slab_end(hold);
         if (coarse) {
             if (hold) { j = 0u; } else { c = c + 1u; }
             continue;
         }
+        if (hold && !again && field_records()) {
+            again = true;
+            continue;
+        }
+        again = false;
         if (hold) {
             if (k < 32u) { mask.x = mask.x | (1u << k); } else { mask.y = mask.y | (1u << (k - 32u)); }
         }
