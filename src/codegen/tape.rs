@@ -98,11 +98,9 @@ impl Code {
 }
 
 pub mod features;
-
-/// Whether the instruction with first word `w0` is a min, max, clamp, abs or sign.
-pub fn is_minmax(w0: u32) -> bool {
-    Code::ALL.get((w0 & 0xff) as usize).is_some_and(|c| matches!(c, Code::Min | Code::Max | Code::Clamp | Code::Abs | Code::Sign))
-}
+mod choices;
+pub use choices::{is_minmax, TAPE_CHOICE_SLOTS, TAPE_NO_SLOT};
+use choices::choice_slots;
 
 /// Flag bit of an instruction's first word: the result may be empty.
 pub const TAPE_RESTRICTS: u32 = 1 << 8;
@@ -477,44 +475,6 @@ fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
         }
         _ => [head, ra[0] | ra[1] << 16, ra[2] | ra[3] << 16, n.imm as u32],
     }
-}
-
-/// Choice slots the tile pass keeps per tile (two bits each; 512 slots are
-/// 32 words of the invocation's private memory). A min or max past them is
-/// never shortened.
-pub const TAPE_CHOICE_SLOTS: u32 = 512;
-/// The immediate of a min or max without a slot.
-pub const TAPE_NO_SLOT: u32 = u32::MAX;
-
-/// Gives every min and max node a choice slot, in node order (the value
-/// program's come first: the derivative's nodes are built after them), and
-/// each `Dmin`/`Dmax` the slot of the min or max of the same operands: the
-/// derivative of min(a, b) is da wherever min(a, b) is a. The formula's own
-/// square roots and logarithms get one too: they restrict f's domain, so a
-/// tile keeps them even in a dead operand unless their argument stays in
-/// their domain over the tile (every box distance has a square root of a
-/// sum of squares). Returns how many slots are in use.
-fn choice_slots(b: &mut Builder) -> u32 {
-    let mut next = 0;
-    for (i, n) in b.nodes.iter().enumerate() {
-        let strict_root = matches!(n.code, Code::Sqrt | Code::Log) && b.strict.contains(&(i as u32));
-        if (matches!(n.code, Code::Min | Code::Max) || strict_root) && next < TAPE_CHOICE_SLOTS {
-            b.slots.insert(i as u32, next);
-            next += 1;
-        }
-    }
-    for (i, n) in b.nodes.iter().enumerate() {
-        let value = match n.code {
-            Code::Dmin => Code::Min,
-            Code::Dmax => Code::Max,
-            _ => continue,
-        };
-        let key = (value as u8, [n.args[0], n.args[1], 0, 0], 0f64.to_bits());
-        if let Some(slot) = b.seen.get(&key).and_then(|v| b.slots.get(v)).copied() {
-            b.slots.insert(i as u32, slot);
-        }
-    }
-    next
 }
 
 /// The operation codes and the interpreter's limits as WGSL constants, for
