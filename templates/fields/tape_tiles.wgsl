@@ -22,8 +22,9 @@
 // alone, where the whole tape's also takes b's interval in (with its
 // derivative, the hull of both slopes). So a shortened tile rejects cells
 // and proves monotony at least as often, in practice; the picture is the
-// same surface to within eps (tests/tape.rs). Instructions that restrict the domain (sqrt, log, ...) are
-// kept, so a tile's emptiness is decided as before, unless the tile pass saw
+// same surface to within eps (tests/tape.rs). Instructions that restrict
+// the domain (sqrt, log, ...) are kept, so a tile's emptiness is decided as
+// before, unless the tile pass saw
 // the argument of a square root or logarithm stay in its domain over the
 // tile's candidate slabs (then it cannot make f empty there).
 
@@ -53,7 +54,8 @@ fn field_tile_begin(t: u32) {
 // Whether the field wants each fine slab that may hold the surface
 // enclosed once more, noting its choices (the tile pass cannot know before
 // the enclosure whether the slab holds, and only those that do count).
-fn field_records() -> bool { return (F.flags & FLAG_NO_TAPE_SHORTENING) == 0u; }
+// A tape without choice slots (header word 2.z) has nothing to note.
+fn field_records() -> bool { return (F.flags & FLAG_NO_TAPE_SHORTENING) == 0u && tape_word(2u).z > 0u; }
 
 // Before a slab's enclosure: whether it is that second enclosure.
 fn field_slab_begin(record: bool) { g_tape_record = record; }
@@ -136,7 +138,7 @@ fn field_tile_done() -> u32 {
     atomicAdd(&tape_counts.tiles, 1u);
     // A slab enclosure refused at the work limit noted no choices: the
     // whole tape must run.
-    if ((F.flags & FLAG_NO_TAPE_SHORTENING) != 0u || g_tape_exhausted) { return 0u; }
+    if (!field_records() || g_tape_exhausted) { return 0u; }
     let h = tape_word(0u);
     let o = tape_word(1u);
     if (!tape_admits(2u * (h.y + h.w))) { return 0u; }
