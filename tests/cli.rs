@@ -133,7 +133,10 @@ fn eval_on_the_device_and_on_the_cpu() {
         c.args(["eval", "x^2 + y^2 + z^2 - 1"]).args(extra).stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped());
         let mut child = c.spawn().unwrap();
         use std::io::Write;
-        child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
+        // The child may exit before it reads all of its input (a refused
+        // line ends it): a broken pipe here is not the test's failure, its
+        // exit status and output below are what is checked.
+        let _ = child.stdin.take().unwrap().write_all(input.as_bytes());
         child.wait_with_output().unwrap()
     };
     let o = run(&["--algebra", "ia"], "-1 1 -1 1 -1 1\n# a comment\n\n0.5 0.6 0 0.1 0 0.1\n");
