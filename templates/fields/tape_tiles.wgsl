@@ -57,9 +57,9 @@ fn field_tile_begin(t: u32) {
 // A tape without choice slots (header word 2.z) has nothing to note.
 fn field_records() -> bool { return (F.flags & FLAG_NO_TAPE_SHORTENING) == 0u && tape_word(2u).z > 0u; }
 
-// Before a slab's enclosure: whether it is that second enclosure.
+// Before a slab's enclosure: whether it is that second enclosure (the
+// interpreter notes while this is set).
 fn field_slab_begin(record: bool) { g_tape_record = record; }
-fn field_slab_end(hold: bool) { g_tape_record = false; }
 
 fn tape_note_bits(slot: u32, c: u32) {
     let i = g_note_base + (slot >> 4u);

@@ -9,9 +9,9 @@
 // costs 8 enclosures, not 64). Slabs proven root-free are skipped by every
 // ray of the tile. Tiles with a candidate slab are queued for `main`, the
 // others get their background here. The field sees the slabs go by
-// (field_slab_*): a tape notes its min/max choices in a second enclosure of
-// each fine slab that may hold the surface and shortens itself for the tile
-// (fields/tape_tiles.wgsl).
+// (field_records, field_slab_begin): a tape notes its min/max choices in a
+// second enclosure of each fine slab that may hold the surface and shortens
+// itself for the tile (fields/tape_tiles.wgsl).
 //
 // One invocation per tile, not per slab: the per-slab form (a workgroup per
 // tile sharing its mask through workgroup memory and barriers) cost ~20 ms
@@ -67,7 +67,6 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         n = n + 1u;
         field_slab_begin(again);
         let hold = slab_may_hold(slab_span(dr, k, select(k, k + fine - 1u, coarse)), su, sv);
-        field_slab_end(hold);
         if (coarse) {
             if (hold) { j = 0u; } else { c = c + 1u; }
             continue;
