@@ -248,6 +248,17 @@ fn header_field_is_the_default_source() {
     assert_eq!(field_of(&["--field", "compiled"]), "compiled");
     let o = isotrace(&["render", iso.to_str().unwrap(), "--size", "16", "--stats", "-o", out.to_str().unwrap()]);
     assert!(stderr(&o).starts_with("size 16x16  algebra ia  field tape  eps "), "{}", stderr(&o));
+    // A ball has nothing to shorten per tile: no "tape:" line (it once said
+    // "0 of 0 tiles … the value program's 0 instructions"); a CSG formula has.
+    assert!(!stderr(&o).contains("\ntape: "), "{}", stderr(&o));
+    let o = isotrace(&["render", "max(x^2 + y^2 + z^2 - 1, -z)", "--field", "tape", "--size", "16", "--stats", "--json", "-o", out.to_str().unwrap()]);
+    let e = stderr(&o);
+    let line = e.lines().find(|l| l.starts_with("tape: ")).unwrap_or_else(|| panic!("{e}"));
+    let words: Vec<&str> = line.split(' ').collect();
+    let (shortened, tiles): (u32, u32) = (words[1].parse().unwrap(), words[3].parse().unwrap());
+    assert!(tiles > 0 && shortened == tiles && line.ends_with("of the value program's 13 instructions"), "{line}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["tape_tiles"].as_u64(), Some(u64::from(tiles)), "{v}");
     std::fs::write(&iso, "#@ field: tapes\nx\n").unwrap();
     let o = isotrace(&["check", iso.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));

@@ -96,14 +96,50 @@ fn new_formulas_change_buffers_not_pipelines() {
 
 /// A tape far past the interpreter's work limit (also when the kernel
 /// counts its work per SIMD bundle): nothing is culled or drawn that was not
-/// proven; its pixels are reported unresolved.
+/// proven; its pixels are reported unresolved. The longest tapes run 16
+/// instructions an iteration, where a cell's work (its enclosure and scalar
+/// refinement) fits a round of the per-pixel pass again: the same tape's
+/// pixels resolve, and none misses a sign change of the f64 reference. A
+/// tape padded for 4 is refused by such a kernel (it would read past its
+/// programs).
 #[test]
-fn a_tape_past_the_work_limit_reports_its_pixels() {
+fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_them() {
     let (f, data) = tape(&sum_of_terms(2000));
+    assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
+    assert_eq!((features::unroll(data.features), data.padding()), (16, 16));
     let s = common::settings(common::cube(2.0), 16, 16);
-    let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let mut four = data.clone();
+    four.features &= !features::UNROLL_16;
+    let frame = Renderer::new(gpu(), FieldSource::Tape(&four), ia()).unwrap().render(&s).unwrap();
     assert!(frame.stats.unresolved > 0, "{:?}", frame.stats);
     let missed = misses_of_the_reference(&f, &s, &frame, 500, false);
+    assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
+    let mut r = Renderer::new(gpu(), FieldSource::Tape(&data), ia()).unwrap();
+    let frame = r.render(&s).unwrap();
+    assert_eq!(frame.stats.unresolved, 0, "{:?}", frame.stats);
+    assert!(frame.stats.hits >= 12, "{:?}", frame.stats);
+    let missed = misses_of_the_reference(&f, &s, &frame, 500, false);
+    assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
+    let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
+    let e = r.set_field(FieldSource::Tape(&sphere)).err().expect("refused").to_string();
+    assert!(e.contains("the tape kernel runs 16 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
+}
+
+/// A long tape runs 8 instructions an iteration, padded to match, and the
+/// kernel draws it: no pixel left unresolved, no sign change of the f64
+/// reference missed.
+#[test]
+fn a_long_tape_runs_8_an_iteration() {
+    let (f, data) = tape(&sum_of_terms(700));
+    let range = isotrace::codegen::tape::TAPE_UNROLL_8_FROM..isotrace::codegen::tape::TAPE_UNROLL_16_FROM;
+    assert!(range.contains(&data.ops), "{} instructions", data.ops);
+    assert_eq!((features::unroll(data.features), data.padding()), (8, 8));
+    let s = common::settings(common::cube(1.2), 16, 16);
+    let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    assert_eq!(frame.stats.unresolved, 0, "{:?}", frame.stats);
+    assert!(frame.stats.hits > 30, "{:?}", frame.stats);
+    let missed = misses_of_the_reference(&f, &s, &frame, 2000, false);
     assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
 }
 

@@ -23,13 +23,33 @@ use std::collections::HashMap;
 /// so a register index can never leave the array). A kernel has 16, 32 or
 /// 64 of them, as its tapes need ([`TapeData::features`]).
 pub const TAPE_SLOTS: u32 = 64;
-/// Programs are padded with no-ops to a multiple of this: the most
-/// instructions a kernel's interpreter runs per loop iteration (1, or 4
-/// with [`features::UNROLL_4`]). lavapipe counts loop iterations against a
-/// silent cap of 65,535, so an unrolled loop leaves a long tape 4 times the
-/// evaluations; it doubles the compile, so short tapes run one instruction
-/// an iteration.
+/// Programs are padded with no-ops to a multiple of this (of 8 or 16 for
+/// the longest tapes, [`TAPE_UNROLL_8_FROM`]): the instructions an unrolled
+/// interpreter runs per loop iteration ([`features::UNROLL_4`]; short tapes
+/// run one). lavapipe counts loop iterations against a silent cap of
+/// 65,535, so an unrolled loop leaves a long tape 4 times the evaluations;
+/// it doubles the compile, so short tapes run one instruction an iteration.
 pub const TAPE_UNROLL: u32 = 4;
+/// Tapes whose value program has this many instructions run 8 an
+/// iteration ([`features::UNROLL_8`]), from [`TAPE_UNROLL_16_FROM`] 16,
+/// their programs padded to match. Measured at 512² in IA (sums of bilinear
+/// terms, cold whole process; unresolved pixels in brackets):
+///
+/// | instructions | 4 an iteration | 8 | 16 |
+/// |---|---|---|---|
+/// | 3,572 | 5.2 s (0) | | 7.2 s (0) |
+/// | about 4,200 | 5.8 s (45) | 6.3 s (0) | 8.2 s (0) |
+/// | about 7,000 | 9.4 s (663) | 9.7 s (0) | 12.0 s (0) |
+/// | about 10,000 | 17.8 s (6,496) | 15.9 s (253) | 16.3 s (0) |
+/// | 17,862 | 42 s (14,543) | 33.7 s (1,674) | 29.2 s (59) |
+///
+/// Past 4 a cell's work no longer fits a round of the per-pixel pass, and
+/// pixels that give up have spent their budget for nothing; below, a longer
+/// step only costs compile time (`@city`, 914 instructions, 8.4 s cold at 4,
+/// 10.2 at 8, 16.5 at 16).
+pub const TAPE_UNROLL_8_FROM: usize = 4_000;
+/// See [`TAPE_UNROLL_8_FROM`].
+pub const TAPE_UNROLL_16_FROM: usize = 8_000;
 /// Tapes whose value and derivative programs have this many instructions
 /// together ask for the unrolled interpreter. A cell from the monotonicity
 /// depth on runs both (the derivative program and f at its midpoint), and
@@ -240,16 +260,27 @@ impl TapeData {
         let f = values[ir.root as usize];
         let df = derivative_program(ir, &values, &mut b);
         let slots = choice_slots(&mut b);
-        let value = encode(&b, &[f])?;
+        let mut value = encode(&b, &[f])?;
         // A derivative program over the register file gives up the
         // monotonicity proof, never the render: its slope is the whole line.
-        let deriv = match encode(&b, &[df, f]) {
+        let mut deriv = match encode(&b, &[df, f]) {
             Err(TapeError::Registers(_)) => {
                 let whole = b.push(Code::Whole, [0; 4], 0.0);
                 encode(&b, &[whole, f])?
             }
             other => other?,
         };
+        let unroll = if value.ops >= TAPE_UNROLL_16_FROM {
+            features::UNROLL_16
+        } else if value.ops >= TAPE_UNROLL_8_FROM {
+            features::UNROLL_8
+        } else if value.ops + deriv.ops >= TAPE_UNROLL_FROM {
+            features::UNROLL_4
+        } else {
+            0
+        };
+        value.pad(features::unroll(unroll));
+        deriv.pad(features::unroll(unroll));
         let mut words = vec![[0u32; 4]; TAPE_HEADER as usize];
         let start = TAPE_HEADER;
         let dstart = start + value.words.len() as u32;
@@ -260,8 +291,16 @@ impl TapeData {
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
         let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
-        let unroll = if value.ops + deriv.ops >= TAPE_UNROLL_FROM { features::UNROLL_4 } else { 0 };
         Ok(TapeData { words, ops: value.ops, registers, features: ops | unroll | features::for_registers(registers) })
+    }
+
+    /// The largest interpreter step (1, 4, 8 or 16 instructions an iteration)
+    /// both programs are padded for: a kernel that runs more an iteration
+    /// would read past a program's end into the next.
+    pub fn padding(&self) -> u32 {
+        let [_, value, _, deriv] = self.words[0];
+        let lengths = value | deriv;
+        [16, 8, TAPE_UNROLL].into_iter().find(|&n| lengths % n == 0).unwrap_or(1)
     }
 
     /// Loop iterations of one value evaluation by an interpreter running
@@ -313,6 +352,15 @@ struct Program {
     ops: usize,
     registers: u32,
     iterations: u32,
+}
+
+impl Program {
+    /// Pads the program with no-ops to a multiple of `n` instructions.
+    fn pad(&mut self, n: u32) {
+        while self.words.len() % n as usize != 0 {
+            self.words.push([Code::Nop as u32, 0, 0, 0]);
+        }
+    }
 }
 
 /// Sethi–Ullman numbers of the nodes read as a tree: the registers a
@@ -438,10 +486,9 @@ fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
         return Err(TapeError::Registers(regs.count));
     }
     let ops = words.len();
-    while words.len() % TAPE_UNROLL as usize != 0 {
-        words.push([Code::Nop as u32, 0, 0, 0]);
-    }
-    Ok(Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: regs.count, iterations })
+    let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: regs.count, iterations };
+    program.pad(TAPE_UNROLL);
+    Ok(program)
 }
 
 /// The register file during allocation: freed registers are reused first.

@@ -58,10 +58,18 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
 
 /// Whether the template line `line` stays in a kernel with `features`: a
 /// `case TAPE_X:` line only when X's group is among them, a line marked
-/// `// unrolled` only in an unrolled interpreter.
+/// `// unrolled` only in an unrolled interpreter, one marked `// unrolled N`
+/// only in one that runs at least N instructions an iteration.
 fn keeps_line(line: &str, features: u32) -> bool {
-    if line.trim_end().ends_with("// unrolled") && features::unroll(features) == 1 {
+    let line_end = line.trim_end();
+    let step = features::unroll(features);
+    if line_end.ends_with("// unrolled") && step == 1 {
         return false;
+    }
+    if let Some((_, n)) = line_end.rsplit_once("// unrolled ") {
+        if n.parse::<u32>().is_ok_and(|n| step < n) {
+            return false;
+        }
     }
     let Some(rest) = line.trim_start().strip_prefix("case ") else { return true };
     let name = rest.split(':').next().unwrap_or("").trim();
@@ -269,7 +277,7 @@ mod tests {
 
     #[test]
     fn the_template_unrolls_as_the_host_pads() {
-        for (f, n) in [(0, 1), (features::UNROLL_4, 4)] {
+        for (f, n) in [(0, 1), (features::UNROLL_4, 4), (features::UNROLL_8, 8), (features::UNROLL_16, 16), (features::UNROLL_4 | features::UNROLL_16, 16)] {
             assert_eq!(instantiate(Domain::Scalar, f).matches("= tape_step_s(tape_entry(i").count() as u32, n);
             assert!(super::super::tape::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
         }

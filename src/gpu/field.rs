@@ -88,6 +88,12 @@ impl FieldBinding {
         }
     }
 
+    /// Whether bisection's tile pass may shorten the bound tape per tile:
+    /// it has min or max instructions (choice slots).
+    pub fn shortens_tape(&self) -> bool {
+        self.tape_lists.as_ref().is_some_and(|t| crate::codegen::tape_field::shortens(t.features) && t.words[2][2] > 0)
+    }
+
     /// The field's bits of the frame flags.
     pub fn flags(&self) -> u32 {
         if self.scene && self.dense { crate::layout::FLAG_SCENE_FULL } else { 0 }

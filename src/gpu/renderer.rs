@@ -190,6 +190,13 @@ impl<'g> Renderer<'g> {
             FieldSource::Tape(t) => t.features & codegen::tape::features::REQUIRED,
             _ => field_features(field),
         };
+        if let FieldSource::Tape(t) = field {
+            let step = codegen::tape::features::unroll(self.features);
+            if step > t.padding() {
+                let reason = format!("the tape kernel runs {step} instructions an iteration, for long tapes, and this tape's programs are padded for {}: build a new renderer", t.padding());
+                return Err(SettingsError::new(crate::render::SettingsField::Features, "tape", reason).into());
+            }
+        }
         let missing = required & !self.features;
         if missing != 0 {
             let (value, reason) = match field {
@@ -436,7 +443,7 @@ impl<'g> Renderer<'g> {
         if self.field.has_tile_stats() {
             tiles.finish(&mut stats);
         }
-        if self.field.tape && self.host.method() == crate::render::Method::Bisect {
+        if self.field.shortens_tape() {
             stats.field.tape_lists = Some(tape_lists);
         }
         Ok(stats)

@@ -78,7 +78,8 @@ pub struct FieldStats {
     /// Active primitives of every tile, row-major (for `--color overlap`).
     #[serde(skip)]
     pub tile_active: Vec<u32>,
-    /// Bisecting a tape: its per-tile shortening.
+    /// Bisecting a tape with min or max: its per-tile shortening (`None`
+    /// for a tape with nothing to shorten).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tape_lists: Option<TapeListStats>,
 }

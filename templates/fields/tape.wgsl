@@ -142,8 +142,10 @@ fn tape_step_T(e: u32) -> bool {
 
 // Runs program `prog` (0: value, 1: derivative), the whole of it or the
 // tile's shortened list (tape_span), TAPE_UNROLL instructions per loop
-// iteration (lines marked `unrolled` are left out of a kernel that runs
-// one; programs and lists are padded to a multiple of 4). Past the work
+// iteration (1, 4, 8 or 16: lines marked `unrolled` are left out of a
+// kernel that runs one, lines marked `unrolled 8` or `unrolled 16` out of
+// kernels that run fewer; programs are padded to a multiple of 4, or of 8
+// or 16 for the longest tapes, lists to the kernel's TAPE_UNROLL). Past the work
 // limit (tape_admits: the power chains' iterations from the header, the
 // loop's, and with the power case one pass of its loop per instruction,
 // which lavapipe runs masked for every instruction) it runs nothing and
@@ -163,6 +165,20 @@ fn tape_run_T(prog: u32) -> u32 {
         let e2 = tape_step_T(tape_entry(i + 2u)); // unrolled
         let e3 = tape_step_T(tape_entry(i + 3u)); // unrolled
         empty = empty || e1 || e2 || e3; // unrolled
+        let e4 = tape_step_T(tape_entry(i + 4u)); // unrolled 8
+        let e5 = tape_step_T(tape_entry(i + 5u)); // unrolled 8
+        let e6 = tape_step_T(tape_entry(i + 6u)); // unrolled 8
+        let e7 = tape_step_T(tape_entry(i + 7u)); // unrolled 8
+        let e8 = tape_step_T(tape_entry(i + 8u)); // unrolled 16
+        let e9 = tape_step_T(tape_entry(i + 9u)); // unrolled 16
+        let e10 = tape_step_T(tape_entry(i + 10u)); // unrolled 16
+        let e11 = tape_step_T(tape_entry(i + 11u)); // unrolled 16
+        let e12 = tape_step_T(tape_entry(i + 12u)); // unrolled 16
+        let e13 = tape_step_T(tape_entry(i + 13u)); // unrolled 16
+        let e14 = tape_step_T(tape_entry(i + 14u)); // unrolled 16
+        let e15 = tape_step_T(tape_entry(i + 15u)); // unrolled 16
+        empty = empty || e4 || e5 || e6 || e7; // unrolled 8
+        empty = empty || e8 || e9 || e10 || e11 || e12 || e13 || e14 || e15; // unrolled 16
     }
     return select(TAPE_DONE, TAPE_EMPTY, empty);
 }

@@ -49,12 +49,23 @@ pub const BUNDLE_WORK: u32 = 1 << 11;
 /// Integer powers 3 to 7 (at most two squarings, written out: no loop,
 /// whose masked pass every instruction would pay).
 pub const SMALL_POWERS: u32 = 1 << 12;
+/// An interpreter loop running 8 instructions an iteration, for long tapes
+/// ([`super::TAPE_UNROLL_8_FROM`] value instructions on, padded to a
+/// multiple of 8): twice the evaluations of [`UNROLL_4`] within lavapipe's
+/// loop cap, where a cell's work (an enclosure and its scalar refinement)
+/// no longer fits a round of the per-pixel pass at 4, for about twice the
+/// interpreter's compile. A kernel with it runs only tapes padded to 8
+/// ([`super::TapeData::padding`]).
+pub const UNROLL_8: u32 = 1 << 13;
+/// 16 instructions an iteration, for the longest tapes
+/// ([`super::TAPE_UNROLL_16_FROM`] on, padded to 16); as [`UNROLL_8`].
+pub const UNROLL_16: u32 = 1 << 14;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
 pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS;
 
 /// What a kernel must have to run a tape: its operations and registers.
-pub const REQUIRED: u32 = ALL & !UNROLL_4;
+pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16;
 
 /// Whether a kernel with `features` counts work per bundle.
 pub fn bundle_work(features: u32) -> bool {
@@ -63,7 +74,15 @@ pub fn bundle_work(features: u32) -> bool {
 
 /// Instructions a kernel with `features` runs per loop iteration.
 pub fn unroll(features: u32) -> u32 {
-    if features & UNROLL_4 != 0 { 4 } else { 1 }
+    if features & UNROLL_16 != 0 {
+        16
+    } else if features & UNROLL_8 != 0 {
+        8
+    } else if features & UNROLL_4 != 0 {
+        4
+    } else {
+        1
+    }
 }
 
 /// Registers of a kernel with `features`.
