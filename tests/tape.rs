@@ -96,21 +96,22 @@ fn new_formulas_change_buffers_not_pipelines() {
 
 /// A tape far past the interpreter's work limit (also when the kernel
 /// counts its work per SIMD bundle): nothing is culled or drawn that was not
-/// proven; its pixels are reported unresolved. The longest tapes run 16
+/// proven; its pixels are reported unresolved. The longest tapes run 32
 /// instructions an iteration, where a cell's work (its enclosure and scalar
 /// refinement) fits a round of the per-pixel pass again: the same tape's
 /// pixels resolve, and none misses a sign change of the f64 reference. A
 /// tape padded for 4 is refused by such a kernel (it would read past its
 /// programs).
 #[test]
-fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_them() {
+fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_them() {
     let (f, data) = tape(&sum_of_terms(2000));
-    assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
-    assert_eq!((features::unroll(data.features), data.padding()), (16, 16));
+    assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_32_FROM, "{} instructions", data.ops);
+    assert_eq!((features::unroll(data.features), data.padding()), (32, 32));
     let s = common::settings(common::cube(2.0), 16, 16);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut four = data.clone();
-    four.features &= !features::UNROLL_16;
+    four.features = four.features & !(features::UNROLL_8 | features::UNROLL_16 | features::UNROLL_32) | features::UNROLL_4;
+    assert_eq!(features::unroll(four.features), 4);
     let frame = Renderer::new(gpu(), FieldSource::Tape(&four), ia()).unwrap().render(&s).unwrap();
     assert!(frame.stats.unresolved > 0, "{:?}", frame.stats);
     let missed = misses_of_the_reference(&f, &s, &frame, 500, false);
@@ -123,7 +124,7 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_th
     assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
     let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
     let e = r.set_field(FieldSource::Tape(&sphere)).err().expect("refused").to_string();
-    assert!(e.contains("the tape kernel runs 16 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
+    assert!(e.contains("the tape kernel runs 32 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
 }
 
 /// A long tape runs 8 instructions an iteration, padded to match, and the

@@ -23,25 +23,27 @@ use std::collections::HashMap;
 /// so a register index can never leave the array). A kernel has 16, 32 or
 /// 64 of them, as its tapes need ([`TapeData::features`]).
 pub const TAPE_SLOTS: u32 = 64;
-/// Programs are padded with no-ops to a multiple of this (of 8 or 16 for
-/// the longest tapes, [`TAPE_UNROLL_8_FROM`]): the instructions an unrolled
+/// Programs are padded with no-ops to a multiple of this (of 8, 16 or 32
+/// for the longest tapes, [`TAPE_UNROLL_8_FROM`]): the instructions an unrolled
 /// interpreter runs per loop iteration ([`features::UNROLL_4`]; short tapes
 /// run one). lavapipe counts loop iterations against a silent cap of
 /// 65,535, so an unrolled loop leaves a long tape 4 times the evaluations;
 /// it doubles the compile, so short tapes run one instruction an iteration.
 pub const TAPE_UNROLL: u32 = 4;
 /// Tapes whose value program has this many instructions run 8 an
-/// iteration ([`features::UNROLL_8`]), from [`TAPE_UNROLL_16_FROM`] 16,
-/// their programs padded to match. Measured at 512² in IA (sums of bilinear
-/// terms, cold whole process; unresolved pixels in brackets):
+/// iteration ([`features::UNROLL_8`]), from [`TAPE_UNROLL_16_FROM`] 16, from
+/// [`TAPE_UNROLL_32_FROM`] 32, their programs padded to match. Measured at
+/// 512² in IA (sums of bilinear terms, cold whole process; unresolved
+/// pixels in brackets):
 ///
-/// | instructions | 4 an iteration | 8 | 16 |
-/// |---|---|---|---|
-/// | 3,572 | 5.2 s (0) | | 7.2 s (0) |
-/// | about 4,200 | 5.8 s (45) | 6.3 s (0) | 8.2 s (0) |
-/// | about 7,000 | 9.4 s (663) | 9.7 s (0) | 12.0 s (0) |
-/// | about 10,000 | 17.8 s (6,496) | 15.9 s (253) | 16.3 s (0) |
-/// | 17,862 | 42 s (14,543) | 33.7 s (1,674) | 29.2 s (59) |
+/// | instructions | 4 an iteration | 8 | 16 | 32 |
+/// |---|---|---|---|---|
+/// | 3,572 | 5.2 s (0) | | 7.2 s (0) | |
+/// | about 4,200 | 5.8 s (45) | 6.3 s (0) | 8.2 s (0) | |
+/// | about 7,000 | 9.4 s (663) | 9.7 s (0) | 12.0 s (0) | |
+/// | about 10,000 | 17.8 s (6,496) | 15.9 s (253) | 16.3 s (0) | |
+/// | 17,862 | 42 s (14,543) | 33.7 s (1,674) | 28.5 s (59) | 31.1 s (0) |
+/// | about 28,800 (a 63 KB formula) | | | 96.3 s (1,336) | 84.5 s (4) |
 ///
 /// Past 4 a cell's work no longer fits a round of the per-pixel pass, and
 /// pixels that give up have spent their budget for nothing; below, a longer
@@ -50,6 +52,8 @@ pub const TAPE_UNROLL: u32 = 4;
 pub const TAPE_UNROLL_8_FROM: usize = 4_000;
 /// See [`TAPE_UNROLL_8_FROM`].
 pub const TAPE_UNROLL_16_FROM: usize = 8_000;
+/// See [`TAPE_UNROLL_8_FROM`].
+pub const TAPE_UNROLL_32_FROM: usize = 16_000;
 /// Tapes whose value and derivative programs have this many instructions
 /// together ask for the unrolled interpreter. A cell from the monotonicity
 /// depth on runs both (the derivative program and f at its midpoint), and
@@ -270,7 +274,9 @@ impl TapeData {
             }
             other => other?,
         };
-        let unroll = if value.ops >= TAPE_UNROLL_16_FROM {
+        let unroll = if value.ops >= TAPE_UNROLL_32_FROM {
+            features::UNROLL_32
+        } else if value.ops >= TAPE_UNROLL_16_FROM {
             features::UNROLL_16
         } else if value.ops >= TAPE_UNROLL_8_FROM {
             features::UNROLL_8
@@ -294,13 +300,13 @@ impl TapeData {
         Ok(TapeData { words, ops: value.ops, registers, features: ops | unroll | features::for_registers(registers) })
     }
 
-    /// The largest interpreter step (1, 4, 8 or 16 instructions an iteration)
+    /// The largest interpreter step (1, 4, 8, 16 or 32 instructions an iteration)
     /// both programs are padded for: a kernel that runs more an iteration
     /// would read past a program's end into the next.
     pub fn padding(&self) -> u32 {
         let [_, value, _, deriv] = self.words[0];
         let lengths = value | deriv;
-        [16, 8, TAPE_UNROLL].into_iter().find(|&n| lengths % n == 0).unwrap_or(1)
+        [32, 16, 8, TAPE_UNROLL].into_iter().find(|&n| lengths % n == 0).unwrap_or(1)
     }
 
     /// Loop iterations of one value evaluation by an interpreter running

@@ -60,12 +60,15 @@ pub const UNROLL_8: u32 = 1 << 13;
 /// 16 instructions an iteration, for the longest tapes
 /// ([`super::TAPE_UNROLL_16_FROM`] on, padded to 16); as [`UNROLL_8`].
 pub const UNROLL_16: u32 = 1 << 14;
+/// 32 instructions an iteration ([`super::TAPE_UNROLL_32_FROM`] on, padded
+/// to 32); as [`UNROLL_8`].
+pub const UNROLL_32: u32 = 1 << 15;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
 pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS;
 
 /// What a kernel must have to run a tape: its operations and registers.
-pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16;
+pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16 & !UNROLL_32;
 
 /// Whether a kernel with `features` counts work per bundle.
 pub fn bundle_work(features: u32) -> bool {
@@ -74,7 +77,9 @@ pub fn bundle_work(features: u32) -> bool {
 
 /// Instructions a kernel with `features` runs per loop iteration.
 pub fn unroll(features: u32) -> u32 {
-    if features & UNROLL_16 != 0 {
+    if features & UNROLL_32 != 0 {
+        32
+    } else if features & UNROLL_16 != 0 {
         16
     } else if features & UNROLL_8 != 0 {
         8
