@@ -266,6 +266,17 @@ fn a_huge_generated_shader_is_refused_and_a_slow_compile_is_announced() {
     assert!(o.status.success(), "{}", stderr(&o));
     let kb: usize = stderr(&o).strip_prefix("note: compiling the shader (").and_then(|r| r.strip_suffix(" KB of WGSL) …\n")).unwrap().parse().unwrap();
     assert!((20..200).contains(&kb), "{kb}");
+    // A frame still rendering after a (test-sized) delay is named: a big
+    // tape's frame takes minutes on a CPU device.
+    let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(["render", "x^2 + y^2 + z^2 - 1", "--field", "tape", "--size", "8", "-o", s(&d.join("t.png"))])
+        .env("NODEVICE_SELECT", "1")
+        .env("ISOTRACE_RENDER_NOTE_MS", "0")
+        .output()
+        .unwrap();
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(e.starts_with("note: still rendering the 8x8 frame (a tape of 10 instructions in the interpreter, on ") && e.ends_with("; the first frame includes the driver's compile) …\n"), "{e}");
 }
 
 #[test]

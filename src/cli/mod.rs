@@ -442,6 +442,8 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
 
 /// After how long a pipeline build is reported on stderr.
 const COMPILE_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(2);
+/// After how long a frame still rendering is reported on stderr.
+const RENDER_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(5);
 
 /// Runs `build` (naga, then the driver's shader compiler). When it takes
 /// longer than [`COMPILE_NOTE_AFTER`] (or `ISOTRACE_COMPILE_NOTE_MS`, a
@@ -449,18 +451,30 @@ const COMPILE_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(2
 /// size from `wgsl_bytes`, so that a long compile does not look like a
 /// hang.
 pub fn with_compile_note<T>(wgsl_bytes: impl FnOnce() -> usize + Send, build: impl FnOnce() -> T) -> T {
-    let after = std::env::var("ISOTRACE_COMPILE_NOTE_MS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .map_or(COMPILE_NOTE_AFTER, std::time::Duration::from_millis);
+    with_note("ISOTRACE_COMPILE_NOTE_MS", COMPILE_NOTE_AFTER, || format!("compiling the shader ({} KB of WGSL)", wgsl_bytes().div_ceil(1000)), build)
+}
+
+/// Runs `render` (one frame). When it takes longer than
+/// [`RENDER_NOTE_AFTER`] (or `ISOTRACE_RENDER_NOTE_MS`, a test hook), a note
+/// on stderr says what is rendering: a CPU device compiles the kernel at
+/// its first dispatch, and a big formula's tape takes seconds to minutes a
+/// frame there.
+pub fn with_render_note<T>(what: impl FnOnce() -> String + Send, render: impl FnOnce() -> T) -> T {
+    with_note("ISOTRACE_RENDER_NOTE_MS", RENDER_NOTE_AFTER, || format!("still rendering {}", what()), render)
+}
+
+/// Runs `work`; if it is not done after `after` (or the milliseconds in
+/// the environment variable `hook`), prints `note: {note()} …` on stderr.
+fn with_note<T>(hook: &str, after: std::time::Duration, note: impl FnOnce() -> String + Send, work: impl FnOnce() -> T) -> T {
+    let after = std::env::var(hook).ok().and_then(|v| v.parse().ok()).map_or(after, std::time::Duration::from_millis);
     let (done, wait) = std::sync::mpsc::channel::<()>();
     std::thread::scope(|scope| {
         scope.spawn(move || {
             if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(after) {
-                eprintln!("note: compiling the shader ({} KB of WGSL) …", wgsl_bytes().div_ceil(1000));
+                eprintln!("note: {} …", note());
             }
         });
-        let out = build();
+        let out = work();
         drop(done);
         out
     })

@@ -550,7 +550,16 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let (last, heat_max) = match (&animation, &renderer, &outputs) {
         (Some(an), r, _) => an.run(r.as_ref().zip(gpu.as_ref()).map(|(r, g)| (r, &g.info)), &s, color)?,
         (None, Some(r), super::frames::Outputs::One(path)) => {
-            let mut frame = r.render(&s).map_err(super::render_error)?;
+            let what = || {
+                let field = match field.source(&f.ir) {
+                    isotrace::codegen::FieldSource::Tape(t) => format!("a tape of {} instructions in the interpreter", t.ops),
+                    isotrace::codegen::FieldSource::Scene(_) => "a scene".to_string(),
+                    _ => "the compiled formula".to_string(),
+                };
+                let device = gpu.as_ref().map_or(String::new(), |g| g.info.name.clone());
+                format!("the {}x{} frame ({field}, on {device}; the first frame includes the driver's compile)", s.width, s.height)
+            };
+            let mut frame = super::with_render_note(what, || r.render(&s)).map_err(super::render_error)?;
             let heat_max = output::recolor(&mut frame, color);
             output::write_frame(path, &frame).map_err(super::output_error)?;
             (Some(frame), heat_max)
