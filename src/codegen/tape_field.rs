@@ -66,6 +66,12 @@ fn keeps_line(line: &str, features: u32) -> bool {
     if line_end.ends_with("// unrolled") && step == 1 {
         return false;
     }
+    if let Some((_, groups)) = line_end.rsplit_once("// if ") {
+        let wanted = groups.split(' ').fold(0, |acc, g| acc | features::by_name(g));
+        if wanted & features == 0 {
+            return false;
+        }
+    }
     if let Some((_, n)) = line_end.rsplit_once("// unrolled ") {
         if n.parse::<u32>().is_ok_and(|n| step < n) {
             return false;
@@ -294,6 +300,21 @@ mod tests {
         assert_eq!(cases(features::POWERS | features::PARAMS), 9);
         assert_eq!(cases(features::SMALL_POWERS), 8);
         assert_eq!(cases(features::TRIG), 12);
+        // Register reads only where a case uses them: the third operand for
+        // clamp and mix, the fourth for the slopes of min and max (each read
+        // runs for every instruction, masked), and a list's picks with min
+        // and max only.
+        let reads = |f: u32| {
+            let k = instantiate(Domain::Interval, f);
+            (k.matches("let c = tape_reg_ia").count(), k.matches("let d = tape_reg_ia").count(), k.matches("if (pick == ").count())
+        };
+        assert_eq!(reads(features::TRIG | features::DIV), (0, 0, 0));
+        assert_eq!(reads(features::MISC), (1, 0, 0));
+        assert_eq!(reads(features::MINMAX), (1, 1, 2));
+        // Every group named by an `// if` line is one.
+        for line in TAPE.lines().filter_map(|l| l.rsplit_once("// if ")) {
+            assert!(line.1.split(' ').all(|g| features::by_name(g) != 0), "{}", line.1);
+        }
         // Every case named in the template is a code.
         for line in TAPE.lines().filter(|l| l.trim_start().starts_with("case ")) {
             let name = line.trim_start()[5..].split(':').next().unwrap().trim();

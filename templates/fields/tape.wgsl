@@ -93,8 +93,15 @@ fn tape_step_T(e: u32) -> bool {
     let w = tape_word(e & TAPE_PC_MASK);
     let code = w.x & 0xffu;
     if (code == TAPE_NOP) { return false; }
+    // Every operand is read once, before the switch: lavapipe runs every
+    // case for every instruction, so a read inside a case (clamp's and mix's
+    // third operand, the slopes' of Dmin and Dmax, a list's pick) cost a
+    // dynamically indexed register read each, every step. Lines marked
+    // `if GROUP…` stay only in kernels with one of those groups.
     let a = tape_reg_T(w.y);
     let b = tape_reg_T(w.y >> 16u);
+    let c = tape_reg_T(w.z); // if MINMAX MISC
+    let d = tape_reg_T(w.z >> 16u); // if MINMAX
     var r: T;
     switch (code) {
         case TAPE_CONST: { r = op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)); }
@@ -125,17 +132,19 @@ fn tape_step_T(e: u32) -> bool {
         case TAPE_ATAN2: { r = op_atan2(a, b); }
         case TAPE_MIN: { r = op_min(a, b); }
         case TAPE_MAX: { r = op_max(a, b); }
-        case TAPE_CLAMP: { r = op_clamp(a, b, tape_reg_T(w.z)); }
-        case TAPE_MIX: { r = op_mix(a, b, tape_reg_T(w.z)); }
-        case TAPE_DMIN: { r = op_dmin(a, b, tape_reg_T(w.z), tape_reg_T(w.z >> 16u)); }
-        case TAPE_DMAX: { r = op_dmax(a, b, tape_reg_T(w.z), tape_reg_T(w.z >> 16u)); }
+        case TAPE_CLAMP: { r = op_clamp(a, b, c); }
+        case TAPE_MIX: { r = op_mix(a, b, c); }
+        case TAPE_DMIN: { r = op_dmin(a, b, c, d); }
+        case TAPE_DMAX: { r = op_dmax(a, b, c, d); }
         case TAPE_DSIGN: { r = op_dsign(a, b); }
         case TAPE_DFLOOR: { r = op_dfloor(a, b); }
         default: { r = op_whole(); }
     }
     if (g_tape_record) { tape_note_T(code, w.w, a, b); }
-    let pick = e >> 30u;
-    if (pick != 0u) { r = tape_reg_T(select(w.y, w.z, code >= TAPE_DMIN) >> select(0u, 16u, pick == 2u)); }
+    let pick = e >> 30u; // if MINMAX
+    let dual = code >= TAPE_DMIN; // if MINMAX
+    if (pick == 1u) { if (dual) { r = c; } else { r = a; } } // if MINMAX
+    if (pick == 2u) { if (dual) { r = d; } else { r = b; } } // if MINMAX
     g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r;
     return (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
 }

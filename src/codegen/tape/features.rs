@@ -110,6 +110,24 @@ pub fn for_registers(registers: u32) -> u32 {
     }
 }
 
+/// The operation group called `name` in the interpreter's template
+/// (`// if MINMAX MISC` keeps a line for kernels with either group); 0 for
+/// another name.
+pub fn by_name(name: &str) -> u32 {
+    match name {
+        "DIV" => DIV,
+        "MINMAX" => MINMAX,
+        "SQRT" => SQRT,
+        "EXPLOG" => EXPLOG,
+        "TRIG" => TRIG,
+        "MISC" => MISC,
+        "POWERS" => POWERS,
+        "SMALL_POWERS" => SMALL_POWERS,
+        "PARAMS" => PARAMS,
+        _ => 0,
+    }
+}
+
 /// The names of the operation groups in `features`, for messages.
 pub fn names(features: u32) -> Vec<&'static str> {
     [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters")]
