@@ -60,6 +60,19 @@ fn tape_pow_small_T(a: T, n: u32) -> T {
 
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 
+// Input k (x, y, z, t, then the direction): selects over constant indices,
+// where an indexed read of the array costs what a register read does (a
+// per-lane read of lavapipe's scratch memory) and runs, masked, for every
+// instruction.
+fn tape_input_T(k: u32) -> T {
+    var v = select(g_in_T[0], g_in_T[1], k == 1u);
+    v = select(v, g_in_T[2], k == 2u);
+    v = select(v, g_in_T[3], k == 3u);
+    v = select(v, g_in_T[4], k == 4u);
+    v = select(v, g_in_T[5], k == 5u);
+    return select(v, g_in_T[6], k >= 6u);
+}
+
 // Notes in choice slot `slot` what instruction `code` with operands a and b
 // can do over the slab being enclosed (only while the tile pass records,
 // tape_tiles.wgsl; one call site per step, after the switch): a min or a
@@ -105,7 +118,7 @@ fn tape_step_T(e: u32) -> bool {
     var r: T;
     switch (code) {
         case TAPE_CONST: { r = op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)); }
-        case TAPE_INPUT: { r = g_in_T[min(w.w, 6u)]; }
+        case TAPE_INPUT: { r = tape_input_T(w.w); }
         case TAPE_PARAM: { r = op_const(iso_param(w.w)); }
         case TAPE_NEG: { r = op_neg(a); }
         case TAPE_ADD: { r = op_add(a, b); }
