@@ -104,7 +104,7 @@ fn new_formulas_change_buffers_not_pipelines() {
 /// programs).
 #[test]
 fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_them() {
-    let (f, data) = tape(&sum_of_terms(2000));
+    let (f, data) = tape(&sum_of_terms(2400));
     assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_32_FROM, "{} instructions", data.ops);
     assert_eq!((features::unroll(data.features), data.padding()), (32, 32));
     let s = common::settings(common::cube(2.0), 16, 16);
@@ -135,7 +135,8 @@ fn a_long_tape_runs_8_an_iteration() {
     let (f, data) = tape(&sum_of_terms(700));
     let range = isotrace::codegen::tape::TAPE_UNROLL_8_FROM..isotrace::codegen::tape::TAPE_UNROLL_16_FROM;
     assert!(range.contains(&data.ops), "{} instructions", data.ops);
-    assert_eq!((features::unroll(data.features), data.padding()), (8, 8));
+    assert_eq!(features::unroll(data.features), 8);
+    assert_eq!(data.padding() % 8, 0);
     let s = common::settings(common::cube(1.2), 16, 16);
     let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
     assert_eq!(frame.stats.unresolved, 0, "{:?}", frame.stats);
@@ -145,7 +146,8 @@ fn a_long_tape_runs_8_an_iteration() {
 }
 
 /// A unit sphere plus 1e-4 times a sum of `n` bilinear terms: a tape of
-/// about 6n instructions whose surface is known.
+/// about 7n instructions (its inputs pinned in registers) whose surface is
+/// known.
 fn sum_of_terms(n: u32) -> String {
     let terms: Vec<String> = (0..n).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
     format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"))
@@ -274,7 +276,7 @@ fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
 /// missed.
 #[test]
 fn pixels_past_the_work_limit_resume_and_miss_no_root() {
-    let (f, data) = tape(&sum_of_terms(80));
+    let (f, data) = tape(&sum_of_terms(120));
     let s = common::settings(common::cube(1.2), 32, 32);
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;

@@ -141,6 +141,14 @@ pub(crate) struct Node {
 /// Index of an interpreter input (`Code::Input`): x, y, z, t, then the ray
 /// direction dx, dy, dz of the derivative program.
 pub(crate) const INPUT_DX: u32 = 4;
+/// A tape's inputs may live in the first registers, input k in register k,
+/// written once per run ([`features::PINNED`]): an instruction reads them as
+/// operands, where an input instruction before each use costs a whole
+/// interpreter step (every case of the switch, masked), a third of the
+/// steps of a sum of products. They hold 7 registers for the whole run, so a
+/// tape pins them only where that keeps its register file's size
+/// ([`features::INPUTS`] otherwise).
+pub const TAPE_INPUTS: u32 = 7;
 
 /// Hash-consed tape nodes in topological order.
 #[derive(Default)]
@@ -264,15 +272,25 @@ impl TapeData {
         let f = values[ir.root as usize];
         let df = derivative_program(ir, &values, &mut b);
         let slots = choice_slots(&mut b);
-        let mut value = encode(&b, &[f])?;
-        // A derivative program over the register file gives up the
-        // monotonicity proof, never the render: its slope is the whole line.
-        let mut deriv = match encode(&b, &[df, f]) {
-            Err(TapeError::Registers(_)) => {
-                let whole = b.push(Code::Whole, [0; 4], 0.0);
-                encode(&b, &[whole, f])?
-            }
-            other => other?,
+        let programs = |b: &mut Builder, pinned: bool| -> Result<(Program, Program), TapeError> {
+            let value = encode(b, &[f], pinned)?;
+            // A derivative program over the register file gives up the
+            // monotonicity proof, never the render: its slope is the whole line.
+            let deriv = match encode(b, &[df, f], pinned) {
+                Err(TapeError::Registers(_)) => {
+                    let whole = b.push(Code::Whole, [0; 4], 0.0);
+                    encode(b, &[whole, f], pinned)?
+                }
+                other => other?,
+            };
+            Ok((value, deriv))
+        };
+        let file = |(v, d): &(Program, Program)| features::for_registers(v.registers.max(d.registers));
+        let loaded = programs(&mut b, false)?;
+        // Pinned inputs where they keep the register file's size (and fit).
+        let (mut value, mut deriv, inputs) = match programs(&mut b, true) {
+            Ok(pinned) if file(&pinned) == file(&loaded) => (pinned.0, pinned.1, features::PINNED),
+            _ => (loaded.0, loaded.1, features::INPUTS),
         };
         let unroll = if value.ops >= TAPE_UNROLL_32_FROM {
             features::UNROLL_32
@@ -297,7 +315,7 @@ impl TapeData {
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
         let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
-        Ok(TapeData { words, ops: value.ops, registers, features: ops | unroll | features::for_registers(registers) })
+        Ok(TapeData { words, ops: value.ops, registers, features: ops | inputs | unroll | features::for_registers(registers) })
     }
 
     /// The largest interpreter step (1, 4, 8, 16 or 32 instructions an iteration)
@@ -441,12 +459,13 @@ fn arity(code: Code) -> usize {
 /// rather than every leaf the front end created first), with registers from
 /// a linear scan: an operand's register is freed at its last use, before the
 /// result is given one (the interpreter reads operands before it writes).
-fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
+fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeError> {
     let nodes = &b.nodes;
     let leaf = |i: usize| arity(nodes[i].code) == 0 && !outputs.contains(&(i as u32));
-    // Constants, inputs and parameters are emitted again right before each
-    // use (one instruction) rather than held in a register from their first
-    // use to their last.
+    // Constants, parameters and (not `pinned`) inputs are emitted again
+    // right before each use (one instruction) rather than held in a
+    // register from their first use to their last; `pinned` inputs are read
+    // from their own registers (TAPE_INPUTS).
     let order: Vec<usize> = schedule(nodes, outputs, &b.partner).into_iter().filter(|&i| !leaf(i)).collect();
     let mut last = vec![0usize; nodes.len()];
     for (k, &i) in order.iter().enumerate() {
@@ -457,19 +476,27 @@ fn encode(b: &Builder, outputs: &[u32]) -> Result<Program, TapeError> {
     for &o in outputs {
         last[o as usize] = usize::MAX;
     }
-    let mut regs = Registers { free: vec![], count: 0 };
+    let pin = |i: usize| pinned && nodes[i].code == Code::Input;
+    let mut regs = Registers { free: vec![], count: if pinned { TAPE_INPUTS } else { 0 } };
     let mut reg = vec![0u32; nodes.len()];
     let mut words = Vec::with_capacity(order.len());
     let mut iterations = 0;
     for (k, &i) in order.iter().enumerate() {
         let n = nodes[i];
+        if pin(i) {
+            // An output that is an input (f = x) is its register.
+            reg[i] = n.imm as u32;
+            continue;
+        }
         let args = &n.args[..arity(n.code)];
         let mut dying = vec![];
         for (j, &a) in args.iter().enumerate() {
             if args[..j].contains(&a) {
                 continue;
             }
-            if leaf(a as usize) {
+            if pin(a as usize) {
+                reg[a as usize] = nodes[a as usize].imm as u32;
+            } else if leaf(a as usize) {
                 reg[a as usize] = regs.take();
                 words.push(word(b, a as usize, reg[a as usize], [0; 4]));
                 dying.push(reg[a as usize]);

@@ -207,10 +207,7 @@ const SCALAR_FIELD: &str = "
 // The scalar field: the value program in f32. Past the work limit it is NaN
 // (and the pixel is reported through field_exhausted).
 fn field(p: vec3<f32>) -> f32 {
-    g_in_s[0] = p.x;
-    g_in_s[1] = p.y;
-    g_in_s[2] = p.z;
-    g_in_s[3] = F.time;
+    tape_point_s(p.x, p.y, p.z, F.time);
     if (tape_run_s(0u) == TAPE_EXHAUSTED) { return iso_nan(); }
     return tape_reg_s(tape_word(1u).x);
 }
@@ -295,11 +292,14 @@ mod tests {
         let cases = |f: u32| instantiate(Domain::Interval, f).matches("case TAPE_").count();
         // Every code but Nop (an early return) and Whole (the default).
         assert_eq!(cases(features::ALL), 34);
-        // Const, Input, Neg, Add, Sub, Mul, Sqr.
-        assert_eq!(cases(0), 7);
-        assert_eq!(cases(features::POWERS | features::PARAMS), 9);
-        assert_eq!(cases(features::SMALL_POWERS), 8);
-        assert_eq!(cases(features::TRIG), 12);
+        // Const, Neg, Add, Sub, Mul, Sqr; with input instructions, Input.
+        assert_eq!(cases(0), 6);
+        assert_eq!(cases(features::INPUTS), 7);
+        assert_eq!(instantiate(Domain::Interval, features::PINNED).matches("g_in_ia").count(), 0);
+        assert_eq!(instantiate(Domain::Interval, features::INPUTS).matches("g_regs_ia[0] = x;").count(), 0);
+        assert_eq!(cases(features::POWERS | features::PARAMS), 8);
+        assert_eq!(cases(features::SMALL_POWERS), 7);
+        assert_eq!(cases(features::TRIG), 11);
         // Register reads only where a case uses them: the third operand for
         // clamp and mix, the fourth for the slopes of min and max (each read
         // runs for every instruction, masked), and a list's picks with min

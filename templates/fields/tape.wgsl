@@ -25,8 +25,43 @@
 // invocation and not on every call (lavapipe zeroes a function-scope array
 // on every call: that cost the scene interpreter 5x).
 var<private> g_regs_T: array<T, TAPE_SLOTS>;
-// The inputs: x, y, z, t, then the ray direction (derivative program).
-var<private> g_in_T: array<T, 7>;
+// The inputs of input instructions (kernels for tapes whose inputs are not
+// pinned in registers 0 to 6: src/codegen/tape.rs TAPE_INPUTS).
+var<private> g_in_T: array<T, 7>; // if INPUTS
+
+// The point x, y, z, t and the ray direction: pinned in registers 0 to 6,
+// or where input instructions load them.
+fn tape_point_T(x: T, y: T, z: T, t: T) {
+    g_regs_T[0] = x; // if PINNED
+    g_regs_T[1] = y; // if PINNED
+    g_regs_T[2] = z; // if PINNED
+    g_regs_T[3] = t; // if PINNED
+    g_in_T[0] = x; // if INPUTS
+    g_in_T[1] = y; // if INPUTS
+    g_in_T[2] = z; // if INPUTS
+    g_in_T[3] = t; // if INPUTS
+}
+fn tape_direction_T(dx: T, dy: T, dz: T) {
+    g_regs_T[4] = dx; // if PINNED
+    g_regs_T[5] = dy; // if PINNED
+    g_regs_T[6] = dz; // if PINNED
+    g_in_T[4] = dx; // if INPUTS
+    g_in_T[5] = dy; // if INPUTS
+    g_in_T[6] = dz; // if INPUTS
+}
+
+// Input k of an input instruction: selects over constant indices, where an
+// indexed read of the array costs what a register read does (a per-lane
+// read of lavapipe's scratch memory) and would run, masked, for every
+// instruction.
+fn tape_input_T(k: u32) -> T { // if INPUTS
+    var v = select(g_in_T[0], g_in_T[1], k == 1u); // if INPUTS
+    v = select(v, g_in_T[2], k == 2u); // if INPUTS
+    v = select(v, g_in_T[3], k == 3u); // if INPUTS
+    v = select(v, g_in_T[4], k == 4u); // if INPUTS
+    v = select(v, g_in_T[5], k == 5u); // if INPUTS
+    return select(v, g_in_T[6], k >= 6u); // if INPUTS
+} // if INPUTS
 
 // a^n (n >= 3) by square-and-multiply over the domain's power helpers,
 // exactly as the generated code unrolls it.
@@ -59,19 +94,6 @@ fn tape_pow_small_T(a: T, n: u32) -> T {
 }
 
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
-
-// Input k (x, y, z, t, then the direction): selects over constant indices,
-// where an indexed read of the array costs what a register read does (a
-// per-lane read of lavapipe's scratch memory) and runs, masked, for every
-// instruction.
-fn tape_input_T(k: u32) -> T {
-    var v = select(g_in_T[0], g_in_T[1], k == 1u);
-    v = select(v, g_in_T[2], k == 2u);
-    v = select(v, g_in_T[3], k == 3u);
-    v = select(v, g_in_T[4], k == 4u);
-    v = select(v, g_in_T[5], k == 5u);
-    return select(v, g_in_T[6], k >= 6u);
-}
 
 // Notes in choice slot `slot` what instruction `code` with operands a and b
 // can do over the slab being enclosed (only while the tile pass records,
@@ -117,8 +139,8 @@ fn tape_step_T(e: u32) -> bool {
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
     var r: T;
     switch (code) {
-        case TAPE_CONST: { r = op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)); }
         case TAPE_INPUT: { r = tape_input_T(w.w); }
+        case TAPE_CONST: { r = op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)); }
         case TAPE_PARAM: { r = op_const(iso_param(w.w)); }
         case TAPE_NEG: { r = op_neg(a); }
         case TAPE_ADD: { r = op_add(a, b); }
@@ -231,13 +253,8 @@ fn tape_run_T(prog: u32) -> u32 {
 // gives the whole line: the cell is kept, never wrongly rejected, and the
 // pixel is reported (field_exhausted).
 fn tape_enclosure_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T, slope: bool) -> vec4<f32> {
-    g_in_T[0] = x;
-    g_in_T[1] = y;
-    g_in_T[2] = z;
-    g_in_T[3] = t;
-    g_in_T[4] = dx;
-    g_in_T[5] = dy;
-    g_in_T[6] = dz;
+    tape_point_T(x, y, z, t);
+    tape_direction_T(dx, dy, dz);
     let st = tape_run_T(select(0u, 1u, slope));
     if (st == TAPE_EXHAUSTED) { return vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()); }
     if (st == TAPE_EMPTY) { return vec4<f32>(op_range(op_empty()), 0.0, 0.0); }

@@ -60,12 +60,18 @@ pub const UNROLL_8: u32 = 1 << 13;
 /// 16 instructions an iteration, for the longest tapes
 /// ([`super::TAPE_UNROLL_16_FROM`] on, padded to 16); as [`UNROLL_8`].
 pub const UNROLL_16: u32 = 1 << 14;
+/// Input instructions (the case that loads input k before each use): the
+/// tapes whose inputs are not pinned (see [`PINNED`]).
+pub const INPUTS: u32 = 1 << 16;
+/// Inputs pinned in registers 0 to 6, written once per run
+/// ([`super::TAPE_INPUTS`]): no input instructions.
+pub const PINNED: u32 = 1 << 17;
 /// 32 instructions an iteration ([`super::TAPE_UNROLL_32_FROM`] on, padded
 /// to 32); as [`UNROLL_8`].
 pub const UNROLL_32: u32 = 1 << 15;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
-pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS;
+pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS | INPUTS | PINNED;
 
 /// What a kernel must have to run a tape: its operations and registers.
 pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16 & !UNROLL_32;
@@ -124,13 +130,15 @@ pub fn by_name(name: &str) -> u32 {
         "POWERS" => POWERS,
         "SMALL_POWERS" => SMALL_POWERS,
         "PARAMS" => PARAMS,
+        "INPUTS" => INPUTS,
+        "PINNED" => PINNED,
         _ => 0,
     }
 }
 
 /// The names of the operation groups in `features`, for messages.
 pub fn names(features: u32) -> Vec<&'static str> {
-    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters")]
+    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters"), (INPUTS, "input instructions"), (PINNED, "inputs in registers")]
         .into_iter()
         .filter(|(b, _)| features & b != 0)
         .map(|(_, n)| n)
@@ -150,6 +158,7 @@ impl Code {
             Code::PowChain => POWERS,
             Code::PowSmall => SMALL_POWERS,
             Code::Param => PARAMS,
+            Code::Input => INPUTS,
             _ => 0,
         }
     }
@@ -170,8 +179,25 @@ mod tests {
     use super::*;
     use crate::codegen::TapeData;
 
+    /// The operation groups a tape needs (where its inputs live aside).
     fn features_of(src: &str) -> u32 {
-        TapeData::new(&crate::Formula::compile("<t>", src).expect("formula").ir).expect("tape").features
+        TapeData::new(&crate::Formula::compile("<t>", src).expect("formula").ir).expect("tape").features & !(INPUTS | PINNED)
+    }
+
+    #[test]
+    fn inputs_are_pinned_where_the_register_file_keeps_its_size() {
+        let tape = |src: &str| TapeData::new(&crate::Formula::compile("<t>", src).expect("formula").ir).expect("tape");
+        // A sum of products: 7 more registers still fit 16.
+        let sum: Vec<String> = (1..=40).map(|i| format!("({i}*x - y)*(z + {i})")).collect();
+        let t = tape(&sum.join(" + "));
+        assert_eq!(t.features & (INPUTS | PINNED), PINNED);
+        assert_eq!(slots(t.features), 16);
+        // No input instructions: every input is an operand's register.
+        assert!(t.words.iter().skip(super::super::TAPE_HEADER as usize).all(|w| w[0] & 0xff != super::super::Code::Input as u32));
+        // The Barth decic needs 11 to 16 registers: 7 more would need 32.
+        let decic = crate::catalog::lookup("barth-decic").expect("catalog").compile().expect("formula");
+        let t = TapeData::new(&decic.ir).expect("tape");
+        assert_eq!((t.features & (INPUTS | PINNED), slots(t.features)), (INPUTS, 16));
     }
 
     #[test]
@@ -203,12 +229,12 @@ mod tests {
         for (r, s) in [(1, 16), (16, 16), (17, 32), (32, 32), (33, 64), (64, 64)] {
             assert_eq!(slots(for_registers(r)), s, "{r} registers");
         }
-        assert_eq!(names(ALL).len(), 9);
+        assert_eq!(names(ALL).len(), 11);
         // A long tape asks for the unrolled loop, which no kernel requires.
         let long: Vec<String> = (1..=40).map(|i| format!("(x - {i})*(y + {i})")).collect();
         let f = features_of(&long.join(" + "));
         assert_eq!(f & UNROLL_4, UNROLL_4);
-        assert_eq!(f & REQUIRED & !(SLOTS_32 | SLOTS_64), 0);
+        assert_eq!(f & REQUIRED & !(SLOTS_32 | SLOTS_64 | INPUTS | PINNED), 0);
         assert_eq!(unroll(f), 4);
         assert_eq!(unroll(0), 1);
     }
