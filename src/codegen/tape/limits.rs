@@ -1,0 +1,66 @@
+//! The interpreter's sizes and limits: its register file, how many
+//! instructions its loop runs an iteration for a tape of a given length, and
+//! the work an invocation may spend under lavapipe's silent loop cap.
+
+/// Most registers of the interpreter (a power of two: operands are masked,
+/// so a register index can never leave the array). A kernel has 16, 32 or
+/// 64 of them, as its tapes need ([`super::TapeData::features`]).
+pub const TAPE_SLOTS: u32 = 64;
+/// Programs are padded with no-ops to a multiple of this (of 8, 16 or 32
+/// for the longest tapes, [`TAPE_UNROLL_8_FROM`]): the instructions an unrolled
+/// interpreter runs per loop iteration ([`super::features::UNROLL_4`]; short tapes
+/// run one). lavapipe counts loop iterations against a silent cap of
+/// 65,535, so an unrolled loop leaves a long tape 4 times the evaluations;
+/// it doubles the compile, so short tapes run one instruction an iteration.
+pub const TAPE_UNROLL: u32 = 4;
+/// Tapes whose value program has this many instructions run 8 an
+/// iteration ([`super::features::UNROLL_8`]), from [`TAPE_UNROLL_16_FROM`] 16, from
+/// [`TAPE_UNROLL_32_FROM`] 32, their programs padded to match. Measured at
+/// 512² in IA (sums of bilinear terms, cold whole process; unresolved
+/// pixels in brackets):
+///
+/// | instructions | 4 an iteration | 8 | 16 | 32 |
+/// |---|---|---|---|---|
+/// | 3,572 | 5.2 s (0) | | 7.2 s (0) | |
+/// | about 4,200 | 5.8 s (45) | 6.3 s (0) | 8.2 s (0) | |
+/// | about 7,000 | 9.4 s (663) | 9.7 s (0) | 12.0 s (0) | |
+/// | about 10,000 | 17.8 s (6,496) | 15.9 s (253) | 16.3 s (0) | |
+/// | 17,862 | 42 s (14,543) | 33.7 s (1,674) | 28.5 s (59) | 31.1 s (0) |
+/// | about 28,800 (a 63 KB formula) | | | 96.3 s (1,336) | 84.5 s (4) |
+///
+/// Past 4 a cell's work no longer fits a round of the per-pixel pass, and
+/// pixels that give up have spent their budget for nothing; below, a longer
+/// step only costs compile time (`@city`, 914 instructions, 8.4 s cold at 4,
+/// 10.2 at 8, 16.5 at 16).
+pub const TAPE_UNROLL_8_FROM: usize = 4_000;
+/// See [`TAPE_UNROLL_8_FROM`].
+pub const TAPE_UNROLL_16_FROM: usize = 8_000;
+/// See [`TAPE_UNROLL_8_FROM`].
+pub const TAPE_UNROLL_32_FROM: usize = 16_000;
+/// Tapes whose value and derivative programs have this many instructions
+/// together ask for the unrolled interpreter. A cell from the monotonicity
+/// depth on runs both (the derivative program and f at its midpoint), and
+/// hard pixels take over 100 cells (`@tangle` in IA: 87): below this the
+/// work limit leaves them 85 such cells at one instruction an iteration.
+pub const TAPE_UNROLL_FROM: usize = 64;
+/// Loop iterations the interpreter may spend in one invocation; past it an
+/// evaluation gives up (enclosures become the whole line, the pixel is
+/// reported unresolved). lavapipe's silent cap of 65,535 iterations counts
+/// the loops of a SIMD bundle of 8 invocations together, and invocations
+/// that diverge run the interpreter one after another (measured: a 17,862
+/// instruction tape whose tile pass stopped at 2 evaluations per invocation
+/// still had its loops cut and culled visible tiles). So each invocation
+/// gets an eighth of what the traversal's budget (at most
+/// [`TAPE_MAX_ITER`]) and its short loops leave: 8 × 5,500 + 16,000 +
+/// slack < 65,535.
+pub const TAPE_WORK_LIMIT: u32 = 5_500;
+/// Loop iterations the interpreter may spend in one SIMD bundle of a kernel
+/// that counts them per bundle ([`super::features::BUNDLE_WORK`]): each run adds
+/// the longest run of its active lanes plus one (the caller's loop
+/// iteration), which is what the bundle's loops execute. The cap of 65,535
+/// less the traversal's budget ([`TAPE_MAX_ITER`]) leaves 9,535 iterations
+/// for the traversal's short loops.
+pub const TAPE_BUNDLE_LIMIT: u32 = 40_000;
+/// Largest bisection iteration budget with a tape field (see
+/// [`TAPE_WORK_LIMIT`]).
+pub const TAPE_MAX_ITER: u32 = 16_000;
