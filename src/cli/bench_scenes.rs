@@ -120,7 +120,7 @@ fn row(scene: (Kind, Blending, u32, usize), path: &str, setup_ms: f64, runs: &[S
 fn compiled_formula(scene: &isotrace::scene::Scene) -> Option<isotrace::Formula> {
     let text = scene.to_formula().ok()?;
     let f = isotrace::Formula::compile("<scene>", &text).ok()?;
-    (isotrace::codegen::tape::TapeData::new(&f.ir).ok()?.ops <= COMPILED_MAX_OPS).then_some(f)
+    (isotrace::codegen::tape::TapeData::new(&f.ir).ok()?.size <= COMPILED_MAX_OPS).then_some(f)
 }
 
 /// Measures one scene: sparse, dense unless `dense_estimate` (ms) passes

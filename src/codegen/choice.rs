@@ -73,8 +73,9 @@ impl PreparedField {
     }
 }
 
-/// Instructions of the value program from which `Auto` takes the tape, per
-/// traversal and algebra. Measured on lavapipe 22.3 (README, "Compiled or
+/// Instructions of the value program ([`TapeData::size`]: an input
+/// instruction counted before each use of an input, as when these were
+/// measured) from which `Auto` takes the tape, per traversal and algebra. Measured on lavapipe 22.3 (README, "Compiled or
 /// tape"), cold first 512² frame of sums of bilinear terms in bisection,
 /// compiled / tape: 312 instructions 2.2 / 3.1 s, 612 3.8 / 3.4 s (RAA
 /// 3.9 / 5.2 s), 1,212 10.0 / 4.8 s (RAA 9.3 / 6.1 s), 2,512 28.7 / 6.5 s,
@@ -120,7 +121,7 @@ fn minmax_ops(t: &TapeData) -> usize {
 /// instructions on.
 fn tape_pays(t: &TapeData, traversal: &Traversal) -> bool {
     let raa = matches!(traversal, Traversal::Bisect(b) if b.algebra == super::Domain::Affine);
-    t.ops >= crossover(traversal) || (raa && minmax_ops(t) >= CROSSOVER_RAA_MINMAX)
+    t.size >= crossover(traversal) || (raa && minmax_ops(t) >= CROSSOVER_RAA_MINMAX)
 }
 
 /// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]

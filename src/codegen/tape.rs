@@ -183,6 +183,10 @@ pub struct TapeData {
     pub words: Vec<[u32; 4]>,
     /// Operations of the value program (without padding).
     pub ops: usize,
+    /// Operations of the value program with an input instruction before
+    /// each use of an input, pinned or not: the size `auto`'s crossovers
+    /// were measured in (`codegen::choice`).
+    pub size: usize,
     /// Most registers either program uses.
     pub registers: u32,
     /// The operation groups and register file the interpreter needs
@@ -228,6 +232,7 @@ impl TapeData {
         };
         let file = |(v, d): &(Program, Program)| features::for_registers(v.registers.max(d.registers));
         let loaded = programs(&mut b, false)?;
+        let size = loaded.0.ops;
         // Pinned inputs where they keep the register file's size (and fit).
         let (mut value, mut deriv, inputs) = match programs(&mut b, true) {
             Ok(pinned) if file(&pinned) == file(&loaded) => (pinned.0, pinned.1, features::PINNED),
@@ -256,7 +261,7 @@ impl TapeData {
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
         let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
-        Ok(TapeData { words, ops: value.ops, registers, features: ops | inputs | unroll | features::for_registers(registers) })
+        Ok(TapeData { words, ops: value.ops, size, registers, features: ops | inputs | unroll | features::for_registers(registers) })
     }
 
     /// The largest interpreter step (1, 4, 8, 16 or 32 instructions an iteration)

@@ -192,12 +192,15 @@ mod tests {
         let t = tape(&sum.join(" + "));
         assert_eq!(t.features & (INPUTS | PINNED), PINNED);
         assert_eq!(slots(t.features), 16);
+        // `auto` measures it as if its inputs were loaded (120 loads of x, y, z).
+        assert_eq!(t.size, t.ops + 120);
         // No input instructions: every input is an operand's register.
         assert!(t.words.iter().skip(super::super::TAPE_HEADER as usize).all(|w| w[0] & 0xff != super::super::Code::Input as u32));
         // The Barth decic needs 11 to 16 registers: 7 more would need 32.
         let decic = crate::catalog::lookup("barth-decic").expect("catalog").compile().expect("formula");
         let t = TapeData::new(&decic.ir).expect("tape");
         assert_eq!((t.features & (INPUTS | PINNED), slots(t.features)), (INPUTS, 16));
+        assert_eq!(t.size, t.ops);
     }
 
     #[test]
