@@ -58,6 +58,14 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     let mut r = Renderer::new(gpu(), FieldSource::Tape(&sphere), t.clone()).unwrap();
     let e = r.set_field(FieldSource::Tape(&wavy)).err().expect("refused").to_string();
     assert!(e.contains("the formula needs what the tape kernel was built without (division, trigonometry): build a new renderer"), "{e}");
+    // The ball's inputs are pinned in registers; the Barth decic's are loaded
+    // by input instructions (7 more registers would need 32): a kernel
+    // without that case refuses it.
+    let decic = isotrace::catalog::lookup("barth-decic").unwrap().compile().unwrap();
+    let decic = TapeData::new(&decic.ir).unwrap();
+    assert_eq!((sphere.features & features::PINNED, decic.features & features::INPUTS), (features::PINNED, features::INPUTS));
+    let e = r.set_field(FieldSource::Tape(&decic)).err().expect("refused").to_string();
+    assert!(e.contains("input instructions") && e.ends_with("build a new renderer"), "{e}");
     // A long polynomial asks for the unrolled loop: a kernel without it runs
     // it, one instruction an iteration, so fewer evaluations fit in the work
     // limit (pixels past it are reported); the unrolled kernel resolves all.

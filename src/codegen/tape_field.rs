@@ -35,7 +35,8 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
         }
         word.clear();
     };
-    for line in TAPE.lines() {
+    for line in unrolled(features) {
+        let line = line.as_str();
         if !keeps_line(line, features) {
             continue;
         }
@@ -56,24 +57,27 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
     out
 }
 
+/// The marker of the interpreter loop's lines written once for each step K
+/// after the first (`eK`, `i + Ku`).
+const EACH_STEP: &str = "// each unrolled step K";
+
+/// The template's lines with the unrolled steps of a kernel with
+/// `features` written out.
+fn unrolled(features: u32) -> impl Iterator<Item = String> {
+    let step = features::unroll(features);
+    TAPE.lines().flat_map(move |line| match line.strip_suffix(EACH_STEP) {
+        Some(code) => (1..step).map(|k| code.trim_end().replace("eK", &format!("e{k}")).replace("Ku", &format!("{k}u"))).collect(),
+        None => vec![line.to_string()],
+    })
+}
+
 /// Whether the template line `line` stays in a kernel with `features`: a
 /// `case TAPE_X:` line only when X's group is among them, a line marked
-/// `// unrolled` only in an unrolled interpreter, one marked `// unrolled N`
-/// only in one that runs at least N instructions an iteration.
+/// `// if GROUP…` only when one of those groups is.
 fn keeps_line(line: &str, features: u32) -> bool {
-    let line_end = line.trim_end();
-    let step = features::unroll(features);
-    if line_end.ends_with("// unrolled") && step == 1 {
-        return false;
-    }
-    if let Some((_, groups)) = line_end.rsplit_once("// if ") {
+    if let Some((_, groups)) = line.trim_end().rsplit_once("// if ") {
         let wanted = groups.split(' ').fold(0, |acc, g| acc | features::by_name(g));
         if wanted & features == 0 {
-            return false;
-        }
-    }
-    if let Some((_, n)) = line_end.rsplit_once("// unrolled ") {
-        if n.parse::<u32>().is_ok_and(|n| step < n) {
             return false;
         }
     }

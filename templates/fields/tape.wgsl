@@ -186,10 +186,10 @@ fn tape_step_T(e: u32) -> bool {
 
 // Runs program `prog` (0: value, 1: derivative), the whole of it or the
 // tile's shortened list (tape_span), TAPE_UNROLL instructions per loop
-// iteration (1, 4, 8, 16 or 32: lines marked `unrolled` are left out of a
-// kernel that runs one, lines marked `unrolled N` out of kernels that run
-// fewer than N; programs are padded to a multiple of 4, or of 8, 16 or 32
-// for the longest tapes, lists to the kernel's TAPE_UNROLL). Past the work
+// iteration (1, 4, 8, 16 or 32: lines marked `each unrolled step K` are
+// written once for each K from 1 to TAPE_UNROLL - 1 by
+// src/codegen/tape_field.rs; programs are padded to a multiple of 4, or of
+// 8, 16 or 32 for the longest tapes, lists to the kernel's TAPE_UNROLL). Past the work
 // limit (tape_admits: the power chains' iterations from the header, the
 // loop's, and with the power case one pass of its loop per instruction,
 // which lavapipe runs masked for every instruction) it runs nothing and
@@ -205,42 +205,8 @@ fn tape_run_T(prog: u32) -> u32 {
     for (var i = span.x; i < span.x + len; i = i + TAPE_UNROLL) {
         let e0 = tape_step_T(tape_entry(i));
         empty = empty || e0;
-        let e1 = tape_step_T(tape_entry(i + 1u)); // unrolled
-        let e2 = tape_step_T(tape_entry(i + 2u)); // unrolled
-        let e3 = tape_step_T(tape_entry(i + 3u)); // unrolled
-        empty = empty || e1 || e2 || e3; // unrolled
-        let e4 = tape_step_T(tape_entry(i + 4u)); // unrolled 8
-        let e5 = tape_step_T(tape_entry(i + 5u)); // unrolled 8
-        let e6 = tape_step_T(tape_entry(i + 6u)); // unrolled 8
-        let e7 = tape_step_T(tape_entry(i + 7u)); // unrolled 8
-        let e8 = tape_step_T(tape_entry(i + 8u)); // unrolled 16
-        let e9 = tape_step_T(tape_entry(i + 9u)); // unrolled 16
-        let e10 = tape_step_T(tape_entry(i + 10u)); // unrolled 16
-        let e11 = tape_step_T(tape_entry(i + 11u)); // unrolled 16
-        let e12 = tape_step_T(tape_entry(i + 12u)); // unrolled 16
-        let e13 = tape_step_T(tape_entry(i + 13u)); // unrolled 16
-        let e14 = tape_step_T(tape_entry(i + 14u)); // unrolled 16
-        let e15 = tape_step_T(tape_entry(i + 15u)); // unrolled 16
-        empty = empty || e4 || e5 || e6 || e7; // unrolled 8
-        empty = empty || e8 || e9 || e10 || e11 || e12 || e13 || e14 || e15; // unrolled 16
-        let e16 = tape_step_T(tape_entry(i + 16u)); // unrolled 32
-        let e17 = tape_step_T(tape_entry(i + 17u)); // unrolled 32
-        let e18 = tape_step_T(tape_entry(i + 18u)); // unrolled 32
-        let e19 = tape_step_T(tape_entry(i + 19u)); // unrolled 32
-        let e20 = tape_step_T(tape_entry(i + 20u)); // unrolled 32
-        let e21 = tape_step_T(tape_entry(i + 21u)); // unrolled 32
-        let e22 = tape_step_T(tape_entry(i + 22u)); // unrolled 32
-        let e23 = tape_step_T(tape_entry(i + 23u)); // unrolled 32
-        let e24 = tape_step_T(tape_entry(i + 24u)); // unrolled 32
-        let e25 = tape_step_T(tape_entry(i + 25u)); // unrolled 32
-        let e26 = tape_step_T(tape_entry(i + 26u)); // unrolled 32
-        let e27 = tape_step_T(tape_entry(i + 27u)); // unrolled 32
-        let e28 = tape_step_T(tape_entry(i + 28u)); // unrolled 32
-        let e29 = tape_step_T(tape_entry(i + 29u)); // unrolled 32
-        let e30 = tape_step_T(tape_entry(i + 30u)); // unrolled 32
-        let e31 = tape_step_T(tape_entry(i + 31u)); // unrolled 32
-        empty = empty || e16 || e17 || e18 || e19 || e20 || e21 || e22 || e23; // unrolled 32
-        empty = empty || e24 || e25 || e26 || e27 || e28 || e29 || e30 || e31; // unrolled 32
+        let eK = tape_step_T(tape_entry(i + Ku)); // each unrolled step K
+        empty = empty || eK; // each unrolled step K
     }
     return select(TAPE_DONE, TAPE_EMPTY, empty);
 }
