@@ -99,29 +99,14 @@ pub const CROSSOVER_BISECT_RAA: usize = 1000;
 /// compiled kernels are the cheapest to build).
 pub const CROSSOVER_SPHERE: usize = 4000;
 
-/// Min, max, clamp, abs and sign instructions of the value program from
-/// which `Auto` takes the tape for RAA bisection whatever its size. The
-/// affine min and max are branchy code whose compile grows steeply with
-/// their number, where the tape shortens them away per tile. Measured on
-/// lavapipe 22.3 (README, "Compiled or tape"), cold first 256² frame,
-/// compiled / tape: `@creature` (45 of them, 590 instructions) 10.5 /
-/// 8.0-9.1 s, `@jewel` (48, 624) 2.6 / 7.7 s; the first two rows of
-/// `@city` (about 86, 340) 9.5 / 5.8 s, three rows (about 128, 480) 34.8 /
-/// 7.4 s, all six (257, 914) 145 / 11.9-14.0 s.
-pub const CROSSOVER_RAA_MINMAX: usize = 64;
-
-/// The value program's min, max, clamp, abs and sign instructions.
-fn minmax_ops(t: &TapeData) -> usize {
-    let [start, len, _, _] = t.words[0];
-    t.words[start as usize..(start + len) as usize].iter().filter(|w| super::tape::is_minmax(w[0])).count()
-}
-
 /// Whether `Auto` takes the tape for `t`: from [`crossover`] instructions
-/// on, and for RAA bisection from [`CROSSOVER_RAA_MINMAX`] min/max
-/// instructions on.
+/// on. (Until the op libraries were made branch-free, RAA bisection also
+/// took it from 64 min/max instructions on, whatever the size: the affine
+/// min and max compiled in time that grew steeply with their number,
+/// `@city` 145 s at 256². Now its compiled kernel is sooner at 512² and its
+/// frames are 30 times faster: README, "Compiled or tape".)
 fn tape_pays(t: &TapeData, traversal: &Traversal) -> bool {
-    let raa = matches!(traversal, Traversal::Bisect(b) if b.algebra == super::Domain::Affine);
-    t.size >= crossover(traversal) || (raa && minmax_ops(t) >= CROSSOVER_RAA_MINMAX)
+    t.size >= crossover(traversal)
 }
 
 /// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
@@ -134,8 +119,7 @@ fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
 /// `traversal`. `Tape` fails when the formula cannot be a tape (level-set
 /// CSG, user WGSL, too many registers), `Scene` when it is not a blobtree
 /// or not sphere traced ([`scene`]); `Auto` takes the compiled field for
-/// those, and otherwise the tape where it pays ([`crossover`],
-/// [`CROSSOVER_RAA_MINMAX`]), or when the
+/// those, and otherwise the tape where it pays ([`crossover`]), or when the
 /// compiled kernel would be too large to build. `Auto`'s scene is
 /// [`auto_scene`], tried first by the caller (it changes the traversal's
 /// Lipschitz bound).

@@ -41,11 +41,12 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
             d[id as usize] = Some(e.renamed(format!("d{id}")));
         }
     });
-    if let Some(empty) = empty {
-        let _ = writeln!(out, "    if ({empty}) {{ return vec4<f32>({p}_range({p}_empty()), 0.0, 0.0); }}");
-    }
     let root = d[ir.root as usize].clone().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
-    let _ = writeln!(out, "    return vec4<f32>({p}_range(v{}), {p}_range({root}));", ir.root);
+    let result = format!("vec4<f32>({p}_range(v{}), {p}_range({root}))", ir.root);
+    let _ = match empty {
+        Some(empty) => writeln!(out, "    return select({result}, vec4<f32>({p}_range({p}_empty()), 0.0, 0.0), {empty});"),
+        None => writeln!(out, "    return {result};"),
+    };
     out.push_str("}\n");
     out
 }

@@ -113,10 +113,11 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     let shown = display_limited(ir, ir.root, 160);
     let _ = writeln!(out, "// f = {shown}");
     let _ = writeln!(out, "fn {}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> {ty} {{", domain.eval_fn());
-    if let Some(empty) = emit_body(&mut out, ir, domain, |_, _, _| {}) {
-        let _ = writeln!(out, "    if ({empty}) {{ return {p}_empty(); }}");
-    }
-    let _ = writeln!(out, "    return v{};", ir.root);
+    // A select, not a branch, like the op libraries (their tests say why).
+    let _ = match emit_body(&mut out, ir, domain, |_, _, _| {}) {
+        Some(empty) => writeln!(out, "    return select(v{}, {p}_empty(), {empty});", ir.root),
+        None => writeln!(out, "    return v{};", ir.root),
+    };
     out.push_str("}\n");
     out
 }
@@ -253,3 +254,26 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
         .expect("the eval template has its markers")
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::Domain;
+
+    /// The op libraries choose with `select`, never branch: lavapipe runs
+    /// both sides of a branch anyway, and branches cost its compiler far
+    /// more (`@city` compiled in RAA: 145 s at 256² with a branchy affine
+    /// min and max, 16 s without; README, "Compiled or tape").
+    #[test]
+    fn the_op_libraries_are_branch_free() {
+        let derivative = [include_str!("../../templates/domains/derivative.wgsl"), include_str!("../../templates/domains/derivative_affine.wgsl")];
+        let libraries = [Domain::Scalar, Domain::Interval, Domain::Affine].map(Domain::library);
+        for (i, lib) in libraries.iter().chain(&derivative).enumerate() {
+            for line in lib.lines().map(|l| l.split("//").next().unwrap_or("")) {
+                let words: Vec<&str> = line.split(|c: char| !c.is_alphanumeric() && c != '_').collect();
+                for branch in ["if", "else", "switch", "loop", "for", "while"] {
+                    assert!(!words.contains(&branch), "library {i} branches: {line}");
+                }
+            }
+        }
+    }
+}

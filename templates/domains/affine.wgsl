@@ -7,14 +7,14 @@
 // Empty: x2 < 0; the canonical form (0, 0, -1) converts to the empty interval
 // (1, -1). Operations without a safe affine rule (division, transcendental
 // functions, sqrt, real powers, floor, sign) go through the interval library
-// and convert back, as Knoll et al. do. Requires interval.wgsl.
+// and convert back, as Knoll et al. do. Branch-free, as interval.wgsl is
+// (its header says why). Requires interval.wgsl.
 
 fn ra_const(c: f32) -> vec3<f32> { return vec3<f32>(c, 0.0, 0.0); }
 // A literal from its nearest f32 and its enclosing f32 interval, as the
 // generated code writes one (exact: a constant form; else the interval).
 fn ra_lit(n: f32, lo: f32, hi: f32) -> vec3<f32> {
-    if (lo == hi) { return ra_const(n); }
-    return ra_from_ia(vec2<f32>(lo, hi));
+    return select(ra_from_ia(vec2<f32>(lo, hi)), ra_const(n), lo == hi);
 }
 fn ra_empty() -> vec3<f32> { return vec3<f32>(0.0, 0.0, -1.0); }
 fn ra_is_empty(a: vec3<f32>) -> bool { return a.z < 0.0; }
@@ -24,34 +24,32 @@ fn ra_range(a: vec3<f32>) -> vec2<f32> {
     let i = vec2<f32>(a.x - r, a.x + r);
     // A NaN end (0 * inf or inf - inf in a form that overflowed or is
     // unbounded) means unbounded: lavapipe's min/max would silently drop it.
-    if (iso_is_nan(i.x) || iso_is_nan(i.y)) { return ia_whole(); }
-    return i;
+    return select(i, ia_whole(), iso_is_nan(i.x) || iso_is_nan(i.y));
 }
 // The whole line: an unbounded interval has no centre.
 fn ra_whole() -> vec3<f32> { return vec3<f32>(0.0, 0.0, iso_inf()); }
 // Neither infinite nor NaN (tested on the bits: lavapipe folds NaN compares).
 fn ra_finite(a: f32) -> bool { return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u; }
 fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
-    if (ia_is_empty(i)) { return ra_empty(); }
-    // A point is exact, also an overflowed one (inf, inf).
-    if (i.x == i.y) { return vec3<f32>(i.x, 0.0, 0.0); }
-    // (-inf + inf) / 2 would be a NaN centre, and [1, inf] an infinite one:
-    // both used to turn into wrong finite bounds downstream (NaN dropped by min/max).
-    if (!ra_finite(i.x) || !ra_finite(i.y)) { return ra_whole(); }
     // i.x + i.y overflows when both ends are beyond f32::MAX / 2; halving
     // first does not help (lavapipe refactors 0.5 x + 0.5 y into 0.5 (x + y)),
     // but the difference of two ends of one sign cannot overflow.
     let d = 0.5 * (i.y - i.x);
     let c = select(0.5 * (i.x + i.y), i.x + d, i.x > 0.0 || i.y < 0.0);
-    return vec3<f32>(c, 0.0, d);
+    var r = vec3<f32>(c, 0.0, d);
+    // (-inf + inf) / 2 would be a NaN centre, and [1, inf] an infinite one:
+    // both used to turn into wrong finite bounds downstream (NaN dropped by min/max).
+    r = select(r, ra_whole(), !ra_finite(i.x) || !ra_finite(i.y));
+    // A point is exact, also an overflowed one (inf, inf).
+    r = select(r, vec3<f32>(i.x, 0.0, 0.0), i.x == i.y);
+    return select(r, ra_empty(), ia_is_empty(i));
 }
 // Of two valid enclosures, keep the affine one (its e1 term carries the
 // correlation that later cancellations need) unless the interval is less
 // than half as wide: then the affine form has lost its value (high powers,
 // the even-power rule across 0) and the interval is used.
 fn ra_narrower(a: vec3<f32>, i: vec2<f32>) -> vec3<f32> {
-    if (i.y - i.x < ra_radius(a)) { return ra_from_ia(i); }
-    return a;
+    return select(a, ra_from_ia(i), i.y - i.x < ra_radius(a));
 }
 
 fn ra_neg(a: vec3<f32>) -> vec3<f32> { return vec3<f32>(-a.x, -a.y, a.z); }
@@ -88,9 +86,8 @@ fn ra_sqr(a: vec3<f32>) -> vec3<f32> {
     let s = ra_sqr_affine(a);
     let i = ia_sqr(ra_range(a));
     // An overflowed affine square (inf centre or radius) has lost everything.
-    if (!ra_finite(s.x) || !ra_finite(s.z)) { return ra_from_ia(i); }
-    if (s.x - ra_radius(s) < 0.0 && i.y - i.x <= 2.0 * ra_radius(s)) { return ra_from_ia(i); }
-    return s;
+    let lost = s.x - ra_radius(s) < 0.0 && i.y - i.x <= 2.0 * ra_radius(s);
+    return select(s, ra_from_ia(i), !ra_finite(s.x) || !ra_finite(s.z) || lost);
 }
 // Odd powers: the affine chain and the interval ends are carried together and
 // the narrower result is kept at the end.
@@ -102,33 +99,25 @@ fn ra_pw_odd(a: vec3<f32>, w: RaPow) -> vec3<f32> { return ra_narrower(w.a, w.e)
 
 fn ra_div(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let bi = ra_range(b);
-    if (bi.x > 0.0 || bi.y < 0.0) {
-        // a * (1/b) keeps a's correlation; 1/b itself is an interval.
-        return ra_mul(a, ra_from_ia(vec2<f32>(1.0 / bi.y, 1.0 / bi.x)));
-    }
-    return ra_from_ia(ia_div(ra_range(a), bi));
+    // a * (1/b) keeps a's correlation; 1/b itself is an interval.
+    let q = ra_mul(a, ra_from_ia(vec2<f32>(1.0 / bi.y, 1.0 / bi.x)));
+    return select(ra_from_ia(ia_div(ra_range(a), bi)), q, bi.x > 0.0 || bi.y < 0.0);
 }
 // abs keeps the form when the sign is known.
 fn ra_abs(a: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
-    if (i.x >= 0.0) { return a; }
-    if (i.y <= 0.0) { return ra_neg(a); }
-    return ra_from_ia(ia_abs(i));
+    return select(select(ra_from_ia(ia_abs(i)), ra_neg(a), i.y <= 0.0), a, i.x >= 0.0);
 }
 // min/max keep the form when one operand is certainly smaller.
 fn ra_min(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     let j = ra_range(b);
-    if (i.y <= j.x) { return a; }
-    if (j.y <= i.x) { return b; }
-    return ra_from_ia(ia_min(i, j));
+    return select(select(ra_from_ia(ia_min(i, j)), b, j.y <= i.x), a, i.y <= j.x);
 }
 fn ra_max(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     let j = ra_range(b);
-    if (i.x >= j.y) { return a; }
-    if (j.x >= i.y) { return b; }
-    return ra_from_ia(ia_max(i, j));
+    return select(select(ra_from_ia(ia_max(i, j)), b, j.x >= i.y), a, i.x >= j.y);
 }
 fn ra_clamp(v: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec3<f32> { return ra_min(ra_max(v, lo), hi); }
 fn ra_mix(a: vec3<f32>, b: vec3<f32>, s: vec3<f32>) -> vec3<f32> { return ra_add(a, ra_mul(ra_sub(b, a), s)); }

@@ -9,23 +9,17 @@ fn ia_hull(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return vec2<f32>(min(a.x, 
 // min(a, b)' is a' where a is certainly the smaller, b' where b is, else
 // either (min is continuous, so the hull of both slopes bounds it).
 fn ia_dmin(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32> {
-    if (a.y <= b.x) { return da; }
-    if (b.y <= a.x) { return db; }
-    return ia_hull(da, db);
+    return select(select(ia_hull(da, db), db, b.y <= a.x), da, a.y <= b.x);
 }
 fn ia_dmax(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32> {
-    if (a.x >= b.y) { return da; }
-    if (b.x >= a.y) { return db; }
-    return ia_hull(da, db);
+    return select(select(ia_hull(da, db), db, b.x >= a.y), da, a.x >= b.y);
 }
 // sign and floor are flat between jumps; a jump inside the range makes the
 // function non-monotone in the worst way (it can cross 0 without a root of
 // any continuous piece), so the slope is then the whole line.
 fn ia_dsign(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
-    if (a.x > 0.0 || a.y < 0.0) { return vec2<f32>(0.0); }
-    return ia_whole();
+    return select(ia_whole(), vec2<f32>(0.0), a.x > 0.0 || a.y < 0.0);
 }
 fn ia_dfloor(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
-    if (floor(a.x) == floor(a.y)) { return vec2<f32>(0.0); }
-    return ia_whole();
+    return select(ia_whole(), vec2<f32>(0.0), floor(a.x) == floor(a.y));
 }

@@ -43,13 +43,8 @@ fn s_range(a: f32) -> vec2<f32> { return vec2<f32>(a, a); }
 // a^b for a >= 0 with the limits IEEE pow gives (0^b = 0, 1 or inf);
 // NaN for a < 0 (outside the domain of a real exponent).
 fn iso_pow_pos(a: f32, b: f32) -> f32 {
-    if (a < 0.0) { return iso_nan(); }
-    if (a == 0.0) {
-        if (b > 0.0) { return 0.0; }
-        if (b == 0.0) { return 1.0; }
-        return iso_inf();
-    }
-    return exp2(b * log2(a));
+    let at_zero = select(select(iso_inf(), 1.0, b == 0.0), 0.0, b > 0.0);
+    return select(select(exp2(b * log2(a)), at_zero, a == 0.0), iso_nan(), a < 0.0);
 }
 fn iso_nan() -> f32 { return bitcast<f32>(bitcast<u32>(iso_inf()) | 0x00400000u); }
 fn iso_is_nan(a: f32) -> bool { return (bitcast<u32>(a) & 0x7fffffffu) > 0x7f800000u; }

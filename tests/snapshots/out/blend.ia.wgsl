@@ -16,6 +16,5 @@ fn eval_ia(x: vec2<f32>, y: vec2<f32>, z: vec2<f32>, t: vec2<f32>) -> vec2<f32> 
     let v13 = ia_sqrt(v12);
     let v14 = ia_clamp(v9, v10, v13);
     let v15 = ia_sub(v8, v14);
-    if (ia_is_empty(v13)) { return ia_empty(); }
-    return v15;
+    return select(v15, ia_empty(), ia_is_empty(v13));
 }

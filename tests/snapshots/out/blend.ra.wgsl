@@ -16,6 +16,5 @@ fn eval_ra(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> vec3<f32> 
     let v13 = ra_sqrt(v12);
     let v14 = ra_clamp(v9, v10, v13);
     let v15 = ra_sub(v8, v14);
-    if (ra_is_empty(v13)) { return ra_empty(); }
-    return v15;
+    return select(v15, ra_empty(), ra_is_empty(v13));
 }

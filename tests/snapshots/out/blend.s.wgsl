@@ -16,6 +16,5 @@ fn eval_s(x: f32, y: f32, z: f32, t: f32) -> f32 {
     let v13 = s_sqrt(v12);
     let v14 = s_clamp(v9, v10, v13);
     let v15 = s_sub(v8, v14);
-    if (s_is_empty(v13)) { return s_empty(); }
-    return v15;
+    return select(v15, s_empty(), s_is_empty(v13));
 }

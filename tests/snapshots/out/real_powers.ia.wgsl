@@ -17,6 +17,5 @@ fn eval_ia(x: vec2<f32>, y: vec2<f32>, z: vec2<f32>, t: vec2<f32>) -> vec2<f32> 
     let v14 = ia_add(v10, v13);
     let v15 = ia_const(0.5);
     let v16 = ia_sub(v14, v15);
-    if (ia_is_empty(v5) || ia_is_empty(v9) || ia_is_empty(v13)) { return ia_empty(); }
-    return v16;
+    return select(v16, ia_empty(), ia_is_empty(v5) || ia_is_empty(v9) || ia_is_empty(v13));
 }

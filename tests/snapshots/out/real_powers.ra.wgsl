@@ -17,6 +17,5 @@ fn eval_ra(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> vec3<f32> 
     let v14 = ra_add(v10, v13);
     let v15 = ra_const(0.5);
     let v16 = ra_sub(v14, v15);
-    if (ra_is_empty(v5) || ra_is_empty(v9) || ra_is_empty(v13)) { return ra_empty(); }
-    return v16;
+    return select(v16, ra_empty(), ra_is_empty(v5) || ra_is_empty(v9) || ra_is_empty(v13));
 }

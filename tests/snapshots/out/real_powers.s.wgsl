@@ -17,6 +17,5 @@ fn eval_s(x: f32, y: f32, z: f32, t: f32) -> f32 {
     let v14 = s_add(v10, v13);
     let v15 = s_const(0.5);
     let v16 = s_sub(v14, v15);
-    if (s_is_empty(v5) || s_is_empty(v9) || s_is_empty(v13)) { return s_empty(); }
-    return v16;
+    return select(v16, s_empty(), s_is_empty(v5) || s_is_empty(v9) || s_is_empty(v13));
 }

@@ -25,6 +25,5 @@ fn eval_ia(x: vec2<f32>, y: vec2<f32>, z: vec2<f32>, t: vec2<f32>) -> vec2<f32> 
     let v22 = ia_mul(v0, v2);
     let v23 = ia_atan(v22);
     let v24 = ia_add(v21, v23);
-    if (ia_is_empty(v5) || ia_is_empty(v12)) { return ia_empty(); }
-    return v24;
+    return select(v24, ia_empty(), ia_is_empty(v5) || ia_is_empty(v12));
 }

@@ -25,6 +25,5 @@ fn eval_ra(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> vec3<f32> 
     let v22 = ra_mul(v0, v2);
     let v23 = ra_atan(v22);
     let v24 = ra_add(v21, v23);
-    if (ra_is_empty(v5) || ra_is_empty(v12)) { return ra_empty(); }
-    return v24;
+    return select(v24, ra_empty(), ra_is_empty(v5) || ra_is_empty(v12));
 }

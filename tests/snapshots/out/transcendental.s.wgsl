@@ -25,6 +25,5 @@ fn eval_s(x: f32, y: f32, z: f32, t: f32) -> f32 {
     let v22 = s_mul(v0, v2);
     let v23 = s_atan(v22);
     let v24 = s_add(v21, v23);
-    if (s_is_empty(v5) || s_is_empty(v12)) { return s_empty(); }
-    return v24;
+    return select(v24, s_empty(), s_is_empty(v5) || s_is_empty(v12));
 }
