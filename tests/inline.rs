@@ -60,7 +60,14 @@ fn errors_in_inline_wgsl_point_into_the_users_file() {
     // Wrong number of arguments to a user function is a formula error.
     let o = isotrace(&["check", "bump(x, y)", "--inline", "examples/inline/bumps.wgsl"]);
     assert!(String::from_utf8_lossy(&o.stderr).starts_with("error: wrong number of arguments to 'bump': expected 1, found 2"), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = isotrace(&["eval", "bump(x)", "--inline", "examples/inline/bumps.wgsl", "--cpu"]);
+    // The flags are refused before any box is read (here: a line that is not one).
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_isotrace"));
+    c.args(["eval", "bump(x)", "--inline", "examples/inline/bumps.wgsl", "--cpu"]).env("NODEVICE_SELECT", "1");
+    c.stdin(std::process::Stdio::piped()).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped());
+    let mut child = c.spawn().unwrap();
+    use std::io::Write;
+    let _ = child.stdin.take().unwrap().write_all(b"not a box\n");
+    let o = child.wait_with_output().unwrap();
     assert_eq!(String::from_utf8_lossy(&o.stderr), "error: --cpu cannot evaluate --inline WGSL functions (they run on the device only)\n");
 }
 

@@ -119,11 +119,11 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     if a.cpu && a.field.is_some() {
         return Err(CliError::Input("--field chooses the device's evaluator; --cpu evaluates the f64 reference".into()));
     }
-    let tape = if a.cpu { None } else { device_tape(a.field, f, domain, &params)? };
-    let boxes = read_boxes(&a.boxes, domain == Domain::Scalar, a.time)?;
     if a.cpu && loaded.inline.is_some() {
         return Err(CliError::Input("--cpu cannot evaluate --inline WGSL functions (they run on the device only)".into()));
     }
+    let tape = if a.cpu { None } else { device_tape(a.field, f, domain, &params)? };
+    let boxes = read_boxes(&a.boxes, domain == Domain::Scalar, a.time)?;
     let results: Vec<[f64; 2]> = if a.cpu {
         let p64: Vec<f64> = params.iter().map(|&v| v as f64).collect();
         boxes.iter().map(|b| cpu_eval(&f.ir, domain, b, &p64)).collect()

@@ -17,7 +17,7 @@ pub const TAPE_TILES: &str = include_str!("../../templates/fields/tape_tiles.wgs
 
 /// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
 /// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
-/// several domains' interpreters live in one module. The switch keeps the
+/// several domains' interpreters live in one module. The step keeps the
 /// cases of the operation groups in `features` only.
 pub fn instantiate(domain: Domain, features: u32) -> String {
     let (p, ty) = (domain.prefix(), domain.ty());
@@ -71,8 +71,15 @@ fn unrolled(features: u32) -> impl Iterator<Item = String> {
     })
 }
 
+/// The code of a case of the interpreter's step, a template line
+/// `r = select(r, op_x(a, b), code == TAPE_X);`.
+fn case_name(line: &str) -> Option<&str> {
+    let rest = line.trim().strip_prefix("r = select(r, ")?;
+    rest.rsplit_once("), code == ")?.1.strip_suffix(");")
+}
+
 /// Whether the template line `line` stays in a kernel with `features`: a
-/// `case TAPE_X:` line only when X's group is among them, a line marked
+/// case of `TAPE_X` only when X's group is among them, a line marked
 /// `// if GROUP…` only when one of those groups is.
 fn keeps_line(line: &str, features: u32) -> bool {
     if let Some((_, groups)) = line.trim_end().rsplit_once("// if ") {
@@ -81,8 +88,7 @@ fn keeps_line(line: &str, features: u32) -> bool {
             return false;
         }
     }
-    let Some(rest) = line.trim_start().strip_prefix("case ") else { return true };
-    let name = rest.split(':').next().unwrap_or("").trim();
+    let Some(name) = case_name(line) else { return true };
     Code::from_wgsl_name(name).is_none_or(|c| c.group() & !features == 0)
 }
 
@@ -293,8 +299,8 @@ mod tests {
 
     #[test]
     fn kernels_keep_the_cases_of_their_groups() {
-        let cases = |f: u32| instantiate(Domain::Interval, f).matches("case TAPE_").count();
-        // Every code but Nop (an early return) and Whole (the default).
+        let cases = |f: u32| instantiate(Domain::Interval, f).lines().filter_map(case_name).count();
+        // Every code but Nop (not written) and Whole (the initial value).
         assert_eq!(cases(features::ALL), 34);
         // Const, Neg, Add, Sub, Mul, Sqr; with input instructions, Input.
         assert_eq!(cases(0), 6);
@@ -310,7 +316,7 @@ mod tests {
         // and max only.
         let reads = |f: u32| {
             let k = instantiate(Domain::Interval, f);
-            (k.matches("let c = tape_reg_ia").count(), k.matches("let d = tape_reg_ia").count(), k.matches("if (pick == ").count())
+            (k.matches("let c = tape_reg_ia").count(), k.matches("let d = tape_reg_ia").count(), k.matches(", pick == ").count())
         };
         assert_eq!(reads(features::TRIG | features::DIV), (0, 0, 0));
         assert_eq!(reads(features::MISC), (1, 0, 0));
@@ -320,10 +326,12 @@ mod tests {
             assert!(line.1.split(' ').all(|g| features::by_name(g) != 0), "{}", line.1);
         }
         // Every case named in the template is a code.
-        for line in TAPE.lines().filter(|l| l.trim_start().starts_with("case ")) {
-            let name = line.trim_start()[5..].split(':').next().unwrap().trim();
+        let mut named = 0;
+        for name in TAPE.lines().filter_map(case_name) {
             assert!(Code::from_wgsl_name(name).is_some(), "{name}");
+            named += 1;
         }
+        assert_eq!(named, 34);
     }
 
     #[test]

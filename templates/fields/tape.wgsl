@@ -124,64 +124,68 @@ fn tape_note_T(code: u32, slot: u32, a: T, b: T) {
 // TAPE_LIST_NOP); true when its result is empty and it is strict (the whole
 // function is then empty).
 fn tape_step_T(e: u32) -> bool {
-    if (e == TAPE_LIST_NOP) { return false; }
     let w = tape_word(e & TAPE_PC_MASK);
     let code = w.x & 0xffu;
-    if (code == TAPE_NOP) { return false; }
-    // Every operand is read once, before the switch: lavapipe runs every
-    // case for every instruction, so a read inside a case (clamp's and mix's
-    // third operand, the slopes' of Dmin and Dmax, a list's pick) cost a
-    // dynamically indexed register read each, every step. Lines marked
-    // `if GROUP…` stay only in kernels with one of those groups.
+    // A list's padding or a program's no-op runs like any instruction and
+    // writes nothing (an early return is a branch around the whole step).
+    let live = e != TAPE_LIST_NOP && code != TAPE_NOP;
+    // Every operand is read once, before the cases: lavapipe runs every
+    // case for every instruction (under a lane mask when they were a
+    // `switch`), so a read inside a case (clamp's and mix's third operand,
+    // the slopes' of Dmin and Dmax, a list's pick) cost a dynamically
+    // indexed register read each, every step. Lines marked `if GROUP…` stay
+    // only in kernels with one of those groups.
     let a = tape_reg_T(w.y);
     let b = tape_reg_T(w.y >> 16u);
     let c = tape_reg_T(w.z); // if MINMAX MISC
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
-    var r: T;
-    switch (code) {
-        case TAPE_INPUT: { r = tape_input_T(w.w); }
-        case TAPE_CONST: { r = op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)); }
-        case TAPE_PARAM: { r = op_const(iso_param(w.w)); }
-        case TAPE_NEG: { r = op_neg(a); }
-        case TAPE_ADD: { r = op_add(a, b); }
-        case TAPE_SUB: { r = op_sub(a, b); }
-        case TAPE_MUL: { r = op_mul(a, b); }
-        case TAPE_DIV: { r = op_div(a, b); }
-        case TAPE_SQR: { r = op_sqr(a); }
-        case TAPE_POWCHAIN: { r = tape_pow_T(a, w.w); }
-        case TAPE_POWSMALL: { r = tape_pow_small_T(a, w.w); }
-        case TAPE_SQRT: { r = op_sqrt(a); }
-        case TAPE_EXP: { r = op_exp(a); }
-        case TAPE_LOG: { r = op_log(a); }
-        case TAPE_SIN: { r = op_sin(a); }
-        case TAPE_COS: { r = op_cos(a); }
-        case TAPE_TAN: { r = op_tan(a); }
-        case TAPE_ATAN: { r = op_atan(a); }
-        case TAPE_SINH: { r = op_sinh(a); }
-        case TAPE_COSH: { r = op_cosh(a); }
-        case TAPE_TANH: { r = op_tanh(a); }
-        case TAPE_ABS: { r = op_abs(a); }
-        case TAPE_SIGN: { r = op_sign(a); }
-        case TAPE_FLOOR: { r = op_floor(a); }
-        case TAPE_POW: { r = op_pow(a, b); }
-        case TAPE_ATAN2: { r = op_atan2(a, b); }
-        case TAPE_MIN: { r = op_min(a, b); }
-        case TAPE_MAX: { r = op_max(a, b); }
-        case TAPE_CLAMP: { r = op_clamp(a, b, c); }
-        case TAPE_MIX: { r = op_mix(a, b, c); }
-        case TAPE_DMIN: { r = op_dmin(a, b, c, d); }
-        case TAPE_DMAX: { r = op_dmax(a, b, c, d); }
-        case TAPE_DSIGN: { r = op_dsign(a, b); }
-        case TAPE_DFLOOR: { r = op_dfloor(a, b); }
-        default: { r = op_whole(); }
-    }
-    if (g_tape_record) { tape_note_T(code, w.w, a, b); }
+    // The cases, each computed and selected (src/codegen/tape_field.rs keeps
+    // those of the kernel's groups): a `switch` ran every case too, and
+    // selects cost lavapipe's compiler less (the RAA tape of `@city` 8-10 %
+    // sooner at 256²). A code without a case gives the whole line.
+    var r = op_whole();
+    r = select(r, tape_input_T(w.w), code == TAPE_INPUT);
+    r = select(r, op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)), code == TAPE_CONST);
+    r = select(r, op_const(iso_param(w.w)), code == TAPE_PARAM);
+    r = select(r, op_neg(a), code == TAPE_NEG);
+    r = select(r, op_add(a, b), code == TAPE_ADD);
+    r = select(r, op_sub(a, b), code == TAPE_SUB);
+    r = select(r, op_mul(a, b), code == TAPE_MUL);
+    r = select(r, op_div(a, b), code == TAPE_DIV);
+    r = select(r, op_sqr(a), code == TAPE_SQR);
+    // (Its loop runs no pass for another code's immediate.)
+    r = select(r, tape_pow_T(a, select(1u, w.w, code == TAPE_POWCHAIN)), code == TAPE_POWCHAIN);
+    r = select(r, tape_pow_small_T(a, w.w), code == TAPE_POWSMALL);
+    r = select(r, op_sqrt(a), code == TAPE_SQRT);
+    r = select(r, op_exp(a), code == TAPE_EXP);
+    r = select(r, op_log(a), code == TAPE_LOG);
+    r = select(r, op_sin(a), code == TAPE_SIN);
+    r = select(r, op_cos(a), code == TAPE_COS);
+    r = select(r, op_tan(a), code == TAPE_TAN);
+    r = select(r, op_atan(a), code == TAPE_ATAN);
+    r = select(r, op_sinh(a), code == TAPE_SINH);
+    r = select(r, op_cosh(a), code == TAPE_COSH);
+    r = select(r, op_tanh(a), code == TAPE_TANH);
+    r = select(r, op_abs(a), code == TAPE_ABS);
+    r = select(r, op_sign(a), code == TAPE_SIGN);
+    r = select(r, op_floor(a), code == TAPE_FLOOR);
+    r = select(r, op_pow(a, b), code == TAPE_POW);
+    r = select(r, op_atan2(a, b), code == TAPE_ATAN2);
+    r = select(r, op_min(a, b), code == TAPE_MIN);
+    r = select(r, op_max(a, b), code == TAPE_MAX);
+    r = select(r, op_clamp(a, b, c), code == TAPE_CLAMP);
+    r = select(r, op_mix(a, b, c), code == TAPE_MIX);
+    r = select(r, op_dmin(a, b, c, d), code == TAPE_DMIN);
+    r = select(r, op_dmax(a, b, c, d), code == TAPE_DMAX);
+    r = select(r, op_dsign(a, b), code == TAPE_DSIGN);
+    r = select(r, op_dfloor(a, b), code == TAPE_DFLOOR);
+    if (g_tape_record && live) { tape_note_T(code, w.w, a, b); }
     let pick = e >> 30u; // if MINMAX
     let dual = code >= TAPE_DMIN; // if MINMAX
-    if (pick == 1u) { if (dual) { r = c; } else { r = a; } } // if MINMAX
-    if (pick == 2u) { if (dual) { r = d; } else { r = b; } } // if MINMAX
-    g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r;
-    return (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
+    r = select(r, select(a, c, dual), pick == 1u); // if MINMAX
+    r = select(r, select(b, d, dual), pick == 2u); // if MINMAX
+    if (live) { g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r; }
+    return live && (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
 }
 
 // Runs program `prog` (0: value, 1: derivative), the whole of it or the
@@ -196,11 +200,10 @@ fn tape_step_T(e: u32) -> bool {
 // says so.
 fn tape_run_T(prog: u32) -> u32 {
     let span = tape_span(prog);
-    let len = span.y;
-    if (!tape_admits(select(tape_word(2u).x, tape_word(2u).y, prog == 1u) + len / TAPE_UNROLL + len * TAPE_POW_PASSES)) {
-        g_tape_exhausted = true;
-        return TAPE_EXHAUSTED;
-    }
+    // Refused, the loop runs no iteration (no branch around it).
+    let admitted = tape_admits(select(tape_word(2u).x, tape_word(2u).y, prog == 1u) + span.y / TAPE_UNROLL + span.y * TAPE_POW_PASSES);
+    g_tape_exhausted = g_tape_exhausted || !admitted;
+    let len = select(0u, span.y, admitted);
     var empty = false;
     for (var i = span.x; i < span.x + len; i = i + TAPE_UNROLL) {
         let e0 = tape_step_T(tape_entry(i));
@@ -208,7 +211,7 @@ fn tape_run_T(prog: u32) -> u32 {
         let eK = tape_step_T(tape_entry(i + Ku)); // each unrolled step K
         empty = empty || eK; // each unrolled step K
     }
-    return select(TAPE_DONE, TAPE_EMPTY, empty);
+    return select(select(TAPE_DONE, TAPE_EMPTY, empty), TAPE_EXHAUSTED, !admitted);
 }
 
 // The enclosure of f over the box (x, y, z, t) and, with `slope`, of its
@@ -222,12 +225,12 @@ fn tape_enclosure_T(x: T, y: T, z: T, t: T, dx: T, dy: T, dz: T, slope: bool) ->
     tape_point_T(x, y, z, t);
     tape_direction_T(dx, dy, dz);
     let st = tape_run_T(select(0u, 1u, slope));
-    if (st == TAPE_EXHAUSTED) { return vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()); }
-    if (st == TAPE_EMPTY) { return vec4<f32>(op_range(op_empty()), 0.0, 0.0); }
     let o = tape_word(1u);
     let f = op_range(tape_reg_T(select(o.x, o.y, slope)));
-    if (!slope) { return vec4<f32>(f, -iso_inf(), iso_inf()); }
-    return vec4<f32>(f, op_range(tape_reg_T(o.z)));
+    var r = vec4<f32>(f, -iso_inf(), iso_inf());
+    r = select(r, vec4<f32>(f, op_range(tape_reg_T(o.z))), slope);
+    r = select(r, vec4<f32>(op_range(op_empty()), 0.0, 0.0), st == TAPE_EMPTY);
+    return select(r, vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()), st == TAPE_EXHAUSTED);
 }
 
 // The enclosure of f over the box: what `surf_*` is for a compiled formula,
