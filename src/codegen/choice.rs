@@ -99,14 +99,34 @@ pub const CROSSOVER_BISECT_RAA: usize = 1000;
 /// compiled kernels are the cheapest to build).
 pub const CROSSOVER_SPHERE: usize = 4000;
 
+/// A formula bisected as a tape at least this many times longer than it has
+/// min, max, clamp, abs and sign instructions (a CSG formula: `@city` 3.4,
+/// `@creature` 12) is never taken as a tape by `Auto`, only compiled (unless
+/// the compiled kernel would be too large). Its tape is far slower a frame
+/// than a sum's of the same length, and leaves pixels unresolved from about
+/// 1,700 instructions on, while its compiled kernel builds in seconds.
+/// Measured on lavapipe 22.3 (README, "Compiled or tape"), `@city` and
+/// copies of its blocks, cold first 512² frame, compiled / tape: 878
+/// instructions IA 1.9 / 5 s (256²), RAA 10.8-18.8 / 16.8-21.0 s; 1,760 IA
+/// 4.5 / 40 s (125 unresolved), RAA 40 / 61 s; 3,528 IA 11 / 152 s (18,529
+/// unresolved), RAA 125 / 282 s (18,939 unresolved).
+pub const CSG_RATIO: usize = 16;
+
+/// The value program's min, max, clamp, abs and sign instructions.
+fn minmax_ops(t: &TapeData) -> usize {
+    let [start, len, _, _] = t.words[0];
+    t.words[start as usize..(start + len) as usize].iter().filter(|w| super::tape::is_minmax(w[0])).count()
+}
+
 /// Whether `Auto` takes the tape for `t`: from [`crossover`] instructions
-/// on. (Until the op libraries were made branch-free, RAA bisection also
-/// took it from 64 min/max instructions on, whatever the size: the affine
+/// on, but never for a CSG formula bisected ([`CSG_RATIO`]). (Until the op
+/// libraries were made branch-free, RAA bisection took the tape the other
+/// way round, from 64 min/max instructions on whatever the size: the affine
 /// min and max compiled in time that grew steeply with their number,
-/// `@city` 145 s at 256². Now its compiled kernel is sooner at 512² and its
-/// frames are 30 times faster: README, "Compiled or tape".)
+/// `@city` 145 s at 256².)
 fn tape_pays(t: &TapeData, traversal: &Traversal) -> bool {
-    t.size >= crossover(traversal)
+    let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
+    !csg && t.size >= crossover(traversal)
 }
 
 /// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
@@ -119,7 +139,7 @@ fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
 /// `traversal`. `Tape` fails when the formula cannot be a tape (level-set
 /// CSG, user WGSL, too many registers), `Scene` when it is not a blobtree
 /// or not sphere traced ([`scene`]); `Auto` takes the compiled field for
-/// those, and otherwise the tape where it pays ([`crossover`]), or when the
+/// those, and otherwise the tape where it pays ([`crossover`], [`CSG_RATIO`]), or when the
 /// compiled kernel would be too large to build. `Auto`'s scene is
 /// [`auto_scene`], tried first by the caller (it changes the traversal's
 /// Lipschitz bound).

@@ -64,7 +64,7 @@ impl Code {
 
 pub mod features;
 mod choices;
-pub use choices::{TAPE_CHOICE_SLOTS, TAPE_NO_SLOT};
+pub use choices::{is_minmax, TAPE_CHOICE_SLOTS, TAPE_NO_SLOT};
 use choices::choice_slots;
 
 /// Flag bit of an instruction's first word: the result may be empty.

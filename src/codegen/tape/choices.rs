@@ -6,6 +6,11 @@
 
 use super::{Builder, Code};
 
+/// Whether the instruction with first word `w0` is a min, max, clamp, abs or sign.
+pub fn is_minmax(w0: u32) -> bool {
+    Code::ALL.get((w0 & 0xff) as usize).is_some_and(|c| matches!(c, Code::Min | Code::Max | Code::Clamp | Code::Abs | Code::Sign))
+}
+
 /// Choice slots the tile pass keeps per tile (two bits each; 512 slots are
 /// the tile's 32 words of notes). A min or max past them is never
 /// shortened.
