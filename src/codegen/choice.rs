@@ -107,7 +107,7 @@ pub const CROSSOVER_SPHERE: usize = 4000;
 /// 1,700 instructions on, while its compiled kernel builds in seconds.
 /// Measured on lavapipe 22.3 (README, "Compiled or tape"), `@city` and
 /// copies of its blocks, cold first 512² frame, compiled / tape: 878
-/// instructions IA 1.9 / 5 s (256²), RAA 10.8-18.8 / 16.8-21.0 s; 1,760 IA
+/// instructions IA 2.2-2.6 / 12.5-13.6 s, RAA 10.8-18.8 / 16.8-21.0 s; 1,760 IA
 /// 4.5 / 40 s (125 unresolved), RAA 40 / 61 s; 3,528 IA 11 / 152 s (18,529
 /// unresolved), RAA 125 / 282 s (18,939 unresolved).
 pub const CSG_RATIO: usize = 16;

@@ -254,7 +254,6 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
         .expect("the eval template has its markers")
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::Domain;

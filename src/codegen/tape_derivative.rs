@@ -5,7 +5,7 @@
 //! interpreter only runs `op_*` operations and the same derivative helpers
 //! (`dmin`, `dmax`, `dsign`, `dfloor`, `whole`). Building it here rather than
 //! carrying a derivative through the interpreter (forward mode) keeps one
-//! switch in the shader, whose compile time is what the tape exists to cap.
+//! set of cases in the shader, whose compile time is what the tape exists to cap.
 
 use super::derivative::{rule, Terms, D};
 use super::tape::{Builder, Code, INPUT_DX};

@@ -77,7 +77,7 @@ fn tape_pow_T(a: T, n: u32) -> T {
 }
 
 // a^n for 1 <= n < 8: tape_pow_T written out (at most two squarings), so
-// a kernel whose powers are all small has no loop in its switch.
+// a kernel whose powers are all small has no loop among its cases.
 fn tape_pow_small_T(a: T, n: u32) -> T {
     let b = op_pw_lift(a);
     let top = 31u - countLeadingZeros(n);
@@ -97,7 +97,7 @@ fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 
 // Notes in choice slot `slot` what instruction `code` with operands a and b
 // can do over the slab being enclosed (only while the tile pass records,
-// tape_tiles.wgsl; one call site per step, after the switch): a min or a
+// tape_tiles.wgsl; one call site per step, after the cases): a min or a
 // max which operand its result can be (1 the first, 2 the second, 3
 // either, also for empty or NaN ranges); a square root or logarithm with a
 // slot (it restricts f's domain) whether its argument stays in its domain

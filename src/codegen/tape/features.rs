@@ -1,7 +1,7 @@
-//! Operation groups a tape kernel is compiled with: the interpreter's
-//! `switch` holds only the cases of the groups its tapes use, and its
-//! register file only as many registers as they need. lavapipe runs every
-//! case of a switch for every instruction and compiles each inlined copy of
+//! Operation groups a tape kernel is compiled with: the interpreter's step
+//! holds only the cases of the groups its tapes use, and its register file
+//! only as many registers as they need. lavapipe runs every case for every
+//! instruction (the step selects among them) and compiles each inlined copy of
 //! the interpreter in full, so the groups halve the compile of a polynomial
 //! kernel (`@sphere` in IA: 9.2 s to 4.5 s cold), and make each
 //! instruction cheaper: an IA step of a 1,792-instruction tape took 27 %
