@@ -112,7 +112,7 @@ fn new_formulas_change_buffers_not_pipelines() {
 /// programs).
 #[test]
 fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_them() {
-    let (f, data) = tape(&sum_of_terms(2400));
+    let (f, data) = tape(&sum_of_inputs(16_100));
     assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_32_FROM, "{} instructions", data.ops);
     assert_eq!((features::unroll(data.features), data.padding()), (32, 32));
     let s = common::settings(common::cube(2.0), 16, 16);
@@ -130,8 +130,10 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_th
     assert!(frame.stats.hits >= 12, "{:?}", frame.stats);
     let missed = misses_of_the_reference(&f, &s, &frame, 500, false);
     assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
-    let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
-    let e = r.set_field(FieldSource::Tape(&sphere)).err().expect("refused").to_string();
+    // A cylinder's programs are 4 and 12 instructions long.
+    let (_, cylinder) = tape("x^2 + y^2 - 1");
+    assert_eq!(cylinder.padding(), 4);
+    let e = r.set_field(FieldSource::Tape(&cylinder)).err().expect("refused").to_string();
     assert!(e.contains("the tape kernel runs 32 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
 }
 
@@ -140,7 +142,7 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_th
 /// reference missed.
 #[test]
 fn a_long_tape_runs_8_an_iteration() {
-    let (f, data) = tape(&sum_of_terms(700));
+    let (f, data) = tape(&sum_of_terms(850));
     let range = isotrace::codegen::tape::TAPE_UNROLL_8_FROM..isotrace::codegen::tape::TAPE_UNROLL_16_FROM;
     assert!(range.contains(&data.ops), "{} instructions", data.ops);
     assert_eq!(features::unroll(data.features), 8);
@@ -156,6 +158,15 @@ fn a_long_tape_runs_8_an_iteration() {
 /// A unit sphere plus 1e-4 times a sum of `n` bilinear terms: a tape of
 /// about 7n instructions (its inputs pinned in registers) whose surface is
 /// known.
+/// A sphere plus a small multiple of x + y + z + x + …, `n` inputs: an
+/// instruction per two bytes of formula, for tapes past 16,000 instructions
+/// within the front end's 64 KiB (constants are immediates, and cost a
+/// sum of products no instruction).
+fn sum_of_inputs(n: usize) -> String {
+    let terms: Vec<&str> = ["x", "y", "z"].iter().cycle().take(n).copied().collect();
+    format!("x^2+y^2+z^2-1+1e-5*({})", terms.join("+"))
+}
+
 fn sum_of_terms(n: u32) -> String {
     let terms: Vec<String> = (0..n).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
     format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"))
@@ -284,7 +295,7 @@ fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
 /// missed.
 #[test]
 fn pixels_past_the_work_limit_resume_and_miss_no_root() {
-    let (f, data) = tape(&sum_of_terms(120));
+    let (f, data) = tape(&sum_of_terms(170));
     let s = common::settings(common::cube(1.2), 32, 32);
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
@@ -310,7 +321,7 @@ fn counting_work_per_bundle_resolves_more_and_draws_the_same_picture() {
         eprintln!("skipped: the device has no subgroup operations");
         return;
     }
-    let src = sum_of_terms(120);
+    let src = sum_of_terms(170);
     let (f, data) = tape(&src);
     let s = common::settings(common::cube(1.2), 32, 32);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));

@@ -69,6 +69,17 @@ use choices::choice_slots;
 
 /// Flag bit of an instruction's first word: the result may be empty.
 pub const TAPE_RESTRICTS: u32 = 1 << 8;
+/// Flag bits of an instruction's first word: its first (second) operand is
+/// the constant in its last two words, not a register. A constant re-emitted
+/// before each use was a whole interpreter step, over a quarter of the steps
+/// of a sum of products (fidget's tapes have register-immediate opcodes
+/// for the same reason).
+pub const TAPE_IMM_A: u32 = 1 << 9;
+#[allow(missing_docs)] // see TAPE_IMM_A
+pub const TAPE_IMM_B: u32 = 1 << 10;
+/// Flag bit of a constant's (or an immediate's) first word: the f32 nearest
+/// to it is the enclosure's upper end (otherwise its lower end).
+pub const TAPE_NEAR_HI: u32 = 1 << 11;
 
 /// One tape node before register allocation: operands are node indices.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -174,9 +185,10 @@ pub enum TapeError {
 
 /// A formula as the tape interpreter's buffer (`templates/fields/tape.wgsl`):
 /// the header, then the value and derivative programs, one `vec4<u32>` per
-/// instruction: `[code | restricts << 8 | out << 16, a | b << 16,
-/// c | d << 16, immediate]`; a constant carries its nearest f32 and its
-/// enclosing f32 interval in the last three words.
+/// instruction: `[code | flags | out << 16, a | b << 16, c | d << 16,
+/// immediate]`; a constant carries its enclosing f32 interval in the last
+/// two words (the nearest f32 is one of its ends, [`TAPE_NEAR_HI`]), and so
+/// does an arithmetic instruction with a constant operand ([`TAPE_IMM_A`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct TapeData {
     /// Header and instructions.
@@ -184,8 +196,9 @@ pub struct TapeData {
     /// Operations of the value program (without padding).
     pub ops: usize,
     /// Operations of the value program with an input instruction before
-    /// each use of an input, pinned or not: the size `auto`'s crossovers
-    /// were measured in (`codegen::choice`).
+    /// each use of an input, pinned or not, and a constant instruction
+    /// before each use of a constant, immediate or not: the size `auto`'s
+    /// crossovers were measured in (`codegen::choice`).
     pub size: usize,
     /// Most registers either program uses.
     pub registers: u32,
@@ -232,7 +245,8 @@ impl TapeData {
         };
         let file = |(v, d): &(Program, Program)| features::for_registers(v.registers.max(d.registers));
         let loaded = programs(&mut b, false)?;
-        let size = loaded.0.ops;
+        // As measured for the crossovers: a constant instruction per use.
+        let size = loaded.0.ops + loaded.0.immediates;
         // Pinned inputs where they keep the register file's size (and fit).
         let (mut value, mut deriv, inputs) = match programs(&mut b, true) {
             Ok(pinned) if file(&pinned) == file(&loaded) => (pinned.0, pinned.1, features::PINNED),
@@ -320,6 +334,8 @@ struct Program {
     words: Vec<[u32; 4]>,
     outputs: Vec<u32>,
     ops: usize,
+    /// Constant operands taken as immediates.
+    immediates: usize,
     registers: u32,
     iterations: u32,
 }
@@ -389,6 +405,12 @@ fn schedule(nodes: &[Node], outputs: &[u32], partner: &HashMap<u32, u32>) -> Vec
     order
 }
 
+/// Whether an operation may take a constant operand from its instruction
+/// (its last two words are otherwise unused).
+fn takes_immediate(code: Code) -> bool {
+    matches!(code, Code::Add | Code::Sub | Code::Mul | Code::Div | Code::Pow | Code::Atan2)
+}
+
 /// Operand count of an operation.
 fn arity(code: Code) -> usize {
     match code {
@@ -423,6 +445,7 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         last[o as usize] = usize::MAX;
     }
     let pin = |i: usize| pinned && nodes[i].code == Code::Input;
+    let mut immediates = 0;
     let mut regs = Registers { free: vec![], count: if pinned { TAPE_INPUTS } else { 0 } };
     let mut reg = vec![0u32; nodes.len()];
     let mut words = Vec::with_capacity(order.len());
@@ -435,9 +458,12 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
             continue;
         }
         let args = &n.args[..arity(n.code)];
+        // One constant operand, in either place, is read from the instruction.
+        let imm = takes_immediate(n.code).then(|| args.iter().copied().find(|&a| nodes[a as usize].code == Code::Const && leaf(a as usize))).flatten();
+        immediates += usize::from(imm.is_some());
         let mut dying = vec![];
         for (j, &a) in args.iter().enumerate() {
-            if args[..j].contains(&a) {
+            if args[..j].contains(&a) || imm == Some(a) {
                 continue;
             }
             if pin(a as usize) {
@@ -453,10 +479,23 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         regs.free.extend(dying);
         reg[i] = regs.take();
         let mut ra = [0u32; 4];
+        let mut flags = 0;
         for (j, &a) in args.iter().enumerate() {
-            ra[j] = reg[a as usize];
+            if imm == Some(a) {
+                flags |= if j == 0 { TAPE_IMM_A } else { TAPE_IMM_B };
+            } else {
+                ra[j] = reg[a as usize];
+            }
         }
-        words.push(word(b, i, reg[i], ra));
+        let mut w = word(b, i, reg[i], ra);
+        w[0] |= flags;
+        if let Some(c) = imm {
+            let k = word(b, c as usize, 0, [0; 4]);
+            w[0] |= k[0] & TAPE_NEAR_HI;
+            w[2] = k[2];
+            w[3] = k[3];
+        }
+        words.push(w);
         if n.code == Code::PowChain {
             iterations += 31 - (n.imm as u32).leading_zeros();
         }
@@ -465,7 +504,7 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         return Err(TapeError::Registers(regs.count));
     }
     let ops = words.len();
-    let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, registers: regs.count, iterations };
+    let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, immediates, registers: regs.count, iterations };
     program.pad(TAPE_UNROLL);
     Ok(program)
 }
@@ -493,7 +532,8 @@ fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
     match n.code {
         Code::Const => {
             let (near, lo, hi) = super::f32_enclosure(n.imm);
-            [head, near.to_bits(), lo.to_bits(), hi.to_bits()]
+            let near_hi = if near.to_bits() == hi.to_bits() && lo.to_bits() != hi.to_bits() { TAPE_NEAR_HI } else { 0 };
+            [head | near_hi, 0, lo.to_bits(), hi.to_bits()]
         }
         Code::Min | Code::Max | Code::Dmin | Code::Dmax | Code::Sqrt | Code::Log => {
             let slot = b.slots.get(&(i as u32)).copied().unwrap_or(TAPE_NO_SLOT);
@@ -518,6 +558,9 @@ pub fn wgsl_constants(features: u32) -> String {
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
         ("TAPE_BUNDLE_LIMIT", TAPE_BUNDLE_LIMIT),
         ("TAPE_RESTRICTS", TAPE_RESTRICTS),
+        ("TAPE_IMM_A", TAPE_IMM_A),
+        ("TAPE_IMM_B", TAPE_IMM_B),
+        ("TAPE_NEAR_HI", TAPE_NEAR_HI),
         ("TAPE_CHOICE_SLOTS", TAPE_CHOICE_SLOTS),
         // A kernel with the power-chain case runs a pass of its loop for
         // every instruction (lavapipe enters a loop once even when no lane

@@ -75,7 +75,7 @@ fn unrolled(features: u32) -> impl Iterator<Item = String> {
 /// `r = select(r, op_x(a, b), code == TAPE_X);`.
 fn case_name(line: &str) -> Option<&str> {
     let rest = line.trim().strip_prefix("r = select(r, ")?;
-    rest.rsplit_once("), code == ")?.1.strip_suffix(");")
+    rest.rsplit_once(", code == ")?.1.strip_suffix(");")
 }
 
 /// Whether the template line `line` stays in a kernel with `features`: a

@@ -7,8 +7,9 @@
 // vector gather on lavapipe; a storage load at a per-lane address runs lane
 // by lane): a header, then the value and the derivative programs, one
 // vec4<u32> per instruction:
-//   x: code | restricts << 8 | out << 16, y: a | b << 16, z: c | d << 16,
-//   w: immediate (input, parameter, power); a constant: (near, lo, hi) bits.
+//   x: code | flags << 8 | out << 16, y: a | b << 16, z: c | d << 16,
+//   w: immediate (input, parameter, power); a constant, and an arithmetic
+//   instruction's constant operand: its enclosure's (lo, hi) bits in z, w.
 // The operation codes, limits and run results (TAPE_DONE, TAPE_EMPTY,
 // TAPE_EXHAUSTED) are generated from Rust (TAPE_* constants).
 //
@@ -135,8 +136,12 @@ fn tape_step_T(e: u32) -> bool {
     // the slopes' of Dmin and Dmax, a list's pick) cost a dynamically
     // indexed register read each, every step. Lines marked `if GROUP…` stay
     // only in kernels with one of those groups.
-    let a = tape_reg_T(w.y);
-    let b = tape_reg_T(w.y >> 16u);
+    // A constant, or an arithmetic instruction's constant operand (its flags
+    // TAPE_IMM_A, TAPE_IMM_B): the enclosure in z, w, the nearest f32 one
+    // of its ends.
+    let k = op_lit(bitcast<f32>(select(w.z, w.w, (w.x & TAPE_NEAR_HI) != 0u)), bitcast<f32>(w.z), bitcast<f32>(w.w));
+    let a = select(tape_reg_T(w.y), k, (w.x & TAPE_IMM_A) != 0u);
+    let b = select(tape_reg_T(w.y >> 16u), k, (w.x & TAPE_IMM_B) != 0u);
     let c = tape_reg_T(w.z); // if MINMAX MISC
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
     // The cases, each computed and selected (src/codegen/tape_field.rs keeps
@@ -145,7 +150,7 @@ fn tape_step_T(e: u32) -> bool {
     // sooner at 256²). A code without a case gives the whole line.
     var r = op_whole();
     r = select(r, tape_input_T(w.w), code == TAPE_INPUT);
-    r = select(r, op_lit(bitcast<f32>(w.y), bitcast<f32>(w.z), bitcast<f32>(w.w)), code == TAPE_CONST);
+    r = select(r, k, code == TAPE_CONST);
     r = select(r, op_const(iso_param(w.w)), code == TAPE_PARAM);
     r = select(r, op_neg(a), code == TAPE_NEG);
     r = select(r, op_add(a, b), code == TAPE_ADD);

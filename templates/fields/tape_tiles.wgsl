@@ -102,8 +102,8 @@ fn tape_reads(w: vec4<u32>, pick: u32) -> vec2<u32> {
     if (pick != 0u) { return tape_reg_bit(select(w.y, w.z, code >= TAPE_DMIN) >> select(0u, 16u, pick == 2u)); }
     let n = tape_arity(code);
     var m = vec2<u32>(0u);
-    if (n >= 1u) { m = m | tape_reg_bit(w.y); }
-    if (n >= 2u) { m = m | tape_reg_bit(w.y >> 16u); }
+    if (n >= 1u && (w.x & TAPE_IMM_A) == 0u) { m = m | tape_reg_bit(w.y); }
+    if (n >= 2u && (w.x & TAPE_IMM_B) == 0u) { m = m | tape_reg_bit(w.y >> 16u); }
     if (n >= 3u) { m = m | tape_reg_bit(w.z); }
     if (n >= 4u) { m = m | tape_reg_bit(w.z >> 16u); }
     return m;

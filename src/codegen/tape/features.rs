@@ -192,15 +192,22 @@ mod tests {
         let t = tape(&sum.join(" + "));
         assert_eq!(t.features & (INPUTS | PINNED), PINNED);
         assert_eq!(slots(t.features), 16);
-        // `auto` measures it as if its inputs were loaded (120 loads of x, y, z).
-        assert_eq!(t.size, t.ops + 120);
-        // No input instructions: every input is an operand's register.
-        assert!(t.words.iter().skip(super::super::TAPE_HEADER as usize).all(|w| w[0] & 0xff != super::super::Code::Input as u32));
+        // `auto` measures it as if its inputs were loaded (120 loads of x, y,
+        // z) and its constants too (80, one per term's product and sum).
+        assert_eq!(t.size, t.ops + 120 + 80);
+        // No input or constant instructions: every input is an operand's
+        // register, every constant an immediate of the instruction using it.
+        let codes = |c: super::super::Code| t.words.iter().skip(super::super::TAPE_HEADER as usize).filter(|w| w[0] & 0xff == c as u32).count();
+        assert_eq!((codes(super::super::Code::Input), codes(super::super::Code::Const)), (0, 0));
         // The Barth decic needs 11 to 16 registers: 7 more would need 32.
         let decic = crate::catalog::lookup("barth-decic").expect("catalog").compile().expect("formula");
         let t = TapeData::new(&decic.ir).expect("tape");
         assert_eq!((t.features & (INPUTS | PINNED), slots(t.features)), (INPUTS, 16));
-        assert_eq!(t.size, t.ops);
+        // Its size counts a constant instruction for each immediate operand.
+        let [start, len, _, _] = t.words[0];
+        let imm = super::super::TAPE_IMM_A | super::super::TAPE_IMM_B;
+        let immediates = t.words[start as usize..(start + len) as usize].iter().filter(|w| w[0] & imm != 0).count();
+        assert_eq!(t.size, t.ops + immediates);
     }
 
     #[test]
