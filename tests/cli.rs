@@ -256,7 +256,7 @@ fn header_field_is_the_default_source() {
     let line = e.lines().find(|l| l.starts_with("tape: ")).unwrap_or_else(|| panic!("{e}"));
     let words: Vec<&str> = line.split(' ').collect();
     let (shortened, tiles): (u32, u32) = (words[1].parse().unwrap(), words[3].parse().unwrap());
-    assert!(tiles > 0 && shortened == tiles && line.ends_with("of the value program's 9 instructions"), "{line}");
+    assert!(tiles > 0 && shortened == tiles && line.ends_with("of the value program's 8 instructions"), "{line}");
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["tape_tiles"].as_u64(), Some(u64::from(tiles)), "{v}");
     std::fs::write(&iso, "#@ field: tapes\nx\n").unwrap();

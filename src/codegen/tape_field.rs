@@ -301,7 +301,7 @@ mod tests {
     fn kernels_keep_the_cases_of_their_groups() {
         let cases = |f: u32| instantiate(Domain::Interval, f).lines().filter_map(case_name).count();
         // Every code but Nop (not written) and Whole (the initial value).
-        assert_eq!(cases(features::ALL), 34);
+        assert_eq!(cases(features::ALL), 35);
         // Const, Neg, Add, Sub, Mul, Sqr; with input instructions, Input.
         assert_eq!(cases(0), 6);
         assert_eq!(cases(features::INPUTS), 7);
@@ -321,6 +321,7 @@ mod tests {
         assert_eq!(reads(features::TRIG | features::DIV), (0, 0, 0));
         assert_eq!(reads(features::MISC), (1, 0, 0));
         assert_eq!(reads(features::MINMAX), (1, 1, 2));
+        assert_eq!(reads(features::MAD), (1, 0, 0));
         // Every group named by an `// if` line is one.
         for line in TAPE.lines().filter_map(|l| l.rsplit_once("// if ")) {
             assert!(line.1.split(' ').all(|g| features::by_name(g) != 0), "{}", line.1);
@@ -331,7 +332,7 @@ mod tests {
             assert!(Code::from_wgsl_name(name).is_some(), "{name}");
             named += 1;
         }
-        assert_eq!(named, 34);
+        assert_eq!(named, 35);
     }
 
     #[test]
