@@ -32,11 +32,20 @@ pub const TAPE_UNROLL: u32 = 4;
 /// pixels that give up have spent their budget for nothing; below, a longer
 /// step only costs compile time (`@city`, 914 instructions, 8.4 s cold at 4,
 /// 10.2 at 8, 16.5 at 16).
-pub const TAPE_UNROLL_8_FROM: usize = 4_000;
+///
+/// Those counts had a constant instruction before each use of a constant
+/// and no multiply-adds. With both, the same sums have about 0.57 times as
+/// many value instructions and the derivative program a larger share, so
+/// the lines moved down by a quarter: the 12,503-operation formula (7,148
+/// instructions) left 22 pixels unresolved at 8 an iteration and none at
+/// 16, in the same time (512², cold: 11.3-11.8 against 11.4-12.8 s), and an
+/// 870-term sum (3,488 instructions, `--box=-1.2,1.2`) 7 at 4 and none at 8
+/// (8.7-9.3 against 8.7-8.9 s).
+pub const TAPE_UNROLL_8_FROM: usize = 3_000;
 /// See [`TAPE_UNROLL_8_FROM`].
-pub const TAPE_UNROLL_16_FROM: usize = 8_000;
+pub const TAPE_UNROLL_16_FROM: usize = 6_000;
 /// See [`TAPE_UNROLL_8_FROM`].
-pub const TAPE_UNROLL_32_FROM: usize = 16_000;
+pub const TAPE_UNROLL_32_FROM: usize = 12_000;
 /// Tapes whose value and derivative programs have this many instructions
 /// together ask for the unrolled interpreter. A cell from the monotonicity
 /// depth on runs both (the derivative program and f at its midpoint), and
