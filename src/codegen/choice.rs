@@ -83,6 +83,15 @@ impl PreparedField {
 /// so below the line the compiled kernel is sooner or even and faster
 /// after; above it the tape is sooner and the compiled kernel's compile
 /// grows steeply (3,572: 67 s). Sphere tracing is not re-measured.
+///
+/// Re-measured after constants became immediates and sums of products
+/// multiply-adds (the tape's frames 30-40 % shorter; 512², cold, compiled /
+/// tape, two runs each, sums of 70, 90, 130 and 178 terms): IA, size about
+/// 710 1.24-1.39 / 1.23-1.44 s, 910 1.59-1.65 / 1.25-1.31 s, 1,310 2.1-2.2 /
+/// 1.40-1.43 s; RAA (its compiled kernels build faster: no interval
+/// product's zero test), 910 1.12-1.15 / 1.59-1.61 s, 1,310 1.73-1.87 /
+/// 1.77-1.84 s, 1,790 2.2-2.5 / 1.9-2.3 s. So the IA line moved down to 700
+/// and the RAA line up to 1,500, where the two meet.
 pub fn crossover(traversal: &Traversal) -> usize {
     match traversal {
         Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
@@ -92,9 +101,9 @@ pub fn crossover(traversal: &Traversal) -> usize {
 }
 
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_IA: usize = 1000;
+pub const CROSSOVER_BISECT_IA: usize = 700;
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_RAA: usize = 1000;
+pub const CROSSOVER_BISECT_RAA: usize = 1500;
 /// See [`crossover`] (sphere tracing evaluates only the scalar field: its
 /// compiled kernels are the cheapest to build).
 pub const CROSSOVER_SPHERE: usize = 4000;

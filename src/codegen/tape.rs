@@ -212,9 +212,10 @@ pub struct TapeData {
     /// Operations of the value program (without padding).
     pub ops: usize,
     /// Operations of the value program with an input instruction before
-    /// each use of an input, pinned or not, and a constant instruction
-    /// before each use of a constant, immediate or not: the size `auto`'s
-    /// crossovers were measured in (`codegen::choice`).
+    /// each use of an input, pinned or not, a constant instruction before
+    /// each use of a constant, immediate or not, and a multiply-add counted
+    /// as a product and a sum: the size `auto`'s crossovers were measured
+    /// in (`codegen::choice`).
     pub size: usize,
     /// Most registers either program uses.
     pub registers: u32,
@@ -261,8 +262,9 @@ impl TapeData {
         };
         let file = |(v, d): &(Program, Program)| features::for_registers(v.registers.max(d.registers));
         let loaded = programs(&mut b, false)?;
-        // As measured for the crossovers: a constant instruction per use.
-        let size = loaded.0.ops + loaded.0.immediates;
+        // As measured for the crossovers: a constant instruction per use,
+        // a multiply-add as its product and its sum.
+        let size = loaded.0.ops + loaded.0.immediates + loaded.0.fused;
         // Pinned inputs where they keep the register file's size (and fit).
         let (mut value, mut deriv, inputs) = match programs(&mut b, true) {
             Ok(pinned) if file(&pinned) == file(&loaded) => (pinned.0, pinned.1, features::PINNED),
@@ -352,6 +354,8 @@ struct Program {
     ops: usize,
     /// Constant operands taken as immediates.
     immediates: usize,
+    /// Multiply-adds.
+    fused: usize,
     registers: u32,
     iterations: u32,
 }
@@ -529,7 +533,8 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         return Err(TapeError::Registers(regs.count));
     }
     let ops = words.len();
-    let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, immediates, registers: regs.count, iterations };
+    let fused = words.iter().filter(|w| w[0] & 0xff == Code::Mad as u32).count();
+    let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, immediates, fused, registers: regs.count, iterations };
     program.pad(TAPE_UNROLL);
     Ok(program)
 }

@@ -200,8 +200,9 @@ mod tests {
         assert_eq!(t.features & (INPUTS | PINNED), PINNED);
         assert_eq!(slots(t.features), 16);
         // `auto` measures it as if its inputs were loaded (120 loads of x, y,
-        // z) and its constants too (80, one per term's product and sum).
-        assert_eq!(t.size, t.ops + 120 + 80);
+        // z), its constants too (80, one per term's product and sum), and its
+        // 39 multiply-adds (a term's product and the sum it joins) were two.
+        assert_eq!(t.size, t.ops + 120 + 80 + 39);
         // No input or constant instructions: every input is an operand's
         // register, every constant an immediate of the instruction using it.
         let codes = |c: super::super::Code| t.words.iter().skip(super::super::TAPE_HEADER as usize).filter(|w| w[0] & 0xff == c as u32).count();
@@ -210,11 +211,15 @@ mod tests {
         let decic = crate::catalog::lookup("barth-decic").expect("catalog").compile().expect("formula");
         let t = TapeData::new(&decic.ir).expect("tape");
         assert_eq!((t.features & (INPUTS | PINNED), slots(t.features)), (INPUTS, 16));
-        // Its size counts a constant instruction for each immediate operand.
+        // Its size counts a constant instruction for each immediate operand,
+        // and a multiply-add as two.
         let [start, len, _, _] = t.words[0];
+        let value = &t.words[start as usize..(start + len) as usize];
         let imm = super::super::TAPE_IMM_A | super::super::TAPE_IMM_B;
-        let immediates = t.words[start as usize..(start + len) as usize].iter().filter(|w| w[0] & imm != 0).count();
-        assert_eq!(t.size, t.ops + immediates);
+        let immediates = value.iter().filter(|w| w[0] & imm != 0).count();
+        let fused = value.iter().filter(|w| w[0] & 0xff == super::super::Code::Mad as u32).count();
+        assert!(immediates > 0 && fused > 0);
+        assert_eq!(t.size, t.ops + immediates + fused);
     }
 
     #[test]
