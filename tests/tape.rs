@@ -165,9 +165,9 @@ fn sum_of_inputs(n: usize) -> String {
 }
 
 /// A unit sphere plus 1e-4 times a sum of `n` bilinear terms: a tape of
-/// about 4n instructions (its inputs pinned in registers, its constants
-/// immediates, each term's product and sum one multiply-add) whose surface
-/// is known.
+/// about 3n instructions (its inputs pinned in registers, its constants
+/// immediates, each term's i·x − y one multiply-subtract and its product
+/// and sum one multiply-add) whose surface is known.
 fn sum_of_terms(n: u32) -> String {
     let terms: Vec<String> = (0..n).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002)).collect();
     format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"))
@@ -296,7 +296,7 @@ fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
 /// missed.
 #[test]
 fn pixels_past_the_work_limit_resume_and_miss_no_root() {
-    let (f, data) = tape(&sum_of_terms(210));
+    let (f, data) = tape(&sum_of_terms(280));
     let s = common::settings(common::cube(1.2), 32, 32);
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
@@ -322,7 +322,7 @@ fn counting_work_per_bundle_resolves_more_and_draws_the_same_picture() {
         eprintln!("skipped: the device has no subgroup operations");
         return;
     }
-    let src = sum_of_terms(170);
+    let src = sum_of_terms(230);
     let (f, data) = tape(&src);
     let s = common::settings(common::cube(1.2), 32, 32);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));

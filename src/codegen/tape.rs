@@ -37,15 +37,15 @@ pub const TAPE_HEADER: u32 = 3;
 pub enum Code {
     Nop = 0, Const, Input, Param, Neg, Add, Sub, Mul, Div, Sqr, PowChain,
     Sqrt, Exp, Log, Sin, Cos, Tan, Atan, Sinh, Cosh, Tanh, Abs, Sign, Floor,
-    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole, PowSmall, Mad,
+    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole, PowSmall, Mad, Msub,
 }
 
 impl Code {
-    const ALL: [Code; 37] = [
+    const ALL: [Code; 38] = [
         Code::Nop, Code::Const, Code::Input, Code::Param, Code::Neg, Code::Add, Code::Sub, Code::Mul, Code::Div, Code::Sqr, Code::PowChain,
         Code::Sqrt, Code::Exp, Code::Log, Code::Sin, Code::Cos, Code::Tan, Code::Atan, Code::Sinh, Code::Cosh, Code::Tanh, Code::Abs,
         Code::Sign, Code::Floor, Code::Pow, Code::Atan2, Code::Min, Code::Max, Code::Clamp, Code::Mix, Code::Dmin, Code::Dmax,
-        Code::Dsign, Code::Dfloor, Code::Whole, Code::PowSmall, Code::Mad,
+        Code::Dsign, Code::Dfloor, Code::Whole, Code::PowSmall, Code::Mad, Code::Msub,
     ];
     fn of1(f: Func1) -> Code {
         match f {
@@ -135,24 +135,29 @@ impl Builder {
     pub fn un(&mut self, code: Code, a: u32) -> u32 {
         self.push(code, [a, 0, 0, 0], 0.0)
     }
-    /// A sum with a product of two non-constants is a multiply-add (a
-    /// product with a constant takes it as an immediate, which a
-    /// multiply-add cannot); the product node stays for other users.
+    /// A sum with a product is a multiply-add, a difference whose first
+    /// operand is a product a multiply-subtract ([`Builder::fuse`]); the
+    /// product node stays for other users.
     pub fn bin(&mut self, code: Code, a: u32, b: u32) -> u32 {
-        if code == Code::Add {
-            if let Some([p, q]) = self.product(a) {
-                return self.push(Code::Mad, [p, q, b, 0], 0.0);
-            }
-            if let Some([p, q]) = self.product(b) {
-                return self.push(Code::Mad, [p, q, a, 0], 0.0);
-            }
-        }
-        self.push(code, [a, b, 0, 0], 0.0)
+        let fused = match code {
+            Code::Add => self.fuse(Code::Mad, a, b).or_else(|| self.fuse(Code::Mad, b, a)),
+            Code::Sub => self.fuse(Code::Msub, a, b),
+            _ => None,
+        };
+        fused.unwrap_or_else(|| self.push(code, [a, b, 0, 0], 0.0))
     }
-    fn product(&self, n: u32) -> Option<[u32; 2]> {
-        let node = self.nodes[n as usize];
+    /// `code` (`Mad`, `Msub`) of the product `m` and `c`, where `m` is a
+    /// product with at most one constant factor, which goes second (an
+    /// immediate there, the only place a multiply-add takes one), and `c`
+    /// is not a constant besides it.
+    fn fuse(&mut self, code: Code, m: u32, c: u32) -> Option<u32> {
+        let node = self.nodes[m as usize];
         let konst = |i: u32| self.nodes[i as usize].code == Code::Const;
-        (node.code == Code::Mul && !konst(node.args[0]) && !konst(node.args[1])).then_some([node.args[0], node.args[1]])
+        let [p, q] = if konst(node.args[0]) { [node.args[1], node.args[0]] } else { [node.args[0], node.args[1]] };
+        if node.code != Code::Mul || konst(p) || (konst(q) && konst(c)) {
+            return None;
+        }
+        Some(self.push(code, [p, q, c, 0], 0.0))
     }
     pub fn konst(&mut self, c: f64) -> u32 {
         self.push(Code::Const, [0; 4], c)
@@ -435,7 +440,8 @@ fn schedule(nodes: &[Node], outputs: &[u32], partner: &HashMap<u32, u32>) -> Vec
 }
 
 /// Whether an operation may take a constant operand from its instruction
-/// (its last two words are otherwise unused).
+/// (its last two words are otherwise unused; a multiply-add, as its second
+/// factor, its addend's register then in the factor's place).
 fn takes_immediate(code: Code) -> bool {
     matches!(code, Code::Add | Code::Sub | Code::Mul | Code::Div | Code::Pow | Code::Atan2)
 }
@@ -445,7 +451,7 @@ fn arity(code: Code) -> usize {
     match code {
         Code::Nop | Code::Const | Code::Input | Code::Param | Code::Whole => 0,
         Code::Add | Code::Sub | Code::Mul | Code::Div | Code::Pow | Code::Atan2 | Code::Min | Code::Max | Code::Dsign | Code::Dfloor => 2,
-        Code::Clamp | Code::Mix | Code::Mad => 3,
+        Code::Clamp | Code::Mix | Code::Mad | Code::Msub => 3,
         Code::Dmin | Code::Dmax => 4,
         _ => 1,
     }
@@ -487,8 +493,14 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
             continue;
         }
         let args = &n.args[..arity(n.code)];
-        // One constant operand, in either place, is read from the instruction.
-        let imm = takes_immediate(n.code).then(|| args.iter().copied().find(|&a| nodes[a as usize].code == Code::Const && leaf(a as usize))).flatten();
+        // One constant operand, in either place (a multiply-add's: its
+        // second factor), is read from the instruction.
+        let konst = |a: u32| nodes[a as usize].code == Code::Const && leaf(a as usize);
+        let imm = match n.code {
+            Code::Mad | Code::Msub => Some(args[1]).filter(|&a| konst(a)),
+            c if takes_immediate(c) => args.iter().copied().find(|&a| konst(a)),
+            _ => None,
+        };
         immediates += usize::from(imm.is_some());
         let mut dying = vec![];
         for (j, &a) in args.iter().enumerate() {
@@ -519,6 +531,10 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         let mut w = word(b, i, reg[i], ra);
         w[0] |= flags;
         if let Some(c) = imm {
+            if args.len() == 3 {
+                // A multiply-add's addend moves to the immediate's place.
+                w[1] = ra[0] | ra[2] << 16;
+            }
             let k = word(b, c as usize, 0, [0; 4]);
             w[0] |= k[0] & TAPE_NEAR_HI;
             w[2] = k[2];
@@ -533,7 +549,7 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         return Err(TapeError::Registers(regs.count));
     }
     let ops = words.len();
-    let fused = words.iter().filter(|w| w[0] & 0xff == Code::Mad as u32).count();
+    let fused = words.iter().filter(|w| [Code::Mad as u32, Code::Msub as u32].contains(&(w[0] & 0xff))).count();
     let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, immediates, fused, registers: regs.count, iterations };
     program.pad(TAPE_UNROLL);
     Ok(program)

@@ -142,7 +142,9 @@ fn tape_step_T(e: u32) -> bool {
     let k = op_lit(bitcast<f32>(select(w.z, w.w, (w.x & TAPE_NEAR_HI) != 0u)), bitcast<f32>(w.z), bitcast<f32>(w.w));
     let a = select(tape_reg_T(w.y), k, (w.x & TAPE_IMM_A) != 0u);
     let b = select(tape_reg_T(w.y >> 16u), k, (w.x & TAPE_IMM_B) != 0u);
-    let c = tape_reg_T(w.z); // if MINMAX MISC MAD
+    // A multiply-add with an immediate factor has its addend where the
+    // factor's register would be.
+    let c = tape_reg_T(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); // if MINMAX MISC MAD
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
     // The cases, each computed and selected (src/codegen/tape_field.rs keeps
     // those of the kernel's groups): a `switch` ran every case too, and
@@ -157,6 +159,7 @@ fn tape_step_T(e: u32) -> bool {
     r = select(r, op_sub(a, b), code == TAPE_SUB);
     r = select(r, op_mul(a, b), code == TAPE_MUL);
     r = select(r, op_add(op_mul(a, b), c), code == TAPE_MAD);
+    r = select(r, op_sub(op_mul(a, b), c), code == TAPE_MSUB);
     r = select(r, op_div(a, b), code == TAPE_DIV);
     r = select(r, op_sqr(a), code == TAPE_SQR);
     // (Its loop runs no pass for another code's immediate.)

@@ -104,7 +104,7 @@ fn tape_reads(w: vec4<u32>, pick: u32) -> vec2<u32> {
     var m = vec2<u32>(0u);
     if (n >= 1u && (w.x & TAPE_IMM_A) == 0u) { m = m | tape_reg_bit(w.y); }
     if (n >= 2u && (w.x & TAPE_IMM_B) == 0u) { m = m | tape_reg_bit(w.y >> 16u); }
-    if (n >= 3u) { m = m | tape_reg_bit(w.z); }
+    if (n >= 3u) { m = m | tape_reg_bit(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); }
     if (n >= 4u) { m = m | tape_reg_bit(w.z >> 16u); }
     return m;
 }

@@ -69,10 +69,10 @@ pub const PINNED: u32 = 1 << 17;
 /// 32 instructions an iteration ([`super::TAPE_UNROLL_32_FROM`] on, padded
 /// to 32); as [`UNROLL_8`].
 pub const UNROLL_32: u32 = 1 << 15;
-/// Multiply-adds, a·b + c (both factors non-constant): the product and sum
-/// of a sum of products in one step, a fifth fewer steps for such a tape.
-/// Its third operand is read on every step, which kernels without it are
-/// spared.
+/// Multiply-adds and -subtracts, a·b ± c (b may be an immediate): a
+/// product and the sum or difference it joins in one step, a third fewer
+/// steps for a sum of products. Their third operand is read on every step,
+/// which kernels without them are spared.
 pub const MAD: u32 = 1 << 18;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
@@ -165,7 +165,7 @@ impl Code {
             Code::PowSmall => SMALL_POWERS,
             Code::Param => PARAMS,
             Code::Input => INPUTS,
-            Code::Mad => MAD,
+            Code::Mad | Code::Msub => MAD,
             _ => 0,
         }
     }
@@ -201,8 +201,9 @@ mod tests {
         assert_eq!(slots(t.features), 16);
         // `auto` measures it as if its inputs were loaded (120 loads of x, y,
         // z), its constants too (80, one per term's product and sum), and its
-        // 39 multiply-adds (a term's product and the sum it joins) were two.
-        assert_eq!(t.size, t.ops + 120 + 80 + 39);
+        // 39 multiply-adds (a term's product and the sum it joins) and 40
+        // multiply-subtracts (i·x − y) were two instructions each.
+        assert_eq!(t.size, t.ops + 120 + 80 + 39 + 40);
         // No input or constant instructions: every input is an operand's
         // register, every constant an immediate of the instruction using it.
         let codes = |c: super::super::Code| t.words.iter().skip(super::super::TAPE_HEADER as usize).filter(|w| w[0] & 0xff == c as u32).count();
@@ -217,7 +218,7 @@ mod tests {
         let value = &t.words[start as usize..(start + len) as usize];
         let imm = super::super::TAPE_IMM_A | super::super::TAPE_IMM_B;
         let immediates = value.iter().filter(|w| w[0] & imm != 0).count();
-        let fused = value.iter().filter(|w| w[0] & 0xff == super::super::Code::Mad as u32).count();
+        let fused = value.iter().filter(|w| [super::super::Code::Mad as u32, super::super::Code::Msub as u32].contains(&(w[0] & 0xff))).count();
         assert!(immediates > 0 && fused > 0);
         assert_eq!(t.size, t.ops + immediates + fused);
     }
