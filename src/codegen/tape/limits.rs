@@ -40,12 +40,16 @@ pub const TAPE_UNROLL: u32 = 4;
 /// instructions) left 22 pixels unresolved at 8 an iteration and none at
 /// 16, in the same time (512², cold: 11.3-11.8 against 11.4-12.8 s), and an
 /// 870-term sum (3,488 instructions, `--box=-1.2,1.2`) 7 at 4 and none at 8
-/// (8.7-9.3 against 8.7-8.9 s).
+/// (8.7-9.3 against 8.7-8.9 s). With multiply-subtracts and immediate
+/// factors as well, the 12,503-operation formula is 5,362 instructions and
+/// left 9 pixels unresolved at 8 (7.8 s cold) and none at 16 (11.0 s): the
+/// 16 and 32 lines moved down again, to 5,000 and 10,000; the 870-term sum
+/// (2,617 instructions) resolves every pixel at 4 (7.5 s; 8.0 s at 8).
 pub const TAPE_UNROLL_8_FROM: usize = 3_000;
 /// See [`TAPE_UNROLL_8_FROM`].
-pub const TAPE_UNROLL_16_FROM: usize = 6_000;
+pub const TAPE_UNROLL_16_FROM: usize = 5_000;
 /// See [`TAPE_UNROLL_8_FROM`].
-pub const TAPE_UNROLL_32_FROM: usize = 12_000;
+pub const TAPE_UNROLL_32_FROM: usize = 10_000;
 /// Tapes whose value and derivative programs have this many instructions
 /// together ask for the unrolled interpreter. A cell from the monotonicity
 /// depth on runs both (the derivative program and f at its midpoint), and
