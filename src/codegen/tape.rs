@@ -359,7 +359,7 @@ struct Program {
     ops: usize,
     /// Constant operands taken as immediates.
     immediates: usize,
-    /// Multiply-adds.
+    /// Multiply-adds and multiply-subtracts.
     fused: usize,
     registers: u32,
     iterations: u32,
