@@ -345,3 +345,23 @@ fn wgsl_prints_the_tape_kernel_which_does_not_depend_on_the_formula() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("--algebra scalar has no render kernel"));
 }
+
+/// `auto` counts the frames a render makes: a sum of products just past the
+/// IA line takes the tape for one frame and stays compiled for an
+/// animation, whose later frames the tape would make 10-25 times slower.
+#[test]
+fn auto_takes_the_frames_of_an_animation_into_account() {
+    let terms: Vec<String> = (0..90).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002 + 0.001)).collect();
+    let formula = format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"));
+    let field = |extra: &[&str], out: &str| {
+        let out = tmp(out);
+        let mut args = vec!["render", formula.as_str(), "--size", "8", "--stats", "-o", out.to_str().unwrap()];
+        args.extend(extra);
+        let o = isotrace(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let e = stderr(&o);
+        e.split("  field ").nth(1).and_then(|r| r.split(' ').next()).unwrap_or_else(|| panic!("{e}")).to_string()
+    };
+    assert_eq!(field(&[], "one.png"), "tape");
+    assert_eq!(field(&["--frames", "3"], "anim_%04d.png"), "compiled");
+}

@@ -472,3 +472,26 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
         assert_eq!(auto(&sum_of_terms(400), domain).1, FieldKind::Tape, "{domain:?}");
     }
 }
+
+/// `auto` weighs the number of frames: a sum past the IA line (size about
+/// 910) takes the tape for one frame, whose head start a second frame
+/// spends, and stays compiled for an animation of 4 frames (the line ×2);
+/// a sum four times as long takes the tape however many frames.
+#[test]
+fn auto_weighs_the_frames_of_the_job() {
+    use isotrace::codegen::{choice, FieldKind};
+    let ia = Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let kind = |terms: u32, frames: u64| {
+        let f = Formula::compile("<sum>", &sum_of_terms(terms)).unwrap();
+        let t = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+        (t.size, choice::choose_for(FieldKind::Auto, &f, &[], &ia, frames).unwrap().kind())
+    };
+    let (size, one) = kind(90, 1);
+    assert!(size > choice::crossover(&ia) && size < 2 * choice::crossover(&ia), "{size}");
+    assert_eq!(one, FieldKind::Tape);
+    assert_eq!(kind(90, 4).1, FieldKind::Compiled);
+    assert_eq!(kind(90, 1000).1, FieldKind::Compiled);
+    let (size, k) = kind(400, 1000);
+    assert!(size > 4 * choice::crossover(&ia), "{size}");
+    assert_eq!(k, FieldKind::Tape);
+}

@@ -438,7 +438,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             // A scene's operators may need a larger Lipschitz bound than the
             // header's (never a smaller one): prepare_field raises it.
             let mut t = Traversal::Sphere(o);
-            let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
+            let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false, u64::from(a.repeat) + 1).map_err(|e| job_error(&e))?;
             let start = Instant::now();
             let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
             let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
@@ -452,7 +452,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let mut t = Traversal::Bisect(BisectOptions::new(domain));
-    let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false).map_err(|e| job_error(&e))?;
+    let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false, u64::from(a.repeat) + 1).map_err(|e| job_error(&e))?;
     let start = Instant::now();
     let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
     let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;

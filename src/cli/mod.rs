@@ -137,7 +137,9 @@ pub(crate) fn field_kind(a: FieldArg) -> codegen::FieldKind {
 /// parameter values `params`, traced by `t`. A scene needs the Lipschitz
 /// bound of its operators: unless `--lipschitz` was given, sphere tracing
 /// takes at least that.
-pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool) -> Result<codegen::PreparedField, CliError> {
+/// `frames`: how many frames the job renders with the field (auto weighs
+/// the tape's sooner first frame against its slower later ones).
+pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<codegen::PreparedField, CliError> {
     use isotrace::codegen::choice::{self, FieldError, SceneFieldError};
     use isotrace::codegen::{FieldKind, TapeError};
     let kind = field_kind(arg.unwrap_or(FieldArg::Auto));
@@ -164,7 +166,7 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32
         }
         return Ok(field);
     }
-    choice::choose(kind, f, params, t).map_err(|e| {
+    choice::choose_for(kind, f, params, t, frames).map_err(|e| {
         let fix = match &e {
             FieldError::Tape(TapeError::UserFunction(_) | TapeError::Hooks) => "the functions and hooks of --inline need --field compiled (or auto)",
             _ => "render it with --field compiled (or auto)",

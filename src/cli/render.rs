@@ -533,7 +533,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let mut traversal = traversal;
     // --field, else the .iso header's `field`, else auto.
     let field_given = a.view.field.or(header.and_then(|h| h.field).map(super::field_arg));
-    let field = super::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some())?;
+    let field = super::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some(), todo as u64)?;
     if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && !matches!(field.source(&f.ir), isotrace::codegen::FieldSource::Scene(_)) {
         return Err(input("--scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene"));
     }

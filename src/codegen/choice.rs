@@ -133,9 +133,19 @@ fn minmax_ops(t: &TapeData) -> usize {
 /// way round, from 64 min/max instructions on whatever the size: the affine
 /// min and max compiled in time that grew steeply with their number,
 /// `@city` 145 s at 256².)
-fn tape_pays(t: &TapeData, traversal: &Traversal) -> bool {
+///
+/// A job of `frames` frames moves the line up by √frames (at most 4×, from
+/// 16 frames): the tape's frames are 10-25 times the compiled kernel's, so
+/// its head start is spent after a few. Measured (IA, 512², cold, compiled
+/// / tape, frames after the first): at size ~910 1.6 / 1.3 s and 31 / 360
+/// ms, so a second frame evens them (the line for 2 frames: 990); at ~1,310
+/// 2.15 / 1.42 s and 28 / 545 ms, two frames even (an earlier round's 2,501
+/// instructions: about seven, 3,572: about fifteen, the line for 16 frames
+/// 2,800).
+fn tape_pays(t: &TapeData, traversal: &Traversal, frames: u64) -> bool {
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
-    !csg && t.size >= crossover(traversal)
+    let line = crossover(traversal) as f64 * (frames.clamp(1, 16) as f64).sqrt();
+    !csg && t.size as f64 >= line
 }
 
 /// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
@@ -153,6 +163,13 @@ fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
 /// [`auto_scene`], tried first by the caller (it changes the traversal's
 /// Lipschitz bound).
 pub fn choose(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Result<PreparedField, FieldError> {
+    choose_for(kind, f, params, traversal, 1)
+}
+
+/// [`choose`] for a job of `frames` frames (an animation, a benchmark's
+/// runs): `Auto` weighs the tape's sooner first frame against its slower
+/// later ones ([`tape_pays`]).
+pub fn choose_for(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &Traversal, frames: u64) -> Result<PreparedField, FieldError> {
     let ir = &f.ir;
     let hooks = matches!(traversal, Traversal::Bisect(b) if b.modalities.inline.is_some());
     match kind {
@@ -162,7 +179,7 @@ pub fn choose(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &T
         FieldKind::Tape => Ok(TapeData::new(ir).map(PreparedField::Tape)?),
         FieldKind::Auto if hooks => Ok(PreparedField::Compiled),
         FieldKind::Auto => match TapeData::new(ir) {
-            Ok(t) if tape_pays(&t, traversal) || too_large(ir, traversal) => Ok(PreparedField::Tape(t)),
+            Ok(t) if tape_pays(&t, traversal, frames) || too_large(ir, traversal) => Ok(PreparedField::Tape(t)),
             _ => Ok(PreparedField::Compiled),
         },
     }
