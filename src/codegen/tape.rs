@@ -439,11 +439,16 @@ fn schedule(nodes: &[Node], outputs: &[u32], partner: &HashMap<u32, u32>) -> Vec
     order
 }
 
-/// Whether an operation may take a constant operand from its instruction
-/// (its last two words are otherwise unused; a multiply-add, as its second
-/// factor, its addend's register then in the factor's place).
-fn takes_immediate(code: Code) -> bool {
-    matches!(code, Code::Add | Code::Sub | Code::Mul | Code::Div | Code::Pow | Code::Atan2)
+/// The operands an operation may take as the constant in its instruction's
+/// last two words (otherwise unused): either of a binary arithmetic
+/// operation's, a multiply-add's or -subtract's second factor (its addend's
+/// register then sits in the factor's place).
+fn immediate_operands(code: Code) -> &'static [usize] {
+    match code {
+        Code::Add | Code::Sub | Code::Mul | Code::Div | Code::Pow | Code::Atan2 => &[0, 1],
+        Code::Mad | Code::Msub => &[1],
+        _ => &[],
+    }
 }
 
 /// Operand count of an operation.
@@ -480,7 +485,7 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         last[o as usize] = usize::MAX;
     }
     let pin = |i: usize| pinned && nodes[i].code == Code::Input;
-    let mut immediates = 0;
+    let (mut immediates, mut fused) = (0, 0);
     let mut regs = Registers { free: vec![], count: if pinned { TAPE_INPUTS } else { 0 } };
     let mut reg = vec![0u32; nodes.len()];
     let mut words = Vec::with_capacity(order.len());
@@ -493,15 +498,10 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
             continue;
         }
         let args = &n.args[..arity(n.code)];
-        // One constant operand, in either place (a multiply-add's: its
-        // second factor), is read from the instruction.
-        let konst = |a: u32| nodes[a as usize].code == Code::Const && leaf(a as usize);
-        let imm = match n.code {
-            Code::Mad | Code::Msub => Some(args[1]).filter(|&a| konst(a)),
-            c if takes_immediate(c) => args.iter().copied().find(|&a| konst(a)),
-            _ => None,
-        };
+        // One constant operand is read from the instruction.
+        let imm = immediate_operands(n.code).iter().map(|&j| args[j]).find(|&a| nodes[a as usize].code == Code::Const && leaf(a as usize));
         immediates += usize::from(imm.is_some());
+        fused += usize::from(matches!(n.code, Code::Mad | Code::Msub));
         let mut dying = vec![];
         for (j, &a) in args.iter().enumerate() {
             if args[..j].contains(&a) || imm == Some(a) {
@@ -549,7 +549,6 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
         return Err(TapeError::Registers(regs.count));
     }
     let ops = words.len();
-    let fused = words.iter().filter(|w| [Code::Mad as u32, Code::Msub as u32].contains(&(w[0] & 0xff))).count();
     let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, immediates, fused, registers: regs.count, iterations };
     program.pad(TAPE_UNROLL);
     Ok(program)
