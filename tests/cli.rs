@@ -365,3 +365,37 @@ fn auto_takes_the_frames_of_an_animation_into_account() {
     assert_eq!(field(&[], "one.png"), "tape");
     assert_eq!(field(&["--frames", "3"], "anim_%04d.png"), "compiled");
 }
+
+/// The driver's optimisation (`--shader-opt`, Mesa's CPU driver): auto skips
+/// LLVM's passes for a job of up to one 1024² frame's pixels and runs them
+/// past it; the flag decides over auto, GALLIVM_PERF does without the flag,
+/// and the picture is the same bit for bit either way.
+#[test]
+fn shader_opt_follows_the_job_the_flag_and_the_environment_and_keeps_the_picture() {
+    let run = |extra: &[&str], env: Option<&str>, out: &str| -> (Option<String>, Vec<u8>) {
+        let out = tmp(out);
+        let mut c = Command::new(env!("CARGO_BIN_EXE_isotrace"));
+        c.args(["render", "@sphere", "--json", "-o", out.to_str().unwrap()]).args(extra);
+        c.env("NODEVICE_SELECT", "1").env_remove("GALLIVM_PERF");
+        if let Some(v) = env {
+            c.env("GALLIVM_PERF", v);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v["device"]["shader_opt"].as_str().map(String::from), std::fs::read(&out).unwrap())
+    };
+    let (auto_small, a) = run(&["--size", "64"], None, "opt_auto.png");
+    if auto_small.is_none() {
+        eprintln!("skipped: the device is not one of Mesa's CPU drivers");
+        return;
+    }
+    assert_eq!(auto_small.as_deref(), Some("none"));
+    let (full, b) = run(&["--size", "64", "--shader-opt", "full"], None, "opt_full.png");
+    assert_eq!(full.as_deref(), Some("full"));
+    assert!(a == b, "the passes changed the picture");
+    assert_eq!(run(&["--size", "1100x1000"], None, "opt_big.png").0.as_deref(), Some("full"));
+    assert_eq!(run(&["--size", "1100x1000"], Some("nopt"), "opt_env.png").0.as_deref(), Some("none"));
+    assert_eq!(run(&["--size", "64", "--shader-opt", "full"], Some("nopt"), "opt_flag.png").0.as_deref(), Some("full"));
+    assert_eq!(run(&["--size", "1100x1000", "--shader-opt", "none"], None, "opt_none.png").0.as_deref(), Some("none"));
+}

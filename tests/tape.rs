@@ -495,3 +495,49 @@ fn auto_weighs_the_frames_of_the_job() {
     assert!(size > 4 * choice::crossover(&ia), "{size}");
     assert_eq!(k, FieldKind::Tape);
 }
+
+/// A tape's hit finds its gradient in the cells' own loop (forward
+/// differences from the root finder's last point, cells_probe.wgsl), where
+/// the compiled field takes central differences after the traversal: the
+/// normals agree on every pixel both hit at the same depth, away from
+/// creases (where the compiled field's own normal jumps between neighbours
+/// the two stencils straddle different faces), also where the tile's
+/// shortened tape runs (the gradient's points leave the tile's rays and
+/// take the whole tape).
+#[test]
+fn a_tapes_normals_agree_with_the_compiled_fields() {
+    let e = isotrace::catalog::lookup("icos.csg").unwrap();
+    let icos = e.compile().unwrap();
+    let cases = [
+        ("sphere", Formula::compile("<sphere>", "x^2 + y^2 + z^2 - 1").unwrap(), common::settings(common::cube(1.5), 64, 64)),
+        ("torus", Formula::compile("<torus>", "(x^2 + y^2 + z^2 + 0.6^2 - 0.25^2)^2 - 4*0.6^2*(x^2 + y^2)").unwrap(), common::settings(common::cube(1.0), 96, 96)),
+        ("icos.csg", icos.clone(), entry_settings(&e, &icos, 128)),
+    ];
+    let dot = |a: &[f32; 3], b: &[f32; 3]| -> f32 { a.iter().zip(b).map(|(x, y)| x * y).sum() };
+    for (name, f, s) in &cases {
+        for domain in [Domain::Interval, Domain::Affine] {
+            let t = Traversal::Bisect(BisectOptions::new(domain));
+            let data = TapeData::new(&f.ir).unwrap();
+            let taped = Renderer::new(gpu(), FieldSource::Tape(&data), t.clone()).unwrap().render(s).unwrap();
+            let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t).unwrap().render(s).unwrap();
+            let w = s.width as usize;
+            let crease = |k: usize| {
+                let q = &compiled.pixels[k];
+                [k.wrapping_sub(1), k + 1, k.wrapping_sub(w), k + w]
+                    .iter()
+                    .filter_map(|&j| compiled.pixels.get(j))
+                    .any(|n| n.status != Status::Hit || dot(&n.normal, &q.normal) < 0.95)
+            };
+            let mut compared = 0;
+            for (k, (p, q)) in taped.pixels.iter().zip(&compiled.pixels).enumerate() {
+                if p.status != Status::Hit || q.status != Status::Hit || (p.depth - q.depth).abs() > 2.0 * s.eps as f32 || crease(k) {
+                    continue;
+                }
+                let cos = dot(&p.normal, &q.normal);
+                assert!(cos > 0.999, "{name} {domain:?} px {k}: normals {:?} and {:?}", p.normal, q.normal);
+                compared += 1;
+            }
+            assert!(compared > 200, "{name} {domain:?}: {compared} pixels compared");
+        }
+    }
+}

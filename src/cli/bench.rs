@@ -73,10 +73,13 @@ pub struct BenchArgs {
     /// Run only the job with this index (of the whole batch) and print its outcome as JSON: the child process of --job-timeout.
     #[arg(long, hide = true, value_name = "INDEX")]
     run_job: Option<usize>,
+    /// Whether a CPU driver optimises the kernels, as `render --shader-opt`; by default full, since the table reports frames (none: the frames of generated fields run 1.5-2x slower, after a 2-3x sooner compile).
+    #[arg(long, value_enum, value_name = "OPT")]
+    shader_opt: Option<super::render::ShaderOptArg>,
     #[command(flatten)]
     shard: super::batch::ShardArgs,
     /// Merge the JSON reports of shards (written with --json) into one report instead of running jobs: the table on stdout, and --json / --markdown as a single run would write them. A quoted wildcard in a file name is expanded.
-    #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["surfaces", "suite", "shard", "out", "find_eps", "size", "eps", "algebra", "method", "omega", "max_steps", "repeat", "job_timeout"])]
+    #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["surfaces", "suite", "shard", "out", "find_eps", "size", "eps", "algebra", "method", "omega", "max_steps", "repeat", "job_timeout", "shader_opt"])]
     merge: Vec<PathBuf>,
 }
 
@@ -96,7 +99,8 @@ fn scenes(a: &BenchArgs) -> Result<ExitCode, CliError> {
         return Err(input("--repeat must be at least 1"));
     }
     let size = super::render::parse_size(&a.size)?;
-    super::bench_scenes::run(size, a.repeat, a.max_steps, a.max_level.unwrap_or(3), a.json.as_deref(), a.markdown.as_deref())
+    let opt = super::render::shader_opt(a.shader_opt, 0, false);
+    super::bench_scenes::run(size, a.repeat, a.max_steps, a.max_level.unwrap_or(3), a.json.as_deref(), a.markdown.as_deref(), opt)
 }
 
 /// The jobs' variants with their labels (a bad list entry names its flag).
@@ -188,7 +192,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     for p in [&a.json, &a.markdown].into_iter().flatten() {
         output::check_writable(p).map_err(|e| input(e.to_string()))?;
     }
-    let gpu = open_gpu()?;
+    let gpu = open_gpu(super::render::shader_opt(a.shader_opt, 0, false))?;
     let bar = super::progress(jobs.len() as u64, "jobs");
     let mut results = Vec::new();
     let mut thumbs: Vec<(String, u32, u32, Vec<u8>)> = Vec::new();
@@ -270,7 +274,7 @@ fn job_timeout(s: Option<f64>) -> Result<Option<Duration>, CliError> {
 /// The child side of `--job-timeout`: runs one job on its own device,
 /// writes its image into `--out`, and prints the outcome as JSON.
 fn run_child_job(a: &BenchArgs, job: &bench::Job, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64) -> Result<ExitCode, CliError> {
-    let gpu = open_gpu()?;
+    let gpu = open_gpu(super::render::shader_opt(a.shader_opt, 0, false))?;
     let outcome = match run_job(&gpu, entry, variant, size, rel_eps, a) {
         Ok((m, f)) => {
             if let Some(dir) = &a.out {
@@ -340,7 +344,8 @@ fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Repor
 /// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe), 2 CPU threads": the
 /// Markdown report's machine line.
 pub(super) fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
-    format!("{} ({}, {}), {threads} CPU threads", d.name, d.backend, d.driver)
+    let opt = d.shader_opt.map_or(String::new(), |o| format!(", shader opt {}", o.name()));
+    format!("{} ({}, {}){opt}, {threads} CPU threads", d.name, d.backend, d.driver)
 }
 
 /// The table on stdout and the --markdown and --json files of a report (a

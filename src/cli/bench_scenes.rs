@@ -179,12 +179,13 @@ pub fn table(rows: &[SceneRow]) -> String {
 }
 
 /// Runs the series. `size`, `repeat`, `max_steps` and the outputs come from
-/// the bench flags; `max_level` from `--max-level`.
-pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32, json: Option<&Path>, markdown: Option<&Path>) -> Result<ExitCode, CliError> {
+/// the bench flags; `max_level` from `--max-level`; the driver's
+/// optimisation from `--shader-opt`.
+pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32, json: Option<&Path>, markdown: Option<&Path>, opt: Option<isotrace::gpu::ShaderOpt>) -> Result<ExitCode, CliError> {
     if max_level > MAX_LEVEL {
         return Err(CliError::Input(format!("invalid --max-level {max_level}: the generated series go up to level {MAX_LEVEL}")));
     }
-    let gpu = super::render::open_gpu()?;
+    let gpu = super::render::open_gpu(opt)?;
     let machine = super::bench::machine(&gpu.info, std::thread::available_parallelism().map_or(1, |n| n.get()));
     let mut rows: Vec<SceneRow> = vec![];
     let jobs = series(max_level);

@@ -128,7 +128,7 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
         let p64: Vec<f64> = params.iter().map(|&v| v as f64).collect();
         boxes.iter().map(|b| cpu_eval(&f.ir, domain, b, &p64)).collect()
     } else {
-        let gpu = super::render::open_gpu()?;
+        let gpu = super::render::open_gpu(None)?;
         let run = match &tape {
             Some(t) => isotrace::gpu::eval::eval_boxes_tape(&gpu, t, domain, &boxes, &params),
             None => eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref()),
@@ -174,7 +174,7 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
     } else {
         let lin = isotrace::scene::linear::Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
         let points: Vec<[f32; 3]> = boxes.iter().map(|b| [b[0], b[2], b[4]]).collect();
-        let gpu = super::render::open_gpu()?;
+        let gpu = super::render::open_gpu(None)?;
         let got = isotrace::gpu::eval::eval_points_scene(&gpu, &lin.field_data(), &points).map_err(|e| CliError::Internal(e.to_string()))?;
         got.into_iter().map(f64::from).collect()
     };

@@ -4,7 +4,7 @@
 use super::{input::FormulaArgs, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use glam::DVec3;
-use isotrace::gpu::{Gpu, Renderer};
+use isotrace::gpu::{Gpu, Renderer, ShaderOpt};
 use isotrace::layout::KernelColor;
 use isotrace::render::settings::DEFAULT_MAX_ITER;
 use isotrace::render::{BisectOptions, Settings, Shading, SphereOptions, Traversal, Unresolved, View};
@@ -65,6 +65,31 @@ pub struct ViewArgs {
     /// Short for `--unresolved magenta`.
     #[arg(long, conflicts_with = "unresolved")]
     pub debug_unresolved: bool,
+    /// Whether a CPU driver (Mesa's lavapipe) runs LLVM's optimisation passes over the kernels: full (the fastest frames), none (compiles 2-3x sooner; frames of a compiled formula 1.5-2x slower, the tape's about the same; the same pictures) or auto (none for a job of at most one 1024x1024 frame's pixels, else full; bench: full). Fixed for the process by its first device; GALLIVM_PERF, when set, stands unless this flag is given. Other drivers ignore it.
+    #[arg(long, value_enum, value_name = "OPT")]
+    pub shader_opt: Option<ShaderOptArg>,
+}
+
+/// `--shader-opt`: see `isotrace::gpu::driver`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderOptArg {
+    Auto,
+    Full,
+    None,
+}
+
+/// The driver optimisation to ask for: the flag's, else (without a
+/// GALLIVM_PERF of the user's) auto for a job of `pixel_frames`, or full
+/// where the job measures frames (`auto_none` false: bench).
+pub fn shader_opt(arg: Option<ShaderOptArg>, pixel_frames: u64, auto_none: bool) -> Option<ShaderOpt> {
+    let auto = || if auto_none { isotrace::gpu::driver::auto_shader_opt(pixel_frames) } else { ShaderOpt::Full };
+    match arg {
+        Some(ShaderOptArg::Full) => Some(ShaderOpt::Full),
+        Some(ShaderOptArg::None) => Some(ShaderOpt::None),
+        Some(ShaderOptArg::Auto) => Some(auto()),
+        None if std::env::var_os("GALLIVM_PERF").is_some() => None,
+        None => Some(auto()),
+    }
 }
 
 /// `--unresolved`: see `isotrace::render::Unresolved`.
@@ -463,9 +488,10 @@ pub fn algebra_arg(a: catalog::Algebra) -> AlgebraArg {
     }
 }
 
-/// Opens the device, mapping "no adapter" to exit code 2.
-pub fn open_gpu() -> Result<Gpu, CliError> {
-    Gpu::new().map_err(|e| match e {
+/// Opens the device (asking a CPU driver for `opt`, `None`: as the
+/// environment says), mapping "no adapter" to exit code 2.
+pub fn open_gpu(opt: Option<ShaderOpt>) -> Result<Gpu, CliError> {
+    opt.map_or_else(Gpu::new, Gpu::with_shader_opt).map_err(|e| match e {
         isotrace::gpu::GpuError::NoAdapter => CliError::NoDevice(e.to_string()),
         other => CliError::NoDevice(other.to_string()),
     })
@@ -538,7 +564,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         return Err(input("--scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene"));
     }
     // No device is opened when every frame of the run is already there.
-    let gpu = if todo > 0 { Some(open_gpu()?) } else { None };
+    let pixel_frames = u64::from(s.width) * u64::from(s.height) * todo as u64;
+    let gpu = if todo > 0 { Some(open_gpu(shader_opt(a.view.shader_opt, pixel_frames, true))?) } else { None };
     let renderer = match &gpu {
         Some(g) => {
             let t = traversal.clone();
@@ -591,10 +618,10 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
              gpu {:.1} ms (tile pass {:.1})  wall {:.1} ms  dispatches {}\n\
              hits {} ({:.1} %)  unresolved {}\n\
              inclusion evaluations per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}; lower bound {:.2})\n\
-             device {} ({})",
+             device {}",
             frame.width, frame.height, s.eps, st.bisect.d_max, st.gpu_ms, st.tile_ms, st.wall_ms, st.dispatches, st.hits,
             100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved, st.evals_mean, st.evals_p99, st.evals_max,
-            st.evals_hit_mean, st.evals_miss_mean, st.bisect.evals_lower_bound, gpu.info.name, gpu.info.backend
+            st.evals_hit_mean, st.evals_miss_mean, st.bisect.evals_lower_bound, gpu.info.describe()
         );
         if let Some(t) = &st.field.tape_lists {
             eprintln!(
@@ -643,11 +670,11 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
              hits {} ({:.1} %)  unconverged {}\n\
              steps per pixel: mean {:.2}  p99 {}  max {}  (hits {:.2}, misses {:.2}); over-relaxation fallbacks {}\n\
              largest rate of change of f seen along a ray: {:.3}\n\
-             device {} ({})",
+             device {}",
             frame.width, frame.height, o.lipschitz, s.eps, o.max_steps, o.omega, on(o.screen_space), on(o.dynamic_eps), o.fixpoint,
             st.gpu_ms, st.wall_ms, st.dispatches, st.hits, 100.0 * st.hits as f64 / st.pixels.max(1) as f64, st.unresolved,
             st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sphere.sor_fallbacks, st.sphere.lipschitz_seen,
-            gpu.info.name, gpu.info.backend
+            gpu.info.describe()
         );
         let f = &st.field;
         if f.tiles > 0 {

@@ -102,7 +102,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     let outputs = super::frames::Outputs::new(&a.output, None, None, false)?;
     outputs.check(a.force, false)?;
     let super::frames::Outputs::One(out) = &outputs else { unreachable!("no --frames") };
-    let gpu = open_gpu()?;
+    let gpu = open_gpu(super::render::shader_opt(a.view.shader_opt, u64::from(s.width) * u64::from(s.height), true))?;
     let data = lin.field_data();
     let renderer = Renderer::new(&gpu, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).map_err(super::render_error)?;
     let mut frame = renderer.render(&s).map_err(super::render_error)?;

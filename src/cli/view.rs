@@ -154,7 +154,7 @@ impl Backend {
         };
         let mut guard = self.gpu.lock().unwrap_or_else(|e| e.into_inner());
         if guard.is_none() {
-            *guard = Some(super::render::open_gpu().map_err(bad)?);
+            *guard = Some(super::render::open_gpu(None).map_err(bad)?);
         }
         let gpu = guard.as_ref().expect("opened above");
         let mut frame = if is_scene(&args[0]) {

@@ -8,11 +8,13 @@
 
 pub(crate) mod bisect;
 pub mod dispatch;
+pub mod driver;
 pub mod eval;
 mod field;
 pub mod renderer;
 mod sphere;
 
+pub use driver::ShaderOpt;
 pub use renderer::{RenderError, Renderer, TAPE_RESUME_ROUNDS};
 
 use std::time::Duration;
@@ -55,6 +57,19 @@ pub struct DeviceInfo {
     pub backend: String,
     /// Device type (Cpu, DiscreteGpu, …).
     pub device_type: String,
+    /// Whether a CPU driver optimises its kernels ([`driver`]); absent
+    /// where the setting does not apply.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shader_opt: Option<ShaderOpt>,
+}
+
+impl DeviceInfo {
+    /// Name and backend, and the optimisation where it applies:
+    /// `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan), shader opt none`.
+    pub fn describe(&self) -> String {
+        let opt = self.shader_opt.map_or(String::new(), |o| format!(", shader opt {}", o.name()));
+        format!("{} ({}){opt}", self.name, self.backend)
+    }
 }
 
 /// A headless device and queue.
@@ -85,13 +100,26 @@ pub struct Gpu {
 
 impl Gpu {
     /// Opens the default adapter (honouring `WGPU_ADAPTER_NAME` / `WGPU_BACKEND`
-    /// without panicking when they match nothing).
+    /// without panicking when they match nothing), with the driver's
+    /// optimisation as the environment sets it.
     pub fn new() -> Result<Gpu, GpuError> {
+        Self::open(None)
+    }
+
+    /// [`Gpu::new`] asking a CPU driver for `opt` ([`driver`]): effective
+    /// for the first device a process opens, which fixes it for the rest
+    /// (`info.shader_opt` says what is in effect).
+    pub fn with_shader_opt(opt: ShaderOpt) -> Result<Gpu, GpuError> {
+        Self::open(Some(opt))
+    }
+
+    fn open(opt: Option<ShaderOpt>) -> Result<Gpu, GpuError> {
         // Mesa's device-select layer complains on stderr without this.
         if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
             // SAFETY: called before any other thread of ours touches the environment.
             unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
         }
+        driver::start(opt);
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::VULKAN;
@@ -110,6 +138,7 @@ impl Gpu {
             driver: format!("{} {}", ai.driver, ai.driver_info).trim().to_string(),
             backend: format!("{:?}", ai.backend),
             device_type: format!("{:?}", ai.device_type),
+            shader_opt: driver::in_effect(&ai.name, ai.device_type == wgpu::DeviceType::Cpu),
         };
         let limits = adapter.limits();
         let want_ts = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);

@@ -9,9 +9,11 @@
 
 // Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
 const CELLS_ROUNDS: bool = false;
+// Whether a hit carries its gradient (kernel.wgsl computes it here).
+const CELLS_GRADIENT: bool = false;
 
 // A secondary ray's segment [s_lo, s_hi], bisected to depth d_max.
-fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
+fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool) -> Hit {
     return bisect_runs(ray, vec2<f32>(s_lo, s_hi), d_max, budget, Runs(vec2<u32>(0u), vec2<f32>(0.0), vec2<f32>(0.0), 1.0));
 }
 
@@ -21,7 +23,7 @@ fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec
     var m = mask;
     let lim = vec2<f32>(max(seg.x, s_from), seg.y);
     let first = next_run(&m, lim, dr);
-    if (!(first.x < first.y)) { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u); }
+    if (!(first.x < first.y)) { return no_hit(); }
     let h = bisect_runs(ray, first, depth_for((first.y - first.x) / inv_len), g_budget, Runs(m, lim, dr, inv_len));
     g_evals = g_evals + h.evals;
     g_budget = g_budget - min(g_budget, h.iters);
@@ -42,7 +44,7 @@ struct Runs { m: vec2<u32>, lim: vec2<f32>, dr: vec2<f32>, inv_len: f32 }
 // bundle still bisect theirs (a loop per run made each run cost the
 // bundle at least one pass of the whole cell code).
 fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs) -> Hit {
-    var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
+    var h = no_hit();
     var m = runs.m; // a pointer argument must be a whole variable (naga's SPIR-V back end)
     var d = 0u;
     var k = 0u;

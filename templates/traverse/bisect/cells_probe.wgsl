@@ -7,6 +7,11 @@
 
 // Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
 const CELLS_ROUNDS: bool = true;
+// Whether a hit carries its gradient: here it is found by the cell work's
+// one call of f (phase PH_GRAD), where a call of `gradient` in kernel.wgsl
+// was one more inlined interpreter, and by forward differences from a point
+// f was evaluated at already.
+const CELLS_GRADIENT: bool = true;
 
 // Primary ray from depth s_from on: the candidate slab runs of the tile,
 // nearest first, each bisected by a traverse of its own (a suspended pixel
@@ -14,11 +19,11 @@ const CELLS_ROUNDS: bool = true;
 fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec2<f32>, inv_len: f32) -> Hit {
     var m = mask;
     let lim = vec2<f32>(max(seg.x, s_from), seg.y);
-    var hit = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
+    var hit = no_hit();
     loop {
         let run = next_run(&m, lim, dr);
         if (!(run.x < run.y)) { break; }
-        hit = traverse(ray, run.x, run.y, depth_for((run.y - run.x) / inv_len), g_budget);
+        hit = traverse(ray, run.x, run.y, depth_for((run.y - run.x) / inv_len), g_budget, true);
         g_evals = g_evals + hit.evals;
         g_budget = g_budget - min(g_budget, hit.iters);
         if (hit.status != STATUS_MISS) { break; }
@@ -37,8 +42,9 @@ fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec
 // regula falsi, a leaf's sign test and refinement) is a sequence of phases
 // (`Probe`, probe.wgsl) run by an inner loop, one evaluation of f per
 // iteration. The inner loop keeps the enclosure out of those iterations.
-fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
-    var h = Hit(0.0, STATUS_MISS, 0u, 0u, 0u);
+// With `grad`, a hit's gradient is found there too (PH_GRAD).
+fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool) -> Hit {
+    var h = no_hit();
     var d = 0u;
     var k = 0u;
     if (g_resume.y != RESUME_NONE && g_resume.x == bitcast<u32>(s_lo)) {
@@ -89,27 +95,31 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32) -> Hit {
         if (probe_scalar(p.phase)) {
             loop {
                 // Looking ahead can pass the run's end, where the field's
-                // program for the tile does not hold (fields/tape_tiles.wgsl).
-                field_in_tile(p.s <= s_hi);
-                let f = field(ray.o + ray.dir * p.s);
+                // program for the tile does not hold (fields/tape_tiles.wgsl),
+                // and so can the gradient's points, which leave the ray.
+                field_in_tile(p.s <= s_hi && p.phase != PH_GRAD);
+                let f = field(probe_point(p, ray));
                 if (p.phase == PH_MEAN) {
                     r = mean_value(c, r, D, f);
                     p.phase = PH_DECIDE;
+                } else if (p.phase == PH_GRAD) {
+                    gradient_step(&p, f);
                 } else {
+                    p.s_last = p.s;
+                    p.f_last = f;
                     probe_step(&p, ray, c, f);
                 }
                 probe_decide(&p, c, r, d, d_max, d_last);
+                probe_found(&p, ray, grad);
                 if (!probe_scalar(p.phase)) { break; }
             }
         }
-        if (p.phase == PH_FOUND) {
-            if (accept_hit(ray.o + ray.dir * p.best)) {
-                h.iso = p.best_iso;
-                h.s = p.best;
-                h.status = STATUS_HIT;
-                return h;
-            }
-            p.phase = PH_ADVANCE;
+        if (p.phase == PH_HIT) {
+            h.iso = p.best_iso;
+            h.s = p.best;
+            h.status = STATUS_HIT;
+            h.g = p.g / gradient_step_size();
+            return h;
         }
         if (p.phase == PH_DESCEND) {
             d = d + 1u;
@@ -143,10 +153,14 @@ const PH_FOUND: u32 = 8u;
 const PH_DESCEND: u32 = 9u;
 const PH_ADVANCE: u32 = 10u;
 const PH_DECIDE: u32 = 11u;
+const PH_GRAD: u32 = 12u;
+const PH_HIT: u32 = 13u;
 
 // A cell's scalar work in progress: f is evaluated at `s` next; [a, b] with
 // fa, fb is the bracket being narrowed (f minus the isovalue `c`), `n` the
-// steps taken in the phase; `best` the nearest root so far, of `best_iso`.
+// steps taken in the phase; `best` the nearest root so far, of `best_iso`;
+// f_last = f(s_last) the last evaluation on the ray; `gp` the point the
+// gradient's forward differences `g` start from (PH_GRAD).
 struct Probe {
     phase: u32,
     n: u32,
@@ -164,10 +178,14 @@ struct Probe {
     best_iso: u32,
     monotone: bool,
     finite: bool,
+    s_last: f32,
+    f_last: f32,
+    gp: vec3<f32>,
+    g: vec3<f32>,
 }
 
 // Whether the phase evaluates f.
-fn probe_scalar(phase: u32) -> bool { return phase >= PH_MEAN && phase <= PH_BISECT; }
+fn probe_scalar(phase: u32) -> bool { return (phase >= PH_MEAN && phase <= PH_BISECT) || phase == PH_GRAD; }
 
 // After the cell's enclosure is final (PH_DECIDE): reject the cell, or start
 // on its scalar work; not monotone (PH_SPLIT, also when a monotone cell's
@@ -195,7 +213,51 @@ fn probe_decide(p: ptr<function, Probe>, c: vec2<f32>, r: vec2<f32>, d: u32, d_m
 }
 
 fn probe_idle() -> Probe {
-    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false);
+    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false, 0.0, 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+}
+
+// The gradient's stencil: half the termination width, as `gradient`'s.
+fn gradient_step_size() -> f32 { return 0.5 * F.eps; }
+
+// Where the phase evaluates f: on the ray at s, or (PH_GRAD) the
+// gradient's base point gp (n = 0) and one stencil step from it along x,
+// y, z (n = 1, 2, 3).
+fn probe_point(p: Probe, ray: Ray) -> vec3<f32> {
+    let axis = vec3<f32>(f32(p.n == 1u), f32(p.n == 2u), f32(p.n == 3u));
+    return select(ray.o + ray.dir * p.s, p.gp + axis * gradient_step_size(), p.phase == PH_GRAD);
+}
+
+// A root found (PH_FOUND): turned down by the hook (PH_ADVANCE), a hit
+// (PH_HIT), or, with `grad`, a hit whose gradient comes next (PH_GRAD).
+// Forward differences start from the last point f was evaluated at on the
+// ray when it lies within eps of the root (regula falsi and bisection end
+// on a bracket of that width, so it nearly always does): three evaluations
+// where central differences take six. Otherwise from the root, after one
+// more evaluation there. Their error is O(step) against f's curvature,
+// like that of the base point's offset.
+fn probe_found(p: ptr<function, Probe>, ray: Ray, grad: bool) {
+    if ((*p).phase != PH_FOUND) { return; }
+    let q = ray.o + ray.dir * (*p).best;
+    if (!accept_hit(q)) {
+        (*p).phase = PH_ADVANCE;
+        return;
+    }
+    (*p).phase = select(PH_HIT, PH_GRAD, grad);
+    let near = abs((*p).s_last - (*p).best) <= ray.eps_s;
+    (*p).gp = select(q, ray.o + ray.dir * (*p).s_last, near);
+    (*p).n = select(0u, 1u, near);
+    (*p).g = vec3<f32>(0.0);
+}
+
+// One evaluation f of the gradient's stencil (PH_GRAD): the base point's
+// value (n = 0), then one difference per axis; PH_HIT after the third.
+fn gradient_step(p: ptr<function, Probe>, f: f32) {
+    let n = (*p).n;
+    if (n == 0u) { (*p).f_last = f; }
+    let axis = vec3<f32>(f32(n == 1u), f32(n == 2u), f32(n == 3u));
+    (*p).g = (*p).g + axis * (f - (*p).f_last);
+    (*p).n = n + 1u;
+    if (n == 3u) { (*p).phase = PH_HIT; }
 }
 
 // One evaluation f = f(s) taken into the phase it was asked for.

@@ -73,7 +73,11 @@ fn is_finite_range(r: vec2<f32>) -> bool { return abs(r.x) < F.inf && abs(r.y) <
 // The ray: points o + s * dir, where dir is the unnormalised pixel direction
 // (forward component 1), so s is the depth along the camera's forward axis.
 struct Ray { o: vec3<f32>, dir: vec3<f32>, s_exit: f32, eps_s: f32 }
-struct Hit { s: f32, status: u32, evals: u32, iters: u32, iso: u32 }
+// A hit's gradient g is f's at the hit when the cells compute it
+// (CELLS_GRADIENT: an interpreted field's, from the one call site of its
+// cell work) and asked to; zero otherwise.
+struct Hit { s: f32, status: u32, evals: u32, iters: u32, iso: u32, g: vec3<f32> }
+fn no_hit() -> Hit { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u, vec3<f32>(0.0)); }
 
 fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
     let w = exp2(-f32(d));
@@ -188,14 +192,15 @@ fn next_run(m: ptr<function, vec2<u32>>, lim: vec2<f32>, dr: vec2<f32>) -> vec2<
 }
 
 // A secondary ray (shadow, reflection) from point o along unit direction
-// u, clipped to the domain, from depth s_from up to s_to.
-fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32) -> Hit {
+// u, clipped to the domain, from depth s_from up to s_to; with the hit's
+// gradient if `grad` (where the cells compute it, CELLS_GRADIENT).
+fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32, grad: bool) -> Hit {
     let seg = clip_domain(o, u);
     let lo = max(seg.x, s_from);
     let hi = min(seg.y, s_to);
-    if (!(lo < hi)) { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u); }
+    if (!(lo < hi)) { return no_hit(); }
     let ray = Ray(o, u, hi, eps);
-    let h = traverse(ray, lo, hi, u32(clamp(ceil(log2((hi - lo) / eps)), 0.0, 18.0)), g_budget);
+    let h = traverse(ray, lo, hi, u32(clamp(ceil(log2((hi - lo) / eps)), 0.0, 18.0)), g_budget, grad);
     g_evals = g_evals + h.evals;
     g_budget = g_budget - min(g_budget, h.iters);
     return h;
@@ -295,8 +300,11 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             let surface = g_surface;
             let p = o + dir * hit.s;
             let dist = hit.s / inv_len;
-            // One gradient (six evaluations of f) for the shading and the normal.
-            let g = gradient(p, 0.5 * F.eps);
+            // One gradient for the shading and the normal: the cells'
+            // (an interpreted field's, found at the hit), else six
+            // evaluations of f here.
+            var g = hit.g;
+            if (!CELLS_GRADIENT) { g = gradient(p, 0.5 * F.eps); }
             var c = shade_hit(o, unit, p, g, hit.s, hit.iso + surface, dr);
             g_surface = surface;
             if (hit.status == STATUS_UNRESOLVED) { c = unresolved_color(c, px); }

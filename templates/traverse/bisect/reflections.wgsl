@@ -13,14 +13,15 @@ fn reflection(p0: vec3<f32>, n0: vec3<f32>, unit0: vec3<f32>) -> vec4<f32> {
     var w = k; // the weight of what the next bounce sees
     for (var b = 0u; b < REFLECT; b = b + 1u) {
         let o = p + n * (4.0 * F.eps);
-        let h = trace_secondary(o, u, 0.0, F.inf, F.eps);
+        let h = trace_secondary(o, u, 0.0, F.inf, F.eps, true);
         if (h.status == STATUS_MISS) {
             acc = acc + w * environment(u);
             w = 0.0;
             break;
         }
         let q = o + u * h.s;
-        let g = gradient(q, 0.5 * F.eps);
+        var g = h.g;
+        if (!CELLS_GRADIENT) { g = gradient(q, 0.5 * F.eps); }
         var m = normalize(g);
         if (dot(m, u) > 0.0) { m = -m; }
         let c = shade(q, u, g, 0.5, h.iso, shadow_visibility(q, m));

@@ -10,6 +10,6 @@ fn shadow_visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let u = to_p / dist;
     let offset = 4.0 * U.light.w;
     if (dist <= offset) { return 1.0; }
-    let h = trace_secondary(U.light.xyz, u, 0.0, dist - offset, U.light.w);
+    let h = trace_secondary(U.light.xyz, u, 0.0, dist - offset, U.light.w, false);
     return select(1.0, 0.0, h.status != STATUS_MISS);
 }
