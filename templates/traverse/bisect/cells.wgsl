@@ -162,7 +162,7 @@ fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32) -> Visit {
     var monotone = slope && (q.z > 0.0 || q.w < 0.0);
     let mv = slope && !monotone;
     let f_a = field(ray.o + ray.dir * select(c.x, 0.5 * (c.x + c.y), mv));
-    if (mv) { r = mean_value(c, r, q.zw, f_a); }
+    if (mv) { r = mean_value(c, r, q.zw, f_a, 0.5 * (c.x + c.y)); }
     if (!keep_cell(r)) { return v; }
     let deeper = d < d_max || (!is_finite_range(r) && d < d_last);
     var f1 = 0.0;

@@ -86,7 +86,9 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
         p.phase = PH_DECIDE;
         if (slope && !p.monotone) {
             p.phase = PH_MEAN;
-            p.s = 0.5 * (c.x + c.y);
+            // The midpoint as its children's shared end is computed, so a
+            // monotone child takes f there from this evaluation.
+            p.s = cell_s(s_lo, len, d + 1u, 2u * k).y;
         }
         // The cell's scalar work, one evaluation of f per iteration (the
         // test at the end: code after a break still runs for the lanes
@@ -97,17 +99,23 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
                 // Looking ahead can pass the run's end, where the field's
                 // program for the tile does not hold (fields/tape_tiles.wgsl),
                 // and so can the gradient's points, which leave the ray.
-                field_in_tile(p.s <= s_hi && p.phase != PH_GRAD);
+                let on_ray = p.phase != PH_GRAD;
+                let s = p.s;
+                field_in_tile(s <= s_hi && on_ray);
                 let f = field(probe_point(p, ray));
                 if (p.phase == PH_MEAN) {
-                    r = mean_value(c, r, D, f);
+                    r = mean_value(c, r, D, f, s);
                     p.phase = PH_DECIDE;
-                } else if (p.phase == PH_GRAD) {
-                    gradient_step(&p, f);
-                } else {
-                    p.s_last = p.s;
-                    p.f_last = f;
+                } else if (on_ray) {
                     probe_step(&p, ray, c, f);
+                } else {
+                    gradient_step(&p, f);
+                }
+                // The last value on the ray: a monotone cell's end, or where
+                // the gradient starts.
+                if (on_ray) {
+                    p.s_last = s;
+                    p.f_last = f;
                 }
                 probe_decide(&p, c, r, d, d_max, d_last);
                 probe_found(&p, ray, grad);
@@ -159,7 +167,8 @@ const PH_HIT: u32 = 13u;
 // A cell's scalar work in progress: f is evaluated at `s` next; [a, b] with
 // fa, fb is the bracket being narrowed (f minus the isovalue `c`), `n` the
 // steps taken in the phase; `best` the nearest root so far, of `best_iso`;
-// f_last = f(s_last) the last evaluation on the ray; `gp` the point the
+// f_last = f(s_last) the last evaluation on the ray (hi_known: it is the
+// monotone cell's far end, f1, PH_ENDS); `gp` the point the
 // gradient's forward differences `g` start from (PH_GRAD).
 struct Probe {
     phase: u32,
@@ -180,6 +189,7 @@ struct Probe {
     finite: bool,
     s_last: f32,
     f_last: f32,
+    hi_known: bool,
     gp: vec3<f32>,
     g: vec3<f32>,
 }
@@ -196,9 +206,15 @@ fn probe_decide(p: ptr<function, Probe>, c: vec2<f32>, r: vec2<f32>, d: u32, d_m
         if (!keep_cell(r)) {
             (*p).phase = PH_ADVANCE;
         } else if ((*p).monotone) {
+            // An end where f was evaluated last (the parent's mean-value
+            // midpoint, or the left sibling's far end) is not evaluated again.
+            let lo = (*p).s_last == c.x;
+            (*p).hi_known = (*p).s_last == c.y;
+            (*p).f0 = (*p).f_last;
+            (*p).f1 = (*p).f_last;
             (*p).phase = PH_ENDS;
-            (*p).n = 0u;
-            (*p).s = c.x;
+            (*p).n = select(0u, 1u, lo);
+            (*p).s = select(c.x, c.y, lo);
         } else {
             (*p).phase = PH_SPLIT;
         }
@@ -213,7 +229,7 @@ fn probe_decide(p: ptr<function, Probe>, c: vec2<f32>, r: vec2<f32>, d: u32, d_m
 }
 
 fn probe_idle() -> Probe {
-    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false, 0.0, 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false, -F.inf, 0.0, false, vec3<f32>(0.0), vec3<f32>(0.0));
 }
 
 // The gradient's stencil: half the termination width, as `gradient`'s.
@@ -264,14 +280,13 @@ fn gradient_step(p: ptr<function, Probe>, f: f32) {
 fn probe_step(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>, f: f32) {
     switch ((*p).phase) {
         case PH_ENDS: {
-            if ((*p).n == 0u) {
-                (*p).f0 = f;
+            if ((*p).n == 0u) { (*p).f0 = f; } else { (*p).f1 = f; }
+            if ((*p).n == 0u && !(*p).hi_known) {
                 (*p).n = 1u;
                 (*p).s = c.y;
-            } else if (abs((*p).f0) < F.inf && abs(f) < F.inf) {
+            } else if (abs((*p).f0) < F.inf && abs((*p).f1) < F.inf) {
                 // At most one root per isovalue, and one exactly when f − c
                 // changes sign; the nearest of them is the hit.
-                (*p).f1 = f;
                 (*p).iso = 0u;
                 (*p).best = F.inf;
                 next_solve(p, ray, c);
@@ -281,13 +296,14 @@ fn probe_step(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>, f: f32) {
             }
         }
         case PH_SOLVE: {
+            let s = (*p).s;
             solve_step(p, f - (*p).c);
             if ((*p).n >= 40u || !((*p).b - (*p).a > ray.eps_s)) {
                 take_root(p, 0.5 * ((*p).a + (*p).b));
                 (*p).iso = (*p).iso + 1u;
                 next_solve(p, ray, c);
             } else {
-                (*p).s = falsi_point(*p);
+                (*p).s = guarded_point(*p, s, 0.5 * ray.eps_s);
             }
         }
         case PH_LEAF: {
@@ -368,6 +384,22 @@ fn falsi_point(p: Probe) -> f32 {
     var m = (p.a * p.fb - p.b * p.fa) / (p.fb - p.fa);
     if (!(m > p.a && m < p.b)) { m = 0.5 * (p.a + p.b); }
     return m;
+}
+
+// The next point after an evaluation at s (now an end of the bracket): the
+// regula falsi point, but at least `tol` (half the eps width) from s. Where
+// the secant has all but found the root, its next point lands next to s
+// and Illinois would take one more step to move the far end; a point tol
+// past s brackets the root with s at once, ending the search a step
+// sooner (a tape's evaluation costs its whole program: a sum's hits took
+// 3.8 steps here, mostly 3).
+fn guarded_point(p: Probe, s: f32, tol: f32) -> f32 {
+    let m = falsi_point(p);
+    let toward_b = s == p.a;
+    let pushed = select(s - tol, s + tol, toward_b);
+    let near = abs(m - s) < tol;
+    let inside = pushed > p.a && pushed < p.b;
+    return select(m, pushed, near && inside);
 }
 
 // One Illinois regula falsi step with fm = f(p.s) − c: the unique root of a

@@ -88,7 +88,8 @@ fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
 //!splice:cells
 
 // The mean-value form (both cell variants): f on the cell [c.x, c.y] lies in f(m) + D·[-h, h]
-// with m its midpoint (fm = f(m)), h its half width and D the enclosure of
+// with m its midpoint (fm = f(m)), h its half width (the larger distance from
+// m to an end, where m is not the exact midpoint) and D the enclosure of
 // f's slope along the ray, which the monotonicity test computed anyway (the
 // mean value theorem; min, max and abs have slopes in the hull D, jumps and
 // poles give D the whole line). Its excess over f's true range shrinks with
@@ -96,8 +97,8 @@ fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
 // merely pass near the surface in far fewer levels. The result is
 // intersected with the natural enclosure `r`, padded by the f32 error of
 // f(m).
-fn mean_value(c: vec2<f32>, r: vec2<f32>, D: vec2<f32>, fm: f32) -> vec2<f32> {
-    let spread = max(abs(D.x), abs(D.y)) * 0.5 * (c.y - c.x) + 1e-6 * (abs(r.x) + abs(r.y)) + 1e-6 * abs(fm);
+fn mean_value(c: vec2<f32>, r: vec2<f32>, D: vec2<f32>, fm: f32, m: f32) -> vec2<f32> {
+    let spread = max(abs(D.x), abs(D.y)) * max(m - c.x, c.y - m) + 1e-6 * (abs(r.x) + abs(r.y)) + 1e-6 * abs(fm);
     if (!(abs(fm) < F.inf && spread < F.inf)) { return r; }
     return vec2<f32>(max(r.x, fm - spread), min(r.y, fm + spread));
 }
