@@ -399,3 +399,25 @@ fn shader_opt_follows_the_job_the_flag_and_the_environment_and_keeps_the_picture
     assert_eq!(run(&["--size", "64", "--shader-opt", "full"], Some("nopt"), "opt_flag.png").0.as_deref(), Some("full"));
     assert_eq!(run(&["--size", "1100x1000", "--shader-opt", "none"], None, "opt_none.png").0.as_deref(), Some("none"));
 }
+
+/// `eval --shader-opt`: the device's enclosures are the same with and
+/// without the driver's passes; with `--cpu` the flag is refused.
+#[test]
+fn eval_gives_the_same_enclosures_with_either_shader_opt_and_refuses_it_with_cpu() {
+    let boxes = tmp("opt_boxes.txt");
+    std::fs::write(&boxes, "0 1 0 1 0 1\n-0.5 0.25 1 2 -3 -1\n0.1 0.1 0.2 0.2 0.3 0.3\n").unwrap();
+    let run = |opt: &str, cpu: bool| {
+        let mut args = vec!["eval", "@tangle", "--algebra", "raa", "--boxes", boxes.to_str().unwrap(), "--shader-opt", opt];
+        if cpu {
+            args.push("--cpu");
+        }
+        isotrace(&args)
+    };
+    let (none, full) = (run("none", false), run("full", false));
+    assert!(none.status.success() && full.status.success(), "{}{}", stderr(&none), stderr(&full));
+    assert_eq!(String::from_utf8_lossy(&none.stdout).lines().count(), 3);
+    assert_eq!(none.stdout, full.stdout);
+    let cpu = run("none", true);
+    assert_eq!(cpu.status.code(), Some(1));
+    assert_eq!(stderr(&cpu), "error: --shader-opt applies to the device's evaluator; --cpu evaluates the f64 reference\n");
+}

@@ -32,6 +32,9 @@ pub struct EvalArgs {
     /// interpreter of the tape field source) or auto (the tape from render's crossover size on).
     #[arg(long, value_enum, value_name = "SOURCE")]
     field: Option<super::FieldArg>,
+    /// Whether a CPU driver optimises the evaluator, as `render --shader-opt`; auto counts a box as a pixel (none up to 1,048,576 boxes, full past them).
+    #[arg(long, value_enum, value_name = "OPT")]
+    shader_opt: Option<super::render::ShaderOptArg>,
 }
 
 /// Most boxes one run reads: 16 Mi boxes are 512 MiB in kernel layout, and
@@ -119,6 +122,7 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     if a.cpu && a.field.is_some() {
         return Err(CliError::Input("--field chooses the device's evaluator; --cpu evaluates the f64 reference".into()));
     }
+    refuse_cpu_shader_opt(&a)?;
     if a.cpu && loaded.inline.is_some() {
         return Err(CliError::Input("--cpu cannot evaluate --inline WGSL functions (they run on the device only)".into()));
     }
@@ -128,7 +132,7 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
         let p64: Vec<f64> = params.iter().map(|&v| v as f64).collect();
         boxes.iter().map(|b| cpu_eval(&f.ir, domain, b, &p64)).collect()
     } else {
-        let gpu = super::render::open_gpu(None)?;
+        let gpu = super::render::open_gpu(super::render::shader_opt(a.shader_opt, boxes.len() as u64, true))?;
         let run = match &tape {
             Some(t) => isotrace::gpu::eval::eval_boxes_tape(&gpu, t, domain, &boxes, &params),
             None => eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref()),
@@ -152,6 +156,14 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--shader-opt` is the device's: with `--cpu` it is an error, not ignored.
+fn refuse_cpu_shader_opt(a: &EvalArgs) -> Result<(), CliError> {
+    if a.cpu && a.shader_opt.is_some() {
+        return Err(CliError::Input("--shader-opt applies to the device's evaluator; --cpu evaluates the f64 reference".into()));
+    }
+    Ok(())
+}
+
 /// `eval FILE.scene.json --algebra scalar`: the scene's field at points, by
 /// the device's interpreter over the whole tree (or `--cpu`, the f64
 /// reference). A scene has no interval or affine extension, parameters,
@@ -167,6 +179,7 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
     if a.formula.inline.is_some() || !a.params.is_empty() {
         return refuse("--inline and --param apply to formulas");
     }
+    refuse_cpu_shader_opt(a)?;
     let scene = super::scene::load(path)?;
     let boxes = read_boxes(&a.boxes, true, a.time)?;
     let values: Vec<f64> = if a.cpu {
@@ -174,7 +187,7 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
     } else {
         let lin = isotrace::scene::linear::Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
         let points: Vec<[f32; 3]> = boxes.iter().map(|b| [b[0], b[2], b[4]]).collect();
-        let gpu = super::render::open_gpu(None)?;
+        let gpu = super::render::open_gpu(super::render::shader_opt(a.shader_opt, points.len() as u64, true))?;
         let got = isotrace::gpu::eval::eval_points_scene(&gpu, &lin.field_data(), &points).map_err(|e| CliError::Internal(e.to_string()))?;
         got.into_iter().map(f64::from).collect()
     };
