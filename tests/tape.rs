@@ -322,7 +322,7 @@ fn counting_work_per_bundle_resolves_more_and_draws_the_same_picture() {
         eprintln!("skipped: the device has no subgroup operations");
         return;
     }
-    let src = sum_of_terms(230);
+    let src = sum_of_terms(280);
     let (f, data) = tape(&src);
     let s = common::settings(common::cube(1.2), 32, 32);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
