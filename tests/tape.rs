@@ -541,3 +541,32 @@ fn a_tapes_normals_agree_with_the_compiled_fields() {
         }
     }
 }
+
+/// A pixel that runs out of budget keeps its nearest candidate cell as a
+/// guess, drawn like a hit with `--unresolved guess`: the tape's cell work
+/// finds the guess's gradient too, so its normal is f's gradient there (for
+/// the unit sphere, the guess point's direction), not a zero gradient's
+/// fallback.
+#[test]
+fn an_unresolved_guess_on_a_tape_is_shaded_with_its_gradient() {
+    let f = Formula::compile("<sphere>", "x^2 + y^2 + z^2 - 1").unwrap();
+    let mut s = common::settings(common::cube(1.5), 48, 48);
+    s.max_iter = 2;
+    let data = TapeData::new(&f.ir).unwrap();
+    let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let cam = s.camera.frame().unwrap();
+    let (mut guesses, mut agree) = (0, 0);
+    for (k, p) in frame.pixels.iter().enumerate() {
+        let (i, j) = (k as u32 % s.width, k as u32 / s.width);
+        if p.status != Status::Unresolved || !p.depth.is_finite() {
+            continue;
+        }
+        guesses += 1;
+        let at = s.camera.eye + isotrace::render::Camera::ray(&cam, i, j, s.width, s.height).normalize() * f64::from(p.depth);
+        let want = at.normalize();
+        let cos = f64::from(p.normal[0]) * want.x + f64::from(p.normal[1]) * want.y + f64::from(p.normal[2]) * want.z;
+        agree += usize::from(cos > 0.999);
+    }
+    assert!(guesses > 100, "{guesses} unresolved pixels");
+    assert!(agree * 10 >= guesses * 9, "{agree} of {guesses} guesses have f's gradient as their normal");
+}

@@ -12,7 +12,8 @@ const CELLS_ROUNDS: bool = false;
 // Whether a hit carries its gradient (kernel.wgsl computes it here).
 const CELLS_GRADIENT: bool = false;
 
-// A secondary ray's segment [s_lo, s_hi], bisected to depth d_max.
+// A secondary ray's segment [s_lo, s_hi], bisected to depth d_max (`grad`
+// is for cells_probe.wgsl: here the kernel takes the hit's gradient itself).
 fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool) -> Hit {
     return bisect_runs(ray, vec2<f32>(s_lo, s_hi), d_max, budget, Runs(vec2<u32>(0u), vec2<f32>(0.0), vec2<f32>(0.0), 1.0));
 }

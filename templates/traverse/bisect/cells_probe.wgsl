@@ -60,40 +60,31 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
     var D = vec2<f32>(0.0);
     var p = probe_idle();
     loop {
-        if (h.iters >= budget || field_exhausted()) {
-            // Budget exhausted (the traversal's, or an interpreted field's
-            // work limit): report it, and keep the nearest cell that may
-            // still hold the surface as the best guess.
+        // Budget exhausted (the traversal's, or an interpreted field's work
+        // limit): report it, and keep the nearest cell that may still hold
+        // the surface as the best guess, with its gradient (a guess can be
+        // drawn like a hit) from the cell work's call of f below.
+        let give_up = h.iters >= budget || field_exhausted();
+        if (give_up) {
             h.status = STATUS_UNRESOLVED;
             h.s = cell_s(s_lo, len, d, k).x;
-            return h;
-        }
-        h.iters = h.iters + 1u;
-        c = cell_s(s_lo, len, d, k);
-        g_at = vec2<u32>(bitcast<u32>(s_lo), d | (k << 5u));
-        // From depth U.mono_depth on, cells are evaluated together with the
-        // enclosure of f's derivative along the ray: where it excludes 0, f
-        // is monotone on the cell, which then holds a root iff f changes
-        // sign across it, and that root is unique (found by scalar solving).
-        // Otherwise the slope tightens the enclosure (the mean-value form,
-        // which needs f at the midpoint).
-        let slope = d >= U.mono_depth;
-        let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
-        h.evals = h.evals + 1u;
-        r = q.xy;
-        D = q.zw;
-        p.monotone = slope && (q.z > 0.0 || q.w < 0.0);
-        p.phase = PH_DECIDE;
-        if (slope && !p.monotone) {
-            p.phase = PH_MEAN;
-            // The midpoint as its children's shared end is computed, so a
-            // monotone child takes f there from this evaluation.
-            p.s = cell_s(s_lo, len, d + 1u, 2u * k).y;
+            if (!grad || field_exhausted()) { return h; }
+            p.best = h.s;
+            p.s_last = -F.inf; // the stencil starts at the guess itself
+            probe_gradient(&p, ray);
+        } else {
+            h.iters = h.iters + 1u;
+            c = cell_s(s_lo, len, d, k);
+            g_at = vec2<u32>(bitcast<u32>(s_lo), d | (k << 5u));
+            let q = probe_cell(&p, ray, s_lo, len, d, k);
+            h.evals = h.evals + 1u;
+            r = q.xy;
+            D = q.zw;
+            probe_decide(&p, c, r, d, d_max, d_last);
         }
         // The cell's scalar work, one evaluation of f per iteration (the
         // test at the end: code after a break still runs for the lanes
         // left, so a test at the top would cost an evaluation).
-        probe_decide(&p, c, r, d, d_max, d_last);
         if (probe_scalar(p.phase)) {
             loop {
                 // Looking ahead can pass the run's end, where the field's
@@ -122,10 +113,12 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
                 if (!probe_scalar(p.phase)) { break; }
             }
         }
-        if (p.phase == PH_HIT) {
-            h.iso = p.best_iso;
-            h.s = p.best;
-            h.status = STATUS_HIT;
+        if (give_up || p.phase == PH_HIT) {
+            if (!give_up) {
+                h.iso = p.best_iso;
+                h.s = p.best;
+                h.status = STATUS_HIT;
+            }
             h.g = p.g / gradient_step_size();
             return h;
         }
@@ -140,6 +133,29 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
         }
     }
     return h;
+}
+
+// The enclosure of f over cell (d, k) of the segment from s_lo of length
+// len (its one call site), and the start of the cell's scalar work in p.
+// From depth U.mono_depth on, cells are evaluated together with the
+// enclosure of f's derivative along the ray: where it excludes 0, f is
+// monotone on the cell, which then holds a root iff f changes sign across
+// it, and that root is unique (found by scalar solving). Otherwise the
+// slope tightens the enclosure (the mean-value form, which needs f at the
+// midpoint).
+fn probe_cell(p: ptr<function, Probe>, ray: Ray, s_lo: f32, len: f32, d: u32, k: u32) -> vec4<f32> {
+    let c = cell_s(s_lo, len, d, k);
+    let slope = d >= U.mono_depth;
+    let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
+    (*p).monotone = slope && (q.z > 0.0 || q.w < 0.0);
+    (*p).phase = PH_DECIDE;
+    if (slope && !(*p).monotone) {
+        (*p).phase = PH_MEAN;
+        // The midpoint as its children's shared end is computed, so a
+        // monotone child takes f there from this evaluation.
+        (*p).s = cell_s(s_lo, len, d + 1u, 2u * k).y;
+    }
+    return q;
 }
 
 // Phases of a cell's scalar work (traverse). PH_CELL: the cell's enclosure;
@@ -232,9 +248,6 @@ fn probe_idle() -> Probe {
     return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false, -F.inf, 0.0, false, vec3<f32>(0.0), vec3<f32>(0.0));
 }
 
-// The gradient's stencil: half the termination width, as `gradient`'s.
-fn gradient_step_size() -> f32 { return 0.5 * F.eps; }
-
 // Where the phase evaluates f: on the ray at s, or (PH_GRAD) the
 // gradient's base point gp (n = 0) and one stencil step from it along x,
 // y, z (n = 1, 2, 3).
@@ -258,11 +271,18 @@ fn probe_found(p: ptr<function, Probe>, ray: Ray, grad: bool) {
         (*p).phase = PH_ADVANCE;
         return;
     }
-    (*p).phase = select(PH_HIT, PH_GRAD, grad);
+    (*p).phase = PH_HIT;
+    if (grad) { probe_gradient(p, ray); }
+}
+
+// Starts the gradient at p.best (PH_GRAD): from the last point on the ray
+// when it is within eps of it (its f known), else from p.best itself.
+fn probe_gradient(p: ptr<function, Probe>, ray: Ray) {
     let near = abs((*p).s_last - (*p).best) <= ray.eps_s;
-    (*p).gp = select(q, ray.o + ray.dir * (*p).s_last, near);
+    (*p).gp = ray.o + ray.dir * select((*p).best, (*p).s_last, near);
     (*p).n = select(0u, 1u, near);
     (*p).g = vec3<f32>(0.0);
+    (*p).phase = PH_GRAD;
 }
 
 // One evaluation f of the gradient's stencil (PH_GRAD): the base point's

@@ -79,6 +79,16 @@ struct Ray { o: vec3<f32>, dir: vec3<f32>, s_exit: f32, eps_s: f32 }
 struct Hit { s: f32, status: u32, evals: u32, iters: u32, iso: u32, g: vec3<f32> }
 fn no_hit() -> Hit { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u, vec3<f32>(0.0)); }
 
+// The stencil of a hit's gradient: half the termination width.
+fn gradient_step_size() -> f32 { return 0.5 * F.eps; }
+// The gradient at hit h (at p) for shading and the normal: the cells' own
+// (CELLS_GRADIENT: an interpreted field's, found by its cell work's one call
+// of f), else central differences here, six evaluations of f.
+fn hit_gradient(h: Hit, p: vec3<f32>) -> vec3<f32> {
+    if (CELLS_GRADIENT) { return h.g; }
+    return gradient(p, gradient_step_size());
+}
+
 fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
     let w = exp2(-f32(d));
     let t0 = f32(k) * w;
@@ -301,11 +311,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
             let surface = g_surface;
             let p = o + dir * hit.s;
             let dist = hit.s / inv_len;
-            // One gradient for the shading and the normal: the cells'
-            // (an interpreted field's, found at the hit), else six
-            // evaluations of f here.
-            var g = hit.g;
-            if (!CELLS_GRADIENT) { g = gradient(p, 0.5 * F.eps); }
+            let g = hit_gradient(hit, p);
             var c = shade_hit(o, unit, p, g, hit.s, hit.iso + surface, dr);
             g_surface = surface;
             if (hit.status == STATUS_UNRESOLVED) { c = unresolved_color(c, px); }

@@ -20,8 +20,7 @@ fn reflection(p0: vec3<f32>, n0: vec3<f32>, unit0: vec3<f32>) -> vec4<f32> {
             break;
         }
         let q = o + u * h.s;
-        var g = h.g;
-        if (!CELLS_GRADIENT) { g = gradient(q, 0.5 * F.eps); }
+        let g = hit_gradient(h, q);
         var m = normalize(g);
         if (dot(m, u) > 0.0) { m = -m; }
         let c = shade(q, u, g, 0.5, h.iso, shadow_visibility(q, m));
