@@ -166,6 +166,14 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 /// its slab).
 const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\nfn field_view() -> u32 { return 0u; }\nfn field_entry(li: u32) {}\n";
 
+/// [`FIELD_COST`] for a formula with rerolled loops ([`super::reroll`]):
+/// an evaluation of f costs `iters` loop iterations (the sphere tracer
+/// keeps its steps within the cap with it), and an evaluation the work
+/// limit refused reports the pixel.
+fn looped_field_cost(iters: u32) -> String {
+    format!("fn field_cost() -> u32 {{ return {iters}u; }}\nfn field_exhausted() -> bool {{ return g_field_exhausted; }}\nfn field_view() -> u32 {{ return 0u; }}\nfn field_entry(li: u32) {{}}\n")
+}
+
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).
 /// `inline` user functions need every op library (their three versions
@@ -183,8 +191,14 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
     if let Some(user) = inline {
         let _ = write!(out, "\n// ---- User WGSL (--inline {}): functions callable from the formula and hooks.\n{}\n", user.path, user.text);
     }
+    let plan = super::reroll::plan(ir);
+    if plan.loops.is_empty() {
+        out.push_str(FIELD_COST);
+    } else {
+        out.push_str(&super::reroll::support());
+        let _ = write!(out, "{}", looped_field_cost(plan.iterations()));
+    }
     out.push_str(&emit_evaluator(ir, Domain::Scalar));
-    out.push_str(FIELD_COST);
     out.push_str(super::UNTILED_FIELD_HOOKS);
     out.push_str(super::UNSHORTENED_FIELD_HOOKS);
     let Some(d) = domain else {

@@ -14,7 +14,7 @@
 //! generated code implements with WGSL expressions (here) and the tape with
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
-use super::{emit_body, emit_odd_power, Domain};
+use super::{emit_body, emit_odd_power, Domain, Hook};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
@@ -35,18 +35,45 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "fn evald_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{");
     let mut d: Vec<Option<Term>> = vec![None; ir.nodes.len()];
-    let empty = emit_body(&mut out, ir, domain, |out, id, op| {
-        if let Some(e) = rule(&mut Wgsl { out, p }, id, op, &d) {
-            let _ = writeln!(out, "    let d{id} = {};", e.text());
-            d[id as usize] = Some(e.renamed(format!("d{id}")));
+    let at = |d: &mut Vec<Option<Term>>, id: NodeId| {
+        if d.len() <= id as usize {
+            d.resize(id as usize + 1, None);
+        }
+        id as usize
+    };
+    let body = emit_body(&mut out, ir, domain, |out, hook| match hook {
+        Hook::Node(id, op) => {
+            let i = at(&mut d, id);
+            if let Some(e) = rule(&mut Wgsl { out, p }, id, op, &d) {
+                let _ = writeln!(out, "    let d{id} = {};", e.text());
+                d[i] = Some(e.renamed(format!("d{id}")));
+            }
+        }
+        // A rerolled loop's accumulator carries its derivative as a value of the domain.
+        Hook::Begin { acc, seed } => {
+            let init = d[seed as usize].as_ref().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
+            let _ = writeln!(out, "    var d{acc} = {init};");
+            let i = at(&mut d, acc);
+            d[i] = Some(Term::Form(format!("d{acc}")));
+        }
+        Hook::Step { acc, next } => {
+            let v = d[next as usize].as_ref().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
+            let _ = writeln!(out, "    d{acc} = {v};");
+        }
+        Hook::End { acc, end } => {
+            let _ = writeln!(out, "    let d{end} = d{acc};");
+            d[end as usize] = Some(Term::Form(format!("d{end}")));
         }
     });
     let root = d[ir.root as usize].clone().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
-    let result = format!("vec4<f32>({p}_range(v{}), {p}_range({root}))", ir.root);
-    let _ = match empty {
-        Some(empty) => writeln!(out, "    return select({result}, vec4<f32>({p}_range({p}_empty()), 0.0, 0.0), {empty});"),
-        None => writeln!(out, "    return {result};"),
-    };
+    let mut result = format!("vec4<f32>({p}_range(v{}), {p}_range({root}))", ir.root);
+    if let Some(empty) = body.empty {
+        result = format!("select({result}, vec4<f32>({p}_range({p}_empty()), 0.0, 0.0), {empty})");
+    }
+    if body.looped {
+        result = format!("select({result}, vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()), !admitted)");
+    }
+    let _ = writeln!(out, "    return {result};");
     out.push_str("}\n");
     out
 }

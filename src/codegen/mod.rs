@@ -22,6 +22,7 @@ pub mod choice;
 pub mod compiled;
 pub mod derivative;
 pub mod kernel;
+pub mod reroll;
 pub mod tape;
 mod tape_derivative;
 pub mod tape_field;
@@ -113,13 +114,27 @@ pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
     let shown = display_limited(ir, ir.root, 160);
     let _ = writeln!(out, "// f = {shown}");
     let _ = writeln!(out, "fn {}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> {ty} {{", domain.eval_fn());
+    let body = emit_body(&mut out, ir, domain, |_, _| {});
     // A select, not a branch, like the op libraries (their tests say why).
-    let _ = match emit_body(&mut out, ir, domain, |_, _, _| {}) {
-        Some(empty) => writeln!(out, "    return select(v{}, {p}_empty(), {empty});", ir.root),
-        None => writeln!(out, "    return v{};", ir.root),
-    };
+    let mut ret = format!("v{}", ir.root);
+    if let Some(empty) = body.empty {
+        ret = format!("select({ret}, {p}_empty(), {empty})");
+    }
+    if body.looped {
+        ret = format!("select({ret}, {}, !admitted)", whole(domain));
+    }
+    let _ = writeln!(out, "    return {ret};");
     out.push_str("}\n");
     out
+}
+
+/// The value that says nothing (an evaluation refused by the work limit).
+fn whole(domain: Domain) -> &'static str {
+    match domain {
+        Domain::Scalar => "iso_nan()",
+        Domain::Interval => "vec2<f32>(-iso_inf(), iso_inf())",
+        Domain::Affine => "ra_from_ia(vec2<f32>(-iso_inf(), iso_inf()))",
+    }
 }
 
 /// Emits `fn eval_<p>_all(x, y, z, t) -> array<T, N>` returning the values
@@ -131,9 +146,17 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
     let n = outputs.len();
     let mut out = String::new();
     let _ = writeln!(out, "fn eval_{p}_all(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> array<{ty}, {n}> {{");
-    if let Some(empty) = emit_body(&mut out, ir, domain, |_, _, _| {}) {
-        let empties = vec![format!("{p}_empty()"); n].join(", ");
-        let _ = writeln!(out, "    if ({empty}) {{ return array<{ty}, {n}>({empties}); }}");
+    let body = emit_body(&mut out, ir, domain, |_, _| {});
+    let mut bail = Vec::new();
+    if let Some(empty) = body.empty {
+        bail.push((empty, format!("{p}_empty()")));
+    }
+    if body.looped {
+        bail.push(("!admitted".to_string(), whole(domain).to_string()));
+    }
+    for (test, value) in bail {
+        let values = vec![value; n].join(", ");
+        let _ = writeln!(out, "    if ({test}) {{ return array<{ty}, {n}>({values}); }}");
     }
     let vals: Vec<String> = outputs.iter().map(|o| format!("v{o}")).collect();
     let _ = writeln!(out, "    return array<{ty}, {n}>({});", vals.join(", "));
@@ -141,24 +164,116 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
     out
 }
 
-/// Writes `let v{id} = …;` for every live node, calling `after` after each
-/// (the derivative emitter adds its `d{id}` there). Returns the test that is
-/// true when the function is undefined on the box: every operation is
-/// strict, so a sqrt/log/pow node that is empty makes the whole function
-/// empty; `None` when the formula has no such node.
-pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, mut after: impl FnMut(&mut String, NodeId, Op)) -> Option<String> {
+/// What [`emit_body`] tells its hook: a node was written (`let v{id}`), or
+/// a rerolled loop's accumulator `v{acc}` was declared from `v{seed}`,
+/// stepped to `v{next}`, and its final value named `v{end}`.
+pub(crate) enum Hook {
+    Node(NodeId, Op),
+    Begin { acc: NodeId, seed: NodeId },
+    Step { acc: NodeId, next: NodeId },
+    End { acc: NodeId, end: NodeId },
+}
+
+/// What [`emit_body`] wrote: the test that is true when the function is
+/// undefined on the box (every operation is strict, so a sqrt/log/pow node
+/// that is empty makes the whole function empty; `None` when the formula
+/// has no such node), and whether it has rerolled loops (then `admitted`
+/// says whether the work limit let them run).
+pub(crate) struct Body {
+    pub empty: Option<String>,
+    pub looped: bool,
+}
+
+/// Writes `let v{id} = …;` for every live node, telling `hook` after each
+/// (the derivative emitter adds its `d{id}` there); runs of same-shaped
+/// terms become loops ([`reroll`]).
+pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, mut hook: impl FnMut(&mut String, Hook)) -> Body {
     let p = domain.prefix();
+    let plan = reroll::plan(ir);
+    let looped = !plan.loops.is_empty();
+    if looped {
+        let _ = writeln!(out, "    let admitted = field_admits({}u);", plan.iterations());
+    }
+    let mut fresh = ir.nodes.len() as NodeId;
     let mut restricted: Vec<String> = Vec::new();
     for id in ir.live() {
+        if plan.skips(id) {
+            continue;
+        }
+        if let Some(l) = plan.loop_at(id) {
+            emit_loop(out, ir, domain, l, &mut fresh, &mut hook);
+            continue;
+        }
         let op = ir.nodes[id as usize];
         let rhs = value_rhs(out, domain, id, op, &ir.externs);
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(format!("{p}_is_empty(v{id})"));
         }
-        after(out, id, op);
+        hook(out, Hook::Node(id, op));
     }
-    (!restricted.is_empty()).then(|| restricted.join(" || "))
+    Body { empty: (!restricted.is_empty()).then(|| restricted.join(" || ")), looped }
+}
+
+/// One rerolled loop: the accumulator starts at the chain's value before
+/// the run and takes `unroll` terms an iteration, each written from the
+/// body with its constants read from the table (fresh names `v{fresh…}`).
+fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh: &mut NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
+    let mut next_id = || {
+        *fresh += 1;
+        *fresh - 1
+    };
+    let acc = next_id();
+    let _ = writeln!(out, "    var v{acc} = v{};", l.seed);
+    hook(out, Hook::Begin { acc, seed: l.seed });
+    let (base, stride) = match domain {
+        Domain::Scalar => (l.scalar_base, l.scalar_stride()),
+        _ => (l.interval_base, l.interval_stride()),
+    };
+    let u = l.unroll;
+    let _ = writeln!(out, "    for (var i{acc} = 0u; i{acc} < select(0u, {}u, admitted); i{acc} = i{acc} + 1u) {{", l.iterations);
+    for k in 0..u {
+        let _ = writeln!(out, "    let j{acc}_{k} = {base}u + (i{acc} * {u}u + {k}u) * {stride}u;");
+        for q in 0..stride {
+            let _ = writeln!(out, "    let q{acc}_{k}_{q} = field_table(j{acc}_{k} + {q}u);");
+        }
+        let mut map: Vec<(NodeId, NodeId)> = Vec::new();
+        let mut slot = 0;
+        for &b in &l.body {
+            let op = ir.nodes[b as usize];
+            let mut ops = Vec::new();
+            for o in op.operands() {
+                if let Some(&(_, f)) = map.iter().find(|(n, _)| *n == o) {
+                    ops.push(f);
+                } else if let Op::Const(c) = ir.nodes[o as usize] {
+                    let f = next_id();
+                    let _ = writeln!(out, "    let v{f} = {};", reroll::slot_expr(domain.prefix(), |t| format!("q{acc}_{k}_{t}"), slot));
+                    hook(out, Hook::Node(f, Op::Const(c)));
+                    slot += 1;
+                    ops.push(f);
+                } else {
+                    ops.push(o);
+                }
+            }
+            let f = next_id();
+            let renamed = reroll::with_operands(op, &ops);
+            let rhs = value_rhs(out, domain, f, renamed, &ir.externs);
+            let _ = writeln!(out, "    let v{f} = {rhs};");
+            hook(out, Hook::Node(f, renamed));
+            map.push((b, f));
+        }
+        let term = map.last().map(|&(_, f)| f).expect("a loop body is not empty");
+        let next = next_id();
+        let step = l.step(acc, term);
+        let rhs = value_rhs(out, domain, next, step, &ir.externs);
+        let _ = writeln!(out, "    let v{next} = {rhs};");
+        hook(out, Hook::Node(next, step));
+        let _ = writeln!(out, "    v{acc} = v{next};");
+        hook(out, Hook::Step { acc, next });
+    }
+    out.push_str("    }\n");
+    let _ = writeln!(out, "    let v{} = v{acc};", l.end);
+    hook(out, Hook::End { acc, end: l.end });
 }
 
 /// The right-hand side of `let v{id} = …;` for one node (odd powers first
@@ -247,7 +362,10 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
         Some(_) => libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]),
         None => libraries(&[domain]),
     };
-    let eval = emit_evaluator(ir, domain);
+    let mut eval = emit_evaluator(ir, domain);
+    if !reroll::plan(ir).loops.is_empty() {
+        eval = format!("var<private> g_field_work: u32;\n{}{eval}", reroll::support());
+    }
     let user = inline.map_or(String::new(), |i| i.text.clone());
     let uniforms = crate::layout::EvalBlock::wgsl();
     template::splice(template::EVAL, &[("uniforms", &uniforms), ("library", &lib), ("inline", &user), ("evaluator", &eval), ("call", &eval_call(domain))])

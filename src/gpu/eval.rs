@@ -57,13 +57,32 @@ pub fn eval_boxes_with(
         }
     }
     let pipeline = gpu.pipeline("isotrace eval", &src)?;
+    // Rerolled terms read their constants from the field group's table.
+    let table = match crate::codegen::reroll::table_texels(ir) {
+        Some(t) => Some(table_group(gpu, &pipeline, &t)?),
+        None => None,
+    };
     let mut out = Vec::with_capacity(boxes.len());
     // Stay within the storage binding limit: 32 bytes in, 8 bytes out per box.
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
     for part in boxes.chunks(chunk) {
-        out.extend(run_chunk(gpu, &pipeline, part, params)?);
+        out.extend(run_chunk_with(gpu, &pipeline, part, params, table.as_ref().map(|(g, _)| g))?);
     }
     Ok(out)
+}
+
+/// A one-texture field group: a tape's code or a formula's table of
+/// rerolled constants, at binding 0 (the texture is kept with the group).
+fn table_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, texels: &crate::codegen::Texels<[u32; 4]>) -> Result<(wgpu::BindGroup, wgpu::Texture), EvalError> {
+    let (texture, view) = gpu.texture("field table", texels, wgpu::TextureFormat::Rgba32Uint)?;
+    let group = gpu.scoped("field table bind group", || {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("field table"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+        })
+    })?;
+    Ok((group, texture))
 }
 
 /// Evaluates a tape (the fixed interpreter of the tape field source) in
@@ -76,14 +95,7 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domai
     let src = crate::codegen::tape_field::eval_shader(domain, tape.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (tape)", &src)?;
-    let (_texture, view) = gpu.texture("tape", &tape.texels(), wgpu::TextureFormat::Rgba32Uint)?;
-    let group = gpu.scoped("tape bind group", || {
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tape"),
-            layout: &pipeline.get_bind_group_layout(1),
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
-        })
-    })?;
+    let (group, _texture) = table_group(gpu, &pipeline, &tape.texels())?;
     let mut out = Vec::with_capacity(boxes.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
     for part in boxes.chunks(chunk) {
@@ -122,11 +134,8 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::codegen::SceneData, points: &
     Ok(out)
 }
 
-fn run_chunk(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
-    run_chunk_with(gpu, pipeline, boxes, params, None)
-}
-
-/// One dispatch over `boxes`; `field` is bound as group 1 (a tape).
+/// One dispatch over `boxes`; `field` is bound as group 1 (a tape, a scene,
+/// a formula's table of rerolled constants).
 fn run_chunk_with(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32], field: Option<&wgpu::BindGroup>) -> Result<Vec<[f32; 2]>, EvalError> {
     let n = boxes.len() as u32;
     let groups = n.div_ceil(64);

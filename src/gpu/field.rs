@@ -66,6 +66,9 @@ pub(crate) struct FieldBinding {
     pub dense: bool,
     /// An interpreted tape: bisection's budget must leave room for its work.
     pub tape: bool,
+    /// A compiled formula with rerolled loops (`codegen::reroll`): the same
+    /// budget rule as a tape.
+    pub looped: bool,
     /// The tape, for the size of its per-tile lists (bisection's; `None`
     /// for other fields and traversals).
     tape_lists: Option<crate::codegen::TapeData>,
@@ -268,7 +271,18 @@ impl FieldBinding {
 /// Uploads what `source` needs on the device.
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
-        FieldSource::Compiled(_) => Ok(FieldBinding { layout: vec![], buffers: vec![], textures: vec![], prims: 0, scene: false, dense: false, tape: false, tape_lists: None, cached: Default::default() }),
+        FieldSource::Compiled(ir) => {
+            // Rerolled terms read their constants from a table (codegen::reroll).
+            let (layout, textures) = match crate::codegen::reroll::table_texels(ir) {
+                Some(t) => {
+                    let (tex, view) = gpu.texture("field table", &t, wgpu::TextureFormat::Rgba32Uint)?;
+                    (vec![texture_entry(0, wgpu::TextureSampleType::Uint)], vec![(0, tex, view)])
+                }
+                None => (vec![], vec![]),
+            };
+            let looped = !textures.is_empty();
+            Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, tape_lists: None, cached: Default::default() })
+        }
         FieldSource::Scene(s) => {
             let mut layout = vec![
                 texture_entry(0, wgpu::TextureSampleType::Uint),
@@ -284,14 +298,14 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
             let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
-            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, tape_lists: None, cached: Default::default() })
+            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, looped: false, tape_lists: None, cached: Default::default() })
         }
         FieldSource::Tape(t) => {
             let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
             // Bisection's per-tile lists (bound for every tape kernel, so
             // one layout serves every tape; unused by the others).
             let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false), storage_entry(TAPE_NOTES, false)];
-            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, tape_lists: Some(t.clone()), cached: Default::default() })
+            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, looped: false, tape_lists: Some(t.clone()), cached: Default::default() })
         }
     }
 }

@@ -376,8 +376,9 @@ impl<'g> Renderer<'g> {
     /// to `sink`. Returns the statistics that do not come from the records.
     fn run(&self, s: &Settings, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
         s.check()?;
-        if self.field.tape && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
-            let reason = format!("at most {} with a tape field (its interpreter shares lavapipe's 65,535 loop iterations)", codegen::tape::TAPE_MAX_ITER);
+        if (self.field.tape || self.field.looped) && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
+            let what = if self.field.tape { "a tape field (its interpreter shares" } else { "a formula of rerolled terms (its loops share" };
+            let reason = format!("at most {} with {what} lavapipe's 65,535 loop iterations)", codegen::tape::TAPE_MAX_ITER);
             return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
         }
         let cam = s.camera.frame()?;

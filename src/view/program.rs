@@ -228,7 +228,8 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     let mut pass = vec![Binding { clear: false, ..scratch(0, "pixel records", Size::PerPixel { bytes: 16 }) }];
     let mut stages: Vec<Stage> = Vec::new();
     let field_group = match field {
-        FieldSource::Compiled(_) => vec![],
+        // Rerolled terms read their constants from a table (codegen::reroll).
+        FieldSource::Compiled(ir) => codegen::reroll::table_texels(ir).map(|t| texture(0, "field table", t, "rgba32uint")).into_iter().collect(),
         FieldSource::Tape(t) => {
             let mut group = vec![texture(0, "tape", t.texels(), "rgba32uint")];
             if matches!(traversal, Traversal::Bisect(_)) {

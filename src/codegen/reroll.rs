@@ -1,0 +1,406 @@
+//! Loop rerolling for the compiled field. A generated formula is usually
+//! built by a program: a long chain `((… + t_k) + t_k+1) + …` (or of `*`,
+//! `min`, `max`) whose terms have one shape and differ only in their
+//! constants. Written out, every term is more code for lavapipe's LLVM back
+//! end, whose compile time grows steeply with the shader (README, "Compiled
+//! or tape"). Here such a run of terms becomes a loop over a table of their
+//! constants: the shader holds one copy of the term (unrolled a few times),
+//! and the constants come from a texture in the field group
+//! (`@group(1) @binding(0)`; a texel fetch is a vector gather on lavapipe,
+//! where a storage load at a uniform index still runs lane by lane, and a
+//! constant array indexed in a loop becomes a chain of selects).
+//!
+//! The loop accumulates the chain in the order it is written, so every
+//! domain computes what the straight-line code computes (one operation at a
+//! time, the same operands), and the enclosures are the same.
+//!
+//! lavapipe stops an invocation after 65,535 loop iterations in total, so a
+//! rerolled evaluation first asks [`WORK_LIMIT`] for its iterations
+//! (`field_admits`); past it the evaluation is the whole line and the pixel
+//! is reported unresolved (`field_exhausted`), as with the tape.
+
+use super::f32_enclosure;
+use crate::ir::{Func2, Ir, NodeId, Op};
+
+/// Shortest run of same-shaped terms made a loop: below it the loop's own
+/// cost (its counter, the texel fetches) outweighs what it saves.
+pub const MIN_RUN: usize = 16;
+/// Loop iterations an invocation's rerolled evaluations may spend: the
+/// tape's per-invocation share of lavapipe's cap (the same reasoning:
+/// `codegen::tape::TAPE_WORK_LIMIT`).
+pub const WORK_LIMIT: u32 = super::tape::TAPE_WORK_LIMIT;
+/// Most nodes an unrolled loop body holds (terms × their nodes).
+const BODY_MAX: usize = 256;
+
+/// How an operand of a term's node is reached.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Ref {
+    /// A node of the same term (its index in the term's body).
+    Local(usize),
+    /// A constant: a slot of the table.
+    Slot,
+    /// A node outside the term, the same for every term of the run.
+    Shared(NodeId),
+}
+
+/// One run of terms emitted as a loop.
+#[derive(Debug, Clone)]
+pub struct Loop {
+    /// The chain's value before the loop's first term (the accumulator's start).
+    pub seed: NodeId,
+    /// The chain node whose value the loop computes.
+    pub end: NodeId,
+    /// The chain's operation, with placeholder operands.
+    pub op: Op,
+    /// The first rerolled term's own nodes, in topological order: the body.
+    pub body: Vec<NodeId>,
+    /// Its root (the term's value).
+    pub root: NodeId,
+    /// Constants a term reads.
+    pub slots: usize,
+    /// Terms an iteration evaluates.
+    pub unroll: usize,
+    /// Iterations.
+    pub iterations: usize,
+    /// First texel of the terms' rounded constants (scalar domain).
+    pub scalar_base: u32,
+    /// First texel of the terms' constant enclosures (lo, hi pairs).
+    pub interval_base: u32,
+}
+
+impl Loop {
+    /// Texels a term's rounded constants take (four a texel).
+    pub fn scalar_stride(&self) -> u32 {
+        self.slots.div_ceil(4) as u32
+    }
+    /// Texels a term's constant enclosures take (two a texel).
+    pub fn interval_stride(&self) -> u32 {
+        self.slots.div_ceil(2) as u32
+    }
+    /// The chain's operation on `acc` and `term`.
+    pub fn step(&self, acc: NodeId, term: NodeId) -> Op {
+        with_operands(self.op, &[acc, term])
+    }
+}
+
+/// Which nodes of a formula are emitted as loops.
+#[derive(Debug, Clone, Default)]
+pub struct Plan {
+    /// The loops, in the order of their `end` nodes.
+    pub loops: Vec<Loop>,
+    /// Per node: emitted inside a loop (or replaced by one), not on its own.
+    skip: Vec<bool>,
+    /// The table: every loop's constants, `[f32; 4]` texels as bits.
+    pub table: Vec<[u32; 4]>,
+}
+
+impl Plan {
+    /// Whether node `id` is left to a loop.
+    pub fn skips(&self, id: NodeId) -> bool {
+        self.skip.get(id as usize).copied().unwrap_or(false)
+    }
+    /// The loop that computes node `id`.
+    pub fn loop_at(&self, id: NodeId) -> Option<&Loop> {
+        self.loops.iter().find(|l| l.end == id)
+    }
+    /// Loop iterations of one evaluation.
+    pub fn iterations(&self) -> u32 {
+        self.loops.iter().map(|l| l.iterations as u32).sum()
+    }
+    /// Nodes the generated code holds: the formula's less the rerolled
+    /// ones, plus each loop's unrolled body (what `Auto` weighs against
+    /// the tape).
+    pub fn emitted_nodes(&self, ir: &Ir) -> usize {
+        let live = ir.live();
+        let kept = live.iter().filter(|&&n| !self.skips(n)).count();
+        kept + self.loops.iter().map(|l| l.unroll * (l.body.len() + 1)).sum::<usize>()
+    }
+}
+
+/// `op` with its operands replaced, in order, by `ops`.
+pub(crate) fn with_operands(op: Op, ops: &[NodeId]) -> Op {
+    let o = |i: usize| ops[i];
+    match op {
+        Op::Const(_) | Op::Var(_) | Op::Param(_) => op,
+        Op::Neg(_) => Op::Neg(o(0)),
+        Op::Add(..) => Op::Add(o(0), o(1)),
+        Op::Sub(..) => Op::Sub(o(0), o(1)),
+        Op::Mul(..) => Op::Mul(o(0), o(1)),
+        Op::Div(..) => Op::Div(o(0), o(1)),
+        Op::PowI(_, n) => Op::PowI(o(0), n),
+        Op::Call1(f, _) => Op::Call1(f, o(0)),
+        Op::Call2(f, ..) => Op::Call2(f, o(0), o(1)),
+        Op::Call3(f, ..) => Op::Call3(f, o(0), o(1), o(2)),
+        Op::User(u, mut args, n) => {
+            args[..n as usize].copy_from_slice(&ops[..n as usize]);
+            Op::User(u, args, n)
+        }
+    }
+}
+
+/// The chain operations: associative ones the parser writes left-deep.
+fn chain_operands(op: Op) -> Option<(NodeId, NodeId)> {
+    match op {
+        Op::Add(a, b) | Op::Mul(a, b) | Op::Call2(Func2::Min | Func2::Max, a, b) => Some((a, b)),
+        _ => None,
+    }
+}
+
+fn same_kind(a: Op, b: Op) -> bool {
+    with_operands(a, &[0, 0]) == with_operands(b, &[0, 0])
+}
+
+fn is_leaf(op: Op) -> bool {
+    matches!(op, Op::Const(_) | Op::Var(_) | Op::Param(_))
+}
+
+/// Finds the runs of same-shaped terms worth a loop and lays out their
+/// constants.
+pub fn plan(ir: &Ir) -> Plan {
+    let n = ir.nodes.len();
+    let live = ir.live();
+    let mut is_live = vec![false; n];
+    let mut users: Vec<Vec<NodeId>> = vec![Vec::new(); n];
+    for &id in &live {
+        is_live[id as usize] = true;
+        for o in ir.nodes[id as usize].operands() {
+            users[o as usize].push(id);
+        }
+    }
+    // Outputs have a user outside the formula.
+    let mut output = vec![false; n];
+    output[ir.root as usize] = true;
+    for s in &ir.surfaces {
+        output[s.f as usize] = true;
+        for &(g, _) in &s.conditions {
+            output[g as usize] = true;
+        }
+    }
+    let single = |id: NodeId| users[id as usize].len() == 1 && !output[id as usize];
+    // Chains: their top nodes, walked down their left operands.
+    let mut chains: Vec<Vec<NodeId>> = Vec::new();
+    for &top in &live {
+        let op = ir.nodes[top as usize];
+        if chain_operands(op).is_none() {
+            continue;
+        }
+        let continued = single(top) && {
+            let u = users[top as usize][0];
+            let uop = ir.nodes[u as usize];
+            same_kind(op, uop) && chain_operands(uop).is_some_and(|(a, _)| a == top)
+        };
+        if continued {
+            continue;
+        }
+        let mut chain = vec![top];
+        let mut cur = top;
+        while let Some((a, _)) = chain_operands(ir.nodes[cur as usize]) {
+            let aop = ir.nodes[a as usize];
+            if !(same_kind(aop, op) && single(a)) {
+                break;
+            }
+            chain.push(a);
+            cur = a;
+        }
+        chain.reverse();
+        if chain.len() > MIN_RUN {
+            chains.push(chain);
+        }
+    }
+    if chains.is_empty() {
+        return Plan { skip: vec![false; n], ..Plan::default() };
+    }
+    // Terms: term 0 is the first chain node's left operand, term i its
+    // i-th node's right operand. A term owns the nodes only it uses.
+    let mut terms: Vec<NodeId> = Vec::new();
+    let mut term_of = vec![u32::MAX; n];
+    let mut chain_terms: Vec<std::ops::Range<usize>> = Vec::new();
+    for chain in &chains {
+        let start = terms.len();
+        let (t0, _) = chain_operands(ir.nodes[chain[0] as usize]).expect("a chain node");
+        terms.push(t0);
+        for &c in chain {
+            terms.push(chain_operands(ir.nodes[c as usize]).expect("a chain node").1);
+        }
+        chain_terms.push(start..terms.len());
+    }
+    for (t, &root) in terms.iter().enumerate() {
+        if single(root) && !is_leaf(ir.nodes[root as usize]) && term_of[root as usize] == u32::MAX {
+            term_of[root as usize] = t as u32;
+        }
+    }
+    let mut owner = term_of.clone();
+    for id in (0..n).rev() {
+        if !is_live[id] || owner[id] != u32::MAX || output[id] || is_leaf(ir.nodes[id]) {
+            continue;
+        }
+        let us = &users[id];
+        if let Some(&first) = us.first() {
+            let o = owner[first as usize];
+            if o != u32::MAX && us.iter().all(|&u| owner[u as usize] == o) && term_of[id] == u32::MAX {
+                owner[id] = o;
+            }
+        }
+    }
+    let mut bodies: Vec<Vec<NodeId>> = vec![Vec::new(); terms.len()];
+    for &id in &live {
+        let o = owner[id as usize];
+        if o != u32::MAX {
+            bodies[o as usize].push(id);
+        }
+    }
+    let shape = |t: usize| -> Option<Vec<(Op, Vec<Ref>)>> {
+        let body = &bodies[t];
+        if body.last() != Some(&terms[t]) || owner[terms[t] as usize] != t as u32 {
+            return None;
+        }
+        body.iter()
+            .map(|&id| {
+                let op = ir.nodes[id as usize];
+                if op.restricts_domain() || matches!(op, Op::User(..)) {
+                    return None;
+                }
+                let refs = op
+                    .operands()
+                    .iter()
+                    .map(|&o| match ir.nodes[o as usize] {
+                        _ if owner[o as usize] == t as u32 => Ref::Local(body.iter().position(|&b| b == o).unwrap_or(usize::MAX)),
+                        Op::Const(_) => Ref::Slot,
+                        _ => Ref::Shared(o),
+                    })
+                    .collect();
+                Some((with_operands(op, &[0, 0, 0, 0]), refs))
+            })
+            .collect()
+    };
+    let mut plan = Plan { skip: vec![false; n], ..Plan::default() };
+    for (chain, range) in chains.iter().zip(&chain_terms) {
+        let shapes: Vec<Option<Vec<(Op, Vec<Ref>)>>> = range.clone().map(shape).collect();
+        let mut i = 0;
+        while i < shapes.len() {
+            let mut j = i + 1;
+            while shapes[i].is_some() && j < shapes.len() && shapes[j] == shapes[i] {
+                j += 1;
+            }
+            // Terms i..j share a shape; term i stays written out and seeds the loop.
+            if shapes[i].is_some() && j - i >= MIN_RUN {
+                let first = range.start + i + 1;
+                let body = bodies[first].clone();
+                let unroll = unroll_for(j - i - 1, body.len());
+                let iterations = (j - i - 1) / unroll;
+                let count = iterations * unroll;
+                let seed = if i == 0 { terms[range.start] } else { chain[i - 1] };
+                let end = chain[i + count - 1];
+                let slots = shapes[i].as_ref().map_or(0, |s| s.iter().flat_map(|(_, r)| r).filter(|r| **r == Ref::Slot).count());
+                let mut l = Loop { seed, end, op: with_operands(ir.nodes[end as usize], &[0, 0]), root: terms[first], body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
+                let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &bodies[t], &owner, t as u32)).collect();
+                lay_out(&mut plan.table, &mut l, &consts);
+                for &c in &chain[i..i + count - 1] {
+                    plan.skip[c as usize] = true;
+                }
+                for t in first..first + count {
+                    for &b in &bodies[t] {
+                        plan.skip[b as usize] = true;
+                    }
+                }
+                plan.loops.push(l);
+            }
+            i = j.max(i + 1);
+        }
+    }
+    // Constants only the rerolled terms read are not written either (the
+    // loop reads them from the table; shared nodes it reads stay).
+    for id in (0..n).rev() {
+        if is_live[id] && matches!(ir.nodes[id], Op::Const(_)) && !output[id] && !plan.skip[id] && !users[id].is_empty() && users[id].iter().all(|&u| plan.skip[u as usize] && plan.loop_at(u).is_none()) {
+            plan.skip[id] = true;
+        }
+    }
+    plan.loops.sort_by_key(|l| l.end);
+    plan
+}
+
+/// Terms an iteration evaluates: more for long runs (fewer iterations
+/// against lavapipe's loop cap), within [`BODY_MAX`] nodes.
+fn unroll_for(terms: usize, body: usize) -> usize {
+    let want = match terms {
+        0..128 => 4,
+        128..512 => 8,
+        512..1024 => 16,
+        _ => 32,
+    };
+    want.min(BODY_MAX / (body + 1)).clamp(1, terms.max(1))
+}
+
+/// A term's constants in the order its body reads them.
+fn slot_values(ir: &Ir, body: &[NodeId], owner: &[u32], t: u32) -> Vec<f64> {
+    let mut out = Vec::new();
+    for &id in body {
+        for o in ir.nodes[id as usize].operands() {
+            if let (Op::Const(c), false) = (ir.nodes[o as usize], owner[o as usize] == t) {
+                out.push(c);
+            }
+        }
+    }
+    out
+}
+
+/// Appends a loop's constants to the table: every term's rounded values
+/// (four a texel), then every term's enclosures (two a texel).
+fn lay_out(table: &mut Vec<[u32; 4]>, l: &mut Loop, consts: &[Vec<f64>]) {
+    let (ss, si) = (l.scalar_stride() as usize, l.interval_stride() as usize);
+    l.scalar_base = table.len() as u32;
+    for c in consts {
+        let mut row = vec![0.0f32; ss * 4];
+        for (k, &v) in c.iter().enumerate() {
+            row[k] = f32_enclosure(v).0;
+        }
+        table.extend(row.chunks(4).map(|q| [q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), q[3].to_bits()]));
+    }
+    l.interval_base = table.len() as u32;
+    for c in consts {
+        let mut row = vec![0.0f32; si * 4];
+        for (k, &v) in c.iter().enumerate() {
+            let (_, lo, hi) = f32_enclosure(v);
+            row[2 * k] = lo;
+            row[2 * k + 1] = hi;
+        }
+        table.extend(row.chunks(4).map(|q| [q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), q[3].to_bits()]));
+    }
+}
+
+/// The WGSL a kernel with loops needs once: the table's binding and
+/// reader, and the work limit.
+pub fn support() -> String {
+    format!(
+        "// Rerolled terms' constants (src/codegen/reroll.rs): {w} texels a row.\n\
+         @group(1) @binding(0) var field_table_tex: texture_2d<u32>;\n\
+         fn field_table(i: u32) -> vec4<f32> {{ return bitcast<vec4<f32>>(textureLoad(field_table_tex, vec2<u32>(i & {mask}u, i >> {shift}u), 0)); }}\n\
+         // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
+         var<private> g_field_exhausted: bool;\n\
+         // Whether an evaluation of `iters` loop iterations is within the limit (and counts it).\n\
+         fn field_admits(iters: u32) -> bool {{\n    \
+             if (g_field_work + iters > {limit}u) {{ g_field_exhausted = true; return false; }}\n    \
+             g_field_work = g_field_work + iters;\n    return true;\n}}\n",
+        w = crate::scene::linear::TEXTURE_WIDTH,
+        mask = crate::scene::linear::TEXTURE_WIDTH - 1,
+        shift = crate::scene::linear::TEXTURE_SHIFT,
+        limit = WORK_LIMIT,
+    )
+}
+
+/// The expression of constant slot `s` of a term whose texels are
+/// `q{texel}` (named by `q`), in the domain with prefix `p`.
+pub fn slot_expr(p: &str, q: impl Fn(usize) -> String, s: usize) -> String {
+    const C: [&str; 4] = ["x", "y", "z", "w"];
+    match p {
+        "s" => format!("s_const({}.{})", q(s / 4), C[s % 4]),
+        "ia" => format!("{}.{}", q(s / 2), if s % 2 == 0 { "xy" } else { "zw" }),
+        _ => format!("ra_from_ia({}.{})", q(s / 2), if s % 2 == 0 { "xy" } else { "zw" }),
+    }
+}
+
+/// The table texture of a formula's loops (`None` without loops).
+pub fn table_texels(ir: &Ir) -> Option<super::Texels<[u32; 4]>> {
+    let plan = plan(ir);
+    (!plan.loops.is_empty()).then(|| super::Texels::from_rows(None, &plan.table))
+}
