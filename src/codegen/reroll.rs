@@ -404,3 +404,70 @@ pub fn table_texels(ir: &Ir) -> Option<super::Texels<[u32; 4]>> {
     let plan = plan(ir);
     (!plan.loops.is_empty()).then(|| super::Texels::from_rows(None, &plan.table))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn compile(src: &str) -> Ir {
+        crate::Formula::compile("<test>", src).unwrap().ir
+    }
+
+    /// No catalog surface has a run long enough: their kernels are the
+    /// straight-line code they always were.
+    #[test]
+    fn the_catalog_is_not_rerolled() {
+        for e in crate::catalog::builtin() {
+            let Ok(f) = e.compile() else { continue };
+            assert!(plan(&f.ir).loops.is_empty(), "{}", e.name);
+        }
+    }
+
+    #[test]
+    fn a_run_needs_min_run_terms_of_one_shape() {
+        let terms = |n: usize| (0..n).map(|i| format!("({}*x - y)*(z + {})", i + 3, i + 200)).collect::<Vec<_>>().join(" + ");
+        assert!(plan(&compile(&terms(MIN_RUN - 1))).loops.is_empty());
+        let p = plan(&compile(&terms(MIN_RUN + 9)));
+        // The front end orders a product's operands by node: the first term
+        // is `3·x` (its constant came first), the others `x·k`, so the run is
+        // terms 1 to 24; term 1 stays written out and seeds the loop, 20
+        // terms are rerolled at 4 an iteration, and the last 3 are written out.
+        assert_eq!(p.loops.iter().map(|l| (l.slots, l.unroll, l.iterations)).collect::<Vec<_>>(), vec![(2, 4, 5)]);
+        // A constant used twice in a term is two slots; a node all terms
+        // share (x*y) is read, not copied.
+        let shared = (0..40).map(|i| format!("{}*x*y*(z - {})", i + 2, i + 2)).collect::<Vec<_>>().join(" + ");
+        let p = plan(&compile(&format!("x*y + {shared}")));
+        assert_eq!(p.loops.len(), 1);
+        assert_eq!(p.loops[0].slots, 2);
+        // Min and max chains too; other shapes break a run.
+        let spheres = (0..30).map(|i| format!("(x - {i})^2 + y^2 + z^2 - 1")).collect::<Vec<_>>();
+        let mut u = spheres[0].clone();
+        for s in &spheres[1..] {
+            u = format!("min({u}, {s})");
+        }
+        assert_eq!(plan(&compile(&u)).loops.len(), 1);
+        let mixed = (0..40).map(|i| if i % 2 == 0 { format!("{}*x", i + 2) } else { format!("{}*y*y", i + 2) }).collect::<Vec<_>>().join(" + ");
+        assert!(plan(&compile(&mixed)).loops.is_empty());
+    }
+
+    #[test]
+    fn the_table_holds_every_terms_rounded_constants_and_their_enclosures() {
+        // (y + 3) is the same node in every term: shared, not a slot.
+        let src = (0..20).map(|i| format!("(x - {})*(y + 3)", 0.1 * (i + 1) as f64)).collect::<Vec<_>>().join(" + ");
+        let p = plan(&compile(&src));
+        let l = &p.loops[0];
+        assert_eq!((l.slots, l.unroll * l.iterations), (1, 16));
+        let mut last = f32::NEG_INFINITY;
+        for t in 0..16 {
+            let s = p.table[l.scalar_base as usize + t];
+            let i = p.table[l.interval_base as usize + t];
+            let n = f32::from_bits(s[0]);
+            let [lo, hi, _, _] = i.map(f32::from_bits);
+            // Each term's rounded constant lies in its enclosure, one ulp wide
+            // where 0.1·k is not a float.
+            assert!(lo <= n && n <= hi && (lo == hi || lo.next_up() == hi), "term {t}: {n} [{lo}, {hi}]");
+            assert!(n > last);
+            last = n;
+        }
+    }
+}

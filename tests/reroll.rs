@@ -1,0 +1,120 @@
+//! Rerolled terms (`codegen::reroll`): a long sum of same-shaped terms is
+//! compiled as a loop over a table of its constants. It must give what the
+//! same sum written out gives: the same enclosures on the device (and they
+//! hold f64 samples), the same picture, and pixels past the loops' work
+//! limit reported, never drawn from a cut-off sum.
+//!
+//! The written-out reference is the same sum with every other term's
+//! factors swapped, `(z + b)·(a·x − y)`: the shapes alternate, so no run is
+//! long enough to reroll, and each operation has the same operands (IA,
+//! affine and scalar products are symmetric), so the values are the same.
+
+mod common;
+
+use common::gpu;
+use isotrace::codegen::{reroll, Domain, FieldSource};
+use isotrace::gpu::eval::{eval_boxes, Box8};
+use isotrace::gpu::Renderer;
+use isotrace::render::{BisectOptions, Status, Traversal};
+use isotrace::Formula;
+
+/// The sum of `n` bilinear terms on the unit sphere; `alternate` writes
+/// every other term with its factors swapped.
+fn sum(n: usize, alternate: bool) -> Formula {
+    let terms: Vec<String> = (0..n)
+        .map(|i| {
+            let (a, b) = (0.5 + i as f64 * 0.013, i as f64 * 0.021 - 0.3);
+            if alternate && i % 2 == 1 { format!("(z+{b:.3})*({a:.3}*x-y)") } else { format!("({a:.3}*x-y)*(z+{b:.3})") }
+        })
+        .collect();
+    Formula::compile("<test>", &format!("x^2 + y^2 + z^2 - 1 + 0.004*({})", terms.join(" + "))).unwrap()
+}
+
+#[test]
+fn only_the_uniform_sum_is_rerolled() {
+    let (rolled, written) = (sum(300, false), sum(300, true));
+    let plan = reroll::plan(&rolled.ir);
+    assert_eq!(plan.loops.len(), 1);
+    let l = &plan.loops[0];
+    assert_eq!((l.slots, l.unroll * l.iterations), (2, 296), "{l:?}");
+    assert!(plan.emitted_nodes(&rolled.ir) < 100, "{}", plan.emitted_nodes(&rolled.ir));
+    assert!(reroll::plan(&written.ir).loops.is_empty());
+}
+
+/// Boxes around the sphere, some thin, some points.
+fn boxes(n: usize) -> Vec<Box8> {
+    common::points(1.3, n, 7)
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let w = [0.0, 1e-3, 0.05, 0.4][i % 4] as f32;
+            let c = p.map(|v| v as f32);
+            [c[0] - w, c[0] + w, c[1] - w * 0.5, c[1] + w, c[2] - w, c[2] + w * 0.25, 0.0, 0.0]
+        })
+        .collect()
+}
+
+#[test]
+fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
+    let (rolled, written) = (sum(300, false), sum(300, true));
+    let bx = boxes(2000);
+    for domain in [Domain::Scalar, Domain::Interval, Domain::Affine] {
+        let a = eval_boxes(gpu(), &rolled.ir, domain, &bx, &[]).unwrap();
+        let b = eval_boxes(gpu(), &written.ir, domain, &bx, &[]).unwrap();
+        let differ = a.iter().zip(&b).filter(|(p, q)| p != q).count();
+        assert_eq!(differ, 0, "{domain:?}: {differ} of {} boxes differ", bx.len());
+        if domain == Domain::Scalar {
+            continue;
+        }
+        // And they hold f64 samples of the sum (within f32 rounding: the
+        // conformance suite checks the op libraries' own rounding).
+        for (k, (r, b8)) in a.iter().zip(&bx).enumerate() {
+            for s in 0..5 {
+                let t = s as f64 / 4.0;
+                let p = [0, 2, 4].map(|i| f64::from(b8[i]) + t * f64::from(b8[i + 1] - b8[i]));
+                let v = isotrace::reference::eval_scalar(&rolled.ir, [p[0], p[1], p[2], 0.0], &[]);
+                let tol = 1e-5 * (1.0 + v.abs());
+                assert!(f64::from(r[0]) - tol <= v && v <= f64::from(r[1]) + tol, "{domain:?} box {k}: {v} outside {r:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_rerolled_sum_draws_the_written_out_sums_picture() {
+    let s = common::settings(common::cube(1.6), 96, 96);
+    let (rolled, written) = (sum(120, false), sum(120, true));
+    for domain in [Domain::Interval, Domain::Affine] {
+        let t = Traversal::Bisect(BisectOptions::new(domain));
+        let a = Renderer::new(gpu(), FieldSource::Compiled(&rolled.ir), t.clone()).unwrap().render(&s).unwrap();
+        let b = Renderer::new(gpu(), FieldSource::Compiled(&written.ir), t).unwrap().render(&s).unwrap();
+        assert!(a.stats.hits > 500 && a.stats.unresolved == 0, "{:?}", a.stats);
+        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || p.depth.to_bits() != q.depth.to_bits() || p.color != q.color).count();
+        assert_eq!(differ, 0, "{domain:?}: {differ} pixels differ");
+    }
+}
+
+/// A sum long enough that hard pixels' evaluations pass the work limit
+/// (4,600 terms `c·x` on the tangle cube, 144 iterations an evaluation):
+/// those pixels are reported unresolved, and every pixel drawn as a hit
+/// has the f64 reference's first root.
+#[test]
+fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
+    let s = common::settings(common::cube(3.0), 48, 48);
+    let terms: Vec<String> = (1..=4600).map(|i| format!("{:.9}*x", i as f64 * 1e-9)).collect();
+    let long = Formula::compile("<test>", &format!("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8+({})", terms.join("+"))).unwrap();
+    let plan = reroll::plan(&long.ir);
+    assert_eq!((plan.loops[0].unroll, plan.iterations()), (32, 143));
+    let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let a = Renderer::new(gpu(), FieldSource::Compiled(&long.ir), t).unwrap().render(&s).unwrap();
+    assert!(a.stats.unresolved > 20 && a.stats.hits > 200, "{:?}", a.stats);
+    let mut wrong = Vec::new();
+    for (k, p) in a.pixels.iter().enumerate().filter(|(_, p)| p.status == Status::Hit) {
+        let (i, j) = (k as u32 % s.width, k as u32 / s.width);
+        match common::reference_root(&long, &s, i, j, 300) {
+            Some((t, w)) if (f64::from(p.depth) - t).abs() <= w + 4.0 * s.eps => {}
+            r => wrong.push(format!("({i},{j}) {} vs {r:?}", p.depth)),
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:?}");
+}
