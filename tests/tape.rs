@@ -173,6 +173,18 @@ fn sum_of_terms(n: u32) -> String {
     format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"))
 }
 
+/// [`sum_of_terms`] with every other term's factors swapped: no run of
+/// same-shaped terms, so its compiled kernel writes every term out (a
+/// uniform sum's becomes a loop, `codegen::reroll`, and `auto` keeps it
+/// compiled).
+fn mixed_sum_of_terms(n: u32) -> String {
+    let term = |i: u32| {
+        let (a, b) = (0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002);
+        if i % 2 == 0 { format!("({a:.3}*x-y)*(z+{b:.3})") } else { format!("(z+{b:.3})*({a:.3}*x-y)") }
+    };
+    format!("x^2+y^2+z^2-1+1e-4*({})", (0..n).map(term).collect::<Vec<_>>().join("+"))
+}
+
 /// Pixels where the f64 reference finds a root along the ray and the frame
 /// has neither a hit there nor an unresolved pixel. With `in_front_ok` a
 /// hit in front of the reference's first root counts as found: it may be a
@@ -469,7 +481,9 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
         let (size, k) = auto(&big, domain);
         assert!(size > 2 * choice::crossover(&Traversal::Bisect(BisectOptions::new(domain))), "{size}");
         assert_eq!(k, FieldKind::Compiled, "{domain:?}");
-        assert_eq!(auto(&sum_of_terms(400), domain).1, FieldKind::Tape, "{domain:?}");
+        assert_eq!(auto(&mixed_sum_of_terms(400), domain).1, FieldKind::Tape, "{domain:?}");
+        // The same sum with one shape is a loop in 81 nodes: compiled.
+        assert_eq!(auto(&sum_of_terms(400), domain).1, FieldKind::Compiled, "{domain:?}");
     }
 }
 
@@ -482,7 +496,7 @@ fn auto_weighs_the_frames_of_the_job() {
     use isotrace::codegen::{choice, FieldKind};
     let ia = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let kind = |terms: u32, frames: u64| {
-        let f = Formula::compile("<sum>", &sum_of_terms(terms)).unwrap();
+        let f = Formula::compile("<sum>", &mixed_sum_of_terms(terms)).unwrap();
         let t = isotrace::codegen::TapeData::new(&f.ir).unwrap();
         (t.size, choice::choose_for(FieldKind::Auto, &f, &[], &ia, frames).unwrap().kind())
     };

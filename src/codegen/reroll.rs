@@ -147,7 +147,7 @@ fn chain_operands(op: Op) -> Option<(NodeId, NodeId)> {
 }
 
 fn same_kind(a: Op, b: Op) -> bool {
-    with_operands(a, &[0, 0]) == with_operands(b, &[0, 0])
+    with_operands(a, &[0; 4]) == with_operands(b, &[0; 4])
 }
 
 fn is_leaf(op: Op) -> bool {
