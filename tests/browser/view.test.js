@@ -244,6 +244,20 @@ async function proceduralCase(browser) {
   } finally { proc.kill(); }
 }
 
+// A sum of 40 same-shaped terms: its compiled kernel is a loop over a table
+// of the terms' constants (src/codegen/reroll.rs), a texture in the field
+// group that the page binds like a tape's.
+async function rerollCase(browser) {
+  const { url, proc } = await startServer('tests/browser/sum-reroll.iso');
+  try {
+    const page = await openPage(browser, url, 'reroll');
+    const wgsl = execFileSync(BIN, ['wgsl', 'tests/browser/sum-reroll.iso']).toString();
+    check('reroll: the kernel reads a table', wgsl.includes('field_table('));
+    await matchesCli(page, 'reroll-sum');
+    await page.close();
+  } finally { proc.kill(); }
+}
+
 async function exportCase(browser) {
   const file = path.join(ART, 'export-sphere.html');
   execFileSync(BIN, ['view', '@sphere', '--export', file], { stdio: ['ignore', 'ignore', 'inherit'] });
@@ -264,7 +278,7 @@ async function exportCase(browser) {
   try {
     // CASES=scene,export runs only those (for debugging).
     const only = (process.env.CASES || '').split(',').filter(Boolean);
-    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, rerollCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
       try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
     }
   } finally { await browser.close(); }
