@@ -226,16 +226,19 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
     let acc = next_id();
     let _ = writeln!(out, "    var v{acc} = v{};", l.seed);
     hook(out, Hook::Begin { acc, seed: l.seed });
-    let (base, stride) = match domain {
-        Domain::Scalar => (l.scalar_base, l.scalar_stride()),
-        _ => (l.interval_base, l.interval_stride()),
+    let lay = match domain {
+        Domain::Scalar => l.scalar(),
+        _ => l.interval(),
     };
     let u = l.unroll;
     let _ = writeln!(out, "    for (var i{acc} = 0u; i{acc} < select(0u, {}u, admitted); i{acc} = i{acc} + 1u) {{", l.iterations);
     for k in 0..u {
-        let _ = writeln!(out, "    let j{acc}_{k} = {base}u + (i{acc} * {u}u + {k}u) * {stride}u;");
-        for q in 0..stride {
-            let _ = writeln!(out, "    let q{acc}_{k}_{q} = field_table(j{acc}_{k} + {q}u);");
+        let (group, within) = (k / lay.group, k % lay.group);
+        if within == 0 {
+            let _ = writeln!(out, "    let j{acc}_{group} = {}u + (i{acc} * {}u + {group}u) * {}u;", lay.base, u / lay.group, lay.texels);
+            for q in 0..lay.texels {
+                let _ = writeln!(out, "    let q{acc}_{group}_{q} = field_table(j{acc}_{group} + {q}u);");
+            }
         }
         let mut map: Vec<(NodeId, NodeId)> = Vec::new();
         let mut slot = 0;
@@ -247,7 +250,8 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
                     ops.push(f);
                 } else if let Op::Const(c) = ir.nodes[o as usize] {
                     let f = next_id();
-                    let _ = writeln!(out, "    let v{f} = {};", reroll::slot_expr(domain.prefix(), |t| format!("q{acc}_{k}_{t}"), slot));
+                    let at = lay.offset(l.slots, within, slot);
+                    let _ = writeln!(out, "    let v{f} = {};", reroll::slot_expr(domain.prefix(), |t| format!("q{acc}_{group}_{t}"), at));
                     hook(out, Hook::Node(f, Op::Const(c)));
                     slot += 1;
                     ops.push(f);

@@ -68,14 +68,47 @@ pub struct Loop {
     pub interval_base: u32,
 }
 
-impl Loop {
-    /// Texels a term's rounded constants take (four a texel).
-    pub fn scalar_stride(&self) -> u32 {
-        self.slots.div_ceil(4) as u32
+/// Where a loop's constants lie in the table for one domain: terms are
+/// packed `group` to `texels` texels (several terms to a texel where
+/// their constants fit: a texel fetch is most of a term's cost on lavapipe),
+/// `width` floats a constant (1: the rounded value; 2: its enclosure).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layout {
+    /// First texel.
+    pub base: u32,
+    /// Terms a group of texels holds.
+    pub group: usize,
+    /// Texels a group takes.
+    pub texels: u32,
+    /// Floats a constant takes.
+    pub width: usize,
+}
+
+impl Layout {
+    fn new(slots: usize, width: usize, unroll: usize) -> Layout {
+        let floats = (slots * width).max(1);
+        let group = (4 / floats).max(1);
+        if group > 1 && unroll % group == 0 {
+            Layout { base: 0, group, texels: 1, width }
+        } else {
+            Layout { base: 0, group: 1, texels: floats.div_ceil(4) as u32, width }
+        }
     }
-    /// Texels a term's constant enclosures take (two a texel).
-    pub fn interval_stride(&self) -> u32 {
-        self.slots.div_ceil(2) as u32
+    /// The float offset, within its group's texels, of constant `slot` of
+    /// the group's term `within`.
+    pub fn offset(&self, slots: usize, within: usize, slot: usize) -> usize {
+        (within * slots + slot) * self.width
+    }
+}
+
+impl Loop {
+    /// The layout the scalar domain reads (rounded constants).
+    pub fn scalar(&self) -> Layout {
+        Layout { base: self.scalar_base, ..Layout::new(self.slots, 1, self.unroll) }
+    }
+    /// The layout the interval and affine domains read (enclosures).
+    pub fn interval(&self) -> Layout {
+        Layout { base: self.interval_base, ..Layout::new(self.slots, 2, self.unroll) }
     }
     /// The chain's operation on `acc` and `term`.
     pub fn step(&self, acc: NodeId, term: NodeId) -> Op {
@@ -344,25 +377,28 @@ fn slot_values(ir: &Ir, body: &[NodeId], owner: &[u32], t: u32) -> Vec<f64> {
     out
 }
 
-/// Appends a loop's constants to the table: every term's rounded values
-/// (four a texel), then every term's enclosures (two a texel).
+/// Appends a loop's constants to the table: every term's rounded values,
+/// then every term's enclosures, each packed by its [`Layout`].
 fn lay_out(table: &mut Vec<[u32; 4]>, l: &mut Loop, consts: &[Vec<f64>]) {
-    let (ss, si) = (l.scalar_stride() as usize, l.interval_stride() as usize);
     l.scalar_base = table.len() as u32;
-    for c in consts {
-        let mut row = vec![0.0f32; ss * 4];
-        for (k, &v) in c.iter().enumerate() {
-            row[k] = f32_enclosure(v).0;
-        }
-        table.extend(row.chunks(4).map(|q| [q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), q[3].to_bits()]));
-    }
+    region(table, l.slots, l.scalar(), consts, |c| vec![f32_enclosure(c).0]);
     l.interval_base = table.len() as u32;
-    for c in consts {
-        let mut row = vec![0.0f32; si * 4];
-        for (k, &v) in c.iter().enumerate() {
-            let (_, lo, hi) = f32_enclosure(v);
-            row[2 * k] = lo;
-            row[2 * k + 1] = hi;
+    region(table, l.slots, l.interval(), consts, |c| {
+        let (_, lo, hi) = f32_enclosure(c);
+        vec![lo, hi]
+    });
+}
+
+fn region(table: &mut Vec<[u32; 4]>, slots: usize, lay: Layout, consts: &[Vec<f64>], floats: impl Fn(f64) -> Vec<f32>) {
+    for group in consts.chunks(lay.group) {
+        let mut row = vec![0.0f32; lay.texels as usize * 4];
+        for (within, c) in group.iter().enumerate() {
+            for (slot, &v) in c.iter().enumerate() {
+                let at = lay.offset(slots, within, slot);
+                for (k, f) in floats(v).into_iter().enumerate() {
+                    row[at + k] = f;
+                }
+            }
         }
         table.extend(row.chunks(4).map(|q| [q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), q[3].to_bits()]));
     }
@@ -388,14 +424,14 @@ pub fn support() -> String {
     )
 }
 
-/// The expression of constant slot `s` of a term whose texels are
-/// `q{texel}` (named by `q`), in the domain with prefix `p`.
-pub fn slot_expr(p: &str, q: impl Fn(usize) -> String, s: usize) -> String {
+/// The expression of the constant at float offset `at` of a group whose
+/// texels are named by `q`, in the domain with prefix `p`.
+pub fn slot_expr(p: &str, q: impl Fn(usize) -> String, at: usize) -> String {
     const C: [&str; 4] = ["x", "y", "z", "w"];
     match p {
-        "s" => format!("s_const({}.{})", q(s / 4), C[s % 4]),
-        "ia" => format!("{}.{}", q(s / 2), if s % 2 == 0 { "xy" } else { "zw" }),
-        _ => format!("ra_from_ia({}.{})", q(s / 2), if s % 2 == 0 { "xy" } else { "zw" }),
+        "s" => format!("s_const({}.{})", q(at / 4), C[at % 4]),
+        "ia" => format!("{}.{}", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" }),
+        _ => format!("ra_from_ia({}.{})", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" }),
     }
 }
 
@@ -458,11 +494,13 @@ mod tests {
         let l = &p.loops[0];
         assert_eq!((l.slots, l.unroll * l.iterations), (1, 16));
         let mut last = f32::NEG_INFINITY;
+        // One constant a term: four terms' rounded values to a texel, two
+        // terms' enclosures.
+        assert_eq!((l.scalar().group, l.interval().group), (4, 2));
         for t in 0..16 {
-            let s = p.table[l.scalar_base as usize + t];
-            let i = p.table[l.interval_base as usize + t];
-            let n = f32::from_bits(s[0]);
-            let [lo, hi, _, _] = i.map(f32::from_bits);
+            let n = f32::from_bits(p.table[l.scalar_base as usize + t / 4][t % 4]);
+            let i = p.table[l.interval_base as usize + t / 2];
+            let [lo, hi] = [i[2 * (t % 2)], i[2 * (t % 2) + 1]].map(f32::from_bits);
             // Each term's rounded constant lies in its enclosure, one ulp wide
             // where 0.1·k is not a float.
             assert!(lo <= n && n <= hi && (lo == hi || lo.next_up() == hi), "term {t}: {n} [{lo}, {hi}]");
