@@ -187,39 +187,55 @@ fn is_leaf(op: Op) -> bool {
     matches!(op, Op::Const(_) | Op::Var(_) | Op::Param(_))
 }
 
-/// Finds the runs of same-shaped terms worth a loop and lays out their
-/// constants.
-pub fn plan(ir: &Ir) -> Plan {
-    let n = ir.nodes.len();
-    let live = ir.live();
-    let mut is_live = vec![false; n];
-    let mut users: Vec<Vec<NodeId>> = vec![Vec::new(); n];
-    for &id in &live {
-        is_live[id as usize] = true;
-        for o in ir.nodes[id as usize].operands() {
-            users[o as usize].push(id);
+/// Who uses each live node.
+struct Uses {
+    live: Vec<NodeId>,
+    is_live: Vec<bool>,
+    users: Vec<Vec<NodeId>>,
+    /// Outputs have a user outside the formula.
+    output: Vec<bool>,
+}
+
+impl Uses {
+    fn new(ir: &Ir) -> Uses {
+        let n = ir.nodes.len();
+        let live = ir.live();
+        let mut is_live = vec![false; n];
+        let mut users: Vec<Vec<NodeId>> = vec![Vec::new(); n];
+        for &id in &live {
+            is_live[id as usize] = true;
+            for o in ir.nodes[id as usize].operands() {
+                users[o as usize].push(id);
+            }
         }
-    }
-    // Outputs have a user outside the formula.
-    let mut output = vec![false; n];
-    output[ir.root as usize] = true;
-    for s in &ir.surfaces {
-        output[s.f as usize] = true;
-        for &(g, _) in &s.conditions {
-            output[g as usize] = true;
+        let mut output = vec![false; n];
+        output[ir.root as usize] = true;
+        for s in &ir.surfaces {
+            output[s.f as usize] = true;
+            for &(g, _) in &s.conditions {
+                output[g as usize] = true;
+            }
         }
+        Uses { live, is_live, users, output }
     }
-    let single = |id: NodeId| users[id as usize].len() == 1 && !output[id as usize];
-    // Chains: their top nodes, walked down their left operands.
-    let mut chains: Vec<Vec<NodeId>> = Vec::new();
-    for &top in &live {
+    /// Used once, inside the formula.
+    fn single(&self, id: NodeId) -> bool {
+        self.users[id as usize].len() == 1 && !self.output[id as usize]
+    }
+}
+
+/// The chains longer than [`MIN_RUN`]: each from its bottom node (whose
+/// left operand is term 0) to its top, every node but the top used only by
+/// the next.
+fn chains(ir: &Ir, u: &Uses) -> Vec<Vec<NodeId>> {
+    let mut chains = Vec::new();
+    for &top in &u.live {
         let op = ir.nodes[top as usize];
         if chain_operands(op).is_none() {
             continue;
         }
-        let continued = single(top) && {
-            let u = users[top as usize][0];
-            let uop = ir.nodes[u as usize];
+        let continued = u.single(top) && {
+            let uop = ir.nodes[u.users[top as usize][0] as usize];
             same_kind(op, uop) && chain_operands(uop).is_some_and(|(a, _)| a == top)
         };
         if continued {
@@ -228,8 +244,7 @@ pub fn plan(ir: &Ir) -> Plan {
         let mut chain = vec![top];
         let mut cur = top;
         while let Some((a, _)) = chain_operands(ir.nodes[cur as usize]) {
-            let aop = ir.nodes[a as usize];
-            if !(same_kind(aop, op) && single(a)) {
+            if !(same_kind(ir.nodes[a as usize], op) && u.single(a)) {
                 break;
             }
             chain.push(a);
@@ -240,51 +255,68 @@ pub fn plan(ir: &Ir) -> Plan {
             chains.push(chain);
         }
     }
-    if chains.is_empty() {
-        return Plan { skip: vec![false; n], ..Plan::default() };
-    }
-    // Terms: term 0 is the first chain node's left operand, term i its
-    // i-th node's right operand. A term owns the nodes only it uses.
-    let mut terms: Vec<NodeId> = Vec::new();
-    let mut term_of = vec![u32::MAX; n];
-    let mut chain_terms: Vec<std::ops::Range<usize>> = Vec::new();
-    for chain in &chains {
-        let start = terms.len();
-        let (t0, _) = chain_operands(ir.nodes[chain[0] as usize]).expect("a chain node");
-        terms.push(t0);
-        for &c in chain {
-            terms.push(chain_operands(ir.nodes[c as usize]).expect("a chain node").1);
+    chains
+}
+
+/// The chains' terms and the nodes each owns (those only it uses).
+struct Terms {
+    /// Every chain's terms in order: term 0 is its bottom node's left
+    /// operand, term i its i-th node's right operand.
+    roots: Vec<NodeId>,
+    /// Each chain's range of `roots`.
+    ranges: Vec<std::ops::Range<usize>>,
+    /// Per node: the term that owns it, or `u32::MAX`.
+    owner: Vec<u32>,
+    /// Per term: its own nodes, in topological order (its root last).
+    bodies: Vec<Vec<NodeId>>,
+}
+
+/// A term's shape: its nodes' operations and how each reaches its operands.
+type Shape = Vec<(Op, Vec<Ref>)>;
+
+impl Terms {
+    fn new(ir: &Ir, u: &Uses, chains: &[Vec<NodeId>]) -> Terms {
+        let n = ir.nodes.len();
+        let (mut roots, mut ranges) = (Vec::new(), Vec::new());
+        for chain in chains {
+            let start = roots.len();
+            roots.push(chain_operands(ir.nodes[chain[0] as usize]).expect("a chain node").0);
+            roots.extend(chain.iter().map(|&c| chain_operands(ir.nodes[c as usize]).expect("a chain node").1));
+            ranges.push(start..roots.len());
         }
-        chain_terms.push(start..terms.len());
-    }
-    for (t, &root) in terms.iter().enumerate() {
-        if single(root) && !is_leaf(ir.nodes[root as usize]) && term_of[root as usize] == u32::MAX {
-            term_of[root as usize] = t as u32;
-        }
-    }
-    let mut owner = term_of.clone();
-    for id in (0..n).rev() {
-        if !is_live[id] || owner[id] != u32::MAX || output[id] || is_leaf(ir.nodes[id]) {
-            continue;
-        }
-        let us = &users[id];
-        if let Some(&first) = us.first() {
-            let o = owner[first as usize];
-            if o != u32::MAX && us.iter().all(|&u| owner[u as usize] == o) && term_of[id] == u32::MAX {
-                owner[id] = o;
+        let mut owner = vec![u32::MAX; n];
+        for (t, &root) in roots.iter().enumerate() {
+            if u.single(root) && !is_leaf(ir.nodes[root as usize]) && owner[root as usize] == u32::MAX {
+                owner[root as usize] = t as u32;
             }
         }
-    }
-    let mut bodies: Vec<Vec<NodeId>> = vec![Vec::new(); terms.len()];
-    for &id in &live {
-        let o = owner[id as usize];
-        if o != u32::MAX {
-            bodies[o as usize].push(id);
+        let root_of = owner.clone();
+        // Users come later in the order: a node all of whose users one term owns is that term's.
+        for id in (0..n).rev() {
+            if !u.is_live[id] || owner[id] != u32::MAX || u.output[id] || is_leaf(ir.nodes[id]) || root_of[id] != u32::MAX {
+                continue;
+            }
+            if let Some(&first) = u.users[id].first() {
+                let o = owner[first as usize];
+                if o != u32::MAX && u.users[id].iter().all(|&x| owner[x as usize] == o) {
+                    owner[id] = o;
+                }
+            }
         }
+        let mut bodies: Vec<Vec<NodeId>> = vec![Vec::new(); roots.len()];
+        for &id in &u.live {
+            if owner[id as usize] != u32::MAX {
+                bodies[owner[id as usize] as usize].push(id);
+            }
+        }
+        Terms { roots, ranges, owner, bodies }
     }
-    let shape = |t: usize| -> Option<Vec<(Op, Vec<Ref>)>> {
-        let body = &bodies[t];
-        if body.last() != Some(&terms[t]) || owner[terms[t] as usize] != t as u32 {
+
+    /// Term `t`'s shape; `None` for a term that cannot be a loop's (not
+    /// its own root, or with a node whose emptiness the evaluator tests).
+    fn shape(&self, ir: &Ir, t: usize) -> Option<Shape> {
+        let body = &self.bodies[t];
+        if body.last() != Some(&self.roots[t]) {
             return None;
         }
         body.iter()
@@ -297,59 +329,82 @@ pub fn plan(ir: &Ir) -> Plan {
                     .operands()
                     .iter()
                     .map(|&o| match ir.nodes[o as usize] {
-                        _ if owner[o as usize] == t as u32 => Ref::Local(body.iter().position(|&b| b == o).unwrap_or(usize::MAX)),
+                        _ if self.owner[o as usize] == t as u32 => Ref::Local(body.iter().position(|&b| b == o).unwrap_or(usize::MAX)),
                         Op::Const(_) => Ref::Slot,
                         _ => Ref::Shared(o),
                     })
                     .collect();
-                Some((with_operands(op, &[0, 0, 0, 0]), refs))
+                Some((with_operands(op, &[0; 4]), refs))
             })
             .collect()
-    };
-    let mut plan = Plan { skip: vec![false; n], ..Plan::default() };
-    for (chain, range) in chains.iter().zip(&chain_terms) {
-        let shapes: Vec<Option<Vec<(Op, Vec<Ref>)>>> = range.clone().map(shape).collect();
+    }
+}
+
+/// Finds the runs of same-shaped terms worth a loop and lays out their
+/// constants.
+pub fn plan(ir: &Ir) -> Plan {
+    let u = Uses::new(ir);
+    let chains = chains(ir, &u);
+    let mut plan = Plan { skip: vec![false; ir.nodes.len()], ..Plan::default() };
+    if chains.is_empty() {
+        return plan;
+    }
+    let terms = Terms::new(ir, &u, &chains);
+    for (chain, range) in chains.iter().zip(&terms.ranges) {
+        let shapes: Vec<Option<Shape>> = range.clone().map(|t| terms.shape(ir, t)).collect();
         let mut i = 0;
         while i < shapes.len() {
             let mut j = i + 1;
             while shapes[i].is_some() && j < shapes.len() && shapes[j] == shapes[i] {
                 j += 1;
             }
-            // Terms i..j share a shape; term i stays written out and seeds the loop.
-            if shapes[i].is_some() && j - i >= MIN_RUN {
-                let first = range.start + i + 1;
-                let body = bodies[first].clone();
-                let unroll = unroll_for(j - i - 1, body.len());
-                let iterations = (j - i - 1) / unroll;
-                let count = iterations * unroll;
-                let seed = if i == 0 { terms[range.start] } else { chain[i - 1] };
-                let end = chain[i + count - 1];
-                let slots = shapes[i].as_ref().map_or(0, |s| s.iter().flat_map(|(_, r)| r).filter(|r| **r == Ref::Slot).count());
-                let mut l = Loop { seed, end, op: with_operands(ir.nodes[end as usize], &[0, 0]), root: terms[first], body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
-                let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &bodies[t], &owner, t as u32)).collect();
-                lay_out(&mut plan.table, &mut l, &consts);
-                for &c in &chain[i..i + count - 1] {
-                    plan.skip[c as usize] = true;
-                }
-                for t in first..first + count {
-                    for &b in &bodies[t] {
-                        plan.skip[b as usize] = true;
-                    }
-                }
-                plan.loops.push(l);
+            if let Some(shape) = shapes[i].as_ref().filter(|_| j - i >= MIN_RUN) {
+                plan.add_run(ir, &terms, chain, range.start, i..j, shape);
             }
-            i = j.max(i + 1);
+            i = j;
         }
     }
     // Constants only the rerolled terms read are not written either (the
     // loop reads them from the table; shared nodes it reads stay).
-    for id in (0..n).rev() {
-        if is_live[id] && matches!(ir.nodes[id], Op::Const(_)) && !output[id] && !plan.skip[id] && !users[id].is_empty() && users[id].iter().all(|&u| plan.skip[u as usize] && plan.loop_at(u).is_none()) {
+    for id in (0..ir.nodes.len()).rev() {
+        let unread = !u.users[id].is_empty() && u.users[id].iter().all(|&x| plan.skip[x as usize] && plan.loop_at(x).is_none());
+        if u.is_live[id] && matches!(ir.nodes[id], Op::Const(_)) && !u.output[id] && unread {
             plan.skip[id] = true;
         }
     }
     plan.loops.sort_by_key(|l| l.end);
     plan
+}
+
+impl Plan {
+    /// Makes terms `run` (indices into the chain's terms, which start at
+    /// `first_term`) a loop: the run's first term stays written out and
+    /// seeds the accumulator, whole iterations of the rest are rerolled,
+    /// and what is left over stays written out.
+    fn add_run(&mut self, ir: &Ir, terms: &Terms, chain: &[NodeId], first_term: usize, run: std::ops::Range<usize>, shape: &Shape) {
+        let i = run.start;
+        let first = first_term + i + 1;
+        let body = terms.bodies[first].clone();
+        let unroll = unroll_for(run.len() - 1, body.len());
+        let iterations = (run.len() - 1) / unroll;
+        let count = iterations * unroll;
+        let seed = if i == 0 { terms.roots[first_term] } else { chain[i - 1] };
+        let end = chain[i + count - 1];
+        let slots = shape.iter().flat_map(|(_, r)| r).filter(|r| **r == Ref::Slot).count();
+        let op = with_operands(ir.nodes[end as usize], &[0; 4]);
+        let mut l = Loop { seed, end, op, root: terms.roots[first], body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
+        let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &terms.bodies[t], &terms.owner, t as u32)).collect();
+        lay_out(&mut self.table, &mut l, &consts);
+        for &c in &chain[i..i + count - 1] {
+            self.skip[c as usize] = true;
+        }
+        for body in &terms.bodies[first..first + count] {
+            for &b in body {
+                self.skip[b as usize] = true;
+            }
+        }
+        self.loops.push(l);
+    }
 }
 
 /// Terms an iteration evaluates: more for long runs (fewer iterations
