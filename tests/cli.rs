@@ -427,3 +427,22 @@ fn eval_gives_the_same_enclosures_with_either_shader_opt_and_refuses_it_with_cpu
     assert_eq!(cpu.status.code(), Some(1));
     assert_eq!(stderr(&cpu), "error: --shader-opt applies to the device's evaluator; --cpu evaluates the f64 reference\n");
 }
+
+/// A formula of thousands of tiny repeated terms compiles as loops
+/// (`codegen::reroll`); hard pixels past the loops' work limit are reported
+/// with that limit named, and the run says it used the compiled field.
+#[test]
+fn pixels_past_the_loops_work_limit_are_named_in_the_warning() {
+    let terms: Vec<String> = (1..=4600).map(|i| format!("{:.9}*x", f64::from(i) * 1e-9)).collect();
+    let file = tmp("loops.txt");
+    std::fs::write(&file, format!("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8+({})", terms.join("+"))).unwrap();
+    let out = tmp("loops.png");
+    let o = isotrace(&["render", "-f", file.to_str().unwrap(), "--box=-3,3", "--size", "48", "--algebra", "ia", "--stats", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("field compiled"), "{e}");
+    assert!(
+        e.contains(" pixels exhausted the iteration budget (--max-iter 8192) or the work limit of the formula's loops over its repeated terms (5500 loop iterations a pixel, which lavapipe's loop cap imposes) and are drawn as magenta stripes"),
+        "{e}"
+    );
+}

@@ -387,9 +387,9 @@ pub fn settings(view: &ViewArgs, size: (u32, u32), f: &isotrace::Formula, header
 
 /// Pixels whose traversal ran out of budget hold a best guess, not a hit:
 /// always say so (with or without `--stats`), and how they are drawn. A
-/// tape field also stops at its interpreter's work limit: say which way
-/// out there is.
-pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: isotrace::codegen::FieldKind) {
+/// tape field also stops at its interpreter's work limit, and a compiled
+/// field at its loops': say which way out there is.
+pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: isotrace::codegen::FieldKind, loops: bool) {
     let n = frame.stats.unresolved;
     if n == 0 {
         return;
@@ -402,6 +402,15 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
                 s.max_iter,
                 isotrace::codegen::tape::TAPE_WORK_LIMIT,
                 isotrace::codegen::tape::TAPE_BUNDLE_LIMIT
+            ),
+            "the nearest cell that may hold the surface",
+        ),
+        Traversal::Bisect(_) if loops => (
+            format!(
+                "exhausted the iteration budget (--max-iter {}) or the work limit of the formula's loops over its repeated terms \
+                 ({} loop iterations a pixel, which lavapipe's loop cap imposes)",
+                s.max_iter,
+                isotrace::codegen::reroll::WORK_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),
@@ -598,7 +607,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_kind().name()),
             Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_kind().name()),
         }
-        warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind());
+        warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind(), renderer.field_loops());
         if let Traversal::Sphere(o) = renderer.traversal() {
             warn_lipschitz(&frame, &o);
         }

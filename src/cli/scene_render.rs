@@ -115,7 +115,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
             eprintln!("--color {}: white = {m}", a.color);
         }
     }
-    warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind());
+    warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind(), renderer.field_loops());
     warn_lipschitz(&frame, &o);
     if frame.stats.field.overflow_tiles > 0 {
         eprintln!(

@@ -408,15 +408,18 @@ impl Plan {
 }
 
 /// Terms an iteration evaluates: more for long runs (fewer iterations
-/// against lavapipe's loop cap), within [`BODY_MAX`] nodes.
+/// against lavapipe's loop cap), within [`BODY_MAX`] nodes, a power of two
+/// (so terms pack evenly into texels).
 fn unroll_for(terms: usize, body: usize) -> usize {
     let want = match terms {
         0..128 => 4,
         128..512 => 8,
         512..1024 => 16,
-        _ => 32,
+        1024..2048 => 32,
+        _ => 64,
     };
-    want.min(BODY_MAX / (body + 1)).clamp(1, terms.max(1))
+    let u = want.min(BODY_MAX / (body + 1)).clamp(1, terms.max(1));
+    1 << u.ilog2()
 }
 
 /// A term's constants in the order its body reads them.

@@ -276,6 +276,12 @@ impl<'g> Renderer<'g> {
         self.field.kind()
     }
 
+    /// Whether the compiled field runs loops over repeated terms
+    /// (`codegen::reroll`), whose work counts against lavapipe's loop cap.
+    pub fn field_loops(&self) -> bool {
+        self.field.looped
+    }
+
     /// The traversal and its current options.
     pub fn traversal(&self) -> Traversal {
         self.host.options()
