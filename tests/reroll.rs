@@ -130,3 +130,26 @@ fn a_formula_of_loops_caps_the_traversals_budget() {
     let e = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t).unwrap().render(&s).err().expect("refused").to_string();
     assert!(e.contains("at most 16000 with a formula of rerolled terms (its loops share lavapipe's 65,535 loop iterations)"), "{e}");
 }
+
+/// A union (`min` chain) of 30 same-shaped balls is a loop too: its
+/// picture is the tape's (an independent path) at every pixel both resolve.
+#[test]
+fn a_rerolled_union_draws_what_the_tape_draws() {
+    let balls: Vec<String> = (0..30).map(|i| format!("(x - {:.3})^2 + (y - {:.3})^2 + z^2 - 0.04", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect();
+    let mut src = balls[0].clone();
+    for b in &balls[1..] {
+        src = format!("min({src}, {b})");
+    }
+    let f = Formula::compile("<union>", &src).unwrap();
+    assert_eq!(reroll::plan(&f.ir).loops.len(), 1);
+    let s = common::settings(common::cube(1.5), 96, 96);
+    for domain in [Domain::Interval, Domain::Affine] {
+        let t = Traversal::Bisect(BisectOptions::new(domain));
+        let a = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
+        let tape = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+        let b = Renderer::new(gpu(), FieldSource::Tape(&tape), t).unwrap().render(&s).unwrap();
+        assert!(a.stats.hits > 300 && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
+        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();
+        assert_eq!(differ, 0, "{domain:?}");
+    }
+}
