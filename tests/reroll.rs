@@ -153,3 +153,69 @@ fn a_rerolled_union_draws_what_the_tape_draws() {
         assert_eq!(differ, 0, "{domain:?}");
     }
 }
+
+/// Random term shapes (a small generator over + − × / sin cos exp abs min
+/// max and squares), each summed 17 to 40 times with random constants: the
+/// sum is rerolled, its kernel validates, and its enclosures on the device
+/// hold f64 samples in IA and RAA.
+#[test]
+fn random_term_shapes_rerolled_enclose() {
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    fn shape(r: &mut dyn FnMut() -> u64, depth: u32) -> String {
+        if depth > 2 || r() % 10 < 3 {
+            return ["x", "y", "z", "C"][(r() % 4) as usize].to_string();
+        }
+        let (a, b) = (shape(r, depth + 1), shape(r, depth + 1));
+        match r() % 9 {
+            0 => format!("({a} + {b})"),
+            1 => format!("({a} - {b})"),
+            2 => format!("({a} * {b})"),
+            3 => format!("({a} / (1.5 + {b}^2))"),
+            4 => format!("sin({a})"),
+            5 => format!("exp(-({a})^2)"),
+            6 => format!("abs({a})"),
+            7 => format!("min({a}, {b})"),
+            _ => format!("max({a}, {b})"),
+        }
+    }
+    let mut rerolled = 0;
+    for case in 0..16 {
+        let t = format!("(C*{})", shape(&mut next, 0));
+        let n = 17 + (next() % 24) as usize;
+        let terms: Vec<String> = (0..n)
+            .map(|_| {
+                let mut s = t.clone();
+                while s.contains('C') {
+                    let c = (next() % 4001) as f64 / 1000.0 - 2.0;
+                    s = s.replacen('C', &format!("{c:.3}"), 1);
+                }
+                s
+            })
+            .collect();
+        let f = Formula::compile("<random>", &format!("x^2 + y^2 + z^2 - 1 + 0.01*({})", terms.join(" + "))).unwrap();
+        if reroll::plan(&f.ir).loops.is_empty() {
+            continue;
+        }
+        rerolled += 1;
+        let bx = boxes(200);
+        for domain in [Domain::Interval, Domain::Affine] {
+            let r = eval_boxes(gpu(), &f.ir, domain, &bx, &[]).unwrap_or_else(|e| panic!("case {case} {t}: {e}"));
+            for (k, (e, b8)) in r.iter().zip(&bx).enumerate() {
+                for s in 0..3 {
+                    let w = s as f64 / 2.0;
+                    let p = [0, 2, 4].map(|i| f64::from(b8[i]) + w * f64::from(b8[i + 1] - b8[i]));
+                    let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+                    let tol = 1e-5 * (1.0 + v.abs());
+                    assert!(f64::from(e[0]) - tol <= v && v <= f64::from(e[1]) + tol, "case {case} {t} {domain:?} box {k}: {v} outside {e:?}");
+                }
+            }
+        }
+    }
+    assert!(rerolled >= 10, "{rerolled} of 16 shapes rerolled");
+}
