@@ -54,6 +54,21 @@ fn boxes(n: usize) -> Vec<Box8> {
         .collect()
 }
 
+/// Every enclosure in `r` holds f's f64 values at `samples` points along
+/// its box's diagonal (within f32 rounding: the conformance suite checks
+/// the op libraries' own rounding).
+fn assert_encloses(f: &Formula, r: &[[f32; 2]], bx: &[Box8], samples: usize, what: &str) {
+    for (k, (e, b8)) in r.iter().zip(bx).enumerate() {
+        for s in 0..samples {
+            let w = s as f64 / (samples - 1) as f64;
+            let p = [0, 2, 4].map(|i| f64::from(b8[i]) + w * f64::from(b8[i + 1] - b8[i]));
+            let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+            let tol = 1e-5 * (1.0 + v.abs());
+            assert!(f64::from(e[0]) - tol <= v && v <= f64::from(e[1]) + tol, "{what} box {k}: {v} outside {e:?}");
+        }
+    }
+}
+
 #[test]
 fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
     let (rolled, written) = (sum(300, false), sum(300, true));
@@ -66,17 +81,8 @@ fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
         if domain == Domain::Scalar {
             continue;
         }
-        // And they hold f64 samples of the sum (within f32 rounding: the
-        // conformance suite checks the op libraries' own rounding).
-        for (k, (r, b8)) in a.iter().zip(&bx).enumerate() {
-            for s in 0..5 {
-                let t = s as f64 / 4.0;
-                let p = [0, 2, 4].map(|i| f64::from(b8[i]) + t * f64::from(b8[i + 1] - b8[i]));
-                let v = isotrace::reference::eval_scalar(&rolled.ir, [p[0], p[1], p[2], 0.0], &[]);
-                let tol = 1e-5 * (1.0 + v.abs());
-                assert!(f64::from(r[0]) - tol <= v && v <= f64::from(r[1]) + tol, "{domain:?} box {k}: {v} outside {r:?}");
-            }
-        }
+        // And they hold f64 samples of the sum.
+        assert_encloses(&rolled, &a, &bx, 5, &format!("{domain:?}"));
     }
 }
 
@@ -206,15 +212,7 @@ fn random_term_shapes_rerolled_enclose() {
         let bx = boxes(200);
         for domain in [Domain::Interval, Domain::Affine] {
             let r = eval_boxes(gpu(), &f.ir, domain, &bx, &[]).unwrap_or_else(|e| panic!("case {case} {t}: {e}"));
-            for (k, (e, b8)) in r.iter().zip(&bx).enumerate() {
-                for s in 0..3 {
-                    let w = s as f64 / 2.0;
-                    let p = [0, 2, 4].map(|i| f64::from(b8[i]) + w * f64::from(b8[i + 1] - b8[i]));
-                    let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
-                    let tol = 1e-5 * (1.0 + v.abs());
-                    assert!(f64::from(e[0]) - tol <= v && v <= f64::from(e[1]) + tol, "case {case} {t} {domain:?} box {k}: {v} outside {e:?}");
-                }
-            }
+            assert_encloses(&f, &r, &bx, 3, &format!("case {case} {t} {domain:?}"));
         }
     }
     assert!(rerolled >= 10, "{rerolled} of 16 shapes rerolled");

@@ -146,7 +146,7 @@ fn minmax_ops(t: &TapeData) -> usize {
 /// A formula whose long runs of same-shaped terms become loops
 /// ([`super::reroll`]) is weighed by what its generated code holds (the
 /// loop bodies, not every term): the 2,503-operation sum of products is
-/// then about 80 nodes, shown in 0.9 s cold at 512² where its tape took
+/// then 81 nodes, shown in 0.9 s cold at 512² where its tape took
 /// 3.0-3.2 s (README, "Long runs of same-shaped terms").
 fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool {
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;

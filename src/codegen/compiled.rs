@@ -160,18 +160,22 @@ const CELL_ENCLOSURE: &str = "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0
 /// The scalar field of a single-surface formula.
 const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, F.time); }\n";
 
-/// A compiled field has no loops: it adds nothing to an invocation's loop
-/// count.
-/// And it is one field everywhere (`field_view`: the scene's changes with
-/// its slab).
-const FIELD_COST: &str = "fn field_cost() -> u32 { return 0u; }\nfn field_exhausted() -> bool { return false; }\nfn field_view() -> u32 { return 0u; }\nfn field_entry(li: u32) {}\n";
-
-/// [`FIELD_COST`] for a formula with rerolled loops ([`super::reroll`]):
-/// an evaluation of f costs `iters` loop iterations (the sphere tracer
-/// keeps its steps within the cap with it), and an evaluation the work
-/// limit refused reports the pixel.
-fn looped_field_cost(iters: u32) -> String {
-    format!("fn field_cost() -> u32 {{ return {iters}u; }}\nfn field_exhausted() -> bool {{ return g_field_exhausted; }}\nfn field_view() -> u32 {{ return 0u; }}\nfn field_entry(li: u32) {{}}\n")
+/// What an evaluation of the compiled field costs the traversal: the loop
+/// iterations of its rerolled runs ([`super::reroll`]; none for a formula
+/// written out, which adds nothing to an invocation's loop count; the
+/// sphere tracer keeps its steps within the cap with it), and whether the
+/// work limit refused one (the pixel is then reported). It is one field
+/// everywhere (`field_view`: the scene's changes with its slab).
+fn field_cost(ir: &Ir) -> String {
+    let plan = super::reroll::plan(ir);
+    let (support, iters, exhausted) = match plan.loops.is_empty() {
+        true => (String::new(), 0, "false"),
+        false => (super::reroll::support(), plan.iterations(), "g_field_exhausted"),
+    };
+    format!(
+        "{support}fn field_cost() -> u32 {{ return {iters}u; }}\nfn field_exhausted() -> bool {{ return {exhausted}; }}\n\
+         fn field_view() -> u32 {{ return 0u; }}\nfn field_entry(li: u32) {{}}\n"
+    )
 }
 
 /// The compiled field for a traversal that needs enclosures in `domain`
@@ -191,13 +195,7 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
     if let Some(user) = inline {
         let _ = write!(out, "\n// ---- User WGSL (--inline {}): functions callable from the formula and hooks.\n{}\n", user.path, user.text);
     }
-    let plan = super::reroll::plan(ir);
-    if plan.loops.is_empty() {
-        out.push_str(FIELD_COST);
-    } else {
-        out.push_str(&super::reroll::support());
-        let _ = write!(out, "{}", looped_field_cost(plan.iterations()));
-    }
+    out.push_str(&field_cost(ir));
     out.push_str(&emit_evaluator(ir, Domain::Scalar));
     out.push_str(super::UNTILED_FIELD_HOOKS);
     out.push_str(super::UNSHORTENED_FIELD_HOOKS);

@@ -7,10 +7,10 @@
 //! constants: the shader holds one copy of the term (unrolled a few times),
 //! and the constants come from a texture in the field group
 //! (`@group(1) @binding(0)`). Measured on lavapipe (README, "Long runs of
-//! same-shaped terms"): a storage load at an index uniform across lanes
-//! still runs lane by lane (frames several times slower than with the
-//! texture), and a WGSL constant or private array indexed by the loop
-//! counter is slower still.
+//! same-shaped terms"): with a storage load at an index uniform across
+//! lanes the frames were several times slower than with the texture (as if
+//! lavapipe read it lane by lane), and with a WGSL constant or private
+//! array indexed by the loop counter slower still.
 //!
 //! The loop accumulates the chain in the order it is written, so every
 //! domain computes what the straight-line code computes (one operation at a
