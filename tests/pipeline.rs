@@ -95,3 +95,37 @@ fn gpu_modules_do_not_assemble_shaders() {
         }
     }
 }
+
+/// A new renderer sends its small passes (the tile pass, a field's
+/// pre-passes) to the device in a dispatch of no workgroups while its
+/// per-pixel pass is being created, so that lavapipe compiles them then
+/// (`gpu::binding`): every kind of kernel binds that dispatch without an
+/// error, and a kernel without small passes sends none.
+#[test]
+fn new_renderers_warm_their_small_passes_up() {
+    use isotrace::codegen::FieldSource;
+    use isotrace::render::BisectOptions;
+    use std::sync::atomic::Ordering::Relaxed;
+    let own = isotrace::gpu::Gpu::new().unwrap();
+    let f = Formula::compile("<t>", "sphere(1)").unwrap();
+    let tape = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+    let scene = isotrace::scene::format::load(std::path::Path::new("examples/blobs.scene.json")).unwrap();
+    let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
+    let bisect = || Traversal::Bisect(BisectOptions::new(Domain::Affine));
+    let sphere = || Traversal::Sphere(SphereOptions::default());
+    let s = common::settings(common::cube(1.5), 40, 30);
+    let kernels = [
+        ("compiled, bisected", FieldSource::Compiled(&f.ir), bisect(), 1),
+        ("compiled, sphere traced", FieldSource::Compiled(&f.ir), sphere(), 0),
+        ("tape, bisected", FieldSource::Tape(&tape), bisect(), 1),
+        ("scene, sphere traced", FieldSource::Scene(&data), sphere(), 1),
+    ];
+    for (name, field, traversal, sent) in kernels {
+        let before = own.warm_ups[0].load(Relaxed);
+        let r = Renderer::new(&own, field, traversal).unwrap();
+        assert_eq!(own.warm_ups[1].load(Relaxed), 0, "{name}: a warm-up failed");
+        assert_eq!(own.warm_ups[0].load(Relaxed) - before, sent, "{name}");
+        // The frame after it draws as ever.
+        assert!(r.render(&s).unwrap().stats.hits > 50, "{name}");
+    }
+}

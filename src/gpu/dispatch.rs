@@ -180,6 +180,13 @@ impl Dispatch<'_> {
         Ok(Timing { total_ms: total, stage_ms: v.windows(2).map(|w| ms(w[0], w[1])).collect() })
     }
 
+    /// Records and submits without reading back or waiting.
+    pub fn submit(&self, gpu: &Gpu) {
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        self.record(gpu, &mut enc, None);
+        gpu.queue.submit([enc.finish()]);
+    }
+
     /// The passes. Query 0: start; query i + 1: end of stage i.
     fn record(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, set: Option<&wgpu::QuerySet>) {
         for b in &self.clears {

@@ -7,6 +7,7 @@
 //! fail runs inside an error scope and becomes a [`GpuError`].
 
 pub(crate) mod bisect;
+mod binding;
 pub mod dispatch;
 pub mod driver;
 pub mod eval;
@@ -89,6 +90,10 @@ pub struct Gpu {
     /// Compute pipelines created on this device so far (a data-driven
     /// field's edits must create none: the tests count them).
     pub pipelines_created: std::sync::atomic::AtomicU64,
+    /// Warm-up dispatches sent and failed (`Binder::warm_up`: best effort;
+    /// after a failure the first frame compiles what it would have; the
+    /// tests expect none).
+    pub warm_ups: [std::sync::atomic::AtomicU64; 2],
     /// Whether the device has subgroup operations: a tape's bisection
     /// kernel then counts its interpreter's loop iterations per SIMD bundle
     /// (what lavapipe's loop cap counts) instead of assuming the worst per
@@ -172,6 +177,7 @@ impl Gpu {
             timestamp_period,
             map_in_place,
             pipelines_created: Default::default(),
+            warm_ups: Default::default(),
             subgroups,
         })
     }
@@ -208,6 +214,23 @@ impl Gpu {
         entries: &[&str],
         layout: Option<&wgpu::PipelineLayout>,
     ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
+        self.pipelines_then(label, wgsl, entries, layout, |_| ())
+    }
+
+    /// [`Gpu::pipelines_with_layout`], calling `then` with the pipelines of
+    /// `entries[1..]` as soon as they exist, while `entries[0]` may still be
+    /// in the making. A render kernel's first entry is its large per-pixel
+    /// pass; `then` has lavapipe compile the small passes meanwhile
+    /// (`gpu::warm_up`), which it would otherwise do at the first frame's
+    /// dispatch, after the per-pixel pass's creation.
+    pub fn pipelines_then(
+        &self,
+        label: &str,
+        wgsl: &str,
+        entries: &[&str],
+        layout: Option<&wgpu::PipelineLayout>,
+        then: impl FnOnce(&[wgpu::ComputePipeline]) + Send,
+    ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
         self.pipelines_created.fetch_add(entries.len() as u64, std::sync::atomic::Ordering::Relaxed);
         let module = self.scoped("shader compilation", || {
             self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -228,16 +251,21 @@ impl Gpu {
                 })
             })
         };
-        if entries.len() < 2 {
-            return entries.iter().map(|e| create(e)).collect();
-        }
+        let Some((first, rest)) = entries.split_first() else { return Ok(vec![]) };
         // A pipeline per thread: lavapipe translates each entry point to its
         // own IR at creation, the whole inlined field in each. The tile pass
         // and the per-pixel pass of `@city` bisected in RAA took 2.1 and 6.6 s
         // one after the other, 6.9-7.1 s side by side on two cores.
         std::thread::scope(|s| {
-            let handles: Vec<_> = entries.iter().map(|e| s.spawn(move || create(e))).collect();
-            handles.into_iter().map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p))).collect()
+            let others = s.spawn(|| {
+                let handles: Vec<_> = rest.iter().map(|e| s.spawn(move || create(e))).collect();
+                let made = handles.into_iter().map(join_scoped).collect::<Result<Vec<_>, _>>()?;
+                then(&made);
+                Ok::<_, GpuError>(made)
+            });
+            let mut all = vec![create(first)?];
+            all.extend(join_scoped(others)?);
+            Ok(all)
         })
     }
 
@@ -335,6 +363,11 @@ impl Gpu {
             (tex, view)
         })
     }
+}
+
+/// A scoped thread's result, its panic passed on.
+fn join_scoped<T>(h: std::thread::ScopedJoinHandle<'_, T>) -> T {
+    h.join().unwrap_or_else(|p| std::panic::resume_unwind(p))
 }
 
 /// A compute bind group layout entry for a sampled 2D texture.

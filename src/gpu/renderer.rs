@@ -6,6 +6,7 @@
 //! traversals on the host (their uniform block, frame resources, pass
 //! buffers and own statistics) sits behind [`TraversalHost`].
 
+use super::binding::Binder;
 use super::dispatch::{self, Dispatch, Groups, Rect, Stage};
 use super::{field, storage_entry, Gpu, GpuError};
 use crate::codegen::{self, FieldSource};
@@ -55,7 +56,7 @@ pub(crate) struct PassBuffers {
 }
 
 /// What a traversal adds to the pipeline on the host.
-pub(crate) trait TraversalHost {
+pub(crate) trait TraversalHost: Sync {
     /// The traversal's uniform block for a frame.
     fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8>;
     /// Its bits of the frame flags.
@@ -164,7 +165,16 @@ impl<'g> Renderer<'g> {
             bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1]), Some(&layouts[2])],
             immediate_size: 0,
         });
-        let mut pipelines = gpu.pipelines_with_layout("isotrace render", &kernel.wgsl, &kernel.entries, Some(&pipeline_layout))?;
+        // The first frame's settings do not matter to a dispatch of no workgroups.
+        let warm = Settings::for_box([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0], 8, 8);
+        let binder = Binder { gpu, host: host.as_ref(), field: &bound, layouts: &layouts };
+        let warm_uniforms = uniforms(&binder, &warm, Rect { x: 0, y: 0, w: 8, h: 8 })?;
+        let mut pipelines = gpu.pipelines_then("isotrace render", &kernel.wgsl, &kernel.entries, Some(&pipeline_layout), |small| {
+            if !small.is_empty() {
+                let failed = binder.warm_up(small, &warm_uniforms).is_err();
+                gpu.warm_ups[failed as usize].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
+        })?;
         let field_passes = pipelines.split_off(pipelines.len() - field.passes().len());
         let mut pipelines = pipelines.into_iter();
         let main = pipelines.next().expect("a main entry point");
@@ -387,9 +397,6 @@ impl<'g> Renderer<'g> {
             let reason = format!("at most {} with {what} lavapipe's 65,535 loop iterations)", codegen::tape::TAPE_MAX_ITER);
             return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
         }
-        let cam = s.camera.frame()?;
-        let mut fb = frame_block(s, &cam, self.host.flags() | self.field.flags());
-        let trav = self.host.block(s, &cam);
         let rays = self.host.ray_stats_binding();
         let per_pixel = std::mem::size_of::<Record>() as u64;
         let indirect = self.host.pre_pass().then(|| self.host.tiles_per_group());
@@ -401,27 +408,15 @@ impl<'g> Renderer<'g> {
         let mut ray_stats = RayStats::default();
         let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
         let mut tape_lists = crate::render::TapeListStats::default();
+        let binder = Binder { gpu: self.gpu, host: self.host.as_ref(), field: &self.field, layouts: &self.layouts };
         for rect in dispatch::split(s.width, s.height, side) {
-            fb.tile_origin = [rect.x, rect.y];
-            fb.tile_size = [rect.w, rect.h];
-            let mut bytes = bytemuck::bytes_of(&fb).to_vec();
-            bytes.extend_from_slice(&trav);
-            let uniforms = self.gpu.storage("uniforms", &bytes)?;
-            let pass = self.host.pass_buffers(self.gpu, rect);
-            // Read back: the pixel records, sphere tracing's per-ray words,
-            // a field's per-tile statistics.
-            let sizes = [rect.pixels() * per_pixel, if rays.is_some() { rect.pixels() * 4 } else { 0 }, self.field.tile_stats_size(rect)];
-            let outputs: Vec<Option<(wgpu::Buffer, wgpu::Buffer)>> =
-                sizes.iter().enumerate().map(|(slot, &size)| (size > 0).then(|| self.outputs.get(self.gpu, slot, size))).collect();
-            let field_buffers = self.field.per_dispatch(self.gpu, rect, outputs[2].as_ref().map(|o| &o.0));
-            let (frame_group, pass_group) = self.gpu.scoped("bind groups", || self.bind_groups(&uniforms, &pass, &outputs, rays))?;
-            let field_group = self.gpu.scoped("field bind group", || self.field.group(&self.gpu.device, &self.layouts[1], &field_buffers))?;
+            let b = binder.bind(rect, &uniforms(&binder, s, rect)?, |slot, size| self.outputs.get(self.gpu, slot, size))?;
             let job = Dispatch {
                 label: "render dispatch",
-                stages: self.stages(rect, &pass, field_buffers.view_copy()),
-                groups: [&frame_group, &field_group, &pass_group],
-                outputs: outputs.iter().zip(sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
-                clears: field_buffers.clears(),
+                stages: self.stages(rect, &b.pass, b.field.view_copy()),
+                groups: [&b.groups[0], &b.groups[1], &b.groups[2]],
+                outputs: b.outputs.iter().zip(b.sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
+                clears: b.field.clears(),
             };
             let t = job.run(self.gpu, |bytes| {
                 sink(rect, bytemuck::cast_slice(bytes[0]));
@@ -490,24 +485,6 @@ impl<'g> Renderer<'g> {
         stages
     }
 
-    /// The frame and pass bind groups of one dispatch.
-    fn bind_groups(&self, uniforms: &wgpu::Buffer, pass: &PassBuffers, outputs: &[Option<(wgpu::Buffer, wgpu::Buffer)>], rays: Option<u32>) -> (wgpu::BindGroup, wgpu::BindGroup) {
-        let d = &self.gpu.device;
-        fn entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
-        }
-        let resources = self.host.frame_resources();
-        let mut frame = vec![entry(0, uniforms)];
-        frame.extend(resources.iter().map(|(e, b)| entry(e.binding, b)));
-        let pixels = &outputs[0].as_ref().expect("pixel records").0;
-        let mut out = vec![entry(0, pixels)];
-        out.extend(pass.entries.iter().map(|(i, b)| entry(*i, b)));
-        if let (Some(i), Some(Some(o))) = (rays, outputs.get(1)) {
-            out.push(entry(i, &o.0));
-        }
-        let group = |label, layout, entries: &[wgpu::BindGroupEntry]| d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries });
-        (group("frame", &self.layouts[0], &frame), group("pass", &self.layouts[2], &out))
-    }
 }
 
 /// The uniform bytes of a whole-frame dispatch of `traversal` (frame
@@ -523,6 +500,18 @@ pub fn uniform_bytes(traversal: &Traversal, s: &Settings) -> Result<Vec<u8>, Set
     fb.tile_size = [s.width, s.height];
     let mut bytes = bytemuck::bytes_of(&fb).to_vec();
     bytes.extend_from_slice(&trav);
+    Ok(bytes)
+}
+
+/// The uniforms of a dispatch of a frame over `rect`: the frame block, then
+/// the traversal's block.
+fn uniforms(binder: &Binder<'_>, s: &Settings, rect: Rect) -> Result<Vec<u8>, RenderError> {
+    let cam = s.camera.frame()?;
+    let mut fb = frame_block(s, &cam, binder.host.flags() | binder.field.flags());
+    fb.tile_origin = [rect.x, rect.y];
+    fb.tile_size = [rect.w, rect.h];
+    let mut bytes = bytemuck::bytes_of(&fb).to_vec();
+    bytes.extend_from_slice(&binder.host.block(s, &cam));
     Ok(bytes)
 }
 

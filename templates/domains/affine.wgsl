@@ -36,13 +36,17 @@ fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
     // but the difference of two ends of one sign cannot overflow.
     let d = 0.5 * (i.y - i.x);
     let c = select(0.5 * (i.x + i.y), i.x + d, i.x > 0.0 || i.y < 0.0);
-    var r = vec3<f32>(c, 0.0, d);
     // (-inf + inf) / 2 would be a NaN centre, and [1, inf] an infinite one:
-    // both used to turn into wrong finite bounds downstream (NaN dropped by min/max).
-    r = select(r, ra_whole(), !ra_finite(i.x) || !ra_finite(i.y));
-    // A point is exact, also an overflowed one (inf, inf).
-    r = select(r, vec3<f32>(i.x, 0.0, 0.0), i.x == i.y);
-    return select(r, ra_empty(), ia_is_empty(i));
+    // both used to turn into wrong finite bounds downstream (NaN dropped by
+    // min/max), so an unbounded interval is the whole line, but a point is
+    // exact, also an overflowed one (inf, inf); a finite point is (c, 0, d)
+    // already. Written per component (the e1 term is always 0): every select
+    // here is compiled into every op that converts, hundreds in a big formula.
+    let finite = ra_finite(i.x) && ra_finite(i.y);
+    let point = i.x == i.y;
+    let x = select(select(0.0, i.x, point), c, finite);
+    let z = select(select(iso_inf(), 0.0, point), d, finite);
+    return select(vec3<f32>(x, 0.0, z), ra_empty(), ia_is_empty(i));
 }
 // Of two valid enclosures, keep the affine one (its e1 term carries the
 // correlation that later cancellations need) unless the interval is less
@@ -101,7 +105,7 @@ fn ra_div(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let bi = ra_range(b);
     // a * (1/b) keeps a's correlation; 1/b itself is an interval.
     let q = ra_mul(a, ra_from_ia(vec2<f32>(1.0 / bi.y, 1.0 / bi.x)));
-    return select(ra_from_ia(ia_div(ra_range(a), bi)), q, bi.x > 0.0 || bi.y < 0.0);
+    return select(ra_from_ia(ia_div_by_zero(ra_range(a), bi)), q, bi.x > 0.0 || bi.y < 0.0);
 }
 // abs keeps the form when the sign is known.
 fn ra_abs(a: vec3<f32>) -> vec3<f32> {

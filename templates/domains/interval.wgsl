@@ -62,15 +62,26 @@ fn ia_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
 // Division: a divisor that contains 0 gives a half-line when 0 is one of its
 // ends and the numerator keeps one sign, else the whole line.
 fn ia_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    return select(ia_div_by_zero(a, b), ia_mul(a, vec2<f32>(1.0 / b.y, 1.0 / b.x)), b.x > 0.0 || b.y < 0.0);
+}
+// The quotient for a divisor that contains 0 (or a NaN end), on its own so
+// that ra_div, which has an affine form for every other divisor, does not
+// also carry ia_div's product (lavapipe compiles both sides of a select).
+// A divisor [0, b] (from_zero) or [b, 0] (to_zero) and a numerator of one
+// sign give a half-line bounded by one quotient: a.x / den if a >= 0, else
+// a.y / den if a <= 0, where den is the divisor's other end. The ray is
+// [q, inf) for a >= 0 over [0, b] and for a <= 0 over [b, 0], else
+// (-inf, q]. Every other case is the whole line. (One division, where four
+// were written out: this is compiled into every ra_div and ia_div.)
+fn ia_div_by_zero(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let inf = iso_inf();
-    var r = ia_whole();
     let from_zero = b.x == 0.0 && b.y > 0.0;
-    r = select(r, vec2<f32>(-inf, a.y / b.y), from_zero && a.y <= 0.0);
-    r = select(r, vec2<f32>(a.x / b.y, inf), from_zero && a.x >= 0.0);
     let to_zero = b.y == 0.0 && b.x < 0.0;
-    r = select(r, vec2<f32>(a.y / b.x, inf), to_zero && a.y <= 0.0);
-    r = select(r, vec2<f32>(-inf, a.x / b.x), to_zero && a.x >= 0.0);
-    return select(r, ia_mul(a, vec2<f32>(1.0 / b.y, 1.0 / b.x)), b.x > 0.0 || b.y < 0.0);
+    let pos = a.x >= 0.0;
+    let q = select(a.y, a.x, pos) / select(b.x, b.y, from_zero);
+    let half = (from_zero || to_zero) && (pos || a.y <= 0.0);
+    let r = select(vec2<f32>(-inf, q), vec2<f32>(q, inf), pos == from_zero);
+    return select(ia_whole(), r, half);
 }
 // Even-power rule for squares: tight when the interval straddles 0.
 fn ia_sqr(a: vec2<f32>) -> vec2<f32> {
