@@ -83,6 +83,38 @@ fn slope_enclosures_hold_the_slope_along_ray_segments() {
     });
 }
 
+/// A division by a literal is generated as the product with its
+/// reciprocal, worked out on the host in the device's f32 steps
+/// (`codegen::divide_by_literal`), where the library's division also
+/// carries its divisor-with-zero cases. Its enclosures are the library's,
+/// bit for bit: the same formula with the divisor given as a parameter
+/// (which takes `ia_div` / `ra_div`) on 3,000 boxes, for divisors exact in
+/// f32 (an inexact literal is its enclosing interval, a parameter its
+/// nearest f32; `div-literal` and the next cases of the operation suite
+/// check those enclosures against f64). Boxes where either
+/// overflows are left out: there lavapipe folds `inf * 0` with a constant
+/// 0 (an exact reciprocal's error term) to 0, and a literal gave `[inf,
+/// inf]` where a parameter gives the whole line, before this too.
+#[test]
+fn a_division_by_a_literal_is_the_librarys_division() {
+    let mut rng = Rng::new(41);
+    let boxes = random_boxes(&mut rng, 3000);
+    for (src, k) in [("(x*y - z) / 0.25", 0.25f32), ("(x + y) / -3", -3.0), ("x*x / 1024", 1024.0), ("(y - 1) / 0.375", 0.375)] {
+        let literal = Case::new(src, src);
+        let param = Case::new(src, &src.replace(&format!("/ {k}"), "/ k")).with_params(&[k]);
+        assert_ne!(literal.source, param.source);
+        for domain in [Domain::Interval, Domain::Affine] {
+            let a = eval_boxes(&GPU, &literal.ir, domain, &boxes, &[]).unwrap();
+            let b = eval_boxes(&GPU, &param.ir, domain, &boxes, &param.params).unwrap();
+            let finite = |e: &[f32; 2]| e[0].is_finite() && e[1].is_finite();
+            let compared: Vec<_> = a.iter().zip(&b).zip(&boxes).filter(|((p, q), _)| finite(p) && finite(q)).collect();
+            assert!(compared.len() > 1500, "{src} {domain:?}: {} boxes compared", compared.len());
+            let differ: Vec<_> = compared.iter().filter(|((p, q), _)| p != q).take(3).collect();
+            assert!(differ.is_empty(), "{src} {domain:?}: {differ:?}");
+        }
+    }
+}
+
 // The checks both backends run (`conformance/suite.rs`); the device checks
 // fewer random trees, each on more boxes (one dispatch per tree and algebra).
 conformance_suite!(Device, Budget { trees: 80, boxes_per_tree: 300, segment_trees: 40 });

@@ -44,7 +44,7 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let body = emit_body(&mut out, ir, domain, |out, hook| match hook {
         Hook::Node(id, op) => {
             let i = at(&mut d, id);
-            if let Some(e) = rule(&mut Wgsl { out, p }, id, op, &d) {
+            if let Some(e) = rule(&mut Wgsl { out, p, domain, ir }, id, op, &d) {
                 let _ = writeln!(out, "    let d{id} = {};", e.text());
                 d[i] = Some(e.renamed(format!("d{id}")));
             }
@@ -123,6 +123,11 @@ pub(crate) trait Terms {
     fn bind(&mut self, id: NodeId, tag: &str, x: Self::T) -> Self::T;
     /// The whole line (the slope of a user function is unknown).
     fn whole(&mut self) -> Self::T;
+    /// `a` divided by the value of node `c`, which does not depend on the ray.
+    fn divide(&mut self, a: Self::T, c: NodeId) -> Self::T {
+        let vc = self.value(c);
+        self.bin(D::Div, a, vc)
+    }
 }
 
 /// The derivative of IR node `id` (operation `op`) from its operands'
@@ -170,10 +175,7 @@ pub(crate) fn rule<B: Terms>(b: &mut B, id: NodeId, op: Op, d: &[Option<B::T>]) 
         },
         Op::Div(a, c) => match (dv(a), dv(c)) {
             (None, None) => return None,
-            (Some(da), None) => {
-                let vc = b.value(c);
-                b.bin(D::Div, da, vc)
-            }
+            (Some(da), None) => b.divide(da, c),
             (da, Some(dc)) => {
                 // (a'b − ab') / b², written as (a' − q·b') / b with q = a/b.
                 let q = b.value(id);
@@ -396,6 +398,8 @@ impl Term {
 struct Wgsl<'a> {
     out: &'a mut String,
     p: &'static str,
+    domain: Domain,
+    ir: &'a Ir,
 }
 
 impl Terms for Wgsl<'_> {
@@ -445,5 +449,12 @@ impl Terms for Wgsl<'_> {
     }
     fn whole(&mut self) -> Term {
         Term::Form(format!("{}_whole()", self.p))
+    }
+    fn divide(&mut self, a: Term, c: NodeId) -> Term {
+        let by_literal = match self.ir.nodes.get(c as usize) {
+            Some(&Op::Const(k)) => super::divide_by_literal(self.domain, &a.lift(self.p), k),
+            _ => None,
+        };
+        by_literal.map_or_else(|| self.bin(D::Div, a, Term::Form(format!("v{c}"))), Term::Form)
     }
 }

@@ -100,17 +100,54 @@ pub(crate) fn f32_enclosure(c: f64) -> (f32, f32, f32) {
     (n, lo, hi)
 }
 
-/// A literal's affine form, `ra_from_ia` of its enclosing f32 interval
-/// worked out here in the same f32 operations: a `ra_from_ia` per literal
-/// was a tenth of the time lavapipe took to create `@creature`'s RAA
-/// pipeline (the RAA op library's helpers are inlined at every use).
-fn affine_literal(lo: f32, hi: f32) -> String {
-    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-        return format!("ra_from_ia(vec2<f32>({}, {}))", lit(lo), lit(hi));
+/// `ra_from_ia` of a finite, non-empty interval worked out on the host in
+/// the device's f32 steps: the form's centre and error term.
+fn affine_of(lo: f32, hi: f32) -> Option<(f32, f32)> {
+    if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+        return None;
     }
     let d = 0.5 * (hi - lo);
-    let c = if lo > 0.0 || hi < 0.0 { lo + d } else { 0.5 * (lo + hi) };
-    format!("vec3<f32>({}, 0.0, {})", lit(c), lit(d))
+    Some((if lo > 0.0 || hi < 0.0 { lo + d } else { 0.5 * (lo + hi) }, d))
+}
+
+/// A literal's affine form, `ra_from_ia` of its enclosing f32 interval
+/// worked out here (`affine_of`): a `ra_from_ia` per literal was a tenth of
+/// the time lavapipe took to create `@creature`'s RAA pipeline (the RAA op
+/// library's helpers are inlined at every use).
+fn affine_literal(lo: f32, hi: f32) -> String {
+    match affine_of(lo, hi) {
+        Some((c, d)) => format!("vec3<f32>({}, 0.0, {})", lit(c), lit(d)),
+        None => format!("ra_from_ia(vec2<f32>({}, {}))", lit(lo), lit(hi)),
+    }
+}
+
+/// `a / c` for a literal `c` in an inclusion domain, as the product with
+/// `1 / c` that the domain's division takes for a divisor without 0
+/// (`ia_div`, `ra_div`), its reciprocal worked out here in the same f32
+/// steps: the same value, without the division's other cases, which
+/// lavapipe compiles at every use (a sixth of `@creature`'s RAA pipeline,
+/// 48 divisions by its blend radii). `None`: the scalar domain (a plain
+/// division), or a divisor whose enclosure holds 0.
+pub(crate) fn divide_by_literal(domain: Domain, a: &str, c: f64) -> Option<String> {
+    let (n, lo, hi) = f32_enclosure(c);
+    match domain {
+        Domain::Scalar => None,
+        Domain::Interval => {
+            let (lo, hi) = if lo != hi { (lo, hi) } else { (n, n) };
+            (lo > 0.0 || hi < 0.0).then(|| format!("ia_mul({a}, vec2<f32>({}, {}))", lit(1.0 / hi), lit(1.0 / lo)))
+        }
+        Domain::Affine => {
+            // ra_div: the divisor's form, its range (its radius is d), the
+            // reciprocal's form.
+            let (c, d) = if lo != hi { affine_of(lo, hi)? } else { (n, 0.0) };
+            let (lo, hi) = (c - d, c + d);
+            if !(lo > 0.0 || hi < 0.0) {
+                return None;
+            }
+            let (c, d) = affine_of(1.0 / hi, 1.0 / lo)?;
+            Some(format!("ra_mul({a}, vec3<f32>({}, 0.0, {}))", lit(c), lit(d)))
+        }
+    }
 }
 
 fn lit(c: f32) -> String {
@@ -218,7 +255,7 @@ pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, mut hook: imp
             continue;
         }
         let op = ir.nodes[id as usize];
-        let rhs = value_rhs(out, domain, id, op, &ir.externs);
+        let rhs = value_rhs(out, domain, id, op, ir);
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(format!("{p}_is_empty(v{id})"));
@@ -274,7 +311,7 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
             }
             let f = next_id();
             let renamed = reroll::with_operands(op, &ops);
-            let rhs = value_rhs(out, domain, f, renamed, &ir.externs);
+            let rhs = value_rhs(out, domain, f, renamed, ir);
             let _ = writeln!(out, "    let v{f} = {rhs};");
             hook(out, Hook::Node(f, renamed));
             map.push((b, f));
@@ -282,7 +319,7 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
         let term = map.last().map(|&(_, f)| f).expect("a loop body is not empty");
         let next = next_id();
         let step = l.step(acc, term);
-        let rhs = value_rhs(out, domain, next, step, &ir.externs);
+        let rhs = value_rhs(out, domain, next, step, ir);
         let _ = writeln!(out, "    let v{next} = {rhs};");
         hook(out, Hook::Node(next, step));
         let _ = writeln!(out, "    v{acc} = v{next};");
@@ -295,7 +332,8 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
 
 /// The right-hand side of `let v{id} = …;` for one node (odd powers first
 /// write their square-and-multiply chain into `out`).
-pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, names: &[(String, usize)]) -> String {
+pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir: &Ir) -> String {
+    let names = &ir.externs;
     let p = domain.prefix();
     let v = |n: NodeId| format!("v{n}");
     match op {
@@ -318,7 +356,11 @@ pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, na
         Op::Add(a, b) => format!("{p}_add({}, {})", v(a), v(b)),
         Op::Sub(a, b) => format!("{p}_sub({}, {})", v(a), v(b)),
         Op::Mul(a, b) => format!("{p}_mul({}, {})", v(a), v(b)),
-        Op::Div(a, b) => format!("{p}_div({}, {})", v(a), v(b)),
+        Op::Div(a, b) => match ir.nodes.get(b as usize) {
+            // (A loop's table slots have fresh ids, past the IR's nodes.)
+            Some(&Op::Const(c)) => divide_by_literal(domain, &v(a), c).unwrap_or_else(|| format!("{p}_div({}, {})", v(a), v(b))),
+            _ => format!("{p}_div({}, {})", v(a), v(b)),
+        },
         Op::PowI(a, 2) => format!("{p}_sqr({})", v(a)),
         // sema writes even powers as powers of the square; an even n > 2
         // reaching here is still handled exactly: (a^2)^(n/2) of a

@@ -17,6 +17,9 @@ pub const OPS: &[(&str, &str)] = &[
     // the same variable twice: dependency must not break inclusion
     ("x*x", "x * x"), ("x-x", "x - x"), ("x/x", "x / x"), ("pow4", "x^4"), ("pow6", "x^6"),
     ("pow7", "x^7"), ("param", "x^2 + y^2 - r^2"), ("time", "x + sin(t)"),
+    // division by a literal: the product with its reciprocal, worked out on the host
+    ("div-literal", "x / 0.3"), ("div-neg-literal", "(x - y) / -7.1"), ("div-tiny-literal", "y / 3e-20"),
+    ("div-huge-literal", "x / 7e25"), ("div-exact-literal", "(x * y) / 0.125"),
 ];
 
 /// The operation cases.

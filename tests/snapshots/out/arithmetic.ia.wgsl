@@ -14,7 +14,7 @@ fn eval_ia(x: vec2<f32>, y: vec2<f32>, z: vec2<f32>, t: vec2<f32>) -> vec2<f32> 
     let v11 = ia_neg(v1);
     let v12 = ia_sub(v10, v11);
     let v13 = vec2<f32>(3.1415925, 3.1415927);
-    let v14 = ia_div(v3, v13);
+    let v14 = ia_mul(v3, vec2<f32>(0.31830987, 0.3183099));
     let v15 = ia_add(v12, v14);
     let v16 = vec2<f32>(2.7182817, 2.718282);
     let v17 = ia_mul(v0, v16);

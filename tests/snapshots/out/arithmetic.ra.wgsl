@@ -14,7 +14,7 @@ fn eval_ra(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> vec3<f32> 
     let v11 = ra_neg(v1);
     let v12 = ra_sub(v10, v11);
     let v13 = vec3<f32>(3.1415925, 0.0, 1.1920929e-7);
-    let v14 = ra_div(v3, v13);
+    let v14 = ra_mul(v3, vec3<f32>(0.3183099, 0.0, 0.0));
     let v15 = ra_add(v12, v14);
     let v16 = vec3<f32>(2.7182817, 0.0, 1.1920929e-7);
     let v17 = ra_mul(v0, v16);

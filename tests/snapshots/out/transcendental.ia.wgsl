@@ -19,7 +19,7 @@ fn eval_ia(x: vec2<f32>, y: vec2<f32>, z: vec2<f32>, t: vec2<f32>) -> vec2<f32> 
     let v16 = ia_mul(v14, v15);
     let v17 = ia_add(v13, v16);
     let v18 = ia_const(4.0);
-    let v19 = ia_div(v6, v18);
+    let v19 = ia_mul(v6, vec2<f32>(0.25, 0.25));
     let v20 = ia_tan(v19);
     let v21 = ia_sub(v17, v20);
     let v22 = ia_mul(v0, v2);

@@ -19,7 +19,7 @@ fn eval_ra(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> vec3<f32> 
     let v16 = ra_mul(v14, v15);
     let v17 = ra_add(v13, v16);
     let v18 = ra_const(4.0);
-    let v19 = ra_div(v6, v18);
+    let v19 = ra_mul(v6, vec3<f32>(0.25, 0.0, 0.0));
     let v20 = ra_tan(v19);
     let v21 = ra_sub(v17, v20);
     let v22 = ra_mul(v0, v2);
