@@ -408,9 +408,10 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
         Traversal::Bisect(_) if loops => (
             format!(
                 "exhausted the iteration budget (--max-iter {}) or the work limit of the formula's loops over its repeated terms \
-                 ({} loop iterations a pixel, which lavapipe's loop cap imposes)",
+                 ({} loop iterations a pixel, or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes)",
                 s.max_iter,
-                isotrace::codegen::reroll::WORK_LIMIT
+                isotrace::codegen::reroll::WORK_LIMIT,
+                isotrace::codegen::tape::TAPE_BUNDLE_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),

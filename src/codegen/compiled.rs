@@ -166,23 +166,25 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 /// sphere tracer keeps its steps within the cap with it), and whether the
 /// work limit refused one (the pixel is then reported). It is one field
 /// everywhere (`field_view`: the scene's changes with its slab).
-fn field_cost(ir: &Ir) -> String {
+/// `bundle`: the loops' work is counted per SIMD bundle (`reroll::support`).
+fn field_cost(ir: &Ir, bundle: bool) -> String {
     let plan = super::reroll::plan(ir);
     let (support, iters, exhausted) = match plan.loops.is_empty() {
-        true => (String::new(), 0, "false"),
-        false => (super::reroll::support(), plan.iterations(), "g_field_exhausted"),
+        true => ("fn field_entry(li: u32) {}\n".to_string(), 0, "false"),
+        false => (super::reroll::support(bundle), plan.iterations(), "g_field_exhausted"),
     };
     format!(
         "{support}fn field_cost() -> u32 {{ return {iters}u; }}\nfn field_exhausted() -> bool {{ return {exhausted}; }}\n\
-         fn field_view() -> u32 {{ return 0u; }}\nfn field_entry(li: u32) {{}}\n"
+         fn field_view() -> u32 {{ return 0u; }}\n"
     )
 }
 
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).
 /// `inline` user functions need every op library (their three versions
-/// call into all of them), so all are included then.
-pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) -> String {
+/// call into all of them), so all are included then. `bundle`: its loops'
+/// work is counted per SIMD bundle (bisection on a device with subgroups).
+pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool) -> String {
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
     let mut out = match (inline, domain) {
         (Some(_), _) => libraries(&all),
@@ -195,7 +197,7 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>) 
     if let Some(user) = inline {
         let _ = write!(out, "\n// ---- User WGSL (--inline {}): functions callable from the formula and hooks.\n{}\n", user.path, user.text);
     }
-    out.push_str(&field_cost(ir));
+    out.push_str(&field_cost(ir, bundle));
     out.push_str(&emit_evaluator(ir, Domain::Scalar));
     out.push_str(super::UNTILED_FIELD_HOOKS);
     out.push_str(super::UNSHORTENED_FIELD_HOOKS);

@@ -129,10 +129,12 @@ pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
 impl FieldSource<'_> {
     /// The field's WGSL: `field(p)`, and the enclosures in `domain` when a
     /// traversal needs them (a scene has none: it is sphere traced); `sync`:
-    /// a scene's side of the synchronised tile walk.
-    fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>, sync: bool) -> String {
+    /// a scene's side of the synchronised tile walk; `bundle`: a compiled
+    /// field's loops count their work per SIMD bundle (a tape says so in
+    /// its features).
+    fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>, sync: bool, bundle: bool) -> String {
         match self {
-            FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline),
+            FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline, bundle),
             FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features, sync), template::SCENE_TILES),
             FieldSource::Tape(t) => tape_field::field_code(domain, t.features),
         }
@@ -210,15 +212,24 @@ pub struct Kernel {
 }
 
 /// The render kernel of `field` traced by `traversal` (its structural
-/// choices: algebra and modalities, or secondary rays).
+/// choices: algebra and modalities, or secondary rays), counting loop work
+/// per invocation: for any device (`isotrace wgsl`, the browser page).
 pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
+    assemble_for(field, traversal, false)
+}
+
+/// [`assemble`] for a device with subgroup operations or without
+/// (`subgroups`): with them, bisecting a compiled field whose runs of terms
+/// are loops counts the loops' work per SIMD bundle, what lavapipe's loop
+/// cap counts, as a tape's interpreter does (`tape::features::BUNDLE_WORK`).
+pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bool) -> Kernel {
     let shared = [template::FRAME, template::CAMERA, template::PIXELS, template::SHADING].join("\n");
     let (uniforms, field_code, traversal_code, entries, inline) = match traversal {
         Traversal::Bisect(b) => {
             let user = b.modalities.inline.as_ref();
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
-                field.code(Some(b.algebra), user, false),
+                field.code(Some(b.algebra), user, false, subgroups),
                 bisect(b, field.surfaces(), matches!(field, FieldSource::Tape(_))),
                 &["main", "tiles"][..],
                 user.cloned(),
@@ -229,7 +240,7 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
             let sync = tiles && s.synchronized;
             (
                 format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
-                field.code(None, None, sync),
+                field.code(None, None, sync, false),
                 sphere(s.features(), tiles, sync),
                 if tiles { &["main", "tiles"][..] } else { &["main"][..] },
                 None,

@@ -29,7 +29,7 @@ pub mod tape_field;
 pub mod template;
 
 pub use compiled::inclusion;
-pub use kernel::{assemble, render_shader, scene_eval_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
+pub use kernel::{assemble, assemble_for, render_shader, scene_eval_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
 pub use choice::{FieldKind, PreparedField};
 pub use tape::{TapeData, TapeError};
 
@@ -423,7 +423,7 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
     };
     let mut eval = emit_evaluator(ir, domain);
     if !reroll::plan(ir).loops.is_empty() {
-        eval = format!("var<private> g_field_work: u32;\n{}{eval}", reroll::support());
+        eval = format!("var<private> g_field_work: u32;\n{}{eval}", reroll::support(false));
     }
     let user = inline.map_or(String::new(), |i| i.text.clone());
     let uniforms = crate::layout::EvalBlock::wgsl();

@@ -465,22 +465,37 @@ fn region(table: &mut Vec<[u32; 4]>, slots: usize, lay: Layout, consts: &[Vec<f6
 }
 
 /// The WGSL a kernel with loops needs once: the table's binding and
-/// reader, and the work limit.
-pub fn support() -> String {
+/// reader, and the work limit: per invocation ([`WORK_LIMIT`]), or with
+/// `bundle` per SIMD bundle, as a tape's (`tape_field::BUNDLE_WORK`: a
+/// bisection kernel on a device with subgroups, whose entry points call
+/// `field_entry`). Both define `field_entry`.
+pub fn support(bundle: bool) -> String {
+    let admits = if bundle {
+        format!(
+            "const TAPE_BUNDLE_LIMIT: u32 = {}u;\n{}\
+             fn field_admits(iters: u32) -> bool {{\n    let ok = bundle_admits(iters);\n    \
+             if (!ok) {{ g_field_exhausted = true; }}\n    return ok;\n}}\n",
+            super::tape::TAPE_BUNDLE_LIMIT,
+            super::tape_field::BUNDLE_WORK
+        )
+    } else {
+        format!(
+            "fn field_entry(li: u32) {{}}\n\
+             fn field_admits(iters: u32) -> bool {{\n    \
+             if (g_field_work + iters > {WORK_LIMIT}u) {{ g_field_exhausted = true; return false; }}\n    \
+             g_field_work = g_field_work + iters;\n    return true;\n}}\n"
+        )
+    };
     format!(
         "// Rerolled terms' constants (src/codegen/reroll.rs): {w} texels a row.\n\
          @group(1) @binding(0) var field_table_tex: texture_2d<u32>;\n\
          fn field_table(i: u32) -> vec4<f32> {{ return bitcast<vec4<f32>>(textureLoad(field_table_tex, vec2<u32>(i & {mask}u, i >> {shift}u), 0)); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
          var<private> g_field_exhausted: bool;\n\
-         // Whether an evaluation of `iters` loop iterations is within the limit (and counts it).\n\
-         fn field_admits(iters: u32) -> bool {{\n    \
-             if (g_field_work + iters > {limit}u) {{ g_field_exhausted = true; return false; }}\n    \
-             g_field_work = g_field_work + iters;\n    return true;\n}}\n",
+         // Whether an evaluation of `iters` loop iterations is within the limit (and counts it).\n{admits}",
         w = crate::scene::linear::TEXTURE_WIDTH,
         mask = crate::scene::linear::TEXTURE_WIDTH - 1,
         shift = crate::scene::linear::TEXTURE_SHIFT,
-        limit = WORK_LIMIT,
     )
 }
 

@@ -144,8 +144,9 @@ fn tape_admits(iters: u32) -> bool {
 /// adds that (plus the caller's iteration) to one count in workgroup
 /// memory, kept by its lowest active lane. The slot is the smallest local index of the
 /// bundle, taken at the entry point where every lane is active, so it
-/// does not depend on how the driver groups lanes.
-const WORK_PER_BUNDLE: &str = "
+/// does not depend on how the driver groups lanes. Shared with a compiled
+/// field's loops over repeated terms (`reroll::support`).
+pub(crate) const BUNDLE_WORK: &str = "
 // One count per bundle, indexed by its smallest local index: 256 covers the
 // largest workgroup (bisection's main, 8 x 8 x 4).
 var<workgroup> g_bundle_work: array<atomic<u32>, 256>;
@@ -155,7 +156,9 @@ fn field_entry(li: u32) {
     g_lane = li;
     g_bundle = subgroupMin(li);
 }
-fn tape_admits(iters: u32) -> bool {
+// Whether a run of `iters` loop iterations keeps the bundle within the
+// limit (and counts it).
+fn bundle_admits(iters: u32) -> bool {
     let m = subgroupMax(iters) + 1u;
     var before = 0u;
     // One active lane (the first) keeps the count.
@@ -163,6 +166,9 @@ fn tape_admits(iters: u32) -> bool {
     return subgroupMax(before) + m <= TAPE_BUNDLE_LIMIT;
 }
 ";
+
+/// The tape's work limit per SIMD bundle ([`BUNDLE_WORK`]).
+const TAPE_PER_BUNDLE: &str = "fn tape_admits(iters: u32) -> bool { return bundle_admits(iters); }\n";
 
 /// Where the interpreter's instructions come from without per-tile lists:
 /// the tape's programs themselves.
@@ -203,7 +209,7 @@ fn prelude(features: u32, lists: bool) -> String {
          const TAPE_LIST_NOP: u32 = 0xffffffffu;\n\
          const TAPE_PC_MASK: u32 = 0x3fffffffu;\n{}",
         super::tape::wgsl_constants(features),
-        if features::bundle_work(features) { WORK_PER_BUNDLE } else { WORK_PER_LANE },
+        if features::bundle_work(features) { format!("{BUNDLE_WORK}{TAPE_PER_BUNDLE}") } else { WORK_PER_LANE.to_string() },
         if lists { TAPE_TILES } else { "" },
         if lists { LISTED_TAPE } else { WHOLE_TAPE },
         w = crate::scene::linear::TEXTURE_WIDTH,

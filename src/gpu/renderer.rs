@@ -132,7 +132,7 @@ impl<'g> Renderer<'g> {
             }
             _ => field,
         };
-        let kernel = codegen::assemble(field, &traversal);
+        let kernel = codegen::assemble_for(field, &traversal, gpu.subgroups);
         if kernel.wgsl.len() > MAX_SHADER_BYTES {
             return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
         }
