@@ -221,7 +221,7 @@ impl Gpu {
     /// `entries[1..]` as soon as they exist, while `entries[0]` may still be
     /// in the making. A render kernel's first entry is its large per-pixel
     /// pass; `then` has lavapipe compile the small passes meanwhile
-    /// (`gpu::warm_up`), which it would otherwise do at the first frame's
+    /// (`binding::Binder::warm_up`), which it would otherwise do at the first frame's
     /// dispatch, after the per-pixel pass's creation.
     pub fn pipelines_then(
         &self,
