@@ -88,9 +88,17 @@ pub fn libraries(domains: &[Domain]) -> String {
     all.iter().zip(need).filter(|(_, n)| *n).map(|(d, _)| d.library()).collect::<Vec<_>>().join("\n")
 }
 
-/// f32 nearest to `c`, and the f32 interval enclosing it.
+/// f32 nearest to `c`, and the f32 interval enclosing it. lavapipe flushes
+/// subnormal f32 to zero in arithmetic, so a constant below the smallest
+/// normal f32 in magnitude is enclosed by normal ends, [0, 2^-126] or its
+/// negative: an end the device reads as 0 could exclude the constant
+/// (`x / 1e-40` was enclosed by [f32::MAX, inf] for x near 0.5 before).
 pub(crate) fn f32_enclosure(c: f64) -> (f32, f32, f32) {
     let n = c as f32;
+    let tiny = f64::from(f32::MIN_POSITIVE);
+    if c != 0.0 && c.abs() < tiny {
+        return if c > 0.0 { (n, 0.0, f32::MIN_POSITIVE) } else { (n, -f32::MIN_POSITIVE, 0.0) };
+    }
     let (mut lo, mut hi) = (n, n);
     if (n as f64) > c {
         lo = n.next_down();
@@ -127,14 +135,18 @@ fn affine_literal(lo: f32, hi: f32) -> String {
 /// steps: the same value, without the division's other cases, which
 /// lavapipe compiles at every use (a sixth of `@creature`'s RAA pipeline,
 /// 48 divisions by its blend radii). `None`: the scalar domain (a plain
-/// division), or a divisor whose enclosure holds 0.
+/// division), a divisor whose enclosure holds 0, or one whose reciprocal
+/// is not a finite f32.
 pub(crate) fn divide_by_literal(domain: Domain, a: &str, c: f64) -> Option<String> {
     let (n, lo, hi) = f32_enclosure(c);
     match domain {
         Domain::Scalar => None,
         Domain::Interval => {
             let (lo, hi) = if lo != hi { (lo, hi) } else { (n, n) };
-            (lo > 0.0 || hi < 0.0).then(|| format!("ia_mul({a}, vec2<f32>({}, {}))", lit(1.0 / hi), lit(1.0 / lo)))
+            // A reciprocal past f32 (a divisor below 2^-128) has no WGSL literal.
+            let (r_lo, r_hi) = (1.0 / hi, 1.0 / lo);
+            let usable = (lo > 0.0 || hi < 0.0) && r_lo.is_finite() && r_hi.is_finite();
+            usable.then(|| format!("ia_mul({a}, vec2<f32>({}, {}))", lit(r_lo), lit(r_hi)))
         }
         Domain::Affine => {
             // ra_div: the divisor's form, its range (its radius is d), the
@@ -434,6 +446,20 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
 #[cfg(test)]
 mod tests {
     use super::Domain;
+
+    /// A constant's f32 ends enclose it, and are normal f32 (lavapipe
+    /// flushes subnormals to zero): a tiny constant gets [0, 2^-126].
+    #[test]
+    fn constant_enclosures_have_normal_ends() {
+        for c in [0.3, -7.1, 1e-30, 3e38, 1.5, 0.0, -2e-39, 1e-40, 1e-45] {
+            let (_, lo, hi) = super::f32_enclosure(c);
+            assert!(f64::from(lo) <= c && c <= f64::from(hi), "{c}: [{lo}, {hi}]");
+            for e in [lo, hi] {
+                assert!(e == 0.0 || e.is_normal() || e.is_infinite(), "{c}: end {e} is subnormal");
+            }
+        }
+        assert_eq!(super::f32_enclosure(1e-40).1..super::f32_enclosure(1e-40).2, 0.0..f32::MIN_POSITIVE);
+    }
 
     /// The op libraries choose with `select`, never branch: lavapipe runs
     /// both sides of a branch anyway, and branches cost its compiler far

@@ -200,29 +200,20 @@ impl Gpu {
         Ok(self.pipelines(label, wgsl, &["main"])?.remove(0))
     }
 
-    /// One pipeline per entry point of one validated WGSL module, all with
-    /// `layout` (or each with its own derived layout when `None`).
+    /// One pipeline per entry point of one validated WGSL module, each with
+    /// its own derived layout.
     pub fn pipelines(&self, label: &str, wgsl: &str, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-        self.pipelines_with_layout(label, wgsl, entries, None)
+        self.pipelines_then(label, wgsl, entries, None, |_| ())
     }
 
-    /// See [`Gpu::pipelines`].
-    pub fn pipelines_with_layout(
-        &self,
-        label: &str,
-        wgsl: &str,
-        entries: &[&str],
-        layout: Option<&wgpu::PipelineLayout>,
-    ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-        self.pipelines_then(label, wgsl, entries, layout, |_| ())
-    }
-
-    /// [`Gpu::pipelines_with_layout`], calling `then` with the pipelines of
-    /// `entries[1..]` as soon as they exist, while `entries[0]` may still be
-    /// in the making. A render kernel's first entry is its large per-pixel
-    /// pass; `then` has lavapipe compile the small passes meanwhile
-    /// (`binding::Binder::warm_up`), which it would otherwise do at the first frame's
-    /// dispatch, after the per-pixel pass's creation.
+    /// One pipeline per entry point of one validated WGSL module, all with
+    /// `layout` (or each with its own derived layout when `None`), created
+    /// side by side, calling `then` with the pipelines of `entries[1..]` as
+    /// soon as they exist, while `entries[0]` may still be in the making. A
+    /// render kernel's first entry is its large per-pixel pass; `then` has
+    /// lavapipe compile the small passes meanwhile (`binding::Binder::warm_up`),
+    /// which it would otherwise do at the first frame's dispatch, after the
+    /// per-pixel pass's creation.
     pub fn pipelines_then(
         &self,
         label: &str,

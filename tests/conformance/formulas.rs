@@ -19,7 +19,7 @@ pub const OPS: &[(&str, &str)] = &[
     ("pow7", "x^7"), ("param", "x^2 + y^2 - r^2"), ("time", "x + sin(t)"),
     // division by a literal: the product with its reciprocal, worked out on the host
     ("div-literal", "x / 0.3"), ("div-neg-literal", "(x - y) / -7.1"), ("div-tiny-literal", "y / 3e-20"),
-    ("div-huge-literal", "x / 7e25"), ("div-exact-literal", "(x * y) / 0.125"),
+    ("div-huge-literal", "x / 7e25"), ("div-exact-literal", "(x * y) / 0.125"), ("div-subnormal-literal", "x / 1e-40"),
 ];
 
 /// The operation cases.
