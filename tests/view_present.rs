@@ -36,7 +36,7 @@ fn present_decodes_records_like_the_cli() {
          }}\n"
     );
     isotrace::validate::validate(&wgsl).expect("validates");
-    let pipeline = &gpu.pipelines("present test", &wgsl, &["decode_test"]).expect("pipeline")[0];
+    let pipeline = &gpu.pipelines("present test", &wgsl, isotrace::gpu::Author::Isotrace, &["decode_test"]).expect("pipeline")[0];
     let recs = records(4096);
     let steps_max = 300u32;
     for mode in [PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS] {

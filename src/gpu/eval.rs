@@ -1,7 +1,7 @@
 //! Runs the `eval` kernel: the generated evaluator of one number domain over
 //! a batch of boxes, one invocation per box, all in one dispatch.
 
-use super::{Gpu, GpuError};
+use super::{Author, Gpu, GpuError};
 use crate::layout::{EvalBlock, MAX_PARAMS};
 use crate::codegen::Domain;
 use crate::ir::Ir;
@@ -56,7 +56,7 @@ pub fn eval_boxes_with(
             validate(&src)?;
         }
     }
-    let pipeline = gpu.pipeline("isotrace eval", &src)?;
+    let pipeline = gpu.pipeline("isotrace eval", &src, if inline.is_some() { Author::WithUserWgsl } else { Author::Isotrace })?;
     // Rerolled terms read their constants from the field group's table.
     let table = match crate::codegen::reroll::table_texels(ir) {
         Some(t) => Some(table_group(gpu, &pipeline, &t)?),
@@ -94,7 +94,7 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domai
     }
     let src = crate::codegen::tape_field::eval_shader(domain, tape.features);
     validate(&src)?;
-    let pipeline = gpu.pipeline("isotrace eval (tape)", &src)?;
+    let pipeline = gpu.pipeline("isotrace eval (tape)", &src, Author::Isotrace)?;
     let (group, _texture) = table_group(gpu, &pipeline, &tape.texels())?;
     let mut out = Vec::with_capacity(boxes.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
@@ -112,7 +112,7 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::codegen::SceneData, points: &
     }
     let src = crate::codegen::scene_eval_shader(scene.features);
     validate(&src)?;
-    let pipeline = gpu.pipeline("isotrace eval (scene)", &src)?;
+    let pipeline = gpu.pipeline("isotrace eval (scene)", &src, Author::Isotrace)?;
     let (_nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
     let (_params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
     let group = gpu.scoped("scene bind group", || {

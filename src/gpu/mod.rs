@@ -73,6 +73,28 @@ impl DeviceInfo {
     }
 }
 
+/// Who wrote a shader module's loops, which decides whether naga adds its
+/// loop counter.
+///
+/// naga bounds every loop with a 64-bit countdown by default, so that a
+/// driver may not assume that a loop without side effects ends. On
+/// lavapipe that counter is costly: its NIR optimiser unrolls small loops
+/// and then needs one more round of its whole pass list per unrolled copy
+/// to fold the copies' counter tests away (68 rounds for the tape's tile
+/// pass, 20 for `@city`'s per-pixel pass, where 6 do without it). The
+/// counter stops no runaway loop in any useful time (2^64 iterations), and
+/// lavapipe caps every invocation's loops at 65,535 iterations anyway.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Author {
+    /// Only isotrace's templates and generated code: every loop is bounded
+    /// by a constant, a budget from the uniform block or a count of the
+    /// field group's data, all checked on the host. Made without the counter.
+    Isotrace,
+    /// Also WGSL from the user (`--inline`), whose loops isotrace cannot
+    /// vouch for: made with wgpu's default checks.
+    WithUserWgsl,
+}
+
 /// A headless device and queue.
 pub struct Gpu {
     /// The device.
@@ -196,14 +218,14 @@ impl Gpu {
     }
 
     /// Creates a compute pipeline from WGSL that has passed naga validation.
-    pub fn pipeline(&self, label: &str, wgsl: &str) -> Result<wgpu::ComputePipeline, GpuError> {
-        Ok(self.pipelines(label, wgsl, &["main"])?.remove(0))
+    pub fn pipeline(&self, label: &str, wgsl: &str, author: Author) -> Result<wgpu::ComputePipeline, GpuError> {
+        Ok(self.pipelines(label, wgsl, author, &["main"])?.remove(0))
     }
 
     /// One pipeline per entry point of one validated WGSL module, each with
     /// its own derived layout.
-    pub fn pipelines(&self, label: &str, wgsl: &str, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-        self.pipelines_then(label, wgsl, entries, None, |_| ())
+    pub fn pipelines(&self, label: &str, wgsl: &str, author: Author, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
+        self.pipelines_then(label, (wgsl, author), entries, None, |_| ())
     }
 
     /// One pipeline per entry point of one validated WGSL module, all with
@@ -217,17 +239,24 @@ impl Gpu {
     pub fn pipelines_then(
         &self,
         label: &str,
-        wgsl: &str,
+        (wgsl, author): (&str, Author),
         entries: &[&str],
         layout: Option<&wgpu::PipelineLayout>,
         then: impl FnOnce(&[wgpu::ComputePipeline]) + Send,
     ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
         self.pipelines_created.fetch_add(entries.len() as u64, std::sync::atomic::Ordering::Relaxed);
         let module = self.scoped("shader compilation", || {
-            self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-            })
+            let desc = wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(wgsl.into()) };
+            match author {
+                Author::Isotrace => {
+                    let mut checks = wgpu::ShaderRuntimeChecks::checked();
+                    checks.force_loop_bounding = false;
+                    // SAFETY: wgpu asks that every loop of the module
+                    // terminate; see `Author::Isotrace`. Bounds checks stay.
+                    unsafe { self.device.create_shader_module_trusted(desc, checks) }
+                }
+                Author::WithUserWgsl => self.device.create_shader_module(desc),
+            }
         })?;
         let create = |e: &str| {
             // Error scopes belong to the thread that pushed them.

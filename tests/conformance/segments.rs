@@ -61,7 +61,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
 pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Option<&isotrace::codegen::TapeData>) -> Result<Vec<[f64; 2]>, String> {
     use wgpu::util::DeviceExt;
     isotrace::validate::validate(src).map_err(|e| e.to_string())?;
-    let pipeline = gpu.pipeline("conformance segments", src).map_err(|e| e.to_string())?;
+    let pipeline = gpu.pipeline("conformance segments", src, isotrace::gpu::Author::Isotrace).map_err(|e| e.to_string())?;
     let n = segs.len() as u32;
     assert!(n > 0 && n <= 65_535 * 64, "one dispatch of up to 4M segments");
     let mut uniforms = vec![f32::INFINITY.to_bits(), SEG_TIME.to_bits(), n, 0];
