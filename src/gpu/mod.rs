@@ -235,7 +235,8 @@ impl Gpu {
     /// render kernel's first entry is its large per-pixel pass; `then` has
     /// lavapipe compile the small passes meanwhile (`binding::Binder::warm_up`),
     /// which it would otherwise do at the first frame's dispatch, after the
-    /// per-pixel pass's creation.
+    /// per-pixel pass's creation. `author` decides naga's loop counter
+    /// ([`Author`]).
     pub fn pipelines_then(
         &self,
         label: &str,

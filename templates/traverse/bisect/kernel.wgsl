@@ -129,11 +129,10 @@ fn slab_span(dr: vec2<f32>, k0: u32, k1: u32) -> vec2<f32> {
 
 // Depth range [s_near, s_far] of the domain (box, or box and clip ball)
 // along the forward axis.
-// The eight corners are written out, not looped over: naga bounds every
-// loop with a counter, and lavapipe, which unrolls this one, then needed
-// one more round of its whole optimisation loop per corner to fold the
-// counter's tests away (20 rounds where 6 do: a third of `@city`'s pipeline
-// creation in RAA).
+// The eight corners are written out, not looped over, for kernels made with
+// naga's loop counter (user `--inline` WGSL, `gpu::Author`): lavapipe
+// unrolls this loop and then needs one more round of its whole optimisation
+// loop per corner to fold the counter's tests away.
 fn corner_depth(m: vec3<bool>) -> f32 {
     return dot(select(F.box_min.xyz, F.box_max.xyz, m) - F.eye.xyz, F.forward.xyz);
 }
