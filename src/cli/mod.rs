@@ -467,8 +467,14 @@ pub fn with_render_note<T>(what: impl FnOnce() -> String + Send, render: impl Fn
 
 /// Runs `work`; if it is not done after `after` (or the milliseconds in
 /// the environment variable `hook`), prints `note: {note()} …` on stderr.
+/// A delay of zero prints the note before `work` starts: a timer of zero
+/// would race a quick `work` and make the hook's tests depend on speed.
 fn with_note<T>(hook: &str, after: std::time::Duration, note: impl FnOnce() -> String + Send, work: impl FnOnce() -> T) -> T {
     let after = std::env::var(hook).ok().and_then(|v| v.parse().ok()).map_or(after, std::time::Duration::from_millis);
+    if after.is_zero() {
+        eprintln!("note: {} …", note());
+        return work();
+    }
     let (done, wait) = std::sync::mpsc::channel::<()>();
     std::thread::scope(|scope| {
         scope.spawn(move || {
