@@ -1,6 +1,6 @@
 //! The compiled field source: a formula's IR generated into WGSL. It
 //! provides what a traversal calls: the scalar `field(p)` and, for
-//! bisection, the inclusion functions (`cell_range`, `cell_range_d`,
+//! bisection, the inclusion functions (`cell_range`, `cell_enclosure`,
 //! `slab_range`) with level-set CSG selection.
 //!
 //! The bisection traversal only ever sees ranges (`vec2<f32>`): which
@@ -87,40 +87,30 @@ fn scalar_fn(ir: &Ir) -> String {
 
 /// The render kernel's inclusion functions for `domain` over a compiled
 /// formula: its `surf_<p>` (with CSG selection), its scalar `field(p)` and
-/// the [`enclosures`] built on them.
+/// the [`enclosures`] and [`cell_enclosure`] built on them.
 pub fn inclusion(ir: &Ir, domain: Domain) -> String {
-    format!("{}\n{}\n{}", surface_fn(ir, domain), scalar_fn(ir), enclosures(domain, !ir.is_csg()))
+    format!("{}\n{}\n{}{}", surface_fn(ir, domain), scalar_fn(ir), enclosures(domain), cell_enclosure(ir, domain))
 }
 
 /// The traversal's enclosures in `domain`, over any field that provides
-/// `surf_<p>(x, y, z, t) -> vec2<f32>` and, with `derivative`,
-/// `evald_<p>(x, y, z, t, dx, dy, dz) -> vec4<f32>` (the compiled and the
-/// tape field both do): `cell_range(o, dir, s0, s1)`, the enclosure of f
-/// over the ray segment o + dir·[s0, s1]; `cell_range_d`, the same with the
-/// enclosure of the derivative along the ray; and
-/// `slab_range(eye, f, r, u, s, su, sv)`, the enclosure over the frustum slab
-/// eye + s·(f + su·r + sv·u). In the affine domain the ray depth s is the
-/// symbol e1, so x, y, z along a ray are exact affine forms; across a slab
-/// su and sv go into e2.
-pub(crate) fn enclosures(domain: Domain, derivative: bool) -> String {
+/// `surf_<p>(x, y, z, t) -> vec2<f32>` (the compiled and the tape field
+/// both do): `cell_range(o, dir, s0, s1)`, the enclosure of f over the ray
+/// segment o + dir·[s0, s1], and `slab_range(eye, f, r, u, s, su, sv)`, the
+/// enclosure over the frustum slab eye + s·(f + su·r + sv·u). In the affine
+/// domain the ray depth s is the symbol e1, so x, y, z along a ray are
+/// exact affine forms; across a slab su and sv go into e2.
+pub(crate) fn enclosures(domain: Domain) -> String {
     let p = domain.prefix();
     let (forms, lift) = segment_forms(domain);
     let s_form = match domain {
         Domain::Affine => "vec3<f32>(0.5 * (s.x + s.y), 0.5 * (s.y - s.x), 0.0)",
         _ => "s",
     };
-    // Several surfaces: no single derivative; such cells are never treated as monotone.
-    let cell_d = if !derivative {
-        "    return vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf);".to_string()
-    } else {
-        format!("{forms}\n    return evald_{p}(X, Y, Z, {p}_const(F.time), dir.x, dir.y, dir.z);")
-    };
     let axis = |c: &str| {
         format!("{p}_add({p}_const(eye.{c}), {p}_mul(S, {p}_add({p}_const(f.{c}), {p}_add({p}_mul(U_, {p}_const(r.{c})), {p}_mul(V_, {p}_const(u.{c}))))))")
     };
     format!(
         "fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(F.time));\n}}\n\n\
-fn cell_range_d(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {{\n{cell_d}\n}}\n\n\
 fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
 let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
 return surf_{p}({}, {}, {}, {p}_const(F.time));\n}}\n",
@@ -149,13 +139,25 @@ pub(crate) fn segment_forms(domain: Domain) -> (&'static str, &'static str) {
 }
 
 /// `cell_enclosure(o, dir, s0, s1, slope)`, the one enclosure call of the
-/// bisection: `cell_range_d`, whose slope is dropped (the whole line)
-/// without `slope`. Always the derivative form, because lavapipe runs both
-/// arms of a branch under a mask: a `cell_range` arm beside it was paid for
-/// on every cell (Barth decic 234 → 192 ms at 1024² without it). (The tape
-/// field has its own: one interpreter run.)
-const CELL_ENCLOSURE: &str = "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {\n    \
-    let q = cell_range_d(o, dir, s0, s1);\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}\n";
+/// bisection: f and its slope along the ray over the segment, the slope
+/// dropped (the whole line) without `slope` or for a formula of several
+/// surfaces, which has no single slope. Always the derivative form, because
+/// lavapipe runs both arms of a branch under a mask: a `cell_range` arm
+/// beside it was paid for on every cell (Barth decic 234 → 192 ms at 1024²
+/// without it). With slopes it is `evald_<p>`'s code under this name
+/// ([`derivative::emit_cell_enclosure`]). (The tape field has its own: one
+/// interpreter run.)
+fn cell_enclosure(ir: &Ir, domain: Domain) -> String {
+    let p = domain.prefix();
+    let (forms, _) = segment_forms(domain);
+    if ir.is_csg() {
+        return format!(
+            "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n    \
+             return vec4<f32>(surf_{p}(X, Y, Z, {p}_const(F.time)), -F.inf, F.inf);\n}}\n"
+        );
+    }
+    derivative::emit_cell_enclosure(ir, domain, forms)
+}
 
 /// The scalar field of a single-surface formula.
 const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, F.time); }\n";
@@ -206,10 +208,6 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
         return out;
     };
     out.push_str(&emit_evaluator(ir, d));
-    if !ir.is_csg() {
-        out.push_str(&derivative::emit_evaluator_d(ir, d));
-    }
     out.push_str(&inclusion(ir, d));
-    out.push_str(CELL_ENCLOSURE);
     out
 }

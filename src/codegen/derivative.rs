@@ -55,13 +55,37 @@ const AFFINE_SLOPES_MAX_DEGREE: u32 = 10;
 /// in [`slope_domain`]; with interval slopes for affine values, a value
 /// enters a slope term as its range (`ra_range(v12)`).
 pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
+    let (vp, ty) = (domain.prefix(), domain.ty());
+    let head = format!("fn evald_{vp}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{\n");
+    emit_slopes(ir, domain, head, |result| format!("    return {result};\n}}\n"))
+}
+
+/// Emits the bisection's `cell_enclosure(o, dir, s0, s1, slope)` with
+/// `evald_<p>`'s code as its own body: `forms` lifts the ray segment into
+/// `X`, `Y`, `Z` ([`super::compiled::segment_forms`]); the slope is the
+/// whole line without `slope`. lavapipe inlines the field into every
+/// function on the path from the entry point, so an `evald_<p>` called
+/// from here was one more copy of it to clone (150,000 NIR instructions
+/// for `@city` in RAA).
+pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str) -> String {
+    let p = domain.prefix();
+    let head = format!(
+        "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n    \
+         let x = X;\n    let y = Y;\n    let z = Z;\n    let t = {p}_const(F.time);\n    let dx = dir.x;\n    let dy = dir.y;\n    let dz = dir.z;\n"
+    );
+    emit_slopes(ir, domain, head, |q| format!("    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
+}
+
+/// A function whose body computes f and its slope along the ray in
+/// `domain`, from `x y z t` (values) and `dx dy dz` (the ray direction)
+/// that `head` declares, and ends with `tail` of the result (the value's
+/// range and the slope's, a `vec4<f32>`).
+fn emit_slopes(ir: &Ir, domain: Domain, head: String, tail: impl FnOnce(&str) -> String) -> String {
     let vp = domain.prefix();
-    let ty = domain.ty();
     let slopes = slope_domain(ir, domain);
     let p = slopes.prefix();
     let ranged = (slopes != domain).then_some(vp);
-    let mut out = String::new();
-    let _ = writeln!(out, "fn evald_{vp}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{");
+    let mut out = head;
     let mut d: Vec<Option<Term>> = vec![None; ir.nodes.len()];
     let at = |d: &mut Vec<Option<Term>>, id: NodeId| {
         if d.len() <= id as usize {
@@ -101,8 +125,7 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     if body.looped {
         result = format!("select({result}, vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()), !admitted)");
     }
-    let _ = writeln!(out, "    return {result};");
-    out.push_str("}\n");
+    out.push_str(&tail(&result));
     out
 }
 

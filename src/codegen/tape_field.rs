@@ -252,7 +252,7 @@ pub fn field_code(domain: Option<Domain>, features: u32) -> String {
     }
     if let Some(d) = domain {
         out.push_str(&instantiate(d, features));
-        out.push_str(&compiled::enclosures(d, true));
+        out.push_str(&compiled::enclosures(d));
         out.push_str(&cell_enclosure(d));
     }
     out
@@ -260,7 +260,7 @@ pub fn field_code(domain: Option<Domain>, features: u32) -> String {
 
 /// The bisection's one enclosure call, `cell_enclosure(o, dir, s0, s1,
 /// slope)`: one run of the interpreter, of the value or the derivative
-/// program, where `cell_range` and `cell_range_d` would inline two.
+/// program, where a value and a slope evaluator would inline two.
 fn cell_enclosure(domain: Domain) -> String {
     let p = domain.prefix();
     let (forms, _) = compiled::segment_forms(domain);

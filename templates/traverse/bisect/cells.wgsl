@@ -81,7 +81,11 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
                 h.iters = h.iters + 1u;
                 h.evals = h.evals + 1u;
                 let c = cell_s(s_lo, len, d, k);
-                let v = visit(ray, c, d, d_max, d_last);
+                // The enclosure is asked for here, not in visit(): lavapipe
+                // inlines the field's whole code into every function on the
+                // path from the entry point, one copy per function.
+                let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, d >= U.mono_depth);
+                let v = visit(ray, c, d, d_max, d_last, q);
                 descend = v.kind == VISIT_DESCEND;
                 if (v.kind >= VISIT_BRACKET) {
                     found = true;
@@ -149,16 +153,16 @@ const VISIT_BRACKET: u32 = 2u;
 const VISIT_LEAF: u32 = 3u;
 struct Visit { kind: u32, fc: vec2<f32>, iso: u32, r: vec2<f32> }
 
-// One cell c at depth d: its enclosure and, from depth U.mono_depth on, the
-// enclosure of f's derivative along the ray. Where that excludes 0, f is
+// One cell c at depth d, given q: its enclosure and, from depth
+// U.mono_depth on, the enclosure of f's derivative along the ray (else the
+// whole line; cell_enclosure's `slope`). Where that excludes 0, f is
 // monotone on the cell, which then holds a root iff f changes sign across
 // it, and that root is unique (found by scalar solving). Two call sites of
 // f: the midpoint for the mean-value form, or a monotone cell's near end;
 // then its far end.
-fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32) -> Visit {
+fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32, q: vec4<f32>) -> Visit {
     var v = Visit(VISIT_NONE, vec2<f32>(0.0), 0u, vec2<f32>(0.0));
     let slope = d >= U.mono_depth;
-    let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
     var r = q.xy;
     var monotone = slope && (q.z > 0.0 || q.w < 0.0);
     let mv = slope && !monotone;
