@@ -373,6 +373,42 @@ fn tape_renders_find_every_sign_change_of_the_reference() {
     }
 }
 
+/// A unit sphere plus 1e-6 times a sum of `n` pseudo-random monomials
+/// x^a·y^b·z^c (a, b, c below 7): their powers and products are shared
+/// across the whole sum, more values alive at once than the interpreter's
+/// 64 registers from about 350 terms on.
+fn sum_of_monomials(n: u32) -> String {
+    let mut r: u64 = 12345;
+    let terms: Vec<String> = (0..n)
+        .map(|_| {
+            r = (r * 1103515245 + 12345) % (1 << 31);
+            format!("{}.{}*x^{}*y^{}*z^{}", (r >> 9) % 9 + 1, (r >> 13) % 10, r % 7, (r >> 3) % 7, (r >> 6) % 7)
+        })
+        .collect();
+    format!("x^2+y^2+z^2-1+1e-6*({})", terms.join("+"))
+}
+
+/// Shared values past the register file are computed again at each use
+/// (`tape::remat`): such a formula is a tape, within 64 registers, and its
+/// picture finds every root of the f64 reference, in both algebras. (Its
+/// compiled kernel takes half a minute to build here; `auto` takes the
+/// tape.)
+#[test]
+fn a_formula_of_more_shared_values_than_registers_is_rematerialised() {
+    let (f, data) = tape(&sum_of_monomials(400));
+    assert!(data.registers <= 64, "{}", data.registers);
+    let s = common::settings(common::cube(1.5), 24, 24);
+    for domain in [Domain::Interval, Domain::Affine] {
+        let taped = bisect_tape(&data, domain, &s, true);
+        assert!(taped.stats.hits > 40 && taped.stats.unresolved == 0, "{domain:?}: {:?}", taped.stats);
+        let missed = misses_of_the_reference(&f, &s, &taped, 1000, false);
+        assert!(missed.is_empty(), "{domain:?}: {missed:?}");
+    }
+    let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let auto = isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Auto, &f, &[], &t).unwrap();
+    assert_eq!(auto.kind(), isotrace::codegen::FieldKind::Tape);
+}
+
 #[test]
 fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
     let f = Formula::compile("<t>", "x^2 + y^2 + z^2 - 1 where z > 0").unwrap();

@@ -64,6 +64,7 @@ impl Code {
 
 pub mod features;
 mod choices;
+mod remat;
 pub use choices::{is_minmax, TAPE_CHOICE_SLOTS, TAPE_NO_SLOT};
 use choices::choice_slots;
 
@@ -485,7 +486,34 @@ fn arity(code: Code) -> usize {
 /// rather than every leaf the front end created first), with registers from
 /// a linear scan: an operand's register is freed at its last use, before the
 /// result is given one (the interpreter reads operands before it writes).
+///
+/// When the shared values need more registers than the interpreter has, the
+/// program is rematerialised ([`remat`]): the smallest tree size whose
+/// copies make it fit, doubling from 2 up to [`REMAT_MAX_TREE`] nodes.
 fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeError> {
+    let first = encode_shared(b, outputs, pinned);
+    if !matches!(first, Err(TapeError::Registers(_))) {
+        return first;
+    }
+    let mut k = 2;
+    while k <= REMAT_MAX_TREE {
+        if let Some((b, outputs)) = remat::rematerialize(b, outputs, k, REMAT_MAX_GROWTH) {
+            if let Ok(p) = encode_shared(&b, &outputs, pinned) {
+                return Ok(p);
+            }
+        }
+        k *= 2;
+    }
+    first
+}
+
+/// Largest expression tree [`encode`] copies at each use.
+const REMAT_MAX_TREE: u64 = 256;
+/// Most times as many nodes as the shared program a rematerialised one has.
+const REMAT_MAX_GROWTH: usize = 8;
+
+/// [`encode`] with every shared value in one register.
+fn encode_shared(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeError> {
     let nodes = &b.nodes;
     let leaf = |i: usize| arity(nodes[i].code) == 0 && !outputs.contains(&(i as u32));
     // Constants, parameters and (not `pinned`) inputs are emitted again
