@@ -20,11 +20,15 @@ fn ra_empty() -> vec3<f32> { return vec3<f32>(0.0, 0.0, -1.0); }
 fn ra_is_empty(a: vec3<f32>) -> bool { return a.z < 0.0; }
 fn ra_radius(a: vec3<f32>) -> f32 { return abs(a.y) + a.z; }
 fn ra_range(a: vec3<f32>) -> vec2<f32> {
-    let r = ra_radius(a);
+    let r = abs(a.y) + a.z;
     let i = vec2<f32>(a.x - r, a.x + r);
     // A NaN end (0 * inf or inf - inf in a form that overflowed or is
     // unbounded) means unbounded: lavapipe's min/max would silently drop it.
-    return select(i, ia_whole(), iso_is_nan(i.x) || iso_is_nan(i.y));
+    // (ra_radius and iso_is_nan written out: this runs hundreds of times in
+    // a big formula, and lavapipe clones every helper call before it
+    // simplifies.)
+    let nan = (bitcast<u32>(i.x) & 0x7fffffffu) > 0x7f800000u || (bitcast<u32>(i.y) & 0x7fffffffu) > 0x7f800000u;
+    return select(i, vec2<f32>(-iso_inf(), iso_inf()), nan);
 }
 // The whole line: an unbounded interval has no centre.
 fn ra_whole() -> vec3<f32> { return vec3<f32>(0.0, 0.0, iso_inf()); }
@@ -42,11 +46,12 @@ fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
     // exact, also an overflowed one (inf, inf); a finite point is (c, 0, d)
     // already. Written per component (the e1 term is always 0): every select
     // here is compiled into every op that converts, hundreds in a big formula.
-    let finite = ra_finite(i.x) && ra_finite(i.y);
+    // (ra_finite, ra_empty and ia_is_empty written out, as in ra_range.)
+    let finite = all((bitcast<vec2<u32>>(i) & vec2<u32>(0x7f800000u)) != vec2<u32>(0x7f800000u));
     let point = i.x == i.y;
     let x = select(select(0.0, i.x, point), c, finite);
     let z = select(select(iso_inf(), 0.0, point), d, finite);
-    return select(vec3<f32>(x, 0.0, z), ra_empty(), ia_is_empty(i));
+    return select(vec3<f32>(x, 0.0, z), vec3<f32>(0.0, 0.0, -1.0), i.x > i.y);
 }
 // Of two valid enclosures, keep the affine one (its e1 term carries the
 // correlation that later cancellations need) unless the interval is less
@@ -116,12 +121,12 @@ fn ra_abs(a: vec3<f32>) -> vec3<f32> {
 fn ra_min(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     let j = ra_range(b);
-    return select(select(ra_from_ia(ia_min(i, j)), b, j.y <= i.x), a, i.y <= j.x);
+    return select(select(ra_from_ia(min(i, j)), b, j.y <= i.x), a, i.y <= j.x);
 }
 fn ra_max(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     let j = ra_range(b);
-    return select(select(ra_from_ia(ia_max(i, j)), b, j.x >= i.y), a, i.x >= j.y);
+    return select(select(ra_from_ia(max(i, j)), b, j.x >= i.y), a, i.x >= j.y);
 }
 fn ra_clamp(v: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec3<f32> { return ra_min(ra_max(v, lo), hi); }
 fn ra_mix(a: vec3<f32>, b: vec3<f32>, s: vec3<f32>) -> vec3<f32> { return ra_add(a, ra_mul(ra_sub(b, a), s)); }

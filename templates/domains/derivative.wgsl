@@ -5,14 +5,15 @@
 // traversal uses the derivative to prove a cell monotone. Requires
 // interval.wgsl (and affine.wgsl for the ra_ helpers).
 
-fn ia_hull(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return vec2<f32>(min(a.x, b.x), max(a.y, b.y)); }
 // min(a, b)' is a' where a is certainly the smaller, b' where b is, else
 // either (min is continuous, so the hull of both slopes bounds it).
+// (The hull written out: hundreds of these in a big formula, and lavapipe
+// clones every helper call before it simplifies.)
 fn ia_dmin(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32> {
-    return select(select(ia_hull(da, db), db, b.y <= a.x), da, a.y <= b.x);
+    return select(select(vec2<f32>(min(da.x, db.x), max(da.y, db.y)), db, b.y <= a.x), da, a.y <= b.x);
 }
 fn ia_dmax(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32> {
-    return select(select(ia_hull(da, db), db, b.x >= a.y), da, a.x >= b.y);
+    return select(select(vec2<f32>(min(da.x, db.x), max(da.y, db.y)), db, b.x >= a.y), da, a.x >= b.y);
 }
 // sign and floor are flat between jumps; a jump inside the range makes the
 // function non-monotone in the worst way (it can cross 0 without a root of
