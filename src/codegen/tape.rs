@@ -497,10 +497,10 @@ fn encode(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeErr
     }
     let mut k = 2;
     while k <= REMAT_MAX_TREE {
-        if let Some((b, outputs)) = remat::rematerialize(b, outputs, k, REMAT_MAX_GROWTH) {
-            if let Ok(p) = encode_shared(&b, &outputs, pinned) {
-                return Ok(p);
-            }
+        // A larger k copies more: past the growth limit, so does every next one.
+        let Some((b, outputs)) = remat::rematerialize(b, outputs, k, REMAT_MAX_GROWTH) else { break };
+        if let Ok(p) = encode_shared(&b, &outputs, pinned) {
+            return Ok(p);
         }
         k *= 2;
     }
