@@ -56,7 +56,7 @@ pub fn eval_boxes_with(
             validate(&src)?;
         }
     }
-    let pipeline = gpu.pipeline("isotrace eval", &src, if inline.is_some() { Author::WithUserWgsl } else { Author::Isotrace })?;
+    let pipeline = gpu.pipeline("isotrace eval", &src, Author::of(inline.is_some()))?;
     // Rerolled terms read their constants from the field group's table.
     let table = match crate::codegen::reroll::table_texels(ir) {
         Some(t) => Some(table_group(gpu, &pipeline, &t)?),

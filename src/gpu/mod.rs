@@ -95,6 +95,13 @@ pub enum Author {
     WithUserWgsl,
 }
 
+impl Author {
+    /// The author of a kernel that holds user WGSL or not.
+    pub fn of(user_wgsl: bool) -> Author {
+        if user_wgsl { Author::WithUserWgsl } else { Author::Isotrace }
+    }
+}
+
 /// A headless device and queue.
 pub struct Gpu {
     /// The device.

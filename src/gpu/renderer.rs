@@ -169,7 +169,7 @@ impl<'g> Renderer<'g> {
         let warm = Settings::for_box([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0], 8, 8);
         let binder = Binder { gpu, host: host.as_ref(), field: &bound, layouts: &layouts };
         let warm_uniforms = uniforms(&binder, &warm, Rect { x: 0, y: 0, w: 8, h: 8 })?;
-        let mut pipelines = gpu.pipelines_then("isotrace render", (&kernel.wgsl, if kernel.inline.is_some() { Author::WithUserWgsl } else { Author::Isotrace }), &kernel.entries, Some(&pipeline_layout), |small| {
+        let mut pipelines = gpu.pipelines_then("isotrace render", (&kernel.wgsl, Author::of(kernel.inline.is_some())), &kernel.entries, Some(&pipeline_layout), |small| {
             if !small.is_empty() {
                 let failed = binder.warm_up(small, &warm_uniforms).is_err();
                 gpu.warm_ups[failed as usize].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
