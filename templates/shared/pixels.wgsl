@@ -5,6 +5,9 @@
 //   z  depth (f32 bits): distance from the eye along the unit ray; +inf on misses
 //   w  work (16 bits, saturated: inclusion evaluations or marching steps)
 //      | d_ray << 16 (5 bits) | isovalue / surface index << 21
+//      d_ray: the ray's bisection depth; of a miss the statistics read only
+//      whether it is 0 (the ray does not cross the domain), and bisection's
+//      tile pass writes 0 or 1 there for the pixels of an empty tile
 // 16 bytes: at 1024² the records are written by the kernel and read by the
 // host every frame, and 28-byte records cost measurably more memory traffic
 // on a CPU device. Stored as one vec4<u32>: lavapipe writes that per lane at
