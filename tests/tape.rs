@@ -445,7 +445,10 @@ fn shortened_tiles_draw_the_whole_tapes_surface() {
         (entry("icos.csg", 48).0, entry("icos.csg", 48).1, 1.0, vec![Domain::Interval, Domain::Affine]),
         // (The f64 reference of 914 operations a sample is too slow here:
         // the city is compared with its whole tape only.)
-        (entry("city", 64).0, entry("city", 64).1, 0.5, vec![Domain::Interval]),
+        // (Its ground goes on past the box: the tiles beside the box, which
+        // kept little more than the ground, are no longer queued since the
+        // tile pass encloses only inside the box; the 33 left keep 0.51.)
+        (entry("city", 64).0, entry("city", 64).1, 0.6, vec![Domain::Interval]),
     ];
     for (k, (f, s, share, domains)) in cases.iter().enumerate() {
         let data = TapeData::new(&f.ir).unwrap();
