@@ -219,20 +219,25 @@ fn a_high_power_keeps_its_slope_in_raa() {
     assert_no_missed_roots(src, cube(1.5), Domain::Affine, 48);
 }
 
-/// The tile pass encloses f only inside the domain's box: rays are clipped
-/// to it, so a surface that goes on past the box (here a plane beside it)
-/// keeps no tile for the per-pixel pass. Almost every tile then makes its 8
-/// coarse slab enclosures and nothing more (8/64 = 0.125 a pixel; 0.137 at
-/// 64², a few tiles at the box's edge enclosing fine slabs too). Before, the
-/// tiles beside the box went on to their fine slabs and were queued (0.21 at
-/// 64²), as were most tiles of a height field's frame (cloth: 14,042 of
-/// 16,384 at 1024², 6,789 now).
+/// The tile pass encloses f only inside the domain (box and clip ball): rays
+/// are clipped to it, so a surface that goes on past it (here a plane beside
+/// the box, then one past the ball) keeps no tile for the per-pixel pass.
+/// Almost every tile then makes its 8 coarse slab enclosures and nothing
+/// more (8/64 = 0.125 a pixel; 0.137 at 64², a few tiles at the box's edge
+/// enclosing fine slabs too). Before, the tiles beside the domain went on to
+/// their fine slabs and were queued (0.21 at 64²), as were most tiles of a
+/// height field's frame (cloth: 14,042 of 16,384 at 1024², 6,789 now).
 #[test]
-fn the_tile_pass_encloses_only_inside_the_box() {
-    let s = settings(cube(1.0), 64, 64);
+fn the_tile_pass_encloses_only_inside_the_domain() {
+    let mut s = settings(cube(1.0), 64, 64);
     let f = render("x - 1.5", Domain::Interval, &s);
     assert_eq!(f.stats.hits, 0);
     assert!(f.stats.evals_mean <= 9.0 / 64.0, "{} evaluations a pixel", f.stats.evals_mean);
+    // The same inside the box but past the clip ball (0.21 before).
+    s.clip_sphere = Some(0.5);
+    let f = render("x - 0.8", Domain::Interval, &s);
+    assert_eq!(f.stats.hits, 0);
+    assert!(f.stats.evals_mean <= 9.0 / 64.0, "clipped: {} evaluations a pixel", f.stats.evals_mean);
 }
 
 /// Every optimisation only skips work that is proven unnecessary: with and

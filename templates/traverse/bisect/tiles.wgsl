@@ -25,23 +25,31 @@ fn tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
 fn tiles_y() -> u32 { return (F.tile_size.y + 7u) / 8u; }
 
 // Can the surface be in the part [s.x, s.y] of the frustum through pixel
-// directions su × sv? Only inside the domain's box: rays are clipped to it,
-// and a surface that goes on past it (a height field's sheet) would
-// otherwise keep every tile whose frustum meets the sheet outside the box.
+// directions su × sv? Only inside the domain: rays are clipped to it, and a
+// surface that goes on past it (a height field's sheet past the box, the
+// Barth surfaces' cones past their clip ball) would otherwise keep every
+// tile whose frustum meets the surface outside.
 fn slab_may_hold(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
-    return slab_meets_box(s, su, sv) && keep_cell(slab_range(F.eye.xyz, F.forward.xyz, F.right.xyz, F.up.xyz, s, su, sv));
+    return slab_meets_domain(s, su, sv) && keep_cell(slab_range(F.eye.xyz, F.forward.xyz, F.right.xyz, F.up.xyz, s, su, sv));
 }
 
 // Whether the axis-aligned box around the frustum part (eye + S (forward +
-// U right + V up), S in s, U in su, V in sv; s.x > 0) meets the domain's box,
-// widened by a millionth of its size against rounding.
-fn slab_meets_box(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
+// U right + V up), S in s, U in su, V in sv; s.x > 0) meets the domain's box
+// and its clip ball if any, both widened by a millionth of the box's size
+// against rounding.
+fn slab_meets_domain(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
     let d_lo = F.forward.xyz + min(su.x * F.right.xyz, su.y * F.right.xyz) + min(sv.x * F.up.xyz, sv.y * F.up.xyz);
     let d_hi = F.forward.xyz + max(su.x * F.right.xyz, su.y * F.right.xyz) + max(sv.x * F.up.xyz, sv.y * F.up.xyz);
     let lo = F.eye.xyz + min(s.x * d_lo, s.y * d_lo);
     let hi = F.eye.xyz + max(s.x * d_hi, s.y * d_hi);
-    let pad = 1e-6 * (F.box_max.xyz - F.box_min.xyz) + vec3<f32>(1e-30);
-    return all(lo <= F.box_max.xyz + pad) && all(hi >= F.box_min.xyz - pad);
+    let size = F.box_max.xyz - F.box_min.xyz;
+    let pad = 1e-6 * size + vec3<f32>(1e-30);
+    let radius = F.box_max.w;
+    // The box's nearest point to the ball's centre.
+    let c = 0.5 * (F.box_min.xyz + F.box_max.xyz);
+    let gap = max(max(lo - c, c - hi), vec3<f32>(0.0));
+    let in_ball = radius <= 0.0 || length(gap) <= radius * (1.0 + 1e-6) + 1e-6 * length(size);
+    return all(lo <= F.box_max.xyz + pad) && all(hi >= F.box_min.xyz - pad) && in_ball;
 }
 
 // Pixel `li` (0..63) of a tile's share of the tile pass's `n` enclosures.
