@@ -86,13 +86,16 @@ impl TraversalHost for Host {
     /// Per 8×8 tile: its candidate-slab mask (vec4<u32>), and the list of
     /// tiles with candidates with the indirect dispatch counts of `main`;
     /// per pixel, its resume state across rounds of `main` (new buffers
-    /// are zeroed: every pixel starts new).
-    fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers {
+    /// are zeroed: every pixel starts new). Only a resumable pass reads
+    /// those states; for the others the binding gets 16 bytes, since wgpu
+    /// zeroes a new buffer at its first use and 16 MB at 1024² cost every
+    /// frame a clear and the page faults of fresh memory (1-2 ms).
+    fn pass_buffers(&self, gpu: &Gpu, rect: Rect, resumable: bool) -> PassBuffers {
         use wgpu::BufferUsages as B;
         let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
         let masks = buffer("tile masks", rect.tiles() * 16, B::STORAGE);
         let (list, ids) = super::tile_list_buffers(gpu, rect);
-        let resume = buffer("resume states", rect.pixels() * 16, B::STORAGE);
+        let resume = buffer("resume states", if resumable { rect.pixels() * 16 } else { 16 }, B::STORAGE);
         PassBuffers { entries: vec![(1, masks), (2, list.clone()), (3, ids), (4, resume)], list: Some(list) }
     }
 

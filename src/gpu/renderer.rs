@@ -66,8 +66,9 @@ pub(crate) trait TraversalHost: Sync {
     fn frame_resources(&self) -> Vec<(wgpu::BindGroupLayoutEntry, &wgpu::Buffer)>;
     /// Pass-group layout entries after the pixel records (binding 0).
     fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry>;
-    /// The pass buffers of one dispatch over `rect`.
-    fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers;
+    /// The pass buffers of one dispatch over `rect`; `resumable`: the
+    /// per-pixel pass runs in rounds that resume pixels (a tape's bisection).
+    fn pass_buffers(&self, gpu: &Gpu, rect: Rect, resumable: bool) -> PassBuffers;
     /// Workgroups of the per-pixel pass hold this many 8×8 tiles.
     fn tiles_per_group(&self) -> u32;
     /// With a pre-pass, the per-pixel pass is dispatched indirectly.

@@ -93,7 +93,7 @@ impl TraversalHost for Host {
         v
     }
 
-    fn pass_buffers(&self, gpu: &Gpu, rect: Rect) -> PassBuffers {
+    fn pass_buffers(&self, gpu: &Gpu, rect: Rect, _resumable: bool) -> PassBuffers {
         if !self.tiles {
             return PassBuffers { entries: vec![], list: None };
         }
