@@ -33,6 +33,42 @@ fn packed_frames_equal_decoded_frames_for_both_traversals() {
     }
 }
 
+/// A packed frame rendered again reuses its memory (on lavapipe the
+/// kernel's output buffer, left mapped), and a frame still held keeps its
+/// records while the renderer draws other frames: into another packed
+/// frame, into a decoded frame, at another size, and split into dispatches.
+#[test]
+fn packed_frames_keep_their_records_across_renders() {
+    let f = Formula::compile("<t>", "sphere(1)").unwrap();
+    let r = Renderer::bisect(gpu(), &f.ir, Domain::Interval).unwrap();
+    let s = common::settings(common::cube(1.5), 40, 30);
+    let mut far = s.clone();
+    far.camera.eye *= 1.5;
+    let mut held = PackedFrame::default();
+    r.render_packed(&s, &mut held).unwrap();
+    let first = held.decode();
+    assert!(first.stats.hits > 50, "{:?}", first.stats);
+    let kept = if gpu().map_in_place { "records: \"mapped\"" } else { "records: \"copied\"" };
+    assert!(format!("{held:?}").contains(kept), "{held:?}");
+    let mut other = PackedFrame::default();
+    for (i, t) in [&far, &s, &far].into_iter().enumerate() {
+        r.render_packed(t, &mut other).unwrap();
+        assert_eq!(other.decode().pixels, r.render(t).unwrap().pixels, "render {i} into the second frame");
+    }
+    let mut small = common::settings(common::cube(1.5), 16, 8);
+    r.render_packed(&small, &mut other).unwrap();
+    assert_eq!((other.width, other.height, other.records().len()), (16, 8, 128));
+    small.tile = 8;
+    r.render_packed(&small, &mut other).unwrap();
+    assert_eq!(other.stats.dispatches, 2);
+    assert_eq!(other.decode().pixels, r.render(&small).unwrap().pixels);
+    assert_eq!(held.decode().pixels, first.pixels, "the held frame changed");
+    let copy = held.clone();
+    r.render_packed(&far, &mut held).unwrap();
+    assert_eq!(copy.decode().pixels, first.pixels, "a clone keeps the records it copied");
+    assert_ne!(held.decode().pixels, first.pixels, "the frame rendered again holds the new view");
+}
+
 /// The two traversals agree on a sphere's depth through the shared record
 /// (depth in f32, normals octahedral): the same pixels hit away from the
 /// silhouette (sphere tracing's screen-space criterion also accepts rays

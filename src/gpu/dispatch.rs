@@ -59,30 +59,37 @@ impl Outputs {
     /// Output `slot` of `size` bytes and the buffer to map: the same one
     /// when the device maps storage buffers in place.
     pub fn get(&self, gpu: &Gpu, slot: usize, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
-        let d = &gpu.device;
         let mut cache = self.0.lock().unwrap_or_else(|e| e.into_inner());
         if cache.len() <= slot {
             cache.resize(slot + 1, None);
         }
         if cache[slot].as_ref().is_none_or(|(s, _, _)| *s != size) {
-            // COPY_DST: a field's counts among the outputs are zeroed before the dispatch.
-            let map = wgpu::BufferUsages::COPY_DST | if gpu.map_in_place { wgpu::BufferUsages::MAP_READ } else { wgpu::BufferUsages::COPY_SRC };
-            let out = d.create_buffer(&wgpu::BufferDescriptor { label: Some("pass output"), size, usage: wgpu::BufferUsages::STORAGE | map, mapped_at_creation: false });
-            let staging = if gpu.map_in_place {
-                out.clone()
-            } else {
-                d.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("pass output read-back"),
-                    size,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
+            let (out, staging) = output_buffers(gpu, size);
             cache[slot] = Some((size, out, staging));
         }
         let (_, out, staging) = cache[slot].as_ref().expect("just filled");
         (out.clone(), staging.clone())
     }
+}
+
+/// A new output buffer of `size` bytes and the buffer to map: the same one
+/// when the device maps storage buffers in place.
+pub fn output_buffers(gpu: &Gpu, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+    let d = &gpu.device;
+    // COPY_DST: a field's counts among the outputs are zeroed before the dispatch.
+    let map = wgpu::BufferUsages::COPY_DST | if gpu.map_in_place { wgpu::BufferUsages::MAP_READ } else { wgpu::BufferUsages::COPY_SRC };
+    let out = d.create_buffer(&wgpu::BufferDescriptor { label: Some("pass output"), size, usage: wgpu::BufferUsages::STORAGE | map, mapped_at_creation: false });
+    let staging = if gpu.map_in_place {
+        out.clone()
+    } else {
+        d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pass output read-back"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    };
+    (out, staging)
 }
 
 /// How many workgroups a stage runs.
@@ -137,6 +144,12 @@ impl Dispatch<'_> {
     /// queries when the device has them, else the submit-to-read-back wall
     /// time.
     pub fn run(&self, gpu: &Gpu, unpack: impl FnOnce(&[&[u8]])) -> Result<Timing, GpuError> {
+        Ok(self.run_keeping(gpu, false, unpack)?.0)
+    }
+
+    /// [`Dispatch::run`], leaving the first output's read-back buffer
+    /// mapped and returning its view when `keep_first`.
+    pub fn run_keeping(&self, gpu: &Gpu, keep_first: bool, unpack: impl FnOnce(&[&[u8]])) -> Result<(Timing, Option<wgpu::BufferView>), GpuError> {
         let d = &gpu.device;
         let queries = self.stages.len() as u32 + 1;
         let ts = gpu.timestamp_period.map(|_| {
@@ -166,18 +179,18 @@ impl Dispatch<'_> {
             ts_staging
         })?;
         let staging: Vec<&wgpu::Buffer> = self.outputs.iter().map(|(_, s, _)| s).collect();
-        gpu.map_many(&staging, unpack)?;
+        let ((), kept) = gpu.map_keeping(&staging, keep_first, unpack)?;
         let wall = t0.elapsed().as_secs_f64() * 1e3;
         let untimed = Timing { total_ms: wall, stage_ms: vec![0.0; self.stages.len()] };
-        let Some((b, period)) = ts_staging.zip(gpu.timestamp_period) else { return Ok(untimed) };
+        let Some((b, period)) = ts_staging.zip(gpu.timestamp_period) else { return Ok((untimed, kept)) };
         let t = gpu.map_read(&b)?;
         let v: &[u64] = bytemuck::cast_slice(&t);
         let ms = |a: u64, b: u64| b.saturating_sub(a) as f64 * period as f64 * 1e-6;
         let total = ms(v[0], v[queries as usize - 1]);
         if !(total > 0.0) {
-            return Ok(untimed);
+            return Ok((untimed, kept));
         }
-        Ok(Timing { total_ms: total, stage_ms: v.windows(2).map(|w| ms(w[0], w[1])).collect() })
+        Ok((Timing { total_ms: total, stage_ms: v.windows(2).map(|w| ms(w[0], w[1])).collect() }, kept))
     }
 
     /// Records and submits without reading back or waiting.

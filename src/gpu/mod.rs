@@ -320,6 +320,14 @@ impl Gpu {
     /// Maps several read-back buffers after submission and hands their bytes
     /// to `f` without copying them first.
     pub fn map_many<T>(&self, staging: &[&wgpu::Buffer], f: impl FnOnce(&[&[u8]]) -> T) -> Result<T, GpuError> {
+        let (out, _) = self.map_keeping(staging, false, f)?;
+        Ok(out)
+    }
+
+    /// [`Gpu::map_many`], leaving the first buffer mapped and returning its
+    /// view when `keep_first` (a frame that keeps its records where the
+    /// kernel wrote them); the others are unmapped.
+    pub fn map_keeping<T>(&self, staging: &[&wgpu::Buffer], keep_first: bool, f: impl FnOnce(&[&[u8]]) -> T) -> Result<(T, Option<wgpu::BufferView>), GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
         for b in staging {
             let tx = tx.clone();
@@ -332,15 +340,16 @@ impl Gpu {
         for _ in staging {
             rx.recv().map_err(|e| err(e.to_string()))?.map_err(|e| err(e.to_string()))?;
         }
-        let views = staging.iter().map(|b| b.get_mapped_range(..).map_err(|e| err(e.to_string()))).collect::<Result<Vec<_>, _>>()?;
+        let mut views = staging.iter().map(|b| b.get_mapped_range(..).map_err(|e| err(e.to_string()))).collect::<Result<Vec<_>, _>>()?;
         let slices: Vec<&[u8]> = views.iter().map(|v| &v[..]).collect();
         let out = f(&slices);
         drop(slices);
+        let kept = (keep_first && !views.is_empty()).then(|| views.remove(0));
         drop(views);
-        for b in staging {
+        for b in &staging[usize::from(kept.is_some())..] {
             b.unmap();
         }
-        Ok(out)
+        Ok((out, kept))
     }
 
     /// Maps a read-back buffer made by [`Gpu::read_buffer`] after submission.

@@ -12,11 +12,18 @@ use super::{field, storage_entry, Author, Gpu, GpuError};
 use crate::codegen::{self, FieldSource};
 use crate::layout::{FrameBlock, FLAG_UNRESOLVED_GUESS, FLAG_UNRESOLVED_SOLID};
 use crate::render::Unresolved;
-use crate::render::record::{convert, map_all, PackedFrame, RayStats, Record};
+use crate::render::record::{convert, count, count_all, map_all, PackedFrame, RayStats, Record, Records};
 use crate::render::{CameraFrame, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
 use crate::validate::{validate, ValidateError};
 use bytemuck::Zeroable;
 use std::time::Instant;
+
+/// A packed frame's output buffer handed to a render (if it has one) and
+/// the records' mapped view the render leaves in it.
+struct Keep {
+    buffer: Option<wgpu::Buffer>,
+    view: Option<wgpu::BufferView>,
+}
 
 /// Render failures.
 #[derive(Debug, thiserror::Error)]
@@ -339,7 +346,7 @@ impl<'g> Renderer<'g> {
     /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
     pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
         let start = Instant::now();
-        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), "pixels", convert)?;
+        let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), None, "pixels", convert)?;
         *out = Frame { width: s.width, height: s.height, pixels, stats };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
@@ -347,9 +354,18 @@ impl<'g> Renderer<'g> {
 
     /// Renders one frame into `out` and keeps the kernel's records packed
     /// (see [`PackedFrame`]), with the same statistics as [`Renderer::render_into`].
+    /// Where the device maps storage in place and the frame is one
+    /// dispatch, the records stay in `out`'s own output buffer, reused
+    /// frame to frame.
     pub fn render_packed(&self, s: &Settings, out: &mut PackedFrame) -> Result<(), RenderError> {
         let start = Instant::now();
-        let (records, stats) = self.collect(s, std::mem::take(&mut out.records), "pixel records", |r| *r)?;
+        let (copy, buffer) = out.records.take();
+        let mut keep = Keep { buffer, view: None };
+        let (copy, stats) = self.collect(s, copy, Some(&mut keep), "pixel records", |r| *r)?;
+        let records = match keep {
+            Keep { buffer: Some(buffer), view: Some(view) } => Records::Mapped { buffer, view },
+            _ => Records::Copied(copy),
+        };
         *out = PackedFrame { width: s.width, height: s.height, stats, records };
         out.stats.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
@@ -358,12 +374,21 @@ impl<'g> Renderer<'g> {
     /// Renders one frame and writes `f` of each record, row-major, into
     /// `buf` (its memory reused), gathering the statistics on the way. The
     /// frame's memory (`what`) is reserved fallibly before any dispatch.
-    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, what: &'static str, f: fn(&Record) -> T) -> Result<(Vec<T>, Stats), RenderError> {
+    /// With `keep`, records left mapped in the kernel's output (see
+    /// [`Renderer::run`]) are only counted, and `buf` stays empty.
+    fn collect<T: Copy + Send>(&self, s: &Settings, mut buf: Vec<T>, keep: Option<&mut Keep>, what: &'static str, f: impl Fn(&Record) -> T + Copy + Sync) -> Result<(Vec<T>, Stats), RenderError> {
         let (w, h) = (s.width, s.height);
         let n = w as usize * h as usize;
-        crate::memory::reserve(&mut buf, n, (w, h), what)?;
         let mut acc = StatsAcc::default();
-        let mut stats = self.run(s, |rect, raw| {
+        let in_place = keep.is_some() && self.in_place(s);
+        if !in_place {
+            crate::memory::reserve(&mut buf, n, (w, h), what)?;
+        }
+        let mut stats = self.run(s, keep.filter(|_| in_place), |rect, raw| {
+            if in_place {
+                acc.merge(count_all(raw));
+                return;
+            }
             if (rect.w, rect.h) == (w, h) {
                 // The usual case, one dispatch for the frame: write straight
                 // into the (reused) memory, on every core, without filling it
@@ -381,17 +406,39 @@ impl<'g> Renderer<'g> {
                 let start = ((rect.y + row as u32) * w + rect.x) as usize;
                 for (dst, r) in buf[start..start + rect.w as usize].iter_mut().zip(chunk) {
                     *dst = f(r);
-                    r.count(&mut acc);
                 }
+                count(chunk, &mut acc);
             }
         })?;
         acc.finish(&mut stats);
         Ok((buf, stats))
     }
 
+    /// The rectangles a frame of settings `s` is rendered in: the largest
+    /// per-pixel buffer must fit one storage binding (the records, or a
+    /// scene's per-tile lists and views), the indirect dispatch its limit,
+    /// and the field its own.
+    fn rects(&self, s: &Settings) -> Vec<Rect> {
+        let per_pixel = std::mem::size_of::<Record>() as u64;
+        let indirect = self.host.pre_pass().then(|| self.host.tiles_per_group());
+        let side = dispatch::max_side(self.gpu, per_pixel.max(self.field.bytes_per_pixel()), indirect, s.tile);
+        let side = side.min(((self.field.max_pixels(self.gpu) as f64).sqrt() as u32 / 8 * 8).max(8));
+        dispatch::split(s.width, s.height, side).collect()
+    }
+
+    /// Whether a frame's records can stay where the kernel wrote them: one
+    /// dispatch, on a device that maps storage buffers in place.
+    fn in_place(&self, s: &Settings) -> bool {
+        self.gpu.map_in_place && self.rects(s).len() == 1
+    }
+
     /// Runs the dispatches of one frame and hands each rectangle's records
     /// to `sink`. Returns the statistics that do not come from the records.
-    fn run(&self, s: &Settings, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
+    /// With `keep` (a one-dispatch frame on a device that maps in place,
+    /// [`Renderer::in_place`]) the records go to `keep`'s buffer (a new one
+    /// if it has none of the right size) and stay mapped there, its view in
+    /// `keep`.
+    fn run(&self, s: &Settings, mut keep: Option<&mut Keep>, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
         s.check()?;
         if (self.field.tape || self.field.looped) && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
             let what = if self.field.tape { "a tape field (its interpreter shares" } else { "a formula of rerolled terms (its loops share" };
@@ -399,19 +446,23 @@ impl<'g> Renderer<'g> {
             return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
         }
         let rays = self.host.ray_stats_binding();
-        let per_pixel = std::mem::size_of::<Record>() as u64;
-        let indirect = self.host.pre_pass().then(|| self.host.tiles_per_group());
-        // The largest per-pixel buffer must fit one storage binding: the
-        // records, or a scene's per-tile lists and views.
-        let side = dispatch::max_side(self.gpu, per_pixel.max(self.field.bytes_per_pixel()), indirect, s.tile);
-        let side = side.min(((self.field.max_pixels(self.gpu) as f64).sqrt() as u32 / 8 * 8).max(8));
+        let rects = self.rects(s);
+        assert!(keep.is_none() || rects.len() == 1, "records are kept in place only for a frame of one dispatch");
         let mut stats = Stats { method: self.host.method(), ..Default::default() };
         let mut ray_stats = RayStats::default();
         let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
         let mut tape_lists = crate::render::TapeListStats::default();
         let binder = Binder { gpu: self.gpu, host: self.host.as_ref(), field: &self.field, layouts: &self.layouts };
-        for rect in dispatch::split(s.width, s.height, side) {
-            let b = binder.bind(rect, &uniforms(&binder, s, rect)?, |slot, size| self.outputs.get(self.gpu, slot, size))?;
+        for rect in rects {
+            let records_size = rect.pixels() * std::mem::size_of::<Record>() as u64;
+            let frame_buffer = keep.as_mut().map(|k| match k.buffer.take() {
+                Some(b) if b.size() == records_size => b,
+                _ => dispatch::output_buffers(self.gpu, records_size).0,
+            });
+            let b = binder.bind(rect, &uniforms(&binder, s, rect)?, |slot, size| match (&frame_buffer, slot) {
+                (Some(fb), 0) => (fb.clone(), fb.clone()),
+                _ => self.outputs.get(self.gpu, slot, size),
+            })?;
             let job = Dispatch {
                 label: "render dispatch",
                 stages: self.stages(rect, &b.pass, b.field.view_copy()),
@@ -419,7 +470,7 @@ impl<'g> Renderer<'g> {
                 outputs: b.outputs.iter().zip(b.sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
                 clears: b.field.clears(),
             };
-            let t = job.run(self.gpu, |bytes| {
+            let (t, view) = job.run_keeping(self.gpu, keep.is_some(), |bytes| {
                 sink(rect, bytemuck::cast_slice(bytes[0]));
                 let mut rest = bytes[1..].iter();
                 if rays.is_some() {
@@ -433,6 +484,9 @@ impl<'g> Renderer<'g> {
                     }
                 }
             })?;
+            if let Some(k) = keep.as_mut() {
+                (k.buffer, k.view) = (frame_buffer, view);
+            }
             stats.gpu_ms += t.total_ms;
             let nf = self.field_passes.len();
             stats.field_ms += t.stage_ms[..nf].iter().sum::<f64>();

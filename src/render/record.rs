@@ -29,35 +29,64 @@ impl Record {
         }
     }
 
-    /// Counts this pixel in the frame statistics.
-    pub fn count(&self, acc: &mut StatsAcc) {
-        acc.add_parts(self.info & 0xffff, (self.info >> 16) & 0x1f, self.status());
+    /// The statistics' view of the record: (evaluations, depth level,
+    /// status code).
+    #[inline]
+    fn work(&self) -> (u32, u32, u32) {
+        (self.info & 0xffff, (self.info >> 16) & 0x1f, self.color >> 30)
     }
+}
+
+/// Counts `records` in the frame statistics.
+pub fn count(records: &[Record], acc: &mut StatsAcc) {
+    acc.add_records(records, Record::work);
 }
 
 /// Writes `f` of every record of a whole frame into `dst`, one slice per
 /// core, and returns the records' statistics. With `f` = [`convert`] that is
-/// 16 MB in and 48 MB out at 1024²; the packed path copies (16 MB out).
+/// 16 MB in and 48 MB out at 1024²; the packed path copies (16 MB out) where
+/// it cannot keep the records in place.
 pub fn map_all<T: Send>(raw: &[Record], dst: &mut [MaybeUninit<T>], f: impl Fn(&Record) -> T + Sync) -> StatsAcc {
-    if raw.is_empty() {
-        return StatsAcc::default();
-    }
-    let work = |src: &[Record], out: &mut [MaybeUninit<T>]| {
+    let chunk = chunk_len(raw.len());
+    on_cores(raw.chunks(chunk).zip(dst.chunks_mut(chunk)).collect(), |(src, out)| {
         let mut acc = StatsAcc::default();
-        for (d, r) in out.iter_mut().zip(src) {
-            r.count(&mut acc);
-            d.write(f(r));
+        for (src, out) in src.chunks(64).zip(out.chunks_mut(64)) {
+            for (d, r) in out.iter_mut().zip(src) {
+                d.write(f(r));
+            }
+            acc.add_records(src, Record::work);
         }
         acc
-    };
+    })
+}
+
+/// The statistics of a whole frame's records, one slice per core.
+pub fn count_all(raw: &[Record]) -> StatsAcc {
+    on_cores(raw.chunks(chunk_len(raw.len())).collect(), |src| {
+        let mut acc = StatsAcc::default();
+        count(src, &mut acc);
+        acc
+    })
+}
+
+/// Records per core's slice: a share of `n` for each core (at most 8), at
+/// least 16,384.
+fn chunk_len(n: usize) -> usize {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, 8);
-    let chunk = raw.len().div_ceil(threads).max(1 << 14);
+    n.div_ceil(threads).max(1 << 14)
+}
+
+/// Runs `work` on each job, the first on this thread and the others on
+/// scoped threads, and merges their statistics.
+fn on_cores<J: Send>(mut jobs: Vec<J>, work: impl Fn(J) -> StatsAcc + Sync) -> StatsAcc {
+    if jobs.is_empty() {
+        return StatsAcc::default();
+    }
+    let first = jobs.remove(0);
+    let work = &work;
     std::thread::scope(|scope| {
-        let mut jobs: Vec<_> = raw.chunks(chunk).zip(dst.chunks_mut(chunk)).collect();
-        let first = jobs.remove(0);
-        let work = &work;
-        let handles: Vec<_> = jobs.into_iter().map(|(src, out)| scope.spawn(move || work(src, out))).collect();
-        let mut acc = work(first.0, first.1);
+        let handles: Vec<_> = jobs.into_iter().map(|job| scope.spawn(move || work(job))).collect();
+        let mut acc = work(first);
         for h in handles {
             acc.merge(h.join().expect("pixel conversion panicked"));
         }
@@ -104,7 +133,13 @@ fn octahedral(v: u32) -> [f32; 3] {
 /// A rendered frame kept as the kernel's 16-byte records: what a viewer
 /// holds before display, without decoding 1024² pixels (about 3.5 ms a frame
 /// on this machine's two cores). Pixels decode on access.
-#[derive(Debug, Clone, Default)]
+///
+/// On a device that maps storage buffers in place (lavapipe) and a frame
+/// rendered in one dispatch, the records stay in the kernel's output buffer,
+/// mapped, and are never copied (16 MB at 1024²: 1-2 ms a frame here); the
+/// next [`crate::gpu::Renderer::render_packed`] into the same frame unmaps
+/// that buffer and renders into it again. Otherwise they are copied out.
+#[derive(Default)]
 pub struct PackedFrame {
     /// Width in pixels.
     pub width: u32,
@@ -112,18 +147,76 @@ pub struct PackedFrame {
     pub height: u32,
     /// Statistics, as for [`Frame`].
     pub stats: Stats,
-    pub(crate) records: Vec<Record>,
+    pub(crate) records: Records,
+}
+
+/// Where a [`PackedFrame`]'s records are.
+#[derive(Default)]
+pub(crate) enum Records {
+    /// None yet.
+    #[default]
+    Empty,
+    /// Copied out of the device's memory.
+    Copied(Vec<Record>),
+    /// In the kernel's output buffer, left mapped (`view` maps `buffer`).
+    Mapped { buffer: wgpu::Buffer, view: wgpu::BufferView },
+}
+
+impl Records {
+    /// The records.
+    pub(crate) fn as_slice(&self) -> &[Record] {
+        match self {
+            Records::Empty => &[],
+            Records::Copied(v) => v,
+            Records::Mapped { view, .. } => bytemuck::cast_slice(view),
+        }
+    }
+
+    /// Gives up the records for the next frame: the copy's memory to reuse,
+    /// or the mapped buffer, unmapped so that a kernel can write it again.
+    pub(crate) fn take(&mut self) -> (Vec<Record>, Option<wgpu::Buffer>) {
+        match std::mem::take(self) {
+            Records::Empty => (Vec::new(), None),
+            Records::Copied(v) => (v, None),
+            Records::Mapped { buffer, view } => {
+                drop(view);
+                buffer.unmap();
+                (Vec::new(), Some(buffer))
+            }
+        }
+    }
+}
+
+impl Clone for PackedFrame {
+    /// A copy holds its records in host memory.
+    fn clone(&self) -> Self {
+        PackedFrame { width: self.width, height: self.height, stats: self.stats.clone(), records: Records::Copied(self.records().to_vec()) }
+    }
+}
+
+impl std::fmt::Debug for PackedFrame {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kept = if matches!(self.records, Records::Mapped { .. }) { "mapped" } else { "copied" };
+        f.debug_struct("PackedFrame").field("width", &self.width).field("height", &self.height).field("records", &kept).field("stats", &self.stats).finish()
+    }
 }
 
 impl PackedFrame {
+    /// The kernel's records, row-major, top row first.
+    pub fn records(&self) -> &[Record] {
+        let n = self.width as usize * self.height as usize;
+        let all = self.records.as_slice();
+        &all[..n.min(all.len())]
+    }
+
     /// Pixel `i` (row-major, top row first), decoded.
     pub fn pixel(&self, i: usize) -> PixelOut {
-        convert(&self.records[i])
+        convert(&self.records()[i])
     }
 
     /// The whole frame decoded.
     pub fn decode(&self) -> Frame {
-        Frame { width: self.width, height: self.height, pixels: self.records.iter().map(convert).collect(), stats: self.stats.clone() }
+        Frame { width: self.width, height: self.height, pixels: self.records().iter().map(convert).collect(), stats: self.stats.clone() }
     }
 }
 

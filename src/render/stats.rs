@@ -225,6 +225,58 @@ impl StatsAcc {
         }
     }
 
+    /// Counts `items`, each seen by `work` as (evaluations, depth level,
+    /// status code in the kernel's packing, `layout::STATUS_*`): the same
+    /// sums as [`StatsAcc::add_parts`] for each. Blocks of 64 are summed in
+    /// 32-bit locals without branches, and a block whose pixels all share
+    /// one count (a background tile's) enters the histogram at once: this
+    /// runs near memory speed, where a call per pixel took ~4 ms of a 20 ms
+    /// 1024² frame on this machine (a dependent histogram increment each).
+    #[inline]
+    pub fn add_records<T>(&mut self, items: &[T], work: impl Fn(&T) -> (u32, u32, u32)) {
+        use crate::layout::{STATUS_HIT, STATUS_UNRESOLVED};
+        for block in items.chunks(64) {
+            let (mut hits, mut unres, mut evals, mut lo, mut hi) = (0u32, 0u32, 0u32, u32::MAX, 0u32);
+            let (mut levels, mut hit_evals, mut miss_evals, mut misses) = (0u32, 0u32, 0u32, 0u32);
+            for item in block {
+                let (e, level, status) = work(item);
+                let hit = (status == STATUS_HIT) as u32;
+                let un = (status == STATUS_UNRESOLVED) as u32;
+                let deep_miss = (1 - hit - un) & (level > 0) as u32;
+                hits += hit;
+                unres += un;
+                evals += e;
+                lo = lo.min(e);
+                hi = hi.max(e);
+                levels += hit * level;
+                hit_evals += hit * e;
+                miss_evals += deep_miss * e;
+                misses += deep_miss;
+            }
+            let n = block.len() as u64;
+            self.pixels += n;
+            self.hits += hits as u64;
+            self.unresolved += unres as u64;
+            self.evals_sum += evals as u64;
+            self.evals_max = self.evals_max.max(hi);
+            self.bound_sum += n + levels as u64;
+            self.hit_sum += hit_evals as u64;
+            self.miss_sum += miss_evals as u64;
+            self.miss_count += misses as u64;
+            if lo == hi && (hi as usize) < HIST {
+                self.hist[hi as usize] += block.len() as u32;
+                continue;
+            }
+            for item in block {
+                let e = work(item).0;
+                match self.hist.get_mut(e as usize) {
+                    Some(c) => *c += 1,
+                    None => self.over.push(e),
+                }
+            }
+        }
+    }
+
     /// Adds another accumulator's pixels.
     pub fn merge(&mut self, o: StatsAcc) {
         self.pixels += o.pixels;
