@@ -48,3 +48,15 @@ fn unresolved_color(c: vec3<f32>, px: vec2<u32>) -> vec3<f32> {
     if ((F.flags & FLAG_UNRESOLVED_SOLID) != 0u) { return magenta; }
     return select(c, magenta, ((px.x + px.y) / 3u) % 2u == 0u);
 }
+
+// The pixel of its 8x8 tile that invocation `lid` of an 8x8 layer takes.
+// Each run of 8 invocations (one SIMD bundle on lavapipe) takes a 4x2 block
+// rather than a row of 8: a bundle's loops run until its slowest lane is
+// done, and closer rays need more alike work (over the 1024² Knoll frames,
+// 3-6 % fewer bundle iterations of bisection: the Barth decic's 4.38 → 4.14
+// evaluations a bundle).
+fn tile_pixel(lid: vec2<u32>) -> vec2<u32> {
+    let i = lid.y * 8u + lid.x;
+    let b = i / 8u;
+    return vec2<u32>((b % 2u) * 4u + i % 4u, (b / 2u) * 2u + (i % 8u) / 4u);
+}

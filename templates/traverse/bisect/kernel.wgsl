@@ -271,7 +271,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         return;
     }
     let tile = vec2<u32>(t % tiles_x(), t / tiles_x());
-    let gid = tile * 8u + lid.xy;
+    let gid = tile * 8u + tile_pixel(lid.xy);
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
     // transparency, continued after each hit for up to LAYERS surfaces.

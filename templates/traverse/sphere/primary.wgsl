@@ -11,7 +11,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     // This workgroup's 8x8 tile: the dispatch's tiles in order, or after a
     // tile pass (tiles.wgsl) the tiles it queued.
     let tile = main_tile(wid, groups);
-    let gid = tile * 8u + lid.xy;
+    let gid = tile * 8u + tile_pixel(lid.xy);
     if (tile.x == 0xffffffffu || gid.x >= F.tile_size.x || gid.y >= F.tile_size.y) { return; }
     let px = F.tile_origin + gid.xy;
     let d = normalize(primary_dir(px));
