@@ -199,6 +199,27 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
     }
 }
 
+/// A cell encloses a subexpression affine in two or more of x, y, z (a
+/// plane) by its values at the segment's ends, not over the segment's box
+/// (`codegen::linear`): icos.csg's ten |n·p| planes. No sign change the f64
+/// reference finds is missed, and fewer evaluations are needed than with
+/// the box (1.37 → 1.15 a pixel at 1024²; here 3.07 → 2.30).
+#[test]
+fn planes_are_enclosed_from_the_segments_ends() {
+    let src = "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), \
+        abs(0.5773502691896258*(x-y+z))), abs(0.5773502691896258*(-x+y+z))), abs(0.35682208977308993*y+0.9341723589627158*z)), \
+        abs(0.35682208977308993*y-0.9341723589627158*z)), abs(0.9341723589627158*x+0.35682208977308993*z)), \
+        abs(0.9341723589627158*x-0.35682208977308993*z)), abs(0.35682208977308993*x+0.9341723589627158*y)), \
+        abs(0.35682208977308993*x-0.9341723589627158*y)) - 1, 1.1025 - (x^2 + y^2 + z^2))";
+    let f = isotrace::Formula::compile("<test>", src).unwrap();
+    let wgsl = isotrace::codegen::render_shader(&f.ir, Domain::Interval);
+    assert_eq!(wgsl.matches("ia_seg(").count(), 11, "the library's definition and the ten planes");
+    assert_no_missed_roots(src, cube(1.4), Domain::Interval, 64);
+    let frame = render(src, Domain::Interval, &settings(cube(1.4), 64, 64));
+    assert!(frame.stats.hits > 400, "{:?}", frame.stats);
+    assert!(frame.stats.evals_mean < 2.7, "{} evaluations a pixel", frame.stats.evals_mean);
+}
+
 /// In RAA the slopes of a formula that is not a polynomial of moderate
 /// degree are intervals (`derivative::slope_domain`): x^200's slope beyond
 /// f32 keeps its sign there, where an affine slope is the whole line and

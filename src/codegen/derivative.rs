@@ -14,7 +14,7 @@
 //! generated code implements with WGSL expressions (here) and the tape with
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
-use super::{emit_body, emit_odd_power, Domain, Hook};
+use super::{emit_body_on, emit_odd_power, Domain, Hook};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
@@ -60,7 +60,7 @@ const AFFINE_SLOPES_MAX_DEGREE: u32 = 10;
 pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let (vp, ty) = (domain.prefix(), domain.ty());
     let head = format!("fn evald_{vp}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{\n");
-    emit_slopes(ir, domain, head, |result| format!("    return {result};\n}}\n"))
+    emit_slopes(ir, domain, head, None, |result| format!("    return {result};\n}}\n"))
 }
 
 /// Emits the bisection's `cell_enclosure(o, dir, s0, s1, slope)` with
@@ -76,14 +76,14 @@ pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str) -> Strin
         "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n    \
          let x = X;\n    let y = Y;\n    let z = Z;\n    let t = {p}_const(F.time);\n    let dx = dir.x;\n    let dy = dir.y;\n    let dz = dir.z;\n"
     );
-    emit_slopes(ir, domain, head, |q| format!("    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
+    emit_slopes(ir, domain, head, Some(("a", "b")), |q| format!("    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
 }
 
 /// A function whose body computes f and its slope along the ray in
 /// `domain`, from `x y z t` (values) and `dx dy dz` (the ray direction)
 /// that `head` declares, and ends with `tail` of the result (the value's
 /// range and the slope's, a `vec4<f32>`).
-fn emit_slopes(ir: &Ir, domain: Domain, head: String, tail: impl FnOnce(&str) -> String) -> String {
+fn emit_slopes(ir: &Ir, domain: Domain, head: String, segment: Option<(&str, &str)>, tail: impl FnOnce(&str) -> String) -> String {
     let vp = domain.prefix();
     let slopes = slope_domain(ir, domain);
     let p = slopes.prefix();
@@ -96,7 +96,7 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, tail: impl FnOnce(&str) ->
         }
         id as usize
     };
-    let body = emit_body(&mut out, ir, domain, |out, hook| match hook {
+    let body = emit_body_on(&mut out, ir, domain, segment, |out, hook| match hook {
         Hook::Node(id, op) => {
             let i = at(&mut d, id);
             if let Some(e) = rule(&mut Wgsl { out, p, domain: slopes, ir, ranged }, id, op, &d) {

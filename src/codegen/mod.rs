@@ -22,6 +22,7 @@ pub mod choice;
 pub mod compiled;
 pub mod derivative;
 pub mod kernel;
+mod linear;
 pub mod reroll;
 pub mod tape;
 mod tape_derivative;
@@ -249,7 +250,18 @@ pub(crate) struct Body {
 /// Writes `let v{id} = …;` for every live node, telling `hook` after each
 /// (the derivative emitter adds its `d{id}` there); runs of same-shaped
 /// terms become loops ([`reroll`]).
-pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, mut hook: impl FnMut(&mut String, Hook)) -> Body {
+pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, hook: impl FnMut(&mut String, Hook)) -> Body {
+    emit_body_on(out, ir, domain, None, hook)
+}
+
+/// [`emit_body`] for a ray segment from `a` to `b` (WGSL `vec3<f32>`
+/// names in scope; interval domain): a node affine in x, y, z with two or
+/// more of them, used by a node that is not, is enclosed from its values at
+/// the segment's ends (`ia_seg`), the exact range over the segment up to
+/// rounding, where intervals over the segment's box overestimate it (a
+/// plane's |n·p| in a CSG formula: icos.csg's ten).
+pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, segment: Option<(&str, &str)>, mut hook: impl FnMut(&mut String, Hook)) -> Body {
+    let seg_forms = segment.filter(|_| domain == Domain::Interval).map(|ends| (ends, linear::segment_nodes(ir)));
     let p = domain.prefix();
     let plan = reroll::plan(ir);
     let looped = !plan.loops.is_empty();
@@ -267,7 +279,10 @@ pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, mut hook: imp
             continue;
         }
         let op = ir.nodes[id as usize];
-        let rhs = value_rhs(out, domain, id, op, ir);
+        let rhs = match &seg_forms {
+            Some(((a, b), forms)) if forms[id as usize].is_some() => forms[id as usize].as_ref().expect("tested").segment_rhs(a, b),
+            _ => value_rhs(out, domain, id, op, ir),
+        };
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
             restricted.push(format!("{p}_is_empty(v{id})"));

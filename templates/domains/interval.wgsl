@@ -43,6 +43,17 @@ fn ia_pad(r: vec2<f32>, abs_err: f32, rel_err: f32) -> vec2<f32> {
 
 fn ia_neg(a: vec2<f32>) -> vec2<f32> { return -a.yx; }
 fn ia_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a + b; }
+// c0 + c . p over the segment from a to b: its values at the ends, widened
+// by 2^-21 (eight roundings) of the largest terms' sum: the products, the
+// sums, the literals' rounding and the points' own (a point of the ray
+// computed in f32 lies within an ulp of the segment, coordinate-wise between
+// a and b).
+fn ia_seg(c0: f32, c: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> vec2<f32> {
+    let fa = c0 + dot(c, a);
+    let fb = c0 + dot(c, b);
+    let e = (abs(c0) + dot(abs(c), max(abs(a), abs(b)))) * 4.77e-7 + 1e-37;
+    return vec2<f32>(min(fa, fb) - e, max(fa, fb) + e);
+}
 fn ia_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a - b.yx; }
 // A product with an exact f32 (a constant, a ray direction): two products
 // instead of four. A zero factor gives 0, also with an unbounded a (its
