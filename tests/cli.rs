@@ -431,9 +431,10 @@ fn eval_gives_the_same_enclosures_with_either_shader_opt_and_refuses_it_with_cpu
 /// A formula of thousands of tiny repeated terms compiles as loops
 /// (`codegen::reroll`); hard pixels past the loops' work limit are reported
 /// with that limit named, and the run says it used the compiled field.
+/// (Terms in t at t = 0: terms `c·x` would be collected into one.)
 #[test]
 fn pixels_past_the_loops_work_limit_are_named_in_the_warning() {
-    let terms: Vec<String> = (1..=4600).map(|i| format!("{:.9}*x", f64::from(i) * 1e-9)).collect();
+    let terms: Vec<String> = (1..=4600).map(|i| format!("{:.9}*t", f64::from(i) * 1e-9)).collect();
     let file = tmp("loops.txt");
     std::fs::write(&file, format!("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8+({})", terms.join("+"))).unwrap();
     let out = tmp("loops.png");

@@ -155,12 +155,14 @@ fn a_long_tape_runs_8_an_iteration() {
     assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
 }
 
-/// A sphere plus a small multiple of x + y + z + x + …, `n` inputs: an
+/// A sphere plus a small multiple of t + t + …, `n` inputs (at t = 0): an
 /// instruction per two bytes of formula, for tapes past 16,000 instructions
 /// within the front end's 64 KiB (a sum of products no longer gets there:
-/// its constants are immediates, its products multiply-adds).
+/// its constants are immediates, its products multiply-adds; and x + y + z
+/// + x + … would be collected into three terms by the semantic pass, which
+/// leaves t alone).
 fn sum_of_inputs(n: usize) -> String {
-    let terms: Vec<&str> = ["x", "y", "z"].iter().cycle().take(n).copied().collect();
+    let terms: Vec<&str> = ["t"].iter().cycle().take(n).copied().collect();
     format!("x^2+y^2+z^2-1+1e-5*({})", terms.join("+"))
 }
 
@@ -373,19 +375,54 @@ fn tape_renders_find_every_sign_change_of_the_reference() {
     }
 }
 
-/// A unit sphere plus 1e-6 times a sum of `n` pseudo-random monomials
-/// x^a·y^b·z^c (a, b, c below 7): their powers and products are shared
-/// across the whole sum, more values alive at once than the interpreter's
-/// 64 registers from about 350 terms on.
+/// A unit sphere plus 1e-6 times a sum of `n` (at most 512) monomials
+/// x^a·y^b·z^c (a, b, c below 8), each a different one, in a pseudo-random
+/// order: their powers and products are shared across the whole sum, more
+/// values alive at once than the interpreter's 64 registers from about 350
+/// terms on, and no two of them are like terms (which the semantic pass
+/// would collect into one).
 fn sum_of_monomials(n: u32) -> String {
     let mut r: u64 = 12345;
-    let terms: Vec<String> = (0..n)
+    let mut used = [false; 512];
+    let mut terms = Vec::new();
+    while terms.len() < n.min(512) as usize {
+        r = (r * 1103515245 + 12345) % (1 << 31);
+        let k = ((r >> 4) % 512) as usize;
+        if std::mem::replace(&mut used[k], true) {
+            continue;
+        }
+        terms.push(format!("{}.{}*x^{}*y^{}*z^{}", (r >> 13) % 9 + 1, (r >> 17) % 10, k % 8, k / 8 % 8, k / 64));
+    }
+    format!("x^2+y^2+z^2-1+1e-6*({})", terms.join("+"))
+}
+
+/// A long sum of like monomials (3,000 terms, 48 KB, 343 distinct
+/// monomials) is collected by the semantic pass into one term per monomial,
+/// and its picture finds every root of the f64 reference, in both algebras,
+/// compiled and as a tape.
+#[test]
+fn like_monomials_are_collected_and_drawn() {
+    let mut r: u64 = 12345;
+    let terms: Vec<String> = (0..3000)
         .map(|_| {
             r = (r * 1103515245 + 12345) % (1 << 31);
             format!("{}.{}*x^{}*y^{}*z^{}", (r >> 9) % 9 + 1, (r >> 13) % 10, r % 7, (r >> 3) % 7, (r >> 6) % 7)
         })
         .collect();
-    format!("x^2+y^2+z^2-1+1e-6*({})", terms.join("+"))
+    let src = format!("x^2+y^2+z^2-1+1e-6*({})", terms.join("+"));
+    assert!(src.len() > 45_000);
+    let (f, data) = tape(&src);
+    // 343 monomials of at most x^6·y^6·z^6 and the sphere: each monomial is
+    // a product with its coefficient and a sum, on shared powers.
+    assert!(f.ir.nodes.len() < 4 * 343 + 40, "{} nodes", f.ir.nodes.len());
+    let s = common::settings(common::cube(1.5), 24, 24);
+    for domain in [Domain::Interval, Domain::Affine] {
+        let taped = bisect_tape(&data, domain, &s, true);
+        assert!(taped.stats.hits > 40 && taped.stats.unresolved == 0, "{domain:?}: {:?}", taped.stats);
+        assert!(misses_of_the_reference(&f, &s, &taped, 1000, false).is_empty(), "{domain:?}");
+    }
+    let compiled = common::render(&src, Domain::Interval, &s);
+    assert!(misses_of_the_reference(&f, &s, &compiled, 1000, false).is_empty());
 }
 
 /// Shared values past the register file are computed again at each use

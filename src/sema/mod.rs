@@ -16,6 +16,7 @@ use crate::syntax::{BinOp, Expr, ExprKind, Program};
 use std::collections::HashMap;
 
 mod error;
+mod terms;
 pub use error::SemaError;
 use error::{quote_list, show_value};
 
@@ -125,7 +126,7 @@ pub fn analyze_with(program: &Program, externs: &[(String, usize)]) -> Result<Ir
         surfaces.push(crate::ir::SurfaceIr { f, conditions });
     }
     let root = surfaces[0].f;
-    Ok(compact(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params, externs: b.externs }))
+    Ok(compact(terms::collect(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params, externs: b.externs })?))
 }
 
 /// Drops the nodes the root does not use (unused definitions, constants
