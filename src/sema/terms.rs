@@ -19,7 +19,8 @@ use std::collections::HashMap;
 /// Nodes the flattening of all sums may visit: a DAG of shared sums can
 /// stand for exponentially many terms, and a chain of n partial sums each
 /// used elsewhere (`sin(a₁) + sin(a₂) + …`, aᵢ = aᵢ₋₁ + x) for n²/2. Past
-/// it the remaining sums are left as written (about 10 ms here).
+/// it the remaining sums are left as written (2,200 such partial sums, 62
+/// KB of formula: `isotrace wgsl` in 0.16 s here).
 const VISIT_BUDGET: usize = 1 << 20;
 
 /// c · x^e[0] · y^e[1] · z^e[2].
