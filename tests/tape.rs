@@ -398,8 +398,8 @@ fn sum_of_monomials(n: u32) -> String {
 
 /// A long sum of like monomials (3,000 terms, 48 KB, 343 distinct
 /// monomials) is collected by the semantic pass into one term per monomial,
-/// and its picture finds every root of the f64 reference, in both algebras,
-/// compiled and as a tape.
+/// written in nested Horner form, and its picture finds every root of the
+/// f64 reference, in both algebras, compiled and as a tape.
 #[test]
 fn like_monomials_are_collected_and_drawn() {
     let mut r: u64 = 12345;
@@ -415,6 +415,8 @@ fn like_monomials_are_collected_and_drawn() {
     // 343 monomials of at most x^6·y^6·z^6 and the sphere: each monomial is
     // a product with its coefficient and a sum, on shared powers.
     assert!(f.ir.nodes.len() < 4 * 343 + 40, "{} nodes", f.ir.nodes.len());
+    // In nested Horner form (from 64 monomials on) few values are alive at once.
+    assert!(data.registers <= 16, "{} registers", data.registers);
     let s = common::settings(common::cube(1.5), 24, 24);
     for domain in [Domain::Interval, Domain::Affine] {
         let taped = bisect_tape(&data, domain, &s, true);
