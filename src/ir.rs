@@ -115,6 +115,29 @@ impl Op {
             Op::User(_, args, n) => args[..n as usize].to_vec(),
         }
     }
+    /// The same operation on operands mapped by `m` (a rebuilt graph's new
+    /// ids); a user function's unused argument slots are 0.
+    pub fn with_operands(self, mut m: impl FnMut(NodeId) -> NodeId) -> Op {
+        match self {
+            Op::Const(_) | Op::Var(_) | Op::Param(_) => self,
+            Op::Neg(a) => Op::Neg(m(a)),
+            Op::Add(a, b) => Op::Add(m(a), m(b)),
+            Op::Sub(a, b) => Op::Sub(m(a), m(b)),
+            Op::Mul(a, b) => Op::Mul(m(a), m(b)),
+            Op::Div(a, b) => Op::Div(m(a), m(b)),
+            Op::PowI(a, n) => Op::PowI(m(a), n),
+            Op::Call1(f, a) => Op::Call1(f, m(a)),
+            Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
+            Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
+            Op::User(u, args, n) => {
+                let mut mapped = [0; 4];
+                for (to, &from) in mapped.iter_mut().zip(&args[..n as usize]) {
+                    *to = m(from);
+                }
+                Op::User(u, mapped, n)
+            }
+        }
+    }
     /// True for operations whose result can be empty (argument entirely
     /// outside the domain): sqrt, log, pow with a real exponent.
     pub fn restricts_domain(&self) -> bool {

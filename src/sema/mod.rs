@@ -140,24 +140,12 @@ fn compact(ir: Ir) -> Ir {
     let mut nodes = Vec::with_capacity(live.len());
     let mut spans = Vec::with_capacity(live.len());
     for &old in &live {
-        let m = |n: NodeId| new_id[n as usize];
         let op = match ir.nodes[old as usize] {
             Op::Param(p) => Op::Param(*param_id[p as usize].get_or_insert_with(|| {
                 params.push(ir.params[p as usize].clone());
                 (params.len() - 1) as u32
             })),
-            Op::Const(c) => Op::Const(c),
-            Op::Var(v) => Op::Var(v),
-            Op::Neg(a) => Op::Neg(m(a)),
-            Op::Add(a, b) => Op::Add(m(a), m(b)),
-            Op::Sub(a, b) => Op::Sub(m(a), m(b)),
-            Op::Mul(a, b) => Op::Mul(m(a), m(b)),
-            Op::Div(a, b) => Op::Div(m(a), m(b)),
-            Op::PowI(a, n) => Op::PowI(m(a), n),
-            Op::Call1(f, a) => Op::Call1(f, m(a)),
-            Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
-            Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
-            Op::User(u, args, n) => Op::User(u, args.map(m_or_self(&new_id)), n),
+            op => op.with_operands(|n| new_id[n as usize]),
         };
         new_id[old as usize] = nodes.len() as NodeId;
         nodes.push(op);
@@ -185,11 +173,6 @@ struct Builder {
     current: Option<String>,
     /// User functions (`--inline`): name, arity.
     externs: Vec<(String, usize)>,
-}
-
-/// Maps an operand through `new_id`, leaving unused argument slots (0) alone.
-fn m_or_self(new_id: &[NodeId]) -> impl Fn(NodeId) -> NodeId + '_ {
-    move |n| new_id.get(n as usize).copied().filter(|&v| v != NodeId::MAX).unwrap_or(0)
 }
 
 /// Hashable form of [`Op`] (constants by their bits).
@@ -486,28 +469,12 @@ impl Builder {
         }
         order.sort_unstable();
         for n in order {
-            let m = |k: NodeId| seen[&k];
             let op = match self.nodes[n as usize] {
                 Op::Var(Var::X) => { seen.insert(n, xyz[0]); continue; }
                 Op::Var(Var::Y) => { seen.insert(n, xyz[1]); continue; }
                 Op::Var(Var::Z) => { seen.insert(n, xyz[2]); continue; }
                 Op::Var(Var::T) | Op::Const(_) | Op::Param(_) => continue,
-                Op::Neg(a) => Op::Neg(m(a)),
-                Op::Add(a, b) => Op::Add(m(a), m(b)),
-                Op::Sub(a, b) => Op::Sub(m(a), m(b)),
-                Op::Mul(a, b) => Op::Mul(m(a), m(b)),
-                Op::Div(a, b) => Op::Div(m(a), m(b)),
-                Op::PowI(a, k) => Op::PowI(m(a), k),
-                Op::Call1(f, a) => Op::Call1(f, m(a)),
-                Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
-                Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
-                Op::User(u, args, k) => {
-                    let mut a = [0; 4];
-                    for i in 0..k as usize {
-                        a[i] = m(args[i]);
-                    }
-                    Op::User(u, a, k)
-                }
+                op => op.with_operands(|k| seen[&k]),
             };
             let span = self.spans[n as usize];
             let id = self.push(op, span)?;

@@ -50,7 +50,7 @@ pub(super) fn collect(ir: Ir) -> Result<Ir, SemaError> {
         let span = ir.spans[n as usize];
         new_id[n as usize] = match plans.get(&n) {
             Some(terms) => sum(&mut b, terms, &new_id, span)?,
-            None => match remap(ir.nodes[n as usize], |o| new_id[o as usize]) {
+            None => match ir.nodes[n as usize].with_operands(|o| new_id[o as usize]) {
                 Op::Call2(Func2::Pow, a, e) => b.pow_nodes(a, e, span, span)?,
                 op => b.push(op, span)?,
             },
@@ -62,30 +62,6 @@ pub(super) fn collect(ir: Ir) -> Result<Ir, SemaError> {
         .map(|s| SurfaceIr { f: new_id[s.f as usize], conditions: s.conditions.iter().map(|&(g, less)| (new_id[g as usize], less)).collect() })
         .collect();
     Ok(Ir { nodes: b.nodes, spans: b.spans, root: new_id[ir.root as usize], surfaces, params: b.params, externs: b.externs })
-}
-
-/// `op` with its operands mapped by `m` (a user function's unused slots
-/// stay 0).
-fn remap(op: Op, m: impl Fn(NodeId) -> NodeId) -> Op {
-    match op {
-        Op::Const(_) | Op::Var(_) | Op::Param(_) => op,
-        Op::Neg(a) => Op::Neg(m(a)),
-        Op::Add(a, b) => Op::Add(m(a), m(b)),
-        Op::Sub(a, b) => Op::Sub(m(a), m(b)),
-        Op::Mul(a, b) => Op::Mul(m(a), m(b)),
-        Op::Div(a, b) => Op::Div(m(a), m(b)),
-        Op::PowI(a, n) => Op::PowI(m(a), n),
-        Op::Call1(f, a) => Op::Call1(f, m(a)),
-        Op::Call2(f, a, b) => Op::Call2(f, m(a), m(b)),
-        Op::Call3(f, a, b, c) => Op::Call3(f, m(a), m(b), m(c)),
-        Op::User(u, args, n) => {
-            let mut mapped = args;
-            for a in &mut mapped[..n as usize] {
-                *a = m(*a);
-            }
-            Op::User(u, mapped, n)
-        }
-    }
 }
 
 /// Each live node's monomial form, where it is one.
