@@ -319,3 +319,26 @@ fn sign_change_near(f: &isotrace::Formula, s: &isotrace::render::Settings, k: u3
     let (a, b) = (g(t - 2.0 * s.eps), g(t + 2.0 * s.eps));
     (a <= 0.0) != (b <= 0.0)
 }
+
+/// A monotone cell's root (the ITP method, `itp_point` in the bisection
+/// kernel) ends within eps of f's sign change also where f is steep: x^200
+/// goes from -1 to 1e35 across the superquadric's faces, where regula
+/// falsi's secant lands next to one end, step after step.
+#[test]
+fn steep_roots_are_found_within_eps() {
+    let src = "x^200 + y^200 + z^200 - 1";
+    let f = isotrace::Formula::compile("<test>", src).unwrap();
+    for domain in [Domain::Interval, Domain::Affine] {
+        let s = settings(cube(1.5), 64, 64);
+        let frame = render(src, domain, &s);
+        let mut hits = 0;
+        for (k, p) in frame.pixels.iter().enumerate() {
+            assert!(p.status != Status::Unresolved, "{domain:?}: pixel {k} unresolved");
+            if p.status == Status::Hit {
+                hits += 1;
+                assert!(sign_change_near(&f, &s, k as u32, p.depth as f64), "{domain:?}: pixel {k}: no sign change within 2 eps of {}", p.depth);
+            }
+        }
+        assert!(hits > 500, "{domain:?}: {hits} hits");
+    }
+}

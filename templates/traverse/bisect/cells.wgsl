@@ -208,9 +208,9 @@ fn nearest_iso(f0: f32, f1: f32) -> u32 {
     return iso;
 }
 
-// How narrow() closes in on a root: regula falsi in a monotone cell,
+// How narrow() closes in on a root: the ITP method in a monotone cell,
 // looking further along the ray for a sign change, bisecting a bracket.
-const NARROW_FALSI: u32 = 0u;
+const NARROW_ITP: u32 = 0u;
 const NARROW_LOOK: u32 = 1u;
 const NARROW_BISECT: u32 = 2u;
 
@@ -218,8 +218,8 @@ const NARROW_BISECT: u32 = 2u;
 // one call site of f (lavapipe runs every call site of a loop body on
 // every cell, for the lanes that need it or not: ten sites here cost more
 // than the cell's enclosure).
-// - Monotone (`leaf` false): the unique root, by Illinois regula falsi down
-//   to the eps width along the ray (fa, fb bracket it).
+// - Monotone (`leaf` false): the unique root, by the ITP method
+//   (itp_point) down to the eps width along the ray (fa, fb bracket it).
 // - A leaf: an enclosure can contain 0 a little before the surface
 //   (overestimation), so when f does not change sign across the cell we
 //   look up to LOOKAHEAD cells further for a sign change (IA overestimates
@@ -231,7 +231,7 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -
     var b = cell.y;
     var fa = f_lo;
     var fb = f_hi;
-    var mode = NARROW_FALSI;
+    var mode = NARROW_ITP;
     if (leaf) {
         mode = select(NARROW_LOOK, NARROW_BISECT, brackets(fa, fb));
     } else if (fa == 0.0) {
@@ -240,14 +240,12 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -
         return b;
     }
     let w = cell.y - cell.x;
-    var side = 0;
     var n = 0u;
     loop {
         var s = 0.5 * (a + b);
-        if (mode == NARROW_FALSI) {
+        if (mode == NARROW_ITP) {
             if (n >= 40u || !(b - a > ray.eps_s)) { break; }
-            let m = (a * fb - b * fa) / (fb - fa);
-            if (m > a && m < b) { s = m; }
+            s = itp_point(a, b, fa, fb, n, w, ray.eps_s);
         } else if (mode == NARROW_BISECT) {
             if (n >= 10u) { break; }
         } else {
@@ -270,13 +268,9 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -
         } else if ((fm <= 0.0) == (fa <= 0.0)) {
             a = s;
             fa = fm;
-            if (side == -1) { fb = 0.5 * fb; }
-            side = -1;
         } else {
             b = s;
             fb = fm;
-            if (side == 1) { fa = 0.5 * fa; }
-            side = 1;
         }
     }
     return 0.5 * (a + b);

@@ -1,5 +1,5 @@
 // Bisection's cells for an interpreted field (the tape): the scalar work on
-// a cell (the mean-value midpoint, a monotone cell's ends and regula falsi,
+// a cell (the mean-value midpoint, a monotone cell's ends and its root search,
 // a leaf's sign test and refinement; the steps of cells.wgsl) runs as
 // phases of an inner loop with one call of f. A shader compiler inlines
 // every call site, and lavapipe compiles each inlined copy of the
@@ -39,7 +39,7 @@ fn trace_primary(ray: Ray, mask: vec2<u32>, s_from: f32, seg: vec2<f32>, dr: vec
 // call site of the field, and lavapipe compiles each inlined copy in full
 // (an interpreted field's copy is its whole interpreter), so the scalar
 // work on a cell (the mean-value midpoint, a monotone cell's ends and
-// regula falsi, a leaf's sign test and refinement) is a sequence of phases
+// the root search, a leaf's sign test and refinement) is a sequence of phases
 // (`Probe`, probe.wgsl) run by an inner loop, one evaluation of f per
 // iteration. The inner loop keeps the enclosure out of those iterations.
 // With `grad`, a hit's gradient is found there too (PH_GRAD).
@@ -160,7 +160,7 @@ fn probe_cell(p: ptr<function, Probe>, ray: Ray, s_lo: f32, len: f32, d: u32, k:
 
 // Phases of a cell's scalar work (traverse). PH_CELL: the cell's enclosure;
 // PH_DECIDE: reject the cell or start its scalar work; PH_MEAN: f at the midpoint;
-// PH_ENDS: f at a monotone cell's two ends; PH_SOLVE: regula falsi for one
+// PH_ENDS: f at a monotone cell's two ends; PH_SOLVE: the root search (ITP) for one
 // isovalue; PH_LEAF: f − c at a leaf's ends; PH_LOOK: looking further along
 // the ray for a sign change; PH_BISECT: bisecting the bracket found. The
 // others say what comes next: PH_SPLIT (descend or test the leaf),
@@ -196,7 +196,6 @@ struct Probe {
     fb: f32,
     f0: f32,
     f1: f32,
-    side: i32,
     c: f32,
     iso: u32,
     best: f32,
@@ -245,7 +244,7 @@ fn probe_decide(p: ptr<function, Probe>, c: vec2<f32>, r: vec2<f32>, d: u32, d_m
 }
 
 fn probe_idle() -> Probe {
-    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0u, 0.0, 0u, false, false, -F.inf, 0.0, false, vec3<f32>(0.0), vec3<f32>(0.0));
+    return Probe(PH_CELL, 0u, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 0.0, 0u, false, false, -F.inf, 0.0, false, vec3<f32>(0.0), vec3<f32>(0.0));
 }
 
 // Where the phase evaluates f: on the ray at s, or (PH_GRAD) the
@@ -259,7 +258,7 @@ fn probe_point(p: Probe, ray: Ray) -> vec3<f32> {
 // A root found (PH_FOUND): turned down by the hook (PH_ADVANCE), a hit
 // (PH_HIT), or, with `grad`, a hit whose gradient comes next (PH_GRAD).
 // Forward differences start from the last point f was evaluated at on the
-// ray when it lies within eps of the root (regula falsi and bisection end
+// ray when it lies within eps of the root (the root search and bisection end
 // on a bracket of that width, so it nearly always does): three evaluations
 // where central differences take six. Otherwise from the root, after one
 // more evaluation there. Their error is O(step) against f's curvature,
@@ -316,14 +315,13 @@ fn probe_step(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>, f: f32) {
             }
         }
         case PH_SOLVE: {
-            let s = (*p).s;
             solve_step(p, f - (*p).c);
             if ((*p).n >= 40u || !((*p).b - (*p).a > ray.eps_s)) {
                 take_root(p, 0.5 * ((*p).a + (*p).b));
                 (*p).iso = (*p).iso + 1u;
                 next_solve(p, ray, c);
             } else {
-                (*p).s = guarded_point(*p, s, 0.5 * ray.eps_s);
+                (*p).s = solve_point(*p, ray, c);
             }
         }
         case PH_LEAF: {
@@ -363,7 +361,7 @@ fn probe_step(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>, f: f32) {
 }
 
 // The next isovalue (from p.iso on) whose f − c changes sign across the
-// monotone cell: its regula falsi starts, or the scan ends with the nearest
+// monotone cell: its root search starts, or the scan ends with the nearest
 // root found (PH_FOUND) or none (PH_ADVANCE).
 fn next_solve(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>) {
     loop {
@@ -387,10 +385,9 @@ fn next_solve(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>) {
                 (*p).b = c.y;
                 (*p).fa = fa;
                 (*p).fb = fb;
-                (*p).side = 0;
                 (*p).n = 0u;
                 (*p).phase = PH_SOLVE;
-                (*p).s = falsi_point(*p);
+                (*p).s = solve_point(*p, ray, c);
                 return;
             }
         }
@@ -398,43 +395,21 @@ fn next_solve(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>) {
     }
 }
 
-// The regula falsi point of the bracket (its midpoint where the secant
-// leaves it).
-fn falsi_point(p: Probe) -> f32 {
-    var m = (p.a * p.fb - p.b * p.fa) / (p.fb - p.fa);
-    if (!(m > p.a && m < p.b)) { m = 0.5 * (p.a + p.b); }
-    return m;
+// The next point of a monotone cell c's root search (itp_point).
+fn solve_point(p: Probe, ray: Ray, c: vec2<f32>) -> f32 {
+    let w = c.y - c.x;
+    return itp_point(p.a, p.b, p.fa, p.fb, p.n, w, ray.eps_s);
 }
 
-// The next point after an evaluation at s (now an end of the bracket): the
-// regula falsi point, but at least `tol` (half the eps width) from s. Where
-// the secant has all but found the root, its next point lands next to s
-// and Illinois would take one more step to move the far end; a point tol
-// past s brackets the root with s at once, ending the search a step
-// sooner (a tape's evaluation costs its whole program: a sum's hits took
-// 3.8 steps here, mostly 3).
-fn guarded_point(p: Probe, s: f32, tol: f32) -> f32 {
-    let m = falsi_point(p);
-    let toward_b = s == p.a;
-    let pushed = select(s - tol, s + tol, toward_b);
-    let near = abs(m - s) < tol;
-    let inside = pushed > p.a && pushed < p.b;
-    return select(m, pushed, near && inside);
-}
-
-// One Illinois regula falsi step with fm = f(p.s) − c: the unique root of a
-// monotone f in the bracket, down to the eps width along the ray.
+// One step of the root search with fm = f(p.s) − c: the end of the bracket
+// on fm's side moves to p.s.
 fn solve_step(p: ptr<function, Probe>, fm: f32) {
     if ((fm <= 0.0) == ((*p).fa <= 0.0)) {
         (*p).a = (*p).s;
         (*p).fa = fm;
-        if ((*p).side == -1) { (*p).fb = 0.5 * (*p).fb; }
-        (*p).side = -1;
     } else {
         (*p).b = (*p).s;
         (*p).fb = fm;
-        if ((*p).side == 1) { (*p).fa = 0.5 * (*p).fa; }
-        (*p).side = 1;
     }
     (*p).n = (*p).n + 1u;
 }
