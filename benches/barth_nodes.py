@@ -45,15 +45,19 @@ class Jet:
                    s.h * o.v[:, None, None] + o.h * s.v[:, None, None] + gg + gg.transpose(0, 2, 1))
     __rmul__ = __mul__
 
-def barth(p):
-    """The formula of examples/barth-decic.iso as a Jet at points p (N,3)."""
-    x, y, z = (Jet.var(p, k) for k in range(3))
+def formula(x, y, z):
+    """The formula of examples/barth-decic.iso, for floats, arrays, Jets or
+    any number type with +, - and * (barth_oracle.py passes its Duals)."""
     x2, y2, z2 = x * x, y * y, z * z
     p4 = PHI ** 4
     r2 = x2 + y2 + z2
     q = x2 * x2 + y2 * y2 + z2 * z2 - 2 * (x2 * y2 + x2 * z2 + y2 * z2)
     a = (r2 - 1) * (r2 - (2 - PHI))
     return 8 * (x2 - p4 * y2) * (y2 - p4 * z2) * (z2 - p4 * x2) * q + (3 + 5 * PHI) * a * a
+
+def barth(p):
+    """The formula as a Jet at points p (N,3)."""
+    return formula(*(Jet.var(p, k) for k in range(3)))
 
 def rotation(axis, angle):
     a = np.asarray(axis, float) / np.linalg.norm(axis)

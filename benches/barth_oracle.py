@@ -30,7 +30,7 @@ import argparse, os, sys, time
 import numpy as np
 sys.dont_write_bytecode = True   # no __pycache__ next to barth_nodes.py
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import barth_nodes as bn   # PHI, EPS, FOV, camera(), clip_domain(), read_exr(), barth() (Jet)
+import barth_nodes as bn   # PHI, EPS, FOV, camera(), clip_domain(), read_exr(), formula(), barth() (Jet)
 
 NSEG, DENSE = 33, 8                   # samples per cell's segment; dense samples per eps of ray
 CHUNK = 256                           # rays traversed together (memory of the dense samples)
@@ -47,20 +47,10 @@ class Dual:
         return Dual(s.v * o, s.dv * o)
     __rmul__ = __mul__
 
-def formula(x, y, z):
-    """examples/barth-decic.iso, for floats or Duals (same as barth_nodes.barth)."""
-    PHI = bn.PHI
-    x2, y2, z2 = x * x, y * y, z * z
-    p4 = PHI ** 4
-    r2 = x2 + y2 + z2
-    q = x2 * x2 + y2 * y2 + z2 * z2 - 2 * (x2 * y2 + x2 * z2 + y2 * z2)
-    a = (r2 - 1) * (r2 - (2 - PHI))
-    return 8 * (x2 - p4 * y2) * (y2 - p4 * z2) * (z2 - p4 * x2) * q + (3 + 5 * PHI) * a * a
-
-def f_val(p): return formula(p[..., 0], p[..., 1], p[..., 2])
+def f_val(p): return bn.formula(p[..., 0], p[..., 1], p[..., 2])
 def f_dir(p, u):
     """f and its derivative along u at points p (..., 3)."""
-    r = formula(*(Dual(p[..., c], np.broadcast_to(u[..., c], p.shape[:-1])) for c in range(3)))
+    r = bn.formula(*(Dual(p[..., c], np.broadcast_to(u[..., c], p.shape[:-1])) for c in range(3)))
     return r.v, r.dv
 
 def brackets(f0, f1): return ((f0 <= 0) & (f1 >= 0)) | ((f0 >= 0) & (f1 <= 0))
