@@ -344,8 +344,7 @@ fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Repor
 /// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe), 2 CPU threads": the
 /// Markdown report's machine line.
 pub(super) fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
-    let opt = d.shader_opt.map_or(String::new(), |o| format!(", shader opt {}", o.name()));
-    format!("{} ({}, {}){opt}, {threads} CPU threads", d.name, d.backend, d.driver)
+    format!("{}, {threads} CPU threads", d.describe())
 }
 
 /// The table on stdout and the --markdown and --json files of a report (a

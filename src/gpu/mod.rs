@@ -65,11 +65,13 @@ pub struct DeviceInfo {
 }
 
 impl DeviceInfo {
-    /// Name and backend, and the optimisation where it applies:
-    /// `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan), shader opt none`.
+    /// Name, backend and driver version (lavapipe's speed differs between
+    /// Mesa releases), and the optimisation where it applies:
+    /// `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe Mesa 25.0.7 (LLVM
+    /// 15.0.6)), shader opt none`.
     pub fn describe(&self) -> String {
         let opt = self.shader_opt.map_or(String::new(), |o| format!(", shader opt {}", o.name()));
-        format!("{} ({}){opt}", self.name, self.backend)
+        format!("{} ({}, {}){opt}", self.name, self.backend, self.driver)
     }
 }
 
