@@ -407,11 +407,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let base = t * SCENE_TILE_MAX;
-    if (scene_chain_tile(t, base, count, tb, false)) { return; }
-    // The depths the list spans, then a heap sort by node index (its
-    // iterations are bounded by 2 n log2 n whatever the order the scatter's
-    // atomics left: an insertion sort of 459 entries ran past lavapipe's
-    // silent loop cap, leaving lists unsorted depending on that order).
+    // The depths the list spans.
     var zlo = F.inf;
     var zhi = -F.inf;
     var front = F.inf;
@@ -423,12 +419,34 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         front = min(front, dv.x);
         back = max(back, dv.y);
     }
-    for (var i = count / 2u; i > 0u; i = i - 1u) { scene_sift(base, i - 1u, count); }
-    for (var e = count; e > 1u; e = e - 1u) {
-        scene_swap(base, 0u, e - 1u);
-        scene_sift(base, 0u, e - 1u);
+    // A union chain is tried on the list as the scatter left it, a comb on
+    // the list sorted: one call site of scene_chain_tile, as of
+    // scene_build_view below. lavapipe inlines every call, and Mesa 25
+    // compiles each copy for about a quarter of a second.
+    for (var round = 0u; round < 2u; round = round + 1u) {
+        if (round == 1u) {
+            // A heap sort by node index (its iterations are bounded by
+            // 2 n log2 n whatever the order the scatter's atomics left: an
+            // insertion sort of 459 entries ran past lavapipe's silent loop
+            // cap, leaving lists unsorted depending on that order).
+            // Heapify (i from count / 2 down), then take the top down (e
+            // from count): one loop, one call site of scene_sift.
+            var i = count / 2u;
+            var e = count;
+            loop {
+                let heapify = i > 0u;
+                if (!heapify && e <= 1u) { break; }
+                if (heapify) {
+                    i = i - 1u;
+                } else {
+                    e = e - 1u;
+                    scene_swap(base, 0u, e);
+                }
+                scene_sift(base, select(0u, i, heapify), select(e, count, heapify));
+            }
+        }
+        if (scene_chain_tile(t, base, count, tb, round == 1u)) { return; }
     }
-    if (scene_chain_tile(t, base, count, tb, true)) { return; }
     let margin = scene_margin(zlo, zhi);
     var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);
     // The views follow the slab table; offsets count from the tile's start.
@@ -436,20 +454,27 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     let room = SCENE_VIEW_MAX - SCENE_TABLE_WORDS;
     var total = 0u;
     var fitted = true;
-    for (var k = 0u; k < slabs; k = k + 1u) {
+    var k = 0u;
+    loop {
+        if (k >= slabs) { break; }
         let c0 = select(zlo + (zhi - zlo) * f32(k) / f32(slabs), -F.inf, k == 0u);
         let c1 = select(zlo + (zhi - zlo) * f32(k + 1u) / f32(slabs), F.inf, k + 1u == slabs);
         let r = scene_build_view(base, count, c0 - margin, c1 + margin, vbase + total, room - total);
-        if (r.y == 0u) { fitted = false; break; }
+        if (r.y == 0u) {
+            // The slabs' views do not fit: one view of the whole list
+            // instead, from the start.
+            if (slabs > 1u) {
+                slabs = 1u;
+                total = 0u;
+                k = 0u;
+                continue;
+            }
+            fitted = false;
+            break;
+        }
         scene_table_write(tb + 4u * (k + 1u), vec4<u32>(SCENE_TABLE_WORDS + total, r.x, bitcast<u32>(c0), 0u));
         total = total + r.x;
-    }
-    if (!fitted && slabs > 1u) {
-        slabs = 1u;
-        let r = scene_build_view(base, count, -F.inf, F.inf, vbase, room);
-        fitted = r.y == 1u;
-        scene_table_write(tb + 4u, vec4<u32>(SCENE_TABLE_WORDS, r.x, bitcast<u32>(-F.inf), 0u));
-        total = r.x;
+        k = k + 1u;
     }
     if (!fitted) {
         scene_table_write(tb, vec4<u32>(0u));
