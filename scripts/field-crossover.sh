@@ -22,7 +22,13 @@ for n, name in [(178, "f1253"), (356, "f2503"), (1785, "f12503")]:
 PY
 run() { # field method algebra formula-label formula
     local r
-    r=$(MESA_SHADER_CACHE_DISABLE=true timeout "$LIMIT" "$B" "$1" "$2" "$3" "$SIZE" "$5" 2>/dev/null) || r="$1 $2 $3 $SIZE timeout >${LIMIT}s"
+    local rc=0
+    r=$(MESA_SHADER_CACHE_DISABLE=true timeout "$LIMIT" "$B" "$1" "$2" "$3" "$SIZE" "$5" 2>/dev/null) || rc=$?
+    if [ "$rc" = 124 ]; then
+        r="$1 $2 $3 $SIZE timeout >${LIMIT}s"
+    elif [ "$rc" != 0 ]; then
+        r="$1 $2 $3 $SIZE failed (exit $rc)"
+    fi
     echo "$4 $r"
 }
 for f in p400 f1253 f2503 f12503; do
@@ -33,5 +39,5 @@ for field in tape compiled; do
     run $field bisect raa @city @city
     run $field bisect ia @tangle @tangle
     run $field bisect raa @tangle @tangle
-    run $field sphere ia @creature @creature-sphere
+    run $field sphere ia @creature-sphere @creature
 done
