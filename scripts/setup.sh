@@ -35,9 +35,10 @@ if ! have_vulkan; then
     fi
 fi
 # lavapipe from Mesa 25 rather than Debian 12's Mesa 22.3: the same pictures,
-# frames 1.3-1.9x faster and big kernels compiled in about half the time (README,
-# "The Vulkan driver"). On bookworm, Mesa 25 comes from Debian's own
-# bookworm-backports. ISOTRACE_SYSTEM_MESA=1 keeps the distribution's Mesa.
+# Knoll frames 1.2-1.9x faster and big RAA kernels compiled in about half the
+# time, most other kernels compiled 30-60 % longer (README, "The Vulkan
+# driver"). On bookworm, Mesa 25 comes from Debian's own bookworm-backports.
+# ISOTRACE_SYSTEM_MESA=1 keeps the distribution's Mesa.
 mesa_version() { dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true; }
 wants_newer_mesa() {
     [ "${ISOTRACE_SYSTEM_MESA:-0}" = "1" ] && return 1

@@ -341,8 +341,9 @@ fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Repor
     }
 }
 
-/// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe), 2 CPU threads": the
-/// Markdown report's machine line.
+/// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe Mesa 25.0.7 (LLVM
+/// 15.0.6)), shader opt full, 2 CPU threads": the Markdown report's machine
+/// line.
 pub(super) fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
     format!("{}, {threads} CPU threads", d.describe())
 }
