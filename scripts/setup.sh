@@ -59,7 +59,7 @@ if wants_newer_mesa; then
         DEBIAN_FRONTEND=noninteractive bash -c "$cmd" >&2 ||
             echo "isotrace setup: bookworm-backports unavailable; keeping Mesa $(mesa_version)" >&2
     else
-        echo "isotrace setup: Mesa $(mesa_version) works; Mesa 25 renders faster. As root:" >&2
+        echo "isotrace setup: Mesa $(mesa_version) works; Mesa 25 draws frames faster (README, \"The Vulkan driver\"). As root:" >&2
         echo "    $cmd" >&2
     fi
 fi
