@@ -16,10 +16,18 @@ fn sphere_hit(o: glam::DVec3, d: glam::DVec3, r: f64) -> Option<f64> {
     (disc >= 0.0).then(|| -b - disc.sqrt())
 }
 
+/// Also from an eye 100 units away with a 2° field of view (the peer
+/// harness's near-orthographic view): in IA the sphere is one polynomial
+/// along each ray (`codegen::ray_forms`), worked out from the ray's entry
+/// into the box, not from the far eye, whose |o|² is 10⁴.
 #[test]
 fn sphere_depth_within_eps_and_silhouette_within_a_pixel() {
-    for domain in [Domain::Interval, Domain::Affine] {
-        let s = settings(cube(1.5), 96, 64);
+    for (domain, far) in [(Domain::Interval, false), (Domain::Affine, false), (Domain::Interval, true)] {
+        let mut s = settings(cube(1.5), 96, 64);
+        if far {
+            s.camera.eye = s.camera.eye.normalize() * 100.0;
+            s.camera.fov_deg = 2.0;
+        }
         let frame = render("x^2 + y^2 + z^2 - 1", domain, &s);
         // Depth as a user gets it: the EXR Z channel.
         let z = exr_channel(&frame, "Z");
@@ -199,25 +207,41 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
     }
 }
 
-/// A cell encloses a subexpression affine in two or more of x, y, z (a
-/// plane) by its values at the segment's ends, not over the segment's box
-/// (`codegen::linear`): icos.csg's ten |n·p| planes. No sign change the f64
-/// reference finds is missed, and fewer evaluations are needed than with
-/// the box (1.37 → 1.15 a pixel at 1024²; here 3.07 → 2.30).
+/// A node of degree ≤ 2 in x, y, z with two or more terms is taken from its
+/// polynomial along the ray (`codegen::ray_forms`): its exact range over
+/// a cell (the ends and the vertex), its exact slope and its value at a
+/// point, where intervals over the cell's box overestimate a sum of several
+/// variables' terms. icos.csg's ten planes |n·p| and its ball; quadrics
+/// with cross terms; the decocube's three. No sign change the f64 reference
+/// finds is missed, and icos.csg needs fewer evaluations than over the box
+/// (here 3.07 over the box, 2.30 with its planes from the segment's ends,
+/// 2.20 with its ball from the ray too).
 #[test]
-fn planes_are_enclosed_from_the_segments_ends() {
-    let src = "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), \
+fn nodes_of_degree_two_are_taken_from_the_ray() {
+    let icos = "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), \
         abs(0.5773502691896258*(x-y+z))), abs(0.5773502691896258*(-x+y+z))), abs(0.35682208977308993*y+0.9341723589627158*z)), \
         abs(0.35682208977308993*y-0.9341723589627158*z)), abs(0.9341723589627158*x+0.35682208977308993*z)), \
         abs(0.9341723589627158*x-0.35682208977308993*z)), abs(0.35682208977308993*x+0.9341723589627158*y)), \
         abs(0.35682208977308993*x-0.9341723589627158*y)) - 1, 1.1025 - (x^2 + y^2 + z^2))";
-    let f = isotrace::Formula::compile("<test>", src).unwrap();
+    let f = isotrace::Formula::compile("<test>", icos).unwrap();
     let wgsl = isotrace::codegen::render_shader(&f.ir, Domain::Interval);
-    assert_eq!(wgsl.matches("ia_seg(").count(), 11, "the library's definition and the ten planes");
-    assert_no_missed_roots(src, cube(1.4), Domain::Interval, 64);
-    let frame = render(src, Domain::Interval, &settings(cube(1.4), 64, 64));
+    assert_eq!(wgsl.matches("ia_ray_lin(g_q").count(), 10, "the ten planes' enclosures");
+    assert_eq!(wgsl.matches("ia_ray(g_q").count(), 1, "the ball's");
+    assert_eq!(wgsl.matches("s_ray_lin(g_q").count() + wgsl.matches("s_ray(g_q").count(), 11, "and their values at points");
+    assert_no_missed_roots(icos, cube(1.4), Domain::Interval, 64);
+    let frame = render(icos, Domain::Interval, &settings(cube(1.4), 64, 64));
     assert!(frame.stats.hits > 400, "{:?}", frame.stats);
-    assert!(frame.stats.evals_mean < 2.7, "{} evaluations a pixel", frame.stats.evals_mean);
+    assert!(frame.stats.evals_mean < 2.25, "{} evaluations a pixel", frame.stats.evals_mean);
+    let quadrics: &[(&str, [f64; 6])] = &[
+        ("x*y + y*z + z*x + 0.3*x - 0.2", cube(1.0)),
+        ("(x - 0.2)^2/0.8 + 2*(y + 0.1)^2 + (1.5*z)^2 - 0.3*x*z - 0.7", cube(1.2)),
+        ("((x^2 + y^2 - 0.64)^2 + (z^2 - 1)^2)*((y^2 + z^2 - 0.64)^2 + (x^2 - 1)^2)*((z^2 + x^2 - 0.64)^2 + (y^2 - 1)^2) - 0.04", cube(1.5)),
+    ];
+    for (src, bbox) in quadrics {
+        let f = isotrace::Formula::compile("<test>", src).unwrap();
+        assert!(isotrace::codegen::render_shader(&f.ir, Domain::Interval).contains("ia_ray(g_q"), "{src}");
+        assert_no_missed_roots(src, *bbox, Domain::Interval, 48);
+    }
 }
 
 /// In RAA the slopes of a formula that is not a polynomial of moderate

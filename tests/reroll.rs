@@ -5,7 +5,7 @@
 //! limit reported, never drawn from a cut-off sum.
 //!
 //! The written-out reference is the same sum with every other term's
-//! factors swapped, `(z + b)·(a·x − y)`: the shapes alternate, so no run is
+//! factors swapped, `(z + b)·(a·x³ − 0.5)`: the shapes alternate, so no run is
 //! long enough to reroll, and each operation has the same operands (IA,
 //! affine and scalar products are symmetric), so the values are the same.
 
@@ -18,16 +18,17 @@ use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Status, Traversal};
 use isotrace::Formula;
 
-/// The sum of `n` bilinear terms on the unit sphere; `alternate` writes
-/// every other term with its factors swapped. Each factor has one of x, y,
-/// z: a factor affine in two (a x − y) is enclosed from a cell's ends when
-/// written out but not inside a loop (`codegen::linear`), and the pictures
-/// would differ by that.
+/// The sum of `n` terms (a x³ − 0.5)(z + b) on the unit sphere; `alternate`
+/// writes every other term with its factors swapped. Each term is of degree
+/// 4: a node of degree ≤ 2 in x, y, z with two or more terms is taken from
+/// the ray when written out but not inside a loop (`codegen::ray_forms`),
+/// and a sum of bilinear terms would be one such node, whose code would
+/// stand in for the loop's in both versions.
 fn sum(n: usize, alternate: bool) -> Formula {
     let terms: Vec<String> = (0..n)
         .map(|i| {
             let (a, b) = (0.5 + i as f64 * 0.013, i as f64 * 0.021 - 0.3);
-            if alternate && i % 2 == 1 { format!("(z+{b:.3})*({a:.3}*x-0.5)") } else { format!("({a:.3}*x-0.5)*(z+{b:.3})") }
+            if alternate && i % 2 == 1 { format!("(z+{b:.3})*({a:.3}*x^3-0.5)") } else { format!("({a:.3}*x^3-0.5)*(z+{b:.3})") }
         })
         .collect();
     Formula::compile("<test>", &format!("x^2 + y^2 + z^2 - 1 + 0.004*({})", terms.join(" + "))).unwrap()

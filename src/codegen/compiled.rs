@@ -7,7 +7,8 @@
 //! number domain produced them, and how several surfaces with `where`
 //! conditions were combined, is decided here.
 
-use super::{derivative, emit_evaluator, emit_evaluator_all, libraries, Domain};
+use super::ray_forms::{self, RayForms};
+use super::{derivative, emit_evaluator, emit_evaluator_all, emit_evaluator_on, libraries, Domain};
 use crate::inline::InlineWgsl;
 use crate::ir::{Ir, NodeId};
 use std::fmt::Write;
@@ -86,10 +87,18 @@ fn scalar_fn(ir: &Ir) -> String {
 }
 
 /// The render kernel's inclusion functions for `domain` over a compiled
-/// formula: its `surf_<p>` (with CSG selection), its scalar `field(p)` and
-/// the [`enclosures`] and [`cell_enclosure`] built on them.
+/// formula: its `surf_<p>` (with CSG selection), its scalar `field(p)`, the
+/// [`enclosures`] and [`cell_enclosure`] built on them, and the scalar
+/// field at a point of a ray, `field_ray(o, dir, s)`, after the ray's
+/// `field_begin_ray`: in the interval domain with the nodes of degree ≤ 2
+/// taken from the ray ([`ray_forms`]), elsewhere `field(o + dir s)`.
 pub fn inclusion(ir: &Ir, domain: Domain) -> String {
-    format!("{}\n{}\n{}{}", surface_fn(ir, domain), scalar_fn(ir), enclosures(domain), cell_enclosure(ir, domain))
+    let ray = if domain == Domain::Interval { ray_forms::ray_nodes(ir) } else { None };
+    let on_ray = match &ray {
+        Some(r) => format!("{}{}", emit_evaluator_on(ir, Domain::Scalar, Some(r)), r.setup()),
+        None => ray_forms::NO_RAY_FORMS.to_string(),
+    };
+    format!("{}\n{}\n{}{}{on_ray}", surface_fn(ir, domain), scalar_fn(ir), enclosures(domain), cell_enclosure(ir, domain, ray.as_ref()))
 }
 
 /// The traversal's enclosures in `domain`, over any field that provides
@@ -147,7 +156,7 @@ pub(crate) fn segment_forms(domain: Domain) -> (&'static str, &'static str) {
 /// without it). With slopes it is `evald_<p>`'s code under this name
 /// ([`derivative::emit_cell_enclosure`]). (The tape field has its own: one
 /// interpreter run.)
-fn cell_enclosure(ir: &Ir, domain: Domain) -> String {
+fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>) -> String {
     let p = domain.prefix();
     let (forms, _) = segment_forms(domain);
     if ir.is_csg() {
@@ -156,7 +165,7 @@ fn cell_enclosure(ir: &Ir, domain: Domain) -> String {
              return vec4<f32>(surf_{p}(X, Y, Z, {p}_const(F.time)), -F.inf, F.inf);\n}}\n"
         );
     }
-    derivative::emit_cell_enclosure(ir, domain, forms)
+    derivative::emit_cell_enclosure(ir, domain, forms, ray)
 }
 
 /// The scalar field of a single-surface formula.

@@ -14,6 +14,7 @@
 //! generated code implements with WGSL expressions (here) and the tape with
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
+use super::ray_forms::RayForms;
 use super::{emit_body_on, emit_odd_power, Domain, Hook};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
@@ -65,25 +66,27 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
 
 /// Emits the bisection's `cell_enclosure(o, dir, s0, s1, slope)` with
 /// `evald_<p>`'s code as its own body: `forms` lifts the ray segment into
-/// `X`, `Y`, `Z` ([`super::compiled::segment_forms`]); the slope is the
-/// whole line without `slope`. lavapipe inlines the field into every
-/// function on the path from the entry point, so an `evald_<p>` called
-/// from here was one more copy of it to clone (150,000 NIR instructions
-/// for `@city` in RAA).
-pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str) -> String {
+/// `X`, `Y`, `Z` ([`super::compiled::segment_forms`]), and `ray`'s nodes
+/// come from their polynomials along the ray over the cell's `t0, t1`
+/// (value and slope); the slope is the whole line without `slope`.
+/// lavapipe inlines the field into every function on the path from the
+/// entry point, so an `evald_<p>` called from here was one more copy of it
+/// to clone (150,000 NIR instructions for `@city` in RAA).
+pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Option<&RayForms>) -> String {
     let p = domain.prefix();
+    let cell = if ray.is_some() { "    let t0 = s0 - g_ray_ref;\n    let t1 = s1 - g_ray_ref;\n" } else { "" };
     let head = format!(
-        "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n    \
+        "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n{cell}    \
          let x = X;\n    let y = Y;\n    let z = Z;\n    let t = {p}_const(F.time);\n    let dx = dir.x;\n    let dy = dir.y;\n    let dz = dir.z;\n"
     );
-    emit_slopes(ir, domain, head, Some(("a", "b")), |q| format!("    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
+    emit_slopes(ir, domain, head, ray, |q| format!("    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
 }
 
 /// A function whose body computes f and its slope along the ray in
 /// `domain`, from `x y z t` (values) and `dx dy dz` (the ray direction)
 /// that `head` declares, and ends with `tail` of the result (the value's
 /// range and the slope's, a `vec4<f32>`).
-fn emit_slopes(ir: &Ir, domain: Domain, head: String, segment: Option<(&str, &str)>, tail: impl FnOnce(&str) -> String) -> String {
+fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, tail: impl FnOnce(&str) -> String) -> String {
     let vp = domain.prefix();
     let slopes = slope_domain(ir, domain);
     let p = slopes.prefix();
@@ -96,7 +99,14 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, segment: Option<(&str, &st
         }
         id as usize
     };
-    let body = emit_body_on(&mut out, ir, domain, segment, |out, hook| match hook {
+    let body = emit_body_on(&mut out, ir, domain, ray.map(|r| (r, "t0, t1")), |out, hook| match hook {
+        // A node taken from the ray has its slope from there (an interval:
+        // ray forms are for interval values, whose slopes are intervals).
+        Hook::Node(id, _) if ray.is_some_and(|r| r.has(id)) => {
+            let i = at(&mut d, id);
+            let _ = writeln!(out, "    let d{id} = {};", ray.expect("tested").slope(id));
+            d[i] = Some(Term::Form(format!("d{id}")));
+        }
         Hook::Node(id, op) => {
             let i = at(&mut d, id);
             if let Some(e) = rule(&mut Wgsl { out, p, domain: slopes, ir, ranged }, id, op, &d) {

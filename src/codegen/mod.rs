@@ -22,7 +22,7 @@ pub mod choice;
 pub mod compiled;
 pub mod derivative;
 pub mod kernel;
-mod linear;
+mod ray_forms;
 pub mod reroll;
 pub mod tape;
 mod tape_derivative;
@@ -171,13 +171,21 @@ fn lit(c: f32) -> String {
 /// Emits `fn eval_<p>(x, y, z, t) -> T` for the formula in `domain`.
 /// Parameters are read with `iso_param(i)`, which the kernel provides.
 pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
+    emit_evaluator_on(ir, domain, None)
+}
+
+/// [`emit_evaluator`], or with `ray` its version on a ray, `fn
+/// eval_<p>_ray(x, y, z, t, tr)`, whose nodes of degree ≤ 2 come from their
+/// polynomials along the ray at `tr` ([`emit_body_on`]).
+pub(crate) fn emit_evaluator_on(ir: &Ir, domain: Domain, ray: Option<&ray_forms::RayForms>) -> String {
     let p = domain.prefix();
     let ty = domain.ty();
     let mut out = String::new();
     let shown = display_limited(ir, ir.root, 160);
     let _ = writeln!(out, "// f = {shown}");
-    let _ = writeln!(out, "fn {}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> {ty} {{", domain.eval_fn());
-    let body = emit_body(&mut out, ir, domain, |_, _| {});
+    let (suffix, extra) = if ray.is_some() { ("_ray", ", tr: f32") } else { ("", "") };
+    let _ = writeln!(out, "fn {}{suffix}(x: {ty}, y: {ty}, z: {ty}, t: {ty}{extra}) -> {ty} {{", domain.eval_fn());
+    let body = emit_body_on(&mut out, ir, domain, ray.map(|r| (r, "tr")), |_, _| {});
     // A select, not a branch, like the op libraries (their tests say why).
     let mut ret = format!("v{}", ir.root);
     if let Some(empty) = body.empty {
@@ -254,14 +262,12 @@ pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, hook: impl Fn
     emit_body_on(out, ir, domain, None, hook)
 }
 
-/// [`emit_body`] for a ray segment from `a` to `b` (WGSL `vec3<f32>`
-/// names in scope; interval domain): a node affine in x, y, z with two or
-/// more of them, used by a node that is not, is enclosed from its values at
-/// the segment's ends (`ia_seg`), the exact range over the segment up to
-/// rounding, where intervals over the segment's box overestimate it (a
-/// plane's |n·p| in a CSG formula: icos.csg's ten).
-pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, segment: Option<(&str, &str)>, mut hook: impl FnMut(&mut String, Hook)) -> Body {
-    let seg_forms = segment.filter(|_| domain == Domain::Interval).map(|ends| (ends, linear::segment_nodes(ir)));
+/// [`emit_body`] on a ray: with `ray` (the forms and the WGSL arguments of
+/// their calls, `t0, t1` for a cell, `tr` for a point), a node of degree
+/// ≤ 2 in x, y, z that [`ray_forms::ray_nodes`] picked is taken from its
+/// polynomial along the ray (`ia_ray`, `s_ray`), where intervals over the
+/// cell's box overestimate it.
+pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Option<(&ray_forms::RayForms, &str)>, mut hook: impl FnMut(&mut String, Hook)) -> Body {
     let p = domain.prefix();
     let plan = reroll::plan(ir);
     let looped = !plan.loops.is_empty();
@@ -279,8 +285,8 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, segment: O
             continue;
         }
         let op = ir.nodes[id as usize];
-        let rhs = match &seg_forms {
-            Some(((a, b), forms)) if forms[id as usize].is_some() => forms[id as usize].as_ref().expect("tested").segment_rhs(a, b),
+        let rhs = match ray {
+            Some((forms, args)) if forms.has(id) => forms.rhs(id, p, args),
             _ => value_rhs(out, domain, id, op, ir),
         };
         let _ = writeln!(out, "    let v{id} = {rhs};");

@@ -53,6 +53,10 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
     var len = first.y - first.x;
     var d_max = d_max0;
     var d_last = d_max + EXTRA_LEVELS;
+    // The field's per-ray state (a compiled field's nodes of degree ≤ 2
+    // along the ray, src/codegen/ray_forms.rs): every cell and point below
+    // is on this ray, between `first.x` and its exit.
+    field_begin_ray(ray.o, ray.dir, first.x, ray.s_exit - first.x);
     // The cell at (d, k) is done (its root was turned down by accept_hit):
     // the cell loop steps past it first.
     var skip = false;
@@ -122,8 +126,8 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
         if (leaf) {
             // f at a leaf's ends; without a finite enclosure, only a sign
             // change is taken for a root.
-            let f0 = field(ray.o + ray.dir * cell.x);
-            let f1 = field(ray.o + ray.dir * cell.y);
+            let f0 = field_ray(ray.o, ray.dir, cell.x);
+            let f1 = field_ray(ray.o, ray.dir, cell.y);
             iso = first_iso(leaf_r);
             fc = vec2<f32>(f0, f1) - vec2<f32>(iso_value(iso));
             if (!(is_finite_range(leaf_r) || brackets(fc.x, fc.y))) {
@@ -166,13 +170,13 @@ fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32, q: vec4<f32>) 
     var r = q.xy;
     var monotone = slope && (q.z > 0.0 || q.w < 0.0);
     let mv = slope && !monotone;
-    let f_a = field(ray.o + ray.dir * select(c.x, 0.5 * (c.x + c.y), mv));
+    let f_a = field_ray(ray.o, ray.dir, select(c.x, 0.5 * (c.x + c.y), mv));
     if (mv) { r = mean_value(c, r, q.zw, f_a, 0.5 * (c.x + c.y)); }
     if (!keep_cell(r)) { return v; }
     let deeper = d < d_max || (!is_finite_range(r) && d < d_last);
     var f1 = 0.0;
     if (monotone) {
-        f1 = field(ray.o + ray.dir * c.y);
+        f1 = field_ray(ray.o, ray.dir, c.y);
         // A monotone cell whose ends are not finite is bisected like any other.
         monotone = abs(f_a) < F.inf && abs(f1) < F.inf;
     }
@@ -252,7 +256,7 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -
             if (n >= LOOKAHEAD || !(b < ray.s_exit)) { return 0.5 * (cell.x + cell.y); }
             s = min(b + w, ray.s_exit);
         }
-        let fm = field(ray.o + ray.dir * s) - c;
+        let fm = field_ray(ray.o, ray.dir, s) - c;
         n = n + 1u;
         if (mode == NARROW_LOOK) {
             a = b;

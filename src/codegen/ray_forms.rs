@@ -1,0 +1,225 @@
+//! Subexpressions of degree at most 2 in x, y, z, restricted to the ray.
+//!
+//! Along a ray p = p0 + dir·t such a node is a polynomial a + b·t + c·t² in
+//! t alone. Its coefficients are worked out once per ray
+//! (`field_begin_ray`, which bisection calls as it starts a ray), and a
+//! cell [t0, t1] then encloses the node by the polynomial's values at the
+//! ends and at its vertex: the exact range over the cell up to rounding,
+//! where intervals over the cell's box overestimate it (x² + y² + z² − 1
+//! over a box adds up three independent ranges) and recompute every
+//! product and sum for every cell. The slope along the ray is b + 2c·t,
+//! exact too, and the scalar value at a point of the ray three operations.
+//! icos.csg's ten planes |n·p| and its ball, the decocube's six quadrics
+//! and sq.csg's three cylinders are such nodes.
+//!
+//! Rounding. The coefficients are computed in f32 from the nodes' f64
+//! coefficients rounded to f32; every evaluation on the ray uses those same
+//! coefficients, so the cells' enclosures, the slopes and the scalar
+//! values are of one polynomial, which differs from the formula's by a few
+//! f32 roundings of its largest terms over the ray's extent in the domain.
+//! Each enclosure is widened by 32 such roundings (`RAY_PAD` in
+//! templates/fields/ray_forms.wgsl).
+
+use super::lit;
+use crate::ir::{Ir, NodeId, Op, Var};
+use std::fmt::Write;
+
+/// The monomials of a form, in this order: 1, x, y, z, x², y², z², xy, xz, yz.
+const MONOMIALS: usize = 10;
+
+/// A polynomial of degree at most 2 in x, y, z: its coefficients over
+/// [`MONOMIALS`], in f64 (the IR's literals).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Quad([f64; MONOMIALS]);
+
+/// The slot of the product of monomials `i` and `j` (both of degree ≤ 1).
+fn product_slot(i: usize, j: usize) -> Option<usize> {
+    match (i.min(j), i.max(j)) {
+        (0, k) => Some(k),
+        (a, b) if a == b => Some(3 + a),
+        (1, 2) => Some(7),
+        (1, 3) => Some(8),
+        (2, 3) => Some(9),
+        _ => None,
+    }
+}
+
+impl Quad {
+    fn var(slot: usize) -> Quad {
+        let mut c = [0.0; MONOMIALS];
+        c[slot] = 1.0;
+        Quad(c)
+    }
+
+    fn scaled(self, k: f64) -> Quad {
+        Quad(self.0.map(|c| c * k))
+    }
+
+    fn plus(self, o: Quad, sign: f64) -> Quad {
+        Quad(std::array::from_fn(|i| self.0[i] + sign * o.0[i]))
+    }
+
+    /// The constant, if the form has no variable.
+    fn constant(self) -> Option<f64> {
+        (self.0[1..] == [0.0; MONOMIALS - 1]).then_some(self.0[0])
+    }
+
+    /// Whether every term is of degree ≤ 1.
+    fn linear(self) -> bool {
+        self.0[4..] == [0.0; MONOMIALS - 4]
+    }
+
+    /// The product of two forms, if its degree is at most 2.
+    fn times(self, o: Quad) -> Option<Quad> {
+        if let Some(k) = self.constant() {
+            return Some(o.scaled(k));
+        }
+        if let Some(k) = o.constant() {
+            return Some(self.scaled(k));
+        }
+        if !(self.linear() && o.linear()) {
+            return None;
+        }
+        let mut c = [0.0; MONOMIALS];
+        for i in 0..4 {
+            for j in 0..4 {
+                let slot = product_slot(i, j).expect("monomials of degree ≤ 1");
+                c[slot] += self.0[i] * o.0[j];
+            }
+        }
+        Some(Quad(c))
+    }
+
+    /// Its monomials other than the constant.
+    fn terms(self) -> usize {
+        self.0[1..].iter().filter(|c| **c != 0.0).count()
+    }
+
+    /// The WGSL call that works out (a, b, c) of the form along the line
+    /// `p0 + d t` (`ray_lin` or `ray_quad` of templates/fields/ray_forms.wgsl),
+    /// with the coefficients made absolute when `abs` (their magnitudes:
+    /// then `p0` and `d` are too).
+    fn along(&self, p0: &str, d: &str, abs: bool) -> String {
+        let c = |i: usize| lit(if abs { self.0[i].abs() as f32 } else { self.0[i] as f32 });
+        let v = |i: usize| format!("vec3<f32>({}, {}, {})", c(i), c(i + 1), c(i + 2));
+        match self.linear() {
+            true => format!("ray_lin({}, {}, {p0}, {d})", c(0), v(1)),
+            false => format!("ray_quad({}, {}, {}, {}, {p0}, {d})", c(0), v(1), v(4), v(7)),
+        }
+    }
+}
+
+/// The form of each node (None where it is not a polynomial of degree ≤ 2
+/// in x, y, z or a coefficient is not a finite f32).
+fn forms(ir: &Ir) -> Vec<Option<Quad>> {
+    let mut f: Vec<Option<Quad>> = Vec::with_capacity(ir.nodes.len());
+    for op in &ir.nodes {
+        let g = |n: &NodeId| f[*n as usize];
+        let form = match op {
+            Op::Const(c) => Some(Quad([*c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])),
+            Op::Var(Var::X) => Some(Quad::var(1)),
+            Op::Var(Var::Y) => Some(Quad::var(2)),
+            Op::Var(Var::Z) => Some(Quad::var(3)),
+            Op::Neg(a) => g(a).map(|a| a.scaled(-1.0)),
+            Op::Add(a, b) => g(a).zip(g(b)).map(|(a, b)| a.plus(b, 1.0)),
+            Op::Sub(a, b) => g(a).zip(g(b)).map(|(a, b)| a.plus(b, -1.0)),
+            Op::Mul(a, b) => g(a).zip(g(b)).and_then(|(a, b)| a.times(b)),
+            Op::PowI(a, 2) => g(a).and_then(|a| a.times(a)),
+            Op::Div(a, b) => g(a).zip(g(b).and_then(|b| b.constant())).filter(|(_, k)| *k != 0.0).map(|(a, k)| a.scaled(1.0 / k)),
+            _ => None,
+        };
+        f.push(form.filter(|q| q.0.iter().all(|c| c.is_finite() && (*c as f32).is_finite())));
+    }
+    f
+}
+
+/// The nodes a bisected compiled field takes from the ray
+/// ([`ray_nodes`]), with their forms.
+pub(crate) struct RayForms {
+    forms: Vec<Option<Quad>>,
+}
+
+/// Most live nodes of a formula whose nodes are taken from the ray. The
+/// scalar field on the ray is a second copy of the scalar evaluator
+/// (`eval_s_ray`): no longer to compile (it replaces `field(p)` at the
+/// traversal's call sites), but more text, and the kernel of a formula of
+/// thousands of nodes near the 500 KB limit would cross it (the city with
+/// three more copies of its blocks, 2,628 operations: 462 → 571 KB, and
+/// `auto` would take the tape). Such formulas are compile-bound; they are
+/// written as before.
+pub(crate) const MAX_NODES: usize = 1500;
+
+/// The nodes to take from the ray: forms of two or more monomials (one
+/// alone, c·x or c·x², is as tight and cheaper over the cell's box) used
+/// by a live node that is not a form, or the root. None for a formula of
+/// several surfaces (level-set CSG), whose cells have no slope, for one of
+/// more than [`MAX_NODES`] live nodes, and where no node qualifies.
+pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
+    let live = ir.live();
+    if ir.is_csg() || live.len() > MAX_NODES {
+        return None;
+    }
+    let f = forms(ir);
+    let mut wanted = vec![false; ir.nodes.len()];
+    for id in live {
+        if f[id as usize].is_none() {
+            for a in ir.nodes[id as usize].operands() {
+                wanted[a as usize] = true;
+            }
+        }
+    }
+    wanted[ir.root as usize] = true;
+    let forms: Vec<Option<Quad>> = f.into_iter().zip(wanted).map(|(q, w)| q.filter(|q| w && q.terms() >= 2)).collect();
+    forms.iter().any(Option::is_some).then_some(RayForms { forms })
+}
+
+impl RayForms {
+    /// Whether node `id` is taken from the ray.
+    pub(crate) fn has(&self, id: NodeId) -> bool {
+        self.forms.get(id as usize).is_some_and(Option::is_some)
+    }
+
+    /// The value of node `id` in the domain with prefix `p` (`s` or `ia`)
+    /// at `args` (`tr`: the ray parameter from the ray's start; `t0, t1`: a cell's).
+    pub(crate) fn rhs(&self, id: NodeId, p: &str, args: &str) -> String {
+        let lin = self.forms[id as usize].is_some_and(|q| q.linear());
+        format!("{p}_ray{}(g_q{id}, g_qv{id}, {args})", if lin { "_lin" } else { "" })
+    }
+
+    /// The slope along the ray of node `id` over the cell `t0, t1`.
+    pub(crate) fn slope(&self, id: NodeId) -> String {
+        let lin = self.forms[id as usize].is_some_and(|q| q.linear());
+        format!("ia_ray_slope{}(g_q{id}, g_qv{id}, t0, t1)", if lin { "_lin" } else { "" })
+    }
+
+    /// The per-ray state (`g_q{id}`: a, b, c and the value's pad; `g_qv{id}`:
+    /// the slope's pad, then the vertex and the value there, or for a node
+    /// of degree 1 its slope's enclosure) and
+    /// `field_begin_ray`, which works it out for a ray o + dir·s from
+    /// s = s_ref over a length `len`.
+    pub(crate) fn setup(&self) -> String {
+        let mut out = String::from("var<private> g_ray_ref: f32;\n");
+        let mut body = String::new();
+        for (id, q) in self.forms.iter().enumerate().filter_map(|(i, q)| q.map(|q| (i, q))) {
+            let _ = writeln!(out, "var<private> g_q{id}: vec4<f32>;\nvar<private> g_qv{id}: vec3<f32>;");
+            let _ = writeln!(body, "    let q{id} = {};\n    let m{id} = {};", q.along("p0", "dir", false), q.along("P", "ad", true));
+            let _ = writeln!(body, "    g_q{id} = vec4<f32>(q{id}, RAY_PAD * (m{id}.x + len * (m{id}.y + len * m{id}.z)));");
+            // The vertex, or for a node of degree 1 its slope (b ± pad).
+            let _ = writeln!(body, "    let e{id} = RAY_PAD * (m{id}.y + 2.0 * len * m{id}.z);");
+            let rest = if q.linear() { format!("q{id}.y - e{id}, q{id}.y + e{id}") } else { format!("ray_vertex(q{id})") };
+            let _ = writeln!(body, "    g_qv{id} = vec3<f32>(e{id}, {rest});");
+        }
+        let _ = write!(
+            out,
+            "{}\nfn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {{\n    \
+             let p0 = o + dir * s_ref;\n    let P = max(abs(p0), abs(p0 + dir * len));\n    let ad = abs(dir);\n    g_ray_ref = s_ref;\n{body}}}\n",
+            include_str!("../../templates/fields/ray_forms.wgsl")
+        );
+        out
+    }
+}
+
+/// The hooks of a compiled field without ray forms: the scalar field at a
+/// point of the ray is the field at that point.
+pub(crate) const NO_RAY_FORMS: &str = "fn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {}\n\
+    fn field_ray(o: vec3<f32>, dir: vec3<f32>, s: f32) -> f32 { return field(o + dir * s); }\n";
