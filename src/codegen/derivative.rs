@@ -192,6 +192,11 @@ pub(crate) trait Terms {
         let vc = self.value(c);
         self.bin(D::Div, a, vc)
     }
+    /// |a|' from the value `a` and its slope `da`: sign(a)·a'.
+    fn dabs(&mut self, a: Self::T, da: Self::T) -> Self::T {
+        let s = self.un(D::Sign, a);
+        self.bin(D::Mul, s, da)
+    }
 }
 
 /// The derivative of IR node `id` (operation `op`) from its operands'
@@ -391,10 +396,7 @@ fn call1<B: Terms>(b: &mut B, f: Func1, a: NodeId, id: NodeId, da: B::T) -> B::T
             let a1 = one_and(b, D::Sub, vid);
             b.bin(D::Mul, a1, da)
         }
-        Func1::Abs => {
-            let s = b.un(D::Sign, va);
-            b.bin(D::Mul, s, da)
-        }
+        Func1::Abs => b.dabs(va, da),
         Func1::Sign => b.bin(D::Dsign, va, da),
         Func1::Floor => b.bin(D::Dfloor, va, da),
     }
@@ -519,6 +521,18 @@ impl Terms for Wgsl<'_> {
     }
     fn whole(&mut self) -> Term {
         Term::Form(format!("{}_whole()", self.p))
+    }
+    /// In interval slopes, `ia_dabs`: a's slope or its negative where a
+    /// keeps its sign, their hull where it does not. The product
+    /// sign(a)·a' gives that too (and the hull of 0 and a' where a's range
+    /// ends at 0), but `ia_mul`'s general case cost icos.csg's ten |n·p|
+    /// a tenth of its frame (30.8 → 26.8 ms, 1024² ortho).
+    fn dabs(&mut self, a: Term, da: Term) -> Term {
+        if self.p != "ia" {
+            let s = self.un(D::Sign, a);
+            return self.bin(D::Mul, s, da);
+        }
+        Term::Form(format!("ia_dabs({}, {})", a.lift("ia"), da.lift("ia")))
     }
     fn divide(&mut self, a: Term, c: NodeId) -> Term {
         let by_literal = match self.ir.nodes.get(c as usize) {

@@ -43,33 +43,6 @@ fn ia_pad(r: vec2<f32>, abs_err: f32, rel_err: f32) -> vec2<f32> {
 
 fn ia_neg(a: vec2<f32>) -> vec2<f32> { return -a.yx; }
 fn ia_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a + b; }
-// A node of degree ≤ 2 in x, y, z restricted to the ray (src/codegen/
-// ray_forms.rs): q = (a, b, c, pad) of a + b t + c t², v = (the slope's
-// pad, the vertex t_v, the value there), worked out once per ray. Over the
-// cell [t0, t1]: the values at the ends and, when t_v is inside, at the
-// vertex, widened by the pad (their rounding). Exact up to that, where
-// the cell's box overestimates a sum of several variables' terms.
-fn ia_ray(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let fa = q.x + t0 * (q.y + q.z * t0);
-    let fb = q.x + t1 * (q.y + q.z * t1);
-    let fv = select(fa, v.z, v.y > t0 && v.y < t1);
-    return vec2<f32>(min(min(fa, fb), fv) - q.w, max(max(fa, fb), fv) + q.w);
-}
-// ia_ray of a node of degree 1 (c = 0, no vertex).
-fn ia_ray_lin(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let fa = q.x + q.y * t0;
-    let fb = q.x + q.y * t1;
-    return vec2<f32>(min(fa, fb) - q.w, max(fa, fb) + q.w);
-}
-// The slope of a node of degree 1: b widened by its pad, the same on
-// every cell (v.yz, worked out with the ray).
-fn ia_ray_slope_lin(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> { return v.yz; }
-// Its slope along the ray, b + 2 c t over the cell, widened by its pad.
-fn ia_ray_slope(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let sa = q.y + 2.0 * q.z * t0;
-    let sb = q.y + 2.0 * q.z * t1;
-    return vec2<f32>(min(sa, sb) - v.x, max(sa, sb) + v.x);
-}
 fn ia_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> { return a - b.yx; }
 // A product with an exact f32 (a constant, a ray direction): two products
 // instead of four. A zero factor gives 0, also with an unbounded a (its

@@ -51,9 +51,6 @@ fn iso_is_nan(a: f32) -> bool { return (bitcast<u32>(a) & 0x7fffffffu) > 0x7f800
 // A literal with its enclosing f32 interval: the point value (the tape
 // interpreter's constants carry all three; each domain takes its own).
 fn s_lit(n: f32, lo: f32, hi: f32) -> f32 { return n; }
-// A node of degree ≤ 2 restricted to the ray (ia_ray) at t.
-fn s_ray(q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 { return q.x + t * (q.y + q.z * t); }
-fn s_ray_lin(q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 { return q.x + q.y * t; }
 // The derivative helpers in the scalar domain: the tape interpreter runs
 // one instruction set in every domain, though scalar programs never hold
 // derivative instructions.

@@ -32,6 +32,37 @@ fn ray_vertex(q: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(tv, q.x + tv * (q.y + q.z * tv));
 }
 
+// A node of degree ≤ 2 in x, y, z restricted to the ray (src/codegen/
+// ray_forms.rs): q = (a, b, c, pad) of a + b t + c t², v = (the slope's
+// pad, the vertex t_v, the value there), worked out once per ray. Over the
+// cell [t0, t1]: the values at the ends and, when t_v is inside, at the
+// vertex, widened by the pad (their rounding). Exact up to that, where
+// the cell's box overestimates a sum of several variables' terms.
+fn ia_ray(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    let fa = q.x + t0 * (q.y + q.z * t0);
+    let fb = q.x + t1 * (q.y + q.z * t1);
+    let fv = select(fa, v.z, v.y > t0 && v.y < t1);
+    return vec2<f32>(min(min(fa, fb), fv) - q.w, max(max(fa, fb), fv) + q.w);
+}
+// ia_ray of a node of degree 1 (c = 0, no vertex).
+fn ia_ray_lin(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    let fa = q.x + q.y * t0;
+    let fb = q.x + q.y * t1;
+    return vec2<f32>(min(fa, fb) - q.w, max(fa, fb) + q.w);
+}
+// The slope of a node of degree 1: b widened by its pad, the same on
+// every cell (v.yz, worked out with the ray).
+fn ia_ray_slope_lin(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> { return v.yz; }
+// Its slope along the ray, b + 2 c t over the cell, widened by its pad.
+fn ia_ray_slope(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    let sa = q.y + 2.0 * q.z * t0;
+    let sb = q.y + 2.0 * q.z * t1;
+    return vec2<f32>(min(sa, sb) - v.x, max(sa, sb) + v.x);
+}
+// Its value at t (the scalar domain's).
+fn s_ray(q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 { return q.x + t * (q.y + q.z * t); }
+fn s_ray_lin(q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 { return q.x + q.y * t; }
+
 fn field_ray(o: vec3<f32>, dir: vec3<f32>, s: f32) -> f32 {
     let p = o + dir * s;
     return eval_s_ray(p.x, p.y, p.z, F.time, s - g_ray_ref);
