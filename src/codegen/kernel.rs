@@ -198,6 +198,28 @@ pub fn scene_eval_shader(features: u32) -> String {
         .expect("the eval template has its markers")
 }
 
+/// The `eval` kernel over bisection's interval cells on rays (the hook the
+/// tests use to check the cell enclosure, with the nodes it takes from the
+/// ray, against f64 samples on the device). Three boxes a query, 24
+/// floats: o, dir, s_ref, len (the ray and what `field_begin_ray` gets),
+/// then the cell's s0, s1. Results: box 3k the value's range over the
+/// cell, 3k + 1 the slope's along dir, 3k + 2 the scalar field on the ray
+/// at s0 and at s1. The render kernel's frame block is replaced by the two
+/// fields the field code reads.
+pub fn ray_cell_eval_shader(ir: &Ir) -> String {
+    use crate::layout::GpuBlock;
+    let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\n";
+    let evaluator = format!("{frame}{}", compiled::field_code(ir, Some(Domain::Interval), None, false));
+    let call = "    F = CellEvalFrame(0.0, iso_inf());\n    let k = (i / 3u) * 24u;\n    \
+                let o = vec3<f32>(boxes[k], boxes[k + 1u], boxes[k + 2u]);\n    \
+                let dir = vec3<f32>(boxes[k + 3u], boxes[k + 4u], boxes[k + 5u]);\n    \
+                field_begin_ray(o, dir, boxes[k + 6u], boxes[k + 7u]);\n    let s0 = boxes[k + 8u];\n    let s1 = boxes[k + 9u];\n    \
+                let c = cell_enclosure(o, dir, s0, s1, true);\n    \
+                return select(select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), c.zw, i % 3u == 1u), c.xy, i % 3u == 0u);";
+    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
+        .expect("the eval template has its markers")
+}
+
 /// An assembled render kernel.
 #[derive(Debug, Clone)]
 pub struct Kernel {

@@ -30,7 +30,7 @@ pub mod tape_field;
 pub mod template;
 
 pub use compiled::inclusion;
-pub use kernel::{assemble, assemble_for, render_shader, scene_eval_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
+pub use kernel::{assemble, assemble_for, ray_cell_eval_shader, render_shader, scene_eval_shader, sphere_shader, FieldSource, Kernel, SceneData, Texels};
 pub use choice::{FieldKind, PreparedField};
 pub use tape::{TapeData, TapeError};
 

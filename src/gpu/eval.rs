@@ -134,6 +134,62 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::codegen::SceneData, points: &
     Ok(out)
 }
 
+/// A cell of a ray for [`eval_ray_cells`]: the ray o + dir·s, the start
+/// `s_ref` and length `len` of its part in the domain (what bisection
+/// gives `field_begin_ray`), and the cell [s0, s1] inside it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayCell {
+    /// The ray's origin.
+    pub o: [f32; 3],
+    /// Its direction (any length: s is in its units).
+    pub dir: [f32; 3],
+    /// Where the ray's part in the domain starts.
+    pub s_ref: f32,
+    /// That part's length in s.
+    pub len: f32,
+    /// The cell [s0, s1].
+    pub cell: [f32; 2],
+}
+
+/// What the device's interval bisection computes on a [`RayCell`]: the
+/// value's range over the cell, the slope's along dir, and the scalar
+/// field on the ray at the cell's ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellEnclosure {
+    /// f's range over the cell.
+    pub value: [f32; 2],
+    /// The range of f's slope d f(o + s dir) / ds over the cell.
+    pub slope: [f32; 2],
+    /// f on the ray at s0 and s1.
+    pub ends: [f32; 2],
+}
+
+/// Runs bisection's interval cell enclosure of a compiled formula (with
+/// the nodes it takes from the ray, `codegen::ray_forms`) on every cell.
+pub fn eval_ray_cells(gpu: &Gpu, ir: &Ir, cells: &[RayCell]) -> Result<Vec<CellEnclosure>, EvalError> {
+    if cells.is_empty() {
+        return Ok(vec![]);
+    }
+    let src = crate::codegen::ray_cell_eval_shader(ir);
+    validate(&src)?;
+    let pipeline = gpu.pipeline("isotrace eval (ray cells)", &src, Author::Isotrace)?;
+    let table = match crate::codegen::reroll::table_texels(ir) {
+        Some(t) => Some(table_group(gpu, &pipeline, &t)?),
+        None => None,
+    };
+    let boxes: Vec<Box8> = cells
+        .iter()
+        .flat_map(|c| [[c.o[0], c.o[1], c.o[2], c.dir[0], c.dir[1], c.dir[2], c.s_ref, c.len], [c.cell[0], c.cell[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0; 8]])
+        .collect();
+    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(3, 1 << 22) / 3 * 3;
+    let mut out = Vec::with_capacity(cells.len());
+    for part in boxes.chunks(chunk) {
+        let r = run_chunk_with(gpu, &pipeline, part, &[], table.as_ref().map(|(g, _)| g))?;
+        out.extend(r.chunks(3).map(|q| CellEnclosure { value: q[0], slope: q[1], ends: q[2] }));
+    }
+    Ok(out)
+}
+
 /// One dispatch over `boxes`; `field` is bound as group 1 (a tape, a scene,
 /// a formula's table of rerolled constants).
 fn run_chunk_with(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], params: &[f32], field: Option<&wgpu::BindGroup>) -> Result<Vec<[f32; 2]>, EvalError> {

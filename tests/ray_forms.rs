@@ -1,0 +1,129 @@
+//! Bisection's interval cells on rays, on the device (`gpu::eval::eval_ray_cells`):
+//! the cell enclosure of a compiled formula, with the nodes of degree ≤ 2 in
+//! x, y, z that it takes from their polynomial along the ray
+//! (`codegen::ray_forms`), holds f64 samples of f and of its slope along the
+//! ray over the cell, and the scalar field on the ray is f at the cell's ends.
+
+mod common;
+
+use common::gpu;
+use isotrace::gpu::eval::{eval_ray_cells, CellEnclosure, RayCell};
+use isotrace::Formula;
+
+/// A small deterministic generator (xorshift), uniform in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// Random cells of rays through the cube [-a, a]³: an origin near it, a
+/// direction of length 0.5 to 2, the ray's part [s_ref, s_ref + len], and a
+/// cell of it from the whole part down to 2^-12 of it.
+fn cells(a: f64, n: usize, seed: u64) -> Vec<RayCell> {
+    let mut r = Rng(seed);
+    (0..n)
+        .map(|_| {
+            let o = [0, 1, 2].map(|_| r.range(-1.5 * a, 1.5 * a) as f32);
+            let scale = r.range(0.5, 2.0);
+            let d: [f64; 3] = [0, 1, 2].map(|_| r.range(-1.0, 1.0));
+            let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1e-3);
+            let dir = d.map(|c| (c / l * scale) as f32);
+            let s_ref = r.range(0.0, 1.0) as f32;
+            let len = (r.range(0.5, 3.0) * a / scale) as f32;
+            let w = len as f64 * 2f64.powf(-r.range(0.0, 12.0));
+            let s0 = s_ref as f64 + r.range(0.0, len as f64 - w);
+            RayCell { o, dir, s_ref, len, cell: [s0 as f32, (s0 + w) as f32] }
+        })
+        .collect()
+}
+
+/// f64 samples of f and of its slope along the ray over each cell lie in the
+/// device's enclosures (up to a millionth of the values' size), and the
+/// scalar ends are f's. Returns the mean ratio of the value enclosure's
+/// width to the sampled range's.
+fn check(src: &str, a: f64, seed: u64) -> f64 {
+    let f = Formula::compile("<test>", src).unwrap();
+    let cs = cells(a, 400, seed);
+    let got: Vec<CellEnclosure> = eval_ray_cells(gpu(), &f.ir, &cs).unwrap();
+    let eval = |c: &RayCell, s: f64| {
+        let p = [0, 1, 2].map(|k| c.o[k] as f64 + c.dir[k] as f64 * s);
+        isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[])
+    };
+    let mut ratios = vec![];
+    for (c, e) in cs.iter().zip(&got) {
+        let [s0, s1] = c.cell.map(f64::from);
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..=64 {
+            let s = s0 + (s1 - s0) * k as f64 / 64.0;
+            let v = eval(c, s);
+            let tol = 1e-6 * (1.0 + v.abs());
+            assert!(f64::from(e.value[0]) - tol <= v && v <= f64::from(e.value[1]) + tol, "{src}: f({s}) = {v} outside {:?} on {c:?}", e.value);
+            let h = 1e-4 * (s1 - s0).max(1e-6);
+            let slope = (eval(c, s + h) - eval(c, s - h)) / (2.0 * h);
+            let stol = 1e-3 * (1.0 + slope.abs());
+            assert!(f64::from(e.slope[0]) - stol <= slope && slope <= f64::from(e.slope[1]) + stol, "{src}: f'({s}) = {slope} outside {:?} on {c:?}", e.slope);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        for (k, s) in [s0, s1].into_iter().enumerate() {
+            let v = eval(c, s);
+            assert!((f64::from(e.ends[k]) - v).abs() <= 1e-5 * (1.0 + v.abs()), "{src}: field_ray({s}) = {} against {v} on {c:?}", e.ends[k]);
+        }
+        if hi > lo {
+            ratios.push((f64::from(e.value[1]) - f64::from(e.value[0])) / (hi - lo));
+        }
+    }
+    ratios.iter().sum::<f64>() / ratios.len() as f64
+}
+
+#[test]
+fn cell_enclosures_on_rays_hold_f64_samples() {
+    let icos = "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), \
+        abs(0.5773502691896258*(x-y+z))), abs(0.5773502691896258*(-x+y+z))), abs(0.35682208977308993*y+0.9341723589627158*z)), \
+        abs(0.35682208977308993*y-0.9341723589627158*z)), abs(0.9341723589627158*x+0.35682208977308993*z)), \
+        abs(0.9341723589627158*x-0.35682208977308993*z)), abs(0.35682208977308993*x+0.9341723589627158*y)), \
+        abs(0.35682208977308993*x-0.9341723589627158*y)) - 1, 1.1025 - (x^2 + y^2 + z^2))";
+    let bilinear: Vec<String> = (0..40).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + i as f64 * 0.013, i as f64 * 0.021 - 0.3)).collect();
+    let sum = format!("x^2 + y^2 + z^2 - 1 + 0.004*({})", bilinear.join(" + "));
+    let cases: &[(&str, f64)] = &[
+        (icos, 1.4),
+        ("x*y + y*z + z*x + 0.3*x - 0.2", 1.0),
+        ("(x - 0.2)^2/0.8 + 2*(y + 0.1)^2 + (1.5*z)^2 - 0.3*x*z - 0.7", 1.2),
+        ("((x^2 + y^2 - 0.64)^2 + (z^2 - 1)^2)*((y^2 + z^2 - 0.64)^2 + (x^2 - 1)^2)*((z^2 + x^2 - 0.64)^2 + (y^2 - 1)^2) - 0.04", 1.5),
+        ("max(x^8 + y^8 + z^8 - 1, -min(min(y^2 + z^2 - 0.25, x^2 + z^2 - 0.25), x^2 + y^2 - 0.25))", 1.5),
+        ("sqrt((x - 0.3)^2 + y^2) - 0.5 + 0.1*sin(4*z)", 1.0),
+        (&sum, 1.6),
+    ];
+    for (k, (src, a)) in cases.iter().enumerate() {
+        check(src, *a, 0x9e37_79b9_7f4a_7c15 ^ k as u64);
+    }
+    // A formula that is one quadric as a whole is enclosed exactly, up to
+    // its pad (2^-19 of its terms' size, which is most of the narrowest
+    // cells' ranges): the sphere's enclosures are 1.6 % wider than its
+    // sampled ranges on average; over the cells' boxes they are 2.7 times
+    // as wide as that.
+    let ratio = check("x^2 + y^2 + z^2 - 1", 1.5, 7);
+    assert!(ratio < 1.05, "mean width over sampled range {ratio}");
+    let f = Formula::compile("<test>", "x^2 + y^2 + z^2 - 1").unwrap();
+    let cs = cells(1.5, 400, 7);
+    let boxes: Vec<isotrace::gpu::eval::Box8> = cs
+        .iter()
+        .map(|c| {
+            let end = |s: f32| [0, 1, 2].map(|k| c.o[k] + c.dir[k] * s);
+            let (a, b) = (end(c.cell[0]), end(c.cell[1]));
+            [a[0].min(b[0]), a[0].max(b[0]), a[1].min(b[1]), a[1].max(b[1]), a[2].min(b[2]), a[2].max(b[2]), 0.0, 0.0]
+        })
+        .collect();
+    let over_box = isotrace::gpu::eval::eval_boxes(gpu(), &f.ir, isotrace::codegen::Domain::Interval, &boxes, &[]).unwrap();
+    let got = eval_ray_cells(gpu(), &f.ir, &cs).unwrap();
+    let wider = got.iter().zip(&over_box).map(|(g, b)| f64::from(b[1] - b[0]) / f64::from(g.value[1] - g.value[0]).max(1e-30)).sum::<f64>() / cs.len() as f64;
+    assert!(wider > 1.3, "the boxes' enclosures are {wider} times as wide on average");
+}
