@@ -9,8 +9,8 @@
 //! over a box adds up three independent ranges) and recompute every
 //! product and sum for every cell. The slope along the ray is b + 2c·t,
 //! exact too, and the scalar value at a point of the ray three operations.
-//! icos.csg's ten planes |n·p| and its ball, the decocube's six quadrics
-//! and sq.csg's three cylinders are such nodes.
+//! icos.csg's ten planes |n·p| and its ball, the decocube's three
+//! x² + y² − 0.64 and sq.csg's three cylinders are such nodes.
 //!
 //! Rounding. The coefficients are computed in f32 from the nodes' f64
 //! coefficients rounded to f32; every evaluation on the ray uses those same
