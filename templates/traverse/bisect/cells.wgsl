@@ -244,12 +244,13 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -
         return b;
     }
     let w = cell.y - cell.x;
+    let itp = itp_cell(w, ray.eps_s);
     var n = 0u;
     loop {
         var s = 0.5 * (a + b);
         if (mode == NARROW_ITP) {
             if (n >= 40u || !(b - a > ray.eps_s)) { break; }
-            s = itp_point(a, b, fa, fb, n, w, ray.eps_s);
+            s = itp_point(a, b, fa, fb, n, itp, ray.eps_s);
         } else if (mode == NARROW_BISECT) {
             if (n >= 10u) { break; }
         } else {

@@ -398,7 +398,7 @@ fn next_solve(p: ptr<function, Probe>, ray: Ray, c: vec2<f32>) {
 // The next point of a monotone cell c's root search (itp_point).
 fn solve_point(p: Probe, ray: Ray, c: vec2<f32>) -> f32 {
     let w = c.y - c.x;
-    return itp_point(p.a, p.b, p.fa, p.fb, p.n, w, ray.eps_s);
+    return itp_point(p.a, p.b, p.fa, p.fb, p.n, itp_cell(w, ray.eps_s), ray.eps_s);
 }
 
 // One step of the root search with fm = f(p.s) − c: the end of the bracket
