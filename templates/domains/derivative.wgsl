@@ -16,8 +16,9 @@ fn ia_dmax(a: vec2<f32>, b: vec2<f32>, da: vec2<f32>, db: vec2<f32>) -> vec2<f32
     return select(select(vec2<f32>(min(da.x, db.x), max(da.y, db.y)), db, b.x >= a.y), da, a.x >= b.y);
 }
 // |a|' for a value a with slope da: da where a >= 0 over the cell (|a| is
-// a there), -da where a <= 0, and their hull where a takes both signs. (What
-// sign(a) · da gives, without ia_mul's general case.)
+// a there), -da where a <= 0, and their hull where a takes both signs: what
+// sign(a) · da gives (or tighter, where a's range ends at 0), without
+// ia_mul's general case.
 fn ia_dabs(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
     let m = max(abs(da.x), abs(da.y));
     return select(select(vec2<f32>(-m, m), -da.yx, a.y <= 0.0), da, a.x >= 0.0);
