@@ -86,11 +86,7 @@ fn check(src: &str, a: f64, seed: u64) -> f64 {
 
 #[test]
 fn cell_enclosures_on_rays_hold_f64_samples() {
-    let icos = "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), \
-        abs(0.5773502691896258*(x-y+z))), abs(0.5773502691896258*(-x+y+z))), abs(0.35682208977308993*y+0.9341723589627158*z)), \
-        abs(0.35682208977308993*y-0.9341723589627158*z)), abs(0.9341723589627158*x+0.35682208977308993*z)), \
-        abs(0.9341723589627158*x-0.35682208977308993*z)), abs(0.35682208977308993*x+0.9341723589627158*y)), \
-        abs(0.35682208977308993*x-0.9341723589627158*y)) - 1, 1.1025 - (x^2 + y^2 + z^2))";
+    let icos = &common::catalog_formula("icos.csg");
     let bilinear: Vec<String> = (0..40).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + i as f64 * 0.013, i as f64 * 0.021 - 0.3)).collect();
     let sum = format!("x^2 + y^2 + z^2 - 1 + 0.004*({})", bilinear.join(" + "));
     let cases: &[(&str, f64)] = &[

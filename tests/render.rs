@@ -218,11 +218,7 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
 /// 2.20 with its ball from the ray too).
 #[test]
 fn nodes_of_degree_two_are_taken_from_the_ray() {
-    let icos = "max(max(max(max(max(max(max(max(max(max(abs(0.5773502691896258*(x+y+z)), abs(0.5773502691896258*(x+y-z))), \
-        abs(0.5773502691896258*(x-y+z))), abs(0.5773502691896258*(-x+y+z))), abs(0.35682208977308993*y+0.9341723589627158*z)), \
-        abs(0.35682208977308993*y-0.9341723589627158*z)), abs(0.9341723589627158*x+0.35682208977308993*z)), \
-        abs(0.9341723589627158*x-0.35682208977308993*z)), abs(0.35682208977308993*x+0.9341723589627158*y)), \
-        abs(0.35682208977308993*x-0.9341723589627158*y)) - 1, 1.1025 - (x^2 + y^2 + z^2))";
+    let icos = &catalog_formula("icos.csg");
     let f = isotrace::Formula::compile("<test>", icos).unwrap();
     let wgsl = isotrace::codegen::render_shader(&f.ir, Domain::Interval);
     assert_eq!(wgsl.matches("ia_ray_lin(g_q").count(), 10, "the ten planes' enclosures");

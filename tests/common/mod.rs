@@ -16,6 +16,12 @@ pub fn gpu() -> &'static Gpu {
     GPU.get_or_init(|| Gpu::new().expect("a Vulkan device (install mesa-vulkan-drivers)"))
 }
 
+/// The text of a catalog surface (`examples/*.iso`, header lines and all:
+/// they are comments to the formula language).
+pub fn catalog_formula(name: &str) -> String {
+    isotrace::catalog::lookup(name).unwrap().formula
+}
+
 /// Settings with the CLI's defaults for a box and size.
 pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
     Settings::for_box(bbox, w, h)
