@@ -328,18 +328,6 @@ use isotrace::render::Optimizations;
     }
 }
 
-/// Whether f changes sign within 2 eps of distance `t` along pixel k's ray.
-fn sign_change_near(f: &isotrace::Formula, s: &isotrace::render::Settings, k: u32, t: f64) -> bool {
-    let cf = s.camera.frame().unwrap();
-    let d = Camera::ray(&cf, k % s.width, k / s.width, s.width, s.height);
-    let g = |t: f64| {
-        let p = s.camera.eye + d * t;
-        isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
-    };
-    let (a, b) = (g(t - 2.0 * s.eps), g(t + 2.0 * s.eps));
-    (a <= 0.0) != (b <= 0.0)
-}
-
 /// A monotone cell's root (the ITP method, `itp_point` in the bisection
 /// kernel) ends within eps of f's sign change also where f is steep: x^200
 /// goes from -1 to 1e35 across the superquadric's faces, where regula

@@ -13,7 +13,7 @@ use super::{compiled, tape_field, template, Domain, TapeData};
 use crate::inline::InlineWgsl;
 use crate::ir::Ir;
 use crate::layout::{self, BisectBlock, SphereBlock};
-use crate::render::{BisectOptions, Modalities, SphereFeatures, Traversal};
+use crate::render::{BisectOptions, Modalities, RootSearch, SphereFeatures, Traversal};
 use std::fmt::Write;
 use std::ops::Range;
 
@@ -252,7 +252,7 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
                 field.code(Some(b.algebra), user, false, subgroups),
-                bisect(b, field.surfaces(), matches!(field, FieldSource::Tape(_))),
+                bisect(b, field.surfaces(), matches!(field, FieldSource::Tape(_)), paired_root_search(field, b.root_search)),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
@@ -280,16 +280,43 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
     Kernel { wgsl, entries, inline }
 }
 
+/// The largest compiled formula (live IR nodes, `isotrace check`'s
+/// operations) whose bisection kernel gets the two-point root search by
+/// default. A big f keeps the core busy on its own, so the second point
+/// costs nearly what the first does: at 1024² `@creature` (454 nodes) is
+/// faster with two points (137-142 against 147-149 ms), `@city` (678)
+/// slower (412-426 against 406-409 ms). Its second copy of f in the kernel
+/// adds little to the compile (`@city`'s `main` 282 → 292-305 ms).
+pub const PAIR_MAX_NODES: usize = 500;
+
+/// Whether bisecting `field` closes in on roots two points a step
+/// (narrow_pair.wgsl) for the user's `choice`: only a compiled field's
+/// cells can (an interpreted field's cell work runs from one call site).
+fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
+    let FieldSource::Compiled(ir) = field else { return false };
+    match choice {
+        RootSearch::Auto => ir.live().len() <= PAIR_MAX_NODES,
+        RootSearch::OnePoint => false,
+        RootSearch::TwoPoints => true,
+    }
+}
+
 /// The bisection traversal with its modalities' code and configuration;
 /// `one_call` runs a cell's scalar work from one call site of f (an
-/// interpreted field, whose every call site is a whole interpreter).
-fn bisect(b: &BisectOptions, surfaces: usize, one_call: bool) -> String {
+/// interpreted field, whose every call site is a whole interpreter), else
+/// `pair` picks the compiled cells' root search.
+fn bisect(b: &BisectOptions, surfaces: usize, one_call: bool, pair: bool) -> String {
     let m = &b.modalities;
     let config = format!("{}{}", bisect_config(m, surfaces), hooks(m.inline.as_ref()));
     let modalities = format!("{}{}", template::optional(template::BISECT_SHADOWS, m.shadows), template::optional(template::BISECT_REFLECTIONS, m.reflect > 0));
+    let cells = if one_call {
+        template::BISECT_CELLS[1].to_string()
+    } else {
+        template::splice(template::BISECT_CELLS[0], &[("narrow", template::optional(template::BISECT_NARROW, pair))]).expect("the cells template has its marker")
+    };
     template::splice(
         template::BISECT,
-        &[("config", &config), ("cells", template::optional(template::BISECT_CELLS, one_call)), ("shading", template::BISECT_SHADE), ("modalities", &modalities), ("tiles", template::BISECT_TILES)],
+        &[("config", &config), ("cells", &cells), ("shading", template::BISECT_SHADE), ("modalities", &modalities), ("tiles", template::BISECT_TILES)],
     )
     .expect("the bisection template has its markers")
 }

@@ -34,6 +34,12 @@ pub const BISECT_CELLS: [&str; 2] = [
     include_str!("../../templates/traverse/bisect/cells.wgsl"),
     include_str!("../../templates/traverse/bisect/cells_probe.wgsl"),
 ];
+/// Bisection's root search in a compiled field's cells: one point of f a
+/// step, and two (`narrow` in cells.wgsl).
+pub const BISECT_NARROW: [&str; 2] = [
+    include_str!("../../templates/traverse/bisect/narrow.wgsl"),
+    include_str!("../../templates/traverse/bisect/narrow_pair.wgsl"),
+];
 /// Bisection's tile pass (entry point `tiles`).
 pub const BISECT_TILES: &str = include_str!("../../templates/traverse/bisect/tiles.wgsl");
 /// Bisection's shading, colour modes and environment.

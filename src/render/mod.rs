@@ -13,7 +13,7 @@ pub mod view;
 
 pub use settings::{Settings, SettingsError, SettingsField, Unresolved};
 pub use stats::{BisectStats, FieldStats, SphereStats, Stats, StatsAcc, TapeListStats};
-pub use traversal::{BisectOptions, EnvSpec, Environment, EnvImage, ModalitySpec, Modalities, Optimizations, Shading, SphereFeatures, SphereOptions, Traversal};
+pub use traversal::{BisectOptions, EnvSpec, Environment, EnvImage, ModalitySpec, Modalities, Optimizations, RootSearch, Shading, SphereFeatures, SphereOptions, Traversal};
 pub use view::{View, ViewError};
 
 /// A pinhole camera: eye, target, up, vertical field of view.

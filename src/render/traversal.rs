@@ -45,13 +45,35 @@ pub struct BisectOptions {
     pub modalities: Modalities,
     /// The traversal's optimisations (uniforms).
     pub optimizations: Optimizations,
+    /// How a root bracket is closed in on (compiled into the kernel).
+    pub root_search: RootSearch,
 }
 
 impl BisectOptions {
     /// Bisection in `algebra` without modalities, every optimisation on.
     pub fn new(algebra: Domain) -> BisectOptions {
-        BisectOptions { algebra, modalities: Modalities::default(), optimizations: Optimizations::default() }
+        BisectOptions { algebra, modalities: Modalities::default(), optimizations: Optimizations::default(), root_search: RootSearch::Auto }
     }
+}
+
+/// How bisection closes in on the root of a bracket it found (a monotone
+/// cell whose ends differ in sign, or a leaf's sign change): structural,
+/// so a kernel has one of them. Both stop at the same eps width, so the
+/// hits agree to eps (tests/render.rs compares them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RootSearch {
+    /// Two points for a compiled formula small enough that a second copy
+    /// of f costs little to compile (`codegen::kernel::PAIR_MAX_NODES`),
+    /// else one.
+    #[default]
+    Auto,
+    /// One point of f a step: the ITP method (templates/traverse/bisect/narrow.wgsl).
+    OnePoint,
+    /// Two independent points of f a step, a secant pair or the bracket's
+    /// thirds (narrow_pair.wgsl): on a CPU device the second point runs in
+    /// the time a cheap f's chain of dependent operations leaves idle.
+    /// Only for a compiled field: an interpreted one keeps one point.
+    TwoPoints,
 }
 
 /// Switches for bisection's optimisations, so their effect can be measured

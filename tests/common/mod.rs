@@ -33,6 +33,18 @@ pub fn render(src: &str, domain: isotrace::codegen::Domain, s: &Settings) -> Fra
     Renderer::bisect(gpu(), &f.ir, domain).unwrap().render(s).unwrap()
 }
 
+/// Whether f changes sign within 2 eps of distance `t` along pixel k's ray.
+pub fn sign_change_near(f: &Formula, s: &Settings, k: u32, t: f64) -> bool {
+    let cf = s.camera.frame().unwrap();
+    let d = Camera::ray(&cf, k % s.width, k / s.width, s.width, s.height);
+    let g = |t: f64| {
+        let p = s.camera.eye + d * t;
+        isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
+    };
+    let (a, b) = (g(t - 2.0 * s.eps), g(t + 2.0 * s.eps));
+    (a <= 0.0) != (b <= 0.0)
+}
+
 /// A cube box.
 pub fn cube(a: f64) -> [f64; 6] {
     [-a, a, -a, a, -a, a]

@@ -70,7 +70,7 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
         var fc = vec2<f32>(0.0); // f - c_i at the cell's ends
         var iso = 0u;
         var leaf = false;
-        var leaf_r = vec2<f32>(0.0);
+        var cell_r = vec2<f32>(0.0); // a leaf's enclosure, or a bracket's slope enclosure
         loop {
             var descend = false;
             if (!skip) {
@@ -97,7 +97,7 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
                     fc = v.fc;
                     iso = v.iso;
                     leaf = v.kind == VISIT_LEAF;
-                    leaf_r = v.r;
+                    cell_r = v.r;
                 }
             }
             skip = false;
@@ -128,14 +128,14 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
             // change is taken for a root.
             let f0 = field_ray(ray.o, ray.dir, cell.x);
             let f1 = field_ray(ray.o, ray.dir, cell.y);
-            iso = first_iso(leaf_r);
+            iso = first_iso(cell_r);
             fc = vec2<f32>(f0, f1) - vec2<f32>(iso_value(iso));
-            if (!(is_finite_range(leaf_r) || brackets(fc.x, fc.y))) {
+            if (!(is_finite_range(cell_r) || brackets(fc.x, fc.y))) {
                 skip = true;
                 continue;
             }
         }
-        let s_hit = narrow(ray, cell, fc.x, fc.y, iso_value(iso), leaf);
+        let s_hit = narrow(ray, cell, fc.x, fc.y, iso_value(iso), leaf, cell_r);
         if (accept_hit(ray.o + ray.dir * s_hit)) {
             h.iso = iso;
             h.s = s_hit;
@@ -149,8 +149,8 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
 
 // What visit() found in a cell: nothing (step past it), a reason to
 // descend, a root bracket (monotone: `fc` is f − c at its ends, for
-// isovalue `iso`) or a leaf (its enclosure `r`; its sign test comes after
-// the cell loop).
+// isovalue `iso`, and `r` the enclosure of f's slope over the cell) or a
+// leaf (its enclosure `r`; its sign test comes after the cell loop).
 const VISIT_NONE: u32 = 0u;
 const VISIT_DESCEND: u32 = 1u;
 const VISIT_BRACKET: u32 = 2u;
@@ -185,6 +185,7 @@ fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32, q: vec4<f32>) 
         if (v.iso < ISO_COUNT) {
             v.kind = VISIT_BRACKET;
             v.fc = vec2<f32>(f_a, f1) - vec2<f32>(iso_value(v.iso));
+            v.r = q.zw;
         }
     } else if (deeper) {
         v.kind = VISIT_DESCEND;
@@ -212,71 +213,4 @@ fn nearest_iso(f0: f32, f1: f32) -> u32 {
     return iso;
 }
 
-// How narrow() closes in on a root: the ITP method in a monotone cell,
-// looking further along the ray for a sign change, bisecting a bracket.
-const NARROW_ITP: u32 = 0u;
-const NARROW_LOOK: u32 = 1u;
-const NARROW_BISECT: u32 = 2u;
-
-// The root in cell [cell.x, cell.y], with fa, fb = f − c at its ends, from
-// one call site of f (lavapipe runs every call site of a loop body on
-// every cell, for the lanes that need it or not: ten sites here cost more
-// than the cell's enclosure).
-// - Monotone (`leaf` false): the unique root, by the ITP method
-//   (itp_point) down to the eps width along the ray (fa, fb bracket it).
-// - A leaf: an enclosure can contain 0 a little before the surface
-//   (overestimation), so when f does not change sign across the cell we
-//   look up to LOOKAHEAD cells further for a sign change (IA overestimates
-//   most where the gradient is nearly perpendicular to the ray) and bisect
-//   there 10 times; without one (a tangent root or a feature thinner than a
-//   cell) the cell's midpoint is the answer.
-fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool) -> f32 {
-    var a = cell.x;
-    var b = cell.y;
-    var fa = f_lo;
-    var fb = f_hi;
-    var mode = NARROW_ITP;
-    if (leaf) {
-        mode = select(NARROW_LOOK, NARROW_BISECT, brackets(fa, fb));
-    } else if (fa == 0.0) {
-        return a;
-    } else if (fb == 0.0) {
-        return b;
-    }
-    let w = cell.y - cell.x;
-    let itp = itp_cell(w, ray.eps_s);
-    var n = 0u;
-    loop {
-        var s = 0.5 * (a + b);
-        if (mode == NARROW_ITP) {
-            if (n >= 40u || !(b - a > ray.eps_s)) { break; }
-            s = itp_point(a, b, fa, fb, n, itp, ray.eps_s);
-        } else if (mode == NARROW_BISECT) {
-            if (n >= 10u) { break; }
-        } else {
-            if (n >= LOOKAHEAD || !(b < ray.s_exit)) { return 0.5 * (cell.x + cell.y); }
-            s = min(b + w, ray.s_exit);
-        }
-        let fm = field_ray(ray.o, ray.dir, s) - c;
-        n = n + 1u;
-        if (mode == NARROW_LOOK) {
-            a = b;
-            fa = fb;
-            b = s;
-            fb = fm;
-            if (brackets(fa, fb)) {
-                mode = NARROW_BISECT;
-                n = 0u;
-            }
-        } else if (mode == NARROW_BISECT) {
-            if ((fa <= 0.0) == (fm <= 0.0)) { a = s; fa = fm; } else { b = s; }
-        } else if ((fm <= 0.0) == (fa <= 0.0)) {
-            a = s;
-            fa = fm;
-        } else {
-            b = s;
-            fb = fm;
-        }
-    }
-    return 0.5 * (a + b);
-}
+//!splice:narrow
