@@ -255,7 +255,7 @@ fn a_huge_generated_shader_is_refused_and_a_slow_compile_is_announced() {
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(e.starts_with("error: the generated shader is ") && e.ends_with(
-        " KB of WGSL, over the limit of 500 KB: the driver would compile it for many minutes; render it with --field tape (or auto), which runs the formula from a buffer in a fixed interpreter, simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders\n"
+        " KB of WGSL code, over the limit of 500 KB: the driver would compile it for many minutes; render it with --field tape (or auto), which runs the formula from a buffer in a fixed interpreter, simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders\n"
     ), "{e}");
     // The note after a (test-sized) delay, with the shader's size.
     let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))

@@ -159,7 +159,7 @@ fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool 
 /// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
 /// (the renderer refuses it; the tape has no such limit).
 fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
-    super::assemble(FieldSource::Compiled(ir), traversal).wgsl.len() > super::kernel::MAX_SHADER_BYTES
+    super::assemble(FieldSource::Compiled(ir), traversal).code_bytes() > super::kernel::MAX_SHADER_BYTES
 }
 
 /// The field for formula `f` (parameter values `params`) traced by

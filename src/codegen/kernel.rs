@@ -87,8 +87,10 @@ impl SceneData {
     }
 }
 
-/// Largest render kernel handed to naga and the driver: 500 KB of WGSL,
-/// about 3 times the largest catalog kernel (`@city` with RAA, 156 KB).
+/// Largest render kernel handed to naga and the driver: 500 KB of WGSL
+/// code ([`Kernel::code_bytes`]: comment lines, which cost the driver
+/// nothing, aside), about 3 times the largest catalog kernel (`@city` with
+/// RAA, 156 KB).
 /// lavapipe's compile time grows faster than the shader (`@creature` at
 /// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
 /// past this a render would sit silent for a very long time; a formula
@@ -231,6 +233,20 @@ pub struct Kernel {
     /// Where the user's `--inline` WGSL sits in `wgsl`, to map naga's
     /// diagnostics back into the user's file.
     pub inline: Option<(Range<usize>, InlineWgsl)>,
+}
+
+impl Kernel {
+    /// The bytes of `wgsl` that are code: every line but those holding only
+    /// a comment (the templates' documentation grows with the traversal's
+    /// features; the driver's compile time grows with the code).
+    pub fn code_bytes(&self) -> usize {
+        code_bytes(&self.wgsl)
+    }
+}
+
+/// [`Kernel::code_bytes`] of WGSL text.
+pub fn code_bytes(wgsl: &str) -> usize {
+    wgsl.lines().filter(|l| !l.trim_start().starts_with("//")).map(|l| l.len() + 1).sum()
 }
 
 /// The render kernel of `field` traced by `traversal` (its structural

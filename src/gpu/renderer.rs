@@ -45,7 +45,7 @@ pub enum RenderError {
     #[error(transparent)]
     Memory(#[from] crate::memory::MemoryError),
     /// The assembled kernel is larger than [`MAX_SHADER_BYTES`].
-    #[error("the generated shader is {} KB of WGSL, over the limit of {} KB: the driver would compile it for many minutes", bytes.div_ceil(1000), MAX_SHADER_BYTES / 1000)]
+    #[error("the generated shader is {} KB of WGSL code, over the limit of {} KB: the driver would compile it for many minutes", bytes.div_ceil(1000), MAX_SHADER_BYTES / 1000)]
     ShaderTooLarge {
         /// Its size in bytes.
         bytes: usize,
@@ -141,8 +141,8 @@ impl<'g> Renderer<'g> {
             _ => field,
         };
         let kernel = codegen::assemble_for(field, &traversal, gpu.subgroups);
-        if kernel.wgsl.len() > MAX_SHADER_BYTES {
-            return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
+        if kernel.code_bytes() > MAX_SHADER_BYTES {
+            return Err(RenderError::ShaderTooLarge { bytes: kernel.code_bytes() });
         }
         match &kernel.inline {
             Some((range, user)) => {

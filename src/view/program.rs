@@ -218,8 +218,8 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         return Err(crate::render::SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
     }
     let kernel = codegen::assemble(field, traversal);
-    if kernel.wgsl.len() > MAX_SHADER_BYTES {
-        return Err(RenderError::ShaderTooLarge { bytes: kernel.wgsl.len() });
+    if kernel.code_bytes() > MAX_SHADER_BYTES {
+        return Err(RenderError::ShaderTooLarge { bytes: kernel.code_bytes() });
     }
     let module = crate::validate::validate(&kernel.wgsl)?;
     let uniforms = uniform_bytes(traversal, s)?;

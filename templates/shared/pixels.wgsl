@@ -18,8 +18,15 @@
 // sqrt encoding keeps dark colours precise (10 bits of sqrt(c) beat the
 // 8-bit sRGB output everywhere).
 fn pack_color(c: vec3<f32>, status: u32) -> u32 {
-    let q = vec3<u32>(round(sqrt(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0))) * 1023.0));
-    return q.x | (q.y << 10u) | (q.z << 20u) | (status << 30u);
+    return pack_levels(sqrt(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0))) * 1023.0, status);
+}
+// The colour word of 10-bit levels `q` (0..1023, unrounded). Through i32:
+// lavapipe converts f32 to u32 one lane at a time with clamps (a dozen
+// scalar instructions a lane), f32 to i32 in one vector instruction; the
+// levels are small and non-negative, so the bits are the same.
+fn pack_levels(q: vec3<f32>, status: u32) -> u32 {
+    let l = bitcast<vec3<u32>>(vec3<i32>(round(q)));
+    return l.x | (l.y << 10u) | (l.z << 20u) | (status << 30u);
 }
 fn pack_normal(n: vec3<f32>) -> u32 {
     let l1 = abs(n.x) + abs(n.y) + abs(n.z);

@@ -219,9 +219,10 @@ const RESUME_NONE: u32 = 0xffffffffu;
 // `main` (an interpreted field); a compiled field never touches `resume`.
 const RESUMABLE: bool = LAYERS == 1u && !SHADOWS && REFLECT == 0u;
 
-// The d_max of a segment of world length `len`.
+// The d_max of a segment of world length `len` (through i32: see
+// pack_levels).
 fn depth_for(len: f32) -> u32 {
-    return u32(clamp(ceil(log2(len / F.eps)), 0.0, 18.0));
+    return bitcast<u32>(i32(clamp(ceil(log2(len / F.eps)), 0.0, 18.0)));
 }
 
 // The 64-bit mask of bits [0, n), n in 0..=64 (as two u32: low, high).
@@ -262,7 +263,7 @@ fn trace_secondary(o: vec3<f32>, u: vec3<f32>, s_from: f32, s_to: f32, eps: f32,
     let hi = min(seg.y, s_to);
     if (!(lo < hi)) { return no_hit(); }
     let ray = Ray(o, u, hi, eps);
-    let h = traverse(ray, lo, hi, u32(clamp(ceil(log2((hi - lo) / eps)), 0.0, 18.0)), g_budget, grad);
+    let h = traverse(ray, lo, hi, bitcast<u32>(i32(clamp(ceil(log2((hi - lo) / eps)), 0.0, 18.0))), g_budget, grad);
     g_evals = g_evals + h.evals;
     g_budget = g_budget - min(g_budget, h.iters);
     return h;

@@ -123,12 +123,55 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     let d0 = primary_dir(F.tile_origin + tile * 8u);
     let step_x = primary_dir(F.tile_origin + tile * 8u + vec2<u32>(1u, 0u)) - d0;
     let step_y = primary_dir(F.tile_origin + tile * 8u + vec2<u32>(0u, 1u)) - d0;
+    let bg = background_tile(d0, step_x, step_y);
+    // The rays that cross a convex domain (box, ball, or both) from the eye
+    // form a convex cone: when the tile's four corner rays cross it, every
+    // ray of the tile does.
+    var corners = 0u;
+    for (var c = 0u; c < 4u; c = c + 1u) {
+        let seg = clip_domain(F.eye.xyz, d0 + f32(7u * (c & 1u)) * step_x + f32(7u * (c >> 1u)) * step_y);
+        corners = corners + select(0u, 1u, seg.x < seg.y);
+    }
+    let rest = vec2<u32>(pack_normal(vec3<f32>(0.0)), bitcast<u32>(F.inf));
     for (var li = 0u; li < 64u; li = li + 1u) {
         let g = tile * 8u + vec2<u32>(li % 8u, li / 8u);
         if (g.x >= F.tile_size.x || g.y >= F.tile_size.y) { continue; }
-        let dir = d0 + f32(li % 8u) * step_x + f32(li / 8u) * step_y;
-        let seg = clip_domain(F.eye.xyz, dir);
-        let crosses = select(0u, 1u, seg.x < seg.y);
-        write_pixel(g.y * F.tile_size.x + g.x, background(normalize(dir)), STATUS_MISS, vec3<f32>(0.0), F.inf, pack_info(tile_share(n, li), crosses, 0u));
+        let u = f32(li % 8u);
+        let v = f32(li / 8u);
+        var crosses = 1u;
+        if (corners < 4u) {
+            let seg = clip_domain(F.eye.xyz, d0 + u * step_x + v * step_y);
+            crosses = select(0u, 1u, seg.x < seg.y);
+        }
+        var color = 0u;
+        if (ENV_MODE == 0u) {
+            color = pack_levels(bg.c00 + u * bg.cu + v * (bg.cv + u * bg.cuv), STATUS_MISS);
+        } else {
+            color = pack_color(background(normalize(d0 + u * step_x + v * step_y)), STATUS_MISS);
+        }
+        pixels[g.y * F.tile_size.x + g.x] = vec4<u32>(color, rest.x, rest.y, pack_info(tile_share(n, li), crosses, 0u));
     }
+}
+
+// The sky's colour code (pack_color's 10-bit sqrt levels, unrounded) over
+// a tile, bilinear in the pixel from its corners: c00 + u cu + v (cv + u
+// cuv) at pixel (u, v) of the tile. The sky is a linear ramp in the unit
+// direction's height, smooth over a tile's few milliradians, so the
+// bilinear form stays close to the exact code (f64, against its second
+// derivatives over 7 pixels): within 0.002 of a level at a 40° field of
+// view from 512² up, 0.04 at 120°; rounded, 0.04 % of the sphere's pixels
+// at 512² and 40° move by one 8-bit step, 0.5 % at 120°. Per pixel it
+// costs four multiply-adds, where normalize, the ramp and three square
+// roots took 1.5 ms of the 4-bretzel's 14 ms ortho frame at 1024². (Only
+// ENV_MODE 0: the checker and an image have edges.)
+struct TileSky { c00: vec3<f32>, cu: vec3<f32>, cv: vec3<f32>, cuv: vec3<f32> }
+fn background_tile(d0: vec3<f32>, step_x: vec3<f32>, step_y: vec3<f32>) -> TileSky {
+    let c00 = sky_code(d0);
+    let cu = (sky_code(d0 + 7.0 * step_x) - c00) * (1.0 / 7.0);
+    let cv = (sky_code(d0 + 7.0 * step_y) - c00) * (1.0 / 7.0);
+    let cuv = (sky_code(d0 + 7.0 * (step_x + step_y)) - c00 - 7.0 * (cu + cv)) * (1.0 / 49.0);
+    return TileSky(c00, cu, cv, cuv);
+}
+fn sky_code(d: vec3<f32>) -> vec3<f32> {
+    return sqrt(clamp(background(normalize(d)), vec3<f32>(0.0), vec3<f32>(1.0))) * 1023.0;
 }
