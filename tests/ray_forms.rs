@@ -87,6 +87,8 @@ fn check(src: &str, a: f64, seed: u64) -> f64 {
 #[test]
 fn cell_enclosures_on_rays_hold_f64_samples() {
     let icos = &common::catalog_formula("icos.csg");
+    let bretzel = &common::catalog_formula("4-bretzel");
+    let steiner = &common::catalog_formula("steiner");
     let bilinear: Vec<String> = (0..40).map(|i| format!("({:.3}*x-y)*(z+{:.3})", 0.5 + i as f64 * 0.013, i as f64 * 0.021 - 0.3)).collect();
     let sum = format!("x^2 + y^2 + z^2 - 1 + 0.004*({})", bilinear.join(" + "));
     let cases: &[(&str, f64)] = &[
@@ -97,6 +99,11 @@ fn cell_enclosures_on_rays_hold_f64_samples() {
         ("max(x^8 + y^8 + z^8 - 1, -min(min(y^2 + z^2 - 0.25, x^2 + z^2 - 0.25), x^2 + y^2 - 0.25))", 1.5),
         ("sqrt((x - 0.3)^2 + y^2) - 0.5 + 0.1*sin(4*z)", 1.0),
         (&sum, 1.6),
+        // Products of squares k·Q² (the 4-bretzel's 4x²y², Steiner's
+        // x²y²), with a negative and an inexact factor, and a lone xy.
+        (bretzel, 1.2),
+        (steiner, 1.0),
+        ("-0.3*x^2*z^2 + y^2*(x^2*1.7) - (y^2*z^2)/3 + x*y + x^2 + y^2 + z^2 - 1", 1.2),
     ];
     for (k, (src, a)) in cases.iter().enumerate() {
         check(src, *a, 0x9e37_79b9_7f4a_7c15 ^ k as u64);
@@ -108,6 +115,9 @@ fn cell_enclosures_on_rays_hold_f64_samples() {
     // as wide as that.
     let ratio = check("x^2 + y^2 + z^2 - 1", 1.5, 7);
     assert!(ratio < 1.05, "mean width over sampled range {ratio}");
+    // So is a product of squares, through the square of xy's polynomial.
+    let ratio = check("4*x^2*y^2 - 0.01", 1.2, 8);
+    assert!(ratio < 1.05, "4x²y²: mean width over sampled range {ratio}");
     let f = Formula::compile("<test>", "x^2 + y^2 + z^2 - 1").unwrap();
     let cs = cells(1.5, 400, 7);
     let boxes: Vec<isotrace::gpu::eval::Box8> = cs

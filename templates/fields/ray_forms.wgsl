@@ -59,6 +59,19 @@ fn ia_ray_slope(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let sb = q.y + 2.0 * q.z * t1;
     return vec2<f32>(min(sa, sb) - v.x, max(sa, sb) + v.x);
 }
+// A product of squares k·Q² with Q such a node (src/codegen/ray_forms.rs,
+// `squares`): Q's range over the cell squared, times k's enclosure; its
+// slope 2k·Q·Q'; its value at t.
+fn ia_ray_sq(k: vec2<f32>, q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    return ia_mul(ia_sqr(ia_ray(q, v, t0, t1)), k);
+}
+fn ia_ray_sq_slope(k: vec2<f32>, q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    return ia_mul(ia_mul(ia_ray(q, v, t0, t1), ia_ray_slope(q, v, t0, t1)), 2.0 * k);
+}
+fn s_ray_sq(k: f32, q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 {
+    let a = s_ray(q, v, t);
+    return k * a * a;
+}
 // Its value at t (the scalar domain's).
 fn s_ray(q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 { return q.x + t * (q.y + q.z * t); }
 fn s_ray_lin(q: vec4<f32>, v: vec3<f32>, t: f32) -> f32 { return q.x + q.y * t; }
