@@ -93,6 +93,7 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ta
     let ranged = (slopes != domain).then_some(vp);
     let mut out = head;
     let mut d: Vec<Option<Term>> = vec![None; ir.nodes.len()];
+    let nn = super::nonneg(ir);
     let at = |d: &mut Vec<Option<Term>>, id: NodeId| {
         if d.len() <= id as usize {
             d.resize(id as usize + 1, None);
@@ -109,7 +110,7 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ta
         }
         Hook::Node(id, op) => {
             let i = at(&mut d, id);
-            if let Some(e) = rule(&mut Wgsl { out, p, domain: slopes, ir, ranged }, id, op, &d) {
+            if let Some(e) = rule(&mut Wgsl { out, p, domain: slopes, ir, ranged, nn: &nn }, id, op, &d) {
                 let _ = writeln!(out, "    let d{id} = {};", e.text());
                 d[i] = Some(e.renamed(format!("d{id}")));
             }
@@ -192,6 +193,11 @@ pub(crate) trait Terms {
         let vc = self.value(c);
         self.bin(D::Div, a, vc)
     }
+    /// A slope `d` times the value of node `c` (the product rule's terms).
+    fn times(&mut self, d: Self::T, c: NodeId) -> Self::T {
+        let vc = self.value(c);
+        self.bin(D::Mul, d, vc)
+    }
     /// |a|' from the value `a` and its slope `da`: sign(a)·a'.
     fn dabs(&mut self, a: Self::T, da: Self::T) -> Self::T {
         let s = self.un(D::Sign, a);
@@ -227,18 +233,11 @@ pub(crate) fn rule<B: Terms>(b: &mut B, id: NodeId, op: Op, d: &[Option<B::T>]) 
         // a'·b + a·b' with zero terms dropped.
         Op::Mul(a, c) => match (dv(a), dv(c)) {
             (None, None) => return None,
-            (Some(da), None) => {
-                let vc = b.value(c);
-                b.bin(D::Mul, da, vc)
-            }
-            (None, Some(dc)) => {
-                let va = b.value(a);
-                b.bin(D::Mul, va, dc)
-            }
+            (Some(da), None) => b.times(da, c),
+            (None, Some(dc)) => b.times(dc, a),
             (Some(da), Some(dc)) => {
-                let (va, vc) = (b.value(a), b.value(c));
-                let l = b.bin(D::Mul, da, vc);
-                let r = b.bin(D::Mul, va, dc);
+                let l = b.times(da, c);
+                let r = b.times(dc, a);
                 b.bin(D::Add, l, r)
             }
         },
@@ -469,6 +468,8 @@ struct Wgsl<'a> {
     /// The values' domain prefix when the slopes are in another domain
     /// (values then enter slope terms as their ranges).
     ranged: Option<&'static str>,
+    /// The nodes that are never negative ([`super::nonneg`]).
+    nn: &'a [bool],
 }
 
 impl Terms for Wgsl<'_> {
@@ -521,6 +522,15 @@ impl Terms for Wgsl<'_> {
     }
     fn whole(&mut self) -> Term {
         Term::Form(format!("{}_whole()", self.p))
+    }
+    /// In interval slopes, a slope times a value that is never negative
+    /// takes two products (`ia_mul_by_nonneg`).
+    fn times(&mut self, d: Term, c: NodeId) -> Term {
+        let vc = self.value(c);
+        match d {
+            Term::Form(_) if self.p == "ia" && self.nn.get(c as usize) == Some(&true) => Term::Form(format!("ia_mul_by_nonneg({}, {})", d.lift("ia"), vc.lift("ia"))),
+            _ => self.bin(D::Mul, d, vc),
+        }
     }
     /// In interval slopes, `ia_dabs`: a's slope or its negative where a
     /// keeps its sign, their hull where it does not. The product

@@ -276,18 +276,19 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
     }
     let mut fresh = ir.nodes.len() as NodeId;
     let mut restricted: Vec<String> = Vec::new();
+    let nn = nonneg(ir);
     for id in ir.live() {
         if plan.skips(id) {
             continue;
         }
         if let Some(l) = plan.loop_at(id) {
-            emit_loop(out, ir, domain, l, &mut fresh, &mut hook);
+            emit_loop(out, ir, domain, l, &mut fresh, &nn, &mut hook);
             continue;
         }
         let op = ir.nodes[id as usize];
         let rhs = match ray {
             Some((forms, args)) if forms.has(id) => forms.rhs(id, p, args),
-            _ => value_rhs(out, domain, id, op, ir),
+            _ => value_rhs(out, domain, id, op, ir, &nn),
         };
         let _ = writeln!(out, "    let v{id} = {rhs};");
         if op.restricts_domain() {
@@ -301,7 +302,7 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
 /// One rerolled loop: the accumulator starts at the chain's value before
 /// the run and takes `unroll` terms an iteration, each written from the
 /// body with its constants read from the table (fresh names `v{fresh…}`).
-fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh: &mut NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
+fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh: &mut NodeId, nn: &[bool], hook: &mut impl FnMut(&mut String, Hook)) {
     let mut next_id = || {
         *fresh += 1;
         *fresh - 1
@@ -344,7 +345,7 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
             }
             let f = next_id();
             let renamed = reroll::with_operands(op, &ops);
-            let rhs = value_rhs(out, domain, f, renamed, ir);
+            let rhs = value_rhs(out, domain, f, renamed, ir, nn);
             let _ = writeln!(out, "    let v{f} = {rhs};");
             hook(out, Hook::Node(f, renamed));
             map.push((b, f));
@@ -352,7 +353,7 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
         let term = map.last().map(|&(_, f)| f).expect("a loop body is not empty");
         let next = next_id();
         let step = l.step(acc, term);
-        let rhs = value_rhs(out, domain, next, step, ir);
+        let rhs = value_rhs(out, domain, next, step, ir, nn);
         let _ = writeln!(out, "    let v{next} = {rhs};");
         hook(out, Hook::Node(next, step));
         let _ = writeln!(out, "    v{acc} = v{next};");
@@ -363,9 +364,41 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
     hook(out, Hook::End { acc, end: l.end });
 }
 
+/// Which nodes are never negative, by their form: even powers, |a|,
+/// sqrt, exp and cosh, non-negative constants, and sums, products, minima
+/// and quotients by positive constants of such nodes (a maximum needs one).
+/// An interval product of two such values is [lo·lo, hi·hi], and of any
+/// interval d by such a v two products, not four and six comparisons
+/// (`ia_mul_nonneg`, `ia_mul_by_nonneg`): the decocube's three factors,
+/// sums of squares, and their product's slope.
+pub(crate) fn nonneg(ir: &Ir) -> Vec<bool> {
+    use crate::ir::{Func1, Func2};
+    let mut nn: Vec<bool> = Vec::with_capacity(ir.nodes.len());
+    for op in &ir.nodes {
+        let g = |n: &NodeId| nn.get(*n as usize).copied().unwrap_or(false);
+        let konst = |n: &NodeId| match ir.nodes.get(*n as usize) {
+            Some(Op::Const(c)) => Some(*c),
+            _ => None,
+        };
+        let v = match op {
+            Op::Const(c) => *c >= 0.0,
+            Op::PowI(a, n) => n % 2 == 0 || g(a),
+            Op::Add(a, b) | Op::Mul(a, b) => g(a) && g(b),
+            Op::Div(a, b) => g(a) && konst(b).is_some_and(|c| c > 0.0),
+            Op::Call1(Func1::Abs | Func1::Sqrt | Func1::Exp | Func1::Cosh, _) => true,
+            Op::Call2(Func2::Min, a, b) => g(a) && g(b),
+            Op::Call2(Func2::Max, a, b) => g(a) || g(b),
+            _ => false,
+        };
+        nn.push(v);
+    }
+    nn
+}
+
 /// The right-hand side of `let v{id} = …;` for one node (odd powers first
-/// write their square-and-multiply chain into `out`).
-pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir: &Ir) -> String {
+/// write their square-and-multiply chain into `out`); `nn` says which
+/// nodes are never negative ([`nonneg`]; ids past it are not known to be).
+pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir: &Ir, nn: &[bool]) -> String {
     let names = &ir.externs;
     let p = domain.prefix();
     let v = |n: NodeId| format!("v{n}");
@@ -388,6 +421,7 @@ pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir
         Op::Neg(a) => format!("{p}_neg({})", v(a)),
         Op::Add(a, b) => format!("{p}_add({}, {})", v(a), v(b)),
         Op::Sub(a, b) => format!("{p}_sub({}, {})", v(a), v(b)),
+        Op::Mul(a, b) if domain == Domain::Interval && [a, b].iter().all(|n| nn.get(*n as usize) == Some(&true)) => format!("ia_mul_nonneg({}, {})", v(a), v(b)),
         Op::Mul(a, b) => format!("{p}_mul({}, {})", v(a), v(b)),
         Op::Div(a, b) => match ir.nodes.get(b as usize) {
             // (A loop's table slots have fresh ids, past the IR's nodes.)

@@ -59,6 +59,24 @@ fn ia_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let p = select(a.xxyy * b.xyxy, vec4<f32>(0.0), zero);
     return vec2<f32>(min(min(p.x, p.y), min(p.z, p.w)), max(max(p.x, p.y), max(p.z, p.w)));
 }
+// a·b for a and b whose functions are never negative (src/codegen/mod.rs
+// `nonneg`): [lo·lo, hi·hi], two products where ia_mul takes four and six
+// comparisons. Their enclosures may reach below 0 by a pad (a node taken
+// from the ray); the product's values are not negative all the same.
+fn ia_mul_nonneg(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let lo = max(a.x, 0.0) * max(b.x, 0.0);
+    // 0 * inf: a factor whose range ends at 0 is 0 there.
+    return vec2<f32>(lo, select(a.y * b.y, 0.0, a.y <= 0.0 || b.y <= 0.0));
+}
+// d·v for a v whose function is never negative and any d: each end of d
+// times the end of v that makes it extreme (v's upper end for d's negative
+// lower end and positive upper end, else v's lower end, at least 0).
+fn ia_mul_by_nonneg(d: vec2<f32>, v: vec2<f32>) -> vec2<f32> {
+    let vl = max(v.x, 0.0);
+    let fl = select(vl, v.y, d.x < 0.0);
+    let fh = select(vl, v.y, d.y > 0.0);
+    return vec2<f32>(select(d.x * fl, 0.0, d.x == 0.0 || fl == 0.0), select(d.y * fh, 0.0, d.y == 0.0 || fh == 0.0));
+}
 // Division: a divisor that contains 0 gives a half-line when 0 is one of its
 // ends and the numerator keeps one sign, else the whole line.
 fn ia_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
