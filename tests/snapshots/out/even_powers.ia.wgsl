@@ -27,7 +27,7 @@ fn eval_ia(x: vec2<f32>, y: vec2<f32>, z: vec2<f32>, t: vec2<f32>) -> vec2<f32> 
     let w13_s0 = ia_pw_sq(w13_b);
     let w13_m0 = ia_pw_mul(w13_s0, w13_b);
     let v13 = ia_pw_odd(v1, w13_m0);
-    let v14 = ia_mul(v1, v13);
+    let v14 = ia_mul_nonneg(v1, v13);
     let v15 = ia_add(v12, v14);
     let v16 = ia_const(1.0);
     let v17 = ia_sub(v15, v16);
