@@ -62,9 +62,9 @@ impl BisectOptions {
 /// hits agree to eps (tests/render.rs compares them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RootSearch {
-    /// Two points for a compiled formula small enough that a second copy
-    /// of f costs little to compile (`codegen::kernel::PAIR_MAX_NODES`),
-    /// else one.
+    /// Two points for a compiled formula of up to
+    /// `codegen::kernel::PAIR_MAX_NODES` nodes, else one (a bigger f keeps
+    /// the core busy on its own, and its second point costs what it saves).
     #[default]
     Auto,
     /// One point of f a step: the ITP method (templates/traverse/bisect/narrow.wgsl).
