@@ -213,4 +213,16 @@ fn nearest_iso(f0: f32, f1: f32) -> u32 {
     return iso;
 }
 
+// How narrow() (narrow.wgsl or narrow_pair.wgsl, spliced below) closes
+// in on a root: one point or two a step in a monotone cell, looking
+// further along the ray for a sign change of a leaf, then bisecting (or
+// splitting in thirds) the bracket it finds.
+const NARROW_ITP: u32 = 0u;
+const NARROW_LOOK: u32 = 1u;
+const NARROW_BISECT: u32 = 2u;
+// The first of those for a cell whose ends are f0, f1 (as f − c).
+fn narrow_mode(leaf: bool, f0: f32, f1: f32) -> u32 {
+    return select(NARROW_ITP, select(NARROW_LOOK, NARROW_BISECT, brackets(f0, f1)), leaf);
+}
+
 //!splice:narrow

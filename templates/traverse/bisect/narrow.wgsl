@@ -2,12 +2,6 @@
 // ITP method), spliced into cells.wgsl at `//!splice:narrow`; its
 // two-points-a-step form is narrow_pair.wgsl (src/codegen/kernel.rs chooses).
 
-// How narrow() closes in on a root: the ITP method in a monotone cell,
-// looking further along the ray for a sign change, bisecting a bracket.
-const NARROW_ITP: u32 = 0u;
-const NARROW_LOOK: u32 = 1u;
-const NARROW_BISECT: u32 = 2u;
-
 // The root in cell [cell.x, cell.y], with fa, fb = f − c at its ends, from
 // one call site of f (lavapipe runs every call site of a loop body on
 // every cell, for the lanes that need it or not: ten sites here cost more
@@ -26,14 +20,9 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool, s
     var b = cell.y;
     var fa = f_lo;
     var fb = f_hi;
-    var mode = NARROW_ITP;
-    if (leaf) {
-        mode = select(NARROW_LOOK, NARROW_BISECT, brackets(fa, fb));
-    } else if (fa == 0.0) {
-        return a;
-    } else if (fb == 0.0) {
-        return b;
-    }
+    var mode = narrow_mode(leaf, fa, fb);
+    if (mode == NARROW_ITP && fa == 0.0) { return a; }
+    if (mode == NARROW_ITP && fb == 0.0) { return b; }
     let w = cell.y - cell.x;
     let itp = itp_cell(w, ray.eps_s);
     var n = 0u;

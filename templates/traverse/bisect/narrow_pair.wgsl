@@ -11,12 +11,6 @@
 // Knoll surface slower. The price is a second copy of f in the kernel:
 // formulas too large for that keep narrow.wgsl.
 
-// How narrow() closes in on a root: a secant pair or thirds in a monotone
-// cell, looking further along the ray for a sign change, thirds of a
-// bracket.
-const NARROW_ITP: u32 = 0u;
-const NARROW_LOOK: u32 = 1u;
-const NARROW_BISECT: u32 = 2u;
 // The secant pair's half width starts at this fraction of the bracket's
 // width squared over the cell's (as ITP's κ), and at least eps/4.
 const PAIR_KAPPA: f32 = 0.05;
@@ -32,12 +26,13 @@ const PAIR_SLOPE_RATIO: f32 = 4.0;
 //   cell the two points straddle the secant's root, a little apart, so an
 //   accurate secant closes the bracket in one step. Where it varies a lot
 //   (x^200: flat, then steep), or once a secant pair has shrunk the bracket
-//   less than thirds would have, the points are the bracket's thirds. Each
-//   step leaves at most 1/3 of the bracket (thirds) or ends a secant run,
-//   so the search takes at most one step more than thirds: ⌈log3(w/eps)⌉
-//   + 1. (Simulated on 3,000 brackets each, steps a root: a sphere's 1.8
+//   less than thirds would have (to more than 0.34 of it), the points are
+//   the bracket's thirds. A secant step that goes on leaves at most 0.34 of
+//   the bracket, and the one that fails ends the secant run, so the search
+//   takes at most two steps more than thirds' ⌈log3(w/eps)⌉ (simulated on
+//   3,000 brackets each: one more at most; steps a root: a sphere's 1.8
 //   against ITP's 2.7, a quartic's 2.2 against 2.7, x^200's 3.6 against
-//   5.9.)
+//   5.9).
 // - A leaf: as narrow.wgsl, looking up to LOOKAHEAD cells further, two
 //   cells a step, for a sign change, then 7 steps of thirds (3^7 > 2^10,
 //   the ten halvings of narrow.wgsl); without one, the cell's midpoint.
@@ -46,14 +41,9 @@ fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool, s
     var b = cell.y;
     var fa = f_lo;
     var fb = f_hi;
-    var mode = NARROW_ITP;
-    if (leaf) {
-        mode = select(NARROW_LOOK, NARROW_BISECT, brackets(fa, fb));
-    } else if (fa == 0.0) {
-        return a;
-    } else if (fb == 0.0) {
-        return b;
-    }
+    var mode = narrow_mode(leaf, fa, fb);
+    if (mode == NARROW_ITP && fa == 0.0) { return a; }
+    if (mode == NARROW_ITP && fb == 0.0) { return b; }
     let w = cell.y - cell.x;
     let kw = PAIR_KAPPA / w;
     let ds = abs(slope);
