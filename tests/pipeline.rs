@@ -9,7 +9,7 @@ use common::gpu;
 use isotrace::codegen::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::record::PackedFrame;
-use isotrace::render::{Method, SettingsField, SphereOptions, Traversal};
+use isotrace::render::{Method, SettingsField, SphereOptions, Status, Traversal};
 use isotrace::Formula;
 
 /// Packed frames decode to exactly the frame `render` returns, with the
@@ -53,11 +53,16 @@ fn packed_frames_keep_their_records_across_renders() {
     let mut other = PackedFrame::default();
     for (i, t) in [&far, &s, &far].into_iter().enumerate() {
         r.render_packed(t, &mut other).unwrap();
-        assert_eq!(other.decode().pixels, r.render(t).unwrap().pixels, "render {i} into the second frame");
+        let decoded = other.decode();
+        assert_eq!(decoded.pixels, r.render(t).unwrap().pixels, "render {i} into the second frame");
+        // Misses write no normal and depth (the records' tail plane): the
+        // hits of the frame before, where this one misses, must not show.
+        let stale = decoded.pixels.iter().filter(|p| p.status == Status::Miss && (p.depth != f32::INFINITY || p.normal != [0.0; 3])).count();
+        assert_eq!(stale, 0, "render {i}: misses with a depth or a normal");
     }
     let mut small = common::settings(common::cube(1.5), 16, 8);
     r.render_packed(&small, &mut other).unwrap();
-    assert_eq!((other.width, other.height, other.records().len()), (16, 8, 128));
+    assert_eq!((other.width, other.height, other.len()), (16, 8, 128));
     small.tile = 8;
     r.render_packed(&small, &mut other).unwrap();
     assert_eq!(other.stats.dispatches, 2);

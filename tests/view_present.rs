@@ -5,7 +5,7 @@
 
 use isotrace::gpu::Gpu;
 use isotrace::layout::{PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS};
-use isotrace::render::record::{convert, Record};
+use isotrace::render::record::{convert, Head, Record, Tail};
 
 /// Records with every status, random colours, normals, work.
 fn records(n: usize) -> Vec<[u32; 4]> {
@@ -31,7 +31,7 @@ fn present_decodes_records_like_the_cli() {
          @group(0) @binding(3) var<storage, read> mode: array<u32>;\n\
          @compute @workgroup_size(64) fn decode_test(@builtin(global_invocation_id) id: vec3<u32>) {{\n\
              if (id.x >= arrayLength(&decoded)) {{ return; }}\n\
-             let c = vec3<u32>(srgb8(present_linear(records[id.x], mode[0], mode[1])));\n\
+             let c = vec3<u32>(srgb8(present_linear(record_at(id.x, arrayLength(&decoded)), mode[0], mode[1])));\n\
              decoded[id.x] = c.x | (c.y << 8u) | (c.z << 16u);\n\
          }}\n"
     );
@@ -40,7 +40,9 @@ fn present_decodes_records_like_the_cli() {
     let recs = records(4096);
     let steps_max = 300u32;
     for mode in [PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS] {
-        let input = gpu.storage("records", bytemuck::cast_slice(&recs)).unwrap();
+        // The kernel's two planes: heads (colour, work), then tails (normal, depth).
+        let planes: Vec<u32> = recs.iter().flat_map(|r| [r[0], r[3]]).chain(recs.iter().flat_map(|r| [r[1], r[2]])).collect();
+        let input = gpu.storage("records", bytemuck::cast_slice(&planes)).unwrap();
         let modes = gpu.storage("mode", bytemuck::cast_slice(&[mode, steps_max, 0, 0])).unwrap();
         let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
@@ -64,7 +66,7 @@ fn present_decodes_records_like_the_cli() {
         let got: &[u32] = bytemuck::cast_slice(&bytes);
         let mut off = 0;
         for (r, g) in recs.iter().zip(got) {
-            let rec: Record = bytemuck::cast(*r);
+            let rec = Record::new(Head::from_words([r[0], r[3]]), &Tail::from_words([r[1], r[2]]));
             let mut frame = isotrace::render::Frame { width: 1, height: 1, pixels: vec![convert(&rec)], stats: Default::default() };
             let cli_mode = match mode {
                 PRESENT_NORMAL => isotrace::output::ColorMode::Normal,

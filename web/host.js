@@ -184,8 +184,9 @@ export class Host {
       rp.end();
       let stats = null, pixels = null;
       if (readback) {
-        stats = d.createBuffer({ size: w * h * 16, usage: B.MAP_READ | B.COPY_DST });
-        enc.copyBufferToBuffer(r.records, 0, stats, 0, w * h * 16);
+        // The records' head plane (templates/shared/pixels.wgsl): all the statistics read.
+        stats = d.createBuffer({ size: w * h * 8, usage: B.MAP_READ | B.COPY_DST });
+        enc.copyBufferToBuffer(r.records, 0, stats, 0, w * h * 8);
         if (readback === 'pixels') {
           const cw = this.canvas.width, ch = this.canvas.height, row = Math.ceil(cw * 4 / 256) * 256;
           pixels = { buf: d.createBuffer({ size: row * ch, usage: B.MAP_READ | B.COPY_DST }), row, cw, ch };
@@ -216,13 +217,13 @@ export class Host {
   }
 }
 
-/** Work per pixel, hits and unresolved pixels of a frame's records (src/render/record.rs). */
+/** Work per pixel, hits and unresolved pixels of a frame's record heads (colour, work: src/render/record.rs). */
 function recordStats(words) {
   let work = 0, hits = 0, unresolved = 0;
-  const n = words.length / 4;
+  const n = words.length / 2;
   for (let i = 0; i < n; i++) {
-    work += words[4 * i + 3] & 0xffff;
-    const s = words[4 * i] >>> 30;
+    work += words[2 * i + 1] & 0xffff;
+    const s = words[2 * i] >>> 30;
     if (s === 1) hits++;
     if (s === 2) unresolved++;
   }

@@ -12,7 +12,7 @@ use super::{field, storage_entry, Author, Gpu, GpuError};
 use crate::codegen::{self, FieldSource};
 use crate::layout::{FrameBlock, FLAG_UNRESOLVED_GUESS, FLAG_UNRESOLVED_SOLID};
 use crate::render::Unresolved;
-use crate::render::record::{convert, count, count_all, map_all, PackedFrame, RayStats, Record, Records};
+use crate::render::record::{convert, count, count_all, map_all, PackedFrame, Planes, RayStats, Record, Records};
 use crate::render::{CameraFrame, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
 use crate::validate::{validate, ValidateError};
 use bytemuck::Zeroable;
@@ -402,10 +402,12 @@ impl<'g> Renderer<'g> {
             if buf.is_empty() {
                 buf.resize(n, f(&Record::zeroed()));
             }
-            for (row, chunk) in raw.chunks_exact(rect.w as usize).enumerate() {
-                let start = ((rect.y + row as u32) * w + rect.x) as usize;
-                for (dst, r) in buf[start..start + rect.w as usize].iter_mut().zip(chunk) {
-                    *dst = f(r);
+            let rw = rect.w as usize;
+            for row in 0..rect.h as usize {
+                let chunk = raw.slice(row * rw..(row + 1) * rw);
+                let start = (rect.y as usize + row) * w as usize + rect.x as usize;
+                for (dst, r) in buf[start..start + rw].iter_mut().zip(chunk.iter()) {
+                    *dst = f(&r);
                 }
                 count(chunk, &mut acc);
             }
@@ -438,7 +440,7 @@ impl<'g> Renderer<'g> {
     /// [`Renderer::in_place`]) the records go to `keep`'s buffer (a new one
     /// if it has none of the right size) and stay mapped there, its view in
     /// `keep`.
-    fn run(&self, s: &Settings, mut keep: Option<&mut Keep>, mut sink: impl FnMut(Rect, &[Record])) -> Result<Stats, RenderError> {
+    fn run(&self, s: &Settings, mut keep: Option<&mut Keep>, mut sink: impl FnMut(Rect, Planes)) -> Result<Stats, RenderError> {
         s.check()?;
         if (self.field.tape || self.field.looped) && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
             let what = if self.field.tape { "a tape field (its interpreter shares" } else { "a formula of rerolled terms (its loops share" };
@@ -471,7 +473,7 @@ impl<'g> Renderer<'g> {
                 clears: b.field.clears(),
             };
             let (t, view) = job.run_keeping(self.gpu, keep.is_some(), |bytes| {
-                sink(rect, bytemuck::cast_slice(bytes[0]));
+                sink(rect, Planes::of_bytes(bytes[0], rect.pixels() as usize));
                 let mut rest = bytes[1..].iter();
                 if rays.is_some() {
                     ray_stats.add(bytemuck::cast_slice(rest.next().expect("ray words read back")));

@@ -10,17 +10,30 @@ use crate::layout::{STATUS_HIT, STATUS_UNRESOLVED};
 use bytemuck::{Pod, Zeroable};
 use std::mem::MaybeUninit;
 
-/// One pixel as the kernels pack it (`write_pixel` in pixels.wgsl).
+/// The words every pixel writes (`pixels[idx]` in pixels.wgsl): colour with
+/// the status in its top bits, and work.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct Record {
+pub struct Head {
     color: u32,
-    normal: u32,
-    depth: f32,
     info: u32,
 }
 
-impl Record {
+/// The words only hits and unresolved pixels write (`pixels[n + idx]`):
+/// the octahedral normal and the depth.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Tail {
+    normal: u32,
+    depth: f32,
+}
+
+impl Head {
+    /// A head of its two words as the kernel writes them.
+    pub fn from_words([color, info]: [u32; 2]) -> Head {
+        Head { color, info }
+    }
+
     fn status(&self) -> Status {
         match self.color >> 30 {
             STATUS_HIT => Status::Hit,
@@ -37,31 +50,108 @@ impl Record {
     }
 }
 
-/// Counts `records` in the frame statistics.
-pub fn count(records: &[Record], acc: &mut StatsAcc) {
-    acc.add_records(records, Record::work);
+impl Tail {
+    /// What a miss's tail means (the kernels do not write it): no normal, no depth.
+    const MISS: Tail = Tail { normal: 0, depth: f32::INFINITY };
+
+    /// A tail of its two words as the kernel writes them.
+    pub fn from_words([normal, depth]: [u32; 2]) -> Tail {
+        Tail { normal, depth: f32::from_bits(depth) }
+    }
+}
+
+/// One pixel's whole record: its head, and its tail or, for a miss,
+/// [`Tail::MISS`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Record {
+    head: Head,
+    tail: Tail,
+}
+
+impl Record {
+    /// The record of a head and the tail stored beside it, which a miss
+    /// never wrote: whatever an earlier frame left there is not read.
+    #[inline]
+    pub fn new(head: Head, tail: &Tail) -> Record {
+        let tail = if head.status() == Status::Miss { Tail::MISS } else { *tail };
+        Record { head, tail }
+    }
+}
+
+/// The records of a dispatch (or a frame) in the kernel's two planes: the
+/// heads of all pixels, then the tails.
+#[derive(Debug, Clone, Copy)]
+pub struct Planes<'a> {
+    heads: &'a [Head],
+    tails: &'a [Tail],
+}
+
+impl<'a> Planes<'a> {
+    /// The planes of `n` pixels' records in the bytes of a kernel's output
+    /// (16 bytes a pixel; the output may be longer).
+    pub fn of_bytes(bytes: &'a [u8], n: usize) -> Planes<'a> {
+        let half = n * std::mem::size_of::<Head>();
+        Planes { heads: bytemuck::cast_slice(&bytes[..half]), tails: bytemuck::cast_slice(&bytes[half..2 * half]) }
+    }
+
+    /// Pixels.
+    pub fn len(&self) -> usize {
+        self.heads.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.heads.is_empty()
+    }
+
+    /// Record `i`.
+    #[inline]
+    pub fn get(&self, i: usize) -> Record {
+        Record::new(self.heads[i], &self.tails[i])
+    }
+
+    /// Records `range`, as planes of their own.
+    pub fn slice(&self, range: std::ops::Range<usize>) -> Planes<'a> {
+        Planes { heads: &self.heads[range.clone()], tails: &self.tails[range] }
+    }
+
+    /// The records, in order.
+    pub fn iter(&self) -> impl Iterator<Item = Record> + 'a {
+        self.heads.iter().zip(self.tails).map(|(h, t)| Record::new(*h, t))
+    }
+
+    /// Consecutive planes of at most `len` records each.
+    fn chunks(&self, len: usize) -> impl Iterator<Item = Planes<'a>> + 'a {
+        self.heads.chunks(len).zip(self.tails.chunks(len)).map(|(heads, tails)| Planes { heads, tails })
+    }
+}
+
+/// Counts `records` in the frame statistics: their heads alone.
+pub fn count(records: Planes, acc: &mut StatsAcc) {
+    acc.add_records(records.heads, Head::work);
 }
 
 /// Writes `f` of every record of a whole frame into `dst`, one slice per
 /// core, and returns the records' statistics. With `f` = [`convert`] that is
-/// 16 MB in and 48 MB out at 1024²; the packed path copies (16 MB out) where
-/// it cannot keep the records in place.
-pub fn map_all<T: Send>(raw: &[Record], dst: &mut [MaybeUninit<T>], f: impl Fn(&Record) -> T + Sync) -> StatsAcc {
+/// 16 MB in and 48 MB out at 1024² (less: misses' tails are not read); the
+/// packed path copies (16 MB out) where it cannot keep the records in place.
+pub fn map_all<T: Send>(raw: Planes, dst: &mut [MaybeUninit<T>], f: impl Fn(&Record) -> T + Sync) -> StatsAcc {
     let chunk = chunk_len(raw.len());
     on_cores(raw.chunks(chunk).zip(dst.chunks_mut(chunk)).collect(), |(src, out)| {
         let mut acc = StatsAcc::default();
         for (src, out) in src.chunks(64).zip(out.chunks_mut(64)) {
-            for (d, r) in out.iter_mut().zip(src) {
-                d.write(f(r));
+            for (d, r) in out.iter_mut().zip(src.iter()) {
+                d.write(f(&r));
             }
-            acc.add_records(src, Record::work);
+            count(src, &mut acc);
         }
         acc
     })
 }
 
 /// The statistics of a whole frame's records, one slice per core.
-pub fn count_all(raw: &[Record]) -> StatsAcc {
+pub fn count_all(raw: Planes) -> StatsAcc {
     on_cores(raw.chunks(chunk_len(raw.len())).collect(), |src| {
         let mut acc = StatsAcc::default();
         count(src, &mut acc);
@@ -96,19 +186,20 @@ fn on_cores<J: Send>(mut jobs: Vec<J>, work: impl Fn(J) -> StatsAcc + Sync) -> S
 
 /// A record decoded.
 pub fn convert(r: &Record) -> PixelOut {
-    let status = r.status();
+    let (h, t) = (&r.head, &r.tail);
+    let status = h.status();
     let c = |shift: u32| {
-        let v = ((r.color >> shift) & 0x3ff) as f32 / 1023.0;
+        let v = ((h.color >> shift) & 0x3ff) as f32 / 1023.0;
         v * v
     };
     let alpha = if status == Status::Miss { 0.0 } else { 1.0 };
     PixelOut {
         color: [c(0), c(10), c(20), alpha],
-        normal: if status == Status::Miss { [0.0; 3] } else { octahedral(r.normal) },
-        depth: r.depth,
-        evals: r.info & 0xffff,
-        level: (r.info >> 16) & 0x1f,
-        iso: r.info >> 21,
+        normal: if status == Status::Miss { [0.0; 3] } else { octahedral(t.normal) },
+        depth: t.depth,
+        evals: h.info & 0xffff,
+        level: (h.info >> 16) & 0x1f,
+        iso: h.info >> 21,
         status,
     }
 }
@@ -130,15 +221,17 @@ fn octahedral(v: u32) -> [f32; 3] {
     if l > 0.0 { [x / l, y / l, z / l] } else { [0.0, 0.0, 1.0] }
 }
 
-/// A rendered frame kept as the kernel's 16-byte records: what a viewer
+/// A rendered frame kept as the kernel's records: what a viewer
 /// holds before display, without decoding 1024² pixels (about 3.5 ms a frame
 /// on this machine's two cores). Pixels decode on access.
 ///
 /// On a device that maps storage buffers in place (lavapipe) and a frame
 /// rendered in one dispatch, the records stay in the kernel's output buffer,
-/// mapped, and are never copied (16 MB at 1024²: 1-2 ms a frame here); the
-/// next [`crate::gpu::Renderer::render_packed`] into the same frame unmaps
-/// that buffer and renders into it again. Otherwise they are copied out.
+/// mapped, in the kernel's two planes, and are never copied (16 MB at
+/// 1024²: 1-2 ms a frame here); the next
+/// [`crate::gpu::Renderer::render_packed`] into the same frame unmaps that
+/// buffer and renders into it again. Otherwise they are copied out, a whole
+/// [`Record`] a pixel.
 #[derive(Default)]
 pub struct PackedFrame {
     /// Width in pixels.
@@ -163,12 +256,21 @@ pub(crate) enum Records {
 }
 
 impl Records {
-    /// The records.
-    pub(crate) fn as_slice(&self) -> &[Record] {
+    /// Records held, of a frame of `n` pixels.
+    fn len(&self, n: usize) -> usize {
         match self {
-            Records::Empty => &[],
-            Records::Copied(v) => v,
-            Records::Mapped { view, .. } => bytemuck::cast_slice(view),
+            Records::Empty => 0,
+            Records::Copied(v) => v.len().min(n),
+            Records::Mapped { .. } => n,
+        }
+    }
+
+    /// Record `i` of a frame of `n` pixels (`i` < [`Records::len`]).
+    fn get(&self, i: usize, n: usize) -> Record {
+        match self {
+            Records::Empty => panic!("record {i} of a frame without records"),
+            Records::Copied(v) => v[i],
+            Records::Mapped { view, .. } => Planes::of_bytes(view, n).get(i),
         }
     }
 
@@ -190,7 +292,8 @@ impl Records {
 impl Clone for PackedFrame {
     /// A copy holds its records in host memory.
     fn clone(&self) -> Self {
-        PackedFrame { width: self.width, height: self.height, stats: self.stats.clone(), records: Records::Copied(self.records().to_vec()) }
+        let records = Records::Copied((0..self.len()).map(|i| self.record(i)).collect());
+        PackedFrame { width: self.width, height: self.height, stats: self.stats.clone(), records }
     }
 }
 
@@ -202,21 +305,38 @@ impl std::fmt::Debug for PackedFrame {
 }
 
 impl PackedFrame {
-    /// The kernel's records, row-major, top row first.
-    pub fn records(&self) -> &[Record] {
-        let n = self.width as usize * self.height as usize;
-        let all = self.records.as_slice();
-        &all[..n.min(all.len())]
+    /// Pixels held: width × height once rendered.
+    pub fn len(&self) -> usize {
+        self.records.len(self.pixels())
+    }
+
+    /// Whether the frame holds no pixels.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn pixels(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Record `i` (row-major, top row first).
+    pub fn record(&self, i: usize) -> Record {
+        assert!(i < self.len(), "pixel {i} of a {}x{} frame", self.width, self.height);
+        self.records.get(i, self.pixels())
     }
 
     /// Pixel `i` (row-major, top row first), decoded.
     pub fn pixel(&self, i: usize) -> PixelOut {
-        convert(&self.records()[i])
+        convert(&self.record(i))
     }
 
     /// The whole frame decoded.
     pub fn decode(&self) -> Frame {
-        Frame { width: self.width, height: self.height, pixels: self.records().iter().map(convert).collect(), stats: self.stats.clone() }
+        let pixels = match &self.records {
+            Records::Mapped { view, .. } => Planes::of_bytes(view, self.pixels()).iter().map(|r| convert(&r)).collect(),
+            _ => (0..self.len()).map(|i| self.pixel(i)).collect(),
+        };
+        Frame { width: self.width, height: self.height, pixels, stats: self.stats.clone() }
     }
 }
 

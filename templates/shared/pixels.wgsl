@@ -1,19 +1,28 @@
 // The pixel record every traversal writes (decoded by src/render/record.rs),
-// in the pass group: one vec4<u32> per pixel of the dispatch.
-//   x  colour: linear RGB as sqrt-encoded 10-bit unorm (r low); bits 30-31: status
-//   y  unit normal, octahedral, pack2x16snorm
-//   z  depth (f32 bits): distance from the eye along the unit ray; +inf on misses
-//   w  work (16 bits, saturated: inclusion evaluations or marching steps)
-//      | d_ray << 16 (5 bits) | isovalue / surface index << 21
-//      d_ray: the ray's bisection depth; of a miss the statistics read only
-//      whether it is 0 (the ray does not cross the domain), and bisection's
-//      tile pass writes 0 or 1 there for the pixels of an empty tile
-// 16 bytes: at 1024² the records are written by the kernel and read by the
-// host every frame, and 28-byte records cost measurably more memory traffic
-// on a CPU device. Stored as one vec4<u32>: lavapipe writes that per lane at
-// once, where a four-field struct took four bounds-checked stores (an empty
-// 1024² frame went from 8.6 to 6.7 ms).
-@group(2) @binding(0) var<storage, read_write> pixels: array<vec4<u32>>;
+// in the pass group, in two planes of the dispatch's n pixels:
+//   pixels[idx], the head, every pixel:
+//     x  colour: linear RGB as sqrt-encoded 10-bit unorm (r low); bits 30-31: status
+//     y  work (16 bits, saturated: inclusion evaluations or marching steps)
+//        | d_ray << 16 (5 bits) | isovalue / surface index << 21
+//        d_ray: the ray's bisection depth; of a miss the statistics read only
+//        whether it is 0 (the ray does not cross the domain), and bisection's
+//        tile pass writes 0 or 1 there for the pixels of an empty tile
+//   pixels[n + idx], the tail, written only where the status is not MISS:
+//     x  unit normal, octahedral, pack2x16snorm
+//     y  depth (f32 bits): distance from the eye along the unit ray
+//        (a miss's depth is +inf and its normal 0, by its status)
+// A miss, most of a frame's pixels, is 8 bytes: at 1024² the records are
+// written by the kernel and read by the host every frame, and on a CPU
+// device their cost is memory traffic. With the four words side by side
+// every miss still touched its whole 16 bytes; in planes the tile pass's
+// empty tiles write half the lines (the 4-bretzel's ortho tile pass 4.1 →
+// 3.0 ms at 1024²) and the statistics read half the bytes. Each plane is
+// stored a vec2<u32> at a time: lavapipe writes a vector per lane at once,
+// where a struct of four fields took four bounds-checked stores.
+@group(2) @binding(0) var<storage, read_write> pixels: array<vec2<u32>>;
+
+// The pixels of this dispatch: the tail plane starts there.
+fn pixel_count() -> u32 { return F.tile_size.x * F.tile_size.y; }
 
 // sqrt encoding keeps dark colours precise (10 bits of sqrt(c) beat the
 // 8-bit sRGB output everywhere).
@@ -40,7 +49,10 @@ fn pack_info(work: u32, d_ray: u32, iso: u32) -> u32 {
     return min(work, 0xffffu) | (min(d_ray, 31u) << 16u) | (min(iso, 255u) << 21u);
 }
 fn write_pixel(idx: u32, color: vec3<f32>, status: u32, normal: vec3<f32>, depth: f32, info: u32) {
-    pixels[idx] = vec4<u32>(pack_color(color, status), pack_normal(normal), bitcast<u32>(depth), info);
+    pixels[idx] = vec2<u32>(pack_color(color, status), info);
+    if (status != STATUS_MISS) {
+        pixels[pixel_count() + idx] = vec2<u32>(pack_normal(normal), bitcast<u32>(depth));
+    }
 }
 
 // How a pixel whose traversal ran out of budget is drawn: its position is a

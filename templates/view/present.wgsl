@@ -7,12 +7,22 @@
 // ---- The Present block and the shared constants, generated from src/layout.rs.
 //!splice:uniforms
 
-@group(0) @binding(0) var<storage, read> records: array<vec4<u32>>;
+// The records in their two planes (pixels.wgsl): heads, then tails.
+@group(0) @binding(0) var<storage, read> records: array<vec2<u32>>;
 @group(0) @binding(1) var<uniform> P: Present;
 // A scene's selected node traced alone with the same kernel (its own field
 // buffers, no new pipeline): where its depth equals the scene's, the
 // visible surface is the selection's.
-@group(0) @binding(2) var<storage, read> selection: array<vec4<u32>>;
+@group(0) @binding(2) var<storage, read> selection: array<vec2<u32>>;
+
+// Record i of n as the four words (colour, normal, depth, work) of the
+// functions below. A miss's tail is whatever an earlier frame left there:
+// they read its normal and depth only for hits.
+fn record_at(i: u32, n: u32) -> vec4<u32> {
+    let head = records[i];
+    let tail = records[n + i];
+    return vec4<u32>(head.x, tail.x, tail.y, head.y);
+}
 
 // `convert`'s colour: 10-bit sqrt-encoded channels, squared.
 fn record_color(r: vec4<u32>) -> vec3<f32> {
@@ -78,12 +88,13 @@ fn fs(v: VertexOut) -> @location(0) vec4<f32> {
     let px = vec2<u32>(v.pos.xy);
     let rec = min(px * P.size / max(P.canvas, vec2<u32>(1u)), P.size - vec2<u32>(1u));
     let i = rec.y * P.size.x + rec.x;
-    let r = records[i];
+    let n = P.size.x * P.size.y;
+    let r = record_at(i, n);
     var c = present_linear(r, P.mode, P.steps_max);
     if (P.highlight != 0u) {
         let s = selection[i];
         let d = bitcast<f32>(r.z);
-        if ((s.x >> 30u) == STATUS_HIT && (r.x >> 30u) == STATUS_HIT && abs(bitcast<f32>(s.z) - d) <= 1e-3 * d) {
+        if ((s.x >> 30u) == STATUS_HIT && (r.x >> 30u) == STATUS_HIT && abs(bitcast<f32>(selection[n + i].y) - d) <= 1e-3 * d) {
             c = mix(c, vec3<f32>(1.0, 0.35, 0.0), 0.55);
         }
     }

@@ -132,7 +132,6 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         let seg = clip_domain(F.eye.xyz, d0 + f32(7u * (c & 1u)) * step_x + f32(7u * (c >> 1u)) * step_y);
         corners = corners + select(0u, 1u, seg.x < seg.y);
     }
-    let rest = vec2<u32>(pack_normal(vec3<f32>(0.0)), bitcast<u32>(F.inf));
     for (var li = 0u; li < 64u; li = li + 1u) {
         let g = tile * 8u + vec2<u32>(li % 8u, li / 8u);
         if (g.x >= F.tile_size.x || g.y >= F.tile_size.y) { continue; }
@@ -149,7 +148,7 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         } else {
             color = pack_color(background(normalize(d0 + u * step_x + v * step_y)), STATUS_MISS);
         }
-        pixels[g.y * F.tile_size.x + g.x] = vec4<u32>(color, rest.x, rest.y, pack_info(tile_share(n, li), crosses, 0u));
+        pixels[g.y * F.tile_size.x + g.x] = vec2<u32>(color, pack_info(tile_share(n, li), crosses, 0u));
     }
 }
 
