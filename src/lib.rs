@@ -98,9 +98,25 @@ impl Formula {
 /// - transcendental functions, division, min/max/abs (CSG): RAA goes
 ///   through IA for them at extra cost (cloth 210 → 239 ms, sq.csg
 ///   96 → 164 ms).
+///
+/// Since IA bisection takes polynomial nodes of degree 3 to 6 from their
+/// polynomials along the ray (`codegen::ray_polys`), which keeps what RAA
+/// kept and more, IA is the faster of the two on a small formula with such
+/// nodes: the Barth decic 58.7-61.1 → 43.7-45.3 ms at 1024², the heart
+/// 29.0-30.0 → 21.5-22.7, Steiner 13.3-15.1 → 10.1-11.4, the Barth sextic,
+/// the tangle, Mitchell and the Klein bottle by 5-25 %, the two cubics even;
+/// only the teardrop is slower (8.1-8.6 → 8.9-9.6 ms). A large formula
+/// (more than [`RAY_POLY_AUTO_NODES`] live nodes) may run as a tape, which
+/// has no ray forms, and keeps RAA.
 pub fn choose_algebra(ir: &ir::Ir) -> codegen::Domain {
     let (minmax, max_power) = ir.shape();
     let degree = ir.degree();
     let polynomial_mid = matches!(degree, Some(4..=10));
-    if polynomial_mid && max_power < 16 && minmax == 0 && !ir.is_csg() { codegen::Domain::Affine } else { codegen::Domain::Interval }
+    let raa = polynomial_mid && max_power < 16 && minmax == 0 && !ir.is_csg();
+    if raa && !(ir.live().len() <= RAY_POLY_AUTO_NODES && codegen::takes_ray_polynomials(ir)) { codegen::Domain::Affine } else { codegen::Domain::Interval }
 }
+
+/// The most live nodes of a formula for which `choose_algebra` weighs ray
+/// polynomials: well inside what `Auto` compiles rather than runs as a tape
+/// in IA (`codegen::choice::CROSSOVER_BISECT_IA` instructions).
+pub const RAY_POLY_AUTO_NODES: usize = 300;

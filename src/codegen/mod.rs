@@ -23,6 +23,13 @@ pub mod compiled;
 pub mod derivative;
 pub mod kernel;
 mod ray_forms;
+mod ray_polys;
+
+/// Whether an IA kernel bisecting `ir` compiled takes polynomial nodes of
+/// degree 3 to 6 from the ray (`ray_polys`): what `choose_algebra` asks.
+pub fn takes_ray_polynomials(ir: &Ir) -> bool {
+    ray_forms::ray_nodes(ir).is_some_and(|r| r.has_polynomials())
+}
 pub mod reroll;
 pub mod tape;
 mod tape_derivative;
@@ -287,7 +294,7 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
         }
         let op = ir.nodes[id as usize];
         let rhs = match ray {
-            Some((forms, args)) if forms.has(id) => forms.rhs(id, p, args),
+            Some((forms, args)) if forms.takes(id, p) => forms.rhs(id, p, args),
             _ => value_rhs(out, domain, id, op, ir, &nn),
         };
         let _ = writeln!(out, "    let v{id} = {rhs};");

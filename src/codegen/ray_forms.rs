@@ -28,7 +28,7 @@
 //! Each enclosure is widened by 32 such roundings (`RAY_PAD` in
 //! templates/fields/ray_forms.wgsl).
 
-use super::{f32_enclosure, lit};
+use super::{f32_enclosure, lit, ray_polys};
 use crate::ir::{Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
@@ -68,12 +68,12 @@ impl Quad {
     }
 
     /// The constant, if the form has no variable.
-    fn constant(self) -> Option<f64> {
+    pub(crate) fn constant(self) -> Option<f64> {
         (self.0[1..] == [0.0; MONOMIALS - 1]).then_some(self.0[0])
     }
 
     /// Whether every term is of degree ≤ 1.
-    fn linear(self) -> bool {
+    pub(crate) fn linear(self) -> bool {
         self.0[4..] == [0.0; MONOMIALS - 4]
     }
 
@@ -115,7 +115,7 @@ impl Quad {
     /// `p0 + d t` (`ray_lin` or `ray_quad` of templates/fields/ray_forms.wgsl),
     /// with the coefficients made absolute when `abs` (their magnitudes:
     /// then `p0` and `d` are too).
-    fn along(&self, p0: &str, d: &str, abs: bool) -> String {
+    pub(crate) fn along(&self, p0: &str, d: &str, abs: bool) -> String {
         let c = |i: usize| lit(if abs { self.0[i].abs() as f32 } else { self.0[i] as f32 });
         let v = |i: usize| format!("vec3<f32>({}, {}, {})", c(i), c(i + 1), c(i + 2));
         match self.linear() {
@@ -173,17 +173,23 @@ fn squares(ir: &Ir, f: &[Option<Quad>]) -> Vec<Option<(f64, Quad)>> {
     s
 }
 
-/// A node taken from the ray: the form Q and, for k·Q², the factor k.
+/// A node taken from the ray.
 #[derive(Debug, Clone, Copy)]
-struct Taken {
-    q: Quad,
-    k: Option<f64>,
+enum Taken {
+    /// Of degree ≤ 2: its form.
+    Form(Quad),
+    /// k·Q²: k and Q.
+    Square(f64, Quad),
+    /// A polynomial of degree 3 to 6 ([`ray_polys`]), by its degree.
+    Poly(u32),
 }
 
 /// The nodes a bisected compiled field takes from the ray
-/// ([`ray_nodes`]), with their forms.
+/// ([`ray_nodes`]), with their forms, and the polynomials' part of
+/// `field_begin_ray` (declarations, body).
 pub(crate) struct RayForms {
     forms: Vec<Option<Taken>>,
+    polys: (String, String),
 }
 
 /// Most live nodes of a formula whose nodes are taken from the ray. The
@@ -196,13 +202,15 @@ pub(crate) struct RayForms {
 /// written as before.
 pub(crate) const MAX_NODES: usize = 1500;
 
-/// The nodes to take from the ray, each used by a live node that is not
-/// taken from the ray itself (or the root):
+/// The nodes to take from the ray, each the root or used by a node that
+/// is evaluated and not taken from the ray itself:
 /// - forms of two or more monomials, or of one product of two variables
 ///   ([`Quad::worth_a_form`]);
 /// - products k·Q² of degree > 2 with Q of degree 2 ([`squares`]), other
 ///   than a square alone: the square of a form taken from the ray is
-///   already exact, and of a monomial x² too over the box.
+///   already exact, and of a monomial x² too over the box;
+/// - polynomials of degree 3 to 6 whose terms depend on each other
+///   ([`ray_polys::worth`]), by their Bernstein coefficients.
 ///
 /// None for a formula of several surfaces (level-set CSG), whose cells
 /// have no slope, for one of more than [`MAX_NODES`] live nodes, and where
@@ -214,49 +222,82 @@ pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
     }
     let f = forms(ir);
     let sq = squares(ir, &f);
+    let deg = ray_polys::degrees(ir, &f);
     let product = |id: usize| sq[id].filter(|(_, q)| !q.linear() && f[id].is_none() && !matches!(ir.nodes[id], Op::PowI(_, 2)));
-    let mut wanted = vec![false; ir.nodes.len()];
-    for &id in &live {
-        if f[id as usize].is_none() && product(id as usize).is_none() {
-            for a in ir.nodes[id as usize].operands() {
-                wanted[a as usize] = true;
+    let exact = |id: NodeId| f[id as usize].is_some() || sq[id as usize].is_some();
+    let poly = |id: usize| ray_polys::worth(ir, &deg, &exact, id as NodeId);
+    // From the root down: a node is evaluated if an evaluated node not taken
+    // from the ray uses it, and taken if it is evaluated and qualifies.
+    let take = |id: usize| match (f[id], product(id)) {
+        (Some(q), _) => q.worth_a_form().then_some(Taken::Form(q)),
+        (None, Some((k, q))) => Some(Taken::Square(k, q)),
+        (None, None) if poly(id) => deg[id].map(Taken::Poly),
+        (None, None) => None,
+    };
+    let mut evaluated = vec![false; ir.nodes.len()];
+    let mut forms: Vec<Option<Taken>> = vec![None; ir.nodes.len()];
+    evaluated[ir.root as usize] = true;
+    for &id in live.iter().rev() {
+        let id = id as usize;
+        if !evaluated[id] {
+            continue;
+        }
+        forms[id] = take(id);
+        if forms[id].is_none() {
+            for a in ir.nodes[id].operands() {
+                evaluated[a as usize] = true;
             }
         }
     }
-    wanted[ir.root as usize] = true;
-    let forms: Vec<Option<Taken>> = (0..ir.nodes.len())
-        .map(|id| match (f[id], product(id)) {
-            _ if !wanted[id] => None,
-            (Some(q), _) => q.worth_a_form().then_some(Taken { q, k: None }),
-            (None, Some((k, q))) => Some(Taken { q, k: Some(k) }),
-            (None, None) => None,
-        })
-        .collect();
-    forms.iter().any(Option::is_some).then_some(RayForms { forms })
+    let mut polys = (String::new(), String::new());
+    let mut writer = ray_polys::Writer::new(ir, &f, &deg);
+    for (id, _) in forms.iter().enumerate().filter(|(_, t)| matches!(t, Some(Taken::Poly(_)))) {
+        writer.node(id as NodeId, &mut polys.0, &mut polys.1);
+    }
+    forms.iter().any(Option::is_some).then_some(RayForms { forms, polys })
 }
 
 impl RayForms {
+    /// Whether it takes a polynomial of degree 3 to 6 from the ray.
+    pub(crate) fn has_polynomials(&self) -> bool {
+        self.forms.iter().any(|t| matches!(t, Some(Taken::Poly(_))))
+    }
+
     /// Whether node `id` is taken from the ray.
     pub(crate) fn has(&self, id: NodeId) -> bool {
         self.forms.get(id as usize).is_some_and(Option::is_some)
     }
 
+    /// Whether node `id` is taken from the ray in the domain with prefix
+    /// `p`. A polynomial of degree 3 to 6 is taken for cells (`ia`) only:
+    /// the scalar field at a point computes it from the point, whose
+    /// roundings are of its own terms' size, where its coefficients along
+    /// the ray carry roundings of the expansion's (up to 100 times the
+    /// value on the 4-bretzel's rays); the cells' pads cover the difference.
+    pub(crate) fn takes(&self, id: NodeId, p: &str) -> bool {
+        match self.forms.get(id as usize) {
+            Some(Some(Taken::Poly(_))) => p == "ia",
+            Some(Some(_)) => true,
+            _ => false,
+        }
+    }
+
     /// The value of node `id` in the domain with prefix `p` (`s` or `ia`)
     /// at `args` (`tr`: the ray parameter from the ray's start; `t0, t1`: a cell's).
     pub(crate) fn rhs(&self, id: NodeId, p: &str, args: &str) -> String {
-        let taken = self.forms[id as usize].expect("a node taken from the ray");
-        match taken.k {
-            Some(k) => format!("{p}_ray_sq({}, g_q{id}, g_qv{id}, {args})", factor(k, p == "ia")),
-            None => format!("{p}_ray{}(g_q{id}, g_qv{id}, {args})", if taken.q.linear() { "_lin" } else { "" }),
+        match self.forms[id as usize].expect("a node taken from the ray") {
+            Taken::Square(k, _) => format!("{p}_ray_sq({}, g_q{id}, g_qv{id}, {args})", factor(k, p == "ia")),
+            Taken::Form(q) => format!("{p}_ray{}(g_q{id}, g_qv{id}, {args})", if q.linear() { "_lin" } else { "" }),
+            Taken::Poly(n) => format!("ia_ray_poly{n}(g_pa{id}, g_pb{id}, g_pm{id}, g_pn{id}, {args})"),
         }
     }
 
     /// The slope along the ray of node `id` over the cell `t0, t1`.
     pub(crate) fn slope(&self, id: NodeId) -> String {
-        let taken = self.forms[id as usize].expect("a node taken from the ray");
-        match taken.k {
-            Some(k) => format!("ia_ray_sq_slope({}, g_q{id}, g_qv{id}, t0, t1)", factor(k, true)),
-            None => format!("ia_ray_slope{}(g_q{id}, g_qv{id}, t0, t1)", if taken.q.linear() { "_lin" } else { "" }),
+        match self.forms[id as usize].expect("a node taken from the ray") {
+            Taken::Square(k, _) => format!("ia_ray_sq_slope({}, g_q{id}, g_qv{id}, t0, t1)", factor(k, true)),
+            Taken::Form(q) => format!("ia_ray_slope{}(g_q{id}, g_qv{id}, t0, t1)", if q.linear() { "_lin" } else { "" }),
+            Taken::Poly(n) => format!("ia_ray_poly{n}_slope(g_pa{id}, g_pb{id}, g_pm{id}, g_pn{id}, t0, t1)"),
         }
     }
 
@@ -268,7 +309,11 @@ impl RayForms {
     pub(crate) fn setup(&self) -> String {
         let mut out = String::from("var<private> g_ray_ref: f32;\n");
         let mut body = String::new();
-        for (id, q) in self.forms.iter().enumerate().filter_map(|(i, q)| q.map(|q| (i, q.q))) {
+        let quads = self.forms.iter().enumerate().filter_map(|(i, t)| match t {
+            Some(Taken::Form(q) | Taken::Square(_, q)) => Some((i, *q)),
+            _ => None,
+        });
+        for (id, q) in quads {
             let _ = writeln!(out, "var<private> g_q{id}: vec4<f32>;\nvar<private> g_qv{id}: vec3<f32>;");
             let _ = writeln!(body, "    let q{id} = {};\n    let m{id} = {};", q.along("p0", "dir", false), q.along("P", "ad", true));
             let _ = writeln!(body, "    g_q{id} = vec4<f32>(q{id}, RAY_PAD * (m{id}.x + len * (m{id}.y + len * m{id}.z)));");
@@ -277,11 +322,19 @@ impl RayForms {
             let rest = if q.linear() { format!("q{id}.y - e{id}, q{id}.y + e{id}") } else { format!("ray_vertex(q{id})") };
             let _ = writeln!(body, "    g_qv{id} = vec3<f32>(e{id}, {rest});");
         }
+        let (decls, polys) = &self.polys;
+        let mid = match polys.is_empty() {
+            true => "",
+            false => "    g_poly_mid = 0.5 * len;\n    let pm = p0 + dir * g_poly_mid;\n    let apm = abs(pm);\n",
+        };
+        let template = match polys.is_empty() {
+            true => include_str!("../../templates/fields/ray_forms.wgsl").to_string(),
+            false => [include_str!("../../templates/fields/ray_forms.wgsl"), include_str!("../../templates/fields/ray_polys.wgsl")].join("\n"),
+        };
         let _ = write!(
             out,
-            "{}\nfn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {{\n    \
-             let p0 = o + dir * s_ref;\n    let P = max(abs(p0), abs(p0 + dir * len));\n    let ad = abs(dir);\n    g_ray_ref = s_ref;\n{body}}}\n",
-            include_str!("../../templates/fields/ray_forms.wgsl")
+            "{decls}{template}\nfn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {{\n    \
+             let p0 = o + dir * s_ref;\n    let P = max(abs(p0), abs(p0 + dir * len));\n    let ad = abs(dir);\n    g_ray_ref = s_ref;\n{body}{mid}{polys}}}\n"
         );
         out
     }

@@ -1,0 +1,210 @@
+//! Polynomial subexpressions of degree 3 to 6 restricted to the ray.
+//!
+//! Along a ray p = p0 + dir·t a polynomial of degree n in x, y, z is a
+//! polynomial of degree n in t alone. [`super::ray_forms`] takes nodes of
+//! degree ≤ 2 from the ray with their exact range; a node of higher degree
+//! whose terms depend on each other loses most where they cancel, which is
+//! on the surface: the 4-bretzel's (x² + y²)³ − 4x²y² is zero along its
+//! curve while each term is near 1, and the decocube's
+//! (x² + y² − 0.64)² + (z² − 1)² adds two squares whose ranges over a
+//! cell's box are independent. Such a node's coefficients along the ray are
+//! worked out once per ray (`field_begin_ray`), composed from its operands'
+//! (products are convolutions), and a cell encloses it by the polynomial's
+//! Bernstein coefficients over the cell (templates/fields/ray_polys.wgsl),
+//! whose overestimate shrinks with the square of the cell.
+//!
+//! Rounding. Every value on the ray (cells, slopes, the root search's
+//! points) is of the same f32 coefficients. Each coefficient's error is
+//! counted in f32 roundings of the terms' magnitudes, which the same
+//! composition on the operands' magnitudes bounds over the ray's extent in
+//! the domain; the count grows with the operations that compose it, and the
+//! cell's Taylor shift and Bernstein weights add a few per degree. The
+//! enclosure is widened by twice that many roundings of the magnitude.
+
+use super::ray_forms::Quad;
+use crate::ir::{Ir, NodeId, Op};
+use std::fmt::Write;
+
+/// The highest degree taken from the ray: the cell's work grows with its
+/// square (degree 6: about 100 operations a cell).
+pub(crate) const MAX_DEGREE: u32 = 6;
+
+/// Each node's degree as a polynomial in x, y, z, counted by its form
+/// (a product's degree is the sum of its operands'); None where it is not
+/// a polynomial (functions, divisions by non-constants, time).
+pub(crate) fn degrees(ir: &Ir, forms: &[Option<Quad>]) -> Vec<Option<u32>> {
+    let mut d: Vec<Option<u32>> = Vec::with_capacity(ir.nodes.len());
+    for (id, op) in ir.nodes.iter().enumerate() {
+        let g = |n: &NodeId| d[*n as usize];
+        let deg = match op {
+            _ if forms[id].is_some() => Some(if forms[id].is_some_and(|q| q.constant().is_some()) { 0 } else if forms[id].is_some_and(|q| q.linear()) { 1 } else { 2 }),
+            Op::Neg(a) => g(a),
+            Op::Add(a, b) | Op::Sub(a, b) => g(a).zip(g(b)).map(|(a, b)| a.max(b)),
+            Op::Mul(a, b) => g(a).zip(g(b)).map(|(a, b)| a.saturating_add(b)),
+            Op::PowI(a, e) if *e <= MAX_DEGREE => g(a).map(|a| a.saturating_mul(*e)),
+            Op::Div(a, b) if forms[*b as usize].is_some_and(|q| q.constant().is_some_and(|k| k != 0.0 && (1.0 / k) as f32 != 0.0)) => g(a),
+            _ => None,
+        };
+        d.push(deg);
+    }
+    d
+}
+
+/// Whether node `id` (a polynomial of degree 3 to [`MAX_DEGREE`]) gains from
+/// the ray: a sum, a difference or a product of two non-constant nodes, whose
+/// operands move together along the ray, or such a node negated, scaled or
+/// offset by a constant. A power of one node is not (intervals take it
+/// from its operand's range exactly), nor a node `exact` already takes from
+/// the ray (a product of squares k·Q²).
+pub(crate) fn worth(ir: &Ir, deg: &[Option<u32>], exact: &dyn Fn(NodeId) -> bool, id: NodeId) -> bool {
+    let nonconst = |n: &NodeId| deg[*n as usize].is_some_and(|d| d > 0);
+    if exact(id) || !deg[id as usize].is_some_and(|d| (3..=MAX_DEGREE).contains(&d)) {
+        return false;
+    }
+    match ir.nodes[id as usize] {
+        Op::Neg(a) | Op::Div(a, _) => worth(ir, deg, exact, a),
+        Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) if !nonconst(&a) => worth(ir, deg, exact, b),
+        Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) if !nonconst(&b) => worth(ir, deg, exact, a),
+        Op::Add(..) | Op::Sub(..) | Op::Mul(..) => true,
+        _ => false,
+    }
+}
+
+/// One node's coefficients along the ray: for each power of t, the WGSL
+/// names of its value and of its magnitude's bound; and the roundings its
+/// computation may have made, in units of the magnitude.
+#[derive(Clone)]
+struct Coeffs {
+    value: Vec<String>,
+    magnitude: Vec<String>,
+    roundings: u32,
+}
+
+/// Writes the coefficients of nodes along the ray into `field_begin_ray`'s
+/// body: polynomials in t − `g_poly_mid`, about the middle `pm` of the
+/// ray's extent in the domain (`dir`, and `apm` = |pm|, `ad` = |dir| for
+/// the magnitudes, as `Quad::along` needs). A magnitude polynomial (the
+/// same composition of the operands' terms' absolute values) bounds the
+/// terms at |t − g_poly_mid| ≤ τ by its value at τ; about the middle τ is
+/// at most half the extent, where about one end it is the whole (the
+/// 4-bretzel's (x² + y²)³ along a ray through its box: 17,500 about the
+/// end against about 110 about the middle).
+pub(crate) struct Writer<'a> {
+    ir: &'a Ir,
+    forms: &'a [Option<Quad>],
+    deg: &'a [Option<u32>],
+    done: Vec<Option<Coeffs>>,
+    lists: usize,
+}
+
+impl<'a> Writer<'a> {
+    pub(crate) fn new(ir: &'a Ir, forms: &'a [Option<Quad>], deg: &'a [Option<u32>]) -> Writer<'a> {
+        Writer { ir, forms, deg, done: vec![None; ir.nodes.len()], lists: 0 }
+    }
+
+    /// The per-ray state of a polynomial node taken from the ray
+    /// (`g_pa{id}`, `g_pb{id}`: its coefficients and the pad's scale;
+    /// `g_pm{id}`, `g_pn{id}`: its magnitude's; see ray_polys.wgsl) and the
+    /// lines of `field_begin_ray` that set it.
+    pub(crate) fn node(&mut self, id: NodeId, decls: &mut String, body: &mut String) {
+        let c = self.coeffs(id, body);
+        let at = |v: &[String], k: usize| v.get(k).map_or("0.0", String::as_str).to_string();
+        let ulps = 2 * (c.roundings + 8 * c.value.len() as u32 + 8);
+        let scale = super::lit((ulps as f64 * f64::powi(2.0, -24)) as f32);
+        let (v, m) = (&c.value, &c.magnitude);
+        let _ = writeln!(decls, "var<private> g_pa{id}: vec4<f32>;\nvar<private> g_pb{id}: vec4<f32>;\nvar<private> g_pm{id}: vec4<f32>;\nvar<private> g_pn{id}: vec4<f32>;");
+        let _ = writeln!(body, "    g_pa{id} = vec4<f32>({}, {}, {}, {});", at(v, 0), at(v, 1), at(v, 2), at(v, 3));
+        let _ = writeln!(body, "    g_pb{id} = vec4<f32>({}, {}, {}, {scale});", at(v, 4), at(v, 5), at(v, 6));
+        let _ = writeln!(body, "    g_pm{id} = vec4<f32>({}, {}, {}, {});", at(m, 0), at(m, 1), at(m, 2), at(m, 3));
+        let _ = writeln!(body, "    g_pn{id} = vec4<f32>({}, {}, {}, 0.0);", at(m, 4), at(m, 5), at(m, 6));
+    }
+
+    /// The coefficients of node `id`, written (with its operands') into `body` once.
+    fn coeffs(&mut self, id: NodeId, body: &mut String) -> Coeffs {
+        if let Some(c) = &self.done[id as usize] {
+            return c.clone();
+        }
+        let c = match (self.forms[id as usize], self.ir.nodes[id as usize]) {
+            (Some(q), _) => {
+                let n = self.deg[id as usize].expect("a form has a degree") as usize;
+                let _ = writeln!(body, "    let u{id} = {};\n    let w{id} = {};", q.along("pm", "dir", false), q.along("apm", "ad", true));
+                let comp = ["x", "y", "z"];
+                Coeffs { value: (0..=n).map(|k| format!("u{id}.{}", comp[k])).collect(), magnitude: (0..=n).map(|k| format!("w{id}.{}", comp[k])).collect(), roundings: 8 }
+            }
+            (None, Op::Neg(a)) => {
+                let a = self.coeffs(a, body);
+                self.bind(id, body, a.value.iter().map(|v| format!("-{v}")).collect(), a.magnitude, a.roundings)
+            }
+            (None, Op::Add(a, b)) => self.sum(id, a, b, "+", body),
+            (None, Op::Sub(a, b)) => self.sum(id, a, b, "-", body),
+            (None, Op::Mul(a, b)) => {
+                let (a, b) = (self.coeffs(a, body), self.coeffs(b, body));
+                self.product(id, &a, &b, body)
+            }
+            (None, Op::PowI(a, e)) => {
+                let a = self.coeffs(a, body);
+                let mut acc = a.clone();
+                for _ in 1..e.max(1) {
+                    acc = self.product(id, &acc, &a, body);
+                }
+                if e == 0 {
+                    acc = self.bind(id, body, vec!["1.0".into()], vec!["1.0".into()], 0);
+                }
+                acc
+            }
+            (None, Op::Div(a, b)) => {
+                let k = self.forms[b as usize].and_then(|q| q.constant()).expect("a division by a constant");
+                let a = self.coeffs(a, body);
+                let r = super::lit((1.0 / k) as f32);
+                let m = super::lit((1.0 / k).abs() as f32);
+                self.bind(id, body, a.value.iter().map(|v| format!("{v} * {r}")).collect(), a.magnitude.iter().map(|v| format!("{v} * {m}")).collect(), a.roundings + 2)
+            }
+            (None, op) => unreachable!("node {id} ({op:?}) has a degree but no polynomial form"),
+        };
+        self.done[id as usize] = Some(c.clone());
+        c
+    }
+
+    fn sum(&mut self, id: NodeId, a: NodeId, b: NodeId, sign: &str, body: &mut String) -> Coeffs {
+        let (a, b) = (self.coeffs(a, body), self.coeffs(b, body));
+        let n = a.value.len().max(b.value.len());
+        let pick = |v: &[String], k: usize| v.get(k).cloned();
+        let value = (0..n)
+            .map(|k| match (pick(&a.value, k), pick(&b.value, k)) {
+                (Some(x), Some(y)) => format!("{x} {sign} {y}"),
+                (Some(x), None) => x,
+                (None, Some(y)) => if sign == "-" { format!("-{y}") } else { y },
+                (None, None) => unreachable!("k < n"),
+            })
+            .collect();
+        let magnitude = (0..n).map(|k| [pick(&a.magnitude, k), pick(&b.magnitude, k)].into_iter().flatten().collect::<Vec<_>>().join(" + ")).collect();
+        self.bind(id, body, value, magnitude, a.roundings.max(b.roundings) + 1)
+    }
+
+    /// The product of two coefficient lists (a convolution), bound to fresh names.
+    fn product(&mut self, id: NodeId, a: &Coeffs, b: &Coeffs, body: &mut String) -> Coeffs {
+        let n = a.value.len() + b.value.len() - 1;
+        let conv = |x: &[String], y: &[String]| -> Vec<String> {
+            (0..n).map(|k| (0..=k).filter(|i| *i < x.len() && k - i < y.len()).map(|i| format!("{} * {}", x[i], y[k - i])).collect::<Vec<_>>().join(" + ")).collect()
+        };
+        let value = conv(&a.value, &b.value);
+        let magnitude = conv(&a.magnitude, &b.magnitude);
+        let steps = a.value.len().min(b.value.len()) as u32;
+        self.bind(id, body, value, magnitude, a.roundings + b.roundings + steps + 1)
+    }
+
+    /// Binds coefficient expressions to names `r{id}_{j}_{k}` (values) and
+    /// `n{id}_{j}_{k}` (magnitudes), `j` counting the lists made.
+    fn bind(&mut self, id: NodeId, body: &mut String, value: Vec<String>, magnitude: Vec<String>, roundings: u32) -> Coeffs {
+        let j = self.lists;
+        self.lists += 1;
+        let mut c = Coeffs { value: Vec::new(), magnitude: Vec::new(), roundings };
+        for (k, (v, m)) in value.iter().zip(&magnitude).enumerate() {
+            let _ = writeln!(body, "    let r{id}_{j}_{k} = {v};\n    let n{id}_{j}_{k} = {m};");
+            c.value.push(format!("r{id}_{j}_{k}"));
+            c.magnitude.push(format!("n{id}_{j}_{k}"));
+        }
+        c
+    }
+}
+
