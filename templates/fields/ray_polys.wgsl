@@ -29,6 +29,12 @@ fn ray_poly_magnitude(pm: vec4<f32>, pn: vec4<f32>, tau: f32) -> vec2<f32> {
     return vec2<f32>(v, d);
 }
 
+// [lo, hi] widened by the pad; the whole line where a coefficient or the
+// magnitude overflowed f32 on this ray (a NaN end or pad fails both tests).
+fn ray_poly_widen(r: vec2<f32>, pad: f32) -> vec2<f32> {
+    return select(vec2<f32>(-F.inf, F.inf), vec2<f32>(r.x - pad, r.y + pad), r.x <= r.y && pad >= 0.0);
+}
+
 // Degree 3.
 fn ray_poly3_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
     var a0 = pa.x;
@@ -62,13 +68,13 @@ fn ia_ray_poly3(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: 
     let u0 = t0 - g_poly_mid;
     let b = ray_poly3_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
-    return vec2<f32>(b.x - pad, b.y + pad);
+    return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly3_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly3_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
-    return vec2<f32>(b.z - pad, b.w + pad);
+    return ray_poly_widen(b.zw, pad);
 }
 
 // Degree 4.
@@ -111,13 +117,13 @@ fn ia_ray_poly4(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: 
     let u0 = t0 - g_poly_mid;
     let b = ray_poly4_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
-    return vec2<f32>(b.x - pad, b.y + pad);
+    return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly4_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly4_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
-    return vec2<f32>(b.z - pad, b.w + pad);
+    return ray_poly_widen(b.zw, pad);
 }
 
 // Degree 5.
@@ -167,13 +173,13 @@ fn ia_ray_poly5(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: 
     let u0 = t0 - g_poly_mid;
     let b = ray_poly5_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
-    return vec2<f32>(b.x - pad, b.y + pad);
+    return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly5_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly5_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
-    return vec2<f32>(b.z - pad, b.w + pad);
+    return ray_poly_widen(b.zw, pad);
 }
 
 // Degree 6.
@@ -230,11 +236,11 @@ fn ia_ray_poly6(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: 
     let u0 = t0 - g_poly_mid;
     let b = ray_poly6_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
-    return vec2<f32>(b.x - pad, b.y + pad);
+    return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly6_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly6_bern(pa, pb, u0, t1 - g_poly_mid);
     let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
-    return vec2<f32>(b.z - pad, b.w + pad);
+    return ray_poly_widen(b.zw, pad);
 }
