@@ -19,14 +19,28 @@ var<private> g_poly_mid: f32;
 // which would amplify their rounding on a small cell by 1/h. Each result is
 // (value lo, hi, slope lo, hi) before the pads.
 
-// The magnitude polynomial m (pm = m0..m3, pn = m4..m6) and its
-// derivative at τ = |t0 − mid| + (t1 − t0), which bounds |t − mid| over
-// the cell: bounds of the terms that the Taylor shift to t0 and the
-// Bernstein weights round, for the value's pad and the slope's.
-fn ray_poly_magnitude(pm: vec4<f32>, pn: vec4<f32>, tau: f32) -> vec2<f32> {
+// The magnitude polynomial m (pm = m0..m3, pn = m4..m6) and its first
+// two derivatives at τ = |t0 − mid| + (t1 − t0), which bounds |t − mid|
+// over the cell: bounds of the terms that the Taylor shift to t0 and the
+// Bernstein weights round (m), and of the value's and the slope's rates of
+// change (m', m'') for the rounding of the cell's ends themselves.
+fn ray_poly_magnitude(pm: vec4<f32>, pn: vec4<f32>, tau: f32) -> vec3<f32> {
     let v = pm.x + tau * (pm.y + tau * (pm.z + tau * (pm.w + tau * (pn.x + tau * (pn.y + tau * pn.z)))));
     let d = pm.y + tau * (2.0 * pm.z + tau * (3.0 * pm.w + tau * (4.0 * pn.x + tau * (5.0 * pn.y + tau * 6.0 * pn.z))));
-    return vec2<f32>(v, d);
+    let d2 = 2.0 * pm.z + tau * (6.0 * pm.w + tau * (12.0 * pn.x + tau * (20.0 * pn.y + tau * 30.0 * pn.z)));
+    return vec3<f32>(v, d, d2);
+}
+
+// The pads of a cell [t0, t1] (from the ray's start; u0 = t0 − mid): the
+// counted roundings (pb.w) of the magnitude, and the rounding of the cell's
+// ends as the polynomial sees them (t0 − mid after s0 − start: up to 2^-23
+// of |t0| + |u0| each) times the value's and the slope's rates of change.
+fn ray_poly_pads(pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    let u0 = t0 - g_poly_mid;
+    let tau = abs(u0) + (t1 - t0);
+    let m = ray_poly_magnitude(pm, pn, tau);
+    let shift = 1.2e-7 * (max(abs(t0), abs(t1)) + tau);
+    return pb.w * m.xy + shift * m.yz;
 }
 
 // [lo, hi] widened by the pad; the whole line where a coefficient or the
@@ -67,13 +81,13 @@ fn ray_poly3_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
 fn ia_ray_poly3(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly3_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
     return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly3_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly3_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
     return ray_poly_widen(b.zw, pad);
 }
 
@@ -116,13 +130,13 @@ fn ray_poly4_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
 fn ia_ray_poly4(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly4_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
     return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly4_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly4_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
     return ray_poly_widen(b.zw, pad);
 }
 
@@ -172,13 +186,13 @@ fn ray_poly5_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
 fn ia_ray_poly5(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly5_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
     return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly5_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly5_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
     return ray_poly_widen(b.zw, pad);
 }
 
@@ -235,12 +249,12 @@ fn ray_poly6_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
 fn ia_ray_poly6(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly6_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).x;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
     return ray_poly_widen(b.xy, pad);
 }
 fn ia_ray_poly6_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let u0 = t0 - g_poly_mid;
     let b = ray_poly6_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = pb.w * ray_poly_magnitude(pm, pn, abs(u0) + (t1 - t0)).y;
+    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
     return ray_poly_widen(b.zw, pad);
 }
