@@ -31,7 +31,8 @@ pub(crate) const MAX_DEGREE: u32 = 6;
 
 /// Each node's degree as a polynomial in x, y, z, counted by its form
 /// (a product's degree is the sum of its operands'); None where it is not
-/// a polynomial (functions, divisions by non-constants, time).
+/// a polynomial (functions, divisions by non-constants or by a constant
+/// whose inverse is not a normal f32, time).
 pub(crate) fn degrees(ir: &Ir, forms: &[Option<Quad>]) -> Vec<Option<u32>> {
     let mut d: Vec<Option<u32>> = Vec::with_capacity(ir.nodes.len());
     for (id, op) in ir.nodes.iter().enumerate() {
@@ -42,7 +43,7 @@ pub(crate) fn degrees(ir: &Ir, forms: &[Option<Quad>]) -> Vec<Option<u32>> {
             Op::Add(a, b) | Op::Sub(a, b) => g(a).zip(g(b)).map(|(a, b)| a.max(b)),
             Op::Mul(a, b) => g(a).zip(g(b)).map(|(a, b)| a.saturating_add(b)),
             Op::PowI(a, e) if *e <= MAX_DEGREE => g(a).map(|a| a.saturating_mul(*e)),
-            Op::Div(a, b) if forms[*b as usize].is_some_and(|q| q.constant().is_some_and(|k| k != 0.0 && (1.0 / k) as f32 != 0.0)) => g(a),
+            Op::Div(a, b) if forms[*b as usize].is_some_and(|q| q.constant().is_some_and(|k| ((1.0 / k) as f32).is_normal())) => g(a),
             _ => None,
         };
         d.push(deg);
