@@ -4,8 +4,9 @@ var<private> g_poly_mid: f32;
 // codegen/ray_polys.rs): field_begin_ray works out their coefficients
 // c0 + c1 u + ... + cn uⁿ along the ray, u = t − g_poly_mid from the middle
 // of its extent in the domain (pa = c0..c3, pb = c4..c6 and the pad's
-// scale in f32 roundings; pm, pn the magnitude's), and a cell [t0, t1] encloses the node
-// by the polynomial's Bernstein coefficients over the cell: the range of
+// scale in f32 roundings; pm, pn the magnitude's), and a cell [t0, t1]
+// encloses the node by the polynomial's Bernstein coefficients over the
+// cell, widened by pads worked out per cell (below): the range of
 // a polynomial lies between its least and greatest Bernstein coefficient,
 // and they converge to it quadratically as the cell shrinks. Intervals
 // over the cell's box lose the dependency between the node's terms (the

@@ -15,8 +15,8 @@
 // written by the kernel and read by the host every frame, and on a CPU
 // device their cost is memory traffic. With the four words side by side
 // every miss still touched its whole 16 bytes; in planes the tile pass's
-// empty tiles write half the lines (the 4-bretzel's ortho tile pass 4.1 →
-// 3.0 ms at 1024²) and the statistics read half the bytes. Each plane is
+// empty tiles write half the lines (the 4-bretzel's ortho tile pass 3.2 →
+// 2.8 ms at 1024²) and the statistics read half the bytes. Each plane is
 // stored a vec2<u32> at a time: lavapipe writes a vector per lane at once,
 // where a struct of four fields took four bounds-checked stores.
 @group(2) @binding(0) var<storage, read_write> pixels: array<vec2<u32>>;
