@@ -30,19 +30,37 @@ struct Monomial {
     exps: [u32; 3],
 }
 
-/// The IR with the like terms of every sum collected; unchanged (the same
-/// value) when no sum has two monomials of the same powers. The nodes are
-/// pushed again through the semantic pass's builder, so what a collection
-/// makes constant is folded as it would have been if written so (a power
-/// whose exponent cancelled to 0 is 1).
-pub(super) fn collect(ir: Ir) -> Result<Ir, SemaError> {
+/// Passes of [`collect_once`] at most: each can make constants that an
+/// enclosing sum collects in the next (`x + 2 + pow(x, y - y)`: the power
+/// becomes 1, then 2 + 1 is 3), one level of such nesting a pass.
+const MAX_PASSES: usize = 8;
+
+/// The IR with the like terms of every sum collected, repeated while a
+/// pass collects something (up to [`MAX_PASSES`]), so that the result is
+/// what the same formula written out collected would give.
+pub(super) fn collect(mut ir: Ir) -> Result<Ir, SemaError> {
+    for _ in 0..MAX_PASSES {
+        match collect_once(&ir)? {
+            Some(next) => ir = next,
+            None => break,
+        }
+    }
+    Ok(ir)
+}
+
+/// The IR with the like terms of every sum collected; None when no sum has
+/// two monomials of the same powers. The nodes are pushed again through the
+/// semantic pass's builder, so what a collection makes constant is folded
+/// as it would have been if written so (a power whose exponent cancelled
+/// to 0 is 1).
+fn collect_once(ir: &Ir) -> Result<Option<Ir>, SemaError> {
     let live = ir.live();
-    let monos = monomials(&ir, &live);
-    let roots = sum_roots(&ir, &live);
+    let monos = monomials(ir, &live);
+    let roots = sum_roots(ir, &live);
     let mut budget = VISIT_BUDGET;
-    let plans: HashMap<NodeId, Vec<Term>> = roots.iter().filter_map(|&r| plan(&ir, &monos, r, &mut budget).map(|p| (r, p))).collect();
+    let plans: HashMap<NodeId, Vec<Term>> = roots.iter().filter_map(|&r| plan(ir, &monos, r, &mut budget).map(|p| (r, p))).collect();
     if plans.is_empty() {
-        return Ok(ir);
+        return Ok(None);
     }
     let mut b = Builder { params: ir.params.clone(), externs: ir.externs.clone(), ..Builder::default() };
     let mut new_id = vec![NodeId::MAX; ir.nodes.len()];
@@ -61,7 +79,7 @@ pub(super) fn collect(ir: Ir) -> Result<Ir, SemaError> {
         .iter()
         .map(|s| SurfaceIr { f: new_id[s.f as usize], conditions: s.conditions.iter().map(|&(g, less)| (new_id[g as usize], less)).collect() })
         .collect();
-    Ok(Ir { nodes: b.nodes, spans: b.spans, root: new_id[ir.root as usize], surfaces, params: b.params, externs: b.externs })
+    Ok(Some(Ir { nodes: b.nodes, spans: b.spans, root: new_id[ir.root as usize], surfaces, params: b.params, externs: b.externs }))
 }
 
 /// Each live node's monomial form, where it is one.
@@ -288,6 +306,15 @@ mod tests {
         // Through negation, subtraction and division by a constant.
         same_values(&ir("x*y - (y*x/2 - 3*x*y)"), &ir("3.5*x*y"));
         assert_eq!(ir("x*y - (y*x/2 - 3*x*y)").nodes.len(), ir("3.5*x*y").nodes.len());
+    }
+
+    #[test]
+    fn constants_a_collection_makes_are_collected_too() {
+        // y - y collects to 0, the power to 1, and then 2 + 1 to 3: as if
+        // `x + 3` had been written (found by tests/frontend_fuzz.rs).
+        let a = ir("x + 2 + pow(x, y - y)");
+        assert_eq!(a.live().len(), ir("x + 3").live().len(), "{:?}", a.nodes);
+        same_values(&a, &ir("x + 3"));
     }
 
     #[test]
