@@ -268,6 +268,47 @@ fn polynomials_of_degree_three_to_six_are_taken_from_the_ray() {
     }
 }
 
+/// Every catalog surface whose IA kernel takes polynomial nodes from the ray
+/// (12 of them) draws the RAA kernel's picture: the same hits and misses
+/// and depths within two eps, except where the IA kernel's hit or the
+/// nearer of two depths has no sign change of f near it (a tangent zero
+/// set or a node, Knoll's rule: Steiner's axes, the Barth surfaces' nodes,
+/// the heart's cusp).
+#[test]
+fn catalog_polynomials_from_the_ray_draw_the_raa_picture() {
+    let mut checked = 0;
+    for e in isotrace::catalog::builtin() {
+        let f = e.compile().unwrap();
+        if !isotrace::codegen::takes_ray_polynomials(&f.ir) {
+            continue;
+        }
+        let mut s = settings(e.header.bbox, 96, 96);
+        s.time = e.header.t.unwrap_or(0.0);
+        s.clip_sphere = e.header.clip.map(|isotrace::catalog::Clip::Sphere(r)| r);
+        s.params = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
+        let draw = |d| isotrace::gpu::Renderer::bisect(gpu(), &f.ir, d).unwrap().render(&s).unwrap();
+        let (ia, raa) = (draw(Domain::Interval), draw(Domain::Affine));
+        let tangent = |k: usize, depth: f32| !sign_change_near(&f, &s, k as u32, depth as f64);
+        let bad: Vec<String> = ia
+            .pixels
+            .iter()
+            .zip(&raa.pixels)
+            .enumerate()
+            .filter(|&(k, (a, b))| match (a.status, b.status) {
+                (Status::Hit, Status::Hit) => (a.depth - b.depth).abs() > 2.0 * s.eps as f32 && !tangent(k, a.depth.min(b.depth)),
+                (Status::Hit, _) => !tangent(k, a.depth),
+                (_, Status::Hit) => !tangent(k, b.depth),
+                (x, y) => x != y,
+            })
+            .map(|(k, (a, b))| format!("px {k}: {:?} {} vs {:?} {}", a.status, a.depth, b.status, b.depth))
+            .collect();
+        assert!(bad.is_empty(), "{}: {} pixels differ from RAA: {:?}", e.name, bad.len(), &bad[..bad.len().min(6)]);
+        assert!(ia.stats.hits > 200, "{}: {:?}", e.name, ia.stats);
+        checked += 1;
+    }
+    assert!(checked >= 12, "{checked} catalog surfaces with ray polynomials");
+}
+
 /// In RAA the slopes of a formula that is not a polynomial of moderate
 /// degree are intervals (`derivative::slope_domain`): x^200's slope beyond
 /// f32 keeps its sign there, where an affine slope is the whole line and
