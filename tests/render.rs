@@ -250,10 +250,10 @@ fn nodes_of_degree_two_are_taken_from_the_ray() {
 fn polynomials_of_degree_three_to_six_are_taken_from_the_ray() {
     let bretzel = catalog_formula("4-bretzel");
     let cases: &[(&str, [f64; 6], &str, usize)] = &[
-        ("((x^2 + y^2 - 0.64)^2 + (z^2 - 1)^2)*((y^2 + z^2 - 0.64)^2 + (x^2 - 1)^2)*((z^2 + x^2 - 0.64)^2 + (y^2 - 1)^2) - 0.04", cube(1.5), "ia_ray_poly4(g_pa", 3),
-        (&bretzel, [-1.2, 1.2, -1.2, 1.2, -0.1, 0.1], "ia_ray_poly6(g_pa", 1),
-        ("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", cube(3.0), "ia_ray_poly4(g_pa", 1),
-        ("(x + 0.5*y)*(x^2 + z^2 - 1)^2 - y^3*z + 0.1*sin(x)", cube(1.5), "ia_ray_poly5(g_pa", 1),
+        ("((x^2 + y^2 - 0.64)^2 + (z^2 - 1)^2)*((y^2 + z^2 - 0.64)^2 + (x^2 - 1)^2)*((z^2 + x^2 - 0.64)^2 + (y^2 - 1)^2) - 0.04", cube(1.5), "ia_ray_poly(ray_poly4_bern(g_pa", 3),
+        (&bretzel, [-1.2, 1.2, -1.2, 1.2, -0.1, 0.1], "ia_ray_poly(ray_poly6_bern(g_pa", 1),
+        ("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", cube(3.0), "ia_ray_poly(ray_poly4_bern(g_pa", 1),
+        ("(x + 0.5*y)*(x^2 + z^2 - 1)^2 - y^3*z + 0.1*sin(x)", cube(1.5), "ia_ray_poly(ray_poly5_bern(g_pa", 1),
     ];
     for (src, bbox, call, n) in cases {
         let f = isotrace::Formula::compile("<test>", src).unwrap();

@@ -288,7 +288,7 @@ impl RayForms {
         match self.forms[id as usize].expect("a node taken from the ray") {
             Taken::Square(k, _) => format!("{p}_ray_sq({}, g_q{id}, g_qv{id}, {args})", factor(k, p == "ia")),
             Taken::Form(q) => format!("{p}_ray{}(g_q{id}, g_qv{id}, {args})", if q.linear() { "_lin" } else { "" }),
-            Taken::Poly(n) => format!("ia_ray_poly{n}(g_pa{id}, g_pb{id}, g_pm{id}, g_pn{id}, {args})"),
+            Taken::Poly(n) => format!("ia_ray_poly({}, g_pb{id}, g_pm{id}, g_pn{id}, {args})", bern(n, id, args)),
         }
     }
 
@@ -297,7 +297,7 @@ impl RayForms {
         match self.forms[id as usize].expect("a node taken from the ray") {
             Taken::Square(k, _) => format!("ia_ray_sq_slope({}, g_q{id}, g_qv{id}, t0, t1)", factor(k, true)),
             Taken::Form(q) => format!("ia_ray_slope{}(g_q{id}, g_qv{id}, t0, t1)", if q.linear() { "_lin" } else { "" }),
-            Taken::Poly(n) => format!("ia_ray_poly{n}_slope(g_pa{id}, g_pb{id}, g_pm{id}, g_pn{id}, t0, t1)"),
+            Taken::Poly(n) => format!("ia_ray_poly_slope({}, g_pb{id}, g_pm{id}, g_pn{id}, t0, t1)", bern(n, id, "t0, t1")),
         }
     }
 
@@ -338,6 +338,12 @@ impl RayForms {
         );
         out
     }
+}
+
+/// The Bernstein bounds over the cell `args` of polynomial node `id` of
+/// degree `n` (value and slope: one call after inlining, shared by both).
+fn bern(n: u32, id: NodeId, args: &str) -> String {
+    format!("ray_poly{n}_bern(g_pa{id}, g_pb{id}, {args})")
 }
 
 /// The factor k of k·Q² in WGSL: its f32 enclosure for intervals, else

@@ -142,14 +142,12 @@ impl<'a> Writer<'a> {
                 let (a, b) = (self.coeffs(a, body), self.coeffs(b, body));
                 self.product(id, &a, &b, body)
             }
+            (None, Op::PowI(_, 0)) => self.bind(id, body, vec!["1.0".into()], vec!["1.0".into()], 0),
             (None, Op::PowI(a, e)) => {
                 let a = self.coeffs(a, body);
                 let mut acc = a.clone();
-                for _ in 1..e.max(1) {
+                for _ in 1..e {
                     acc = self.product(id, &acc, &a, body);
-                }
-                if e == 0 {
-                    acc = self.bind(id, body, vec!["1.0".into()], vec!["1.0".into()], 0);
                 }
                 acc
             }

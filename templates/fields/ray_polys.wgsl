@@ -18,7 +18,10 @@ var<private> g_poly_mid: f32;
 // C(n,k). The slope's come the same way from the derivative's Taylor
 // coefficients (k·T_k), not from differences of the value's divided by h,
 // which would amplify their rounding on a small cell by 1/h. Each result is
-// (value lo, hi, slope lo, hi) before the pads.
+// (value lo, hi, slope lo, hi) before the pads. The four ray_polyN_bern are
+// this one algorithm written out for degrees 3 to 6: straight-line scalar
+// code, no arrays or loops for lavapipe to lower (a call's value and slope
+// share one after inlining).
 
 // The magnitude polynomial m (pm = m0..m3, pn = m4..m6) and its first
 // two derivatives at τ = |t0 − mid| + (t1 − t0), which bounds |t − mid|
@@ -44,6 +47,16 @@ fn ray_poly_pads(pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) 
     return pb.w * m.xy + shift * m.yz;
 }
 
+// A node's enclosure over the cell [t0, t1] (from the ray's start) of its
+// Bernstein bounds b (ray_polyN_bern) and its state: the value's, and the
+// slope's.
+fn ia_ray_poly(b: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    return ray_poly_widen(b.xy, ray_poly_pads(pb, pm, pn, t0, t1).x);
+}
+fn ia_ray_poly_slope(b: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    return ray_poly_widen(b.zw, ray_poly_pads(pb, pm, pn, t0, t1).y);
+}
+
 // [lo, hi] widened by the pad; the whole line where a coefficient or the
 // magnitude overflowed f32 on this ray (a NaN end or pad fails both tests).
 fn ray_poly_widen(r: vec2<f32>, pad: f32) -> vec2<f32> {
@@ -52,13 +65,14 @@ fn ray_poly_widen(r: vec2<f32>, pad: f32) -> vec2<f32> {
 
 // Degree 3.
 fn ray_poly3_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
+    let u0 = t0 - g_poly_mid;
     var a0 = pa.x;
     var a1 = pa.y;
     var a2 = pa.z;
     var a3 = pa.w;
-    a2 = a2 + t0 * a3; a1 = a1 + t0 * a2; a0 = a0 + t0 * a1;
-    a2 = a2 + t0 * a3; a1 = a1 + t0 * a2;
-    a2 = a2 + t0 * a3;
+    a2 = a2 + u0 * a3; a1 = a1 + u0 * a2; a0 = a0 + u0 * a1;
+    a2 = a2 + u0 * a3; a1 = a1 + u0 * a2;
+    a2 = a2 + u0 * a3;
     let h = t1 - t0;
     let h1 = h;
     let h2 = h1 * h;
@@ -79,30 +93,19 @@ fn ray_poly3_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
     let g2 = e0 + e1 + e2;
     return vec4<f32>(min(min(min(b0, b1), b2), b3), max(max(max(b0, b1), b2), b3), min(min(g0, g1), g2), max(max(g0, g1), g2));
 }
-fn ia_ray_poly3(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly3_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
-    return ray_poly_widen(b.xy, pad);
-}
-fn ia_ray_poly3_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly3_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
-    return ray_poly_widen(b.zw, pad);
-}
 
 // Degree 4.
 fn ray_poly4_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
+    let u0 = t0 - g_poly_mid;
     var a0 = pa.x;
     var a1 = pa.y;
     var a2 = pa.z;
     var a3 = pa.w;
     var a4 = pb.x;
-    a3 = a3 + t0 * a4; a2 = a2 + t0 * a3; a1 = a1 + t0 * a2; a0 = a0 + t0 * a1;
-    a3 = a3 + t0 * a4; a2 = a2 + t0 * a3; a1 = a1 + t0 * a2;
-    a3 = a3 + t0 * a4; a2 = a2 + t0 * a3;
-    a3 = a3 + t0 * a4;
+    a3 = a3 + u0 * a4; a2 = a2 + u0 * a3; a1 = a1 + u0 * a2; a0 = a0 + u0 * a1;
+    a3 = a3 + u0 * a4; a2 = a2 + u0 * a3; a1 = a1 + u0 * a2;
+    a3 = a3 + u0 * a4; a2 = a2 + u0 * a3;
+    a3 = a3 + u0 * a4;
     let h = t1 - t0;
     let h1 = h;
     let h2 = h1 * h;
@@ -128,32 +131,21 @@ fn ray_poly4_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
     let g3 = e0 + e1 + e2 + e3;
     return vec4<f32>(min(min(min(min(b0, b1), b2), b3), b4), max(max(max(max(b0, b1), b2), b3), b4), min(min(min(g0, g1), g2), g3), max(max(max(g0, g1), g2), g3));
 }
-fn ia_ray_poly4(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly4_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
-    return ray_poly_widen(b.xy, pad);
-}
-fn ia_ray_poly4_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly4_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
-    return ray_poly_widen(b.zw, pad);
-}
 
 // Degree 5.
 fn ray_poly5_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
+    let u0 = t0 - g_poly_mid;
     var a0 = pa.x;
     var a1 = pa.y;
     var a2 = pa.z;
     var a3 = pa.w;
     var a4 = pb.x;
     var a5 = pb.y;
-    a4 = a4 + t0 * a5; a3 = a3 + t0 * a4; a2 = a2 + t0 * a3; a1 = a1 + t0 * a2; a0 = a0 + t0 * a1;
-    a4 = a4 + t0 * a5; a3 = a3 + t0 * a4; a2 = a2 + t0 * a3; a1 = a1 + t0 * a2;
-    a4 = a4 + t0 * a5; a3 = a3 + t0 * a4; a2 = a2 + t0 * a3;
-    a4 = a4 + t0 * a5; a3 = a3 + t0 * a4;
-    a4 = a4 + t0 * a5;
+    a4 = a4 + u0 * a5; a3 = a3 + u0 * a4; a2 = a2 + u0 * a3; a1 = a1 + u0 * a2; a0 = a0 + u0 * a1;
+    a4 = a4 + u0 * a5; a3 = a3 + u0 * a4; a2 = a2 + u0 * a3; a1 = a1 + u0 * a2;
+    a4 = a4 + u0 * a5; a3 = a3 + u0 * a4; a2 = a2 + u0 * a3;
+    a4 = a4 + u0 * a5; a3 = a3 + u0 * a4;
+    a4 = a4 + u0 * a5;
     let h = t1 - t0;
     let h1 = h;
     let h2 = h1 * h;
@@ -184,21 +176,10 @@ fn ray_poly5_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
     let g4 = e0 + e1 + e2 + e3 + e4;
     return vec4<f32>(min(min(min(min(min(b0, b1), b2), b3), b4), b5), max(max(max(max(max(b0, b1), b2), b3), b4), b5), min(min(min(min(g0, g1), g2), g3), g4), max(max(max(max(g0, g1), g2), g3), g4));
 }
-fn ia_ray_poly5(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly5_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
-    return ray_poly_widen(b.xy, pad);
-}
-fn ia_ray_poly5_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly5_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
-    return ray_poly_widen(b.zw, pad);
-}
 
 // Degree 6.
 fn ray_poly6_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
+    let u0 = t0 - g_poly_mid;
     var a0 = pa.x;
     var a1 = pa.y;
     var a2 = pa.z;
@@ -206,12 +187,12 @@ fn ray_poly6_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
     var a4 = pb.x;
     var a5 = pb.y;
     var a6 = pb.z;
-    a5 = a5 + t0 * a6; a4 = a4 + t0 * a5; a3 = a3 + t0 * a4; a2 = a2 + t0 * a3; a1 = a1 + t0 * a2; a0 = a0 + t0 * a1;
-    a5 = a5 + t0 * a6; a4 = a4 + t0 * a5; a3 = a3 + t0 * a4; a2 = a2 + t0 * a3; a1 = a1 + t0 * a2;
-    a5 = a5 + t0 * a6; a4 = a4 + t0 * a5; a3 = a3 + t0 * a4; a2 = a2 + t0 * a3;
-    a5 = a5 + t0 * a6; a4 = a4 + t0 * a5; a3 = a3 + t0 * a4;
-    a5 = a5 + t0 * a6; a4 = a4 + t0 * a5;
-    a5 = a5 + t0 * a6;
+    a5 = a5 + u0 * a6; a4 = a4 + u0 * a5; a3 = a3 + u0 * a4; a2 = a2 + u0 * a3; a1 = a1 + u0 * a2; a0 = a0 + u0 * a1;
+    a5 = a5 + u0 * a6; a4 = a4 + u0 * a5; a3 = a3 + u0 * a4; a2 = a2 + u0 * a3; a1 = a1 + u0 * a2;
+    a5 = a5 + u0 * a6; a4 = a4 + u0 * a5; a3 = a3 + u0 * a4; a2 = a2 + u0 * a3;
+    a5 = a5 + u0 * a6; a4 = a4 + u0 * a5; a3 = a3 + u0 * a4;
+    a5 = a5 + u0 * a6; a4 = a4 + u0 * a5;
+    a5 = a5 + u0 * a6;
     let h = t1 - t0;
     let h1 = h;
     let h2 = h1 * h;
@@ -246,16 +227,4 @@ fn ray_poly6_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {
     let g4 = e0 + 0.8 * e1 + 0.6 * e2 + 0.4 * e3 + 0.2 * e4;
     let g5 = e0 + e1 + e2 + e3 + e4 + e5;
     return vec4<f32>(min(min(min(min(min(min(b0, b1), b2), b3), b4), b5), b6), max(max(max(max(max(max(b0, b1), b2), b3), b4), b5), b6), min(min(min(min(min(g0, g1), g2), g3), g4), g5), max(max(max(max(max(g0, g1), g2), g3), g4), g5));
-}
-fn ia_ray_poly6(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly6_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).x;
-    return ray_poly_widen(b.xy, pad);
-}
-fn ia_ray_poly6_slope(pa: vec4<f32>, pb: vec4<f32>, pm: vec4<f32>, pn: vec4<f32>, t0: f32, t1: f32) -> vec2<f32> {
-    let u0 = t0 - g_poly_mid;
-    let b = ray_poly6_bern(pa, pb, u0, t1 - g_poly_mid);
-    let pad = ray_poly_pads(pb, pm, pn, t0, t1).y;
-    return ray_poly_widen(b.zw, pad);
 }
