@@ -8,9 +8,9 @@
 //! conditions were combined, is decided here.
 
 use super::ray_forms::{self, RayForms};
-use super::{derivative, emit_evaluator, emit_evaluator_all, emit_evaluator_on, libraries, Domain};
+use super::{derivative, emit_evaluator, emit_evaluator_all, emit_evaluator_on, libraries, libraries_with, Domain};
 use crate::inline::InlineWgsl;
-use crate::ir::{Ir, NodeId};
+use crate::ir::{Ir, NodeId, Op};
 use std::fmt::Write;
 
 /// The layout of a CSG formula's outputs: every surface's f and its
@@ -45,9 +45,15 @@ fn csg_layout(ir: &Ir) -> Csg {
 /// isovalue and whose conditions are not excluded (g's enclosure entirely
 /// on the wrong side rejects the surface); it records that surface in
 /// `g_surface`; empty when none qualifies.
-fn surface_fn(ir: &Ir, domain: Domain) -> String {
+fn surface_fn(ir: &Ir, domain: Domain, safe: bool) -> String {
     let p = domain.prefix();
     let ty = domain.ty();
+    if safe {
+        return format!(
+            "fn surf_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{\n    \
+             return select(vec2<f32>(-F.inf, F.inf), {p}_range(eval_{p}(x, y, z, t)), ra_safe(x, y, z, t));\n}}\n"
+        );
+    }
     if !ir.is_csg() {
         return format!("fn surf_{p}(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{\n    return {p}_range(eval_{p}(x, y, z, t));\n}}\n");
     }
@@ -92,13 +98,44 @@ fn scalar_fn(ir: &Ir) -> String {
 /// field at a point of a ray, `field_ray(o, dir, s)`, after the ray's
 /// `field_begin_ray`: in the interval domain with the nodes of degree ≤ 2
 /// taken from the ray ([`ray_forms`]), elsewhere `field(o + dir s)`.
-pub fn inclusion(ir: &Ir, domain: Domain) -> String {
+/// `safe`: the kernel reads ranges without the NaN test and checks its
+/// inputs with `ra_safe` ([`safe_radius`]).
+pub fn inclusion(ir: &Ir, domain: Domain, safe: bool) -> String {
     let ray = if domain == Domain::Interval { ray_forms::ray_nodes(ir) } else { None };
     let on_ray = match &ray {
         Some(r) => format!("{}{}", emit_evaluator_on(ir, Domain::Scalar, Some(r)), r.setup()),
         None => ray_forms::NO_RAY_FORMS.to_string(),
     };
-    format!("{}\n{}\n{}{}{on_ray}", surface_fn(ir, domain), scalar_fn(ir), enclosures(domain), cell_enclosure(ir, domain, ray.as_ref()))
+    format!("{}\n{}\n{}{}{on_ray}", surface_fn(ir, domain, safe), scalar_fn(ir), enclosures(domain), cell_enclosure(ir, domain, ray.as_ref(), safe))
+}
+
+/// The input radius within which the affine forms of `ir` cannot overflow
+/// ([`super::magnitude`]), where the kernel reads ranges without the NaN
+/// test: affine values of a single surface with interval slopes (affine
+/// slopes, of polynomials of low degree, would need their own bound).
+pub fn safe_radius(ir: &Ir, domain: Domain) -> Option<f64> {
+    let applies = domain == Domain::Affine && !ir.is_csg() && derivative::slope_domain(ir, domain) == Domain::Interval;
+    applies.then(|| super::magnitude::safe_radius(ir)).flatten()
+}
+
+/// `ra_safe(x, y, z, t)`: whether the inputs of an affine evaluation (the
+/// forms' R = |x0| + |x1| + x2, and every parameter the formula reads) are
+/// within `radius`, where no form can overflow ([`safe_radius`]). Compared
+/// on the bits of the non-negative magnitudes, so that a NaN input is not
+/// within (lavapipe folds NaN comparisons).
+fn safe_fn(ir: &Ir, radius: f64) -> String {
+    let bits = (radius as f32).to_bits();
+    let mut params: Vec<u32> = ir.live().iter().filter_map(|&n| if let Op::Param(i) = ir.nodes[n as usize] { Some(i) } else { None }).collect();
+    params.sort_unstable();
+    params.dedup();
+    let p: String = params.iter().map(|i| format!(" && bitcast<u32>(abs(iso_param({i}u))) <= {bits}u")).collect();
+    format!(
+        "// Inputs within {radius:e} keep every form of this formula finite (src/codegen/magnitude.rs):\n\
+         // ranges are read without the NaN test (affine_range_bounded.wgsl), and past it an enclosure is the whole line.\n\
+         fn ra_safe(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> bool {{\n    \
+         let m = abs(vec4<f32>(x.x, y.x, z.x, t.x)) + abs(vec4<f32>(x.y, y.y, z.y, t.y)) + abs(vec4<f32>(x.z, y.z, z.z, t.z));\n    \
+         return all(bitcast<vec4<u32>>(m) <= vec4<u32>({bits}u)){p};\n}}\n"
+    )
 }
 
 /// The traversal's enclosures in `domain`, over any field that provides
@@ -156,7 +193,7 @@ pub(crate) fn segment_forms(domain: Domain) -> (&'static str, &'static str) {
 /// without it). With slopes it is `evald_<p>`'s code under this name
 /// ([`derivative::emit_cell_enclosure`]). (The tape field has its own: one
 /// interpreter run.)
-fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>) -> String {
+fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>, safe: bool) -> String {
     let p = domain.prefix();
     let (forms, _) = segment_forms(domain);
     if ir.is_csg() {
@@ -165,7 +202,7 @@ fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>) -> String {
              return vec4<f32>(surf_{p}(X, Y, Z, {p}_const(F.time)), -F.inf, F.inf);\n}}\n"
         );
     }
-    derivative::emit_cell_enclosure(ir, domain, forms, ray)
+    derivative::emit_cell_enclosure(ir, domain, forms, ray, safe)
 }
 
 /// The scalar field of a single-surface formula.
@@ -199,7 +236,7 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
     let mut out = match (inline, domain) {
         (Some(_), _) => libraries(&all),
-        (None, Some(d)) => libraries(&[Domain::Scalar, d]),
+        (None, Some(d)) => libraries_with(&[Domain::Scalar, d], safe_radius(ir, d).is_none()),
         (None, None) => libraries(&[Domain::Scalar]),
     };
     if let Some(d) = domain {
@@ -216,7 +253,11 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
         out.push_str(SCALAR_FIELD);
         return out;
     };
+    let radius = if inline.is_none() { safe_radius(ir, d) } else { None };
+    if let Some(radius) = radius {
+        out.push_str(&safe_fn(ir, radius));
+    }
     out.push_str(&emit_evaluator(ir, d));
-    out.push_str(&inclusion(ir, d));
+    out.push_str(&inclusion(ir, d, radius.is_some()));
     out
 }

@@ -72,14 +72,19 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
 /// lavapipe inlines the field into every function on the path from the
 /// entry point, so an `evald_<p>` called from here was one more copy of it
 /// to clone (150,000 NIR instructions for `@city` in RAA).
-pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Option<&RayForms>) -> String {
+pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Option<&RayForms>, safe: bool) -> String {
     let p = domain.prefix();
     let cell = if ray.is_some() { "    let t0 = s0 - g_ray_ref;\n    let t1 = s1 - g_ray_ref;\n" } else { "" };
     let head = format!(
         "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n{cell}    \
          let x = X;\n    let y = Y;\n    let z = Z;\n    let t = {p}_const(F.time);\n    let dx = dir.x;\n    let dy = dir.y;\n    let dz = dir.z;\n"
     );
-    emit_slopes(ir, domain, head, ray, |q| format!("    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
+    // Inputs past the bound of a kernel without the NaN test (`ra_safe`): the whole line.
+    let q = match safe {
+        true => "select(vec4<f32>(-F.inf, F.inf, -F.inf, F.inf), q0, ra_safe(x, y, z, t))",
+        false => "q0",
+    };
+    emit_slopes(ir, domain, head, ray, |q0| format!("    let q0 = {q0};\n    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
 }
 
 /// A function whose body computes f and its slope along the ray in
@@ -198,6 +203,16 @@ pub(crate) trait Terms {
         let vc = self.value(c);
         self.bin(D::Mul, d, vc)
     }
+    /// (a²)' = 2·a·a' from a's slope `d` (node `a`).
+    fn twice_times(&mut self, d: Self::T, a: NodeId) -> Self::T {
+        let (two, va) = (self.konst(2.0), self.value(a));
+        let m = self.bin(D::Mul, two, va);
+        self.bin(D::Mul, m, d)
+    }
+    /// A slope `d` divided by `m`, a term that is never negative (sqrt's 2·√a).
+    fn over_nonneg(&mut self, d: Self::T, m: Self::T) -> Self::T {
+        self.bin(D::Div, d, m)
+    }
     /// |a|' from the value `a` and its slope `da`: sign(a)·a'.
     fn dabs(&mut self, a: Self::T, da: Self::T) -> Self::T {
         let s = self.un(D::Sign, a);
@@ -258,9 +273,7 @@ pub(crate) fn rule<B: Terms>(b: &mut B, id: NodeId, op: Op, d: &[Option<B::T>]) 
         },
         Op::PowI(a, 2) => {
             let da = dv(a)?;
-            let (two, va) = (b.konst(2.0), b.value(a));
-            let m = b.bin(D::Mul, two, va);
-            b.bin(D::Mul, m, da)
+            b.twice_times(da, a)
         }
         Op::PowI(a, n) => {
             // n·a^(n−1)·a' with a^(n−1) = (a²)^((n−1)/2), a non-negative base.
@@ -362,7 +375,7 @@ fn call1<B: Terms>(b: &mut B, f: Func1, a: NodeId, id: NodeId, da: B::T) -> B::T
         Func1::Sqrt => {
             let two = b.konst(2.0);
             let m = b.bin(D::Mul, two, vid);
-            b.bin(D::Div, da, m)
+            b.over_nonneg(da, m)
         }
         Func1::Exp => b.bin(D::Mul, vid, da),
         Func1::Log => b.bin(D::Div, da, va),
@@ -530,6 +543,24 @@ impl Terms for Wgsl<'_> {
         match d {
             Term::Form(_) if self.p == "ia" && self.nn.get(c as usize) == Some(&true) => Term::Form(format!("ia_mul_by_nonneg({}, {})", d.lift("ia"), vc.lift("ia"))),
             _ => self.bin(D::Mul, d, vc),
+        }
+    }
+    /// In interval slopes, the square's slope of a never-negative a takes
+    /// `ia_mul_by_nonneg`'s two products (the distance forms' max(q, 0)²).
+    fn twice_times(&mut self, d: Term, a: NodeId) -> Term {
+        let (two, va) = (self.konst(2.0), self.value(a));
+        let m = self.bin(D::Mul, two, va);
+        match d {
+            Term::Form(_) if self.p == "ia" && self.nn.get(a as usize) == Some(&true) => Term::Form(format!("ia_mul_by_nonneg({}, {})", d.lift("ia"), m.lift("ia"))),
+            _ => self.bin(D::Mul, m, d),
+        }
+    }
+    /// In interval slopes, `ia_div_by_nonneg`: no general product on the
+    /// side that is not taken (lavapipe compiles both sides of a select).
+    fn over_nonneg(&mut self, d: Term, m: Term) -> Term {
+        match (&d, &m) {
+            (Term::Form(_), Term::Form(_)) if self.p == "ia" => Term::Form(format!("ia_div_by_nonneg({}, {})", d.lift("ia"), m.lift("ia"))),
+            _ => self.bin(D::Div, d, m),
         }
     }
     /// In interval slopes, `ia_dabs`: a's slope or its negative where a

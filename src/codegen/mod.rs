@@ -22,6 +22,7 @@ pub mod choice;
 pub mod compiled;
 pub mod derivative;
 pub mod kernel;
+pub mod magnitude;
 mod ray_forms;
 mod ray_polys;
 
@@ -90,10 +91,21 @@ impl Domain {
 /// The op libraries a shader using `domains` needs, each once, in
 /// dependency order (scalar helpers first; affine builds on interval).
 pub fn libraries(domains: &[Domain]) -> String {
+    libraries_with(domains, true)
+}
+
+/// [`libraries`] with the affine library's NaN test on the ranges it reads
+/// (`template::AFFINE_RANGE`) on or off: off only in a compiled formula's kernel whose
+/// forms cannot overflow within the inputs it admits ([`magnitude`]).
+pub(crate) fn libraries_with(domains: &[Domain], guard: bool) -> String {
     let mut need = [true, domains.contains(&Domain::Interval) || domains.contains(&Domain::Affine), domains.contains(&Domain::Affine)];
     need[0] = true; // iso_pow_pos / iso_nan live in the scalar library
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
-    all.iter().zip(need).filter(|(_, n)| *n).map(|(d, _)| d.library()).collect::<Vec<_>>().join("\n")
+    let text = |d: Domain| match d {
+        Domain::Affine => format!("{}\n{}", template::optional(template::AFFINE_RANGE, guard), d.library()),
+        _ => d.library().to_string(),
+    };
+    all.iter().zip(need).filter(|(_, n)| *n).map(|(&d, _)| text(d)).collect::<Vec<_>>().join("\n")
 }
 
 /// f32 nearest to `c`, and the f32 interval enclosing it. lavapipe flushes
@@ -123,7 +135,7 @@ fn affine_of(lo: f32, hi: f32) -> Option<(f32, f32)> {
         return None;
     }
     let d = 0.5 * (hi - lo);
-    Some((if lo > 0.0 || hi < 0.0 { lo + d } else { 0.5 * (lo + hi) }, d))
+    Some((lo + d, d))
 }
 
 /// A literal's affine form, `ra_from_ia` of its enclosing f32 interval
@@ -211,7 +223,7 @@ fn whole(domain: Domain) -> &'static str {
     match domain {
         Domain::Scalar => "iso_nan()",
         Domain::Interval => "vec2<f32>(-iso_inf(), iso_inf())",
-        Domain::Affine => "ra_from_ia(vec2<f32>(-iso_inf(), iso_inf()))",
+        Domain::Affine => "ra_whole()",
     }
 }
 

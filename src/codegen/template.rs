@@ -84,6 +84,13 @@ pub const SPHERE_GLASS: [&str; 2] = [
     include_str!("../../templates/traverse/sphere/glass.wgsl"),
 ];
 
+/// How the affine library reads a form's range: without the NaN test
+/// where no form can overflow (`codegen::magnitude`), or with it.
+pub const AFFINE_RANGE: [&str; 2] = [
+    include_str!("../../templates/domains/affine_range_bounded.wgsl"),
+    include_str!("../../templates/domains/affine_range.wgsl"),
+];
+
 /// The part `[off, on]` of an optional feature.
 pub fn optional(parts: [&'static str; 2], on: bool) -> &'static str {
     parts[usize::from(on)]

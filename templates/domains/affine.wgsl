@@ -19,39 +19,32 @@ fn ra_lit(n: f32, lo: f32, hi: f32) -> vec3<f32> {
 fn ra_empty() -> vec3<f32> { return vec3<f32>(0.0, 0.0, -1.0); }
 fn ra_is_empty(a: vec3<f32>) -> bool { return a.z < 0.0; }
 fn ra_radius(a: vec3<f32>) -> f32 { return abs(a.y) + a.z; }
-fn ra_range(a: vec3<f32>) -> vec2<f32> {
-    let r = abs(a.y) + a.z;
-    let i = vec2<f32>(a.x - r, a.x + r);
-    // A NaN end (0 * inf or inf - inf in a form that overflowed or is
-    // unbounded) means unbounded: lavapipe's min/max would silently drop it.
-    // (ra_radius and iso_is_nan written out: this runs hundreds of times in
-    // a big formula, and lavapipe clones every helper call before it
-    // simplifies.)
-    let nan = (bitcast<u32>(i.x) & 0x7fffffffu) > 0x7f800000u || (bitcast<u32>(i.y) & 0x7fffffffu) > 0x7f800000u;
-    return select(i, vec2<f32>(-iso_inf(), iso_inf()), nan);
-}
+// ra_range(a), the interval a form stands for, is in affine_range.wgsl
+// (or affine_range_bounded.wgsl), spliced before this library.
 // The whole line: an unbounded interval has no centre.
 fn ra_whole() -> vec3<f32> { return vec3<f32>(0.0, 0.0, iso_inf()); }
 // Neither infinite nor NaN (tested on the bits: lavapipe folds NaN compares).
 fn ra_finite(a: f32) -> bool { return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u; }
+// The form of an interval. Only a point needs a case of its own: an
+// overflowed one (inf, inf) stays exact, where d would be NaN. Everything
+// else is arithmetic, because this runs in every op that converts, hundreds
+// of times in a big formula, and each select and test here cost lavapipe's
+// compiler and the unoptimised frame more than the op around it (@city in
+// RAA: cold first frame ~3.1 -> ~2.5 s with finite tests and a second
+// centre rule dropped). What the dropped cases now give:
+// - an unbounded interval: d = inf, and a centre of inf or NaN; ra_range, the
+//   only way a form's bounds are read, turns any NaN end into the whole line,
+//   so it still reads as the whole line, and NaN or inf propagate through
+//   the arithmetic ops to the next ra_range;
+// - finite ends beyond f32::MAX / 2: c = i.x + d cannot overflow where the
+//   ends have one sign, and where they straddle 0, d is inf (the whole line
+//   again) exactly when i.y - i.x overflows;
+// - empty (i.x > i.y): d < 0, which is what ra_is_empty tests, and its
+//   range is again inverted (empty).
 fn ra_from_ia(i: vec2<f32>) -> vec3<f32> {
-    // i.x + i.y overflows when both ends are beyond f32::MAX / 2; halving
-    // first does not help (lavapipe refactors 0.5 x + 0.5 y into 0.5 (x + y)),
-    // but the difference of two ends of one sign cannot overflow.
     let d = 0.5 * (i.y - i.x);
-    let c = select(0.5 * (i.x + i.y), i.x + d, i.x > 0.0 || i.y < 0.0);
-    // (-inf + inf) / 2 would be a NaN centre, and [1, inf] an infinite one:
-    // both used to turn into wrong finite bounds downstream (NaN dropped by
-    // min/max), so an unbounded interval is the whole line, but a point is
-    // exact, also an overflowed one (inf, inf); a finite point is (c, 0, d)
-    // already. Written per component (the e1 term is always 0): every select
-    // here is compiled into every op that converts, hundreds in a big formula.
-    // (ra_finite, ra_empty and ia_is_empty written out, as in ra_range.)
-    let finite = all((bitcast<vec2<u32>>(i) & vec2<u32>(0x7f800000u)) != vec2<u32>(0x7f800000u));
     let point = i.x == i.y;
-    let x = select(select(0.0, i.x, point), c, finite);
-    let z = select(select(iso_inf(), 0.0, point), d, finite);
-    return select(vec3<f32>(x, 0.0, z), vec3<f32>(0.0, 0.0, -1.0), i.x > i.y);
+    return vec3<f32>(select(i.x + d, i.x, point), 0.0, select(d, 0.0, point));
 }
 // Of two valid enclosures, keep the affine one (its e1 term carries the
 // correlation that later cancellations need) unless the interval is less
@@ -117,16 +110,25 @@ fn ra_abs(a: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     return select(select(ra_from_ia(ia_abs(i)), ra_neg(a), i.y <= 0.0), a, i.x >= 0.0);
 }
-// min/max keep the form when one operand is certainly smaller.
+// min/max keep the form when one operand is certainly smaller. Otherwise
+// the result is the interval of the two ranges' min or max, converted as
+// ra_from_ia does but without its point case: an interval that neither
+// operand dominates is never a single point (if max(i, j) were [m, m],
+// the operand whose lower end is m would be a point at or above the
+// other's upper end, and so dominate).
 fn ra_min(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     let j = ra_range(b);
-    return select(select(ra_from_ia(min(i, j)), b, j.y <= i.x), a, i.y <= j.x);
+    let lo = min(i.x, j.x);
+    let d = 0.5 * (min(i.y, j.y) - lo);
+    return select(select(vec3<f32>(lo + d, 0.0, d), b, j.y <= i.x), a, i.y <= j.x);
 }
 fn ra_max(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let i = ra_range(a);
     let j = ra_range(b);
-    return select(select(ra_from_ia(max(i, j)), b, j.x >= i.y), a, i.x >= j.y);
+    let lo = max(i.x, j.x);
+    let d = 0.5 * (max(i.y, j.y) - lo);
+    return select(select(vec3<f32>(lo + d, 0.0, d), b, j.x >= i.y), a, i.x >= j.y);
 }
 fn ra_clamp(v: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec3<f32> { return ra_min(ra_max(v, lo), hi); }
 fn ra_mix(a: vec3<f32>, b: vec3<f32>, s: vec3<f32>) -> vec3<f32> { return ra_add(a, ra_mul(ra_sub(b, a), s)); }

@@ -82,6 +82,14 @@ fn ia_mul_by_nonneg(d: vec2<f32>, v: vec2<f32>) -> vec2<f32> {
 fn ia_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     return select(ia_div_by_zero(a, b), ia_mul(a, vec2<f32>(1.0 / b.y, 1.0 / b.x)), b.x > 0.0 || b.y < 0.0);
 }
+// a / b for a divisor whose function is never negative (sqrt's slope
+// 1 / (2 sqrt(u))): the same quotient as ia_div, where b > 0 as the product
+// with ia_mul_by_nonneg's two multiplications, where b's range reaches 0 the
+// half-line or whole line of ia_div_by_zero. ia_div's general product is
+// not compiled into it: @city has a sqrt in each of its 37 distances.
+fn ia_div_by_nonneg(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    return select(ia_div_by_zero(a, b), ia_mul_by_nonneg(a, vec2<f32>(1.0 / b.y, 1.0 / b.x)), b.x > 0.0);
+}
 // The quotient for a divisor that contains 0 (or a NaN end), on its own so
 // that ra_div, which has an affine form for every other divisor, does not
 // also carry ia_div's product (lavapipe compiles both sides of a select).
