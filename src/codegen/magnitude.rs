@@ -8,7 +8,7 @@
 //! test runs for every range an op reads, hundreds of times in a big
 //! formula, and it is a large part of what lavapipe compiles and runs:
 //! without it `@city`'s cold first RAA frame took a quarter less CPU time
-//! (README, "Compiled or tape"). A form can only be NaN after an overflow
+//! (README, Benchmark, "RAA kernels without the NaN test"). A form can only be NaN after an overflow
 //! or an unbounded operation (a division, log, tan, a real power), so for
 //! a formula of bounded operations whose values stay below f32::MAX for
 //! every input within a radius B, the test is not needed within B.
@@ -19,8 +19,9 @@
 //! product below R_a·R_b (every term of `ra_mul` is one of the products of
 //! (|x0| + |x1| + x2)(|y0| + |y1| + y2)), a square below R_a², min, max and
 //! abs below the larger R, clamp below its bounds' R, and an op through an
-//! interval below the interval function's bound on [-R, R]. [`bound`] computes that bound per
-//! node in f64 with a rounding allowance, and [`safe_radius`] finds the
+//! interval below the interval function's bound on [-R, R]. [`bounds`]
+//! computes such bounds per node in f64 with a rounding allowance (signed
+//! where an op keeps a sign), and [`safe_radius`] finds the
 //! largest power of two B for which every node stays below [`LIMIT`], far
 //! under f32::MAX. The kernel checks its inputs against B (`ra_safe`) and
 //! gives the whole line past it, so the result is sound for any input.
