@@ -32,11 +32,14 @@ use crate::ir::{Func1, Func2, Func3, Ir, Op};
 /// intermediate products inside an op (and its rounding) stay finite.
 pub const LIMIT: f64 = 1.2676506002282294e30;
 
-/// The smallest input radius worth a kernel without the NaN test: a domain
-/// box, and the frustum slabs the tile pass encloses around it, stay well
-/// within 2^12 in practice; past B an enclosure is the whole line, which
-/// would leave pixels unresolved.
-pub const MIN_RADIUS: f64 = 4096.0;
+/// The smallest input radius of a kernel without the NaN test: 2^20. Past
+/// the radius an enclosure is the whole line, which leaves pixels
+/// unresolved where the guarded kernel would have drawn them, so the radius
+/// must hold every domain box (and the frustum slabs the tile pass
+/// encloses around it) a user may give: a million units, where f32 depths
+/// are already coarse. (At 2^12, sq.csg's x^8 and a sextic under a min
+/// would also qualify.)
+pub const MIN_RADIUS: f64 = 1048576.0;
 
 /// Rounding allowance per operation, relative to its result's bound (or,
 /// for a product, to its operands' product, of which a sum in `ra_mul` can
@@ -173,10 +176,13 @@ mod tests {
     fn polynomials_are_bounded_by_their_degree() {
         // x² + y² + z² - 1 < 2^100 needs 3·B² below it: B = 2^49.
         assert_eq!(radius("x^2 + y^2 + z^2 - 1"), Some(2f64.powi(49)));
-        // A sextic: B^6 (and its sums) below 2^100: B = 2^16.
-        assert_eq!(radius("(x^2 + y^2)^3 - 4*x^2*y^2"), Some(2f64.powi(16)));
-        // Degree 26 outgrows the limit within 2^12.
-        assert_eq!(radius("x^26 + y - 1"), None);
+        // A quartic: 3·B^4 below 2^100: B = 2^24.
+        assert_eq!(radius("x^4 + y^4 + z^4 - 1"), Some(2f64.powi(24)));
+        // A sextic would need B = 2^16, under the smallest radius.
+        assert_eq!(radius("(x^2 + y^2)^3 - 4*x^2*y^2"), None);
+        let f = crate::Formula::compile("<test>", "(x^2 + y^2)^3 - 4*x^2*y^2").unwrap();
+        assert!(mag(bounds(&f.ir, 2f64.powi(16))[f.ir.root as usize]) <= LIMIT);
+        assert!(mag(bounds(&f.ir, 2f64.powi(17))[f.ir.root as usize]) > LIMIT);
     }
 
     #[test]
@@ -191,7 +197,8 @@ mod tests {
         // and so are exp(-u²) and max(k - |u|, 0)³ (a smooth blend's
         // weight), whose signs the bounds keep.
         assert!(radius("x / 3 + exp(sin(y)) - z").is_some());
-        assert!(radius("exp(-(x^2 + y^2)) - z").is_some());
+        let f = crate::Formula::compile("<test>", "exp(-(x^2 + y^2)) - z").unwrap();
+        assert!(mag(bounds(&f.ir, 4096.0)[f.ir.root as usize]) <= LIMIT);
         let creature = crate::catalog::lookup("creature").unwrap().compile().unwrap();
         assert_eq!(safe_radius(&creature.ir), Some(2f64.powi(27)));
     }
