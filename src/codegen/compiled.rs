@@ -234,9 +234,14 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
 /// work is counted per SIMD bundle (bisection on a device with subgroups).
 pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool) -> String {
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
+    // Where the affine forms cannot overflow, ranges are read without the NaN test.
+    let radius = match (inline, domain) {
+        (None, Some(d)) => safe_radius(ir, d),
+        _ => None,
+    };
     let mut out = match (inline, domain) {
         (Some(_), _) => libraries(&all),
-        (None, Some(d)) => libraries_with(&[Domain::Scalar, d], safe_radius(ir, d).is_none()),
+        (None, Some(d)) => libraries_with(&[Domain::Scalar, d], radius.is_none()),
         (None, None) => libraries(&[Domain::Scalar]),
     };
     if let Some(d) = domain {
@@ -253,7 +258,6 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
         out.push_str(SCALAR_FIELD);
         return out;
     };
-    let radius = if inline.is_none() { safe_radius(ir, d) } else { None };
     if let Some(radius) = radius {
         out.push_str(&safe_fn(ir, radius));
     }

@@ -30,7 +30,7 @@ fn ra_finite(a: f32) -> bool { return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800
 // else is arithmetic, because this runs in every op that converts, hundreds
 // of times in a big formula, and each select and test here cost lavapipe's
 // compiler and the unoptimised frame more than the op around it (@city in
-// RAA: cold first frame 3.0-3.3 -> 2.2 s with finite tests and a second
+// RAA: cold first frame 3.0-3.3 -> 2.1-2.4 s with finite tests and a second
 // centre rule dropped). What the dropped cases now give:
 // - an unbounded interval: d = inf, and a centre of inf or NaN; ra_range, the
 //   only way a form's bounds are read, turns any NaN end into the whole line,
