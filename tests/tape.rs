@@ -509,14 +509,55 @@ fn shortened_tiles_draw_the_whole_tapes_surface() {
 }
 
 #[test]
+fn a_long_csg_tape_is_shortened_per_block_then_per_tile() {
+    // 225 boxes of varying heights on a grid, joined by min: about 680 min
+    // and max (past the 512 choice slots tiles had), and a derivative
+    // program several thousand instructions long, whose tile pass went
+    // past the work limit before the block pass.
+    let mut boxes = Vec::new();
+    for i in 0..15 {
+        for j in 0..15 {
+            let (cx, cy, h) = (-2.1 + 0.3 * f64::from(i), -2.1 + 0.3 * f64::from(j), 0.1 + 0.05 * f64::from((i * 7 + j * 3) % 11));
+            boxes.push(format!("max(abs(x - ({cx:.2})) - 0.1, max(abs(y - ({cy:.2})) - 0.1, abs(z - {h:.2}) - {h:.2}))"));
+        }
+    }
+    // A balanced tree of mins (a chain 225 deep is past the parser's nesting limit).
+    fn union(b: &[String]) -> String {
+        if b.len() == 1 { b[0].clone() } else { format!("min({}, {})", union(&b[..b.len() / 2]), union(&b[b.len() / 2..])) }
+    }
+    let f = Formula::compile("<boxes>", &union(&boxes)).unwrap();
+    let data = TapeData::new(&f.ir).unwrap();
+    assert!(data.words[2][2] > 512, "{} choice slots", data.words[2][2]);
+    let mut s = common::settings([-2.5, 2.5, -2.5, 2.5, -0.1, 1.2], 64, 64);
+    s.camera.eye = glam::DVec3::new(3.0, -4.0, 3.5);
+    s.camera.target = glam::DVec3::new(0.0, 0.0, 0.3);
+    let whole = bisect_tape(&data, Domain::Interval, &s, false);
+    let short = bisect_tape(&data, Domain::Interval, &s, true);
+    let t = short.stats.field.tape_lists.unwrap();
+    // The blocks shorten the tape, and every tile with candidate slabs
+    // starts from its block's list and keeps about half of the tape (at
+    // 64², a tile's frustum crosses a fifth of the boxes; with 512 slots
+    // the tiles kept 85 % of a tape this long).
+    assert!(t.blocks > 0 && t.blocks_shortened * 2 > t.blocks && t.block_kept_share(data.words[1][3].into()) < 0.95, "{t:?}");
+    assert!(t.tiles > 0 && t.shortened == t.tiles && t.kept_share() < 0.6, "{t:?}");
+    assert!(short.stats.hits > 500, "{} hits", short.stats.hits);
+    assert!(short.stats.unresolved <= 2, "{} unresolved", short.stats.unresolved);
+    let bad = differences(&whole, &short, 2.0 * s.eps);
+    assert!(bad.len() <= 1, "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
+    let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let bad = differences(&compiled, &short, 2.0 * s.eps);
+    assert!(bad.len() <= 2, "{} pixels differ from the compiled field: {:?}", bad.len(), &bad[..bad.len().min(6)]);
+}
+
+#[test]
 fn the_power_loops_pass_counts_against_the_loop_cap() {
     // lavapipe runs one masked pass of the power-chain case's loop for every
     // instruction of a kernel that has the case; uncounted, those passes
     // took bundles past the driver's silent cap, which cut the traversal
     // short: hits became misses with no pixel reported (@creature at 256²
-    // lost 561). Every pixel now hits, or is reported. (x^9 keeps the loop:
-    // powers below 8 are written out, PowSmall.)
-    let (f, data) = tape(&format!("{}+1e-4*x^9", sum_of_terms(180)));
+    // lost 561). Every pixel now hits, or is reported. (x^65 keeps the loop:
+    // powers below 64 are written out, PowSmall and PowMid.)
+    let (f, data) = tape(&format!("{}+1e-4*x^65", sum_of_terms(180)));
     assert!(data.features & features::POWERS != 0);
     let s = common::settings(common::cube(1.2), 32, 32);
     let taped = bisect_tape(&data, Domain::Interval, &s, true);

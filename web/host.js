@@ -130,7 +130,7 @@ export class Host {
     switch (g.kind) {
       case 'items': { const n = c((r.data.get(g.binding)?.count ?? 0) / g.per_group) || 1; return [Math.min(n, 65535), c(n / 65535), 1]; }
       case 'tiles': return [c(r.tiles / g.per_group), 1, 1];
-      case 'blocks': return [c(r.w / g.side), c(r.h / g.side), 1];
+      case 'blocks': return [c(r.w / g.side), c(r.h / g.side), g.layers];
       case 'pixel_tiles': return [c(r.w / 8), c(c(r.h / 8) / g.tiles_per_group), 1];
       default: return null;
     }

@@ -641,6 +641,8 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
                 100.0 * t.kept_share(),
                 t.whole.checked_div(t.shortened).unwrap_or(0)
             );
+            let whole = t.whole.checked_div(t.shortened).unwrap_or(0);
+            eprintln!("tape: the block pass shortened it for {} of {} blocks of 2x2 tiles, keeping {:.1} %", t.blocks_shortened, t.blocks, 100.0 * t.block_kept_share(whole));
         }
     }
     if a.json {
@@ -656,6 +658,9 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
             v["tape_tiles"] = t.tiles.into();
             v["tape_shortened_tiles"] = t.shortened.into();
             v["tape_kept_share"] = t.kept_share().into();
+            v["tape_blocks"] = t.blocks.into();
+            v["tape_shortened_blocks"] = t.blocks_shortened.into();
+            v["tape_block_kept_share"] = t.block_kept_share(t.whole.checked_div(t.shortened).unwrap_or(0)).into();
         }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }

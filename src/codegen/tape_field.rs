@@ -106,8 +106,9 @@ pub fn shortens(features: u32) -> bool {
     features & features::MINMAX != 0
 }
 
-/// Bytes of a tile's choice notes (two bits a slot).
-pub const NOTE_BYTES_PER_TILE: u64 = super::tape::TAPE_CHOICE_SLOTS as u64 / 16 * 4;
+/// Bytes of a tile's choice notes (two bits a slot), and as many for the
+/// notes of the slab being enclosed.
+pub const NOTE_BYTES_PER_TILE: u64 = 2 * (super::tape::TAPE_CHOICE_SLOTS as u64 / 16 * 4);
 
 /// Most bytes of a tape's per-tile lists in one dispatch: tiles past it run
 /// the whole tape (the lists' allocator says so; the picture is the same
@@ -115,13 +116,16 @@ pub const NOTE_BYTES_PER_TILE: u64 = super::tape::TAPE_CHOICE_SLOTS as u64 / 16 
 pub const TAPE_LISTS_MAX_BYTES: u64 = 32 << 20;
 
 /// Bytes of per-tile lists for `tiles` tiles of bisection over `tape`: a
-/// tile's shortened programs are at most the whole tape and a header (none
-/// when the tape has no min or max), within [`TAPE_LISTS_MAX_BYTES`].
+/// tile's or block's shortened programs are at most the whole tape and a
+/// header (none when the tape has no min or max), within
+/// [`TAPE_LISTS_MAX_BYTES`], after the blocks' entries (four words a block;
+/// a block has at least one tile).
 pub fn list_bytes(tape: &super::TapeData, tiles: u64) -> u64 {
     if !shortens(tape.features) {
         return 0;
     }
-    (tiles * (tape.words.len() as u64 + 4) * 4).min(TAPE_LISTS_MAX_BYTES)
+    let lists = 2 * tiles * (tape.words.len() as u64 + 4) * 4;
+    lists.min(TAPE_LISTS_MAX_BYTES) + tiles * 16
 }
 
 /// The work limit, counted per invocation: a lane cannot see what the
@@ -129,10 +133,14 @@ pub fn list_bytes(tape: &super::TapeData, tiles: u64) -> u64 {
 /// loop cap (`TAPE_WORK_LIMIT`).
 const WORK_PER_LANE: &str = "
 fn field_entry(li: u32) {}
+var<private> g_work_limit: u32 = TAPE_WORK_LIMIT;
+// Bisection's tile pass runs no traversal beside the interpreter: it may
+// spend more (tape_tiles.wgsl).
+fn tape_tile_pass_limit() { g_work_limit = TAPE_TILE_PASS_WORK_LIMIT; }
 // Whether an interpreter run of `iters` loop iterations is within the limit
 // (and counts it).
 fn tape_admits(iters: u32) -> bool {
-    if (g_field_work + iters > TAPE_WORK_LIMIT) { return false; }
+    if (g_field_work + iters > g_work_limit) { return false; }
     g_field_work = g_field_work + iters;
     return true;
 }
@@ -152,6 +160,7 @@ pub(crate) const BUNDLE_WORK: &str = "
 var<workgroup> g_bundle_work: array<atomic<u32>, 256>;
 var<private> g_bundle: u32;
 var<private> g_lane: u32;
+var<private> g_work_limit: u32 = TAPE_BUNDLE_LIMIT;
 fn field_entry(li: u32) {
     g_lane = li;
     g_bundle = subgroupMin(li);
@@ -163,12 +172,13 @@ fn bundle_admits(iters: u32) -> bool {
     var before = 0u;
     // One active lane (the first) keeps the count.
     if (g_lane == subgroupBroadcastFirst(g_lane)) { before = atomicAdd(&g_bundle_work[g_bundle], m); }
-    return subgroupMax(before) + m <= TAPE_BUNDLE_LIMIT;
+    return subgroupMax(before) + m <= g_work_limit;
 }
 ";
 
 /// The tape's work limit per SIMD bundle ([`BUNDLE_WORK`]).
-const TAPE_PER_BUNDLE: &str = "fn tape_admits(iters: u32) -> bool { return bundle_admits(iters); }\n";
+const TAPE_PER_BUNDLE: &str = "fn tape_admits(iters: u32) -> bool { return bundle_admits(iters); }\n\
+    fn tape_tile_pass_limit() { g_work_limit = TAPE_TILE_PASS_BUNDLE_LIMIT; }\n";
 
 /// Where the interpreter's instructions come from without per-tile lists:
 /// the tape's programs themselves.
@@ -307,7 +317,7 @@ mod tests {
     fn kernels_keep_the_cases_of_their_groups() {
         let cases = |f: u32| instantiate(Domain::Interval, f).lines().filter_map(case_name).count();
         // Every code but Nop (not written) and Whole (the initial value).
-        assert_eq!(cases(features::ALL), 36);
+        assert_eq!(cases(features::ALL), 37);
         // Const, Neg, Add, Sub, Mul, Sqr; with input instructions, Input.
         assert_eq!(cases(0), 6);
         assert_eq!(cases(features::INPUTS), 7);
@@ -315,6 +325,7 @@ mod tests {
         assert_eq!(instantiate(Domain::Interval, features::INPUTS).matches("g_regs_ia[0] = x;").count(), 0);
         assert_eq!(cases(features::POWERS | features::PARAMS), 8);
         assert_eq!(cases(features::SMALL_POWERS), 7);
+        assert_eq!(cases(features::MID_POWERS), 7);
         assert_eq!(cases(features::TRIG), 11);
         // Register reads only where a case uses them: the third operand for
         // clamp and mix, the fourth for the slopes of min and max (each read
@@ -338,7 +349,7 @@ mod tests {
             assert!(Code::from_wgsl_name(name).is_some(), "{name}");
             named += 1;
         }
-        assert_eq!(named, 36);
+        assert_eq!(named, 37);
     }
 
     #[test]

@@ -84,11 +84,23 @@ impl FieldBinding {
     }
 
     /// Only bisection's tile pass shortens a tape: other traversals bind
-    /// a token buffer for its lists.
-    pub fn keep_lists(&mut self, keep: bool) {
+    /// a token buffer for its lists. A kernel built with per-tile lists
+    /// (`kernel_features`: min and max) reads its blocks' entries there
+    /// whatever tape it runs, so the lists are sized for them.
+    pub fn keep_lists(&mut self, keep: bool, kernel_features: u32) {
         if !keep {
             self.tape_lists = None;
         }
+        if let Some(t) = &mut self.tape_lists {
+            t.features |= kernel_features & crate::codegen::tape::features::MINMAX;
+        }
+    }
+
+    /// Whether bisection runs the field's block pass before its tile pass
+    /// (a tape kernel with per-tile lists: its tile pass reads the blocks'
+    /// entries, `templates/fields/tape_tiles.wgsl`).
+    pub fn block_pass(&self) -> bool {
+        self.tape_lists.as_ref().is_some_and(|t| crate::codegen::tape_field::shortens(t.features))
     }
 
     /// Whether bisection's tile pass may shorten the bound tape per tile:

@@ -161,7 +161,7 @@ impl<'g> Renderer<'g> {
         };
         let d = &gpu.device;
         let mut bound = field::bind(gpu, field)?;
-        bound.keep_lists(host.method() == crate::render::Method::Bisect);
+        bound.keep_lists(host.method() == crate::render::Method::Bisect, field_features(field));
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries });
         let mut frame_entries = vec![storage_entry(0, true)];
         frame_entries.extend(host.frame_resources().into_iter().map(|(e, _)| e));
@@ -200,7 +200,7 @@ impl<'g> Renderer<'g> {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
         }
         let mut bound = field::bind(self.gpu, field)?;
-        bound.keep_lists(self.host.method() == crate::render::Method::Bisect);
+        bound.keep_lists(self.host.method() == crate::render::Method::Bisect, self.features);
         if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
         }
@@ -493,7 +493,9 @@ impl<'g> Renderer<'g> {
             let nf = self.field_passes.len();
             stats.field_ms += t.stage_ms[..nf].iter().sum::<f64>();
             if self.pre.is_some() && self.host.pre_pass() {
-                stats.tile_ms += t.stage_ms[nf];
+                // With a tape's block pass before it.
+                let pre = 1 + usize::from(self.field.block_pass());
+                stats.tile_ms += t.stage_ms[nf..nf + pre].iter().sum::<f64>();
             }
             stats.dispatches += 1;
         }
@@ -527,6 +529,12 @@ impl<'g> Renderer<'g> {
         let rounds = if self.field.tape && self.host.method() == crate::render::Method::Bisect { 1 + self.resume_rounds } else { 1 };
         match (&self.pre, &pass.list) {
             (Some(tiles), Some(list)) if self.host.pre_pass() => {
+                // A tape's block pass: the tile pass's entry point over
+                // blocks of 2 × 2 tiles (8 × 8 a workgroup), as the second
+                // layer of a dispatch two deep (traverse/bisect/tiles.wgsl).
+                if self.field.block_pass() {
+                    stages.push(Stage { pipeline: tiles, groups: Groups::Direct([rect.w.div_ceil(128), rect.h.div_ceil(128), 2]), copy: None });
+                }
                 stages.push(Stage { pipeline: tiles, groups: Groups::Direct([rect.w.div_ceil(64), rect.h.div_ceil(64), 1]), copy: None });
                 for _ in 0..rounds {
                     stages.push(Stage { pipeline: &self.main, groups: Groups::Indirect(list), copy: None });

@@ -98,21 +98,37 @@ pub struct TapeListStats {
     pub kept: u64,
     /// Value-program instructions of the whole tape, summed over the same tiles.
     pub whole: u64,
+    /// Blocks of 2 × 2 tiles the block pass took (`tape_tiles.wgsl`).
+    pub blocks: u64,
+    /// Of them, blocks it shortened the tape for (the others may hold no
+    /// surface, or their tiles start from the whole tape).
+    pub blocks_shortened: u64,
+    /// Value-program instructions the shortened blocks keep, summed.
+    pub blocks_kept: u64,
 }
 
 impl TapeListStats {
     /// Bytes of the device's counts (words: list words in use, tiles,
-    /// shortened tiles, kept instructions, whole instructions).
+    /// shortened tiles, kept instructions, whole instructions, blocks,
+    /// shortened blocks, instructions they keep).
     pub const BYTES: u64 = 32;
 
     /// Adds one dispatch's counts.
     pub fn add(&mut self, words: &[u32]) {
-        if let [_, tiles, shortened, kept, whole, ..] = *words {
+        if let [_, tiles, shortened, kept, whole, blocks, blocks_shortened, blocks_kept, ..] = *words {
             self.tiles += u64::from(tiles);
             self.shortened += u64::from(shortened);
             self.kept += u64::from(kept);
             self.whole += u64::from(whole);
+            self.blocks += u64::from(blocks);
+            self.blocks_shortened += u64::from(blocks_shortened);
+            self.blocks_kept += u64::from(blocks_kept);
         }
+    }
+
+    /// Mean share of the value program a shortened block keeps (1 with none).
+    pub fn block_kept_share(&self, whole: u64) -> f64 {
+        if self.blocks_shortened == 0 || whole == 0 { 1.0 } else { self.blocks_kept as f64 / (self.blocks_shortened * whole) as f64 }
     }
 
     /// Mean share of the value program a shortened tile runs (1 with none).

@@ -109,10 +109,13 @@ pub enum Groups {
         /// Tiles per workgroup.
         per_group: u32,
     },
-    /// One per `side` × `side` pixels (bisection's tile pass: 64).
+    /// One per `side` × `side` pixels (bisection's tile pass: 64; a
+    /// tape's block pass: 256), `layers` deep (the block pass: 2).
     Blocks {
         /// Side in pixels.
         side: u32,
+        /// Workgroups in z.
+        layers: u32,
     },
     /// One per 8×8 tile in x and per `tiles_per_group` tile rows in y.
     PixelTiles {
@@ -280,6 +283,11 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             pass.push(scratch(4, "resume states", Size::PerPixel { bytes: 16 }));
             let tpg = crate::gpu::bisect::TILES_PER_GROUP;
             if b.optimizations.tile_culling {
+                // A tape's block pass (the tile pass's entry point, two
+                // layers deep: gpu::renderer dispatches it the same way).
+                if matches!(field, FieldSource::Tape(t) if codegen::tape_field::shortens(t.features)) {
+                    stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 128, layers: 2 }, uses: vec![], copy: None });
+                }
                 stages.extend(tile_pass());
             } else {
                 stages.push(Stage { entry: "main", groups: Groups::PixelTiles { tiles_per_group: tpg }, uses: vec![], copy: None });
@@ -316,7 +324,7 @@ fn tile_list() -> [Binding; 2] {
 /// dispatch over the tiles it queued.
 fn tile_pass() -> [Stage; 2] {
     [
-        Stage { entry: "tiles", groups: Groups::Blocks { side: 64 }, uses: vec![], copy: None },
+        Stage { entry: "tiles", groups: Groups::Blocks { side: 64, layers: 1 }, uses: vec![], copy: None },
         Stage { entry: "main", groups: Groups::Indirect { binding: 2 }, uses: vec![], copy: None },
     ]
 }

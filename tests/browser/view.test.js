@@ -258,6 +258,19 @@ async function rerollCase(browser) {
   } finally { proc.kill(); }
 }
 
+// A union bisected as a tape: the page runs the block pass, the tile pass
+// and the per-pixel pass over the per-tile lists (fields/tape_tiles.wgsl).
+async function tapeCase(browser) {
+  const { url, proc } = await startServer('tests/browser/csg-tape.iso');
+  try {
+    const page = await openPage(browser, url, 'tape');
+    const wgsl = execFileSync(BIN, ['wgsl', 'tests/browser/csg-tape.iso', '--field', 'tape']).toString();
+    check('tape: the kernel shortens the tape per block', wgsl.includes('fn field_block_done('));
+    await matchesCli(page, 'tape-csg');
+    await page.close();
+  } finally { proc.kill(); }
+}
+
 async function exportCase(browser) {
   const file = path.join(ART, 'export-sphere.html');
   execFileSync(BIN, ['view', '@sphere', '--export', file], { stdio: ['ignore', 'ignore', 'inherit'] });
@@ -278,7 +291,7 @@ async function exportCase(browser) {
   try {
     // CASES=scene,export runs only those (for debugging).
     const only = (process.env.CASES || '').split(',').filter(Boolean);
-    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, rerollCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
       try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
     }
   } finally { await browser.close(); }

@@ -74,6 +74,16 @@ pub const TAPE_WORK_LIMIT: u32 = 5_500;
 /// less the traversal's budget ([`TAPE_MAX_ITER`]) leaves 9,535 iterations
 /// for the traversal's short loops.
 pub const TAPE_BUNDLE_LIMIT: u32 = 40_000;
+/// The work limit of bisection's tile pass (and the tape's block pass), per
+/// SIMD bundle: they run no traversal, only their slab loop (at most 136
+/// iterations), the notes' loops (at most 128 a slab) and list writing, so
+/// they may go closer to lavapipe's cap than the per-pixel pass. A tape of
+/// 2,975 value and 13,008 derivative instructions (four copies of `@city`'s
+/// blocks) left 101 of 507 tiles and blocks unshortened at
+/// [`TAPE_BUNDLE_LIMIT`].
+pub const TAPE_TILE_PASS_BUNDLE_LIMIT: u32 = 54_000;
+/// [`TAPE_TILE_PASS_BUNDLE_LIMIT`] counted per invocation (an eighth).
+pub const TAPE_TILE_PASS_WORK_LIMIT: u32 = 6_750;
 /// Largest bisection iteration budget with a tape field (see
 /// [`TAPE_WORK_LIMIT`]).
 pub const TAPE_MAX_ITER: u32 = 16_000;

@@ -11,7 +11,11 @@
 // others get their background here. The field sees the slabs go by
 // (field_records, field_slab_begin): a tape notes its min/max choices in a
 // second enclosure of each fine slab that may hold the surface and shortens
-// itself for the tile (fields/tape_tiles.wgsl).
+// itself for the tile (fields/tape_tiles.wgsl). A tape also runs a block
+// pass first, through this entry point: the same loop over 16 x 16-pixel
+// blocks and the 8 coarse slabs only, which shortens the tape per block and
+// leaves each tile the slabs its block may hold; the tile pass then runs
+// the block's shorter tape.
 //
 // One invocation per tile, not per slab: the per-slab form (a workgroup per
 // tile sharing its mask through workgroup memory and barriers) cost ~20 ms
@@ -20,6 +24,9 @@
 const COARSE: u32 = 8u;
 // Tiles per workgroup of `main` (its workgroup is 8x8xTILES_PER_GROUP).
 const TILES_PER_GROUP: u32 = 4u;
+// A field's block pass takes blocks of FIELD_BLOCK x FIELD_BLOCK tiles (16 x
+// 16 pixels; src/gpu/renderer.rs dispatches 8 x 8 blocks a workgroup).
+const FIELD_BLOCK: u32 = 2u;
 
 fn tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
 fn tiles_y() -> u32 { return (F.tile_size.y + 7u) / 8u; }
@@ -56,53 +63,71 @@ fn slab_meets_domain(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
 fn tile_share(n: u32, li: u32) -> u32 { return n / 64u + select(0u, 1u, li < n % 64u); }
 
 @compute @workgroup_size(8, 8)
-fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32, @builtin(num_workgroups) groups: vec3<u32>) {
     field_entry(li); // before any lane returns
     load_uniforms();
-    let tile = gid.xy;
+    // A dispatch two layers deep is the field's block pass (a tape's: one
+    // invocation per FIELD_BLOCK x FIELD_BLOCK tiles, before the tile pass,
+    // see fields/tape_tiles.wgsl); its first layer does nothing. The block
+    // pass shares this entry point and its one enclosure call site: a second
+    // entry point would compile the field once more.
+    let block = groups.z == 2u;
+    if (block && gid.z == 0u) { return; }
+    let side = select(1u, FIELD_BLOCK, block);
+    let tile = gid.xy * side;
     if (tile.x >= tiles_x() || tile.y >= tiles_y()) { return; }
     let t = tile.y * tiles_x() + tile.x;
     let dr = depth_range();
     let t_lo = F.tile_origin + tile * 8u;
-    let t_hi = min(t_lo + vec2<u32>(7u), F.tile_origin + F.tile_size - vec2<u32>(1u));
+    let t_hi = min(t_lo + vec2<u32>(8u * side - 1u), F.tile_origin + F.tile_size - vec2<u32>(1u));
     let a = pixel_dir(t_lo);
     let b = pixel_dir(t_hi);
     let su = vec2<f32>(a.x, b.x);
     let sv = vec2<f32>(b.y, a.y);
     let fine = SLABS / COARSE;
     var mask = vec2<u32>(0u);
-    var n = 0u;
+    // The slabs the field's block pass left to this tile (all of them
+    // without one), and the share of the block pass's enclosures it counts.
+    let given = field_tile_begin(t, tile, block);
+    var n = given.z;
     // One loop and one enclosure call site for both levels: the coarse slab
     // c (j == fine), then its fine slabs j = 0..fine-1 if it may hold the
     // surface. A second call site would double this pass's compile time
-    // (the field is inlined at each one) for the same work.
+    // (the field is inlined at each one) for the same work. The block pass
+    // stays at the coarse slabs.
     var c = 0u;
     var j = fine;
     if (dr.x >= dr.y) { c = COARSE; }
-    field_tile_begin(t);
-    // A fine slab that may hold the surface is enclosed again for a field
-    // that records what it saw there (field_records: a tape's choices).
-    var again = false;
     while (c < COARSE) {
         let coarse = j == fine;
         let k = c * fine + select(j, 0u, coarse);
-        n = n + 1u;
-        field_slab_begin(again);
-        let hold = slab_may_hold(slab_span(dr, k, select(k, k + fine - 1u, coarse)), su, sv);
-        if (coarse) {
+        // The slab's bits in the 64-bit mask: the fine slab's, or the
+        // coarse slab's eight.
+        let bits = select(vec2<u32>(1u << (k & 31u), 0u), vec2<u32>(0u, 1u << (k & 31u)), k >= 32u);
+        let span = select(bits, select(vec2<u32>(0xffu << (k & 31u), 0u), vec2<u32>(0u, 0xffu << (k & 31u)), k >= 32u), coarse);
+        let allowed = any((given.xy & span) != vec2<u32>(0u));
+        n = n + select(0u, 1u, allowed);
+        // A field that records what it saw (a tape's choices) does so over
+        // the slabs of the mask: the fine ones, or a block's coarse ones.
+        let leaf = !coarse || block;
+        field_slab_begin(leaf && allowed);
+        let hold = allowed && slab_may_hold(slab_span(dr, k, select(k, k + fine - 1u, coarse)), su, sv);
+        field_slab_end(hold);
+        if (!leaf) {
             if (hold) { j = 0u; } else { c = c + 1u; }
             continue;
         }
-        if (hold && !again && field_records()) {
-            again = true;
-            continue;
+        if (hold) { mask = mask | span; }
+        if (coarse) {
+            c = c + 1u;
+        } else {
+            j = j + 1u;
+            if (j == fine) { c = c + 1u; }
         }
-        again = false;
-        if (hold) {
-            if (k < 32u) { mask.x = mask.x | (1u << k); } else { mask.y = mask.y | (1u << (k - 32u)); }
-        }
-        j = j + 1u;
-        if (j == fine) { c = c + 1u; }
+    }
+    if (block) {
+        field_block_done(mask, n);
+        return;
     }
     if (mask.x != 0u || mask.y != 0u) {
         // Rays of this tile may meet the surface: queue it for `main`, and
