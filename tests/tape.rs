@@ -555,9 +555,9 @@ fn the_power_loops_pass_counts_against_the_loop_cap() {
     // instruction of a kernel that has the case; uncounted, those passes
     // took bundles past the driver's silent cap, which cut the traversal
     // short: hits became misses with no pixel reported (@creature at 256²
-    // lost 561). Every pixel now hits, or is reported. (x^65 keeps the loop:
-    // powers below 64 are written out, PowSmall and PowMid.)
-    let (f, data) = tape(&format!("{}+1e-4*x^65", sum_of_terms(180)));
+    // lost 561). Every pixel now hits, or is reported. (x^9 keeps the loop:
+    // powers below 8 are written out, PowSmall.)
+    let (f, data) = tape(&format!("{}+1e-4*x^9", sum_of_terms(180)));
     assert!(data.features & features::POWERS != 0);
     let s = common::settings(common::cube(1.2), 32, 32);
     let taped = bisect_tape(&data, Domain::Interval, &s, true);

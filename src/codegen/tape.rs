@@ -37,15 +37,15 @@ pub const TAPE_HEADER: u32 = 3;
 pub enum Code {
     Nop = 0, Const, Input, Param, Neg, Add, Sub, Mul, Div, Sqr, PowChain,
     Sqrt, Exp, Log, Sin, Cos, Tan, Atan, Sinh, Cosh, Tanh, Abs, Sign, Floor,
-    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole, PowSmall, Mad, Msub, PowMid,
+    Pow, Atan2, Min, Max, Clamp, Mix, Dmin, Dmax, Dsign, Dfloor, Whole, PowSmall, Mad, Msub,
 }
 
 impl Code {
-    const ALL: [Code; 39] = [
+    const ALL: [Code; 38] = [
         Code::Nop, Code::Const, Code::Input, Code::Param, Code::Neg, Code::Add, Code::Sub, Code::Mul, Code::Div, Code::Sqr, Code::PowChain,
         Code::Sqrt, Code::Exp, Code::Log, Code::Sin, Code::Cos, Code::Tan, Code::Atan, Code::Sinh, Code::Cosh, Code::Tanh, Code::Abs,
         Code::Sign, Code::Floor, Code::Pow, Code::Atan2, Code::Min, Code::Max, Code::Clamp, Code::Mix, Code::Dmin, Code::Dmax,
-        Code::Dsign, Code::Dfloor, Code::Whole, Code::PowSmall, Code::Mad, Code::Msub, Code::PowMid,
+        Code::Dsign, Code::Dfloor, Code::Whole, Code::PowSmall, Code::Mad, Code::Msub,
     ];
     fn of1(f: Func1) -> Code {
         match f {
@@ -197,20 +197,12 @@ impl Builder {
         }
     }
     /// a^n (n ≥ 3) by square-and-multiply: written out for n < 8 (at most
-    /// two squarings, `PowSmall`) and for n < 64 (five, `PowMid`), a loop
-    /// beyond (`PowChain`). A kernel with the loop pays a masked pass of it
-    /// for every instruction, which counts against lavapipe's loop cap; the
-    /// cubes of smooth blends need none, and nor do the odd powers up to 63
-    /// of a polynomial (a sum of 2,800 monomials of degrees up to 20 a
-    /// variable spent its work limit on those passes, and left half its
-    /// pixels unresolved).
+    /// two squarings, `PowSmall`), a loop beyond (`PowChain`). A kernel
+    /// with the loop pays a masked pass of it for every instruction, which
+    /// counts against lavapipe's loop cap; the cubes of smooth blends need
+    /// none.
     pub fn chain(&mut self, a: u32, n: u32) -> u32 {
-        let code = match n {
-            0..8 => Code::PowSmall,
-            8..64 => Code::PowMid,
-            _ => Code::PowChain,
-        };
-        self.push(code, [a, 0, 0, 0], f64::from(n))
+        self.push(if n < 8 { Code::PowSmall } else { Code::PowChain }, [a, 0, 0, 0], f64::from(n))
     }
 }
 

@@ -94,28 +94,6 @@ fn tape_pow_small_T(a: T, n: u32) -> T {
     return op_pw_odd(a, w);
 }
 
-// a^n for 8 <= n < 64: tape_pow_T written out (three to five squarings),
-// so a kernel whose powers are all below 64 has no loop among its cases.
-fn tape_pow_mid_T(a: T, n: u32) -> T {
-    let b = op_pw_lift(a);
-    let top = 31u - countLeadingZeros(n);
-    var w = op_pw_sq(b);
-    if (((n >> ((top - 1u) & 31u)) & 1u) == 1u) { w = op_pw_mul(w, b); }
-    w = op_pw_sq(w);
-    if (((n >> ((top - 2u) & 31u)) & 1u) == 1u) { w = op_pw_mul(w, b); }
-    w = op_pw_sq(w);
-    if (((n >> ((top - 3u) & 31u)) & 1u) == 1u) { w = op_pw_mul(w, b); }
-    if (top >= 4u) {
-        w = op_pw_sq(w);
-        if (((n >> ((top - 4u) & 31u)) & 1u) == 1u) { w = op_pw_mul(w, b); }
-    }
-    if (top == 5u) {
-        w = op_pw_sq(w);
-        if ((n & 1u) == 1u) { w = op_pw_mul(w, b); }
-    }
-    return op_pw_odd(a, w);
-}
-
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
 
 // Notes in choice slot `slot` what instruction `code` with operands a and b
@@ -187,7 +165,6 @@ fn tape_step_T(e: u32) -> bool {
     // (Its loop runs no pass for another code's immediate.)
     r = select(r, tape_pow_T(a, select(1u, w.w, code == TAPE_POWCHAIN)), code == TAPE_POWCHAIN);
     r = select(r, tape_pow_small_T(a, w.w), code == TAPE_POWSMALL);
-    r = select(r, tape_pow_mid_T(a, w.w), code == TAPE_POWMID);
     r = select(r, op_sqrt(a), code == TAPE_SQRT);
     r = select(r, op_exp(a), code == TAPE_EXP);
     r = select(r, op_log(a), code == TAPE_LOG);

@@ -24,7 +24,7 @@ pub const EXPLOG: u32 = 8;
 pub const TRIG: u32 = 16;
 /// floor, mix and their slopes.
 pub const MISC: u32 = 32;
-/// Integer powers from 64 on (square-and-multiply loops).
+/// Integer powers from 8 on (square-and-multiply loops).
 pub const POWERS: u32 = 64;
 /// User parameters.
 pub const PARAMS: u32 = 128;
@@ -69,8 +69,6 @@ pub const PINNED: u32 = 1 << 17;
 /// 32 instructions an iteration ([`super::TAPE_UNROLL_32_FROM`] on, padded
 /// to 32); as [`UNROLL_8`].
 pub const UNROLL_32: u32 = 1 << 15;
-/// Integer powers 8 to 63 (five squarings written out, no loop).
-pub const MID_POWERS: u32 = 1 << 19;
 /// Multiply-adds and -subtracts, a·b ± c (b may be an immediate): a
 /// product and the sum or difference it joins in one step, a third fewer
 /// steps for a sum of products. Their third operand is read on every step,
@@ -78,7 +76,7 @@ pub const MID_POWERS: u32 = 1 << 19;
 pub const MAD: u32 = 1 << 18;
 /// Every operation and the largest register file: a kernel that draws
 /// every tape.
-pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS | MID_POWERS | INPUTS | PINNED | MAD;
+pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS | INPUTS | PINNED | MAD;
 
 /// What a kernel must have to run a tape: its operations and registers.
 pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16 & !UNROLL_32;
@@ -136,7 +134,6 @@ pub fn by_name(name: &str) -> u32 {
         "MISC" => MISC,
         "POWERS" => POWERS,
         "SMALL_POWERS" => SMALL_POWERS,
-        "MID_POWERS" => MID_POWERS,
         "PARAMS" => PARAMS,
         "INPUTS" => INPUTS,
         "PINNED" => PINNED,
@@ -147,7 +144,7 @@ pub fn by_name(name: &str) -> u32 {
 
 /// The names of the operation groups in `features`, for messages.
 pub fn names(features: u32) -> Vec<&'static str> {
-    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (MID_POWERS, "powers 8 to 63"), (POWERS, "powers from 64 on"), (PARAMS, "parameters"), (INPUTS, "input instructions"), (PINNED, "inputs in registers"), (MAD, "multiply-add")]
+    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters"), (INPUTS, "input instructions"), (PINNED, "inputs in registers"), (MAD, "multiply-add")]
         .into_iter()
         .filter(|(b, _)| features & b != 0)
         .map(|(_, n)| n)
@@ -166,7 +163,6 @@ impl Code {
             Code::Floor | Code::Dfloor | Code::Mix => MISC,
             Code::PowChain => POWERS,
             Code::PowSmall => SMALL_POWERS,
-            Code::PowMid => MID_POWERS,
             Code::Param => PARAMS,
             Code::Input => INPUTS,
             Code::Mad | Code::Msub => MAD,
@@ -232,11 +228,8 @@ mod tests {
         // The slopes' chain and product rules sum products: multiply-adds.
         assert_eq!(features_of("x^2 + y^2 + z^2 - 1"), MAD);
         assert_eq!(features_of("x^5 - 3*x*y + z"), SMALL_POWERS | MAD);
-        // Its slope 9·x^8 is (x²)^4: a small power. Odd powers to 63 are
-        // written out; the loop is for 64 on.
-        assert_eq!(features_of("x^9 - 3*x*y + z"), MID_POWERS | SMALL_POWERS | MAD);
-        // (Its slope 65·x^64 is (x²)^32.)
-        assert_eq!(features_of("x^65 - 3*x*y + z"), POWERS | MID_POWERS | MAD);
+        // Its slope 9·x^8 is (x²)^4: a small power.
+        assert_eq!(features_of("x^9 - 3*x*y + z"), POWERS | SMALL_POWERS | MAD);
         assert_eq!(features_of("x*x*x + y^2 - z"), MAD);
         assert_eq!(features_of("x^2 + y^2 + z^2 - a"), PARAMS | MAD);
         assert_eq!(features_of("sin(x) + z"), TRIG | MAD);
@@ -261,7 +254,7 @@ mod tests {
         for (r, s) in [(1, 16), (16, 16), (17, 32), (32, 32), (33, 64), (64, 64)] {
             assert_eq!(slots(for_registers(r)), s, "{r} registers");
         }
-        assert_eq!(names(ALL).len(), 13);
+        assert_eq!(names(ALL).len(), 12);
         // A long tape asks for the unrolled loop, which no kernel requires.
         let long: Vec<String> = (1..=40).map(|i| format!("(x - {i})*(y + {i})")).collect();
         let f = features_of(&long.join(" + "));
