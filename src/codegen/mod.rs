@@ -15,8 +15,8 @@ pub(crate) const UNTILED_FIELD_HOOKS: &str = "fn field_enter_pixel(px: vec2<u32>
 /// `templates/fields/tape_tiles.wgsl`).
 pub(crate) const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\n\
     fn field_tile_begin(t: u32, tile: vec2<u32>, block: bool) -> vec3<u32> { return vec3<u32>(0xffffffffu, 0xffffffffu, 0u); }\n\
-    fn field_block_done(mask: vec2<u32>, n: u32) {}\n\
-    fn field_slab_begin(record: bool) {}\nfn field_slab_end(hold: bool) {}\nfn field_tile_done() -> u32 { return 0u; }\n\
+    fn field_slab_begin(record: bool) {}\nfn field_slab_end(hold: bool) {}\n\
+    fn field_tile_done(mask: vec2<u32>, n: u32, block: bool) -> u32 { return 0u; }\n\
     fn field_enter_tile(list: u32) {}\nfn field_in_tile(inside: bool) {}\n";
 
 pub mod choice;

@@ -137,6 +137,10 @@ impl FieldBinding {
     /// scene's per-tile lists and views over the 64 pixels of a tile): the
     /// dispatch rectangle must keep it within one storage binding.
     pub fn bytes_per_pixel(&self) -> u64 {
+        if self.block_pass() {
+            // A tape's choice notes: 2 KB an 8×8 tile.
+            return crate::codegen::tape_field::NOTE_BYTES_PER_TILE / 64;
+        }
         if !self.scene {
             return 0;
         }

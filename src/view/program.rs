@@ -110,7 +110,7 @@ pub enum Groups {
         per_group: u32,
     },
     /// One per `side` × `side` pixels (bisection's tile pass: 64; a
-    /// tape's block pass: 256), `layers` deep (the block pass: 2).
+    /// tape's block pass: 128), `layers` deep (the block pass: 2).
     Blocks {
         /// Side in pixels.
         side: u32,

@@ -66,6 +66,9 @@ fn tape_blocks_x() -> u32 { return (F.tile_size.x + 8u * FIELD_BLOCK - 1u) / (8u
 fn tape_reserved() -> u32 { return 4u * tape_blocks_x() * ((F.tile_size.y + 8u * FIELD_BLOCK - 1u) / (8u * FIELD_BLOCK)); }
 var<private> g_block: u32;
 var<private> g_block_list: u32;
+// Whether the lists' buffer holds the blocks' entries (the browser page
+// sizes it for the frame it starts with): if not, there is no block pass.
+fn tape_blocks_fit() -> bool { return tape_reserved() <= arrayLength(&tape_lists); }
 
 // Before a tile's (with `block`, a block's) slabs: zeroes its notes (a
 // block uses its first tile's, which the tile pass zeroes again after it),
@@ -76,7 +79,7 @@ fn field_tile_begin(t: u32, tile: vec2<u32>, block: bool) -> vec3<u32> {
     for (var i = 0u; i < tape_note_words(); i = i + 1u) { tape_notes[g_note_base + i] = vec4<u32>(0u); }
     tape_tile_pass_limit();
     g_block = 4u * ((tile.y / FIELD_BLOCK) * tape_blocks_x() + tile.x / FIELD_BLOCK);
-    if (block) {
+    if (block || !tape_blocks_fit()) {
         g_block_list = 0u;
         g_tape_list = 0u;
         return vec3<u32>(0xffffffffu, 0xffffffffu, 0u);
@@ -88,22 +91,6 @@ fn field_tile_begin(t: u32, tile: vec2<u32>, block: bool) -> vec3<u32> {
     let k = (tile.y % FIELD_BLOCK) * FIELD_BLOCK + tile.x % FIELD_BLOCK;
     let per = FIELD_BLOCK * FIELD_BLOCK;
     return vec3<u32>(b.yz, b.w / per + select(0u, 1u, k < b.w % per));
-}
-
-// After the block pass's slabs: the block's entry (every block writes one:
-// the lists' buffer outlives the frame).
-fn field_block_done(mask: vec2<u32>, n: u32) {
-    atomicAdd(&tape_counts.blocks, 1u);
-    var l = vec2<u32>(0u);
-    if (any(mask != vec2<u32>(0u))) { l = tape_shorten(); }
-    if (l.x != 0u) {
-        atomicAdd(&tape_counts.blocks_shortened, 1u);
-        atomicAdd(&tape_counts.blocks_kept, l.y);
-    }
-    tape_lists[g_block] = l.x;
-    tape_lists[g_block + 1u] = mask.x;
-    tape_lists[g_block + 2u] = mask.y;
-    tape_lists[g_block + 3u] = n;
 }
 
 // Whether the tape notes its choices: shortening is on and the tape has
@@ -257,12 +244,29 @@ fn tape_shorten() -> vec2<u32> {
     return vec2<u32>(l, n.x);
 }
 
-// After the tile pass found candidate slabs: the tile's list (0: the whole
-// tape). Without one of its own, the tile runs its block's: that is exact
-// inside the block's candidate slabs, and the tile's lie inside them.
-fn field_tile_done() -> u32 {
+// After the tile pass found candidate slabs (`mask`, `n` enclosures): the
+// tile's list (0: the whole tape). Without one of its own, the tile runs
+// its block's: that is exact inside the block's candidate slabs, and the
+// tile's lie inside them. With `block`, after the block pass's slabs: the
+// block's entry, which every block writes (the lists' buffer outlives the
+// frame).
+fn field_tile_done(mask: vec2<u32>, n: u32, block: bool) -> u32 {
+    var s = vec2<u32>(0u);
+    if (any(mask != vec2<u32>(0u))) { s = tape_shorten(); }
+    if (block) {
+        if (!tape_blocks_fit()) { return 0u; }
+        atomicAdd(&tape_counts.blocks, 1u);
+        if (s.x != 0u) {
+            atomicAdd(&tape_counts.blocks_shortened, 1u);
+            atomicAdd(&tape_counts.blocks_kept, s.y);
+        }
+        tape_lists[g_block] = s.x;
+        tape_lists[g_block + 1u] = mask.x;
+        tape_lists[g_block + 2u] = mask.y;
+        tape_lists[g_block + 3u] = n;
+        return s.x;
+    }
     atomicAdd(&tape_counts.tiles, 1u);
-    var s = tape_shorten();
     if (s.x == 0u && g_block_list != 0u) { s = vec2<u32>(g_block_list, tape_lists[g_block_list - 3u]); }
     if (s.x == 0u) { return 0u; }
     atomicAdd(&tape_counts.shortened, 1u);

@@ -265,7 +265,7 @@ async function tapeCase(browser) {
   try {
     const page = await openPage(browser, url, 'tape');
     const wgsl = execFileSync(BIN, ['wgsl', 'tests/browser/csg-tape.iso', '--field', 'tape']).toString();
-    check('tape: the kernel shortens the tape per block', wgsl.includes('fn field_block_done('));
+    check('tape: the kernel shortens the tape per block', wgsl.includes('fn tape_blocks_x('));
     await matchesCli(page, 'tape-csg');
     await page.close();
   } finally { proc.kill(); }

@@ -125,15 +125,17 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
             if (j == fine) { c = c + 1u; }
         }
     }
-    if (block) {
-        field_block_done(mask, n);
-        return;
-    }
-    if (mask.x != 0u || mask.y != 0u) {
+    // The field's shortened program for the tile (a tape's list), or the
+    // block's entry: one call site for both (the field inlines its
+    // shortening there).
+    let queued = mask.x != 0u || mask.y != 0u;
+    var list = 0u;
+    if (queued || block) { list = field_tile_done(mask, n, block); }
+    if (block) { return; }
+    if (queued) {
         // Rays of this tile may meet the surface: queue it for `main`, and
         // count a workgroup of `main` for every TILES_PER_GROUP tiles.
-        // w: the field's shortened program for the tile (a tape's list).
-        tile_masks[t] = vec4<u32>(mask, n, field_tile_done());
+        tile_masks[t] = vec4<u32>(mask, n, list);
         let slot = atomicAdd(&tile_list.count, 1u);
         tile_ids[slot] = t;
         if (slot % TILES_PER_GROUP == 0u) { atomicAdd(&tile_list.x, 1u); }
