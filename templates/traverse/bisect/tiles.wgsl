@@ -9,9 +9,9 @@
 // costs 8 enclosures, not 64). Slabs proven root-free are skipped by every
 // ray of the tile. Tiles with a candidate slab are queued for `main`, the
 // others get their background here. The field sees the slabs go by
-// (field_records, field_slab_begin): a tape notes its min/max choices in a
-// second enclosure of each fine slab that may hold the surface and shortens
-// itself for the tile (fields/tape_tiles.wgsl). A tape also runs a block
+// (field_slab_begin, field_slab_end): a tape notes its min/max choices over
+// each fine slab that may hold the surface and shortens itself for the tile
+// (fields/tape_tiles.wgsl). A tape also runs a block
 // pass first, through this entry point: the same loop over 16 x 16-pixel
 // blocks and the 8 coarse slabs only, which shortens the tape per block and
 // leaves each tile the slabs its block may hold; the tile pass then runs
