@@ -17,7 +17,7 @@ const VIEW_TEXTURE: u32 = 10;
 const COUNTS: u32 = 4;
 /// Binding of a tape's per-tile lists (`templates/fields/tape_tiles.wgsl`).
 const TAPE_LISTS: u32 = 1;
-/// Binding of a tape's per-tile choice notes (32 words a tile).
+/// Binding of a tape's per-tile choice notes (`NOTE_BYTES_PER_TILE`).
 const TAPE_NOTES: u32 = 5;
 /// Binding of the views pass's output buffer.
 const VIEW_BUFFER: u32 = 6;
@@ -195,7 +195,9 @@ impl FieldBinding {
         let storage = wgpu::BufferUsages::STORAGE;
         let bytes = self.tape_lists.as_ref().map_or(0, |t| crate::codegen::tape_field::list_bytes(t, tiles));
         // The counts (binding COUNTS) are the caller's read-back buffer.
-        let notes = if self.tape_lists.is_some() { tiles * crate::codegen::tape_field::NOTE_BYTES_PER_TILE } else { 0 };
+        // Only a kernel with per-tile lists notes choices (a tape without
+        // min or max binds a token buffer).
+        let notes = if self.block_pass() { tiles * crate::codegen::tape_field::NOTE_BYTES_PER_TILE } else { 0 };
         let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage)), (TAPE_NOTES, buffer("tape notes", notes, storage))], view: None };
         *cached = Some((tiles, own.clone()));
         own

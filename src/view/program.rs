@@ -242,7 +242,9 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
                 let bytes = codegen::tape_field::list_bytes(t, tiles).max(16);
                 group.push(kept(1, "tape lists", Size::Fixed { bytes }));
                 group.push(scratch(4, "tape list words", Size::Fixed { bytes: 32 }));
-                group.push(kept(5, "tape notes", Size::PerTile { bytes: codegen::tape_field::NOTE_BYTES_PER_TILE }));
+                // Only a kernel with per-tile lists notes choices.
+                let notes = if codegen::tape_field::shortens(t.features) { Size::PerTile { bytes: codegen::tape_field::NOTE_BYTES_PER_TILE } } else { Size::Fixed { bytes: 16 } };
+                group.push(kept(5, "tape notes", notes));
             }
             group
         }

@@ -251,10 +251,10 @@ fn tape_shorten() -> vec2<u32> {
 // block's entry, which every block writes (the lists' buffer outlives the
 // frame).
 fn field_tile_done(mask: vec2<u32>, n: u32, block: bool) -> u32 {
+    if (block && !tape_blocks_fit()) { return 0u; }
     var s = vec2<u32>(0u);
     if (any(mask != vec2<u32>(0u))) { s = tape_shorten(); }
     if (block) {
-        if (!tape_blocks_fit()) { return 0u; }
         atomicAdd(&tape_counts.blocks, 1u);
         if (s.x != 0u) {
             atomicAdd(&tape_counts.blocks_shortened, 1u);
