@@ -57,7 +57,7 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut r = Renderer::new(gpu(), FieldSource::Tape(&sphere), t.clone()).unwrap();
     let e = r.set_field(FieldSource::Tape(&wavy)).err().expect("refused").to_string();
-    assert!(e.contains("the formula needs what the tape kernel was built without (division, trigonometry): build a new renderer"), "{e}");
+    assert!(e.contains("the formula needs what the tape kernel was built without (division, sin/cos): build a new renderer"), "{e}");
     // The ball's inputs are pinned in registers; the Barth decic's are loaded
     // by input instructions (7 more registers would need 32): a kernel
     // without that case refuses it.
@@ -104,21 +104,22 @@ fn new_formulas_change_buffers_not_pipelines() {
 
 /// A tape far past the interpreter's work limit (also when the kernel
 /// counts its work per SIMD bundle): nothing is culled or drawn that was not
-/// proven; its pixels are reported unresolved. The longest tapes run 32
+/// proven; its pixels are reported unresolved. The longest tapes run 16
 /// instructions an iteration, where a cell's work (its enclosure and scalar
-/// refinement) fits a round of the per-pixel pass again: the same tape's
-/// pixels resolve, and none misses a sign change of the f64 reference. A
-/// tape padded for 4 is refused by such a kernel (it would read past its
-/// programs).
+/// refinement) fits a round of the per-pixel pass again, with 7 rounds
+/// after the first: the same tape's pixels resolve, and none misses a sign
+/// change of the f64 reference. A tape padded for 4 is refused by such a
+/// kernel (it would read past its programs).
 #[test]
-fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_them() {
+fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_them() {
     let (f, data) = tape(&sum_of_inputs(16_100));
-    assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_32_FROM, "{} instructions", data.ops);
-    assert_eq!((features::unroll(data.features), data.padding()), (32, 32));
+    assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
+    assert_eq!((features::unroll(data.features), data.padding()), (16, 16));
+    assert_eq!([1, 4, 8, 16].map(isotrace::codegen::tape::resume_rounds), [3, 3, 15, 7]);
     let s = common::settings(common::cube(2.0), 16, 16);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut four = data.clone();
-    four.features = four.features & !(features::UNROLL_8 | features::UNROLL_16 | features::UNROLL_32) | features::UNROLL_4;
+    four.features = four.features & !(features::UNROLL_8 | features::UNROLL_16) | features::UNROLL_4;
     assert_eq!(features::unroll(four.features), 4);
     let frame = Renderer::new(gpu(), FieldSource::Tape(&four), ia()).unwrap().render(&s).unwrap();
     assert!(frame.stats.unresolved > 0, "{:?}", frame.stats);
@@ -134,7 +135,7 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_32_an_iteration_resolves_th
     let (_, cylinder) = tape("x^2 + y^2 - 1");
     assert_eq!(cylinder.padding(), 4);
     let e = r.set_field(FieldSource::Tape(&cylinder)).err().expect("refused").to_string();
-    assert!(e.contains("the tape kernel runs 32 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
+    assert!(e.contains("the tape kernel runs 16 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
 }
 
 /// A long tape runs 8 instructions an iteration, padded to match, and the

@@ -294,9 +294,7 @@ impl TapeData {
             Ok(pinned) if file(&pinned) == file(&loaded) => (pinned.0, pinned.1, features::PINNED),
             _ => (loaded.0, loaded.1, features::INPUTS),
         };
-        let unroll = if value.ops >= TAPE_UNROLL_32_FROM {
-            features::UNROLL_32
-        } else if value.ops >= TAPE_UNROLL_16_FROM {
+        let unroll = if value.ops >= TAPE_UNROLL_16_FROM {
             features::UNROLL_16
         } else if value.ops >= TAPE_UNROLL_8_FROM {
             features::UNROLL_8
@@ -320,7 +318,7 @@ impl TapeData {
         Ok(TapeData { words, ops: value.ops, size, registers, features: ops | inputs | unroll | features::for_registers(registers) })
     }
 
-    /// The largest interpreter step (1, 4, 8, 16 or 32 instructions an iteration)
+    /// The largest interpreter step (1, 4, 8 or 16 instructions an iteration)
     /// both programs are padded for: a kernel that runs more an iteration
     /// would read past a program's end into the next.
     pub fn padding(&self) -> u32 {

@@ -306,7 +306,7 @@ mod tests {
 
     #[test]
     fn the_template_unrolls_as_the_host_pads() {
-        for (f, n) in [(0, 1), (features::UNROLL_4, 4), (features::UNROLL_8, 8), (features::UNROLL_16, 16), (features::UNROLL_32, 32), (features::UNROLL_4 | features::UNROLL_16, 16)] {
+        for (f, n) in [(0, 1), (features::UNROLL_4, 4), (features::UNROLL_8, 8), (features::UNROLL_16, 16), (features::UNROLL_4 | features::UNROLL_16, 16)] {
             assert_eq!(instantiate(Domain::Scalar, f).matches("= tape_step_s(tape_entry(i").count() as u32, n);
             assert!(super::super::tape::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
         }

@@ -188,7 +188,7 @@ impl<'g> Renderer<'g> {
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
         let features = field_features(field);
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features, resume_rounds: TAPE_RESUME_ROUNDS })
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features, resume_rounds: codegen::tape::resume_rounds(codegen::tape::features::unroll(features)) })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
@@ -609,13 +609,9 @@ fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
     }
 }
 
-/// Rounds of the per-pixel pass after the first that resume the pixels a
-/// tape field left at its work limit (each round gives a pixel another
-/// `TAPE_WORK_LIMIT` of interpreter work). The rounds of pixels already
-/// done return at once. Measured at 128²: 3 resolve the superquadric (RAA)
-/// and chmutov-octic (IA), which 1 does not; 7 resolve no more of `@city`
-/// than 3 (its pixels stall on single cells) and cost more.
-pub const TAPE_RESUME_ROUNDS: u32 = 3;
+/// Rounds of the per-pixel pass after the first for short tapes (kept here
+/// for the renderer's users: `codegen::tape::resume_rounds` has the rest).
+pub use crate::codegen::tape::TAPE_RESUME_ROUNDS;
 
 /// The interpreter features `field` needs (0 for a compiled field).
 fn field_features(field: FieldSource<'_>) -> u32 {

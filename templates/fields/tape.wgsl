@@ -199,10 +199,10 @@ fn tape_step_T(e: u32) -> bool {
 
 // Runs program `prog` (0: value, 1: derivative), the whole of it or the
 // tile's shortened list (tape_span), TAPE_UNROLL instructions per loop
-// iteration (1, 4, 8, 16 or 32: lines marked `each unrolled step K` are
+// iteration (1, 4, 8 or 16: lines marked `each unrolled step K` are
 // written once for each K from 1 to TAPE_UNROLL - 1 by
 // src/codegen/tape_field.rs; programs are padded to a multiple of 4, or of
-// 8, 16 or 32 for the longest tapes, lists to the kernel's TAPE_UNROLL). Past the work
+// 8 or 16 for the longest tapes, lists to the kernel's TAPE_UNROLL). Past the work
 // limit (tape_admits: the power chains' iterations from the header, the
 // loop's, and with the power case one pass of its loop per instruction,
 // which lavapipe runs masked for every instruction) it runs nothing and

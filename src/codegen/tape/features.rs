@@ -18,10 +18,30 @@ pub const DIV: u32 = 1;
 pub const MINMAX: u32 = 2;
 /// Square roots.
 pub const SQRT: u32 = 4;
-/// exp, log, real powers and the hyperbolic functions.
-pub const EXPLOG: u32 = 8;
+/// exp. The transcendental functions are a group each (or a pair, where
+/// one's slope is the other): lavapipe computes every case of the step for
+/// every instruction, and a transcendental case costs more than all the
+/// arithmetic ones together, so a tape of exponentials alone must not also
+/// pay for logarithms, real powers and hyperbolic functions (README,
+/// "Transcendental tapes").
+pub const EXP: u32 = 8;
+/// log.
+pub const LOG: u32 = 1 << 19;
+/// Real powers pow(a, b).
+pub const POW: u32 = 1 << 20;
+/// sinh, cosh, tanh (each one's slope is another).
+pub const HYPERBOLIC: u32 = 1 << 21;
+/// exp, log, real powers and the hyperbolic functions (the template's
+/// `// if EXPLOG` lines).
+pub const EXPLOG: u32 = EXP | LOG | POW | HYPERBOLIC;
+/// sin and cos (each one's slope is the other).
+pub const SINCOS: u32 = 16;
+/// tan.
+pub const TAN: u32 = 1 << 22;
+/// atan and atan2.
+pub const ATAN: u32 = 1 << 23;
 /// sin, cos, tan, atan, atan2.
-pub const TRIG: u32 = 16;
+pub const TRIG: u32 = SINCOS | TAN | ATAN;
 /// floor, mix and their slopes.
 pub const MISC: u32 = 32;
 /// Integer powers from 8 on (square-and-multiply loops).
@@ -66,9 +86,6 @@ pub const INPUTS: u32 = 1 << 16;
 /// Inputs pinned in registers 0 to 6, written once per run
 /// ([`super::TAPE_INPUTS`]): no input instructions.
 pub const PINNED: u32 = 1 << 17;
-/// 32 instructions an iteration ([`super::TAPE_UNROLL_32_FROM`] on, padded
-/// to 32); as [`UNROLL_8`].
-pub const UNROLL_32: u32 = 1 << 15;
 /// Multiply-adds and -subtracts, a·b ± c (b may be an immediate): a
 /// product and the sum or difference it joins in one step, a third fewer
 /// steps for a sum of products. Their third operand is read on every step,
@@ -79,7 +96,7 @@ pub const MAD: u32 = 1 << 18;
 pub const ALL: u32 = DIV | MINMAX | SQRT | EXPLOG | TRIG | MISC | POWERS | PARAMS | SLOTS_32 | SLOTS_64 | UNROLL_4 | SMALL_POWERS | INPUTS | PINNED | MAD;
 
 /// What a kernel must have to run a tape: its operations and registers.
-pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16 & !UNROLL_32;
+pub const REQUIRED: u32 = ALL & !UNROLL_4 & !UNROLL_8 & !UNROLL_16;
 
 /// Whether a kernel with `features` counts work per bundle.
 pub fn bundle_work(features: u32) -> bool {
@@ -88,9 +105,7 @@ pub fn bundle_work(features: u32) -> bool {
 
 /// Instructions a kernel with `features` runs per loop iteration.
 pub fn unroll(features: u32) -> u32 {
-    if features & UNROLL_32 != 0 {
-        32
-    } else if features & UNROLL_16 != 0 {
+    if features & UNROLL_16 != 0 {
         16
     } else if features & UNROLL_8 != 0 {
         8
@@ -130,7 +145,14 @@ pub fn by_name(name: &str) -> u32 {
         "MINMAX" => MINMAX,
         "SQRT" => SQRT,
         "EXPLOG" => EXPLOG,
+        "EXP" => EXP,
+        "LOG" => LOG,
+        "POW" => POW,
+        "HYPERBOLIC" => HYPERBOLIC,
         "TRIG" => TRIG,
+        "SINCOS" => SINCOS,
+        "TAN" => TAN,
+        "ATAN" => ATAN,
         "MISC" => MISC,
         "POWERS" => POWERS,
         "SMALL_POWERS" => SMALL_POWERS,
@@ -144,7 +166,7 @@ pub fn by_name(name: &str) -> u32 {
 
 /// The names of the operation groups in `features`, for messages.
 pub fn names(features: u32) -> Vec<&'static str> {
-    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXPLOG, "exp/log/pow/hyperbolic"), (TRIG, "trigonometry"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters"), (INPUTS, "input instructions"), (PINNED, "inputs in registers"), (MAD, "multiply-add")]
+    [(DIV, "division"), (MINMAX, "min/max/abs/sign"), (SQRT, "sqrt"), (EXP, "exp"), (LOG, "log"), (POW, "pow"), (HYPERBOLIC, "sinh/cosh/tanh"), (SINCOS, "sin/cos"), (TAN, "tan"), (ATAN, "atan/atan2"), (MISC, "floor/mix"), (SMALL_POWERS, "powers 3 to 7"), (POWERS, "powers from 8 on"), (PARAMS, "parameters"), (INPUTS, "input instructions"), (PINNED, "inputs in registers"), (MAD, "multiply-add")]
         .into_iter()
         .filter(|(b, _)| features & b != 0)
         .map(|(_, n)| n)
@@ -158,8 +180,13 @@ impl Code {
             Code::Div => DIV,
             Code::Min | Code::Max | Code::Clamp | Code::Abs | Code::Sign | Code::Dmin | Code::Dmax | Code::Dsign => MINMAX,
             Code::Sqrt => SQRT,
-            Code::Exp | Code::Log | Code::Pow | Code::Sinh | Code::Cosh | Code::Tanh => EXPLOG,
-            Code::Sin | Code::Cos | Code::Tan | Code::Atan | Code::Atan2 => TRIG,
+            Code::Exp => EXP,
+            Code::Log => LOG,
+            Code::Pow => POW,
+            Code::Sinh | Code::Cosh | Code::Tanh => HYPERBOLIC,
+            Code::Sin | Code::Cos => SINCOS,
+            Code::Tan => TAN,
+            Code::Atan | Code::Atan2 => ATAN,
             Code::Floor | Code::Dfloor | Code::Mix => MISC,
             Code::PowChain => POWERS,
             Code::PowSmall => SMALL_POWERS,
@@ -232,7 +259,7 @@ mod tests {
         assert_eq!(features_of("x^9 - 3*x*y + z"), POWERS | SMALL_POWERS | MAD);
         assert_eq!(features_of("x*x*x + y^2 - z"), MAD);
         assert_eq!(features_of("x^2 + y^2 + z^2 - a"), PARAMS | MAD);
-        assert_eq!(features_of("sin(x) + z"), TRIG | MAD);
+        assert_eq!(features_of("sin(x) + z"), SINCOS | MAD);
         assert_eq!(features_of("abs(x) + y - 1"), MINMAX | MAD);
         assert_eq!(features_of("x / (1 + y^2) - z"), DIV);
         assert_eq!(features_of("x - y - z"), 0);
@@ -254,7 +281,7 @@ mod tests {
         for (r, s) in [(1, 16), (16, 16), (17, 32), (32, 32), (33, 64), (64, 64)] {
             assert_eq!(slots(for_registers(r)), s, "{r} registers");
         }
-        assert_eq!(names(ALL).len(), 12);
+        assert_eq!(names(ALL).len(), 17);
         // A long tape asks for the unrolled loop, which no kernel requires.
         let long: Vec<String> = (1..=40).map(|i| format!("(x - {i})*(y + {i})")).collect();
         let f = features_of(&long.join(" + "));
