@@ -357,7 +357,7 @@ fn auto_takes_the_frames_of_an_animation_into_account() {
         let (a, b) = (0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002 + 0.001);
         if i % 2 == 0 { format!("({a:.3}*x-y)*(z+{b:.3})") } else { format!("(z+{b:.3})*({a:.3}*x-y)") }
     };
-    let terms: Vec<String> = (0..90).map(term).collect();
+    let terms: Vec<String> = (0..250).map(term).collect();
     let formula = format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"));
     let field = |extra: &[&str], out: &str| {
         let out = tmp(out);

@@ -92,6 +92,18 @@ impl PreparedField {
 /// product's zero test), 910 1.12-1.15 / 1.59-1.61 s, 1,310 1.73-1.87 /
 /// 1.77-1.84 s, 1,790 2.2-2.5 / 1.9-2.3 s. So the IA line moved down to 700
 /// and the RAA line up to 1,500, where the two meet.
+///
+/// Re-measured on Mesa 25.0 with LLVM's passes off for one frame (the
+/// compiled kernels build 2-4 times sooner than when those lines were
+/// drawn) over seven families of formulas a program writes (README,
+/// "Compiled or tape, re-measured"): sums of bilinear terms meet at about
+/// 220 terms in IA (130 terms, compiled / tape: 0.66 / 1.38 s; 250: 2.36 /
+/// 2.04 s) and 400 in RAA (3.35 / 3.03 s); a product of 100 planes took
+/// 1.1 s compiled against 20 s as a tape (its compiled kernel has ray
+/// polynomials); a sum of 100 Gaussians 2.3 against 8.9 s, of 50
+/// trigonometric products 4.6 against 9.5 s. So the lines moved up, to
+/// 2,400 (IA) and 4,000 (RAA), and transcendental functions weigh more
+/// ([`HEAVY_WEIGHT`]).
 pub fn crossover(traversal: &Traversal) -> usize {
     match traversal {
         Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
@@ -101,9 +113,9 @@ pub fn crossover(traversal: &Traversal) -> usize {
 }
 
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_IA: usize = 700;
+pub const CROSSOVER_BISECT_IA: usize = 2_400;
 /// See [`crossover`].
-pub const CROSSOVER_BISECT_RAA: usize = 1500;
+pub const CROSSOVER_BISECT_RAA: usize = 4_000;
 /// See [`crossover`] (sphere tracing evaluates only the scalar field: its
 /// compiled kernels are the cheapest to build).
 pub const CROSSOVER_SPHERE: usize = 4000;
@@ -125,6 +137,48 @@ pub const CSG_RATIO: usize = 16;
 fn minmax_ops(t: &TapeData) -> usize {
     let [start, len, _, _] = t.words[0];
     t.words[start as usize..(start + len) as usize].iter().filter(|w| super::tape::is_minmax(w[0])).count()
+}
+
+/// What a division, square root or transcendental function (exp, log,
+/// pow, the trigonometric and hyperbolic functions) adds to a formula's
+/// size in `auto`'s weighing, beyond its own instruction, in IA (and sphere tracing, not re-measured): the compiled
+/// kernel's build grows much faster with them (cold, 512², IA, compiled:
+/// 200 Gaussians 16 s, 200 square roots 16 s, 200 reciprocals 10 s, 100
+/// trigonometric products 23 s, against 2.4 s for 250 bilinear terms of
+/// about the same size), while each also makes the tape's step dearer.
+/// Measured by the families of [`crossover`]: with 6, a sum of 100
+/// trigonometric products (3,870 weighed) takes the tape (15 s, compiled 23
+/// s), one of 50 (1,950) stays compiled (4.6 s, tape 9.5 s), and so do 100
+/// Gaussians (1,820; 2.3 s, tape 8.9 s) and 100 reciprocals (1,790; 2.6
+/// s, tape 7.2 s).
+pub const HEAVY_WEIGHT: usize = 6;
+/// [`HEAVY_WEIGHT`] in RAA, whose affine transcendental functions build
+/// slower still: 100 trigonometric products compiled 26.5 s against 19.8 s
+/// as a tape, 200 reciprocals 23.8 against 13.1 s (both now tapes, 5,670
+/// and 4,880 weighed), 50 trigonometric products 6.2 against 13.1 s and
+/// 100 Gaussians 4.4 against 10.6 s (both compiled, 2,850 and 2,420).
+pub const HEAVY_WEIGHT_RAA: usize = 12;
+
+/// Whether `op` is a division, square root or transcendental function
+/// ([`HEAVY_WEIGHT`]).
+fn heavy(op: &crate::ir::Op) -> bool {
+    use crate::ir::{Func1, Func2, Op};
+    match op {
+        Op::Div(..) | Op::Call2(Func2::Pow | Func2::Atan2, ..) => true,
+        Op::Call1(f, _) => !matches!(f, Func1::Abs | Func1::Sign | Func1::Floor),
+        _ => false,
+    }
+}
+
+/// The divisions, square roots and transcendental functions of the code
+/// generated for `ir` (`plan`'s loop bodies once per unrolled term),
+/// weighed for `traversal` ([`HEAVY_WEIGHT`]).
+fn heavy_weight(ir: &Ir, plan: &super::reroll::Plan, traversal: &Traversal) -> usize {
+    let weight = match traversal {
+        Traversal::Bisect(b) if b.algebra == super::Domain::Affine => HEAVY_WEIGHT_RAA,
+        _ => HEAVY_WEIGHT,
+    };
+    weight * plan.emitted_weight(ir, |op| usize::from(heavy(op)))
 }
 
 /// Whether `Auto` takes the tape for `t`: from [`crossover`] instructions
@@ -152,7 +206,7 @@ fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool 
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
     let line = crossover(traversal) as f64 * (frames.clamp(1, 16) as f64).sqrt();
     let plan = super::reroll::plan(ir);
-    let size = if plan.loops.is_empty() { t.size } else { plan.emitted_nodes(ir) };
+    let size = if plan.loops.is_empty() { t.size } else { plan.emitted_nodes(ir) } + heavy_weight(ir, &plan, traversal);
     !csg && size as f64 >= line
 }
 

@@ -146,9 +146,15 @@ impl Plan {
     /// ones, plus each loop's unrolled body (what `Auto` weighs against
     /// the tape).
     pub fn emitted_nodes(&self, ir: &Ir) -> usize {
-        let live = ir.live();
-        let kept = live.iter().filter(|&&n| !self.skips(n)).count();
-        kept + self.loops.iter().map(|l| l.unroll * (l.body.len() + 1)).sum::<usize>()
+        self.emitted_weight(ir, |_| 1)
+    }
+
+    /// The sum of `weigh` over the nodes the generated code holds (a loop's
+    /// accumulating operation and body once per unrolled term).
+    pub fn emitted_weight(&self, ir: &Ir, weigh: impl Fn(&Op) -> usize) -> usize {
+        let kept: usize = ir.live().iter().filter(|&&n| !self.skips(n)).map(|&n| weigh(&ir.nodes[n as usize])).sum();
+        let body = |l: &Loop| weigh(&l.op) + l.body.iter().map(|&n| weigh(&ir.nodes[n as usize])).sum::<usize>();
+        kept + self.loops.iter().map(|l| l.unroll * body(l)).sum::<usize>()
     }
 }
 

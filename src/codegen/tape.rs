@@ -314,7 +314,7 @@ impl TapeData {
         words.extend(value.words);
         words.extend(deriv.words);
         let registers = value.registers.max(deriv.registers);
-        let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | Code::ALL.get((w[0] & 0xff) as usize).map_or(0, |c| c.group()));
+        let ops = words.iter().skip(TAPE_HEADER as usize).fold(0, |acc, w| acc | features::group_of(w[0]));
         Ok(TapeData { words, ops: value.ops, size, registers, features: ops | inputs | unroll | features::for_registers(registers) })
     }
 

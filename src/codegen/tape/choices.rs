@@ -9,7 +9,7 @@ use super::{Builder, Code};
 /// Whether the instruction with first word `w0` is of the min/max group (in
 /// a value program: a min, max, clamp, abs or sign).
 pub fn is_minmax(w0: u32) -> bool {
-    Code::ALL.get((w0 & 0xff) as usize).is_some_and(|c| c.group() == super::features::MINMAX)
+    super::features::group_of(w0) == super::features::MINMAX
 }
 
 /// Choice slots the tile pass keeps per tile (two bits each; 4,096 slots

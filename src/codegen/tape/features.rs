@@ -173,6 +173,12 @@ pub fn names(features: u32) -> Vec<&'static str> {
         .collect()
 }
 
+/// The operation group of the instruction whose first word is `w0` (0 for
+/// a code always compiled in, or none).
+pub fn group_of(w0: u32) -> u32 {
+    Code::ALL.get((w0 & 0xff) as usize).map_or(0, |c| c.group())
+}
+
 impl Code {
     /// The operation group of this code (0: always compiled in).
     pub fn group(self) -> u32 {
