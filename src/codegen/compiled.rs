@@ -233,6 +233,10 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
 /// call into all of them), so all are included then. `bundle`: its loops'
 /// work is counted per SIMD bundle (bisection on a device with subgroups).
 pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool) -> String {
+    // Long sums as balanced trees, where no loop computes them in order.
+    let plan = super::reroll::plan(ir);
+    let balanced = super::balance::balanced(ir, |n| plan.skips(n) || plan.loop_at(n).is_some());
+    let ir = balanced.as_ref().unwrap_or(ir);
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
     // Where the affine forms cannot overflow, ranges are read without the NaN test.
     let radius = match (inline, domain) {

@@ -19,6 +19,7 @@ pub(crate) const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\n\
     fn field_tile_done(mask: vec2<u32>, n: u32, block: bool) -> u32 { return 0u; }\n\
     fn field_enter_tile(list: u32) {}\nfn field_in_tile(inside: bool) {}\n";
 
+mod balance;
 pub mod choice;
 pub mod compiled;
 pub mod derivative;
