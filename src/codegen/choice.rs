@@ -141,22 +141,21 @@ fn minmax_ops(t: &TapeData) -> usize {
 
 /// What a division, square root or transcendental function (exp, log,
 /// pow, the trigonometric and hyperbolic functions) adds to a formula's
-/// size in `auto`'s weighing, beyond its own instruction, in IA (and sphere tracing, not re-measured): the compiled
-/// kernel's build grows much faster with them (cold, 512², IA, compiled:
-/// 200 Gaussians 16 s, 200 square roots 16 s, 200 reciprocals 10 s, 100
-/// trigonometric products 23 s, against 2.4 s for 250 bilinear terms of
-/// about the same size), while each also makes the tape's step dearer.
-/// Measured by the families of [`crossover`]: with 6, a sum of 100
-/// trigonometric products (3,870 weighed) takes the tape (15 s, compiled 23
-/// s), one of 50 (1,950) stays compiled (4.6 s, tape 9.5 s), and so do 100
-/// Gaussians (1,820; 2.3 s, tape 8.9 s) and 100 reciprocals (1,790; 2.6
-/// s, tape 7.2 s).
+/// size in `auto`'s weighing, beyond its own instruction, in IA (and
+/// sphere tracing, not re-measured), where its sums stay chains (see
+/// [`heavy_weight`]): the compiled kernel's build then grows much faster
+/// with them (cold, 512², IA, compiled: 200 Gaussians 16 s, 200
+/// reciprocals 10 s, against 2.4 s for 250 bilinear terms of about the
+/// same size), while each also makes the tape's step dearer. Measured by
+/// the families of [`crossover`]: with 6, 100 Gaussians (1,820 weighed;
+/// 2.3 s, tape 8.9 s) and 100 reciprocals (1,790; 2.6 s, tape 7.2 s) stay
+/// compiled, 200 of either take the tape (3,890 and 3,680; compiled 16
+/// and 10 s, tape 20 and 11 s).
 pub const HEAVY_WEIGHT: usize = 6;
 /// [`HEAVY_WEIGHT`] in RAA, whose affine transcendental functions build
-/// slower still: 100 trigonometric products compiled 26.5 s against 19.8 s
-/// as a tape, 200 reciprocals 23.8 against 13.1 s (both now tapes, 5,670
-/// and 4,880 weighed), 50 trigonometric products 6.2 against 13.1 s and
-/// 100 Gaussians 4.4 against 10.6 s (both compiled, 2,850 and 2,420).
+/// slower still: 200 reciprocals compiled 23.8 s against 13.1 s as a tape
+/// (4,880 weighed: the tape), 100 Gaussians 4.4 against 10.6 s (2,420:
+/// compiled).
 pub const HEAVY_WEIGHT_RAA: usize = 12;
 
 /// Whether `op` is a division, square root or transcendental function
