@@ -1,10 +1,10 @@
 //! Long sums rebalanced for the compiled field. A program writes a sum of
 //! many terms as one chain `((t1 + t2) + t3) + …`, and lavapipe's LLVM
 //! back end builds such a chain in time that grows steeply with its
-//! length: a sum of 200 square roots `sqrt((x-a)^2 + …)` built for 17 s
-//! cold as a chain and 2.9 s as a balanced tree, the same code otherwise
-//! (a min of 200 spheres, a chain of another operation, 3 s either way;
-//! README, "Long sums as balanced trees"). So before the compiled field is
+//! length: a sum of 200 square roots `sqrt((x-a)^2 + …)` built for 12-16 s
+//! cold as a chain and 2.6-4.3 s as a balanced tree, the same code
+//! otherwise (a min of 200 spheres, a chain of another operation, 3 s
+//! either way; README, "Long sums as balanced trees"). So before the compiled field is
 //! generated, every chain of additions and subtractions of at least
 //! [`MIN_TERMS`] terms becomes a balanced tree of the same terms in the same
 //! order, signs carried to where two subtrees meet.

@@ -95,8 +95,8 @@ impl PreparedField {
 ///
 /// Re-measured on Mesa 25.0 with LLVM's passes off for one frame (the
 /// compiled kernels build 2-4 times sooner than when those lines were
-/// drawn) over seven families of formulas a program writes (README,
-/// "Compiled or tape, re-measured"): sums of bilinear terms meet at about
+/// drawn) over seven families of formulas a program writes (README, "The
+/// lines re-measured over seven families"): sums of bilinear terms meet at about
 /// 220 terms in IA (130 terms, compiled / tape: 0.66 / 1.38 s; 250: 2.36 /
 /// 2.04 s) and 400 in RAA (3.35 / 3.03 s); a product of 100 planes took
 /// 1.1 s compiled against 20 s as a tape (its compiled kernel has ray
