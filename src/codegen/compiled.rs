@@ -227,15 +227,21 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
     )
 }
 
+/// `ir` as the compiled field and the `eval` kernel generate it, where it
+/// differs: long sums as balanced trees ([`super::balance`]), unless a loop
+/// computes part of them in order.
+pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
+    let plan = super::reroll::plan(ir);
+    super::balance::balanced(ir, |n| plan.skips(n) || plan.loop_at(n).is_some())
+}
+
 /// The compiled field for a traversal that needs enclosures in `domain`
 /// (bisection) or, with `None`, only the scalar field (sphere tracing).
 /// `inline` user functions need every op library (their three versions
 /// call into all of them), so all are included then. `bundle`: its loops'
 /// work is counted per SIMD bundle (bisection on a device with subgroups).
 pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool) -> String {
-    // Long sums as balanced trees, where no loop computes them in order.
-    let plan = super::reroll::plan(ir);
-    let balanced = super::balance::balanced(ir, |n| plan.skips(n) || plan.loop_at(n).is_some());
+    let balanced = generated_ir(ir);
     let ir = balanced.as_ref().unwrap_or(ir);
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
     // Where the affine forms cannot overflow, ranges are read without the NaN test.

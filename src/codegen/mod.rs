@@ -505,6 +505,9 @@ pub fn eval_shader(ir: &Ir, domain: Domain) -> String {
 /// [`eval_shader`] with user WGSL (`--inline`). Its three versions of each
 /// function need every op library, so all are included then.
 pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::InlineWgsl>) -> String {
+    // The code render's compiled field runs (long sums balanced).
+    let balanced = compiled::generated_ir(ir);
+    let ir = balanced.as_ref().unwrap_or(ir);
     let lib = match inline {
         Some(_) => libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]),
         None => libraries(&[domain]),
