@@ -30,20 +30,20 @@ pub const MIN_TERMS: usize = 32;
 pub fn balanced(ir: &Ir, fixed: impl Fn(NodeId) -> bool) -> Option<Ir> {
     let live = ir.live();
     let interior = interior_nodes(ir, &live);
-    // The heads of long chains, and the sums inside them, which they compute.
-    let mut long = vec![false; ir.nodes.len()];
+    // The terms of each long chain (at its head), and the sums inside them,
+    // which their heads compute.
+    let mut long: Vec<Option<Vec<(NodeId, bool)>>> = vec![None; ir.nodes.len()];
     let mut absorbed = vec![false; ir.nodes.len()];
     for &n in live.iter().filter(|&&n| is_sum(&ir.nodes[n as usize]) && !interior[n as usize]) {
-        let mut inside = vec![];
-        mark_inside(ir, &interior, n, &mut inside);
-        if terms(ir, &interior, n).len() >= MIN_TERMS && !fixed(n) && !inside.iter().any(|&m| fixed(m)) {
-            long[n as usize] = true;
+        let (terms, inside) = chain(ir, &interior, n);
+        if terms.len() >= MIN_TERMS && !fixed(n) && !inside.iter().any(|&m| fixed(m)) {
+            long[n as usize] = Some(terms);
             for m in inside {
                 absorbed[m as usize] = true;
             }
         }
     }
-    if !long.contains(&true) {
+    if long.iter().all(Option::is_none) {
         return None;
     }
     let mut out = Ir { nodes: vec![], spans: vec![], root: 0, surfaces: ir.surfaces.clone(), params: ir.params.clone(), externs: ir.externs.clone() };
@@ -59,8 +59,8 @@ pub fn balanced(ir: &Ir, fixed: impl Fn(NodeId) -> bool) -> Option<Ir> {
             out.spans.push(span);
             (out.nodes.len() - 1) as NodeId
         };
-        map[n as usize] = if long[n as usize] {
-            let leaves: Vec<(NodeId, bool)> = terms(ir, &interior, n).into_iter().map(|(l, plus)| (map[l as usize], plus)).collect();
+        map[n as usize] = if let Some(terms) = &long[n as usize] {
+            let leaves: Vec<(NodeId, bool)> = terms.iter().map(|&(l, plus)| (map[l as usize], plus)).collect();
             let (top, plus) = tree(&leaves, &mut |a| push(&mut out, a));
             if plus { top } else { push(&mut out, Op::Neg(top)) }
         } else {
@@ -104,33 +104,24 @@ fn interior_nodes(ir: &Ir, live: &[NodeId]) -> Vec<bool> {
     (0..ir.nodes.len()).map(|n| uses[n] == 1 && by_sum[n] && is_sum(&ir.nodes[n])).collect()
 }
 
-/// Pushes the sums inside the chain headed by `n` onto `inside`.
-fn mark_inside(ir: &Ir, interior: &[bool], n: NodeId, inside: &mut Vec<NodeId>) {
-    let mut stack = vec![n];
-    while let Some(m) = stack.pop() {
-        if let Op::Add(a, b) | Op::Sub(a, b) = ir.nodes[m as usize] {
-            for o in [a, b].into_iter().filter(|&o| interior[o as usize]) {
-                inside.push(o);
-                stack.push(o);
-            }
-        }
-    }
-}
-
 /// The terms of the chain headed by `n`, in order, each with its sign
-/// (true: added).
-fn terms(ir: &Ir, interior: &[bool], n: NodeId) -> Vec<(NodeId, bool)> {
-    let mut out = vec![];
+/// (true: added), and the sums inside it.
+fn chain(ir: &Ir, interior: &[bool], n: NodeId) -> (Vec<(NodeId, bool)>, Vec<NodeId>) {
+    let (mut terms, mut inside) = (vec![], vec![]);
     // Depth-first, right operand pushed first so terms come out in order.
     let mut stack = vec![(n, true)];
     while let Some((m, plus)) = stack.pop() {
+        let sum = m == n || interior[m as usize];
         match ir.nodes[m as usize] {
-            Op::Add(a, b) if m == n || interior[m as usize] => stack.extend([(b, plus), (a, plus)]),
-            Op::Sub(a, b) if m == n || interior[m as usize] => stack.extend([(b, !plus), (a, plus)]),
-            _ => out.push((m, plus)),
+            Op::Add(a, b) if sum => stack.extend([(b, plus), (a, plus)]),
+            Op::Sub(a, b) if sum => stack.extend([(b, !plus), (a, plus)]),
+            _ => terms.push((m, plus)),
+        }
+        if sum && m != n {
+            inside.push(m);
         }
     }
-    out
+    (terms, inside)
 }
 
 /// A balanced tree over `leaves` (new node ids with their signs), built

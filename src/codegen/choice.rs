@@ -200,8 +200,8 @@ fn heavy_weight(ir: &Ir, plan: &super::reroll::Plan, traversal: &Traversal) -> u
 /// / tape, frames after the first): at size ~910 1.6 / 1.3 s and 31 / 360
 /// ms, so a second frame evens them (the line for 2 frames: 990); at ~1,310
 /// 2.15 / 1.42 s and 28 / 545 ms, two frames even (an earlier round's 2,501
-/// instructions: about seven, 3,572: about fifteen, the line for 16 frames
-/// 2,800).
+/// instructions: about seven, 3,572: about fifteen; the line for 16 frames
+/// was then 2,800, and is 9,600 since the lines moved up: [`crossover`]).
 ///
 /// A formula whose long runs of same-shaped terms become loops
 /// ([`super::reroll`]) is weighed by what its generated code holds (the
