@@ -5,9 +5,11 @@
 //! limit reported, never drawn from a cut-off sum.
 //!
 //! The written-out reference is the same sum with every other term's
-//! factors swapped, `(z + b)·(a·x³ − 0.5)`: the shapes alternate, so no run is
-//! long enough to reroll, and each operation has the same operands (IA,
-//! affine and scalar products are symmetric), so the values are the same.
+//! second factor written `z − (−b)`: the shapes alternate, so no run is
+//! long enough to reroll, and each operation gives what `z + b` gives
+//! (subtracting a negated f32, or its negated enclosure, is adding it in
+//! every domain), so the values are the same. (Swapped factors would no
+//! longer do: a run compares a product's operands in a fixed order.)
 
 mod common;
 
@@ -19,7 +21,7 @@ use isotrace::render::{BisectOptions, Status, Traversal};
 use isotrace::Formula;
 
 /// The sum of `n` terms (a x³ − 0.5)(z + b) on the unit sphere; `alternate`
-/// writes every other term with its factors swapped. Each term is of degree
+/// writes every other term's second factor as `z − (−b)`. Each term is of degree
 /// 4: a node of degree ≤ 2 in x, y, z with two or more terms is taken from
 /// the ray when written out but not inside a loop (`codegen::ray_forms`),
 /// and a sum of bilinear terms would be one such node, whose code would
@@ -28,7 +30,7 @@ fn sum(n: usize, alternate: bool) -> Formula {
     let terms: Vec<String> = (0..n)
         .map(|i| {
             let (a, b) = (0.5 + i as f64 * 0.013, i as f64 * 0.021 - 0.3);
-            if alternate && i % 2 == 1 { format!("(z+{b:.3})*({a:.3}*x^3-0.5)") } else { format!("({a:.3}*x^3-0.5)*(z+{b:.3})") }
+            if alternate && i % 2 == 1 { format!("({a:.3}*x^3-0.5)*(z-({:.3}))", -b) } else { format!("({a:.3}*x^3-0.5)*(z+{b:.3})") }
         })
         .collect();
     Formula::compile("<test>", &format!("x^2 + y^2 + z^2 - 1 + 0.004*({})", terms.join(" + "))).unwrap()
@@ -188,6 +190,54 @@ fn a_rerolled_union_draws_what_the_tape_draws() {
         assert!(a.stats.hits > 300 && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
         let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();
         assert_eq!(differ, 0, "{domain:?}");
+    }
+}
+
+/// The picture of `src` compiled (one loop, the plan says) against the
+/// tape's, an independent path, in IA and RAA: the same pixel by pixel
+/// where both resolve, depth within 2 eps.
+fn draws_what_the_tape_draws(src: &str, min_hits: u64) {
+    let f = Formula::compile("<terms>", src).unwrap();
+    assert_eq!(reroll::plan(&f.ir).loops.len(), 1);
+    let s = common::settings(common::cube(1.5), 96, 96);
+    for domain in [Domain::Interval, Domain::Affine] {
+        let t = Traversal::Bisect(BisectOptions::new(domain));
+        let a = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
+        let tape = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+        let b = Renderer::new(gpu(), FieldSource::Tape(&tape), t).unwrap().render(&s).unwrap();
+        assert!(a.stats.hits > min_hits && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
+        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();
+        assert_eq!(differ, 0, "{domain:?}");
+    }
+}
+
+/// `min(s_0, s_1, …)` of 30 balls as distances: the front end nests the
+/// chain in second operands, and every term has a square root.
+#[test]
+fn a_rerolled_min_of_distances_draws_what_the_tape_draws() {
+    let balls: Vec<String> = (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect();
+    draws_what_the_tape_draws(&format!("min({})", balls.join(", ")), 300);
+}
+
+/// A sum of square roots is empty where one root's argument is negative
+/// (x < −0.02 here): the loop gathers its roots' emptiness, which an affine
+/// sum would lose (an empty form plus another is no longer empty), so the
+/// part of the sphere with x ≥ −0.02 is all that is drawn, in RAA as in IA.
+#[test]
+fn a_rerolled_sum_of_roots_is_empty_where_a_root_is() {
+    // The roots' ends −0.6 to −0.02 in a shuffled order, so that the ones
+    // written out (the first, which seeds the loop, and the last, left
+    // over) are −0.6 and −0.14, defined from x = −0.14 on.
+    let roots: Vec<String> = (0..30).map(|i| format!("{:.4}*sqrt(x - {:.3})", 0.002 + 0.0001 * i as f64, -0.6 + 0.02 * ((i * 7) % 30) as f64)).collect();
+    let src = format!("x^2 + y^2 + z^2 - 1 + {}", roots.join(" + "));
+    draws_what_the_tape_draws(&src, 300);
+    // Boxes with −0.13 ≤ x ≤ −0.1, where only roots of the loop are
+    // undefined: empty.
+    let f = Formula::compile("<roots>", &src).unwrap();
+    let bx: Vec<Box8> = (0..64).map(|i| [-0.13, -0.1 - 0.0004 * i as f32, -0.2, 0.3, -0.9, 0.9, 0.0, 0.0]).collect();
+    for domain in [Domain::Interval, Domain::Affine] {
+        let r = eval_boxes(gpu(), &f.ir, domain, &bx, &[]).unwrap();
+        assert!(r.iter().all(|e| e[0] > e[1]), "{domain:?}: {:?}", &r[..4]);
     }
 }
 

@@ -303,7 +303,7 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
             continue;
         }
         if let Some(l) = plan.loop_at(id) {
-            emit_loop(out, ir, domain, l, &mut fresh, &nn, &mut hook);
+            restricted.extend(emit_loop(out, ir, domain, l, &mut fresh, &nn, &mut hook));
             continue;
         }
         let op = ir.nodes[id as usize];
@@ -323,12 +323,20 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
 /// One rerolled loop: the accumulator starts at the chain's value before
 /// the run and takes `unroll` terms an iteration, each written from the
 /// body with its constants read from the table (fresh names `v{fresh…}`).
-fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh: &mut NodeId, nn: &[bool], hook: &mut impl FnMut(&mut String, Hook)) {
+/// A body with square roots, logarithms or real powers (nodes whose empty
+/// result makes f empty) also gathers their emptiness, in a flag whose
+/// test it returns for the caller's.
+fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh: &mut NodeId, nn: &[bool], hook: &mut impl FnMut(&mut String, Hook)) -> Option<String> {
     let mut next_id = || {
         *fresh += 1;
         *fresh - 1
     };
     let acc = next_id();
+    let p = domain.prefix();
+    let strict = l.body.iter().any(|&b| ir.nodes[b as usize].restricts_domain());
+    if strict {
+        let _ = writeln!(out, "    var e{acc} = false;");
+    }
     let _ = writeln!(out, "    var v{acc} = v{};", l.seed);
     hook(out, Hook::Begin { acc, seed: l.seed });
     let lay = match domain {
@@ -368,6 +376,9 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
             let renamed = reroll::with_operands(op, &ops);
             let rhs = value_rhs(out, domain, f, renamed, ir, nn);
             let _ = writeln!(out, "    let v{f} = {rhs};");
+            if op.restricts_domain() {
+                let _ = writeln!(out, "    e{acc} = e{acc} || {p}_is_empty(v{f});");
+            }
             hook(out, Hook::Node(f, renamed));
             map.push((b, f));
         }
@@ -383,6 +394,7 @@ fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh:
     out.push_str("    }\n");
     let _ = writeln!(out, "    let v{} = v{acc};", l.end);
     hook(out, Hook::End { acc, end: l.end });
+    strict.then(|| format!("e{acc}"))
 }
 
 /// Which nodes are never negative, by their form: even powers, |a|,

@@ -125,6 +125,8 @@ pub struct Plan {
     pub loops: Vec<Loop>,
     /// Per node: emitted inside a loop (or replaced by one), not on its own.
     skip: Vec<bool>,
+    /// Per node: computed by a loop for some term of its run.
+    rerolled: Vec<bool>,
     /// The table: every loop's constants, `[f32; 4]` texels as bits.
     pub table: Vec<[u32; 4]>,
 }
@@ -191,6 +193,16 @@ fn same_kind(a: Op, b: Op) -> bool {
     with_operands(a, &[0; 4]) == with_operands(b, &[0; 4])
 }
 
+/// A commutative operand's place in a shape: the term's own nodes, then
+/// constants, then shared nodes.
+fn ref_rank(r: &Ref) -> (u8, usize) {
+    match *r {
+        Ref::Local(i) => (0, i),
+        Ref::Slot => (1, 0),
+        Ref::Shared(n) => (2, n as usize),
+    }
+}
+
 fn is_leaf(op: Op) -> bool {
     matches!(op, Op::Const(_) | Op::Var(_) | Op::Param(_))
 }
@@ -232,9 +244,26 @@ impl Uses {
     }
 }
 
+/// The chain node and the term that node `id` joins, if it continues a
+/// chain: a node of its kind used only by it, in either operand (the front
+/// end orders a commutative node's operands by when they were written, so
+/// `min(a, b, c, …)` continues through its second).
+fn link(ir: &Ir, u: &Uses, id: NodeId) -> Option<(NodeId, NodeId)> {
+    let op = ir.nodes[id as usize];
+    let (a, b) = chain_operands(op)?;
+    let continues = |x: NodeId| same_kind(ir.nodes[x as usize], op) && u.single(x);
+    if continues(a) {
+        Some((a, b))
+    } else if continues(b) {
+        Some((b, a))
+    } else {
+        None
+    }
+}
+
 /// The chains longer than [`MIN_RUN`]: each from its bottom node (whose
-/// left operand is term 0) to its top, every node but the top used only by
-/// the next.
+/// operands are terms 0 and 1) to its top, every node but the top used
+/// only by the next.
 fn chains(ir: &Ir, u: &Uses) -> Vec<Vec<NodeId>> {
     let mut chains = Vec::new();
     for &top in &u.live {
@@ -243,20 +272,17 @@ fn chains(ir: &Ir, u: &Uses) -> Vec<Vec<NodeId>> {
             continue;
         }
         let continued = u.single(top) && {
-            let uop = ir.nodes[u.users[top as usize][0] as usize];
-            same_kind(op, uop) && chain_operands(uop).is_some_and(|(a, _)| a == top)
+            let user = u.users[top as usize][0];
+            same_kind(op, ir.nodes[user as usize]) && link(ir, u, user).is_some_and(|(c, _)| c == top)
         };
         if continued {
             continue;
         }
         let mut chain = vec![top];
         let mut cur = top;
-        while let Some((a, _)) = chain_operands(ir.nodes[cur as usize]) {
-            if !(same_kind(ir.nodes[a as usize], op) && u.single(a)) {
-                break;
-            }
-            chain.push(a);
-            cur = a;
+        while let Some((c, _)) = link(ir, u, cur) {
+            chain.push(c);
+            cur = c;
         }
         chain.reverse();
         if chain.len() > MIN_RUN {
@@ -273,55 +299,113 @@ struct Terms {
     roots: Vec<NodeId>,
     /// Each chain's range of `roots`.
     ranges: Vec<std::ops::Range<usize>>,
-    /// Per node: the term that owns it, or `u32::MAX`.
-    owner: Vec<u32>,
     /// Per term: its own nodes, in topological order (its root last).
     bodies: Vec<Vec<NodeId>>,
+}
+
+/// Each live node's structure, as a hash: a term's own node by its
+/// operation and its operands' structures (a commutative node's in sorted
+/// order), a constant by being one, any other node by its identity (a
+/// shared input must be the same node in every term of a run).
+fn signatures(ir: &Ir, u: &Uses, own: &[bool]) -> Vec<u64> {
+    use std::hash::{Hash, Hasher};
+    let mut sig = vec![0u64; ir.nodes.len()];
+    for &id in &u.live {
+        let op = ir.nodes[id as usize];
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        if matches!(op, Op::Const(_)) {
+            "const".hash(&mut h);
+        } else if own[id as usize] {
+            let mut kids: Vec<u64> = op.operands().iter().map(|&o| sig[o as usize]).collect();
+            if chain_operands(op).is_some() {
+                kids.sort_unstable();
+            }
+            format!("{:?}", with_operands(op, &[0; 4])).hash(&mut h);
+            kids.hash(&mut h);
+        } else {
+            id.hash(&mut h);
+        }
+        sig[id as usize] = h.finish();
+    }
+    sig
+}
+
+/// Appends the own nodes under `root` to `body` operands first, a
+/// commutative node's in the order of their structures: the same order for
+/// every term of one shape, whatever order the front end gave them (a node
+/// two terms share comes earlier in the formula than the second term's
+/// other nodes).
+fn post_order(ir: &Ir, sig: &[u64], own: &[bool], root: NodeId, seen: &mut [bool], body: &mut Vec<NodeId>) {
+    seen[root as usize] = true;
+    let op = ir.nodes[root as usize];
+    let mut kids: Vec<NodeId> = op.operands().to_vec();
+    if chain_operands(op).is_some() {
+        kids.sort_by_key(|&o| sig[o as usize]);
+    }
+    for o in kids {
+        if own[o as usize] && !seen[o as usize] {
+            post_order(ir, sig, own, o, seen, body);
+        }
+    }
+    body.push(root);
 }
 
 /// A term's shape: its nodes' operations and how each reaches its operands.
 type Shape = Vec<(Op, Vec<Ref>)>;
 
 impl Terms {
+    /// A term's own nodes are its root (used only by its chain node) and
+    /// every node all of whose users are terms' own nodes. A node a few
+    /// terms use is each one's: a program that writes its constants to
+    /// three decimals writes `0.225*x` into two terms of a thousand by
+    /// chance, and the front end makes it one node; counted as the
+    /// terms' shared input it would make them shapes of their own and cut
+    /// the run in three. The loop computes it again for each term, as
+    /// written. A node [`MIN_RUN`] or more nodes use (`r` in `sin(a·r) +
+    /// sin(b·r) + …`) stays a shared input, computed once.
     fn new(ir: &Ir, u: &Uses, chains: &[Vec<NodeId>]) -> Terms {
         let n = ir.nodes.len();
         let (mut roots, mut ranges) = (Vec::new(), Vec::new());
         for chain in chains {
             let start = roots.len();
-            roots.push(chain_operands(ir.nodes[chain[0] as usize]).expect("a chain node").0);
-            roots.extend(chain.iter().map(|&c| chain_operands(ir.nodes[c as usize]).expect("a chain node").1));
+            let (a, b) = chain_operands(ir.nodes[chain[0] as usize]).expect("a chain node");
+            roots.extend([a, b]);
+            roots.extend(chain[1..].iter().map(|&c| link(ir, u, c).expect("a chain node").1));
             ranges.push(start..roots.len());
         }
-        let mut owner = vec![u32::MAX; n];
-        for (t, &root) in roots.iter().enumerate() {
-            if u.single(root) && !is_leaf(ir.nodes[root as usize]) && owner[root as usize] == u32::MAX {
-                owner[root as usize] = t as u32;
-            }
+        let mut is_root = vec![false; n];
+        for &root in &roots {
+            is_root[root as usize] = u.single(root) && !is_leaf(ir.nodes[root as usize]);
         }
-        let root_of = owner.clone();
-        // Users come later in the order: a node all of whose users one term owns is that term's.
+        // Users come later in the order.
+        let mut own = vec![false; n];
         for id in (0..n).rev() {
-            if !u.is_live[id] || owner[id] != u32::MAX || u.output[id] || is_leaf(ir.nodes[id]) || root_of[id] != u32::MAX {
+            if !u.is_live[id] || u.output[id] || is_leaf(ir.nodes[id]) {
                 continue;
             }
-            if let Some(&first) = u.users[id].first() {
-                let o = owner[first as usize];
-                if o != u32::MAX && u.users[id].iter().all(|&x| owner[x as usize] == o) {
-                    owner[id] = o;
+            let users = &u.users[id];
+            own[id] = is_root[id] || (!users.is_empty() && users.len() < MIN_RUN && users.iter().all(|&x| own[x as usize]));
+        }
+        let sig = signatures(ir, u, &own);
+        let mut seen = vec![false; n];
+        let bodies = roots
+            .iter()
+            .map(|&root| {
+                let mut body = Vec::new();
+                if is_root[root as usize] {
+                    post_order(ir, &sig, &own, root, &mut seen, &mut body);
+                    for &b in &body {
+                        seen[b as usize] = false;
+                    }
                 }
-            }
-        }
-        let mut bodies: Vec<Vec<NodeId>> = vec![Vec::new(); roots.len()];
-        for &id in &u.live {
-            if owner[id as usize] != u32::MAX {
-                bodies[owner[id as usize] as usize].push(id);
-            }
-        }
-        Terms { roots, ranges, owner, bodies }
+                body
+            })
+            .collect();
+        Terms { roots, ranges, bodies }
     }
 
     /// Term `t`'s shape; `None` for a term that cannot be a loop's (not
-    /// its own root, or with a node whose emptiness the evaluator tests).
+    /// its own root, or with a call of a user function).
     fn shape(&self, ir: &Ir, t: usize) -> Option<Shape> {
         let body = &self.bodies[t];
         if body.last() != Some(&self.roots[t]) {
@@ -330,18 +414,27 @@ impl Terms {
         body.iter()
             .map(|&id| {
                 let op = ir.nodes[id as usize];
-                if op.restricts_domain() || matches!(op, Op::User(..)) {
+                if matches!(op, Op::User(..)) {
                     return None;
                 }
-                let refs = op
+                let mut refs: Vec<Ref> = op
                     .operands()
                     .iter()
                     .map(|&o| match ir.nodes[o as usize] {
-                        _ if self.owner[o as usize] == t as u32 => Ref::Local(body.iter().position(|&b| b == o).unwrap_or(usize::MAX)),
                         Op::Const(_) => Ref::Slot,
-                        _ => Ref::Shared(o),
+                        _ => body.iter().position(|&b| b == o).map_or(Ref::Shared(o), Ref::Local),
                     })
                     .collect();
+                // The front end orders a commutative node's operands by
+                // when they were first written, so `0.3*x + 0.302` and
+                // `0.5*x + 0.2` (0.2 written earlier, as another term's
+                // factor) come out in opposite orders: compared in a fixed
+                // order they are one shape. The loop computes every term in
+                // the first term's order, which every domain's + × min max
+                // enclose alike (only an affine product's rounding differs).
+                if chain_operands(op).is_some() {
+                    refs.sort_by_key(ref_rank);
+                }
                 Some((with_operands(op, &[0; 4]), refs))
             })
             .collect()
@@ -353,7 +446,7 @@ impl Terms {
 pub fn plan(ir: &Ir) -> Plan {
     let u = Uses::new(ir);
     let chains = chains(ir, &u);
-    let mut plan = Plan { skip: vec![false; ir.nodes.len()], ..Plan::default() };
+    let mut plan = Plan { skip: vec![false; ir.nodes.len()], rerolled: vec![false; ir.nodes.len()], ..Plan::default() };
     if chains.is_empty() {
         return plan;
     }
@@ -370,6 +463,14 @@ pub fn plan(ir: &Ir) -> Plan {
                 plan.add_run(ir, &terms, chain, range.start, i..j, shape);
             }
             i = j;
+        }
+    }
+    // A rerolled term's nodes are left to the loop unless a term written
+    // out uses them too (a node a few terms share is each one's).
+    for id in (0..ir.nodes.len()).rev() {
+        let users = &u.users[id];
+        if plan.rerolled[id] && !users.is_empty() && users.iter().all(|&x| plan.skip[x as usize] || plan.loop_at(x).is_some()) {
+            plan.skip[id] = true;
         }
     }
     // Constants only the rerolled terms read are not written either (the
@@ -401,14 +502,14 @@ impl Plan {
         let slots = shape.iter().flat_map(|(_, r)| r).filter(|r| **r == Ref::Slot).count();
         let op = with_operands(ir.nodes[end as usize], &[0; 4]);
         let mut l = Loop { seed, end, op, root: terms.roots[first], body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
-        let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &terms.bodies[t], &terms.owner, t as u32)).collect();
+        let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &terms.bodies[t])).collect();
         lay_out(&mut self.table, &mut l, &consts);
         for &c in &chain[i..i + count - 1] {
             self.skip[c as usize] = true;
         }
         for body in &terms.bodies[first..first + count] {
             for &b in body {
-                self.skip[b as usize] = true;
+                self.rerolled[b as usize] = true;
             }
         }
         self.loops.push(l);
@@ -431,11 +532,11 @@ fn unroll_for(terms: usize, body: usize) -> usize {
 }
 
 /// A term's constants in the order its body reads them.
-fn slot_values(ir: &Ir, body: &[NodeId], owner: &[u32], t: u32) -> Vec<f64> {
+fn slot_values(ir: &Ir, body: &[NodeId]) -> Vec<f64> {
     let mut out = Vec::new();
     for &id in body {
         for o in ir.nodes[id as usize].operands() {
-            if let (Op::Const(c), false) = (ir.nodes[o as usize], owner[o as usize] == t) {
+            if let Op::Const(c) = ir.nodes[o as usize] {
                 out.push(c);
             }
         }
@@ -546,10 +647,11 @@ mod tests {
         assert!(plan(&compile(&terms(MIN_RUN - 1))).loops.is_empty());
         let p = plan(&compile(&terms(MIN_RUN + 9)));
         // The front end orders a product's operands by node: the first term
-        // is `3·x` (its constant came first), the others `x·k`, so the run is
-        // terms 1 to 24; term 1 stays written out and seeds the loop, 20
-        // terms are rerolled at 4 an iteration, and the last 3 are written out.
-        assert_eq!(p.loops.iter().map(|l| (l.slots, l.unroll, l.iterations)).collect::<Vec<_>>(), vec![(2, 4, 5)]);
+        // is `3·x` (its constant came first), the others `x·k`. Compared in
+        // a fixed order they are one shape, so the run is all 25 terms: term
+        // 0 stays written out and seeds the loop, and 24 are rerolled at 4
+        // an iteration.
+        assert_eq!(p.loops.iter().map(|l| (l.slots, l.unroll, l.iterations)).collect::<Vec<_>>(), vec![(2, 4, 6)]);
         // A constant used twice in a term is two slots; a node all terms
         // share (x*y) is read, not copied.
         let shared = (0..40).map(|i| format!("{}*x*y*(z - {})", i + 2, i + 2)).collect::<Vec<_>>().join(" + ");
@@ -565,6 +667,40 @@ mod tests {
         assert_eq!(plan(&compile(&u)).loops.len(), 1);
         let mixed = (0..40).map(|i| if i % 2 == 0 { format!("{}*x", i + 2) } else { format!("{}*y*y", i + 2) }).collect::<Vec<_>>().join(" + ");
         assert!(plan(&compile(&mixed)).loops.is_empty());
+    }
+
+    /// What a program that writes its constants to three decimals writes:
+    /// operands in either order, a node two terms share by chance, a
+    /// variadic min (a chain through second operands) and square roots.
+    #[test]
+    fn a_run_is_one_shape_whatever_the_front_ends_order_and_sharing() {
+        let loops = |src: &str| plan(&compile(src)).loops.iter().map(|l| l.unroll * l.iterations).collect::<Vec<_>>();
+        // 0.302 comes first as term 0's factor, so term 1's `x*0.5 + 0.302`
+        // is `0.302 + x*0.5` to the front end; terms 2 and 9 share
+        // `cos(0.7*y)`, which stays written out for nobody but the loop.
+        let terms: Vec<String> = (0..40)
+            .map(|i| {
+                let (k, a, b, c) = ([0.302, 0.5][i % 2], 0.5 + 0.01 * i as f64, 0.302 + 0.011 * (i % 2) as f64, if i == 2 || i == 9 { 0.7 } else { 0.8 + 0.013 * i as f64 });
+                format!("{k:.3}*sin({a:.3}*x + {b:.3})*cos({c:.3}*y)")
+            })
+            .collect();
+        let ir = compile(&terms.join(" + "));
+        assert_eq!(loops(&terms.join(" + ")), vec![36]);
+        let p = plan(&ir);
+        let shared = ir.live().into_iter().filter(|&n| matches!(ir.nodes[n as usize], Op::Call1(crate::ir::Func1::Cos, _))).filter(|&n| !p.skips(n)).count();
+        // Only the cos of the terms written out (0, which seeds the loop,
+        // and 37 to 39) is emitted on its own; the shared one is computed by
+        // the loop, twice.
+        assert_eq!(shared, 4);
+        // min(s_0, s_1, …): the front end nests the chain in second operands.
+        let balls: Vec<String> = (0..30).map(|i| format!("sqrt((x - {:.3})^2 + y^2 + z^2) - 0.2", 0.1 * i as f64)).collect();
+        assert_eq!(loops(&format!("min({})", balls.join(", "))), vec![28]);
+        // A node that many terms read stays one shared node (r here).
+        let r = (0..30).map(|i| format!("{:.3}*sin({}*r)", 0.5 + 0.01 * i as f64, i + 1)).collect::<Vec<_>>().join(" + ");
+        let ir = compile(&format!("r = sqrt(x^2 + y^2); z - ({r})"));
+        let p = plan(&ir);
+        assert_eq!(p.loops.len(), 1);
+        assert!(p.loops[0].body.iter().all(|&b| !matches!(ir.nodes[b as usize], Op::Call1(crate::ir::Func1::Sqrt, _))));
     }
 
     #[test]
