@@ -349,13 +349,13 @@ fn wgsl_prints_the_tape_kernel_which_does_not_depend_on_the_formula() {
 /// `auto` counts the frames a render makes: a sum of products just past the
 /// IA line takes the tape for one frame and stays compiled for an
 /// animation, whose later frames the tape would make 10-25 times slower.
-/// (Every other term's factors are swapped, so no run of terms is long
-/// enough to become a loop: `codegen::reroll`.)
+/// (Every other term's second factor is written `z − (−b)`, so no run of
+/// terms is long enough to become a loop: `codegen::reroll`.)
 #[test]
 fn auto_takes_the_frames_of_an_animation_into_account() {
     let term = |i: i32| {
         let (a, b) = (0.5 + f64::from(i) * 0.001, f64::from(i) * 0.002 + 0.001);
-        if i % 2 == 0 { format!("({a:.3}*x-y)*(z+{b:.3})") } else { format!("(z+{b:.3})*({a:.3}*x-y)") }
+        if i % 2 == 0 { format!("({a:.3}*x-y)*(z+{b:.3})") } else { format!("({a:.3}*x-y)*(z-(-{b:.3}))") }
     };
     let terms: Vec<String> = (0..250).map(term).collect();
     let formula = format!("x^2+y^2+z^2-1+1e-4*({})", terms.join("+"));

@@ -174,7 +174,9 @@ fn a_formula_of_loops_caps_the_traversals_budget() {
 /// picture is the tape's (an independent path) at every pixel both resolve.
 #[test]
 fn a_rerolled_union_draws_what_the_tape_draws() {
-    let balls: Vec<String> = (0..30).map(|i| format!("(x - {:.3})^2 + (y - {:.3})^2 + z^2 - 0.04", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect();
+    // Distances: a ball's polynomial x² + … − r² would be taken whole from
+    // the ray, which keeps such terms written out (`codegen::reroll`).
+    let balls: Vec<String> = (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect();
     let mut src = balls[0].clone();
     for b in &balls[1..] {
         src = format!("min({src}, {b})");
