@@ -244,7 +244,7 @@ fn a_rerolled_sum_of_roots_is_empty_where_a_root_is() {
 }
 
 /// Random term shapes (a small generator over + − × / sin cos exp abs min
-/// max and squares), each summed 17 to 40 times with random constants: the
+/// max sqrt and squares), each summed 17 to 40 times with random constants: the
 /// sum is rerolled, its kernel validates, and its enclosures on the device
 /// hold f64 samples in IA and RAA.
 #[test]
@@ -261,7 +261,7 @@ fn random_term_shapes_rerolled_enclose() {
             return ["x", "y", "z", "C"][(r() % 4) as usize].to_string();
         }
         let (a, b) = (shape(r, depth + 1), shape(r, depth + 1));
-        match r() % 9 {
+        match r() % 10 {
             0 => format!("({a} + {b})"),
             1 => format!("({a} - {b})"),
             2 => format!("({a} * {b})"),
@@ -270,11 +270,12 @@ fn random_term_shapes_rerolled_enclose() {
             5 => format!("exp(-({a})^2)"),
             6 => format!("abs({a})"),
             7 => format!("min({a}, {b})"),
+            8 => format!("sqrt(0.2 + ({a})^2)"),
             _ => format!("max({a}, {b})"),
         }
     }
-    let mut rerolled = 0;
-    for case in 0..16 {
+    let (mut rerolled, mut roots) = (0, 0);
+    for case in 0..24 {
         let t = format!("(C*{})", shape(&mut next, 0));
         let n = 17 + (next() % 24) as usize;
         let terms: Vec<String> = (0..n)
@@ -292,11 +293,13 @@ fn random_term_shapes_rerolled_enclose() {
             continue;
         }
         rerolled += 1;
+        roots += usize::from(t.contains("sqrt"));
         let bx = boxes(200);
         for domain in [Domain::Interval, Domain::Affine] {
             let r = eval_boxes(gpu(), &f.ir, domain, &bx, &[]).unwrap_or_else(|e| panic!("case {case} {t}: {e}"));
             assert_encloses(&f, &r, &bx, 3, &format!("case {case} {t} {domain:?}"));
         }
     }
-    assert!(rerolled >= 10, "{rerolled} of 16 shapes rerolled");
+    assert!(rerolled >= 15, "{rerolled} of 24 shapes rerolled");
+    assert!(roots >= 2, "{roots} rerolled shapes with a square root");
 }

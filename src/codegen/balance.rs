@@ -9,6 +9,10 @@
 //! [`MIN_TERMS`] terms becomes a balanced tree of the same terms in the same
 //! order, signs carried to where two subtrees meet.
 //!
+//! A sum whose terms have one shape is a loop instead ([`super::reroll`],
+//! which now takes those square roots too); what is balanced is a long
+//! sum of mixed shapes.
+//!
 //! Every domain's enclosure of a reassociated sum still holds the sum (the
 //! interval and affine sums are inclusions whatever the order); only their
 //! rounding differs. A chain of which a loop computes a part

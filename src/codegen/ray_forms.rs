@@ -215,7 +215,22 @@ pub(crate) const MAX_NODES: usize = 1500;
 /// None for a formula of several surfaces (level-set CSG), whose cells
 /// have no slope, for one of more than [`MAX_NODES`] live nodes, and where
 /// no node qualifies.
+///
+/// A node a rerolled loop computes (`reroll::Plan::skips`) is evaluated in
+/// the loop, never from the ray: its coefficients would be worked out for
+/// every ray and never read.
 pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
+    let plan = super::reroll::plan(ir);
+    nodes_on_ray(ir, |n| plan.skips(n))
+}
+
+/// [`ray_nodes`] as the code would take them with every node written out
+/// (what `reroll` asks, to leave such terms written out).
+pub(crate) fn written_out_ray_nodes(ir: &Ir) -> Option<RayForms> {
+    nodes_on_ray(ir, |_| false)
+}
+
+fn nodes_on_ray(ir: &Ir, in_loop: impl Fn(NodeId) -> bool) -> Option<RayForms> {
     let live = ir.live();
     if ir.is_csg() || live.len() > MAX_NODES {
         return None;
@@ -242,7 +257,7 @@ pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
         if !evaluated[id] {
             continue;
         }
-        forms[id] = take(id);
+        forms[id] = if in_loop(id as NodeId) { None } else { take(id) };
         if forms[id].is_none() {
             for a in ir.nodes[id].operands() {
                 evaluated[a as usize] = true;

@@ -456,7 +456,7 @@ pub fn plan(ir: &Ir) -> Plan {
     // against the loop's interval arithmetic on the cell's box: a product
     // of 100 planes took 155 ms a warm 512² frame written out and 1,190 ms
     // as a loop. Such terms stay written out.
-    let rays = super::ray_forms::ray_nodes(ir);
+    let rays = super::ray_forms::written_out_ray_nodes(ir);
     let from_ray = |t: usize| rays.as_ref().is_some_and(|r| r.has(terms.roots[t]));
     for (chain, range) in chains.iter().zip(&terms.ranges) {
         let shapes: Vec<Option<Shape>> = range.clone().map(|t| terms.shape(ir, t).filter(|_| !from_ray(t))).collect();
