@@ -202,6 +202,32 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
     assert_eq!((a.stats.unresolved, a.stats.field.overflow_tiles), (0, 0));
 }
 
+/// A union of 60 balls written as distances, `min(sqrt((x - a)^2 + …) - r,
+/// …)`, lowers to a scene (which `auto` takes, sphere traced): its picture
+/// is the compiled formula's.
+#[test]
+fn written_out_distances_draw_the_compiled_picture_as_a_scene() {
+    let balls: Vec<String> = (0..60)
+        .map(|i| {
+            let k = i as f64;
+            format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + (z - {:.3})^2) - {:.3}", 0.9 * (0.7 * k).sin(), 0.9 * (1.3 * k).cos(), 0.8 * (0.37 * k).sin(), 0.08 + 0.002 * k)
+        })
+        .collect();
+    let f = Formula::compile("<balls>", &format!("min({})", balls.join(", "))).unwrap();
+    let o = SphereOptions::default();
+    let t = Traversal::Sphere(o.clone());
+    let (field, lipschitz) = isotrace::codegen::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
+    assert_eq!((field.kind(), lipschitz), (isotrace::codegen::FieldKind::Scene, 1.0));
+    let s = common::settings(common::cube(1.3), 96, 96);
+    let a = Renderer::new(gpu(), field.source(&f.ir), t).unwrap().render(&s).unwrap();
+    let b = Renderer::sphere(gpu(), &f.ir, o).unwrap().render(&s).unwrap();
+    let (both, far, differ) = scene_common::picture_agreement(&a, &b, &s);
+    assert!(both > 1000, "{both}");
+    assert!(far * 100 < both, "{far} of {both} pixels differ by more than a footprint (measured: 1 of 1,273)");
+    assert!(differ * 200 < a.pixels.len(), "{differ} pixels hit in one picture only (measured: 3 of 9,216)");
+    assert_eq!(a.stats.unresolved, 0);
+}
+
 /// A 5×5×5 grid of small spheres, sharp (cut by a ball that holds it, so
 /// that its tiles are not union tiles) or compactly blended in a balanced
 /// tree (not comb tiles): every tile sees spheres at several depths, so

@@ -127,6 +127,48 @@ fn what_is_not_a_blobtree_is_refused_at_its_span() {
     assert_eq!(e.reason, "the blobtree would have more than 1000000 nodes (definitions used several times are copied)");
 }
 
+/// A union of balls as a program writes it: distances written out, in
+/// every spelling of the squares and the axes in any order, under a
+/// variadic `min`; a `max` of them is their intersection. Each lowers to
+/// its balls, with the formula's field at random points.
+#[test]
+fn written_out_distances_lower_to_balls() {
+    let spellings = ["(x - {a})^2 + (y - {b})^2 + (z - {c})^2", "(z - {c})^2 + ({a} - x)^2 + (y + -{b})^2", "(x + -{a})^2 + ((y - {b})^2 + (z - {c})^2)"];
+    let mut rng = Rng::new(3);
+    let balls: Vec<String> = (0..40)
+        .map(|i| {
+            let [a, b, c] = [0; 3].map(|_| (rng.range(-1.0, 1.0) * 1000.0).round() / 1000.0);
+            let r = 0.05 + 0.002 * i as f64;
+            format!("sqrt({}) - {r:.3}", spellings[i % 3].replace("{a}", &format!("{a}")).replace("{b}", &format!("{b}")).replace("{c}", &format!("{c}")))
+        })
+        .collect();
+    let origin = "sqrt(x^2 + y^2 + z^2) - 0.3".to_string();
+    for src in [format!("min({}, {origin})", balls.join(", ")), format!("max({}, {})", balls[0], balls[1])] {
+        let f = Formula::compile("<test>", &src).unwrap();
+        let scene = from_formula(&f, &[]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(scene.primitive_count(), if src.starts_with("min") { 41 } else { 2 });
+        for p in points(3000, [-1.3; 3], [1.3; 3], 5) {
+            let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+            let got = scene.eval(p);
+            assert!((want - got).abs() < 1e-9, "at {p:?}: formula {want}, scene {got}");
+        }
+    }
+    // Not a ball: an axis missing or twice, a radius of 0, another power.
+    let cases: &[(&str, &str, &str)] = &[
+        ("sqrt((x - 1)^2 + (y - 2)^2) - 1", "'x' outside a distance form: the field is not built from primitives alone", "x"),
+        ("sqrt((x - 1)^2 + (x - 2)^2 + z^2) - 1", "'x' outside a distance form: the field is not built from primitives alone", "x"),
+        ("sqrt(x^2 + y^2 + z^2) - 0", "'x' outside a distance form: the field is not built from primitives alone", "x"),
+        ("sqrt(x^2 + y^2 + z^3) - 1", "'x' outside a distance form: the field is not built from primitives alone", "x"),
+        ("min(sphere(1), 0.5)", "min of a shape and a number is not a blobtree node", "0.5"),
+    ];
+    for (src, reason, at) in cases {
+        let f = Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{src}: {e}"));
+        let e = from_formula(&f, &[]).unwrap_err();
+        assert_eq!(e.reason, *reason, "{src}");
+        assert_eq!(&src[e.span.start as usize..e.span.end as usize], *at, "{src}");
+    }
+}
+
 #[test]
 fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
     use isotrace::codegen::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
@@ -150,4 +192,8 @@ fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
         let f = Formula::compile("<test>", &row(n)).unwrap();
         assert_eq!(auto_scene(&f, &[], &sphere).map(|(field, _)| field.kind()), want, "{n} spheres");
     }
+    // And a min of 32 distances written out.
+    let balls = (0..SCENE_AUTO_MIN_BOUNDED).map(|i| format!("sqrt((x - {i})^2 + y^2 + z^2) - 0.4")).collect::<Vec<_>>();
+    let f = Formula::compile("<test>", &format!("min({})", balls.join(", "))).unwrap();
+    assert_eq!(auto_scene(&f, &[], &sphere).map(|(field, l)| (field.kind(), l)), Some((FieldKind::Scene, 1.0)));
 }
