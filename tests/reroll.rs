@@ -249,7 +249,29 @@ fn a_rerolled_sum_of_roots_is_empty_where_a_root_is() {
 /// hold f64 samples in IA and RAA.
 #[test]
 fn random_term_shapes_rerolled_enclose() {
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let (rerolled, roots, _) = random_term_shapes(0x2545_f491_4f6c_dd1d, 1000);
+    assert!(rerolled >= 15, "{rerolled} of 24 shapes rerolled");
+    assert!(roots >= 2, "{roots} rerolled shapes with a square root");
+}
+
+/// The same with the constants inside each term from eight values (none
+/// 0 or ±1, which the front end folds away; each term's factor stays one
+/// of 4,001, so that terms differ), so that terms share nodes by chance
+/// (`0.3*x` in several terms is one node) and a commutative
+/// node's operands come in either order: the loops copy the shared nodes
+/// into each term and compute every term in the first one's order.
+#[test]
+fn random_term_shapes_with_coinciding_constants_rerolled_enclose() {
+    let (rerolled, _, shared) = random_term_shapes(0x9e37_79b9_7f4a_7c15, 0);
+    assert!(rerolled >= 12, "{rerolled} of 24 shapes rerolled");
+    assert!(shared >= 5, "{shared} rerolled sums with nodes their terms share");
+}
+
+/// 24 random shapes, summed with constants of `scale` steps per unit in
+/// [−2, 2] (0: the factor so, the others from eight values): (sums rerolled, of them with a square
+/// root, of them whose terms share a node).
+fn random_term_shapes(seed: u64, scale: u64) -> (usize, usize, usize) {
+    let mut seed = seed;
     let mut next = move || {
         seed ^= seed << 13;
         seed ^= seed >> 7;
@@ -274,32 +296,43 @@ fn random_term_shapes_rerolled_enclose() {
             _ => format!("max({a}, {b})"),
         }
     }
-    let (mut rerolled, mut roots) = (0, 0);
+    let (mut rerolled, mut roots, mut shared) = (0, 0, 0);
     for case in 0..24 {
         let t = format!("(C*{})", shape(&mut next, 0));
         let n = 17 + (next() % 24) as usize;
         let terms: Vec<String> = (0..n)
             .map(|_| {
                 let mut s = t.clone();
+                let mut first = true;
                 while s.contains('C') {
-                    let c = (next() % 4001) as f64 / 1000.0 - 2.0;
+                    let c = match scale {
+                        0 if !first => [0.3, 0.7, 1.3, -0.6, 1.7, -1.4, 0.2, -0.9][(next() % 8) as usize],
+                        0 => (next() % 4001) as f64 / 1000.0 - 2.0,
+                        _ => (next() % (4 * scale + 1)) as f64 / scale as f64 - 2.0,
+                    };
+                    first = false;
                     s = s.replacen('C', &format!("{c:.3}"), 1);
                 }
                 s
             })
             .collect();
         let f = Formula::compile("<random>", &format!("x^2 + y^2 + z^2 - 1 + 0.01*({})", terms.join(" + "))).unwrap();
-        if reroll::plan(&f.ir).loops.is_empty() {
+        let plan = reroll::plan(&f.ir);
+        if plan.loops.is_empty() {
             continue;
         }
         rerolled += 1;
         roots += usize::from(t.contains("sqrt"));
+        // A node the loop computes for several terms: the loop's body is
+        // larger than the IR's nodes it leaves to the loop, per term.
+        let left = f.ir.live().into_iter().filter(|&n| plan.skips(n) && plan.loop_at(n).is_none()).count();
+        let looped: usize = plan.loops.iter().map(|l| l.body.len() * l.unroll * l.iterations).sum();
+        shared += usize::from(looped > left);
         let bx = boxes(200);
         for domain in [Domain::Interval, Domain::Affine] {
             let r = eval_boxes(gpu(), &f.ir, domain, &bx, &[]).unwrap_or_else(|e| panic!("case {case} {t}: {e}"));
             assert_encloses(&f, &r, &bx, 3, &format!("case {case} {t} {domain:?}"));
         }
     }
-    assert!(rerolled >= 15, "{rerolled} of 24 shapes rerolled");
-    assert!(roots >= 2, "{roots} rerolled shapes with a square root");
+    (rerolled, roots, shared)
 }
