@@ -245,7 +245,7 @@ async function proceduralCase(browser) {
 }
 
 // A sum of 40 same-shaped terms: its compiled kernel is a loop over a table
-// of the terms' constants (src/codegen/reroll.rs), a texture in the field
+// of the terms' constants (src/codegen/reroll/), a texture in the field
 // group that the page binds like a tape's.
 async function rerollCase(browser) {
   const { url, proc } = await startServer('tests/browser/sum-reroll.iso');

@@ -1,0 +1,110 @@
+//! Distances written out, as a program writes a point cloud or a union of
+//! balls: `sqrt((x - a)^2 + (y - b)^2 + (z - c)^2) - r` is a ball, and a
+//! `min` or `max` of shapes is their union or intersection (the same
+//! fields: a ball's distance is that formula, and a sharp union is the min
+//! of its operands). Anything else stays refused as before.
+
+use super::{not, NotBlobtree, Tree, Val, Walker};
+use crate::diag::Span;
+use crate::scene::{OpKind, Operator, Primitive, Shape, Transform};
+use crate::syntax::ast::{BinOp, Call, Expr, ExprKind};
+use std::rc::Rc;
+
+impl Walker<'_> {
+    /// `a - b` (at `span`) as a ball's distance, a sphere moved to its
+    /// centre; `None` where it is not one.
+    pub(super) fn ball(&mut self, a: &Expr, b: &Expr, span: Span) -> Option<Val> {
+        let (center, radius) = self.ball_of(a, b)?;
+        let leaf = Rc::new(Tree::Leaf(Primitive::new(Shape::Sphere { radius }), span));
+        Some(Val::Shape(Rc::new(Tree::Moved(Transform { translate: center, ..Transform::default() }, leaf))))
+    }
+
+    /// The centre and radius (r > 0) of `a - b` as a ball's distance.
+    fn ball_of(&mut self, a: &Expr, b: &Expr) -> Option<([f64; 3], f64)> {
+        let ExprKind::Call(root) = &a.kind else { return None };
+        if root.name != "sqrt" || root.args.len() != 1 {
+            return None;
+        }
+        let mut terms = vec![];
+        sum_terms(&root.args[0], &mut terms);
+        let mut center: [Option<f64>; 3] = [None; 3];
+        for t in terms {
+            let ExprKind::Binary(BinOp::Pow, base, two) = &t.kind else { return None };
+            if !matches!(two.kind, ExprKind::Number(v) if v == 2.0) {
+                return None;
+            }
+            let (axis, at) = self.offset(base)?;
+            if center[axis].replace(at).is_some() {
+                return None;
+            }
+        }
+        let radius = self.value(b)?;
+        let center = [center[0]?, center[1]?, center[2]?];
+        (radius > 0.0 && radius.is_finite() && center.iter().all(|c| c.is_finite())).then_some((center, radius))
+    }
+
+    /// `v`, `v - k`, `v + k`, `k - v` or `k + v` for a coordinate v: its
+    /// axis and the k at which the square is 0.
+    fn offset(&mut self, e: &Expr) -> Option<(usize, f64)> {
+        let axis = |e: &Expr| match &e.kind {
+            ExprKind::Name(n) if !self.defs.contains_key(n.as_str()) => ["x", "y", "z"].iter().position(|v| v == n),
+            _ => None,
+        };
+        if let Some(k) = axis(e) {
+            return Some((k, 0.0));
+        }
+        let ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), l, r) = &e.kind else { return None };
+        match (axis(l), axis(r), op) {
+            (Some(k), None, BinOp::Sub) => Some((k, self.value(r)?)),
+            (Some(k), None, BinOp::Add) => Some((k, -self.value(r)?)),
+            (None, Some(k), _) => {
+                let v = self.value(l)?;
+                Some((k, if *op == BinOp::Sub { v } else { -v }))
+            }
+            _ => None,
+        }
+    }
+
+    /// A number, or `None` (not an error) where `e` is not one.
+    fn value(&mut self, e: &Expr) -> Option<f64> {
+        match self.eval(e) {
+            Ok(Val::Num(v)) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// `min(…)` / `max(…)`: of numbers a number, of shapes a union or an
+    /// intersection.
+    pub(super) fn min_max(&mut self, c: &Call, span: Span) -> Result<Val, NotBlobtree> {
+        let vals: Vec<Val> = c.args.iter().map(|e| self.eval(e)).collect::<Result<_, _>>()?;
+        let shapes = vals.iter().filter(|v| matches!(v, Val::Shape(_))).count();
+        if shapes == 0 {
+            let nums = vals.iter().map(|v| if let Val::Num(x) = v { *x } else { f64::NAN });
+            let v = if c.name == "min" { nums.fold(f64::INFINITY, f64::min) } else { nums.fold(f64::NEG_INFINITY, f64::max) };
+            return Ok(Val::Num(v));
+        }
+        let kind = if c.name == "min" { OpKind::Union } else { OpKind::Intersection };
+        let mut acc: Option<Rc<Tree>> = None;
+        for (v, e) in vals.into_iter().zip(&c.args) {
+            let Val::Shape(t) = v else {
+                return Err(not(format!("{} of a shape and a number is not a blobtree node", c.name), e.span));
+            };
+            acc = Some(match acc {
+                None => t,
+                Some(a) => Rc::new(Tree::Op(Operator::sharp(kind), a, t, span)),
+            });
+        }
+        Ok(Val::Shape(acc.expect("min and max take at least one argument")))
+    }
+}
+
+/// The terms of a sum `a + b + …` (any nesting).
+fn sum_terms<'e>(e: &'e Expr, out: &mut Vec<&'e Expr>) {
+    match &e.kind {
+        ExprKind::Binary(BinOp::Add, a, b) => {
+            sum_terms(a, out);
+            sum_terms(b, out);
+        }
+        _ => out.push(e),
+    }
+}
