@@ -72,10 +72,11 @@ fn unrolled(features: u32) -> impl Iterator<Item = String> {
 }
 
 /// The code of a case of the interpreter's step, a template line
-/// `r = select(r, op_x(a, b), code == TAPE_X);`.
+/// `if (code == TAPE_X) { r = op_x(a, b); }`.
 fn case_name(line: &str) -> Option<&str> {
-    let rest = line.trim().strip_prefix("r = select(r, ")?;
-    rest.rsplit_once(", code == ")?.1.strip_suffix(");")
+    let rest = line.trim().strip_prefix("if (code == ")?;
+    let (name, body) = rest.split_once(") { r = ")?;
+    body.ends_with("; }").then_some(name)
 }
 
 /// Whether the template line `line` stays in a kernel with `features`: a

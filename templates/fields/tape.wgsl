@@ -146,48 +146,54 @@ fn tape_step_T(e: u32) -> bool {
     // factor's register would be.
     let c = tape_reg_T(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); // if MINMAX MISC MAD
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
-    // The cases, each computed and selected (src/codegen/tape_field.rs keeps
-    // those of the kernel's groups): a `switch` ran every case too, and
-    // selects cost lavapipe's compiler less (the RAA tape of `@city` 8-10 %
-    // sooner at 256²). A code without a case gives the whole line.
+    // The cases, each behind an `if` on its code (src/codegen/tape_field.rs
+    // keeps those of the kernel's groups). A bundle's lanes step through
+    // the same instruction, and lavapipe skips an `if` that none of them
+    // takes, so a step pays for its own case, not for every case of its
+    // groups as the chain of selects this replaced did (cold, `--field
+    // tape`: a 1,000-term sin·cos·sin tape at 64² 7.8 → 6.4-6.9 s, 1,000
+    // Gaussians 5.8 → 5.2-5.4 s, `@city` bisected at 256² 4.9-5.0 → 4.5-4.8
+    // s in IA and 5.8-6.0 → 5.2-5.8 s in RAA, `@creature` 3.3-3.6 →
+    // 3.0-3.2 s; `@tangle` and the 2,503-operation sum unchanged). A
+    // `switch` ran every case. A code without a case gives the whole line.
     var r = op_whole();
-    r = select(r, tape_input_T(w.w), code == TAPE_INPUT);
-    r = select(r, k, code == TAPE_CONST);
-    r = select(r, op_const(iso_param(w.w)), code == TAPE_PARAM);
-    r = select(r, op_neg(a), code == TAPE_NEG);
-    r = select(r, op_add(a, b), code == TAPE_ADD);
-    r = select(r, op_sub(a, b), code == TAPE_SUB);
-    r = select(r, op_mul(a, b), code == TAPE_MUL);
-    r = select(r, op_add(op_mul(a, b), c), code == TAPE_MAD);
-    r = select(r, op_sub(op_mul(a, b), c), code == TAPE_MSUB);
-    r = select(r, op_div(a, b), code == TAPE_DIV);
-    r = select(r, op_sqr(a), code == TAPE_SQR);
+    if (code == TAPE_INPUT) { r = tape_input_T(w.w); }
+    if (code == TAPE_CONST) { r = k; }
+    if (code == TAPE_PARAM) { r = op_const(iso_param(w.w)); }
+    if (code == TAPE_NEG) { r = op_neg(a); }
+    if (code == TAPE_ADD) { r = op_add(a, b); }
+    if (code == TAPE_SUB) { r = op_sub(a, b); }
+    if (code == TAPE_MUL) { r = op_mul(a, b); }
+    if (code == TAPE_MAD) { r = op_add(op_mul(a, b), c); }
+    if (code == TAPE_MSUB) { r = op_sub(op_mul(a, b), c); }
+    if (code == TAPE_DIV) { r = op_div(a, b); }
+    if (code == TAPE_SQR) { r = op_sqr(a); }
     // (Its loop runs no pass for another code's immediate.)
-    r = select(r, tape_pow_T(a, select(1u, w.w, code == TAPE_POWCHAIN)), code == TAPE_POWCHAIN);
-    r = select(r, tape_pow_small_T(a, w.w), code == TAPE_POWSMALL);
-    r = select(r, op_sqrt(a), code == TAPE_SQRT);
-    r = select(r, op_exp(a), code == TAPE_EXP);
-    r = select(r, op_log(a), code == TAPE_LOG);
-    r = select(r, op_sin(a), code == TAPE_SIN);
-    r = select(r, op_cos(a), code == TAPE_COS);
-    r = select(r, op_tan(a), code == TAPE_TAN);
-    r = select(r, op_atan(a), code == TAPE_ATAN);
-    r = select(r, op_sinh(a), code == TAPE_SINH);
-    r = select(r, op_cosh(a), code == TAPE_COSH);
-    r = select(r, op_tanh(a), code == TAPE_TANH);
-    r = select(r, op_abs(a), code == TAPE_ABS);
-    r = select(r, op_sign(a), code == TAPE_SIGN);
-    r = select(r, op_floor(a), code == TAPE_FLOOR);
-    r = select(r, op_pow(a, b), code == TAPE_POW);
-    r = select(r, op_atan2(a, b), code == TAPE_ATAN2);
-    r = select(r, op_min(a, b), code == TAPE_MIN);
-    r = select(r, op_max(a, b), code == TAPE_MAX);
-    r = select(r, op_clamp(a, b, c), code == TAPE_CLAMP);
-    r = select(r, op_mix(a, b, c), code == TAPE_MIX);
-    r = select(r, op_dmin(a, b, c, d), code == TAPE_DMIN);
-    r = select(r, op_dmax(a, b, c, d), code == TAPE_DMAX);
-    r = select(r, op_dsign(a, b), code == TAPE_DSIGN);
-    r = select(r, op_dfloor(a, b), code == TAPE_DFLOOR);
+    if (code == TAPE_POWCHAIN) { r = tape_pow_T(a, select(1u, w.w, code == TAPE_POWCHAIN)); }
+    if (code == TAPE_POWSMALL) { r = tape_pow_small_T(a, w.w); }
+    if (code == TAPE_SQRT) { r = op_sqrt(a); }
+    if (code == TAPE_EXP) { r = op_exp(a); }
+    if (code == TAPE_LOG) { r = op_log(a); }
+    if (code == TAPE_SIN) { r = op_sin(a); }
+    if (code == TAPE_COS) { r = op_cos(a); }
+    if (code == TAPE_TAN) { r = op_tan(a); }
+    if (code == TAPE_ATAN) { r = op_atan(a); }
+    if (code == TAPE_SINH) { r = op_sinh(a); }
+    if (code == TAPE_COSH) { r = op_cosh(a); }
+    if (code == TAPE_TANH) { r = op_tanh(a); }
+    if (code == TAPE_ABS) { r = op_abs(a); }
+    if (code == TAPE_SIGN) { r = op_sign(a); }
+    if (code == TAPE_FLOOR) { r = op_floor(a); }
+    if (code == TAPE_POW) { r = op_pow(a, b); }
+    if (code == TAPE_ATAN2) { r = op_atan2(a, b); }
+    if (code == TAPE_MIN) { r = op_min(a, b); }
+    if (code == TAPE_MAX) { r = op_max(a, b); }
+    if (code == TAPE_CLAMP) { r = op_clamp(a, b, c); }
+    if (code == TAPE_MIX) { r = op_mix(a, b, c); }
+    if (code == TAPE_DMIN) { r = op_dmin(a, b, c, d); }
+    if (code == TAPE_DMAX) { r = op_dmax(a, b, c, d); }
+    if (code == TAPE_DSIGN) { r = op_dsign(a, b); }
+    if (code == TAPE_DFLOOR) { r = op_dfloor(a, b); }
     if (g_tape_record && live) { tape_note_T(code, w.w, a, b); }
     let pick = e >> 30u; // if MINMAX
     let dual = code >= TAPE_DMIN; // if MINMAX
