@@ -97,7 +97,7 @@ pub(crate) const INPUT_DX: u32 = 4;
 /// A tape's inputs may live in the first registers, input k in register k,
 /// written once per run ([`features::PINNED`]): an instruction reads them as
 /// operands, where an input instruction before each use costs a whole
-/// interpreter step (every case of the step computed), a third of the
+/// interpreter step (its instruction fetch and register traffic), a third of the
 /// steps of a sum of products. They hold 7 registers for the whole run, so a
 /// tape pins them only where that keeps its register file's size
 /// ([`features::INPUTS`] otherwise).

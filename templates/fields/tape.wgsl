@@ -130,12 +130,12 @@ fn tape_step_T(e: u32) -> bool {
     // A list's padding or a program's no-op runs like any instruction and
     // writes nothing (an early return is a branch around the whole step).
     let live = e != TAPE_LIST_NOP && code != TAPE_NOP;
-    // Every operand is read once, before the cases: lavapipe runs every
-    // case for every instruction (under a lane mask when they were a
-    // `switch`), so a read inside a case (clamp's and mix's third operand,
-    // the slopes' of Dmin and Dmax, a list's pick) cost a dynamically
-    // indexed register read each, every step. Lines marked `if GROUP…` stay
-    // only in kernels with one of those groups.
+    // Every operand is read once, before the cases: when the step ran every
+    // case for every instruction (a `switch`, then selects), a read inside a
+    // case (clamp's and mix's third operand, the slopes' of Dmin and Dmax, a
+    // list's pick) cost a dynamically indexed register read each, every
+    // step. Lines marked `if GROUP…` stay only in kernels with one of those
+    // groups.
     // A constant, or an arithmetic instruction's constant operand (its flags
     // TAPE_IMM_A, TAPE_IMM_B): the enclosure in z, w, the nearest f32 one
     // of its ends.

@@ -1,14 +1,15 @@
 //! Operation groups a tape kernel is compiled with: the interpreter's step
 //! holds only the cases of the groups its tapes use, and its register file
-//! only as many registers as they need. lavapipe runs every case for every
-//! instruction (the step selects among them) and compiles each inlined copy of
-//! the interpreter in full, so the groups halve the compile of a polynomial
-//! kernel (`@sphere` in IA: 9.2 s to 4.5 s cold), and make each
-//! instruction cheaper: an IA step of a 1,792-instruction tape took 27 %
-//! less time without the parameter case (a storage load that runs lane by
-//! lane) and 22 % less without the power-chain case (a loop, which lavapipe
-//! enters even when no lane takes the case). The constants, inputs, +, −,
-//! × and squares are always in.
+//! only as many registers as they need. lavapipe compiles each inlined copy
+//! of the interpreter in full, so the groups halve the compile of a
+//! polynomial kernel (`@sphere` in IA: 9.2 s to 4.5 s cold). When the step
+//! selected among its cases it also ran every case for every instruction,
+//! and the groups made each instruction cheaper (an IA step of a
+//! 1,792-instruction tape took 27 % less time without the parameter case
+//! and 22 % less without the power-chain case); each case is now an `if`
+//! that lavapipe skips when no lane of the bundle takes it, and a bundle
+//! whose lanes disagree still runs every case any of them takes. The
+//! constants, inputs, +, −, × and squares are always in.
 
 use super::Code;
 
@@ -19,11 +20,12 @@ pub const MINMAX: u32 = 2;
 /// Square roots.
 pub const SQRT: u32 = 4;
 /// exp. The transcendental functions are a group each (or a pair, where
-/// one's slope is the other): lavapipe computes every case of the step for
-/// every instruction, and a transcendental case costs more than all the
-/// arithmetic ones together, so a tape of exponentials alone must not also
-/// pay for logarithms, real powers and hyperbolic functions (README,
-/// "Transcendental tapes").
+/// one's slope is the other): a transcendental case costs more to compile
+/// than all the arithmetic ones together, and when the step computed every
+/// case for every instruction a tape of exponentials alone also paid for
+/// logarithms, real powers and hyperbolic functions at every step (README,
+/// "Transcendental tapes"; the cases are `if`s now, which lavapipe skips
+/// when no lane takes them).
 pub const EXP: u32 = 8;
 /// log.
 pub const LOG: u32 = 1 << 19;
