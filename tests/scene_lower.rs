@@ -160,6 +160,7 @@ fn written_out_distances_lower_to_balls() {
         ("sqrt(x^2 + y^2 + z^2) - 0", "'x' outside a distance form: the field is not built from primitives alone", "x"),
         ("sqrt(x^2 + y^2 + z^3) - 1", "'x' outside a distance form: the field is not built from primitives alone", "x"),
         ("min(sphere(1), 0.5)", "min of a shape and a number is not a blobtree node", "0.5"),
+        ("max(sphere(1), circle(0.5))", "a 2D profile is a blobtree node only inside extrude or revolve", "circle(0.5)"),
     ];
     for (src, reason, at) in cases {
         let f = Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{src}: {e}"));

@@ -77,9 +77,11 @@ impl Walker<'_> {
     /// intersection.
     pub(super) fn min_max(&mut self, c: &Call, span: Span) -> Result<Val, NotBlobtree> {
         let vals: Vec<Val> = c.args.iter().map(|e| self.eval(e)).collect::<Result<_, _>>()?;
-        let shapes = vals.iter().filter(|v| matches!(v, Val::Shape(_))).count();
-        if shapes == 0 {
-            let nums = vals.iter().map(|v| if let Val::Num(x) = v { *x } else { f64::NAN });
+        if let Some((Val::Profile(_, span), _)) = vals.iter().zip(&c.args).find(|(v, _)| matches!(v, Val::Profile(..))) {
+            return Err(not("a 2D profile is a blobtree node only inside extrude or revolve", *span));
+        }
+        if vals.iter().all(|v| matches!(v, Val::Num(_))) {
+            let nums = vals.iter().filter_map(|v| if let Val::Num(x) = v { Some(*x) } else { None });
             let v = if c.name == "min" { nums.fold(f64::INFINITY, f64::min) } else { nums.fold(f64::NEG_INFINITY, f64::max) };
             return Ok(Val::Num(v));
         }
