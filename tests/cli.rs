@@ -265,6 +265,22 @@ fn header_field_is_the_default_source() {
     assert_eq!(stderr(&o), format!("error: {}:1: bad field value 'tapes': expected 'compiled', 'tape', 'scene' or 'auto'\n", iso.display()));
 }
 
+/// `check` says which runs of terms the compiled field writes as loops.
+#[test]
+fn check_names_the_runs_compiled_as_loops() {
+    let sum = (0..40).map(|i| format!("{:.3}*sin({:.3}*x + 0.3)", 0.5 + 0.01 * f64::from(i), 1.0 + 0.02 * f64::from(i))).collect::<Vec<_>>().join(" + ");
+    let o = isotrace(&["check", &sum]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let line = text.lines().find(|l| l.starts_with("loops:")).unwrap_or_else(|| panic!("{text}"));
+    assert!(line.starts_with("loops:      1 run of same-shaped terms compiled as loops (36 terms; "), "{line}");
+    let o = isotrace(&["check", &sum, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!((v["loops"]["runs"].as_u64(), v["loops"]["terms"].as_u64()), (Some(1), Some(36)), "{v}");
+    let o = isotrace(&["check", "x^2 + y^2 + z^2 - 1"]);
+    assert!(String::from_utf8(o.stdout).unwrap().contains("\nloops:      none\n"));
+}
+
 #[test]
 fn bench_unknown_suite_lists_the_suites() {
     let o = isotrace(&["bench", "--suite", "knol"]);

@@ -299,11 +299,15 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
     let (products, powers) = ir.nonconstant_products();
     let algebra = domain_name(isotrace::choose_algebra(ir));
+    // The runs of same-shaped terms the compiled field writes as loops.
+    let plan = isotrace::codegen::reroll::plan(ir);
+    let looped: usize = plan.loops.iter().map(|l| l.unroll * l.iterations).sum();
     let mut out = std::io::stdout().lock();
     if a.json {
         let v = serde_json::json!({
             "formula": f.normalized(), "variables": vars, "parameters": params, "degree": ir.degree(),
             "operations": { "total": ir.live().len(), "products": products, "integer_powers": powers },
+            "loops": { "runs": plan.loops.len(), "terms": looped, "written_nodes": plan.emitted_nodes(ir) },
             "algebra": algebra,
         });
         let _ = writeln!(out, "{v}");
@@ -319,6 +323,15 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     };
     let _ = writeln!(out, "degree:     {degree}");
     let _ = writeln!(out, "operations: {} ({} products of non-constant terms, {} integer powers)", ir.live().len(), products, powers);
+    match plan.loops.len() {
+        0 => {
+            let _ = writeln!(out, "loops:      none");
+        }
+        n => {
+            let runs = if n == 1 { "run" } else { "runs" };
+            let _ = writeln!(out, "loops:      {n} {runs} of same-shaped terms compiled as loops ({looped} terms; {} nodes written out)", plan.emitted_nodes(ir));
+        }
+    }
     let _ = writeln!(out, "algebra:    {algebra} (auto)");
     Ok(ExitCode::SUCCESS)
 }
