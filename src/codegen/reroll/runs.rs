@@ -169,20 +169,27 @@ fn signatures(ir: &Ir, u: &Uses, own: &[bool]) -> Vec<u64> {
 /// commutative node's in the order of their structures: the same order for
 /// every term of one shape, whatever order the front end gave them (a node
 /// two terms share comes earlier in the formula than the second term's
-/// other nodes).
+/// other nodes). An explicit stack: a term may hold a chain thousands of
+/// nodes deep.
 fn post_order(ir: &Ir, sig: &[u64], own: &[bool], root: NodeId, seen: &mut [bool], body: &mut Vec<NodeId>) {
-    seen[root as usize] = true;
-    let op = ir.nodes[root as usize];
-    let mut kids: Vec<NodeId> = op.operands().to_vec();
-    if chain_operands(op).is_some() {
-        kids.sort_by_key(|&o| sig[o as usize]);
-    }
-    for o in kids {
-        if own[o as usize] && !seen[o as usize] {
-            post_order(ir, sig, own, o, seen, body);
+    let mut stack = vec![(root, false)];
+    while let Some((n, operands_done)) = stack.pop() {
+        if operands_done {
+            body.push(n);
+            continue;
         }
+        if seen[n as usize] {
+            continue;
+        }
+        seen[n as usize] = true;
+        stack.push((n, true));
+        let op = ir.nodes[n as usize];
+        let mut kids: Vec<NodeId> = op.operands().to_vec();
+        if chain_operands(op).is_some() {
+            kids.sort_by_key(|&o| sig[o as usize]);
+        }
+        stack.extend(kids.into_iter().rev().filter(|&o| own[o as usize] && !seen[o as usize]).map(|o| (o, false)));
     }
-    body.push(root);
 }
 
 /// A term's shape: its nodes' operations and how each reaches its operands.
