@@ -174,14 +174,26 @@ fn a_formula_of_loops_caps_the_traversals_budget() {
 /// picture is the tape's (an independent path) at every pixel both resolve.
 #[test]
 fn a_rerolled_union_draws_what_the_tape_draws() {
-    // Distances: a ball's polynomial x² + … − r² would be taken whole from
-    // the ray, which keeps such terms written out (`codegen::reroll`).
-    let balls: Vec<String> = (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect();
+    let balls = distances();
     let mut src = balls[0].clone();
     for b in &balls[1..] {
         src = format!("min({src}, {b})");
     }
-    let f = Formula::compile("<union>", &src).unwrap();
+    draws_what_the_tape_draws(&src);
+}
+
+/// 30 balls as distances: a ball's polynomial x² + … − r² would be taken
+/// whole from the ray, which keeps such terms written out
+/// (`codegen::reroll`).
+fn distances() -> Vec<String> {
+    (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect()
+}
+
+/// The picture of `src` compiled (one loop, the plan says) against the
+/// tape's, an independent path, in IA and RAA: the same pixel by pixel
+/// where both resolve, depth within 2 eps.
+fn draws_what_the_tape_draws(src: &str) {
+    let f = Formula::compile("<terms>", src).unwrap();
     assert_eq!(reroll::plan(&f.ir).loops.len(), 1);
     let s = common::settings(common::cube(1.5), 96, 96);
     for domain in [Domain::Interval, Domain::Affine] {
@@ -195,30 +207,11 @@ fn a_rerolled_union_draws_what_the_tape_draws() {
     }
 }
 
-/// The picture of `src` compiled (one loop, the plan says) against the
-/// tape's, an independent path, in IA and RAA: the same pixel by pixel
-/// where both resolve, depth within 2 eps.
-fn draws_what_the_tape_draws(src: &str, min_hits: u64) {
-    let f = Formula::compile("<terms>", src).unwrap();
-    assert_eq!(reroll::plan(&f.ir).loops.len(), 1);
-    let s = common::settings(common::cube(1.5), 96, 96);
-    for domain in [Domain::Interval, Domain::Affine] {
-        let t = Traversal::Bisect(BisectOptions::new(domain));
-        let a = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
-        let tape = isotrace::codegen::TapeData::new(&f.ir).unwrap();
-        let b = Renderer::new(gpu(), FieldSource::Tape(&tape), t).unwrap().render(&s).unwrap();
-        assert!(a.stats.hits > min_hits && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
-        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();
-        assert_eq!(differ, 0, "{domain:?}");
-    }
-}
-
 /// `min(s_0, s_1, …)` of 30 balls as distances: the front end nests the
 /// chain in second operands, and every term has a square root.
 #[test]
 fn a_rerolled_min_of_distances_draws_what_the_tape_draws() {
-    let balls: Vec<String> = (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect();
-    draws_what_the_tape_draws(&format!("min({})", balls.join(", ")), 300);
+    draws_what_the_tape_draws(&format!("min({})", distances().join(", ")));
 }
 
 /// A sum of square roots is empty where one root's argument is negative
@@ -232,7 +225,7 @@ fn a_rerolled_sum_of_roots_is_empty_where_a_root_is() {
     // over) are −0.6 and −0.14, defined from x = −0.14 on.
     let roots: Vec<String> = (0..30).map(|i| format!("{:.4}*sqrt(x - {:.3})", 0.002 + 0.0001 * i as f64, -0.6 + 0.02 * ((i * 7) % 30) as f64)).collect();
     let src = format!("x^2 + y^2 + z^2 - 1 + {}", roots.join(" + "));
-    draws_what_the_tape_draws(&src, 300);
+    draws_what_the_tape_draws(&src);
     // Boxes with −0.13 ≤ x ≤ −0.1, where only roots of the loop are
     // undefined: empty.
     let f = Formula::compile("<roots>", &src).unwrap();
