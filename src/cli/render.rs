@@ -644,6 +644,15 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
             let whole = t.whole.checked_div(t.shortened).unwrap_or(0);
             eprintln!("tape: the block pass shortened it for {} of {} blocks of 2x2 tiles, keeping {:.1} %", t.blocks_shortened, t.blocks, 100.0 * t.block_kept_share(whole));
         }
+        if let Some(l) = &st.field.loop_lists {
+            eprintln!(
+                "loops: {} of {} tiles with candidate slabs run their own terms of the min/max loops, {:.1} of {} on average",
+                l.listed,
+                l.tiles,
+                l.kept_per_tile(),
+                l.terms()
+            );
+        }
     }
     if a.json {
         let mut v = serde_json::json!({
@@ -661,6 +670,12 @@ fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen
             v["tape_blocks"] = t.blocks.into();
             v["tape_shortened_blocks"] = t.blocks_shortened.into();
             v["tape_block_kept_share"] = t.block_kept_share(t.whole.checked_div(t.shortened).unwrap_or(0)).into();
+        }
+        if let Some(l) = &st.field.loop_lists {
+            v["loop_tiles"] = l.tiles.into();
+            v["loop_listed_tiles"] = l.listed.into();
+            v["loop_terms_per_tile"] = l.kept_per_tile().into();
+            v["loop_terms"] = l.terms().into();
         }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }

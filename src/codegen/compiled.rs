@@ -8,7 +8,7 @@
 //! conditions were combined, is decided here.
 
 use super::ray_forms::{self, RayForms};
-use super::{derivative, emit_evaluator, emit_evaluator_all, emit_evaluator_on, libraries, libraries_with, Domain};
+use super::{derivative, emit_evaluator_all, emit_evaluator_on, libraries, libraries_with, Domain, Tiles};
 use crate::inline::InlineWgsl;
 use crate::ir::{Ir, NodeId, Op};
 use std::fmt::Write;
@@ -101,12 +101,18 @@ fn scalar_fn(ir: &Ir) -> String {
 /// `safe`: the kernel reads ranges without the NaN test and checks its
 /// inputs with `ra_safe` ([`safe_radius`]).
 pub fn inclusion(ir: &Ir, domain: Domain, safe: bool) -> String {
+    inclusion_tiled(ir, domain, safe, Tiles::Off)
+}
+
+/// [`inclusion`] whose per-pixel evaluations run a tile's term lists
+/// (`tiles`: [`Tiles::Listed`]) where the kernel has them.
+fn inclusion_tiled(ir: &Ir, domain: Domain, safe: bool, tiles: Tiles) -> String {
     let ray = if domain == Domain::Interval { ray_forms::ray_nodes(ir) } else { None };
     let on_ray = match &ray {
-        Some(r) => format!("{}{}", emit_evaluator_on(ir, Domain::Scalar, Some(r)), r.setup()),
+        Some(r) => format!("{}{}", emit_evaluator_on(ir, Domain::Scalar, Some(r), tiles), r.setup()),
         None => ray_forms::NO_RAY_FORMS.to_string(),
     };
-    format!("{}\n{}\n{}{}{on_ray}", surface_fn(ir, domain, safe), scalar_fn(ir), enclosures(domain), cell_enclosure(ir, domain, ray.as_ref(), safe))
+    format!("{}\n{}\n{}{}{on_ray}", surface_fn(ir, domain, safe), scalar_fn(ir), enclosures(domain, tiles != Tiles::Off), cell_enclosure(ir, domain, ray.as_ref(), safe, tiles))
 }
 
 /// The input radius within which the affine forms of `ir` cannot overflow
@@ -144,8 +150,12 @@ fn safe_fn(ir: &Ir, radius: f64) -> String {
 /// segment o + dir·[s0, s1], and `slab_range(eye, f, r, u, s, su, sv)`, the
 /// enclosure over the frustum slab eye + s·(f + su·r + sv·u). In the affine
 /// domain the ray depth s is the symbol e1, so x, y, z along a ray are
-/// exact affine forms; across a slab su and sv go into e2.
-pub(crate) fn enclosures(domain: Domain) -> String {
+/// exact affine forms; across a slab su and sv go into e2. With `pad`, the
+/// slab's box is widened by twice the gradient's step (`gradient_step_size`
+/// in the bisection kernel) on every side: a hit's gradient stencil then
+/// lies inside the boxes its tile's term lists were made over
+/// (`templates/fields/loop_tiles.wgsl`).
+pub(crate) fn enclosures(domain: Domain, pad: bool) -> String {
     let p = domain.prefix();
     let (forms, lift) = segment_forms(domain);
     let s_form = match domain {
@@ -153,12 +163,14 @@ pub(crate) fn enclosures(domain: Domain) -> String {
         _ => "s",
     };
     let axis = |c: &str| {
-        format!("{p}_add({p}_const(eye.{c}), {p}_mul(S, {p}_add({p}_const(f.{c}), {p}_add({p}_mul(U_, {p}_const(r.{c})), {p}_mul(V_, {p}_const(u.{c}))))))")
+        let a = format!("{p}_add({p}_const(eye.{c}), {p}_mul(S, {p}_add({p}_const(f.{c}), {p}_add({p}_mul(U_, {p}_const(r.{c})), {p}_mul(V_, {p}_const(u.{c}))))))");
+        if pad { format!("{p}_add({a}, PAD)") } else { a }
     };
+    let pad = if pad { format!("let PAD = {lift}(vec2<f32>(-2.0, 2.0) * gradient_step_size());\n    ") } else { String::new() };
     format!(
         "fn cell_range(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec2<f32> {{\n{forms}\n    return surf_{p}(X, Y, Z, {p}_const(F.time));\n}}\n\n\
 fn slab_range(eye: vec3<f32>, f: vec3<f32>, r: vec3<f32>, u: vec3<f32>, s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> vec2<f32> {{\n    \
-let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    \
+let S = {s_form};\n    let U_ = {lift}(su);\n    let V_ = {lift}(sv);\n    {pad}\
 return surf_{p}({}, {}, {}, {p}_const(F.time));\n}}\n",
         axis("x"),
         axis("y"),
@@ -193,7 +205,7 @@ pub(crate) fn segment_forms(domain: Domain) -> (&'static str, &'static str) {
 /// without it). With slopes it is `evald_<p>`'s code under this name
 /// ([`derivative::emit_cell_enclosure`]). (The tape field has its own: one
 /// interpreter run.)
-fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>, safe: bool) -> String {
+fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>, safe: bool, tiles: Tiles) -> String {
     let p = domain.prefix();
     let (forms, _) = segment_forms(domain);
     if ir.is_csg() {
@@ -202,7 +214,7 @@ fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>, safe: bool) -
              return vec4<f32>(surf_{p}(X, Y, Z, {p}_const(F.time)), -F.inf, F.inf);\n}}\n"
         );
     }
-    derivative::emit_cell_enclosure(ir, domain, forms, ray, safe)
+    derivative::emit_cell_enclosure(ir, domain, forms, ray, safe, tiles)
 }
 
 /// The scalar field of a single-surface formula.
@@ -240,9 +252,20 @@ pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
 /// `inline` user functions need every op library (their three versions
 /// call into all of them), so all are included then. `bundle`: its loops'
 /// work is counted per SIMD bundle (bisection on a device with subgroups).
-pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool) -> String {
+/// `lists`: a bisection kernel with the tile pass, where rerolled `min` and
+/// `max` loops run per-tile term lists ([`super::reroll::lists`]; not with
+/// `inline` WGSL, whose hooks the kernel leaves to the user).
+pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool, lists: bool) -> String {
     let balanced = generated_ir(ir);
     let ir = balanced.as_ref().unwrap_or(ir);
+    let lists = match (lists, domain, inline) {
+        (true, Some(_), None) => super::reroll::lists::lists(ir, &super::reroll::plan(ir)),
+        _ => None,
+    };
+    let (listed, record) = match lists {
+        Some(_) => (Tiles::Listed, Tiles::Record),
+        None => (Tiles::Off, Tiles::Off),
+    };
     let all = [Domain::Scalar, Domain::Interval, Domain::Affine];
     // Where the affine forms cannot overflow, ranges are read without the NaN test.
     let radius = match (inline, domain) {
@@ -261,9 +284,12 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
         let _ = write!(out, "\n// ---- User WGSL (--inline {}): functions callable from the formula and hooks.\n{}\n", user.path, user.text);
     }
     out.push_str(&field_cost(ir, bundle));
-    out.push_str(&emit_evaluator(ir, Domain::Scalar));
+    out.push_str(&emit_evaluator_on(ir, Domain::Scalar, None, listed));
     out.push_str(super::UNTILED_FIELD_HOOKS);
-    out.push_str(super::UNSHORTENED_FIELD_HOOKS);
+    match &lists {
+        Some(l) => out.push_str(&l.support()),
+        None => out.push_str(super::UNSHORTENED_FIELD_HOOKS),
+    }
     let Some(d) = domain else {
         out.push_str(SCALAR_FIELD);
         return out;
@@ -271,7 +297,8 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
     if let Some(radius) = radius {
         out.push_str(&safe_fn(ir, radius));
     }
-    out.push_str(&emit_evaluator(ir, d));
-    out.push_str(&inclusion(ir, d, radius.is_some()));
+    // The domain's evaluator serves the tile pass's slab enclosures.
+    out.push_str(&emit_evaluator_on(ir, d, None, record));
+    out.push_str(&inclusion_tiled(ir, d, radius.is_some(), listed));
     out
 }

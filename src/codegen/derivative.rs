@@ -15,7 +15,7 @@
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
 use super::ray_forms::RayForms;
-use super::{emit_body_on, emit_odd_power, Domain, Hook};
+use super::{emit_body_tiled, emit_odd_power, Domain, Hook};
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
@@ -61,7 +61,7 @@ const AFFINE_SLOPES_MAX_DEGREE: u32 = 10;
 pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let (vp, ty) = (domain.prefix(), domain.ty());
     let head = format!("fn evald_{vp}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{\n");
-    emit_slopes(ir, domain, head, None, |result| format!("    return {result};\n}}\n"))
+    emit_slopes(ir, domain, head, None, super::Tiles::Off, |result| format!("    return {result};\n}}\n"))
 }
 
 /// Emits the bisection's `cell_enclosure(o, dir, s0, s1, slope)` with
@@ -72,7 +72,7 @@ pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
 /// lavapipe inlines the field into every function on the path from the
 /// entry point, so an `evald_<p>` called from here was one more copy of it
 /// to clone (150,000 NIR instructions for `@city` in RAA).
-pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Option<&RayForms>, safe: bool) -> String {
+pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Option<&RayForms>, safe: bool, tiles: super::Tiles) -> String {
     let p = domain.prefix();
     let cell = if ray.is_some() { "    let t0 = s0 - g_ray_ref;\n    let t1 = s1 - g_ray_ref;\n" } else { "" };
     let head = format!(
@@ -84,14 +84,14 @@ pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Opt
         true => "select(vec4<f32>(-F.inf, F.inf, -F.inf, F.inf), q0, ra_safe(x, y, z, t))",
         false => "q0",
     };
-    emit_slopes(ir, domain, head, ray, |q0| format!("    let q0 = {q0};\n    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
+    emit_slopes(ir, domain, head, ray, tiles, |q0| format!("    let q0 = {q0};\n    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
 }
 
 /// A function whose body computes f and its slope along the ray in
 /// `domain`, from `x y z t` (values) and `dx dy dz` (the ray direction)
 /// that `head` declares, and ends with `tail` of the result (the value's
 /// range and the slope's, a `vec4<f32>`).
-fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, tail: impl FnOnce(&str) -> String) -> String {
+fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, tiles: super::Tiles, tail: impl FnOnce(&str) -> String) -> String {
     let vp = domain.prefix();
     let slopes = slope_domain(ir, domain);
     let p = slopes.prefix();
@@ -105,7 +105,7 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ta
         }
         id as usize
     };
-    let body = emit_body_on(&mut out, ir, domain, ray.map(|r| (r, "t0, t1")), |out, hook| match hook {
+    let body = emit_body_tiled(&mut out, ir, domain, ray.map(|r| (r, "t0, t1")), tiles, |out, hook| match hook {
         // A node taken from the ray has its slope from there (an interval:
         // ray forms are for interval values, whose slopes are intervals).
         Hook::Node(id, _) if ray.is_some_and(|r| r.has(id)) => {

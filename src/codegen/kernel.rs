@@ -136,7 +136,8 @@ impl FieldSource<'_> {
     /// its features).
     fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>, sync: bool, bundle: bool) -> String {
         match self {
-            FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline, bundle),
+            // Bisection (a domain) runs the tile pass: rerolled min and max loops get per-tile lists.
+            FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline, bundle, domain.is_some()),
             FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features, sync), template::SCENE_TILES),
             FieldSource::Tape(t) => tape_field::field_code(domain, t.features),
         }
@@ -211,7 +212,7 @@ pub fn scene_eval_shader(features: u32) -> String {
 pub fn ray_cell_eval_shader(ir: &Ir) -> String {
     use crate::layout::GpuBlock;
     let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\n";
-    let evaluator = format!("{frame}{}", compiled::field_code(ir, Some(Domain::Interval), None, false));
+    let evaluator = format!("{frame}{}", compiled::field_code(ir, Some(Domain::Interval), None, false, false));
     let call = "    F = CellEvalFrame(0.0, iso_inf());\n    let k = (i / 3u) * 24u;\n    \
                 let o = vec3<f32>(boxes[k], boxes[k + 1u], boxes[k + 2u]);\n    \
                 let dir = vec3<f32>(boxes[k + 3u], boxes[k + 4u], boxes[k + 5u]);\n    \

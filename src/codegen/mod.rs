@@ -20,6 +20,7 @@ pub(crate) const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\n\
     fn field_enter_tile(list: u32) {}\nfn field_in_tile(inside: bool) {}\n";
 
 mod balance;
+pub(crate) mod loops;
 pub mod choice;
 pub mod compiled;
 pub mod derivative;
@@ -45,6 +46,8 @@ pub use choice::{FieldKind, PreparedField};
 pub use tape::{TapeData, TapeError};
 
 use crate::ir::{display_limited, Ir, NodeId, Op, Var};
+use loops::LoopEmitter;
+pub(crate) use loops::Tiles;
 use crate::layout::GpuBlock;
 use std::fmt::Write;
 
@@ -192,13 +195,13 @@ fn lit(c: f32) -> String {
 /// Emits `fn eval_<p>(x, y, z, t) -> T` for the formula in `domain`.
 /// Parameters are read with `iso_param(i)`, which the kernel provides.
 pub fn emit_evaluator(ir: &Ir, domain: Domain) -> String {
-    emit_evaluator_on(ir, domain, None)
+    emit_evaluator_on(ir, domain, None, Tiles::Off)
 }
 
 /// [`emit_evaluator`], or with `ray` its version on a ray, `fn
 /// eval_<p>_ray(x, y, z, t, tr)`, whose nodes of degree ≤ 2 come from their
 /// polynomials along the ray at `tr` ([`emit_body_on`]).
-pub(crate) fn emit_evaluator_on(ir: &Ir, domain: Domain, ray: Option<&ray_forms::RayForms>) -> String {
+pub(crate) fn emit_evaluator_on(ir: &Ir, domain: Domain, ray: Option<&ray_forms::RayForms>, tiles: Tiles) -> String {
     let p = domain.prefix();
     let ty = domain.ty();
     let mut out = String::new();
@@ -206,7 +209,7 @@ pub(crate) fn emit_evaluator_on(ir: &Ir, domain: Domain, ray: Option<&ray_forms:
     let _ = writeln!(out, "// f = {shown}");
     let (suffix, extra) = if ray.is_some() { ("_ray", ", tr: f32") } else { ("", "") };
     let _ = writeln!(out, "fn {}{suffix}(x: {ty}, y: {ty}, z: {ty}, t: {ty}{extra}) -> {ty} {{", domain.eval_fn());
-    let body = emit_body_on(&mut out, ir, domain, ray.map(|r| (r, "tr")), |_, _| {});
+    let body = emit_body_tiled(&mut out, ir, domain, ray.map(|r| (r, "tr")), tiles, |_, _| {});
     // A select, not a branch, like the op libraries (their tests say why).
     let mut ret = format!("v{}", ir.root);
     if let Some(empty) = body.empty {
@@ -288,22 +291,39 @@ pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, hook: impl Fn
 /// ≤ 2 in x, y, z that [`ray_forms::ray_nodes`] picked is taken from its
 /// polynomial along the ray (`ia_ray`, `s_ray`), where intervals over the
 /// cell's box overestimate it.
-pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Option<(&ray_forms::RayForms, &str)>, mut hook: impl FnMut(&mut String, Hook)) -> Body {
+pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Option<(&ray_forms::RayForms, &str)>, hook: impl FnMut(&mut String, Hook)) -> Body {
+    emit_body_tiled(out, ir, domain, ray, Tiles::Off, hook)
+}
+
+/// [`emit_body_on`] with what its loops do with per-tile term lists
+/// ([`Tiles`]; nothing for a formula without listed loops).
+pub(crate) fn emit_body_tiled(out: &mut String, ir: &Ir, domain: Domain, ray: Option<(&ray_forms::RayForms, &str)>, tiles: Tiles, mut hook: impl FnMut(&mut String, Hook)) -> Body {
     let p = domain.prefix();
     let plan = reroll::plan(ir);
     let looped = !plan.loops.is_empty();
+    let lists = match tiles {
+        Tiles::Off => None,
+        _ => reroll::lists::lists(ir, &plan),
+    };
     if looped {
-        let _ = writeln!(out, "    let admitted = field_admits({}u);", plan.iterations());
+        let work = match (&lists, tiles) {
+            (Some(x), Tiles::Listed) => format!("loop_work({}u, {}u)", plan.iterations(), x.fallback_iterations[usize::from(domain != Domain::Scalar)]),
+            // The tile pass's notes take a second pass over the listed loops.
+            (Some(x), Tiles::Record) => format!("{}u", plan.iterations() + x.notes_iterations),
+            _ => format!("{}u", plan.iterations()),
+        };
+        let _ = writeln!(out, "    let admitted = field_admits({work});");
     }
-    let mut fresh = ir.nodes.len() as NodeId;
-    let mut restricted: Vec<String> = Vec::new();
     let nn = nonneg(ir);
+    let mut loops = LoopEmitter { ir, domain, nn: &nn, fresh: ir.nodes.len() as NodeId };
+    let mut restricted: Vec<String> = Vec::new();
     for id in ir.live() {
         if plan.skips(id) {
             continue;
         }
         if let Some(l) = plan.loop_at(id) {
-            restricted.extend(emit_loop(out, ir, domain, l, &mut fresh, &nn, &mut hook));
+            let listed = lists.as_ref().and_then(|x| x.of(l.end));
+            restricted.extend(loops.emit(out, l, listed, tiles, &mut hook));
             continue;
         }
         let op = ir.nodes[id as usize];
@@ -318,83 +338,6 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
         hook(out, Hook::Node(id, op));
     }
     Body { empty: (!restricted.is_empty()).then(|| restricted.join(" || ")), looped }
-}
-
-/// One rerolled loop: the accumulator starts at the chain's value before
-/// the run and takes `unroll` terms an iteration, each written from the
-/// body with its constants read from the table (fresh names `v{fresh…}`).
-/// A body with square roots, logarithms or real powers (nodes whose empty
-/// result makes f empty) also gathers their emptiness, in a flag whose
-/// test it returns for the caller's.
-fn emit_loop(out: &mut String, ir: &Ir, domain: Domain, l: &reroll::Loop, fresh: &mut NodeId, nn: &[bool], hook: &mut impl FnMut(&mut String, Hook)) -> Option<String> {
-    let mut next_id = || {
-        *fresh += 1;
-        *fresh - 1
-    };
-    let acc = next_id();
-    let p = domain.prefix();
-    let strict = l.body.iter().any(|&b| ir.nodes[b as usize].restricts_domain());
-    if strict {
-        let _ = writeln!(out, "    var e{acc} = false;");
-    }
-    let _ = writeln!(out, "    var v{acc} = v{};", l.seed);
-    hook(out, Hook::Begin { acc, seed: l.seed });
-    let lay = match domain {
-        Domain::Scalar => l.scalar(),
-        _ => l.interval(),
-    };
-    let u = l.unroll;
-    let _ = writeln!(out, "    for (var i{acc} = 0u; i{acc} < select(0u, {}u, admitted); i{acc} = i{acc} + 1u) {{", l.iterations);
-    for k in 0..u {
-        let (group, within) = (k / lay.group, k % lay.group);
-        if within == 0 {
-            let _ = writeln!(out, "    let j{acc}_{group} = {}u + (i{acc} * {}u + {group}u) * {}u;", lay.base, u / lay.group, lay.texels);
-            for q in 0..lay.texels {
-                let _ = writeln!(out, "    let q{acc}_{group}_{q} = field_table(j{acc}_{group} + {q}u);");
-            }
-        }
-        let mut map: Vec<(NodeId, NodeId)> = Vec::new();
-        let mut slot = 0;
-        for &b in &l.body {
-            let op = ir.nodes[b as usize];
-            let mut ops = Vec::new();
-            for o in op.operands() {
-                if let Some(&(_, f)) = map.iter().find(|(n, _)| *n == o) {
-                    ops.push(f);
-                } else if let Op::Const(c) = ir.nodes[o as usize] {
-                    let f = next_id();
-                    let at = lay.offset(l.slots, within, slot);
-                    let _ = writeln!(out, "    let v{f} = {};", reroll::slot_expr(domain.prefix(), |t| format!("q{acc}_{group}_{t}"), at));
-                    hook(out, Hook::Node(f, Op::Const(c)));
-                    slot += 1;
-                    ops.push(f);
-                } else {
-                    ops.push(o);
-                }
-            }
-            let f = next_id();
-            let renamed = reroll::with_operands(op, &ops);
-            let rhs = value_rhs(out, domain, f, renamed, ir, nn);
-            let _ = writeln!(out, "    let v{f} = {rhs};");
-            if op.restricts_domain() {
-                let _ = writeln!(out, "    e{acc} = e{acc} || {p}_is_empty(v{f});");
-            }
-            hook(out, Hook::Node(f, renamed));
-            map.push((b, f));
-        }
-        let term = map.last().map(|&(_, f)| f).expect("a loop body is not empty");
-        let next = next_id();
-        let step = l.step(acc, term);
-        let rhs = value_rhs(out, domain, next, step, ir, nn);
-        let _ = writeln!(out, "    let v{next} = {rhs};");
-        hook(out, Hook::Node(next, step));
-        let _ = writeln!(out, "    v{acc} = v{next};");
-        hook(out, Hook::Step { acc, next });
-    }
-    out.push_str("    }\n");
-    let _ = writeln!(out, "    let v{} = v{acc};", l.end);
-    hook(out, Hook::End { acc, end: l.end });
-    strict.then(|| format!("e{acc}"))
 }
 
 /// Which nodes are never negative, by their form: even powers, |a|,

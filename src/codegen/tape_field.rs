@@ -263,7 +263,7 @@ pub fn field_code(domain: Option<Domain>, features: u32) -> String {
     }
     if let Some(d) = domain {
         out.push_str(&instantiate(d, features));
-        out.push_str(&compiled::enclosures(d));
+        out.push_str(&compiled::enclosures(d, false));
         out.push_str(&cell_enclosure(d));
     }
     out

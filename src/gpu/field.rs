@@ -17,6 +17,8 @@ const VIEW_TEXTURE: u32 = 10;
 const COUNTS: u32 = 4;
 /// Binding of a tape's per-tile lists (`templates/fields/tape_tiles.wgsl`).
 const TAPE_LISTS: u32 = 1;
+/// Binding of a compiled field's per-tile term lists (`templates/fields/loop_tiles.wgsl`).
+const LOOP_LISTS: u32 = 1;
 /// Binding of a tape's per-tile choice notes (`NOTE_BYTES_PER_TILE`).
 const TAPE_NOTES: u32 = 5;
 /// Binding of the views pass's output buffer.
@@ -72,6 +74,13 @@ pub(crate) struct FieldBinding {
     /// The tape, for the size of its per-tile lists (bisection's; `None`
     /// for other fields and traversals).
     tape_lists: Option<crate::codegen::TapeData>,
+    /// A compiled formula's per-tile term lists of its rerolled min and max
+    /// loops (`templates/fields/loop_tiles.wgsl`; bisection's only: `None`
+    /// for other traversals, which bind token buffers in their place).
+    loop_lists: Option<crate::codegen::reroll::lists::Lists>,
+    /// The field group has the lists' bindings (a formula with listed
+    /// loops, whatever the traversal).
+    lists_bound: bool,
     /// The last dispatch's own resources and its tile count.
     cached: std::sync::Mutex<Option<(u64, PerDispatch)>>,
 }
@@ -90,6 +99,7 @@ impl FieldBinding {
     pub fn keep_lists(&mut self, keep: bool, kernel_features: u32) {
         if !keep {
             self.tape_lists = None;
+            self.loop_lists = None;
         }
         if let Some(t) = &mut self.tape_lists {
             t.features |= kernel_features & crate::codegen::tape::features::MINMAX;
@@ -109,6 +119,12 @@ impl FieldBinding {
         self.tape_lists.as_ref().is_some_and(|t| crate::codegen::tape_field::shortens(t.features) && t.words[2][2] > 0)
     }
 
+    /// Whether bisection's tile pass lists the terms of the bound compiled
+    /// formula's min and max loops per tile.
+    pub fn lists_loops(&self) -> bool {
+        self.loop_lists.is_some()
+    }
+
     /// The field's bits of the frame flags.
     pub fn flags(&self) -> u32 {
         if self.scene && self.dense { crate::layout::FLAG_SCENE_FULL } else { 0 }
@@ -124,7 +140,9 @@ impl FieldBinding {
     /// length and active primitives per tile, or a tape's counts of its
     /// per-tile lists ([`crate::render::TapeListStats`]); 0 when it has none.
     pub fn tile_stats_size(&self, rect: Rect) -> u64 {
-        if self.has_tile_stats() {
+        if self.loop_lists.is_some() {
+            crate::render::LoopListStats::BYTES
+        } else if self.has_tile_stats() {
             rect.tiles() * 8
         } else if self.tape {
             crate::render::TapeListStats::BYTES
@@ -140,6 +158,9 @@ impl FieldBinding {
         if self.block_pass() {
             // A tape's choice notes: 2 KB an 8×8 tile.
             return crate::codegen::tape_field::NOTE_BYTES_PER_TILE / 64;
+        }
+        if let Some(l) = &self.loop_lists {
+            return l.bytes(1).div_ceil(64);
         }
         if !self.scene {
             return 0;
@@ -164,6 +185,9 @@ impl FieldBinding {
     /// bytes, read back by the caller) bound where the field writes them.
     pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> PerDispatch {
         let tiles = rect.tiles();
+        if self.lists_bound {
+            return self.loop_per_dispatch(gpu, tiles, stats);
+        }
         if self.tape {
             let mut own = self.tape_per_dispatch(gpu, tiles);
             if let Some(counts) = stats {
@@ -200,6 +224,24 @@ impl FieldBinding {
         let notes = if self.block_pass() { tiles * crate::codegen::tape_field::NOTE_BYTES_PER_TILE } else { 0 };
         let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage)), (TAPE_NOTES, buffer("tape notes", notes, storage))], view: None };
         *cached = Some((tiles, own.clone()));
+        own
+    }
+
+    /// A compiled field's per-tile term lists for `tiles` tiles (kept for
+    /// the next dispatch of as many; only the counts are zeroed), and its
+    /// counts `stats`: token buffers for a traversal without the lists.
+    fn loop_per_dispatch(&self, gpu: &Gpu, tiles: u64, stats: Option<&wgpu::Buffer>) -> PerDispatch {
+        let buffer = |label, size: u64| {
+            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
+        };
+        let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
+        let mut own = match cached.take() {
+            Some((n, own)) if n == tiles => own,
+            _ => PerDispatch { buffers: vec![(LOOP_LISTS, buffer("loop lists", self.loop_lists.as_ref().map_or(0, |l| l.bytes(tiles))))], view: None },
+        };
+        *cached = Some((tiles, own.clone()));
+        own.buffers.push((COUNTS, stats.cloned().unwrap_or_else(|| buffer("loop list counts", 16))));
         own
     }
 
@@ -299,7 +341,15 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 None => (vec![], vec![]),
             };
             let looped = !textures.is_empty();
-            Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, tape_lists: None, cached: Default::default() })
+            // Per-tile term lists of its min and max loops (bound for every
+            // kernel of the formula; only bisection's reads them).
+            let loop_lists = crate::codegen::reroll::lists::for_formula(ir);
+            let mut layout = layout;
+            if loop_lists.is_some() {
+                layout.extend([storage_entry(LOOP_LISTS, false), storage_entry(COUNTS, false)]);
+            }
+            let lists_bound = loop_lists.is_some();
+            Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, tape_lists: None, loop_lists, lists_bound, cached: Default::default() })
         }
         FieldSource::Scene(s) => {
             let mut layout = vec![
@@ -316,14 +366,14 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
             let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
-            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, looped: false, tape_lists: None, cached: Default::default() })
+            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, looped: false, tape_lists: None, loop_lists: None, lists_bound: false, cached: Default::default() })
         }
         FieldSource::Tape(t) => {
             let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
             // Bisection's per-tile lists (bound for every tape kernel, so
             // one layout serves every tape; unused by the others).
             let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false), storage_entry(TAPE_NOTES, false)];
-            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, looped: false, tape_lists: Some(t.clone()), cached: Default::default() })
+            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, looped: false, tape_lists: Some(t.clone()), loop_lists: None, lists_bound: false, cached: Default::default() })
         }
     }
 }

@@ -454,6 +454,7 @@ impl<'g> Renderer<'g> {
         let mut ray_stats = RayStats::default();
         let mut tiles = crate::render::record::TileStats::new(s.width, s.height);
         let mut tape_lists = crate::render::TapeListStats::default();
+        let mut loop_lists = crate::render::LoopListStats::default();
         let binder = Binder { gpu: self.gpu, host: self.host.as_ref(), field: &self.field, layouts: &self.layouts };
         for rect in rects {
             let records_size = rect.pixels() * std::mem::size_of::<Record>() as u64;
@@ -481,6 +482,8 @@ impl<'g> Renderer<'g> {
                 if let Some(words) = rest.next() {
                     if self.field.tape {
                         tape_lists.add(bytemuck::cast_slice(words));
+                    } else if self.field.lists_loops() {
+                        loop_lists.add(bytemuck::cast_slice(words));
                     } else {
                         tiles.add((rect.x, rect.y, rect.w), bytemuck::cast_slice(words));
                     }
@@ -506,6 +509,9 @@ impl<'g> Renderer<'g> {
         }
         if self.field.shortens_tape() {
             stats.field.tape_lists = Some(tape_lists);
+        }
+        if self.field.lists_loops() {
+            stats.field.loop_lists = Some(loop_lists);
         }
         Ok(stats)
     }

@@ -12,7 +12,7 @@ pub mod traversal;
 pub mod view;
 
 pub use settings::{Settings, SettingsError, SettingsField, Unresolved};
-pub use stats::{BisectStats, FieldStats, SphereStats, Stats, StatsAcc, TapeListStats};
+pub use stats::{BisectStats, FieldStats, LoopListStats, SphereStats, Stats, StatsAcc, TapeListStats};
 pub use traversal::{BisectOptions, EnvSpec, Environment, EnvImage, ModalitySpec, Modalities, Optimizations, RootSearch, Shading, SphereFeatures, SphereOptions, Traversal};
 pub use view::{View, ViewError};
 

@@ -82,6 +82,52 @@ pub struct FieldStats {
     /// for a tape with nothing to shorten).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tape_lists: Option<TapeListStats>,
+    /// Bisecting a compiled formula with rerolled min or max loops: the
+    /// tiles' term lists (`None` without such loops).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub loop_lists: Option<LoopListStats>,
+}
+
+/// How bisection's tile pass listed the terms of a compiled formula's min
+/// and max loops per tile (`templates/fields/loop_tiles.wgsl`): summed over
+/// the frame's queued tiles.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct LoopListStats {
+    /// Tiles with candidate slabs (the per-pixel pass runs on them).
+    pub tiles: u64,
+    /// Of them, tiles that run their lists (the others run the whole
+    /// loops: the work limit came first, or the optimisation is off).
+    pub listed: u64,
+    /// Terms the listed tiles keep, summed.
+    pub kept: u64,
+    /// Terms of the listed loops, summed over the same tiles.
+    pub whole: u64,
+}
+
+impl LoopListStats {
+    /// Bytes of the device's counts (words: tiles, listed tiles, kept
+    /// terms, whole terms).
+    pub const BYTES: u64 = 16;
+
+    /// Adds one dispatch's counts.
+    pub fn add(&mut self, words: &[u32]) {
+        if let [tiles, listed, kept, whole, ..] = *words {
+            self.tiles += u64::from(tiles);
+            self.listed += u64::from(listed);
+            self.kept += u64::from(kept);
+            self.whole += u64::from(whole);
+        }
+    }
+
+    /// Mean terms a listed tile runs.
+    pub fn kept_per_tile(&self) -> f64 {
+        if self.listed == 0 { 0.0 } else { self.kept as f64 / self.listed as f64 }
+    }
+
+    /// The listed loops' terms (what a tile without a list runs).
+    pub fn terms(&self) -> u64 {
+        self.whole.checked_div(self.listed).unwrap_or(0)
+    }
 }
 
 /// How bisection's tile pass shortened a tape (`templates/fields/tape_tiles.wgsl`):

@@ -232,7 +232,16 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     let mut stages: Vec<Stage> = Vec::new();
     let field_group = match field {
         // Rerolled terms read their constants from a table (codegen::reroll).
-        FieldSource::Compiled(ir) => codegen::reroll::table_texels(ir).map(|t| texture(0, "field table", t, "rgba32uint")).into_iter().collect(),
+        FieldSource::Compiled(ir) => {
+            let mut group: Vec<Binding> = codegen::reroll::table_texels(ir).map(|t| texture(0, "field table", t, "rgba32uint")).into_iter().collect();
+            // Bisection's per-tile term lists of min and max loops
+            // (fields/loop_tiles.wgsl): every word is written before it is read.
+            if let (Some(l), Traversal::Bisect(_)) = (codegen::reroll::lists::for_formula(ir), traversal) {
+                group.push(kept(1, "loop lists", Size::PerTile { bytes: l.bytes(1) }));
+                group.push(scratch(4, "loop list counts", Size::Fixed { bytes: 16 }));
+            }
+            group
+        }
         FieldSource::Tape(t) => {
             let mut group = vec![texture(0, "tape", t.texels(), "rgba32uint")];
             if matches!(traversal, Traversal::Bisect(_)) {

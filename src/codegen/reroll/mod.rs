@@ -21,6 +21,7 @@
 //! (`field_admits`); past it the evaluation is the whole line and the pixel
 //! is reported unresolved (`field_exhausted`), as with the tape.
 
+pub mod lists;
 mod runs;
 
 use super::f32_enclosure;
@@ -353,6 +354,17 @@ pub fn slot_expr(p: &str, q: impl Fn(usize) -> String, at: usize) -> String {
         "s" => format!("s_const({}.{})", q(at / 4), C[at % 4]),
         "ia" => format!("{}.{}", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" }),
         _ => format!("ra_from_ia({}.{})", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" }),
+    }
+}
+
+/// [`slot_expr`] at a float offset known only at run time (`at`, a WGSL
+/// `u32` expression) within the one texel `q`: a tile's list reads any
+/// term of a group that shares a texel.
+pub fn slot_expr_at(p: &str, q: &str, at: &str) -> String {
+    match p {
+        "s" => format!("s_const({q}[{at}])"),
+        "ia" => format!("vec2<f32>({q}[{at}], {q}[{at} + 1u])"),
+        _ => format!("ra_from_ia(vec2<f32>({q}[{at}], {q}[{at} + 1u]))"),
     }
 }
 

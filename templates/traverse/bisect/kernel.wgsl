@@ -354,16 +354,20 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
         g_at = vec2<u32>(bitcast<u32>(s_from), 0u);
         for (var layer = 0u; layer < LAYERS; layer = layer + 1u) {
             // Inside the tile's candidate slabs the field may run its
-            // program for the tile; shading leaves them (gradient, shadow
-            // and reflection rays).
+            // program for the tile; shading leaves them (shadow and
+            // reflection rays). The hit's gradient stays: a compiled
+            // field's term lists hold over slabs padded for its stencil
+            // (fields/loop_tiles.wgsl); a tape's cells found it already.
             field_enter_tile(list);
             let hit = trace_primary(ray, mask, s_from, seg, dr, inv_len);
-            field_leave_frustum();
-            if (hit.status == STATUS_MISS) { break; }
+            field_in_tile(true);
             let surface = g_surface;
             let p = o + dir * hit.s;
             let dist = hit.s / inv_len;
-            let g = hit_gradient(hit, p);
+            var g = vec3<f32>(0.0);
+            if (hit.status != STATUS_MISS) { g = hit_gradient(hit, p); }
+            field_leave_frustum();
+            if (hit.status == STATUS_MISS) { break; }
             var c = shade_hit(o, unit, p, g, hit.s, hit.iso + surface, dr);
             g_surface = surface;
             if (hit.status == STATUS_UNRESOLVED) { c = unresolved_color(c, px); }

@@ -1,0 +1,144 @@
+//! Per-tile term lists of a compiled formula's rerolled `min` and `max`
+//! loops (`codegen::reroll::lists`, `templates/fields/loop_tiles.wgsl`):
+//! the tile pass notes which terms can be the loop's result over each
+//! tile's candidate slabs, and the per-pixel pass runs only those. The
+//! picture must be the one the whole loops draw, and the f64 reference's.
+
+mod common;
+
+use common::gpu;
+use isotrace::codegen::reroll::{self, lists};
+use isotrace::codegen::{Domain, FieldSource};
+use isotrace::gpu::Renderer;
+use isotrace::render::{BisectOptions, Frame, Settings, Status, Traversal};
+use isotrace::Formula;
+
+/// `n` ball distances at pseudo-random centres in [-1, 1]³ (radii 0.06 to
+/// 0.18), seeded.
+fn balls(n: usize, seed: u64) -> Vec<String> {
+    let mut state = seed;
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 11) as f64) / ((1u64 << 53) as f64)
+    };
+    (0..n)
+        .map(|_| {
+            let (a, b, c, r) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0, 0.06 + 0.12 * next());
+            format!("sqrt((x - {a:.3})^2 + (y - {b:.3})^2 + (z - {c:.3})^2) - {r:.3}")
+        })
+        .collect()
+}
+
+/// Bisection of `f` in `domain` with the per-tile lists on or off.
+fn bisect(f: &Formula, domain: Domain, s: &Settings, lists: bool) -> Frame {
+    let mut r = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(domain))).unwrap();
+    r.optimizations_mut().expect("bisection").tape_shortening = lists;
+    r.render(s).unwrap()
+}
+
+/// Renders `src` with and without lists in IA and RAA: the same pixels hit,
+/// at depths within 2 eps and normals within 0.05 (the tiles' enclosures
+/// are tighter, so cells and root searches may differ), and the tiles keep
+/// at most `share` of the loops' terms on average.
+fn lists_draw_the_whole_loops_picture(src: &str, share: f64) {
+    let f = Formula::compile("<loops>", src).unwrap();
+    let l = lists::for_formula(&f.ir).expect("a listed loop");
+    let s = common::settings(common::cube(1.3), 96, 96);
+    for domain in [Domain::Interval, Domain::Affine] {
+        let on = bisect(&f, domain, &s, true);
+        let off = bisect(&f, domain, &s, false);
+        assert!(on.stats.hits > 300 && on.stats.unresolved == 0 && off.stats.unresolved == 0, "{:?} {:?}", on.stats, off.stats);
+        let st = on.stats.field.loop_lists.expect("list statistics");
+        assert!(st.listed > 0 && st.listed == st.tiles, "{domain:?}: {st:?}");
+        assert_eq!(st.terms(), u64::from(l.terms));
+        assert!(st.kept_per_tile() <= share * f64::from(l.terms), "{domain:?}: {st:?}");
+        assert_eq!(off.stats.field.loop_lists.expect("counted").listed, 0);
+        let mut differ = Vec::new();
+        for (k, (p, q)) in on.pixels.iter().zip(&off.pixels).enumerate() {
+            let normal = (0..3).map(|i| (p.normal[i] - q.normal[i]).abs()).fold(0.0f32, f32::max);
+            if p.status != q.status || (p.status == Status::Hit && ((p.depth - q.depth).abs() > 2.0 * s.eps as f32 || normal > 0.05)) {
+                differ.push((k, p.depth, q.depth, normal));
+            }
+        }
+        assert!(differ.is_empty(), "{domain:?}: {} pixels differ: {:?}", differ.len(), &differ[..differ.len().min(5)]);
+    }
+}
+
+/// A union of 200 balls, written as one variadic `min`.
+#[test]
+fn a_union_of_distances_draws_the_same_with_lists() {
+    lists_draw_the_whole_loops_picture(&format!("min({})", balls(200, 7).join(", ")), 0.3);
+}
+
+/// An intersection: a `max` of 40 half-spaces' distances to tilted planes,
+/// written through abs (no square roots), inside a larger formula whose
+/// other operations see the loop's value.
+#[test]
+fn an_intersection_inside_a_formula_draws_the_same_with_lists() {
+    let planes: Vec<String> = (0..40)
+        .map(|i| {
+            let a = 0.157 * i as f64;
+            format!("abs({:.3}*x + {:.3}*y + {:.3}*z) - 0.9", a.cos() * 0.8, a.sin() * 0.8, 0.6 * (0.9 * i as f64).sin())
+        })
+        .collect();
+    let chain = planes[1..].iter().fold(planes[0].clone(), |a, b| format!("max({a}, {b})"));
+    lists_draw_the_whole_loops_picture(&format!("{chain} + 0.03*sin(7*x)"), 0.9);
+}
+
+/// A union drawn with lists has the f64 reference's first root at every
+/// hit pixel, and no pixel the reference hits is missed.
+#[test]
+fn a_listed_union_has_the_reference_roots() {
+    let f = Formula::compile("<balls>", &format!("min({})", balls(120, 3).join(", "))).unwrap();
+    let s = common::settings(common::cube(1.3), 40, 40);
+    let a = bisect(&f, Domain::Interval, &s, true);
+    assert!(a.stats.field.loop_lists.is_some_and(|l| l.listed > 0), "{:?}", a.stats);
+    let mut wrong = Vec::new();
+    for (k, p) in a.pixels.iter().enumerate() {
+        let (i, j) = (k as u32 % s.width, k as u32 / s.width);
+        match (p.status, common::reference_root(&f, &s, i, j, 2000)) {
+            (Status::Hit, Some((t, w))) if (f64::from(p.depth) - t).abs() <= w + 4.0 * s.eps => {}
+            (Status::Miss, None) => {}
+            (st, r) => wrong.push(format!("({i},{j}) {st:?} {} vs {r:?}", p.depth)),
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:?}");
+}
+
+/// Loops whose terms may make f undefined (a square root of `x − a`), sums
+/// and several surfaces get no lists: leaving a term out could lose an
+/// emptiness, a sum's terms all count, and the lists are made for one f.
+#[test]
+fn only_min_and_max_loops_of_defined_terms_are_listed() {
+    let listed = |src: &str| {
+        let f = Formula::compile("<t>", src).unwrap();
+        assert_eq!(reroll::plan(&f.ir).loops.len(), 1, "{src}");
+        lists::for_formula(&f.ir).map(|l| (l.loops.len(), l.terms))
+    };
+    let roots: Vec<String> = (0..30).map(|i| format!("sqrt(x - {:.2}) - 0.{}", -0.5 + 0.01 * i as f64, i % 9 + 1)).collect();
+    assert_eq!(listed(&format!("min({})", roots.join(", "))), None);
+    let sum: Vec<String> = (0..30).map(|i| format!("sin({:.2}*x)*y", 1.0 + 0.1 * i as f64)).collect();
+    assert_eq!(listed(&sum.join(" + ")), None);
+    assert_eq!(listed(&format!("min({}) where z > 0", balls(30, 1).join(", "))), None);
+    // The first ball seeds the loop and 28 run in it (7 iterations of 4);
+    // the last is left over, written out.
+    assert_eq!(listed(&format!("min({})", balls(30, 1).join(", "))), Some((1, 28)));
+}
+
+/// The kernel with lists spends its list in the per-pixel pass only: the
+/// whole loop, fewer terms an iteration, stays beside it for rays outside
+/// the tile's candidate slabs, and the tile pass notes the terms in a
+/// second, short pass.
+#[test]
+fn the_kernel_runs_lists_per_pixel_and_notes_them_in_the_tile_pass() {
+    let f = Formula::compile("<balls>", &format!("min({})", balls(100, 5).join(", "))).unwrap();
+    let r = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
+    let w = r.wgsl();
+    assert!(w.contains("if (g_loop_list != 0u && admitted) {"), "the listed loop");
+    assert!(w.contains("loop_note("), "the tile pass's notes");
+    assert!(w.contains("let PAD = vec2<f32>(vec2<f32>(-2.0, 2.0) * gradient_step_size());"), "padded slabs");
+    let sphere = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Sphere(Default::default())).unwrap();
+    assert!(!sphere.wgsl().contains("g_loop_list"), "sphere tracing has no tile lists");
+    let s = common::settings(common::cube(1.3), 32, 32);
+    assert!(sphere.render(&s).unwrap().stats.hits > 50);
+}
