@@ -192,6 +192,33 @@ fn post_order(ir: &Ir, sig: &[u64], own: &[bool], root: NodeId, seen: &mut [bool
     }
 }
 
+/// See [`Terms::new`]: a cheap node read by fewer than 1 in SHARED_SHARE
+/// of a chain's terms is copied into each.
+const SHARED_SHARE: usize = 8;
+/// Most operations a cheap node's expression holds.
+const CHEAP_OPS: usize = 3;
+
+/// The operations of `id`'s expression if they are at most `budget`
+/// arithmetic operations (no calls) on variables, parameters and
+/// constants: what copying the node into every term costs.
+fn cheap(ir: &Ir, id: NodeId, budget: usize) -> Option<usize> {
+    let op = ir.nodes[id as usize];
+    if is_leaf(op) {
+        return Some(0);
+    }
+    if budget == 0 || !matches!(op, Op::Neg(_) | Op::Add(..) | Op::Sub(..) | Op::Mul(..) | Op::PowI(..)) {
+        return None;
+    }
+    let mut used = 1;
+    for o in op.operands() {
+        used += cheap(ir, o, budget - used)?;
+        if used > budget {
+            return None;
+        }
+    }
+    Some(used)
+}
+
 /// A term's shape: its nodes' operations and how each reaches its operands.
 pub(super) type Shape = Vec<(Op, Vec<Ref>)>;
 
@@ -204,7 +231,12 @@ impl Terms {
     /// terms' shared input it would make them shapes of their own and cut
     /// the run in three. The loop computes it again for each term, as
     /// written. A node [`MIN_RUN`] or more nodes use (`r` in `sin(a·r) +
-    /// sin(b·r) + …`) stays a shared input, computed once.
+    /// sin(b·r) + …`) stays a shared input, computed once, unless it is
+    /// [`cheap`] and read by fewer than a [`SHARED_SHARE`]th of the longest
+    /// chain's terms: a program that writes a thousand balls' centres to one
+    /// decimal has 21 values of `(x - c)^2`, each read by some 50 terms, and
+    /// as shared inputs they made every term's shape differ from its
+    /// neighbours'.
     pub(super) fn new(ir: &Ir, u: &Uses, chains: &[Vec<NodeId>]) -> Terms {
         let n = ir.nodes.len();
         let (mut roots, mut ranges) = (Vec::new(), Vec::new());
@@ -215,18 +247,32 @@ impl Terms {
             roots.extend(chain[1..].iter().map(|&c| link(ir, u, c).expect("a chain node").1));
             ranges.push(start..roots.len());
         }
+        // A term is its own root when only chain nodes use it: a term
+        // written twice (a ball a program placed twice) is one node the
+        // chain reads twice, and a loop may compute it in both places.
+        let mut linked = vec![false; n];
+        for &c in chains.iter().flatten() {
+            linked[c as usize] = true;
+        }
         let mut is_root = vec![false; n];
         for &root in &roots {
-            is_root[root as usize] = u.single(root) && !is_leaf(ir.nodes[root as usize]);
+            let users = &u.users[root as usize];
+            is_root[root as usize] = !users.is_empty() && users.iter().all(|&x| linked[x as usize]) && !u.output[root as usize] && !is_leaf(ir.nodes[root as usize]);
         }
         // Users come later in the order.
+        let longest = chains.iter().map(Vec::len).max().unwrap_or(0);
         let mut own = vec![false; n];
         for id in (0..n).rev() {
             if !u.is_live[id] || u.output[id] || is_leaf(ir.nodes[id]) {
                 continue;
             }
             let users = &u.users[id];
-            own[id] = is_root[id] || (!users.is_empty() && users.len() < MIN_RUN && users.iter().all(|&x| own[x as usize]));
+            // A cheap node is copied into the terms that read it even where
+            // other users compute it outside (a written-out term, or one
+            // that is not a loop's): one such user must not make it a
+            // shared input of every term.
+            let cheap_and_rare = users.len() * SHARED_SHARE < longest && cheap(ir, id as NodeId, CHEAP_OPS).is_some();
+            own[id] = is_root[id] || (!users.is_empty() && (cheap_and_rare || (users.len() < MIN_RUN && users.iter().all(|&x| own[x as usize]))));
         }
         let sig = signatures(ir, u, &own);
         let mut seen = vec![false; n];
