@@ -70,14 +70,14 @@ fn a_union_of_distances_draws_the_same_with_lists() {
     lists_draw_the_whole_loops_picture(&format!("min({})", balls(200, 7).join(", ")), 0.3);
 }
 
-/// An intersection: a `max` of 40 half-spaces' distances to tilted planes,
+/// An intersection: a `max` of 140 slabs' distances along tilted normals,
 /// written through abs (no square roots), inside a larger formula whose
 /// other operations see the loop's value.
 #[test]
 fn an_intersection_inside_a_formula_draws_the_same_with_lists() {
-    let planes: Vec<String> = (0..40)
+    let planes: Vec<String> = (0..140)
         .map(|i| {
-            let a = 0.157 * i as f64;
+            let a = 0.045 * i as f64;
             format!("abs({:.3}*x + {:.3}*y + {:.3}*z) - 0.9", a.cos() * 0.8, a.sin() * 0.8, 0.6 * (0.9 * i as f64).sin())
         })
         .collect();
@@ -89,7 +89,7 @@ fn an_intersection_inside_a_formula_draws_the_same_with_lists() {
 /// hit pixel, and no pixel the reference hits is missed.
 #[test]
 fn a_listed_union_has_the_reference_roots() {
-    let f = Formula::compile("<balls>", &format!("min({})", balls(120, 3).join(", "))).unwrap();
+    let f = Formula::compile("<balls>", &format!("min({})", balls(150, 3).join(", "))).unwrap();
     let s = common::settings(common::cube(1.3), 40, 40);
     let a = bisect(&f, Domain::Interval, &s, true);
     assert!(a.stats.field.loop_lists.is_some_and(|l| l.listed > 0), "{:?}", a.stats);
@@ -105,9 +105,10 @@ fn a_listed_union_has_the_reference_roots() {
     assert!(wrong.is_empty(), "{wrong:?}");
 }
 
-/// Loops whose terms may make f undefined (a square root of `x − a`), sums
-/// and several surfaces get no lists: leaving a term out could lose an
-/// emptiness, a sum's terms all count, and the lists are made for one f.
+/// Loops whose terms may make f undefined (a square root of `x − a`), sums,
+/// several surfaces and short loops get no lists: leaving a term out could
+/// lose an emptiness, a sum's terms all count, the lists are made for one
+/// f, and below `MIN_LISTED_TERMS` they cost more compile than they save.
 #[test]
 fn only_min_and_max_loops_of_defined_terms_are_listed() {
     let listed = |src: &str| {
@@ -115,14 +116,16 @@ fn only_min_and_max_loops_of_defined_terms_are_listed() {
         assert_eq!(reroll::plan(&f.ir).loops.len(), 1, "{src}");
         lists::for_formula(&f.ir).map(|l| (l.loops.len(), l.terms))
     };
-    let roots: Vec<String> = (0..30).map(|i| format!("sqrt(x - {:.2}) - 0.{}", -0.5 + 0.01 * i as f64, i % 9 + 1)).collect();
+    let roots: Vec<String> = (0..140).map(|i| format!("sqrt(x - {:.3}) - 0.{}", -0.5 + 0.001 * i as f64, i % 9 + 1)).collect();
     assert_eq!(listed(&format!("min({})", roots.join(", "))), None);
-    let sum: Vec<String> = (0..30).map(|i| format!("sin({:.2}*x)*y", 1.0 + 0.1 * i as f64)).collect();
+    let sum: Vec<String> = (0..140).map(|i| format!("sin({:.2}*x)*y", 1.0 + 0.1 * i as f64)).collect();
     assert_eq!(listed(&sum.join(" + ")), None);
-    assert_eq!(listed(&format!("min({}) where z > 0", balls(30, 1).join(", "))), None);
-    // The first ball seeds the loop and 28 run in it (7 iterations of 4);
-    // the last is left over, written out.
-    assert_eq!(listed(&format!("min({})", balls(30, 1).join(", "))), Some((1, 28)));
+    assert_eq!(listed(&format!("min({}) where z > 0", balls(140, 1).join(", "))), None);
+    assert_eq!(listed(&format!("min({})", balls(100, 1).join(", "))), None);
+    assert!(lists::MIN_LISTED_TERMS > 96);
+    // The first ball seeds the loop and 136 run in it (17 iterations of 8);
+    // the last 3 are left over, written out.
+    assert_eq!(listed(&format!("min({})", balls(140, 1).join(", "))), Some((1, 136)));
 }
 
 /// The kernel with lists spends its list in the per-pixel pass only: the
@@ -131,7 +134,7 @@ fn only_min_and_max_loops_of_defined_terms_are_listed() {
 /// second, short pass.
 #[test]
 fn the_kernel_runs_lists_per_pixel_and_notes_them_in_the_tile_pass() {
-    let f = Formula::compile("<balls>", &format!("min({})", balls(100, 5).join(", "))).unwrap();
+    let f = Formula::compile("<balls>", &format!("min({})", balls(150, 5).join(", "))).unwrap();
     let r = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     let w = r.wgsl();
     assert!(w.contains("if (g_loop_list != 0u && admitted) {"), "the listed loop");

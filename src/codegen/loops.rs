@@ -132,7 +132,10 @@ impl LoopEmitter<'_> {
         let lay = self.layout(l);
         let p = self.domain.prefix();
         let _ = writeln!(out, "    let b{acc} = loop_bits() + {}u;", at.word);
-        let _ = writeln!(out, "    for (var w{acc} = 0u; w{acc} < {}u; w{acc} = w{acc} + 1u) {{", at.words);
+        // A bound the compiler cannot see (`admitted` holds here): with a
+        // constant one it unrolls a loop of a few words, and copies the body
+        // into each (40 balls' kernel: 0.25 s more compile).
+        let _ = writeln!(out, "    for (var w{acc} = 0u; w{acc} < select(0u, {}u, admitted); w{acc} = w{acc} + 1u) {{", at.words);
         let _ = writeln!(out, "    var m{acc} = loop_lists[b{acc} + w{acc}];");
         let _ = writeln!(out, "    loop {{\n    if (m{acc} == 0u) {{ break; }}");
         let _ = writeln!(out, "    let k{acc} = w{acc} * 32u + countTrailingZeros(m{acc});\n    m{acc} = m{acc} & (m{acc} - 1u);");

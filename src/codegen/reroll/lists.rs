@@ -75,8 +75,17 @@ impl Lists {
     }
 }
 
+/// Fewest terms a listed loop has. The lists cost the driver's compile
+/// about 0.25 s whatever the loop (40 balls: 0.50 → 0.75 s cold at 8²),
+/// and save a frame little where there are few terms (40 balls: the warm
+/// 512² frame 85 → 33 ms); from a few hundred the frame is most of it
+/// (100 balls cold at 512², 0.85 s → 0.91 s with lists; 200 balls 1.5 →
+/// 1.2 s; 1,184 balls 8.1 → 2.2 s).
+pub const MIN_LISTED_TERMS: usize = 128;
+
 /// Whether a tile's list may leave out terms of loop `l`: a `min` or `max`
-/// chain whose terms cannot make f undefined (the only domain restrictions
+/// chain of at least [`MIN_LISTED_TERMS`] terms whose terms cannot make f
+/// undefined (the only domain restrictions
 /// in its body are square roots of values never negative by their form,
 /// `nn`: a term left out must not take an emptiness with it).
 fn listable(ir: &Ir, l: &Loop, nn: &[bool]) -> bool {
@@ -85,7 +94,7 @@ fn listable(ir: &Ir, l: &Loop, nn: &[bool]) -> bool {
         Op::Call1(Func1::Sqrt, a) => nn.get(a as usize).copied().unwrap_or(false),
         op => !op.restricts_domain(),
     });
-    chain && defined
+    chain && defined && l.iterations * l.unroll >= MIN_LISTED_TERMS
 }
 
 /// Terms an iteration of a listed loop's notes pass and whole fallback
