@@ -145,3 +145,23 @@ fn the_kernel_runs_lists_per_pixel_and_notes_them_in_the_tile_pass() {
     let s = common::settings(common::cube(1.3), 32, 32);
     assert!(sphere.render(&s).unwrap().stats.hits > 50);
 }
+
+/// The browser page binds the lists as `render` does: the field group of
+/// a bisection kernel with a listed loop has the lists' words per tile and
+/// their counts; sphere tracing's has neither. (The browser suite cannot
+/// draw such a formula in CI time: SwiftShader takes over 90 s to create
+/// the pipeline of a `min` loop of 100 terms, with lists or without.)
+#[test]
+fn the_page_binds_the_lists_for_bisection_only() {
+    let f = Formula::compile("<balls>", &format!("min({})", balls(150, 5).join(", "))).unwrap();
+    let l = lists::for_formula(&f.ir).expect("listed");
+    let s = common::settings(common::cube(1.3), 64, 64);
+    let bisect = isotrace::view::program(FieldSource::Compiled(&f.ir), &Traversal::Bisect(BisectOptions::new(Domain::Interval)), &s).unwrap();
+    let group = &bisect.groups[1];
+    let named = |n: &str| group.iter().find(|b| b.name == n).map(|b| (b.binding, serde_json::to_value(&b.size).unwrap()));
+    assert_eq!(named("loop lists"), Some((1, serde_json::json!({"kind": "per_tile", "bytes": l.bytes(1)}))));
+    assert_eq!(named("loop list counts"), Some((4, serde_json::json!({"kind": "fixed", "bytes": 16}))));
+    assert!(bisect.wgsl.contains("var<storage, read_write> loop_lists"));
+    let sphere = isotrace::view::program(FieldSource::Compiled(&f.ir), &Traversal::Sphere(Default::default()), &s).unwrap();
+    assert!(sphere.groups[1].iter().all(|b| !b.name.starts_with("loop list")));
+}

@@ -10,6 +10,7 @@ mod frames;
 mod input;
 mod modality;
 mod render;
+mod report;
 mod scene;
 mod scene_render;
 mod shell;

@@ -5,17 +5,19 @@
 // A union of a thousand distances, bisected, evaluated all thousand in
 // every cell of every ray, though near any one tile only a few can be the
 // least. The tile pass already encloses f over each 8x8 tile's candidate
-// depth slabs; while it encloses a fine slab, the loop notes each term
-// whose enclosure there reaches below the least upper bound of the terms
-// before it (for max: above the greatest lower bound), and the notes of
-// the slabs that may hold the surface are gathered for the tile
-// (field_slab_end). The per-pixel pass runs, for the rays of the tile and
-// inside its candidate slabs, only the noted terms (field_in_tile; shading,
-// shadows and reflections leave them: field_leave_frustum).
+// depth slabs; while it encloses a fine slab, a second pass after the loop
+// notes each term whose enclosure there reaches below the loop's upper
+// bound (for max: above its lower bound), and the notes of the slabs that
+// may hold the surface are gathered for the tile (field_slab_end). The
+// per-pixel pass runs, for the rays of the tile and inside its candidate
+// slabs, only the noted terms (field_in_tile), and so does the hit's
+// gradient; shadows and reflections leave them (field_leave_frustum).
 //
 // Exact: a term left out lies above (below) another term everywhere in
 // the candidate slabs, so there the min (max) of the kept terms is the
-// same function, and its enclosures enclose it. Only loops whose terms
+// same function, and its enclosures enclose it. The slabs' boxes are
+// padded by twice the gradient's step (compiled::enclosures), so the
+// gradient's stencil around a hit lies inside them. Only loops whose terms
 // cannot make f undefined are listed (their square roots take arguments
 // that are never negative by their form), so no emptiness is lost.
 //
