@@ -106,6 +106,12 @@ impl FieldBinding {
         }
     }
 
+    /// A kernel with `--inline` WGSL has no term lists (`compiled::field_code`
+    /// leaves its hooks to the user): nothing to size or count.
+    pub fn no_loop_lists(&mut self) {
+        self.loop_lists = None;
+    }
+
     /// Whether bisection runs the field's block pass before its tile pass
     /// (a tape kernel with per-tile lists: its tile pass reads the blocks'
     /// entries, `templates/fields/tape_tiles.wgsl`).

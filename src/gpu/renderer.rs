@@ -162,6 +162,9 @@ impl<'g> Renderer<'g> {
         let d = &gpu.device;
         let mut bound = field::bind(gpu, field)?;
         bound.keep_lists(host.method() == crate::render::Method::Bisect, field_features(field));
+        if kernel.inline.is_some() {
+            bound.no_loop_lists();
+        }
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries });
         let mut frame_entries = vec![storage_entry(0, true)];
         frame_entries.extend(host.frame_resources().into_iter().map(|(e, _)| e));
