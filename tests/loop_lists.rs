@@ -165,3 +165,42 @@ fn the_page_binds_the_lists_for_bisection_only() {
     let sphere = isotrace::view::program(FieldSource::Compiled(&f.ir), &Traversal::Sphere(Default::default()), &s).unwrap();
     assert!(sphere.groups[1].iter().all(|b| !b.name.starts_with("loop list")));
 }
+
+/// Counted per lane (a device without subgroups), a tile pass over a union
+/// of 700 balls runs past the work limit in tiles with several candidate
+/// coarse slabs: those tiles' notes are incomplete, so they run the whole
+/// loop (and their fine slabs do not run a coarse slab's short list). No
+/// pixel that lists off hit is missed, every pixel both hit agrees, and
+/// every hit has the f64 reference's root.
+#[test]
+fn tiles_past_the_work_limit_run_the_whole_loop() {
+    // Without spaces, within the front end's 64 KiB.
+    let f = Formula::compile("<balls>", &format!("min({})", balls(700, 9).join(",")).replace(' ', "")).unwrap();
+    let s = common::settings(common::cube(1.3), 40, 40);
+    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    per_lane.subgroups = false;
+    let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
+    let mut on = Renderer::new(&per_lane, FieldSource::Compiled(&f.ir), t()).unwrap();
+    let a = on.render(&s).unwrap();
+    let st = a.stats.field.loop_lists.expect("counted");
+    assert!(st.listed > 0 && st.listed < st.tiles, "some tiles listed, some not: {st:?}");
+    on.optimizations_mut().expect("bisection").tape_shortening = false;
+    let b = on.render(&s).unwrap();
+    let mut wrong = Vec::new();
+    for (k, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        let (i, j) = (k as u32 % s.width, k as u32 / s.width);
+        if p.status == Status::Hit && q.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32 {
+            wrong.push(format!("({i},{j}) {} vs {}", p.depth, q.depth));
+        }
+        if p.status == Status::Miss && q.status == Status::Hit {
+            wrong.push(format!("({i},{j}) missed, {} without lists", q.depth));
+        }
+        if p.status == Status::Hit {
+            match common::reference_root(&f, &s, i, j, 2000) {
+                Some((t, w)) if (f64::from(p.depth) - t).abs() <= w + 4.0 * s.eps => {}
+                r => wrong.push(format!("({i},{j}) {} vs the reference {r:?}", p.depth)),
+            }
+        }
+    }
+    assert!(wrong.is_empty() && a.stats.hits > 100, "{:?} {st:?}: {wrong:?}", a.stats);
+}

@@ -54,31 +54,37 @@ impl LoopEmitter<'_> {
         }
         let _ = writeln!(out, "    var v{acc} = v{};", l.seed);
         hook(out, Hook::Begin { acc, seed: l.seed });
-        let listed = listed.filter(|_| tiles != Tiles::Off);
-        let record = listed.filter(|_| tiles == Tiles::Record);
-        match listed.filter(|_| tiles == Tiles::Listed) {
-            Some(at) => {
-                let _ = writeln!(out, "    if (g_loop_list != 0u && admitted) {{");
-                self.emit_listed(out, l, at, acc, hook);
-                out.push_str("    } else {\n");
-                // The whole loop where the tile has no list: fewer terms an
-                // iteration than without lists (each copy is compile time).
-                self.emit_whole(out, l, acc, self.small_unroll(l), None, hook);
-                out.push_str("    }\n");
-            }
-            None => self.emit_whole(out, l, acc, l.unroll, None, hook),
-        }
-        if let Some(at) = record {
+        let Some(at) = listed.filter(|_| tiles != Tiles::Off) else {
+            self.emit_whole(out, l, acc, l.unroll, None, hook);
+            return self.end(out, l, acc, strict, hook);
+        };
+        // The list where there is one; else the whole loop: in the per-pixel
+        // pass fewer terms an iteration than without lists (each copy is
+        // compile time), in the tile pass's coarse slabs as many.
+        let whole = if tiles == Tiles::Listed { self.small_unroll(l) } else { l.unroll };
+        let _ = writeln!(out, "    if (g_loop_list != 0u && admitted) {{");
+        self.emit_listed(out, l, at, acc, None, hook);
+        out.push_str("    } else {\n");
+        self.emit_whole(out, l, acc, whole, None, hook);
+        out.push_str("    }\n");
+        if tiles == Tiles::Record {
             // Once the loop's bound over the slab is known, a second pass
-            // notes the terms that reach it. (Noting against the bound so
-            // far, in one pass, kept 75 of 1,184 distances a tile at 512²,
-            // against 46.)
-            out.push_str("    if (g_loop_record && admitted) {\n");
+            // over the same terms notes those that reach it. (Noting against
+            // the bound so far, in one pass, kept 75 of 1,184 distances a
+            // tile at 512², against 46.)
+            out.push_str("    if (g_loop_record && admitted) {\n    if (g_loop_list != 0u) {\n");
+            self.emit_listed(out, l, at, acc, Some(at), hook);
+            out.push_str("    } else {\n");
             self.emit_whole(out, l, acc, self.small_unroll(l), Some(at), hook);
-            out.push_str("    }\n");
+            out.push_str("    }\n    }\n");
             // A refused enclosure noted nothing: the tile's notes are incomplete.
             out.push_str("    if (g_loop_record && !admitted) { g_loop_spoiled = true; }\n");
         }
+        self.end(out, l, acc, strict, hook)
+    }
+
+    /// The loop's end: its chain node takes the accumulator.
+    fn end(&mut self, out: &mut String, l: &Loop, acc: NodeId, strict: bool, hook: &mut impl FnMut(&mut String, Hook)) -> Option<String> {
         let _ = writeln!(out, "    let v{} = v{acc};", l.end);
         hook(out, Hook::End { acc, end: l.end });
         strict.then(|| format!("e{acc}"))
@@ -127,8 +133,9 @@ impl LoopEmitter<'_> {
     }
 
     /// The loop over the tile's list: its words of bits, a term a set bit,
-    /// each term's constants at its place in the table.
-    fn emit_listed(&mut self, out: &mut String, l: &Loop, at: &Listed, acc: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
+    /// each term's constants at its place in the table; with `notes`, as
+    /// [`Self::emit_whole`]'s.
+    fn emit_listed(&mut self, out: &mut String, l: &Loop, at: &Listed, acc: NodeId, notes: Option<&Listed>, hook: &mut impl FnMut(&mut String, Hook)) {
         let lay = self.layout(l);
         let p = self.domain.prefix();
         let _ = writeln!(out, "    let b{acc} = loop_bits() + {}u;", at.word);
@@ -152,7 +159,12 @@ impl LoopEmitter<'_> {
             _ => reroll::slot_expr_at(p, &format!("q{acc}_0"), &format!("o{acc} + {}u", slot * lay.width)),
         };
         let term = self.emit_term(out, l, acc, slot, hook);
-        self.emit_step(out, l, acc, term, hook);
+        match notes {
+            Some(n) => {
+                let _ = writeln!(out, "    if ({}) {{ loop_note({}u + k{acc}); }}", may_reach(p, l.op, term, acc), n.word * 32);
+            }
+            None => self.emit_step(out, l, acc, term, hook),
+        }
         out.push_str("    }\n    }\n");
     }
 

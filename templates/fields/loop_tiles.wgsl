@@ -21,9 +21,17 @@
 // cannot make f undefined are listed (their square roots take arguments
 // that are never negative by their form), so no emptiness is lost.
 //
+// The tile pass lists terms for itself too: the notes of a coarse slab
+// that may hold the surface are the terms its eight fine slabs run (the
+// fine slabs' boxes lie inside the coarse slab's), so only the coarse
+// slabs' enclosures run the whole loops. (This kernel has no block pass:
+// the tile pass calls field_slab_begin(false) for a coarse slab, (true)
+// for a fine one.)
+//
 // Per tile, LOOP_TILE_WORDS words of loop_lists: the loop iterations its
 // lists cost, the tile's bits (LOOP_BITS words: bit k of a loop's words is
-// its term k), then the bits of the slab being enclosed.
+// its term k), the bits of the fine slab being enclosed, and those of its
+// coarse slab.
 @group(1) @binding(1) var<storage, read_write> loop_lists: array<u32>;
 // Counts for the statistics (render::LoopListStats), zeroed before each
 // dispatch: tiles with candidate slabs, tiles that run their lists, terms
@@ -39,9 +47,14 @@ var<private> g_loop_record: bool;
 // notes are incomplete, so it runs the whole loops.
 var<private> g_loop_spoiled: bool;
 // The per-pixel pass: the tile's lists (tile + 1; 0 none) and the lists the
-// evaluations run now (0 outside the candidate slabs).
+// evaluations run now (0 outside the candidate slabs; in the tile pass, 1
+// while a fine slab runs its coarse slab's list).
 var<private> g_loop_tile: u32;
 var<private> g_loop_list: u32;
+// The first word of the bits the listed loops run, and of those loop_note
+// writes.
+var<private> g_loop_at: u32;
+var<private> g_loop_note_at: u32;
 
 fn loop_lists_on() -> bool { return (F.flags & FLAG_NO_TAPE_SHORTENING) == 0u; }
 
@@ -54,24 +67,36 @@ fn field_tile_begin(t: u32, tile: vec2<u32>, block: bool) -> vec3<u32> {
     return vec3<u32>(0xffffffffu, 0xffffffffu, 0u);
 }
 
-fn field_slab_begin(record: bool) {
-    g_loop_record = record && loop_lists_on();
+// `fine`: a fine slab, which runs its coarse slab's list (unless a noting
+// enclosure was refused: then that list may be short) and notes into the
+// slab's bits; else a coarse slab, which runs the whole loops and notes
+// into the coarse bits.
+fn field_slab_begin(fine: bool) {
+    g_loop_list = 0u;
+    g_loop_record = loop_lists_on();
     if (!g_loop_record) { return; }
-    let slab = g_loop_base + 1u + LOOP_BITS;
-    for (var i = 0u; i < LOOP_BITS; i = i + 1u) { loop_lists[slab + i] = 0u; }
+    let coarse = g_loop_base + 1u + 2u * LOOP_BITS;
+    g_loop_note_at = select(coarse, g_loop_base + 1u + LOOP_BITS, fine);
+    if (fine && !g_loop_spoiled) {
+        g_loop_list = 1u;
+        g_loop_at = coarse;
+    }
+    for (var i = 0u; i < LOOP_BITS; i = i + 1u) { loop_lists[g_loop_note_at + i] = 0u; }
 }
 
+// A fine slab that may hold the surface adds its notes to the tile's.
 fn field_slab_end(hold: bool) {
-    if (g_loop_record && hold) {
+    if (g_loop_record && hold && g_loop_note_at == g_loop_base + 1u + LOOP_BITS) {
         let tile = g_loop_base + 1u;
         for (var i = 0u; i < LOOP_BITS; i = i + 1u) { loop_lists[tile + i] = loop_lists[tile + i] | loop_lists[tile + LOOP_BITS + i]; }
     }
     g_loop_record = false;
+    g_loop_list = 0u;
 }
 
-// Term `bit` of the slab being enclosed may be its loop's result there.
+// Term `bit` may be its loop's result in the slab being enclosed.
 fn loop_note(bit: u32) {
-    let i = g_loop_base + 1u + LOOP_BITS + (bit >> 5u);
+    let i = g_loop_note_at + (bit >> 5u);
     loop_lists[i] = loop_lists[i] | (1u << (bit & 31u));
 }
 
@@ -95,6 +120,7 @@ fn field_tile_done(mask: vec2<u32>, n: u32, block: bool) -> u32 {
 fn field_enter_tile(list: u32) {
     g_loop_tile = list;
     g_loop_list = list;
+    g_loop_at = max(list, 1u) * LOOP_TILE_WORDS - LOOP_TILE_WORDS + 1u;
 }
 // ... at points inside its candidate slabs (a look-ahead past the run's end
 // is not; the hit's gradient stencil is: the slabs were padded for it) ...
@@ -114,4 +140,4 @@ fn loop_work(whole: u32, fallback: u32) -> u32 {
 }
 
 // The first word of the bits of the lists being run.
-fn loop_bits() -> u32 { return (g_loop_list - 1u) * LOOP_TILE_WORDS + 1u; }
+fn loop_bits() -> u32 { return g_loop_at; }

@@ -51,9 +51,9 @@ impl Lists {
     }
 
     /// Words a tile takes: the iterations its lists cost, its bits, and
-    /// the bits of the slab the tile pass encloses.
+    /// the bits of the fine and the coarse slab the tile pass encloses.
     pub fn tile_words(&self) -> u32 {
-        1 + 2 * self.bits
+        1 + 3 * self.bits
     }
 
     /// Bytes of `tiles` tiles' words.
