@@ -20,7 +20,7 @@ pub(crate) const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\n\
     fn field_enter_tile(list: u32) {}\nfn field_in_tile(inside: bool) {}\n";
 
 mod balance;
-pub(crate) mod loops;
+mod loops;
 pub mod choice;
 pub mod compiled;
 pub mod derivative;
