@@ -15,6 +15,7 @@ use crate::sdf;
 use crate::syntax::{BinOp, Expr, ExprKind, Program};
 use std::collections::HashMap;
 
+mod chains;
 mod error;
 mod terms;
 pub use error::SemaError;
@@ -126,7 +127,7 @@ pub fn analyze_with(program: &Program, externs: &[(String, usize)]) -> Result<Ir
         surfaces.push(crate::ir::SurfaceIr { f, conditions });
     }
     let root = surfaces[0].f;
-    Ok(compact(terms::collect(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params, externs: b.externs })?))
+    Ok(compact(chains::chain(terms::collect(Ir { nodes: b.nodes, spans: b.spans, root, surfaces, params: b.params, externs: b.externs })?)?))
 }
 
 /// Drops the nodes the root does not use (unused definitions, constants
