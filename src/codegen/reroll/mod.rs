@@ -206,10 +206,16 @@ pub fn plan(ir: &Ir) -> Plan {
         }
     }
     // A rerolled term's nodes are left to the loop unless a term written
-    // out uses them too (a node a few terms share is each one's).
+    // out uses them too (a node a few terms share is each one's), or a
+    // loop starts from them (a term the chain reads twice may be both a
+    // loop's seed and one of its terms).
+    let mut seeds = vec![false; ir.nodes.len()];
+    for l in &plan.loops {
+        seeds[l.seed as usize] = true;
+    }
     for id in (0..ir.nodes.len()).rev() {
         let users = &u.users[id];
-        if plan.rerolled[id] && !users.is_empty() && users.iter().all(|&x| plan.skip[x as usize] || plan.loop_at(x).is_some()) {
+        if plan.rerolled[id] && !seeds[id] && !users.is_empty() && users.iter().all(|&x| plan.skip[x as usize] || plan.loop_at(x).is_some()) {
             plan.skip[id] = true;
         }
     }
@@ -458,6 +464,26 @@ mod tests {
         let p = plan(&ir);
         assert_eq!(p.loops.len(), 1);
         assert!(p.loops[0].body.iter().all(|&b| !matches!(ir.nodes[b as usize], Op::Call1(crate::ir::Func1::Sqrt, _))));
+    }
+
+    /// A ball written twice is one node the chain reads twice: a term of
+    /// the run in both places, and the loop's seed where it comes first.
+    /// Such a seed was once left unwritten (the WGSL named an undefined
+    /// value): a seed is always written out.
+    #[test]
+    fn a_seed_the_loop_also_computes_is_written_out() {
+        let mut balls: Vec<String> = (0..300).map(|i| format!("sqrt((x-{:.3})^2+(y-{:.3})^2+(z-{:.3})^2)-0.1", (0.37 * i as f64).sin(), (0.53 * i as f64).cos(), (0.11 * i as f64).sin())).collect();
+        // The last operand seeds the loop here; a copy of it is a term.
+        balls.insert(150, balls[299].clone());
+        let ir = compile(&format!("min({})", balls.join(",")));
+        let p = plan(&ir);
+        assert_eq!(p.loops.len(), 1);
+        let u = runs::Uses::new(&ir);
+        let l = &p.loops[0];
+        assert!(p.rerolled[l.seed as usize] && !p.skips(l.seed), "seed {} {:?} users {:?} rerolled {} terms {}", l.seed, ir.nodes[l.seed as usize], u.users[l.seed as usize], p.rerolled[l.seed as usize], l.unroll * l.iterations);
+        for domain in [super::super::Domain::Scalar, super::super::Domain::Interval] {
+            crate::validate::validate(&super::super::eval_shader(&ir, domain)).expect("the seed is defined");
+        }
     }
 
     #[test]
