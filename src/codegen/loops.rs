@@ -122,12 +122,7 @@ impl LoopEmitter<'_> {
                 }
             }
             let term = self.emit_term(out, l, acc, |slot| reroll::slot_expr(p, |t| format!("q{acc}_{group}_{t}"), lay.offset(l.slots, within, slot)), hook);
-            match notes {
-                Some(at) => {
-                    let _ = writeln!(out, "    if ({}) {{ loop_note({}u + i{acc} * {u}u + {k}u); }}", may_reach(p, l.op, term, acc), at.word * 32);
-                }
-                None => self.emit_step(out, l, acc, term, hook),
-            }
+            self.note_or_step(out, l, acc, term, notes.map(|n| (n, format!("i{acc} * {u}u + {k}u"))), hook);
         }
         out.push_str("    }\n");
     }
@@ -159,12 +154,7 @@ impl LoopEmitter<'_> {
             _ => reroll::slot_expr_at(p, &format!("q{acc}_0"), &format!("o{acc} + {}u", slot * lay.width)),
         };
         let term = self.emit_term(out, l, acc, slot, hook);
-        match notes {
-            Some(n) => {
-                let _ = writeln!(out, "    if ({}) {{ loop_note({}u + k{acc}); }}", may_reach(p, l.op, term, acc), n.word * 32);
-            }
-            None => self.emit_step(out, l, acc, term, hook),
-        }
+        self.note_or_step(out, l, acc, term, notes.map(|n| (n, format!("k{acc}"))), hook);
         out.push_str("    }\n    }\n");
     }
 
@@ -200,6 +190,17 @@ impl LoopEmitter<'_> {
             map.push((b, f));
         }
         map.last().map(|&(_, f)| f).expect("a loop body is not empty")
+    }
+
+    /// After a term: with `note` (the loop's bits and the term's index in
+    /// them), the notes pass's test; else the accumulator's step.
+    fn note_or_step(&mut self, out: &mut String, l: &Loop, acc: NodeId, term: NodeId, note: Option<(&Listed, String)>, hook: &mut impl FnMut(&mut String, Hook)) {
+        match note {
+            Some((at, index)) => {
+                let _ = writeln!(out, "    if ({}) {{ loop_note({}u + {index}); }}", may_reach(self.domain.prefix(), l.op, term, acc), at.word * 32);
+            }
+            None => self.emit_step(out, l, acc, term, hook),
+        }
     }
 
     /// The chain's operation on the accumulator and `term`.

@@ -155,23 +155,8 @@ impl Plan {
 
 /// `op` with its operands replaced, in order, by `ops`.
 pub(crate) fn with_operands(op: Op, ops: &[NodeId]) -> Op {
-    let o = |i: usize| ops[i];
-    match op {
-        Op::Const(_) | Op::Var(_) | Op::Param(_) => op,
-        Op::Neg(_) => Op::Neg(o(0)),
-        Op::Add(..) => Op::Add(o(0), o(1)),
-        Op::Sub(..) => Op::Sub(o(0), o(1)),
-        Op::Mul(..) => Op::Mul(o(0), o(1)),
-        Op::Div(..) => Op::Div(o(0), o(1)),
-        Op::PowI(_, n) => Op::PowI(o(0), n),
-        Op::Call1(f, _) => Op::Call1(f, o(0)),
-        Op::Call2(f, ..) => Op::Call2(f, o(0), o(1)),
-        Op::Call3(f, ..) => Op::Call3(f, o(0), o(1), o(2)),
-        Op::User(u, mut args, n) => {
-            args[..n as usize].copy_from_slice(&ops[..n as usize]);
-            Op::User(u, args, n)
-        }
-    }
+    let mut next = ops.iter().copied();
+    op.with_operands(|_| next.next().expect("an operand for each of the op's"))
 }
 
 /// Finds the runs of same-shaped terms worth a loop and lays out their
