@@ -58,25 +58,34 @@ impl LoopEmitter<'_> {
             self.emit_whole(out, l, acc, l.unroll, None, hook);
             return self.end(out, l, acc, strict, hook);
         };
-        // The list where there is one; else the whole loop: in the per-pixel
-        // pass fewer terms an iteration than without lists (each copy is
-        // compile time), in the tile pass's coarse slabs as many.
-        let whole = if tiles == Tiles::Listed { self.small_unroll(l) } else { l.unroll };
-        let _ = writeln!(out, "    if (g_loop_list != 0u && admitted) {{");
-        self.emit_listed(out, l, at, acc, None, hook);
-        out.push_str("    } else {\n");
-        self.emit_whole(out, l, acc, whole, None, hook);
-        out.push_str("    }\n");
-        if tiles == Tiles::Record {
+        // The list where there is one; else the whole loop, with fewer terms
+        // an iteration than without lists (each copy is compile time).
+        let group = self.layout(l).group;
+        let whole = match tiles {
+            Tiles::Record => reroll::lists::record_unroll(l, group),
+            _ => reroll::lists::small_unroll(l, group),
+        };
+        let note = if tiles == Tiles::Record {
             // Once the loop's bound over the slab is known, a second pass
             // over the same terms notes those that reach it. (Noting against
             // the bound so far, in one pass, kept 75 of 1,184 distances a
-            // tile at 512², against 46.)
-            out.push_str("    if (g_loop_record && admitted) {\n    if (g_loop_list != 0u) {\n");
-            self.emit_listed(out, l, at, acc, Some(at), hook);
-            out.push_str("    } else {\n");
-            self.emit_whole(out, l, acc, self.small_unroll(l), Some(at), hook);
-            out.push_str("    }\n    }\n");
+            // tile at 512², against 46.) Both passes run the same code: each
+            // copy of a loop's terms is compile time, and the tile pass's
+            // four (the list and the whole loop, each to step and to note)
+            // were most of it.
+            let _ = writeln!(out, "    for (var p{acc} = 0u; p{acc} < select(1u, 2u, g_loop_record && admitted); p{acc} = p{acc} + 1u) {{");
+            let _ = writeln!(out, "    let n{acc} = p{acc} == 1u;");
+            Some(at)
+        } else {
+            None
+        };
+        let _ = writeln!(out, "    if (g_loop_list != 0u && admitted) {{");
+        self.emit_listed(out, l, at, acc, note, hook);
+        out.push_str("    } else {\n");
+        self.emit_whole(out, l, acc, whole, note, hook);
+        out.push_str("    }\n");
+        if note.is_some() {
+            out.push_str("    }\n");
             // A refused enclosure noted nothing: the tile's notes are incomplete.
             out.push_str("    if (g_loop_record && !admitted) { g_loop_spoiled = true; }\n");
         }
@@ -90,12 +99,6 @@ impl LoopEmitter<'_> {
         strict.then(|| format!("e{acc}"))
     }
 
-    /// A listed loop's terms an iteration in its notes pass and its whole
-    /// fallback ([`reroll::lists::small_unroll`]).
-    fn small_unroll(&self, l: &Loop) -> usize {
-        reroll::lists::small_unroll(l, self.layout(l).group)
-    }
-
     /// The table layout the domain reads.
     fn layout(&self, l: &Loop) -> reroll::Layout {
         match self.domain {
@@ -106,8 +109,8 @@ impl LoopEmitter<'_> {
 
     /// The loop over every term, `u` an iteration (the plan's unroll or a
     /// divisor of it that is a whole number of texel groups), into the
-    /// accumulator; with `notes`, instead, each term that may reach the
-    /// accumulator's final value is noted (`loop_note`).
+    /// accumulator; with `notes`, in the notes pass each term that may reach
+    /// the accumulator's final value is noted instead (`loop_note`).
     fn emit_whole(&mut self, out: &mut String, l: &Loop, acc: NodeId, u: usize, notes: Option<&Listed>, hook: &mut impl FnMut(&mut String, Hook)) {
         let lay = self.layout(l);
         let p = self.domain.prefix();
@@ -192,15 +195,16 @@ impl LoopEmitter<'_> {
         map.last().map(|&(_, f)| f).expect("a loop body is not empty")
     }
 
-    /// After a term: with `note` (the loop's bits and the term's index in
-    /// them), the notes pass's test; else the accumulator's step.
+    /// After a term: the accumulator's step; with `note` (the loop's bits
+    /// and the term's index in them), in the notes pass (`n{acc}`) the
+    /// test that notes it instead.
     fn note_or_step(&mut self, out: &mut String, l: &Loop, acc: NodeId, term: NodeId, note: Option<(&Listed, String)>, hook: &mut impl FnMut(&mut String, Hook)) {
-        match note {
-            Some((at, index)) => {
-                let _ = writeln!(out, "    if ({}) {{ loop_note({}u + {index}); }}", may_reach(self.domain.prefix(), l.op, term, acc), at.word * 32);
-            }
-            None => self.emit_step(out, l, acc, term, hook),
-        }
+        let Some((at, index)) = note else {
+            return self.emit_step(out, l, acc, term, hook);
+        };
+        let _ = writeln!(out, "    if (n{acc}) {{\n    if ({}) {{ loop_note({}u + {index}); }}\n    }} else {{", may_reach(self.domain.prefix(), l.op, term, acc), at.word * 32);
+        self.emit_step(out, l, acc, term, hook);
+        out.push_str("    }\n");
     }
 
     /// The chain's operation on the accumulator and `term`.

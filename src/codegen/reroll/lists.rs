@@ -35,8 +35,9 @@ pub struct Lists {
     pub terms: u32,
     /// Iterations the listed loops take run whole.
     pub iterations: u32,
-    /// Iterations of the tile pass's notes passes over them (in an
-    /// interval or affine enclosure: `codegen::loops`).
+    /// Iterations the tile pass's enclosures spend on them past the plan's
+    /// (an interval or affine enclosure runs a listed loop twice, with
+    /// fewer terms an iteration, to note its terms: `codegen::loops`).
     pub notes_iterations: u32,
     /// Iterations of the per-pixel pass's whole loops over them (the
     /// fallback beside a tile's list), by domain: scalar, then interval
@@ -65,11 +66,12 @@ impl Lists {
     /// place of `codegen::UNSHORTENED_FIELD_HOOKS`.
     pub fn support(&self) -> String {
         format!(
-            "const LOOP_BITS: u32 = {}u;\nconst LOOP_TILE_WORDS: u32 = {}u;\nconst LOOP_TERMS: u32 = {}u;\nconst LOOP_WHOLE_ITERATIONS: u32 = {}u;\n{}",
+            "const LOOP_BITS: u32 = {}u;\nconst LOOP_TILE_WORDS: u32 = {}u;\nconst LOOP_TERMS: u32 = {}u;\nconst LOOP_WHOLE_ITERATIONS: u32 = {}u;\nconst LOOP_FALLBACK_ITERATIONS: u32 = {}u;\n{}",
             self.bits,
             self.tile_words(),
             self.terms,
             self.iterations,
+            self.fallback_iterations[0].min(self.fallback_iterations[1]),
             include_str!("../../../templates/fields/loop_tiles.wgsl"),
         )
     }
@@ -97,16 +99,33 @@ fn listable(ir: &Ir, l: &Loop, nn: &[bool]) -> bool {
     chain && defined && l.iterations * l.unroll >= MIN_LISTED_TERMS
 }
 
-/// Terms an iteration of a listed loop's notes pass and whole fallback
-/// take: at most [`SMALL_UNROLL`], at least a `group` of terms that share
-/// texels (in the domain's layout). Each unrolled term is compile time, and
-/// these loops are the tile pass's, or run only where a tile has no list.
+/// Terms an iteration of a listed loop's whole fallback in the per-pixel
+/// pass takes: at most [`SMALL_UNROLL`], at least a `group` of terms that
+/// share texels (in the domain's layout). Each unrolled term is compile
+/// time, and this loop runs only where a tile has no list. (Two or one a
+/// loop would save the kernel of two loops of 312 boxes 0.3-0.5 s of
+/// compile, but a tile past the tile pass's work limit, counted per lane,
+/// then ran out of iterations: 471 of 1,600 pixels unresolved where 4 left
+/// none.)
 pub fn small_unroll(l: &Loop, group: usize) -> usize {
     l.unroll.min(SMALL_UNROLL.max(group))
 }
 
 /// See [`small_unroll`].
 pub const SMALL_UNROLL: usize = 4;
+
+
+
+/// Terms an iteration of a listed loop's whole loop in the tile pass, which
+/// runs it twice (the loop's value over the slab, then the notes): twice
+/// [`SMALL_UNROLL`], so that both passes take fewer iterations against
+/// lavapipe's cap than a value pass of the plan's unroll and a notes pass
+/// of [`SMALL_UNROLL`] did. (At [`SMALL_UNROLL`] the kernel of two loops of
+/// 312 boxes compiled 0.35 s sooner, but a union of 1,376 balls left 11
+/// tiles past the tile pass's work limit, and 32 pixels unresolved.)
+pub fn record_unroll(l: &Loop, group: usize) -> usize {
+    l.unroll.min((2 * SMALL_UNROLL).max(group))
+}
 
 /// The listed loops of `plan` (made for `ir`), `None` when it has none or
 /// draws several surfaces (whose enclosures the lists are not made for).
@@ -123,7 +142,9 @@ pub fn lists(ir: &Ir, plan: &Plan) -> Option<Lists> {
         out.bits += words;
         out.terms += terms;
         out.iterations += l.iterations as u32;
-        out.notes_iterations += terms / small_unroll(l, l.interval().group) as u32;
+        // The tile pass runs the whole loop with fewer terms an iteration,
+        // twice (the value, then the notes), in a loop of two passes.
+        out.notes_iterations += 2 * (terms / record_unroll(l, l.interval().group) as u32) + 2 - l.iterations as u32;
         out.fallback_iterations[0] += terms / small_unroll(l, l.scalar().group) as u32;
         out.fallback_iterations[1] += terms / small_unroll(l, l.interval().group) as u32;
     }
