@@ -75,14 +75,12 @@ pub(super) fn chain(ir: Ir) -> Result<Ir, SemaError> {
             any = true;
         }
     }
-    if any {
-        let shape = shapes(&ir);
-        for t in trees.iter_mut().flatten() {
-            *t = grouped(t, &shape);
-        }
-    }
     if !any {
         return Ok(ir);
+    }
+    let shape = shapes(&ir);
+    for t in trees.iter_mut().flatten() {
+        *t = grouped(t, &shape);
     }
     let mut b = Builder { params: ir.params.clone(), externs: ir.externs.clone(), ..Builder::default() };
     let mut new_id = vec![NodeId::MAX; ir.nodes.len()];
