@@ -101,7 +101,10 @@ fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
 }
 
 /// (28 terms: a written-out chain of 32 or more is generated as a balanced
-/// tree, `codegen::balance`, whose rounding differs.)
+/// tree, `codegen::balance`, whose rounding differs.) The rerolled sum's
+/// cells run their scalar work from one call site (`cells_probe.wgsl`,
+/// `codegen::kernel::one_call_site`), the written-out sum's inline: the
+/// same pixels hit, at depths within 2 eps (the root searches differ).
 #[test]
 fn a_rerolled_sum_draws_the_written_out_sums_picture() {
     let s = common::settings(common::cube(1.6), 96, 96);
@@ -112,7 +115,7 @@ fn a_rerolled_sum_draws_the_written_out_sums_picture() {
         let a = Renderer::new(gpu(), FieldSource::Compiled(&rolled.ir), t.clone()).unwrap().render(&s).unwrap();
         let b = Renderer::new(gpu(), FieldSource::Compiled(&written.ir), t).unwrap().render(&s).unwrap();
         assert!(a.stats.hits > 500 && a.stats.unresolved == 0, "{:?}", a.stats);
-        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || p.depth.to_bits() != q.depth.to_bits() || p.color != q.color).count();
+        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.depth - q.depth).abs() > 2.0 * s.eps as f32).count();
         assert_eq!(differ, 0, "{domain:?}: {differ} pixels differ");
     }
 }
@@ -121,8 +124,10 @@ fn a_rerolled_sum_draws_the_written_out_sums_picture() {
 /// (4,600 terms `c·t` on the tangle cube at t = 0, 71 iterations an
 /// evaluation; terms `c·x` would be like terms, collected into one by the
 /// semantic pass, which leaves t alone):
-/// those pixels are reported unresolved, and every pixel drawn as a hit
-/// has the f64 reference's first root.
+/// in one round of the per-pixel pass, those pixels are reported
+/// unresolved; the rounds after it resume them at their cells
+/// (`cells_probe.wgsl`); every pixel drawn as a hit has the f64
+/// reference's first root.
 #[test]
 fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     let s = common::settings(common::cube(3.0), 48, 48);
@@ -131,12 +136,18 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     let plan = reroll::plan(&long.ir);
     assert_eq!((plan.loops[0].unroll, plan.iterations()), (64, 71));
     let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    // Counted per invocation (a device without subgroups): some pixels stop.
+    // Counted per invocation (a device without subgroups): in one round
+    // some pixels stop; the next rounds resume them.
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
-    let lane = Renderer::new(&per_lane, FieldSource::Compiled(&long.ir), t()).unwrap().render(&s).unwrap();
-    assert!(lane.stats.unresolved > 0 && lane.stats.hits > 200, "{:?}", lane.stats);
-    let mut frames = vec![("per lane", lane)];
+    let mut r = Renderer::new(&per_lane, FieldSource::Compiled(&long.ir), t()).unwrap();
+    r.set_resume_rounds(0);
+    let one = r.render(&s).unwrap();
+    assert!(one.stats.unresolved > 0 && one.stats.hits > 200, "{:?}", one.stats);
+    r.set_resume_rounds(3);
+    let lane = r.render(&s).unwrap();
+    assert!(lane.stats.unresolved == 0 && lane.stats.hits > one.stats.hits, "{:?} {:?}", lane.stats, one.stats);
+    let mut frames = vec![("one round, per lane", one), ("per lane", lane)];
     // Counted per SIMD bundle, as lavapipe's cap counts: the same pixels resolve.
     if gpu().subgroups {
         let r = Renderer::new(gpu(), FieldSource::Compiled(&long.ir), t()).unwrap();

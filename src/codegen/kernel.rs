@@ -269,7 +269,7 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
                 field.code(Some(b.algebra), user, false, subgroups),
-                bisect(b, field.surfaces(), matches!(field, FieldSource::Tape(_)), paired_root_search(field, b.root_search)),
+                bisect(b, field.surfaces(), one_call_site(field), paired_root_search(field, b.root_search)),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
@@ -315,6 +315,25 @@ fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
         RootSearch::Auto => ir.live().len() <= PAIR_MAX_NODES,
         RootSearch::OnePoint => false,
         RootSearch::TwoPoints => true,
+    }
+}
+
+/// Whether bisection runs a cell's scalar work from one call site of f
+/// (`cells_probe.wgsl`), whose rounds of `main` resume the pixels the
+/// field's work limit stopped (`gpu::renderer` runs them): an interpreted
+/// field, and a compiled formula with rerolled loops and no per-tile term
+/// lists (sums), whose loops count against the same limit. Each call site
+/// of f is a copy of its loops for lavapipe to compile: one site took the
+/// 12,503-operation sum's cold 512² frame 2.32 → 1.97-2.00 s and the
+/// 1,000-term `sin·cos·sin` sum's 13.1 → 11.9-12.1 s. A listed union keeps the inline
+/// cells: their scalar points are on the ray, where its squares come from
+/// their polynomials along it (`ray_forms`), and from one call site they
+/// are not (1,212 ball distances: 2.17 → 3.02 s).
+pub fn one_call_site(field: FieldSource<'_>) -> bool {
+    match field {
+        FieldSource::Tape(_) => true,
+        FieldSource::Compiled(ir) => super::reroll::table_texels(ir).is_some() && super::reroll::lists::for_formula(ir).is_none(),
+        _ => false,
     }
 }
 

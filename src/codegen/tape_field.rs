@@ -265,6 +265,9 @@ pub fn field_code(domain: Option<Domain>, features: u32) -> String {
         out.push_str(&instantiate(d, features));
         out.push_str(&compiled::enclosures(d, false));
         out.push_str(&cell_enclosure(d));
+        // Bisection's cells start each ray's run with it (a compiled sum's
+        // ray forms); a tape has none.
+        out.push_str("fn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {}\n");
     }
     out
 }

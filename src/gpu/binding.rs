@@ -43,7 +43,7 @@ impl Binder<'_> {
     pub fn bind(&self, rect: Rect, uniforms: &[u8], output: impl Fn(usize, u64) -> (wgpu::Buffer, wgpu::Buffer)) -> Result<RectBinding, GpuError> {
         let rays = self.host.ray_stats_binding();
         let uniforms = self.gpu.storage("uniforms", uniforms)?;
-        let pass = self.host.pass_buffers(self.gpu, rect, self.field.tape);
+        let pass = self.host.pass_buffers(self.gpu, rect, self.field.resumes());
         let per_pixel = std::mem::size_of::<Record>() as u64;
         let sizes = [rect.pixels() * per_pixel, if rays.is_some() { rect.pixels() * 4 } else { 0 }, self.field.tile_stats_size(rect)];
         let outputs: Vec<_> = sizes.iter().enumerate().map(|(slot, &size)| (size > 0).then(|| output(slot, size))).collect();

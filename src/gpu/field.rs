@@ -71,6 +71,8 @@ pub(crate) struct FieldBinding {
     /// A compiled formula with rerolled loops (`codegen::reroll`): the same
     /// budget rule as a tape.
     pub looped: bool,
+    /// See [`FieldBinding::resumes`].
+    resumes: bool,
     /// The tape, for the size of its per-tile lists (bisection's; `None`
     /// for other fields and traversals).
     tape_lists: Option<crate::codegen::TapeData>,
@@ -123,6 +125,14 @@ impl FieldBinding {
     /// it has min or max instructions (choice slots).
     pub fn shortens_tape(&self) -> bool {
         self.tape_lists.as_ref().is_some_and(|t| crate::codegen::tape_field::shortens(t.features) && t.words[2][2] > 0)
+    }
+
+    /// Whether bisection's per-pixel pass runs in rounds that resume the
+    /// pixels the field's work limit stopped: a tape, or a compiled formula
+    /// with rerolled loops and no per-tile term lists
+    /// (`codegen::kernel::one_call_site`).
+    pub fn resumes(&self) -> bool {
+        self.resumes
     }
 
     /// Whether bisection's tile pass lists the terms of the bound compiled
@@ -355,7 +365,8 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 layout.extend([storage_entry(LOOP_LISTS, false), storage_entry(COUNTS, false)]);
             }
             let lists_bound = loop_lists.is_some();
-            Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, tape_lists: None, loop_lists, lists_bound, cached: Default::default() })
+            let resumes = crate::codegen::kernel::one_call_site(FieldSource::Compiled(ir));
+            Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, resumes, tape_lists: None, loop_lists, lists_bound, cached: Default::default() })
         }
         FieldSource::Scene(s) => {
             let mut layout = vec![
@@ -372,14 +383,14 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
             ];
             let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
-            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, looped: false, tape_lists: None, loop_lists: None, lists_bound: false, cached: Default::default() })
+            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, looped: false, resumes: false, tape_lists: None, loop_lists: None, lists_bound: false, cached: Default::default() })
         }
         FieldSource::Tape(t) => {
             let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
             // Bisection's per-tile lists (bound for every tape kernel, so
             // one layout serves every tape; unused by the others).
             let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false), storage_entry(TAPE_NOTES, false)];
-            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, looped: false, tape_lists: Some(t.clone()), loop_lists: None, lists_bound: false, cached: Default::default() })
+            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, looped: false, resumes: true, tape_lists: Some(t.clone()), loop_lists: None, lists_bound: false, cached: Default::default() })
         }
     }
 }

@@ -74,7 +74,8 @@ pub(crate) trait TraversalHost: Sync {
     /// Pass-group layout entries after the pixel records (binding 0).
     fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry>;
     /// The pass buffers of one dispatch over `rect`; `resumable`: the
-    /// per-pixel pass runs in rounds that resume pixels (a tape's bisection).
+    /// per-pixel pass runs in rounds that resume pixels (bisection of a tape
+    /// or of a compiled sum's loops).
     fn pass_buffers(&self, gpu: &Gpu, rect: Rect, resumable: bool) -> PassBuffers;
     /// Workgroups of the per-pixel pass hold this many 8×8 tiles.
     fn tiles_per_group(&self) -> u32;
@@ -532,10 +533,11 @@ impl<'g> Renderer<'g> {
             .enumerate()
             .map(|(i, (pipeline, g))| Stage { pipeline, groups: Groups::Direct(g), copy: view_copy.filter(|_| i + 1 == n) })
             .collect();
-        // Bisecting a tape, pixels past the interpreter's work limit are
-        // resumed by further rounds of the per-pixel pass: each is a
-        // dispatch of its own, with lavapipe's loop count afresh.
-        let rounds = if self.field.tape && self.host.method() == crate::render::Method::Bisect { 1 + self.resume_rounds } else { 1 };
+        // Bisecting a tape or a compiled sum's loops, pixels past the
+        // field's work limit are resumed by further rounds of the per-pixel
+        // pass (codegen::kernel::one_call_site): each is a dispatch of its
+        // own, with lavapipe's loop count afresh.
+        let rounds = if self.field.resumes() && self.host.method() == crate::render::Method::Bisect { 1 + self.resume_rounds } else { 1 };
         match (&self.pre, &pass.list) {
             (Some(tiles), Some(list)) if self.host.pre_pass() => {
                 // A tape's block pass: the tile pass's entry point over

@@ -53,6 +53,10 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
         k = g_resume.y >> 5u;
         g_resume.y = RESUME_NONE;
     }
+    // The field's per-ray state (a compiled field's nodes along the ray,
+    // src/codegen/ray_forms.rs, for its cell enclosures): every cell below
+    // lies on this ray between s_lo and its exit.
+    field_begin_ray(ray.o, ray.dir, s_lo, ray.s_exit - s_lo);
     let len = s_hi - s_lo;
     let d_last = d_max + EXTRA_LEVELS;
     var c = vec2<f32>(0.0);
