@@ -328,7 +328,7 @@ fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
 /// 1,000-term `sin·cos·sin` sum's 13.1 → 11.9-12.1 s. A listed union keeps the inline
 /// cells: their scalar points are on the ray, where its squares come from
 /// their polynomials along it (`ray_forms`), and from one call site they
-/// are not (1,212 ball distances: 2.17 → 3.02 s).
+/// are not (1,212 ball distances: 2.22 → 3.09-3.11 s, alternating).
 pub fn one_call_site(field: FieldSource<'_>) -> bool {
     match field {
         FieldSource::Tape(_) => true,
