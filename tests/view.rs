@@ -1,54 +1,10 @@
 //! `isotrace view` as a server: bad requests get a JSON error with a clear
 //! message, and the server keeps answering (it never panics on input).
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
+mod view_common;
 
-struct Server {
-    child: Child,
-    addr: String,
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn start(input: &str) -> Server {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_isotrace"))
-        .args(["view", input, "--port", "0"])
-        .env("NODEVICE_SELECT", "1")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("isotrace starts");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut line).expect("a URL line");
-    let addr = line.trim().trim_start_matches("isotrace view: http://").trim_end_matches('/').to_string();
-    Server { child, addr }
-}
-
-/// One raw HTTP/1.1 request; the status and the body.
-fn request(s: &Server, method: &str, path: &str, body: &[u8]) -> (u16, String) {
-    let mut c = TcpStream::connect(&s.addr).expect("connects");
-    let head = format!("{method} {path} HTTP/1.0\r\nHost: x\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n", body.len());
-    c.write_all(head.as_bytes()).unwrap();
-    let _ = c.write_all(body);
-    let mut out = Vec::new();
-    let _ = c.read_to_end(&mut out);
-    let text = String::from_utf8_lossy(&out).to_string();
-    let status = text.split(' ').nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
-    let body = text.split_once("\r\n\r\n").map(|(_, b)| b.to_string()).unwrap_or_default();
-    (status, body)
-}
-
-fn error_of(body: &str) -> String {
-    let v: serde_json::Value = serde_json::from_str(body).unwrap_or_else(|_| panic!("JSON: {body}"));
-    v["error"].as_str().unwrap_or_else(|| panic!("an error: {body}")).to_string()
-}
+use std::process::Command;
+use view_common::start;
 
 #[test]
 fn bad_requests_are_json_errors_and_the_server_goes_on() {
@@ -72,35 +28,36 @@ fn bad_requests_are_json_errors_and_the_server_goes_on() {
         ("GET", "/api/program", b"", 405, "wrong method"),
     ];
     for (method, path, body, status, needle) in cases {
-        let (got, text) = request(&s, method, path, body);
-        assert_eq!(got, *status, "{method} {path} {}: {text}", String::from_utf8_lossy(body));
-        let e = error_of(&text);
+        let r = s.request(method, path, body);
+        assert_eq!(r.status, *status, "{method} {path} {}: {}", String::from_utf8_lossy(body), r.text());
+        let e = r.error();
         assert!(e.contains(needle), "{method} {path}: '{e}' lacks '{needle}'");
     }
     // A formula over the front end's 64 KiB limit, and a body over 8 MiB.
     let long = format!(r#"{{"args": ["{}"]}}"#, "x+".repeat(40_000) + "x");
-    let (got, text) = request(&s, "POST", "/api/program", long.as_bytes());
-    assert_eq!(got, 400, "{text}");
-    let (got, _) = request(&s, "POST", "/api/program", &vec![b' '; 9 << 20]);
-    assert_eq!(got, 413);
+    let r = s.request("POST", "/api/program", long.as_bytes());
+    assert_eq!(r.status, 400, "{}", r.text());
+    let r = s.request("POST", "/api/program", &vec![b' '; 9 << 20]);
+    assert_eq!((r.status, r.error().as_str()), (413, "the request body is over the limit of 8 MiB"));
     // Still serving, and the page's first state is a validated program.
-    let (got, text) = request(&s, "GET", "/api/start", b"");
-    assert_eq!(got, 200);
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let r = s.request("GET", "/api/start", b"");
+    assert_eq!(r.status, 200);
+    let v: serde_json::Value = serde_json::from_slice(&r.body).unwrap();
     assert_eq!(v["program"]["method"], "bisect");
     assert!(v["program"]["wgsl"].as_str().unwrap().contains("fn main"));
     assert!(v["present"].as_str().unwrap().contains("fn fs"));
-    let (got, text) = request(&s, "GET", "/", b"");
-    assert_eq!(got, 200);
-    assert!(text.contains("/app.js"));
+    let r = s.request("GET", "/", b"");
+    assert_eq!(r.status, 200);
+    assert!(r.text().contains("/app.js"));
 }
 
 #[test]
 fn the_page_renders_a_png_through_the_cli_path() {
     let s = start("@sphere");
-    let (got, text) = request(&s, "POST", "/api/render", br#"{"args": ["@sphere", "--size", "32"], "format": "png"}"#);
-    assert_eq!(got, 200, "{text}");
-    assert!(text.as_bytes().starts_with(b"\x89PNG") || text.starts_with('\u{FFFD}'), "a PNG");
+    let r = s.request("POST", "/api/render", br#"{"args": ["@sphere", "--size", "32"], "format": "png"}"#);
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert!(r.body.starts_with(b"\x89PNG\r\n\x1a\n"), "a PNG");
+    assert_eq!(r.header("content-disposition").as_deref(), Some("attachment; filename=\"isotrace-view.png\""));
 }
 
 #[test]
@@ -108,6 +65,13 @@ fn a_bad_formula_on_the_command_line_is_the_cli_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_isotrace")).args(["view", "x^2 + (", "--port", "0"]).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("expected an expression"));
+}
+
+#[test]
+fn a_missing_scene_on_the_command_line_is_named() {
+    let out = Command::new(env!("CARGO_BIN_EXE_isotrace")).args(["view", "nothere.scene.json", "--port", "0"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "error: cannot read scene file 'nothere.scene.json': No such file or directory (os error 2)\n");
 }
 
 #[test]

@@ -11,6 +11,7 @@ use super::CliError;
 use clap::Args;
 use isotrace::codegen::FieldSource;
 use isotrace::render::{Settings, Traversal};
+use isotrace::view::page::printable;
 use isotrace::view::{Api, ApiError, Reply, Route};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -46,8 +47,45 @@ const ALLOWED: &[&str] = &[
     "--min-step", "--shadows", "--glass", "--light", "--shadow-eps", "--opacity", "--layers", "--iso", "--reflect", "--reflectivity", "--color",
 ];
 
+/// Most arguments in a request.
+const MAX_ARGS: usize = 200;
+/// Longest flag or flag value in a request (the formula has the front
+/// end's own limit).
+const MAX_FLAG_ARG_BYTES: usize = 4096;
+
 fn is_scene(s: &str) -> bool {
     s.ends_with(".scene.json")
+}
+
+/// `--name` of `--name=value`.
+fn flag_name(arg: &str) -> &str {
+    arg.split('=').next().unwrap_or("")
+}
+
+/// A flag a request may give, or why not.
+fn check_flag(arg: &str) -> Result<(), ApiError> {
+    let name = flag_name(arg);
+    if ALLOWED.contains(&name) {
+        return Ok(());
+    }
+    let why = match name {
+        // The page runs the generated kernel; the tape and the scene field
+        // are the command line's.
+        "--field" => ": the page runs the formula's generated kernel (`isotrace render --field …` renders with another field source)",
+        _ => "",
+    };
+    Err(ApiError::bad(format!("{} is not available in the viewer{why}", printable(name))))
+}
+
+/// A render error as the viewer says it: the advice names no flag the
+/// viewer refuses.
+fn view_render_error(e: isotrace::gpu::RenderError) -> ApiError {
+    match e {
+        e @ isotrace::gpu::RenderError::ShaderTooLarge { .. } => ApiError::bad(format!(
+            "error: {e}; the viewer runs the formula as generated code: simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or render it on the command line with `isotrace render … --field tape` (or auto), which runs the formula from a buffer in a fixed interpreter\n"
+        )),
+        e => bad(super::render_error(e)),
+    }
 }
 
 /// The page's requests, answered for the input of the command line.
@@ -62,28 +100,53 @@ fn bad(e: CliError) -> ApiError {
 
 impl Backend {
     /// The body's `args` checked and parsed as `isotrace render` flags.
+    /// The first is the input: the command line's, or an edited formula.
     fn args(&self, body: &Value) -> Result<(Vec<String>, RenderArgs), ApiError> {
         let list = body.get("args").and_then(Value::as_array).ok_or_else(|| ApiError::bad("the request needs \"args\": the render command's arguments"))?;
-        let args: Vec<String> = list.iter().map(|v| v.as_str().map(str::to_string)).collect::<Option<_>>().ok_or_else(|| ApiError::bad("\"args\" must be strings"))?;
-        let Some(first) = args.first() else { return Err(ApiError::bad("\"args\" is empty: the first one is the formula")) };
-        let file_like = first == "-" || first.ends_with(".iso") || is_scene(first);
-        if file_like && *first != self.input {
-            return Err(ApiError::bad(format!("the viewer reads only the file named on its command line ('{}'), not '{}'", self.input, isotrace::view::page::printable(first))));
+        if list.len() > MAX_ARGS {
+            return Err(ApiError::bad(format!("\"args\" has {} arguments: the viewer takes at most {MAX_ARGS}", list.len())));
         }
-        for a in &args[1..] {
-            let name = a.split('=').next().unwrap_or("");
+        let args: Vec<String> = list.iter().map(|v| v.as_str().map(str::to_string)).collect::<Option<_>>().ok_or_else(|| ApiError::bad("\"args\" must be strings"))?;
+        let Some((first, flags)) = args.split_first() else { return Err(ApiError::bad("\"args\" is empty: the first one is the formula")) };
+        self.check_input(first)?;
+        for (i, a) in flags.iter().enumerate() {
+            if a.len() > MAX_FLAG_ARG_BYTES {
+                return Err(ApiError::bad(format!("argument {} is {} bytes long: a flag or its value takes at most {MAX_FLAG_ARG_BYTES}", i + 2, a.len())));
+            }
             let flag_like = a.starts_with("--") || (a.starts_with('-') && a[1..].starts_with(|c: char| c.is_ascii_alphabetic()));
-            if flag_like && !ALLOWED.contains(&name) {
-                return Err(ApiError::bad(format!("{} is not available in the viewer", isotrace::view::page::printable(name))));
+            if flag_like {
+                check_flag(a)?;
             }
         }
-        let argv = ["isotrace", "render"].into_iter().map(String::from).chain(args.iter().cloned()).chain(["-o".into(), "view.png".into()]);
+        // The input after `--`: whatever it holds, clap takes it as the
+        // formula, never as a flag.
+        let argv = ["isotrace", "render"].into_iter().map(String::from).chain(flags.iter().cloned()).chain(["-o", "view.png", "--"].map(String::from)).chain([first.clone()]);
         let cli = <super::Cli as clap::Parser>::try_parse_from(argv).map_err(|e| ApiError::bad(e.to_string()))?;
         let super::Command::Render(r) = cli.command else { return Err(ApiError::bad("not a render command")) };
-        if r.formula.file.is_some() || r.formula.inline.is_some() {
-            return Err(ApiError::bad("-f and --inline are not available in the viewer"));
+        if r.formula.file.is_some() || r.formula.inline.is_some() || r.formula.formula.as_deref() != Some(first.as_str()) {
+            return Err(ApiError::bad(format!("the viewer reads only the input named on its command line ('{}')", printable(&self.input))));
         }
         Ok((args, r))
+    }
+
+    /// A request's first argument: the command line's input, or (unless
+    /// that is a scene) a formula text, which reads no file. Nothing a
+    /// request names is opened, so no answer tells whether it exists.
+    fn check_input(&self, first: &str) -> Result<(), ApiError> {
+        if first == self.input {
+            return Ok(());
+        }
+        if first.starts_with("--") {
+            check_flag(first)?;
+            return Err(ApiError::bad(format!("the first argument is the input ('{}' or an edited formula), not the flag {}", printable(&self.input), printable(flag_name(first)))));
+        }
+        if is_scene(&self.input) {
+            return Err(ApiError::bad(format!("this view is of the scene '{}': the first argument is that file, not '{}'", printable(&self.input), printable(first))));
+        }
+        if first == "-" || first.ends_with(".iso") || is_scene(first) {
+            return Err(ApiError::bad(format!("the viewer reads only the file named on its command line ('{}'), not '{}'", printable(&self.input), printable(first))));
+        }
+        Ok(())
     }
 
     /// The scene of a request: the edited one in the body, else the file.
@@ -108,12 +171,12 @@ impl Backend {
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(first)).map_err(bad)?;
             let data = p.lin.field_data();
             let t = Traversal::Sphere(p.options.clone());
-            let program = isotrace::view::program(FieldSource::Scene(&data), &t, &p.settings).map_err(|e| bad(super::render_error(e)))?;
+            let program = isotrace::view::program(FieldSource::Scene(&data), &t, &p.settings).map_err(view_render_error)?;
             let scene_json: Value = serde_json::from_str(&isotrace::scene::format::to_json(&scene)).unwrap_or(Value::Null);
             (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "scene_features": data.features }))
         } else {
             let p = super::render::plan(&r).map_err(bad)?;
-            let program = isotrace::view::program(FieldSource::Compiled(&p.loaded.formula.ir), &p.traversal, &p.settings).map_err(|e| bad(super::render_error(e)))?;
+            let program = isotrace::view::program(FieldSource::Compiled(&p.loaded.formula.ir), &p.traversal, &p.settings).map_err(view_render_error)?;
             let names = p.loaded.formula.ir.params.iter().map(|(n, _)| n.clone());
             let params: Vec<Value> = names.zip(&p.settings.params).map(|(n, v)| json!({ "name": n, "value": v })).collect();
             let f = &p.loaded.formula;
@@ -150,7 +213,7 @@ impl Backend {
         let exr = match body.get("format").and_then(Value::as_str) {
             Some("png") | None => false,
             Some("exr") => true,
-            Some(other) => return Err(ApiError::bad(format!("unknown format '{}': png or exr", isotrace::view::page::printable(other)))),
+            Some(other) => return Err(ApiError::bad(format!("unknown format '{}': png or exr", printable(other)))),
         };
         let mut guard = self.gpu.lock().unwrap_or_else(|e| e.into_inner());
         if guard.is_none() {
@@ -161,14 +224,14 @@ impl Backend {
             let scene = self.scene(body)?;
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
-            let renderer = isotrace::gpu::Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(p.options)).map_err(|e| bad(super::render_error(e)))?;
-            let mut f = renderer.render(&p.settings).map_err(|e| bad(super::render_error(e)))?;
+            let renderer = isotrace::gpu::Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(p.options)).map_err(view_render_error)?;
+            let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
             isotrace::output::recolor(&mut f, p.color);
             f
         } else {
             let p = super::render::plan(&r).map_err(bad)?;
-            let renderer = isotrace::gpu::Renderer::new(gpu, FieldSource::Compiled(&p.loaded.formula.ir), p.traversal).map_err(|e| bad(super::render_error(e)))?;
-            let mut f = renderer.render(&p.settings).map_err(|e| bad(super::render_error(e)))?;
+            let renderer = isotrace::gpu::Renderer::new(gpu, FieldSource::Compiled(&p.loaded.formula.ir), p.traversal).map_err(view_render_error)?;
+            let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
             isotrace::output::recolor(&mut f, p.color);
             f
         };
@@ -254,6 +317,11 @@ pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
     if a.input == "-" {
         return Err(CliError::Input("isotrace view reads no formula from stdin: give it as an argument, @name or a file".into()));
     }
+    // A scene file the command line names is read as `render` reads it,
+    // with its messages (which name the file).
+    if is_scene(&a.input) {
+        super::scene::load(std::path::Path::new(&a.input))?;
+    }
     // The first state is computed before anything is served or written:
     // a bad formula is the CLI's error, with its exit code.
     let start = backend.call(Route::Start, &Value::Null).map_err(|e| CliError::Rendered(e.message))?;
@@ -266,10 +334,13 @@ pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
         return Ok(ExitCode::SUCCESS);
     }
     if !is_loopback(&a.host) {
-        eprintln!("warning: --host {} makes the viewer reachable from other machines; it has no authentication", a.host);
+        eprintln!(
+            "warning: --host {} makes the viewer reachable from other machines over plain HTTP: anyone who sees its URL (with the token) can use it",
+            printable(&a.host)
+        );
     }
     let server = isotrace::view::Server::bind(&a.host, a.port).map_err(|e| CliError::Input(e.to_string()))?;
-    let url = server.url();
+    let url = server.url().to_string();
     println!("isotrace view: {url}");
     use std::io::Write;
     let _ = std::io::stdout().flush();

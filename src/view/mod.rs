@@ -12,8 +12,12 @@
 //!
 //! - [`program`]: the kernel and its description;
 //! - [`server`]: the HTTP server and its JSON API;
+//! - [`http`]: its wire layer (limits and deadlines);
+//! - [`access`]: who may call it (Host, Origin, the session token);
 //! - [`page`]: the embedded assets and the `--export` page.
 
+pub mod access;
+pub mod http;
 pub mod page;
 pub mod program;
 pub mod server;

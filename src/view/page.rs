@@ -32,10 +32,18 @@ fn served_index() -> String {
     INDEX.replace(BOOT, r#"<script type="module" src="/app.js"></script>"#)
 }
 
-/// A path as it may be shown in a message: at most 200 characters,
-/// control characters as `?`.
-pub fn printable(path: &str) -> String {
-    path.chars().take(200).map(|c| if c.is_control() { '?' } else { c }).collect()
+/// Most characters of user text a message quotes.
+pub const QUOTE_CHARS: usize = 200;
+
+/// User text (a path, a flag, a header) as a message may quote it:
+/// control characters as `?`, and past [`QUOTE_CHARS`] characters cut,
+/// with the whole text's length: `abc… (52428800 bytes)`.
+pub fn printable(text: &str) -> String {
+    let mut out: String = text.chars().take(QUOTE_CHARS).map(|c| if c.is_control() { '?' } else { c }).collect();
+    if text.chars().nth(QUOTE_CHARS).is_some() {
+        out.push_str(&format!("… ({} bytes)", text.len()));
+    }
+    out
 }
 
 /// Export failures.

@@ -104,7 +104,8 @@ async function openPage(browser, url, name) {
   const page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
   page.on('pageerror', (e) => console.log(`[${name}] page error: ${e.message}`));
   const t0 = Date.now();
-  await page.goto(`${url}?size=${SIZE}`);
+  // The server's URL carries the session token in its query.
+  await page.goto(`${url}${url.includes('?') ? '&' : '?'}size=${SIZE}`);
   await page.waitForFunction(() => window.__view && (window.__view.ready || window.__view.error), null, { timeout: 90000 });
   const state = await page.evaluate(() => ({ error: __view.error, adapter: __view.adapter, frame: __view.lastFrame, pipelines: __view.pipelines }));
   check(`${name}: page loads, finds an adapter and renders`, !state.error && !!state.frame, state.error || `${Date.now() - t0} ms, adapter ${JSON.stringify(state.adapter)}`);
