@@ -35,6 +35,8 @@ pub struct ViewArgs {
     /// Write a self-contained static page (no server) to this file and exit.
     #[arg(long, value_name = "page.html")]
     export: Option<PathBuf>,
+    #[arg(long, help = super::scene::ALLOW_SCENE_PATHS_HELP)]
+    allow_scene_paths: bool,
 }
 
 /// The render flags a page may send. Anything else (files to read or
@@ -54,6 +56,7 @@ fn is_scene(s: &str) -> bool {
 struct Backend {
     input: String,
     gpu: Mutex<Option<isotrace::gpu::Gpu>>,
+    allow_scene_paths: bool,
 }
 
 fn bad(e: CliError) -> ApiError {
@@ -86,15 +89,20 @@ impl Backend {
         Ok((args, r))
     }
 
-    /// The scene of a request: the edited one in the body, else the file.
+    /// The scene of a request: the file of the command line (its grid
+    /// files as `--allow-scene-paths` allows), or the edited one in the
+    /// body, which may name only the grid files that file names: their
+    /// grids are taken from memory, so no file a request names is read.
     fn scene(&self, body: &Value) -> Result<isotrace::scene::Scene, ApiError> {
+        use isotrace::scene::format::{self, GridPaths};
+        let file = std::path::Path::new(&self.input);
+        let loaded = super::scene::load(file, self.allow_scene_paths).map_err(bad)?;
         match body.get("scene") {
-            // Grid files are found next to the scene file, as when it is loaded.
             Some(v) if !v.is_null() => {
-                let base = std::path::Path::new(&self.input).parent().unwrap_or(std::path::Path::new(""));
-                isotrace::scene::format::parse_in(&v.to_string(), base).map_err(|e| ApiError::bad(format!("the edited scene: {e}")))
+                let base = file.parent().unwrap_or(std::path::Path::new(""));
+                format::parse_with(&v.to_string(), base, &GridPaths::loaded_by(&loaded)).map_err(|e| ApiError::bad(format!("the edited scene: {e}")))
             }
-            _ => isotrace::scene::format::load(std::path::Path::new(&self.input)).map_err(|e| ApiError::bad(e.to_string())),
+            _ => Ok(loaded),
         }
     }
 
@@ -250,7 +258,7 @@ fn is_loopback(host: &str) -> bool {
 }
 
 pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
-    let backend = Backend { input: a.input.clone(), gpu: Mutex::new(None) };
+    let backend = Backend { input: a.input.clone(), gpu: Mutex::new(None), allow_scene_paths: a.allow_scene_paths };
     if a.input == "-" {
         return Err(CliError::Input("isotrace view reads no formula from stdin: give it as an argument, @name or a file".into()));
     }
