@@ -1,11 +1,21 @@
-//! Reads of untrusted input with a stated size limit.
+//! Reads of untrusted input: regular files only, with a stated size limit.
 //!
 //! Every input isotrace reads (a formula on stdin or in a file, an `.iso`
-//! file, an `--inline` WGSL file, the boxes of `eval`) may be endless:
-//! `yes | isotrace check -` must end with an error, not with the process
-//! killed for lack of memory. So nothing is read whole before its size is
-//! known: at most `limit + 1` bytes are read, and one byte over the limit is
-//! the error.
+//! file, an `--inline` WGSL file, a scene and its grid files, an
+//! environment image, a manifest or a report, the boxes of `eval`) may be
+//! endless: `yes | isotrace check -` must end with an error, not with the
+//! process killed for lack of memory. So nothing is read whole before its
+//! size is known: at most `limit + 1` bytes are read, and one byte over the
+//! limit is the error.
+//!
+//! A named file is opened only when it is a regular file ([`open_regular`]):
+//! a FIFO with no writer would block the open (and the read) forever, a
+//! device may be endless or have effects when read. Standard input (`-`) is
+//! the one stream read, by the callers that accept it.
+//!
+//! Files named inside other files (an `.iso` header's `env:` image, a
+//! scene's grid `file`) are kept inside the naming file's directory by
+//! [`leaves_dir`] unless the user allows more.
 
 use std::io::{BufRead, Read};
 use std::path::Path;
@@ -28,6 +38,99 @@ pub enum ReadError {
         /// Offset of the first invalid byte.
         offset: usize,
     },
+    /// The path names something other than a regular file.
+    #[error("not a regular file ({kind})")]
+    NotRegular {
+        /// What it is.
+        kind: FileKind,
+    },
+}
+
+/// What a path names when it is not a regular file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum FileKind {
+    /// A directory.
+    #[error("a directory")]
+    Directory,
+    /// A named pipe.
+    #[error("a FIFO")]
+    Fifo,
+    /// A character device (`/dev/null`, a terminal).
+    #[error("a character device")]
+    CharDevice,
+    /// A block device (a disk).
+    #[error("a block device")]
+    BlockDevice,
+    /// A Unix domain socket.
+    #[error("a socket")]
+    Socket,
+    /// Anything else that is not a regular file.
+    #[error("a special file")]
+    Other,
+}
+
+impl FileKind {
+    /// `None` for a regular file (and for a symbolic link, which only
+    /// `symlink_metadata` reports), else what the file is.
+    pub fn of(t: std::fs::FileType) -> Option<FileKind> {
+        if t.is_file() || t.is_symlink() {
+            return None;
+        }
+        if t.is_dir() {
+            return Some(FileKind::Directory);
+        }
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::FileTypeExt;
+            let kinds = [
+                (t.is_fifo(), FileKind::Fifo),
+                (t.is_char_device(), FileKind::CharDevice),
+                (t.is_block_device(), FileKind::BlockDevice),
+                (t.is_socket(), FileKind::Socket),
+            ];
+            if let Some((_, k)) = kinds.into_iter().find(|(is, _)| *is) {
+                return Some(k);
+            }
+        }
+        Some(FileKind::Other)
+    }
+}
+
+/// Opens `path` for reading if it is a regular file (a symbolic link is
+/// followed). The type is checked before opening, so a device is never
+/// opened, and again on the opened file, since the name may have been
+/// replaced in between; the open does not block (`O_NONBLOCK`), so a FIFO
+/// put there meanwhile is refused instead of waiting for a writer.
+pub fn open_regular(path: &Path) -> Result<std::fs::File, ReadError> {
+    let refuse = |m: std::fs::Metadata| match FileKind::of(m.file_type()) {
+        Some(kind) => Err(ReadError::NotRegular { kind }),
+        None => Ok(m),
+    };
+    refuse(std::fs::metadata(path)?)?;
+    let file = open_nonblocking(path)?;
+    refuse(file.metadata()?)?;
+    Ok(file)
+}
+
+#[cfg(unix)]
+fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    use std::os::unix::io::AsRawFd;
+    let file = std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY).open(path)?;
+    // Back to blocking reads for the regular file it turns out to be.
+    // SAFETY: fcntl on a descriptor this function owns, with valid flags.
+    unsafe {
+        let flags = libc::fcntl(file.as_raw_fd(), libc::F_GETFL);
+        if flags >= 0 {
+            libc::fcntl(file.as_raw_fd(), libc::F_SETFL, flags & !libc::O_NONBLOCK);
+        }
+    }
+    Ok(file)
+}
+
+#[cfg(not(unix))]
+fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::File::open(path)
 }
 
 /// `65536 bytes (64 KiB)`: a limit as the messages state it.
@@ -54,11 +157,46 @@ pub fn read_text(r: impl Read, limit: u64) -> Result<String, ReadError> {
     String::from_utf8(read_bytes(r, limit)?).map_err(|e| ReadError::NotUtf8 { offset: e.utf8_error().valid_up_to() })
 }
 
-/// Reads the file at `path` as UTF-8 text if it holds at most `limit`
-/// bytes. The size is checked while reading, not from the metadata, so a
-/// FIFO or `/dev/zero` is bounded too.
+/// Reads the regular file at `path` ([`open_regular`]) if it holds at most
+/// `limit` bytes: refused from its size first, and the read stops one byte
+/// past the limit either way (a file may grow while it is read).
+pub fn read_file_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
+    let file = open_regular(path)?;
+    if file.metadata()?.len() > limit {
+        return Err(ReadError::TooLarge { limit });
+    }
+    read_bytes(file, limit)
+}
+
+/// [`read_file_bytes`] as UTF-8 text.
 pub fn read_file_text(path: &Path, limit: u64) -> Result<String, ReadError> {
-    read_text(std::fs::File::open(path)?, limit)
+    String::from_utf8(read_file_bytes(path, limit)?).map_err(|e| ReadError::NotUtf8 { offset: e.utf8_error().valid_up_to() })
+}
+
+/// Whether `p`, as written in a file in `dir` (an `.iso` header's `env:`
+/// image, a scene's grid `file`), names a file outside `dir`: an absolute
+/// path, a relative one that climbs above `dir` with `..`, or one that
+/// exists and resolves (through symbolic links) outside the resolved `dir`.
+/// A file that does not exist is not outside: reading it fails anyway.
+pub fn leaves_dir(dir: &Path, p: &Path) -> bool {
+    use std::path::Component;
+    let mut depth = 0i32;
+    for c in p.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::ParentDir => depth -= 1,
+            Component::CurDir => {}
+            Component::RootDir | Component::Prefix(_) => return true,
+        }
+        if depth < 0 {
+            return true;
+        }
+    }
+    let base = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    match (base.canonicalize(), base.join(p).canonicalize()) {
+        (Ok(d), Ok(f)) => !f.starts_with(d),
+        _ => false,
+    }
 }
 
 /// Reads the next line (without its `\n`, or `\r\n`) into `line` if it
@@ -109,6 +247,48 @@ mod tests {
         assert!(!read_line(&mut r, &mut line, 5).unwrap());
         let mut endless = std::io::BufReader::new(std::io::repeat(b'x'));
         assert!(matches!(read_line(&mut endless, &mut line, 64), Err(ReadError::TooLarge { limit: 64 })));
+    }
+
+    #[test]
+    fn leaving_the_directory_is_seen_lexically_and_through_links() {
+        let d = std::env::temp_dir().join(format!("isotrace-leaves-dir-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(d.join("sub")).unwrap();
+        std::fs::write(d.join("sub/in.npy"), b"").unwrap();
+        std::fs::write(d.join("out.npy"), b"").unwrap();
+        let sub = d.join("sub");
+        assert!(!leaves_dir(&sub, Path::new("in.npy")));
+        assert!(!leaves_dir(&sub, Path::new("./a/../in.npy")));
+        assert!(leaves_dir(&sub, Path::new("../out.npy")));
+        assert!(leaves_dir(&sub, Path::new("a/../../out.npy")));
+        assert!(leaves_dir(&sub, &d.join("sub/in.npy")), "absolute, even inside");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(d.join("out.npy"), sub.join("link.npy")).unwrap();
+            assert!(leaves_dir(&sub, Path::new("link.npy")));
+        }
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn only_regular_files_are_opened() {
+        let dev = |p: &str| open_regular(Path::new(p)).err().map(|e| e.to_string());
+        assert_eq!(dev("/dev/null"), Some("not a regular file (a character device)".into()));
+        assert_eq!(dev("/"), Some("not a regular file (a directory)".into()));
+        let d = std::env::temp_dir().join(format!("isotrace-open-regular-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        let fifo = d.join("f.npy");
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+        // No writer: a blocking open would wait here forever.
+        assert_eq!(open_regular(&fifo).err().map(|e| e.to_string()), Some("not a regular file (a FIFO)".into()));
+        std::fs::write(d.join("r.txt"), b"abc").unwrap();
+        assert_eq!(read_file_text(&d.join("r.txt"), 3).unwrap(), "abc");
+        assert!(matches!(read_file_bytes(&d.join("r.txt"), 2), Err(ReadError::TooLarge { limit: 2 })));
+        let _ = std::fs::remove_dir_all(&d);
     }
 
     #[test]

@@ -218,7 +218,7 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Entry, CatalogError> {
     // directory of whoever renders it.
     let dir = path.parent().unwrap_or(Path::new(""));
     if let Some(crate::render::EnvSpec::File(p)) = &mut entry.header.modalities.env {
-        let outside = leaves_dir(dir, p);
+        let outside = crate::bounded::leaves_dir(dir, p);
         if p.is_relative() {
             *p = dir.join(&*p);
         }
@@ -228,31 +228,6 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Entry, CatalogError> {
     }
     entry.path = Some(path.to_path_buf());
     Ok(entry)
-}
-
-/// Whether `p`, as written in a header of a file in `dir`, names a file
-/// outside `dir`: an absolute path, a relative one that climbs above `dir`
-/// with `..`, or one that exists and resolves (through symbolic links)
-/// outside the resolved `dir`.
-fn leaves_dir(dir: &Path, p: &Path) -> bool {
-    use std::path::Component;
-    let mut depth = 0i32;
-    for c in p.components() {
-        match c {
-            Component::Normal(_) => depth += 1,
-            Component::ParentDir => depth -= 1,
-            Component::CurDir => {}
-            Component::RootDir | Component::Prefix(_) => return true,
-        }
-        if depth < 0 {
-            return true;
-        }
-    }
-    let base = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
-    match (base.canonicalize(), base.join(p).canonicalize()) {
-        (Ok(d), Ok(f)) => !f.starts_with(d),
-        _ => false,
-    }
 }
 
 /// Parses the text of an `.iso` file. `path_display` names the file in

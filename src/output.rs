@@ -1,5 +1,15 @@
 //! Image files: PNG (8-bit sRGB) and OpenEXR (float channels), always
 //! written atomically (temporary file in the same directory + rename).
+//!
+//! Every file isotrace writes goes through [`write_atomic`]: only a regular
+//! file (or nothing) may be where it writes. A device, a FIFO, a socket or
+//! a directory there is refused before any work ([`check_target`]), so a
+//! write never turns `/dev/full` into a file nor blocks on a FIFO. A
+//! symbolic link there is replaced by the new file, like any file, and the
+//! file it pointed to is left as it was: a write lands only at the path
+//! named, so a link planted in a shared output directory cannot redirect
+//! it. The path `-` is standard output ([`is_stdout`]); an image written
+//! there is a PNG.
 
 mod temporaries;
 
@@ -32,11 +42,23 @@ pub enum OutputError {
         /// The destination.
         path: PathBuf,
     },
-    /// The destination is an existing directory.
-    #[error("cannot write '{path}': it is a directory")]
-    IsDirectory {
+    /// Not the extension of what a command writes (`.wgsl`, `.scene.json`).
+    #[error("unknown output format '{path}': the file name must end in {expected}")]
+    WrongExtension {
         /// The destination.
         path: PathBuf,
+        /// The ending it needs.
+        expected: &'static str,
+    },
+    /// The destination exists and is not a regular file (a directory, a
+    /// device, a FIFO, a socket): replacing it would destroy it, writing
+    /// into it would not make a file.
+    #[error("cannot write '{path}': it is {kind}")]
+    NotRegular {
+        /// The destination.
+        path: PathBuf,
+        /// What it is.
+        kind: crate::bounded::FileKind,
     },
     /// The encoded image's host memory could not be had.
     #[error("cannot write '{path}': {source}")]
@@ -64,8 +86,17 @@ pub enum Format {
     Exr,
 }
 
-/// The format a path asks for, by extension (case-insensitive).
+/// Whether `path` is `-`, standard output.
+pub fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// The format a path asks for, by extension (case-insensitive); PNG for
+/// standard output.
 pub fn format_of(path: &Path) -> Result<Format, OutputError> {
+    if is_stdout(path) {
+        return Ok(Format::Png);
+    }
     match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
         Some("png") => Ok(Format::Png),
         Some("exr") => Ok(Format::Exr),
@@ -81,13 +112,37 @@ fn tmp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
 }
 
-/// Checks, before any work, that `path` is not a directory and that its
-/// directory exists and is writable (by creating and removing the
-/// temporary file).
-pub fn check_writable(path: &Path) -> Result<(), OutputError> {
-    if path.is_dir() {
-        return Err(OutputError::IsDirectory { path: path.to_path_buf() });
+/// Checks that `path` ends in `expected` (`.wgsl`, `.scene.json`; exactly,
+/// since readers recognise files by it). Standard output passes.
+pub fn check_extension(path: &Path, expected: &'static str) -> Result<(), OutputError> {
+    match path.to_str() {
+        _ if is_stdout(path) => Ok(()),
+        Some(p) if p.ends_with(expected) && p.len() > expected.len() => Ok(()),
+        _ => Err(OutputError::WrongExtension { path: path.to_path_buf(), expected }),
     }
+}
+
+/// Checks that nothing but a regular file or a symbolic link (replaced,
+/// not followed) is at `path`. Nothing there is fine; a `stat` that fails
+/// otherwise is left for the write to report.
+pub fn check_target(path: &Path) -> Result<(), OutputError> {
+    if is_stdout(path) {
+        return Ok(());
+    }
+    match std::fs::symlink_metadata(path).ok().and_then(|m| crate::bounded::FileKind::of(m.file_type())) {
+        Some(kind) => Err(OutputError::NotRegular { path: path.to_path_buf(), kind }),
+        None => Ok(()),
+    }
+}
+
+/// Checks, before any work, that `path` is no directory, device, FIFO or
+/// socket ([`check_target`]) and that its directory exists and is writable
+/// (by creating and removing the temporary file).
+pub fn check_writable(path: &Path) -> Result<(), OutputError> {
+    if is_stdout(path) {
+        return Ok(());
+    }
+    check_target(path)?;
     let tmp = tmp_path(path);
     let _guard = temporaries::Guard::new(&tmp);
     std::fs::File::create(&tmp).map_err(|source| OutputError::Io { path: path.to_path_buf(), source })?;
@@ -99,22 +154,32 @@ pub fn check_writable(path: &Path) -> Result<(), OutputError> {
 /// rename works whatever its mode, so without this check a file the user
 /// protected would be silently overwritten.
 pub fn check_not_read_only(path: &Path) -> Result<(), OutputError> {
-    match std::fs::metadata(path) {
+    if is_stdout(path) {
+        return Ok(());
+    }
+    match std::fs::symlink_metadata(path) {
         Ok(m) if m.is_file() && m.permissions().readonly() => Err(OutputError::ReadOnly { path: path.to_path_buf() }),
         _ => Ok(()),
     }
 }
 
-/// Writes through a temporary file and a rename.
+/// Writes through a temporary file and a rename, or to standard output
+/// for `-`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    if is_stdout(path) {
+        let mut out = std::io::stdout().lock();
+        return out.write_all(bytes).and_then(|_| out.flush()).map_err(|source| OutputError::Io { path: path.to_path_buf(), source });
+    }
     write_atomic_with(path, |f| f.write_all(bytes).map_err(|e| e.to_string()))
 }
 
-/// Like [`write_atomic`], with the content produced by `fill`.
+/// Like [`write_atomic`], with the content produced by `fill` (a file
+/// only: standard output cannot seek, which the EXR writer needs).
 pub fn write_atomic_with(
     path: &Path,
     fill: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<(), String>,
 ) -> Result<(), OutputError> {
+    check_target(path)?;
     let tmp = tmp_path(path);
     // Registered before it exists, so a signal at any point removes it.
     let _guard = temporaries::Guard::new(&tmp);
@@ -135,7 +200,7 @@ pub fn write_atomic_with(
 /// Gives the temporary file the mode of the file it replaces, so a
 /// replaced file keeps its permissions (a read-only one stays read-only).
 fn keep_mode(path: &Path, tmp: &Path) -> std::io::Result<()> {
-    match std::fs::metadata(path) {
+    match std::fs::symlink_metadata(path) {
         Ok(m) if m.is_file() => std::fs::set_permissions(tmp, m.permissions()),
         _ => Ok(()),
     }
@@ -167,8 +232,13 @@ pub fn encode_png(w: &mut impl Write, width: u32, height: u32, rgb: &[u8]) -> Re
         .map_err(|e| e.to_string())
 }
 
-/// Writes a PNG of RGB8 bytes atomically.
+/// Writes a PNG of RGB8 bytes atomically (or to standard output).
 pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), OutputError> {
+    if is_stdout(path) {
+        let mut png = Vec::new();
+        encode_png(&mut png, width, height, rgb).map_err(|message| OutputError::Encode { path: path.to_path_buf(), message })?;
+        return write_atomic(path, &png);
+    }
     write_atomic_with(path, |w| encode_png(w, width, height, rgb))
 }
 
@@ -331,11 +401,27 @@ pub fn write_frame(path: &Path, frame: &crate::render::Frame) -> Result<(), Outp
     }
 }
 
+/// The largest image file read back: an `--env` image (a 16384 × 8192
+/// equirectangular PNG of noise is about 400 MiB; real ones compress far
+/// better) or a bench job's frame.
+pub const MAX_IMAGE_BYTES: u64 = 512 << 20;
+
+/// Reads an image file ([`crate::bounded::read_file_bytes`]: a regular
+/// file of at most [`MAX_IMAGE_BYTES`]) and decodes it from memory (by its
+/// content, within the decoder's default allocation limit).
+pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
+    let bytes = crate::bounded::read_file_bytes(path, MAX_IMAGE_BYTES).map_err(|e| e.to_string())?;
+    image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?.decode().map_err(|e| e.to_string())
+}
+
 /// Reads the float channels of an EXR written by [`write_exr`] (tests, tools):
 /// channel name → samples, and the size.
 pub fn read_exr_channels(path: &Path) -> Result<(u32, u32, Vec<(String, Vec<f32>)>), String> {
     use exr::prelude::*;
-    let image = read_all_flat_layers_from_file(path).map_err(|e| e.to_string())?;
+    // 16384² pixels of 10 float channels.
+    let bytes = crate::bounded::read_file_bytes(path, 16 << 30).map_err(|e| e.to_string())?;
+    let reader = read().no_deep_data().largest_resolution_level().all_channels().all_layers().all_attributes();
+    let image = reader.from_buffered(std::io::Cursor::new(bytes)).map_err(|e| e.to_string())?;
     let layer = image.layer_data.into_iter().next().ok_or("no layer")?;
     let size = layer.size;
     let channels = layer

@@ -1,8 +1,9 @@
-//! Issue 15 ("Hardening") at the command line, the outputs and budgets:
-//! output files and signals, the trust model of `.iso` headers, host
+//! Hardening at the command line, the files and budgets: output files and
+//! signals, files that are not regular files (devices, FIFOs, directories)
+//! as outputs and inputs, `-o -`, the trust model of `.iso` headers, host
 //! memory of big frames, unresolved pixels, the shader compilation budget
 //! and bench job timeouts. Each test asserts the exact message and exit
-//! code. The inputs: `cli_hardening.rs`.
+//! code. The inputs: `cli_hardening.rs`; scene grid paths: `scene_paths.rs`.
 
 mod cli_common;
 use cli_common::*;
@@ -132,6 +133,176 @@ fn interrupted_write_leaves_nothing(sig: i32) {
 fn sigterm_and_sigint_remove_the_temporary_file_of_a_write_in_flight() {
     interrupted_write_leaves_nothing(libc::SIGTERM);
     interrupted_write_leaves_nothing(libc::SIGINT);
+}
+
+// Files that are not files: writers refuse them, readers do not wait on them.
+
+#[cfg(unix)]
+fn mkfifo(p: &Path) {
+    let c = std::ffi::CString::new(s(p)).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+}
+
+#[cfg(unix)]
+fn is_fifo(p: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::symlink_metadata(p).unwrap().file_type().is_fifo()
+}
+
+/// Runs isotrace without a device and fails the test instead of hanging
+/// when it does not end: a blocking open of a FIFO would never return.
+fn isotrace_ending(args: &[&str]) -> std::process::Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_isotrace"))
+        .args(args)
+        .env("WGPU_BACKEND", "metal")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("isotrace {args:?} did not end: it waits on a file");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[cfg(unix)]
+#[test]
+fn writers_refuse_fifos_and_devices_and_leave_them_as_they_are() {
+    use std::os::unix::fs::FileTypeExt;
+    let d = dir("not-files-out");
+    let fifo = |name: &str| {
+        let p = d.join(name);
+        mkfifo(&p);
+        p
+    };
+    let refused = |args: &[&str], target: &Path, kind: &str| {
+        assert_error(&isotrace_ending(args), &format!("error: cannot write '{}': it is {kind}\n", s(target)));
+    };
+    // Refused before rendering: without a device, exit 1 and not 2.
+    let png = fifo("a.png");
+    refused(&["render", "@sphere", "--size", "8", "-o", s(&png)], &png, "a FIFO");
+    let f1 = fifo("f1.png");
+    refused(&["render", "@sphere", "--size", "8", "--frames", "3", "-o", s(&d.join("f%d.png"))], &f1, "a FIFO");
+    let wgsl = fifo("k.wgsl");
+    refused(&["wgsl", "@sphere", "-o", s(&wgsl)], &wgsl, "a FIFO");
+    let scene = fifo("g.scene.json");
+    refused(&["scene", "gen", "aggregate", "--level", "0", "-o", s(&scene)], &scene, "a FIFO");
+    let json = fifo("b.json");
+    refused(&["bench", "sphere", "--json", s(&json)], &json, "a FIFO");
+    for p in [&png, &f1, &wgsl, &scene, &json] {
+        assert!(is_fifo(p), "{} was replaced", s(p));
+    }
+    assert!(!d.join("f0.png").exists(), "no frame rendered");
+    // The null device: refused and left a device.
+    let null = Path::new("/dev/null");
+    let blobs = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/blobs.scene.json");
+    refused(&["scene", "formula", blobs, "-o", "/dev/null"], null, "a character device");
+    refused(&["view", "@sphere", "--export", "/dev/null"], null, "a character device");
+    assert!(std::fs::symlink_metadata(null).unwrap().file_type().is_char_device());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_symbolic_link_as_output_is_replaced_and_its_target_kept() {
+    let d = dir("link-out");
+    let target = d.join("target.png");
+    std::fs::write(&target, b"keep me").unwrap();
+    // Read-only, which would need --force if the link were followed.
+    let mut perm = std::fs::metadata(&target).unwrap().permissions();
+    perm.set_readonly(true);
+    std::fs::set_permissions(&target, perm).unwrap();
+    let link = d.join("link.png");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", s(&link)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_file());
+    assert!(std::fs::read(&link).unwrap().starts_with(b"\x89PNG"));
+    assert_eq!(std::fs::read(&target).unwrap(), b"keep me");
+    assert!(std::fs::metadata(&target).unwrap().permissions().readonly());
+    assert!(!std::fs::metadata(&link).unwrap().permissions().readonly(), "the new file does not take the target's mode");
+    // A link to a device is replaced too: the device is not written.
+    let to_null = d.join("null.wgsl");
+    std::os::unix::fs::symlink("/dev/null", &to_null).unwrap();
+    let o = isotrace(&["wgsl", "@sphere", "-o", s(&to_null)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read_to_string(&to_null).unwrap().contains("fn main"));
+}
+
+#[cfg(unix)]
+#[test]
+fn readers_refuse_fifos_and_devices_at_once() {
+    let d = dir("not-files-in");
+    let fifo = |name: &str| {
+        let p = d.join(name);
+        mkfifo(&p);
+        p
+    };
+    let out = d.join("o.png");
+    let formula = fifo("f.txt");
+    assert_error(&isotrace_ending(&["check", "-f", s(&formula)]), &format!("error: cannot read formula file '{}': not a regular file (a FIFO)\n", s(&formula)));
+    let env = fifo("env.png");
+    let o = isotrace_ending(&["render", "@sphere", "--size", "8", "--reflect", "1", &format!("--env={}", s(&env)), "-o", s(&out)]);
+    assert_error(&o, &format!("error: cannot read --env image '{}': not a regular file (a FIFO)\n", s(&env)));
+    // A header's env: image inside its directory is read only if it is a file.
+    let iso = d.join("h.iso");
+    std::fs::write(&iso, "#@ reflect: 1\n#@ env: env.png\nx^2 + y^2 + z^2 - 1\n").unwrap();
+    let o = isotrace_ending(&["render", s(&iso), "--size", "8", "-o", s(&out)]);
+    assert_error(&o, &format!("error: cannot read --env image '{}': not a regular file (a FIFO)\n", s(&env)));
+    let scene = fifo("s.scene.json");
+    assert_error(&isotrace_ending(&["scene", "check", s(&scene)]), &format!("error: cannot read scene file '{}': not a regular file (a FIFO)\n", s(&scene)));
+    // A grid file that is a FIFO named *.npy, inside the scene's directory.
+    fifo("g.npy");
+    let grid_scene = d.join("grid.scene.json");
+    std::fs::write(&grid_scene, r#"{"isotrace_scene": 1, "root": 0, "nodes": [{"type": "grid", "file": "g.npy", "spacing": 0.1, "origin": [0, 0, 0]}]}"#).unwrap();
+    let o = isotrace_ending(&["scene", "check", s(&grid_scene)]);
+    assert_error(&o, &format!("error: {}: nodes[0].file: {}: not a regular file (a FIFO)\n", s(&grid_scene), s(&d.join("g.npy"))));
+    let boxes = fifo("boxes.txt");
+    let o = isotrace_ending(&["eval", "x", "--cpu", "--boxes", s(&boxes)]);
+    assert_error(&o, &format!("error: cannot read boxes file '{}': not a regular file (a FIFO)\n", s(&boxes)));
+    let manifest = fifo("m.manifest.json");
+    assert_error(&isotrace_ending(&["manifest", "merge", s(&manifest)]), &format!("error: cannot read '{}': not a regular file (a FIFO)\n", s(&manifest)));
+    // A directory and a device.
+    let iso_dir = d.join("dir.iso");
+    std::fs::create_dir(&iso_dir).unwrap();
+    assert_error(&isotrace_ending(&["check", s(&iso_dir)]), &format!("error: {}: cannot read: not a regular file (a directory)\n", s(&iso_dir)));
+    assert_error(&isotrace_ending(&["check", "x", "--inline", "/dev/zero"]), "error: cannot read --inline file '/dev/zero': not a regular file (a character device)\n");
+    // stdin stays a source.
+    let o = isotrace_with_stdin(&["check", "-"], "x^2 + y^2 + z^2 - 1");
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn dash_writes_to_stdout_and_writers_check_their_extension() {
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", "-"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = image::load_from_memory(&o.stdout).unwrap();
+    assert_eq!((png.width(), png.height()), (8, 8));
+    let o = isotrace(&["wgsl", "@sphere", "-o", "-"]);
+    assert!(o.status.success() && String::from_utf8_lossy(&o.stdout).contains("fn main"), "{}", stderr(&o));
+    let o = isotrace_without_gpu(&["render", "@sphere", "--size", "8", "--json", "-o", "-"]);
+    assert_error(&o, "error: --json prints to stdout, where -o - writes the image: write the image to a file, or leave out --json\n");
+    let d = dir("extensions");
+    for (args, name, expected) in [
+        (&["scene", "gen", "aggregate", "--level", "0", "-o"][..], "agg.json", ".scene.json"),
+        (&["scene", "lower", "sphere(1)", "-o"][..], "s.json", ".scene.json"),
+        (&["wgsl", "@sphere", "-o"][..], "k.txt", ".wgsl"),
+    ] {
+        let p = d.join(name);
+        let mut a = args.to_vec();
+        a.push(s(&p));
+        assert_error(&isotrace(&a), &format!("error: unknown output format '{}': the file name must end in {expected}\n", s(&p)));
+        assert!(!p.exists());
+    }
+    let ok = d.join("agg.scene.json");
+    let o = isotrace(&["scene", "gen", "aggregate", "--level", "0", "-o", s(&ok)]);
+    assert!(o.status.success() && ok.is_file(), "{}", stderr(&o));
 }
 
 // 9. The trust model of .iso headers (item 12).

@@ -87,9 +87,16 @@ fn file_level_errors() {
 
 #[test]
 fn reads_are_bounded() {
-    let e = format::load(std::path::Path::new("/dev/zero")).unwrap_err();
+    // One byte over the limit (a sparse file: nothing is written).
+    let big = std::env::temp_dir().join(format!("isotrace-scene-format-{}-big.scene.json", std::process::id()));
+    std::fs::File::create(&big).unwrap().set_len(MAX_SCENE_BYTES + 1).unwrap();
+    let e = format::load(&big).unwrap_err();
+    let _ = std::fs::remove_file(&big);
     assert!(matches!(e, FormatError::Read(isotrace::bounded::ReadError::TooLarge { limit: MAX_SCENE_BYTES })), "{e}");
     assert_eq!(e.to_string(), "larger than the limit of 67108864 bytes (64 MiB)");
+    // An endless device is not opened at all.
+    let e = format::load(std::path::Path::new("/dev/zero")).unwrap_err();
+    assert_eq!(e.to_string(), "not a regular file (a character device)");
 }
 
 #[test]

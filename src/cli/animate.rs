@@ -64,7 +64,8 @@ impl Animation<'_> {
     pub fn check_resume(&self) -> Result<(), CliError> {
         let Some(path) = self.outputs.manifest_path().filter(|p| self.skip_existing && p.is_file()) else { return Ok(()) };
         let file = path.display().to_string();
-        let Ok(json) = std::fs::read_to_string(&path).map_err(|_| ()).and_then(|t| serde_json::from_str(&t).map_err(|_| ())) else {
+        // Bounded as `manifest merge` reads manifests (512 MiB).
+        let Ok(json) = isotrace::bounded::read_file_text(&path, 512 << 20).map_err(|_| ()).and_then(|t| serde_json::from_str(&t).map_err(|_| ())) else {
             return Ok(()); // Unreadable: it is replaced, as before manifests existed.
         };
         let now = serde_json::json!({ "isotrace_version": env!("CARGO_PKG_VERSION"), "settings": self.settings });

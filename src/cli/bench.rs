@@ -227,7 +227,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         }
         // A child process wrote its image; read it back for the contact sheet.
         if let (Some(dir), None, Outcome::Ok(_)) = (&a.out, &frame, &outcome) {
-            let img = image::open(dir.join(format!("{}_{}.png", job.surface, job.algebra))).map(|i| i.to_rgb8());
+            let img = output::read_image(&dir.join(format!("{}_{}.png", job.surface, job.algebra))).map(|i| i.to_rgb8());
             if let (Ok(img), false) = (img, thumbs.iter().any(|t| t.0 == job.surface)) {
                 thumbs.push((job.surface.clone(), img.width(), img.height(), img.into_raw()));
             }

@@ -35,6 +35,8 @@ pub struct EvalArgs {
     /// Whether a CPU driver optimises the evaluator, as `render --shader-opt`; auto counts a box as a pixel (none up to 1,048,576 boxes, full past them).
     #[arg(long, value_enum, value_name = "OPT")]
     shader_opt: Option<super::render::ShaderOptArg>,
+    #[arg(long, help = super::scene::ALLOW_SCENE_PATHS_HELP)]
+    allow_scene_paths: bool,
 }
 
 /// Most boxes one run reads: 16 Mi boxes are 512 MiB in kernel layout, and
@@ -51,7 +53,7 @@ fn read_boxes(src: &str, scalar: bool, time: f64) -> Result<Vec<Box8>, CliError>
         return read_boxes_from("<stdin>", "cannot read boxes from stdin", std::io::stdin().lock(), scalar, time);
     }
     let what = format!("cannot read boxes file '{src}'");
-    let file = std::fs::File::open(src).map_err(|e| CliError::Input(format!("{what}: {e}")))?;
+    let file = bounded::open_regular(std::path::Path::new(src)).map_err(|e| CliError::Input(format!("{what}: {e}")))?;
     read_boxes_from(src, &what, std::io::BufReader::new(file), scalar, time)
 }
 
@@ -180,7 +182,7 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
         return refuse("--inline and --param apply to formulas");
     }
     refuse_cpu_shader_opt(a)?;
-    let scene = super::scene::load(path)?;
+    let scene = super::scene::load(path, a.allow_scene_paths)?;
     let boxes = read_boxes(&a.boxes, true, a.time)?;
     let values: Vec<f64> = if a.cpu {
         boxes.iter().map(|b| scene.eval([b[0] as f64, b[2] as f64, b[4] as f64])).collect()

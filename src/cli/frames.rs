@@ -223,9 +223,7 @@ impl Outputs {
         output::check_writable(&first).map_err(input)?;
         let manifest = self.manifest_path();
         for p in self.iter().map(|(_, p)| p).chain(manifest.clone()) {
-            if p.is_dir() {
-                return Err(input(output::OutputError::IsDirectory { path: p }));
-            }
+            output::check_target(&p).map_err(input)?;
             let left_alone = skip_existing && Some(&p) != manifest.as_ref() && p.is_file();
             if !force && !left_alone {
                 output::check_not_read_only(&p).map_err(|e| CliError::Input(format!("{e}: give --force to replace it")))?;

@@ -211,7 +211,7 @@ struct WgslArgs {
     /// count: on a device with subgroups `render` uses the per-bundle one).
     #[arg(long, value_enum, default_value = "compiled")]
     field: WgslField,
-    /// Write the shader to FILE instead of stdout.
+    /// Write the shader to FILE (.wgsl) instead of stdout.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<std::path::PathBuf>,
 }
@@ -356,6 +356,10 @@ pub fn resolve_algebra(a: AlgebraArg, ir: &isotrace::ir::Ir) -> Domain {
 }
 
 fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
+    if let Some(o) = &a.output {
+        let target = isotrace::output::check_extension(o, ".wgsl").and_then(|_| isotrace::output::check_target(o));
+        target.map_err(|e| CliError::Input(e.to_string()))?;
+    }
     let loaded = a.formula.load_with_header()?;
     let f = &loaded.formula;
     let inline = loaded.inline.as_ref();

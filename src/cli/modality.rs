@@ -47,7 +47,7 @@ fn input(m: impl Into<String>) -> CliError {
 
 /// Reads an environment PNG as rgba8 texels.
 fn load_env(path: &std::path::Path) -> Result<EnvImage, CliError> {
-    let img = image::open(path).map_err(|e| input(format!("cannot read --env image '{}': {e}", path.display())))?;
+    let img = isotrace::output::read_image(path).map_err(|e| input(format!("cannot read --env image '{}': {e}", path.display())))?;
     let rgba = img.to_rgba8();
     let (width, height) = rgba.dimensions();
     let texels = rgba.pixels().map(|p| u32::from_le_bytes(p.0)).collect();

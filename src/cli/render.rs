@@ -221,12 +221,14 @@ pub fn sphere_options(a: &SphereArgs, header: Option<&Header>) -> Result<SphereO
 pub struct RenderArgs {
     #[command(flatten)]
     pub(super) formula: FormulaArgs,
-    /// Output image: .png (8-bit sRGB) or .exr (float RGBA, Z, normals, evals). With --frames, a pattern like frames/f_%04d.png: %d is the frame number, %0Nd pads it with zeros to N digits (N from 1 to 9), %% is a literal %; exactly one number field, in the file name.
+    /// Output image: .png (8-bit sRGB) or .exr (float RGBA, Z, normals, evals). With --frames, a pattern like frames/f_%04d.png: %d is the frame number, %0Nd pads it with zeros to N digits (N from 1 to 9), %% is a literal %; exactly one number field, in the file name. `-o -` writes a PNG to stdout.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub(super) output: PathBuf,
     /// Replace an existing read-only output file (it keeps its mode).
     #[arg(long)]
     pub(super) force: bool,
+    #[arg(long, help = super::scene::ALLOW_SCENE_PATHS_HELP)]
+    pub(super) allow_scene_paths: bool,
     /// Image size `WxH` or `N` for a square (default 512x512).
     #[arg(long, value_name = "WxH")]
     pub(super) size: Option<String>,
@@ -481,6 +483,9 @@ pub fn plan(a: &RenderArgs) -> Result<FormulaPlan, CliError> {
 }
 
 pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
+    if a.json && output::is_stdout(&a.output) {
+        return Err(input("--json prints to stdout, where -o - writes the image: write the image to a file, or leave out --json"));
+    }
     if let Some(path) = a.formula.scene_path() {
         return super::scene_render::run(&a, &path);
     }

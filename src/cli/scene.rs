@@ -5,7 +5,7 @@ use super::CliError;
 use clap::{Args, Subcommand, ValueEnum};
 use isotrace::bounded::ReadError;
 use isotrace::diag::short_number;
-use isotrace::scene::format::{self, FormatError};
+use isotrace::scene::format::{self, FormatError, GridPaths};
 use isotrace::scene::generate::{self, Blending, Kind, MAX_LEVEL};
 use isotrace::scene::linear::{Linear, MAX_STACK};
 use isotrace::scene::roi::Aabb;
@@ -56,6 +56,8 @@ struct FormulaArgs {
     /// Write the formula to FILE instead of stdout.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: Option<PathBuf>,
+    #[arg(long, help = ALLOW_SCENE_PATHS_HELP)]
+    allow_scene_paths: bool,
 }
 
 /// The synthetic scene kinds.
@@ -106,6 +108,8 @@ struct CheckArgs {
     /// Print the figures as one JSON object.
     #[arg(long)]
     json: bool,
+    #[arg(long, help = ALLOW_SCENE_PATHS_HELP)]
+    allow_scene_paths: bool,
 }
 
 /// Runs `isotrace scene …`.
@@ -135,10 +139,7 @@ fn lower(a: LowerArgs) -> Result<ExitCode, CliError> {
         CliError::Rendered(d.render(&f.origin, &f.source, false))
     })?;
     let json = format::to_json(&scene);
-    if a.output.as_os_str() == "-" {
-        let _ = std::io::stdout().lock().write_all(json.as_bytes());
-    } else {
-        isotrace::output::write_atomic(&a.output, json.as_bytes()).map_err(|e| CliError::Input(format!("cannot write '{}': {e}", a.output.display())))?;
+    if write_scene(&a.output, &json)? {
         let sm = scene.summary();
         println!("wrote {}: {} primitives, {} nodes", a.output.display(), sm.primitives, sm.nodes);
     }
@@ -146,10 +147,10 @@ fn lower(a: LowerArgs) -> Result<ExitCode, CliError> {
 }
 
 fn formula(a: FormulaArgs) -> Result<ExitCode, CliError> {
-    let scene = load(&a.file)?;
+    let scene = load(&a.file, a.allow_scene_paths)?;
     let text = scene.to_formula().map_err(|e| CliError::Input(format!("{}: {e}", a.file.display())))?;
     match a.output {
-        Some(path) => isotrace::output::write_atomic(&path, text.as_bytes()).map_err(|e| CliError::Input(format!("cannot write '{}': {e}", path.display())))?,
+        Some(path) => isotrace::output::write_atomic(&path, text.as_bytes()).map_err(|e| CliError::Input(e.to_string()))?,
         None => {
             let _ = std::io::stdout().lock().write_all(text.as_bytes());
         }
@@ -193,11 +194,9 @@ fn generate_scene(a: GenArgs) -> Result<ExitCode, CliError> {
     };
     let scene = generate::generate(k, level, blending, a.seed).map_err(|e| CliError::Internal(format!("generated an invalid scene: {e}")))?;
     let json = format::to_json(&scene);
-    if a.output.as_os_str() == "-" {
-        let _ = std::io::stdout().lock().write_all(json.as_bytes());
+    if !write_scene(&a.output, &json)? {
         return Ok(ExitCode::SUCCESS);
     }
-    isotrace::output::write_atomic(&a.output, json.as_bytes()).map_err(|e| CliError::Input(format!("cannot write '{}': {e}", a.output.display())))?;
     let name = match blending {
         Blending::Sharp => "sharp",
         Blending::SmoothInside => "smooth inside",
@@ -207,16 +206,34 @@ fn generate_scene(a: GenArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Loads a scene file, with messages that name the file.
-pub fn load(path: &Path) -> Result<Scene, CliError> {
+/// Loads a scene file, with messages that name the file. Its grid files
+/// must be inside its directory unless `allow_paths` (`--allow-scene-paths`).
+pub fn load(path: &Path, allow_paths: bool) -> Result<Scene, CliError> {
     let p = path.display();
-    format::load(path).map_err(|e| {
+    let paths = if allow_paths { GridPaths::Any } else { GridPaths::InsideSceneDir };
+    format::load_with(path, &paths).map_err(|e| {
         CliError::Input(match e {
             FormatError::Read(ReadError::NotUtf8 { offset }) => format!("scene file '{p}' is not UTF-8 text (invalid byte at offset {offset})"),
             FormatError::Read(e) => format!("cannot read scene file '{p}': {e}"),
+            FormatError::GridPath(e) => format!("{p}: {e}; {ALLOW_SCENE_PATHS}"),
             e => format!("{p}: {e}"),
         })
     })
+}
+
+/// How to read a grid file outside the scene's directory.
+pub const ALLOW_SCENE_PATHS: &str = "give --allow-scene-paths to read it (only for files you trust)";
+
+/// The help of `--allow-scene-paths`.
+pub const ALLOW_SCENE_PATHS_HELP: &str =
+    "Let a scene's grid files lie outside the scene file's directory (absolute, '..', or a symbolic link leading out); only for files you trust.";
+
+/// Writes a scene to a `.scene.json` file, or to stdout for `-`; whether
+/// it went to a file.
+fn write_scene(output: &Path, json: &str) -> Result<bool, CliError> {
+    let written = isotrace::output::check_extension(output, format::EXTENSION).and_then(|_| isotrace::output::write_atomic(output, json.as_bytes()));
+    written.map_err(|e| CliError::Input(e.to_string()))?;
+    Ok(!isotrace::output::is_stdout(output))
 }
 
 /// `[x0, x1] x [y0, y1] x [z0, z1]`.
@@ -237,7 +254,7 @@ fn counts(m: &std::collections::BTreeMap<&str, usize>) -> String {
 }
 
 fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
-    let scene = load(&a.file)?;
+    let scene = load(&a.file, a.allow_scene_paths)?;
     let lin = Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", a.file.display())))?;
     let sum = scene.summary();
     let always = lin.abvs.iter().filter(|v| matches!(v, roi::Abv::Always)).count();

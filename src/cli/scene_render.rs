@@ -97,7 +97,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     if let Some(m) = misplaced(a) {
         return Err(input(m));
     }
-    let scene = super::scene::load(path)?;
+    let scene = super::scene::load(path, a.allow_scene_paths)?;
     let ScenePlan { lin, settings: s, options: o, color } = plan(a, &scene, path)?;
     let outputs = super::frames::Outputs::new(&a.output, None, None, false)?;
     outputs.check(a.force, false)?;

@@ -36,6 +36,8 @@ pub struct ViewArgs {
     /// Write a self-contained static page (no server) to this file and exit.
     #[arg(long, value_name = "page.html")]
     export: Option<PathBuf>,
+    #[arg(long, help = super::scene::ALLOW_SCENE_PATHS_HELP)]
+    allow_scene_paths: bool,
 }
 
 /// The render flags a page may send. Anything else (files to read or
@@ -92,6 +94,7 @@ fn view_render_error(e: isotrace::gpu::RenderError) -> ApiError {
 struct Backend {
     input: String,
     gpu: Mutex<Option<isotrace::gpu::Gpu>>,
+    allow_scene_paths: bool,
 }
 
 fn bad(e: CliError) -> ApiError {
@@ -149,15 +152,20 @@ impl Backend {
         Ok(())
     }
 
-    /// The scene of a request: the edited one in the body, else the file.
+    /// The scene of a request: the file of the command line (its grid
+    /// files as `--allow-scene-paths` allows), or the edited one in the
+    /// body, which may name only the grid files that file names: their
+    /// grids are taken from memory, so no file a request names is read.
     fn scene(&self, body: &Value) -> Result<isotrace::scene::Scene, ApiError> {
+        use isotrace::scene::format::{self, GridPaths};
+        let file = std::path::Path::new(&self.input);
+        let loaded = super::scene::load(file, self.allow_scene_paths).map_err(bad)?;
         match body.get("scene") {
-            // Grid files are found next to the scene file, as when it is loaded.
             Some(v) if !v.is_null() => {
-                let base = std::path::Path::new(&self.input).parent().unwrap_or(std::path::Path::new(""));
-                isotrace::scene::format::parse_in(&v.to_string(), base).map_err(|e| ApiError::bad(format!("the edited scene: {e}")))
+                let base = file.parent().unwrap_or(std::path::Path::new(""));
+                format::parse_with(&v.to_string(), base, &GridPaths::loaded_by(&loaded)).map_err(|e| ApiError::bad(format!("the edited scene: {e}")))
             }
-            _ => isotrace::scene::format::load(std::path::Path::new(&self.input)).map_err(|e| ApiError::bad(e.to_string())),
+            _ => Ok(loaded),
         }
     }
 
@@ -313,14 +321,14 @@ fn is_loopback(host: &str) -> bool {
 }
 
 pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
-    let backend = Backend { input: a.input.clone(), gpu: Mutex::new(None) };
+    let backend = Backend { input: a.input.clone(), gpu: Mutex::new(None), allow_scene_paths: a.allow_scene_paths };
     if a.input == "-" {
         return Err(CliError::Input("isotrace view reads no formula from stdin: give it as an argument, @name or a file".into()));
     }
     // A scene file the command line names is read as `render` reads it,
     // with its messages (which name the file).
     if is_scene(&a.input) {
-        super::scene::load(std::path::Path::new(&a.input))?;
+        super::scene::load(std::path::Path::new(&a.input), a.allow_scene_paths)?;
     }
     // The first state is computed before anything is served or written:
     // a bad formula is the CLI's error, with its exit code.

@@ -27,11 +27,17 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+mod paths;
 mod write;
+pub use paths::{GridPathError, GridPaths};
 pub use write::to_json;
 
 /// The format version this isotrace reads and writes.
 pub const VERSION: u64 = 1;
+
+/// How a scene file's name ends: `render` and `view` tell a scene from a
+/// formula file by it, so `scene gen` and `scene lower` write no other.
+pub const EXTENSION: &str = ".scene.json";
 
 /// The largest scene file read: 64 MiB holds the 111,110-primitive aggregate
 /// (30 MB as `isotrace scene gen` writes it) with room to spare.
@@ -52,6 +58,9 @@ pub enum FormatError {
     /// JSON, but not a valid scene: the path and the reason.
     #[error("{0}")]
     Invalid(#[from] SceneError),
+    /// A grid file the [`GridPaths`] policy does not allow.
+    #[error("{0}")]
+    GridPath(#[from] GridPathError),
 }
 
 /// The most grid samples one scene may load, over all its grid files (each
@@ -60,14 +69,19 @@ pub enum FormatError {
 pub const MAX_SCENE_GRID_VOXELS: u64 = 1 << 26;
 
 /// Reads and validates the scene file at `path`; grid files are found
-/// relative to its directory.
+/// relative to its directory, and must be inside it.
 pub fn load(path: &Path) -> Result<Scene, FormatError> {
+    load_with(path, &GridPaths::InsideSceneDir)
+}
+
+/// [`load`] with the grid files `paths` allows.
+pub fn load_with(path: &Path, paths: &GridPaths) -> Result<Scene, FormatError> {
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    parse_in(&bounded::read_file_text(path, MAX_SCENE_BYTES)?, &base)
+    parse_with(&bounded::read_file_text(path, MAX_SCENE_BYTES)?, &base, paths)
 }
 
 /// Parses and validates scene file text; grid files are found relative to
-/// the working directory.
+/// the working directory, and must be inside it.
 pub fn parse(text: &str) -> Result<Scene, FormatError> {
     parse_in(text, Path::new(""))
 }
@@ -82,18 +96,29 @@ struct Ctx {
     copies: RefCell<HashMap<usize, super::lower::Copies>>,
     grids: RefCell<HashMap<(PathBuf, Option<[u64; 4]>), Arc<Grid>>>,
     voxels: std::cell::Cell<u64>,
+    paths: GridPaths,
+    /// The grid file `paths` refused, reported as such.
+    refused: RefCell<Option<GridPathError>>,
 }
 
 /// Parses and validates scene file text whose grid files are relative to
-/// `base`.
+/// `base`, and must be inside it.
 pub fn parse_in(text: &str, base: &Path) -> Result<Scene, FormatError> {
+    parse_with(text, base, &GridPaths::InsideSceneDir)
+}
+
+/// [`parse_in`] with the grid files `paths` allows.
+pub fn parse_with(text: &str, base: &Path, paths: &GridPaths) -> Result<Scene, FormatError> {
     let failure = RefCell::new(None);
-    let ctx = Ctx { base: base.to_path_buf(), copies: RefCell::new(HashMap::new()), grids: RefCell::new(HashMap::new()), voxels: std::cell::Cell::new(0) };
+    let ctx = Ctx { base: base.to_path_buf(), copies: RefCell::default(), grids: RefCell::default(), voxels: Default::default(), paths: paths.clone(), refused: RefCell::default() };
     let mut de = serde_json::Deserializer::from_str(text);
     let parsed = de::Deserializer::deserialize_any(&mut de, FileVisitor { failure: &failure, ctx: &ctx }).and_then(|v| de.end().map(|_| v));
     let (nodes, root) = match parsed {
         Ok(v) => v,
         Err(e) => {
+            if let Some(refused) = ctx.refused.into_inner() {
+                return Err(FormatError::GridPath(refused));
+            }
             return Err(match failure.into_inner() {
                 Some(s) => FormatError::Invalid(s),
                 None => FormatError::Syntax { message: e.to_string() },
@@ -402,8 +427,8 @@ fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
 }
 
 /// A grid node's file, read (or shared with an earlier node naming the same
-/// file and placement): `file` relative to the scene file, and for a `.npy`
-/// its `spacing` and `origin`.
+/// file and placement) as `ctx.paths` allows: `file` relative to the scene
+/// file, and for a `.npy` its `spacing` and `origin`.
 fn grid_ref(f: &Fields, ctx: &Ctx) -> Result<GridRef, SceneError> {
     let file = match f.obj.get("file") {
         Some(Value::String(s)) => s.clone(),
@@ -421,13 +446,20 @@ fn grid_ref(f: &Fields, ctx: &Ctx) -> Result<GridRef, SceneError> {
     if let Some(g) = ctx.grids.borrow().get(&key) {
         return Ok(GridRef { file, placement, grid: g.clone() });
     }
-    let g = grid::load(&path, placement).map_err(|e| f.err("file", e.to_string()))?;
+    let g = match ctx.paths.source(&ctx.base, &file, placement) {
+        Ok(paths::Source::File(path)) => Arc::new(grid::load(&path, placement).map_err(|e| f.err("file", e.to_string()))?),
+        Ok(paths::Source::Loaded(g)) => g,
+        Err(refused) => {
+            let e = refused.at(f.err("file", "").path).map_err(|e| f.err("file", e.to_string()))?;
+            *ctx.refused.borrow_mut() = Some(e.clone());
+            return Err(f.err("file", e.to_string()));
+        }
+    };
     let total = ctx.voxels.get() + g.values().len() as u64;
     if total > MAX_SCENE_GRID_VOXELS {
         return Err(f.err("file", format!("the scene's grids hold {total} samples with this one, above the limit of {MAX_SCENE_GRID_VOXELS}")));
     }
     ctx.voxels.set(total);
-    let g = Arc::new(g);
     ctx.grids.borrow_mut().insert(key, g.clone());
     Ok(GridRef { file, placement, grid: g })
 }

@@ -202,40 +202,33 @@ fn describe_bad(v: f64) -> String {
     }
 }
 
-/// Reads the grid file at `path` (`.npy` or `.vdb`, by extension). A `.npy`
-/// holds only values, so `placement` must be given; a `.vdb` has its own
-/// voxel size and origin, so it must be `None` (a silent override would
-/// hide a mistake in the scene). The size is checked before reading, and
-/// the read itself stops at [`MAX_GRID_FILE_BYTES`] (a FIFO reports 0).
+/// Reads the grid file at `path` (`.npy` or `.vdb`, by extension; see
+/// [`check_kind`] for the placement). Only a regular file is opened, and
+/// the read stops at [`MAX_GRID_FILE_BYTES`] ([`bounded::read_file_bytes`]).
 pub fn load(path: &Path, placement: Option<Placement>) -> Result<Grid, GridError> {
     let file = path.display().to_string();
-    let err = |kind| GridError { file: file.clone(), kind };
-    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let ext = match ext.as_deref() {
-        Some(e) if EXTENSIONS.contains(&e) => e.to_string(),
-        Some(e) => return Err(err(GridErrorKind::UnknownExtension(format!("'.{e}'")))),
-        None => return Err(err(GridErrorKind::UnknownExtension("(no extension)".into()))),
-    };
-    match (ext.as_str(), placement) {
-        ("npy", None) => return Err(err(GridErrorKind::Placement("a .npy file holds only values: the grid's spacing and origin must be given"))),
-        ("vdb", Some(_)) => return Err(err(GridErrorKind::Placement("a .vdb file has its own voxel size and origin: spacing and origin must not be given"))),
-        _ => {}
-    }
-    let bytes = read_limited(path).map_err(|e| err(e.into()))?;
+    check_kind(path, placement)?;
+    let bytes = bounded::read_file_bytes(path, MAX_GRID_FILE_BYTES).map_err(|e| GridError { file: file.clone(), kind: e.into() })?;
     match placement {
         Some(pl) => Grid::from_npy(&file, &bytes, pl),
         None => Grid::from_vdb(&file, &bytes, None),
     }
 }
 
-/// The file's bytes: refused from its size when it states one, and the
-/// read stops one byte past the limit either way.
-fn read_limited(path: &Path) -> Result<Vec<u8>, ReadError> {
-    let f = std::fs::File::open(path)?;
-    if f.metadata()?.len() > MAX_GRID_FILE_BYTES {
-        return Err(ReadError::TooLarge { limit: MAX_GRID_FILE_BYTES });
+/// Checks what a grid file's name and placement promise, without reading
+/// it: a known extension; a `.npy` holds only values, so `placement` must
+/// be given; a `.vdb` has its own voxel size and origin, so it must be
+/// `None` (a silent override would hide a mistake in the scene).
+pub fn check_kind(path: &Path, placement: Option<Placement>) -> Result<(), GridError> {
+    let err = |kind| GridError { file: path.display().to_string(), kind };
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match (ext.as_deref(), placement) {
+        (Some("npy"), None) => Err(err(GridErrorKind::Placement("a .npy file holds only values: the grid's spacing and origin must be given"))),
+        (Some("vdb"), Some(_)) => Err(err(GridErrorKind::Placement("a .vdb file has its own voxel size and origin: spacing and origin must not be given"))),
+        (Some(e), _) if EXTENSIONS.contains(&e) => Ok(()),
+        (Some(e), _) => Err(err(GridErrorKind::UnknownExtension(format!("'.{e}'")))),
+        (None, _) => Err(err(GridErrorKind::UnknownExtension("(no extension)".into()))),
     }
-    bounded::read_bytes(f, MAX_GRID_FILE_BYTES)
 }
 
 /// nx·ny·nz when every dimension is ≥ 2 and the count within the limit.
@@ -419,6 +412,13 @@ impl Grid {
     /// shape (nz, ny, nx). [`Grid::from_npy`] reads it back identically.
     pub fn to_npy(&self) -> Vec<u8> {
         npy::write(self)
+    }
+
+    /// The same samples at another placement (a `.npy` grid's values read
+    /// once, placed by another node): the placement is checked and the
+    /// Lipschitz bound measured again, since it depends on the spacing.
+    pub fn placed(&self, p: Placement) -> Result<Grid, GridErrorKind> {
+        Grid::new(self.dims, p.origin, p.spacing, self.values.clone())
     }
 
     /// Parses `.npy` bytes; `file` names the file in errors.

@@ -359,3 +359,14 @@ fn write_pebble_example() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pebble.npy");
     std::fs::write(path, Grid::pebble().to_npy()).unwrap();
 }
+
+#[test]
+fn a_grid_placed_anew_keeps_its_samples() {
+    let g = Grid::sphere(16, 1.5, 1.0);
+    let moved = g.placed(Placement { origin: [1.0, 2.0, 3.0], spacing: g.spacing() / 2.0 }).unwrap();
+    assert_eq!(moved.values(), g.values());
+    assert_eq!(moved.origin(), [1.0, 2.0, 3.0]);
+    // Half the spacing doubles every gradient inside (the bound is measured again).
+    assert!(g.lipschitz() > 1.0 && (moved.lipschitz() - 2.0 * g.lipschitz()).abs() < 1e-9, "{} {}", moved.lipschitz(), g.lipschitz());
+    assert_eq!(g.placed(Placement { origin: [0.0; 3], spacing: -1.0 }).unwrap_err().to_string(), "spacing must be finite and > 0, found -1");
+}
