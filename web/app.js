@@ -9,7 +9,12 @@
 // Nothing here creates a pipeline except a new program (a new formula or a
 // structural option) and the present pipeline, once.
 
-const view = (window.__view = { ready: false, pipelines: 0, programs: 0, frames: 0, lastFrame: null, error: null, diagnostic: '' });
+// frameLog: 'coarse' / 'full' per frame drawn, in order; edits: scene edits
+// drawn in full; warning: the CLI's warning about the last full frame;
+// newParams: the parameters the server gave a value to.
+const view = (window.__view = {
+  ready: false, pipelines: 0, programs: 0, frames: 0, lastFrame: null, error: null, diagnostic: '', frameLog: [], edits: 0, warning: '', newParams: [],
+});
 const $ = (id) => document.getElementById(id);
 
 // ---- Vectors and the CLI's camera model ----------------------------------
@@ -70,12 +75,21 @@ async function api(route, body) {
 // ---- The command line of the current view ----------------------------------
 const isScene = () => !!(S && S.scene);
 
-/** The `isotrace render` arguments (without -o) that reproduce the view. */
-function cliArgs() {
+/**
+ * The `isotrace render` arguments (without -o) that reproduce the view. A
+ * scene's framing (box, and the camera and eps until the user moves them)
+ * is left to the server, which frames the edited scene as `render` frames
+ * a file; `box`: give the box anyway (a selected node's subtree is traced
+ * in the whole scene's box).
+ */
+function cliArgs({ box = false } = {}) {
   const a = [U.input];
   const csv = (v) => v.map(String).join(',');
-  a.push('--size', `${U.width}x${U.height}`, `--box=${csv(U.box)}`, `--eye=${csv(U.eye)}`, `--target=${csv(U.target)}`, `--up=${csv(U.up)}`);
-  a.push('--fov', String(U.fov), `--eps=${U.eps}`);
+  const scene = isScene();
+  a.push('--size', `${U.width}x${U.height}`);
+  if (!scene || box) a.push(`--box=${csv(U.box)}`);
+  if (!scene || U.cameraSet) a.push(`--eye=${csv(U.eye)}`, `--target=${csv(U.target)}`, `--up=${csv(U.up)}`, '--fov', String(U.fov));
+  if (!scene || U.epsSet) a.push(`--eps=${U.eps}`);
   if (!isScene()) a.push(`--t=${U.time}`);
   for (const p of U.params) a.push('--param', `${p.name}=${p.value}`);
   if (U.clip > 0) a.push('--clip', `sphere:${U.clip}`);
@@ -90,6 +104,7 @@ function cliArgs() {
     if (U.shadows) a.push('--shadows');
     if (U.glass) a.push('--glass');
     a.push('--omega', String(U.omega));
+    if (U.lipschitzSet) a.push('--lipschitz', String(U.lipschitz));
   }
   a.push('--color', U.color === 'steps' ? `steps:${U.steps_max}` : U.color);
   return a;
@@ -109,7 +124,7 @@ function adopt(state) {
     eps: v.eps, time: v.time, max_iter: v.max_iter, clip: v.clip, params: state.params.map((p) => ({ ...p })),
     method: o.method, algebra: o.algebra ?? U.algebra ?? 'auto', shadows: o.shadows, glass: !!o.glass, layers: o.layers ?? 1,
     opacity: o.opacity ?? 0.5, iso: (o.iso?.length ? o.iso : [0]).join(','), reflect: o.reflect ?? 0, reflectivity: o.reflectivity ?? 0.35,
-    omega: o.omega ?? 1.2, color: U.color ?? 'shade', steps_max: U.steps_max ?? 64,
+    omega: o.omega ?? 1.2, lipschitz: o.lipschitz ?? 1, color: U.color ?? 'shade', steps_max: U.steps_max ?? 64,
   });
   const c = o.color || 'shade';
   if (!U.colorSet) U.color = c.startsWith('steps') ? 'steps' : c === 'phong' ? 'shade' : c;
@@ -156,6 +171,7 @@ function uniformWords(w, h) {
     F('trav.pixel_radius', [cf.tan / h]);
     if (follow.eps_factor) F('trav.eps_min', [follow.eps_factor * U.eps]);
     F('trav.omega', [U.omega]);
+    F('trav.inv_lipschitz', [1 / U.lipschitz]);
   }
   return words;
 }
@@ -183,9 +199,35 @@ async function render(full, readback = 'stats') {
   }
   const out = await host.frame(uniformWords(w, h), w, h, presentWords(w, h), readback);
   view.frames++;
+  view.frameLog.push(full ? 'full' : 'coarse');
   view.lastFrame = { ms: out.ms, width: w, height: h, full, work_mean: out.work_mean, unresolved: out.unresolved, hits: out.hits };
   showStats();
+  if (readback) showWarning(out.rays);
   return out;
+}
+
+/** Resolves once what was drawn so far is on screen (the frame after the next). */
+const presented = () => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+
+/** The CLI's warning about a frame (the server's text, filled from this frame's ray statistics, if any). */
+function showWarning(rays = { violations: 0, ratio: 0 }) {
+  const t = S.warnings?.lipschitz;
+  const seen = rays.ratio * U.lipschitz;
+  // As the CLI's `{:.3}`.
+  view.warning = t && rays.violations > 0 ? t.replaceAll('{violations}', String(rays.violations)).replaceAll('{lipschitz}', String(U.lipschitz)).replaceAll('{seen}', seen.toFixed(3)) : '';
+  $('warning').textContent = view.warning;
+  const fix = $('lipschitz-fix');
+  fix.hidden = !view.warning;
+  fix.value = String(Math.ceil(seen * 1000) / 1000);
+  fix.textContent = `use --lipschitz ${fix.value}`;
+}
+
+function setLipschitz(x) {
+  if (!(x >= 1 && Number.isFinite(x))) return; // as SphereOptions::check
+  U.lipschitz = x;
+  U.lipschitzSet = true;
+  gui?.controllersRecursive().forEach((c) => c.updateDisplay());
+  moved();
 }
 
 function showStats() {
@@ -220,6 +262,7 @@ function installCamera(canvas) {
   canvas.addEventListener('pointermove', (e) => {
     const p = pointers.get(e.pointerId);
     if (!p) return;
+    U.cameraSet = true;
     const dx = e.clientX - p.x, dy = e.clientY - p.y;
     p.x = e.clientX; p.y = e.clientY;
     if (pointers.size === 2) {
@@ -232,7 +275,7 @@ function installCamera(canvas) {
     else orbit(dx, dy);
     moved();
   });
-  canvas.addEventListener('wheel', (e) => { e.preventDefault(); zoom(Math.exp(e.deltaY * 0.001)); moved(); }, { passive: false });
+  canvas.addEventListener('wheel', (e) => { e.preventDefault(); U.cameraSet = true; zoom(Math.exp(e.deltaY * 0.001)); moved(); }, { passive: false });
 }
 
 function orbit(dx, dy) {
@@ -257,7 +300,7 @@ function zoom(f) {
 
 // ---- Programs: the server compiles ---------------------------------------------
 /** Asks the server for the program of the current controls; keeps the last good one on error. */
-async function recompile(args = cliArgs()) {
+async function recompile(args = cliArgs(), adjust = () => {}) {
   if (!S.server) return;
   const t0 = performance.now();
   $('compile-info').textContent = ' compiling…';
@@ -267,6 +310,8 @@ async function recompile(args = cliArgs()) {
     const input = U.input;
     adopt(state);
     U.input = input;
+    adjust(state);
+    showNewParams(state.new_params);
     $('diagnostic').textContent = '';
     view.diagnostic = '';
     $('compile-info').textContent = ` compiled in ${state.compile_ms.toFixed(0)} ms (server), ${(performance.now() - t0).toFixed(0)} ms in all`;
@@ -283,10 +328,20 @@ async function compileFormula() {
   const text = $('formula').value, before = U.input;
   // An unchanged formula keeps its origin (@name, FILE.iso and its header).
   U.input = text === S.formula ? before : text;
-  // A new formula has its own parameters: the server gives their defaults.
+  // A new formula has its own parameters: the server gives their defaults
+  // (a header's, else 1 for a name nothing sets) ...
   const args = cliArgs().filter((a, i, all) => a !== '--param' && all[i - 1] !== '--param');
-  await recompile(args);
+  // ... and a name that had a slider keeps its value (a uniform: no compile).
+  const had = new Map(U.params.map((p) => [p.name, p.value]));
+  await recompile(args, (state) => U.params.forEach((p) => { if (state.new_params.includes(p.name) && had.has(p.name)) p.value = had.get(p.name); }));
   if (view.diagnostic) U.input = before;
+}
+
+/** Says which parameters the server gave a value to (names the formula uses that nothing set). */
+function showNewParams(names) {
+  view.newParams = names ?? [];
+  const list = U.params.filter((p) => view.newParams.includes(p.name)).map((p) => `${p.name} = ${p.value}`);
+  $('params-note').textContent = list.length ? `new parameter${list.length > 1 ? 's' : ''} ${list.join(', ')}: a slider under "parameters" (the CLI line gives --param)` : '';
 }
 
 // ---- Scenes: edits change buffers only --------------------------------------------
@@ -297,15 +352,40 @@ async function sceneEdited() {
     // A node type the kernel was built without needs a new kernel.
     if ((r.features & ~S.scene_features) !== 0) return recompile();
     host.setFieldData(r.buffers);
+    followScene(r);
     view.sceneMs = r.layout_ms;
-    if (view.selected != null) await select(view.selected);
+    if (view.selected != null) await select(view.selected, false);
     $('diagnostic').textContent = '';
+    // The coarse frame first, on screen, as when the camera moves.
+    await render(false, null);
+    await presented();
     await render(true);
+    view.edits++;
   } catch (e) {
     view.diagnostic = String(e.message || e);
     $('diagnostic').textContent = view.diagnostic;
   }
 }
+
+/**
+ * What an edit moves with the scene, from the server: the framing `render`
+ * gives the edited scene (its box always, so a grown solid is never cut;
+ * the camera and eps unless the user set them), and the uniforms (its
+ * Lipschitz bound).
+ */
+function followScene(r) {
+  const v = r.view;
+  S.program.uniforms = r.uniforms;
+  Object.assign(S, { view: v, options: r.options, warnings: r.warnings });
+  U.box = v.box;
+  if (!U.cameraSet) Object.assign(U, { eye: v.eye, target: v.target, up: v.up, fov: v.fov });
+  if (!U.epsSet) U.eps = v.eps;
+  U.lipschitz = r.options.lipschitz;
+  gui?.controllersRecursive().forEach((c) => c.updateDisplay());
+  clipControl?.max(boxDiagonal()).step(boxDiagonal() / 200);
+}
+
+const boxDiagonal = () => len(sub([U.box[1], U.box[3], U.box[5]], [U.box[0], U.box[2], U.box[4]]));
 
 // ---- Saving through the CLI's render path -------------------------------------------
 async function save(format) {
@@ -321,7 +401,7 @@ async function save(format) {
 }
 
 // ---- Controls (lil-gui) ----------------------------------------------------------
-let gui = null, playing = false;
+let gui = null, playing = false, clipControl = null;
 
 function buildGui() {
   gui?.destroy();
@@ -330,7 +410,13 @@ function buildGui() {
   const structural = (c) => { if (!server) c.disable(); return c.onFinishChange(() => recompile()); };
   const actions = {
     copy: () => { const t = cliCommand(); navigator.clipboard?.writeText(t).catch(() => {}); $('note').textContent = t; },
-    reset: () => { Object.assign(U, { eye: S.view.eye, target: S.view.target, up: S.view.up, fov: S.view.fov }); full(); },
+    reset: () => {
+      U.cameraSet = false;
+      // A scene's camera is its framing's, from the server (it follows edits).
+      if (isScene() && server) return sceneEdited();
+      Object.assign(U, { eye: S.view.eye, target: S.view.target, up: S.view.up, fov: S.view.fov });
+      full();
+    },
     png: () => save('png'), exr: () => save('exr'), play: () => { playing = !playing; if (playing) animate(); },
   };
   gui.add(actions, 'copy').name('copy CLI command');
@@ -338,11 +424,10 @@ function buildGui() {
   if (server) { gui.add(actions, 'png').name('save PNG (server, full size)'); gui.add(actions, 'exr').name('save EXR (server, full size)'); }
   const v = gui.addFolder('view');
   v.add(U, 'width', [128, 256, 384, 512, 768, 1024]).name('size').onChange((x) => { U.height = x; full(); });
-  v.add(U, 'fov', 5, 120, 0.5).onChange(moved);
-  const l2 = { v: Math.log2(U.eps) };
-  v.add(l2, 'v', -24, 0, 0.25).name('eps (log2)').onChange((x) => { U.eps = 2 ** x; moved(); });
-  const maxClip = len(sub([U.box[1], U.box[3], U.box[5]], [U.box[0], U.box[2], U.box[4]]));
-  v.add(U, 'clip', 0, maxClip, maxClip / 200).name('clip sphere (0: off)').onChange(moved);
+  v.add(U, 'fov', 5, 120, 0.5).onChange(() => { U.cameraSet = true; moved(); });
+  const l2 = { get v() { return Math.log2(U.eps); }, set v(x) { U.eps = 2 ** x; } };
+  v.add(l2, 'v', -24, 0, 0.25).name('eps (log2)').onChange(() => { U.epsSet = true; moved(); });
+  clipControl = v.add(U, 'clip', 0, boxDiagonal(), boxDiagonal() / 200).name('clip sphere (0: off)').onChange(moved);
   if (!isScene()) {
     const p = gui.addFolder('parameters');
     p.add(U, 'time', 0, 2 * Math.PI, 0.01).name('t').listen().onChange(moved);
@@ -376,6 +461,8 @@ function buildGui() {
   } else {
     structural(mod.add(U, 'glass'));
     mod.add(U, 'omega', 1, 1.95, 0.01).name('over-relaxation ω').onChange(moved);
+    // --lipschitz: f / L is traced (a uniform: no compile).
+    mod.add(U, 'lipschitz').min(1).name('Lipschitz bound L').onFinishChange((x) => setLipschitz(x));
   }
   if (isScene()) sceneControls();
 }
@@ -413,16 +500,16 @@ function subtree(scene, i) {
   return { isotrace_scene: 1, nodes, root };
 }
 
-/** Selects scene node i (null: none): its buffers from the server, no pipeline. */
-async function select(i) {
+/** Selects scene node i (null: none): its buffers from the server, no pipeline; `draw`: a frame after. */
+async function select(i, draw = true) {
   view.selected = i;
-  if (i === null || !S.server) { host.setSelection(null); return render(true).catch(fail); }
+  if (i === null || !S.server) { host.setSelection(null); return draw ? render(true).catch(fail) : undefined; }
   try {
-    const r = await api('scene', { args: cliArgs(), scene: subtree(S.scene, i) });
+    const r = await api('scene', { args: cliArgs({ box: true }), scene: subtree(S.scene, i) });
     if (view.selected !== i) return;
     host.setSelection(r.buffers);
     view.selectionReady = i;
-    await render(true);
+    if (draw) await render(true);
   } catch (e) {
     $('diagnostic').textContent = String(e.message || e);
   }
@@ -471,6 +558,8 @@ async function main() {
         'Editing the formula, switching method, algebra or a modality that changes the shader, editing a scene and saving PNG / EXR need the server: isotrace view ' + (start.input ?? '');
     }
     $('compile').onclick = () => compileFormula();
+    $('lipschitz-fix').onclick = () => setLipschitz(Number($('lipschitz-fix').value));
+    showNewParams(start.new_params);
     $('formula').addEventListener('keydown', (e) => { if (e.key === 'Enter' && e.ctrlKey) compileFormula(); });
     installCamera($('canvas'));
     buildGui();

@@ -182,11 +182,16 @@ export class Host {
       rp.setBindGroup(0, presentGroup);
       rp.draw(3);
       rp.end();
-      let stats = null, pixels = null;
+      let stats = null, pixels = null, rays = null;
       if (readback) {
         // The records' head plane (templates/shared/pixels.wgsl): all the statistics read.
         stats = d.createBuffer({ size: w * h * 8, usage: B.MAP_READ | B.COPY_DST });
         enc.copyBufferToBuffer(r.records, 0, stats, 0, w * h * 8);
+        // Sphere tracing's per-ray statistics words, for the Lipschitz warning.
+        if (this.P.ray_stats != null) {
+          rays = d.createBuffer({ size: w * h * 4, usage: B.MAP_READ | B.COPY_DST });
+          enc.copyBufferToBuffer(r.buffers[2].get(this.P.ray_stats), 0, rays, 0, w * h * 4);
+        }
         if (readback === 'pixels') {
           const cw = this.canvas.width, ch = this.canvas.height, row = Math.ceil(cw * 4 / 256) * 256;
           pixels = { buf: d.createBuffer({ size: row * ch, usage: B.MAP_READ | B.COPY_DST }), row, cw, ch };
@@ -201,6 +206,11 @@ export class Host {
         await stats.mapAsync(GPUMapMode.READ);
         Object.assign(out, recordStats(new Uint32Array(stats.getMappedRange())));
         stats.destroy();
+      }
+      if (rays) {
+        await rays.mapAsync(GPUMapMode.READ);
+        out.rays = rayStats(new Uint32Array(rays.getMappedRange()));
+        rays.destroy();
       }
       if (pixels) {
         await pixels.buf.mapAsync(GPUMapMode.READ);
@@ -230,3 +240,27 @@ function recordStats(words) {
   return { work_mean: work / Math.max(n, 1), hits, unresolved };
 }
 
+
+/**
+ * Sphere tracing's per-ray statistics words summed as src/render/record.rs
+ * `RayStats::add` does: fallbacks (low 16 bits), rays that saw a Lipschitz
+ * violation (bit 31) and the largest rate of change of f / L seen (bits
+ * 16-30, a half float without its sign).
+ */
+function rayStats(words) {
+  let fallbacks = 0, violations = 0, ratio = 0;
+  for (const w of words) {
+    fallbacks += w & 0xffff;
+    violations += w >>> 31;
+    ratio = Math.max(ratio, halfToFloat((w >>> 16) & 0x7fff));
+  }
+  return { fallbacks, violations, ratio };
+}
+
+/** An IEEE half float's value (finite, non-negative; +inf saturated). */
+function halfToFloat(h) {
+  const exp = (h >> 10) & 0x1f, man = h & 0x3ff;
+  if (exp === 0) return man * 2 ** -24;
+  if (exp === 31) return Infinity;
+  return (1 + man / 1024) * 2 ** (exp - 15);
+}

@@ -471,7 +471,12 @@ pub struct FormulaPlan {
 
 /// Loads the formula and checks every flag against it and its header.
 pub fn plan(a: &RenderArgs) -> Result<FormulaPlan, CliError> {
-    let loaded = a.formula.load_with_header()?;
+    plan_loaded(a, a.formula.load_with_header()?)
+}
+
+/// [`plan`] of a formula already loaded (the viewer looks at its
+/// parameters first).
+pub fn plan_loaded(a: &RenderArgs, loaded: super::input::Loaded) -> Result<FormulaPlan, CliError> {
     let size = parse_size(a.size.as_deref().unwrap_or("512"))?;
     let settings = settings(&a.view, size, &loaded.formula, loaded.header.as_ref())?;
     // --color defaults to "shade"; a header's colour applies unless the flag was given.

@@ -56,12 +56,20 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
 pub(super) fn warn_lipschitz(frame: &Frame, o: &isotrace::render::SphereOptions) {
     let st = &frame.stats;
     if st.sphere.lipschitz_violations > 0 {
-        eprintln!(
-            "warning: on {} pixels f / {} changed faster than the distance along the ray (up to {:.3} per unit): the formula is not a distance bound \
-             with this Lipschitz bound, and sphere tracing can miss surfaces; give --lipschitz {:.3} or more, or use --method bisect",
-            st.sphere.lipschitz_violations, o.lipschitz, st.sphere.lipschitz_seen, st.sphere.lipschitz_seen
-        );
+        let seen = format!("{:.3}", st.sphere.lipschitz_seen);
+        eprintln!("{}", lipschitz_warning(&st.sphere.lipschitz_violations, &o.lipschitz, &seen));
     }
+}
+
+/// The text of [`warn_lipschitz`]: `violations` rays, the bound
+/// `lipschitz`, the largest rate `seen` (3 decimals). The viewer passes
+/// placeholders and its page fills them from its own frames, so the page
+/// and the CLI say the same.
+pub(super) fn lipschitz_warning(violations: &dyn std::fmt::Display, lipschitz: &dyn std::fmt::Display, seen: &dyn std::fmt::Display) -> String {
+    format!(
+        "warning: on {violations} pixels f / {lipschitz} changed faster than the distance along the ray (up to {seen} per unit): the formula is not a distance bound \
+         with this Lipschitz bound, and sphere tracing can miss surfaces; give --lipschitz {seen} or more, or use --method bisect"
+    )
 }
 
 pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu, field: &str) {

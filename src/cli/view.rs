@@ -171,24 +171,25 @@ impl Backend {
 
     /// Compiles the request's render into the page's state.
     fn program(&self, body: &Value) -> Result<Value, ApiError> {
-        let (args, r) = self.args(body)?;
+        let (mut args, mut r) = self.args(body)?;
         let t0 = std::time::Instant::now();
-        let first = &args[0];
-        let (program, settings, traversal, color, extra) = if is_scene(first) {
+        let (program, settings, traversal, color, extra) = if is_scene(&args[0]) {
             let scene = self.scene(body)?;
-            let p = super::scene_render::plan(&r, &scene, std::path::Path::new(first)).map_err(bad)?;
+            let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
             let t = Traversal::Sphere(p.options.clone());
             let program = isotrace::view::program(FieldSource::Scene(&data), &t, &p.settings).map_err(view_render_error)?;
             let scene_json: Value = serde_json::from_str(&isotrace::scene::format::to_json(&scene)).unwrap_or(Value::Null);
-            (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "scene_features": data.features }))
+            (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "new_params": [], "scene_features": data.features }))
         } else {
-            let p = super::render::plan(&r).map_err(bad)?;
+            let loaded = r.formula.load_with_header().map_err(bad)?;
+            let new_params = default_params(&loaded, &mut r, &mut args)?;
+            let p = super::render::plan_loaded(&r, loaded).map_err(bad)?;
             let program = isotrace::view::program(FieldSource::Compiled(&p.loaded.formula.ir), &p.traversal, &p.settings).map_err(view_render_error)?;
             let names = p.loaded.formula.ir.params.iter().map(|(n, _)| n.clone());
             let params: Vec<Value> = names.zip(&p.settings.params).map(|(n, v)| json!({ "name": n, "value": v })).collect();
             let f = &p.loaded.formula;
-            (program, p.settings, p.traversal, p.color_text, json!({ "formula": f.source, "origin": f.origin, "params": params, "scene": null }))
+            (program, p.settings, p.traversal, p.color_text, json!({ "formula": f.source, "origin": f.origin, "params": params, "new_params": new_params, "scene": null }))
         };
         let mut state = json!({
             "args": args,
@@ -196,13 +197,17 @@ impl Backend {
             "program": program,
             "view": view_json(&settings),
             "options": options_json(&traversal, &color),
+            "warnings": frame_warnings(&traversal),
             "compile_ms": t0.elapsed().as_secs_f64() * 1e3,
         });
         merge(&mut state, extra);
         Ok(state)
     }
 
-    /// An edited scene laid out: its buffers, no shader.
+    /// An edited scene laid out: its buffers (no shader), and what the
+    /// edit moves with them as `render` of the edited scene would: the
+    /// framing the request's flags leave to the scene (its box, and the
+    /// camera and eps when not given), the Lipschitz bound in the uniforms.
     fn scene_edit(&self, body: &Value) -> Result<Value, ApiError> {
         let (args, r) = self.args(body)?;
         if !is_scene(&args[0]) {
@@ -212,7 +217,17 @@ impl Backend {
         let scene = self.scene(body)?;
         let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
         let buffers = isotrace::view::scene_buffers(&p.lin.field_data());
-        Ok(json!({ "buffers": buffers, "features": p.lin.features, "layout_ms": t0.elapsed().as_secs_f64() * 1e3 }))
+        let t = Traversal::Sphere(p.options.clone());
+        let uniforms = isotrace::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::render_error(e)))?;
+        Ok(json!({
+            "buffers": buffers,
+            "features": p.lin.features,
+            "view": view_json(&p.settings),
+            "options": options_json(&t, &r.color),
+            "uniforms": uniforms,
+            "warnings": frame_warnings(&t),
+            "layout_ms": t0.elapsed().as_secs_f64() * 1e3,
+        }))
     }
 
     /// A full-size PNG or EXR of the request through the render path.
@@ -264,6 +279,35 @@ fn encode(frame: &mut isotrace::render::Frame, exr: bool) -> Result<Vec<u8>, Str
     let result = isotrace::output::write_exr(&path, frame).map_err(|e| e.to_string()).and_then(|_| std::fs::read(&path).map_err(|e| e.to_string()));
     let _ = std::fs::remove_file(&path);
     result
+}
+
+/// The value the viewer gives a parameter that nothing else does: the
+/// CLI's advice (`--param NAME=1.0`); the page shows it with a slider.
+const NEW_PARAM_VALUE: f64 = 1.0;
+
+/// Gives each parameter of the formula that neither its header nor a
+/// `--param` sets [`NEW_PARAM_VALUE`], as a `--param` of the request (so
+/// the page's CLI line gives it too); their names.
+fn default_params(loaded: &super::input::Loaded, r: &mut RenderArgs, args: &mut Vec<String>) -> Result<Vec<String>, ApiError> {
+    let given = super::render::parse_params(&r.view.params).map_err(bad)?;
+    let header = loaded.header.as_ref().map(|h| h.view().params).unwrap_or_default();
+    let set = |name: &str| given.iter().chain(&header).any(|(n, _)| n == name);
+    let missing: Vec<String> = loaded.formula.ir.params.iter().map(|(n, _)| n.clone()).filter(|n| !set(n)).collect();
+    for name in &missing {
+        let p = format!("{name}={NEW_PARAM_VALUE}");
+        r.view.params.push(p.clone());
+        args.extend(["--param".to_string(), p]);
+    }
+    Ok(missing)
+}
+
+/// The CLI's warnings about a frame, as templates the page fills from the
+/// statistics of its own frames (`{violations}`, `{lipschitz}`, `{seen}`).
+fn frame_warnings(t: &Traversal) -> Value {
+    match t {
+        Traversal::Sphere(_) => json!({ "lipschitz": super::report::lipschitz_warning(&"{violations}", &"{lipschitz}", &"{seen}") }),
+        Traversal::Bisect(_) => json!({}),
+    }
 }
 
 fn merge(a: &mut Value, b: Value) {

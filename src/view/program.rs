@@ -190,6 +190,10 @@ pub struct Program {
     pub stages: Vec<Stage>,
     /// Values the page recomputes.
     pub follow: Follow,
+    /// The pass-group binding of the per-ray statistics words (sphere
+    /// tracing's `record::RayStats`), which the page reads for the CLI's
+    /// Lipschitz warning.
+    pub ray_stats: Option<u32>,
 }
 
 fn words<T: bytemuck::Pod>(v: &[T]) -> Vec<u32> {
@@ -213,6 +217,10 @@ fn kept(binding: u32, name: &'static str, size: Size) -> Binding {
     Binding { clear: false, ..scratch(binding, name, size) }
 }
 
+/// Sphere tracing's per-ray statistics in the pass group
+/// (`gpu::sphere`'s `ray_stats_binding`).
+const RAY_STATS_BINDING: u32 = 1;
+
 /// Assembles, checks the size limit of the CLI, validates with naga and
 /// describes the kernel of `field` traced by `traversal` for settings `s`.
 pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> Result<Program, RenderError> {
@@ -225,7 +233,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         return Err(RenderError::ShaderTooLarge { bytes: kernel.code_bytes() });
     }
     let module = crate::validate::validate(&kernel.wgsl)?;
-    let uniforms = uniform_bytes(traversal, s)?;
+    let uniforms = uniforms(traversal, s)?;
     let mut frame = vec![Binding { binding: 0, name: "uniforms", read_only: true, size: Size::Uniforms, data: None, indirect: false, clear: false, texture: None }];
     // Every pixel's record is written: no need to clear 16 bytes a pixel.
     let mut pass = vec![Binding { clear: false, ..scratch(0, "pixel records", Size::PerPixel { bytes: 16 }) }];
@@ -307,7 +315,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             ("bisect", blocks::<BisectBlock>(), Follow { light: m.light.is_none(), eps_factor: m.shadow_eps.is_none().then_some(4.0) })
         }
         Traversal::Sphere(o) => {
-            pass.push(scratch(1, "ray statistics", Size::PerPixel { bytes: 4 }));
+            pass.push(scratch(RAY_STATS_BINDING, "ray statistics", Size::PerPixel { bytes: 4 }));
             if codegen::kernel::sphere_tile_pass(field) {
                 // The tile pass leaves the tiles without primitives out of `main`.
                 pass.extend(tile_list());
@@ -322,7 +330,14 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     for st in &mut stages {
         st.uses = uses.iter().find(|(e, _)| e == st.entry).map(|(_, u)| u.clone()).unwrap_or_default();
     }
-    Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms: words(&uniforms), groups: [frame, field_group, pass], stages, follow })
+    let ray_stats = matches!(traversal, Traversal::Sphere(_)).then_some(RAY_STATS_BINDING);
+    Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms, groups: [frame, field_group, pass], stages, follow, ray_stats })
+}
+
+/// The uniform words of the first frame of `traversal` with settings `s`
+/// (a scene edit changes them without a new kernel: its Lipschitz bound).
+pub fn uniforms(traversal: &Traversal, s: &Settings) -> Result<Vec<u32>, RenderError> {
+    Ok(words(&uniform_bytes(traversal, s)?))
 }
 
 /// A tile pass's list (the indirect dispatch counts of `main`, binding 2)

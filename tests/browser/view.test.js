@@ -272,6 +272,90 @@ async function tapeCase(browser) {
   } finally { proc.kill(); }
 }
 
+// A scene edit that grows the solid (node 0's half width 1.7 → 2.72): the
+// page frames the edited scene as `render` frames the edited file (nothing
+// cut off by the old box), and draws a coarse frame before the full one, as
+// when the camera moves.
+async function growCase(browser) {
+  const { url, proc } = await startServer('examples/procedural.scene.json');
+  try {
+    const page = await openPage(browser, url, 'grow');
+    const box0 = await page.evaluate(() => __view.U.box.slice());
+    const edits = await page.evaluate(() => { __view.frameLog = []; return __view.edits; });
+    await page.evaluate(() => {
+      const c = __view.gui().foldersRecursive().find((f) => f._title === '0: box').controllers.find((c) => c._name === 'half[0]');
+      c.setValue(2.72);
+      c._callOnFinishChange();
+    });
+    await page.waitForFunction((n) => __view.edits > n || __view.diagnostic, edits, { timeout: 120000 });
+    const log = await page.evaluate(() => __view.frameLog.slice());
+    check('scene edit: a coarse frame is drawn before the full one', log.length === 2 && log[0] === 'coarse' && log[1] === 'full', JSON.stringify(log));
+    const box1 = await page.evaluate(() => __view.U.box.slice());
+    check('grown scene: the box holds the grown solid', box1[0] < -2.72 && box1[1] > 2.72, `x ${box0[0].toFixed(2)},${box0[1].toFixed(2)} → ${box1[0].toFixed(2)},${box1[1].toFixed(2)}`);
+    const file = path.join(ART, 'procedural-grown.scene.json');
+    fs.writeFileSync(file, JSON.stringify(await page.evaluate(() => __view.state().scene)));
+    const c = compare(await capture(page), cliRender([file, '--size', String(SIZE)], 'grow'));
+    check('grown scene: pixels match isotrace render of the edited scene file', c.ok, c.detail);
+    figures.grow = c.detail;
+    await page.screenshot({ path: path.join(ART, 'grow.png') });
+    await page.close();
+  } finally { proc.kill(); }
+}
+
+// The CLI's warning of a formula that is not a distance bound, sphere
+// traced: the page shows the same text (its numbers from its own frame),
+// and the Lipschitz bound it advises, given in the page, ends it.
+async function lipschitzCase(browser) {
+  const formula = 'x^2+y^2-z^2-0.1';
+  const { url, proc } = await startServer(formula);
+  try {
+    const page = await openPage(browser, url, 'lipschitz');
+    await page.evaluate(async () => { __view.U.method = 'sphere'; await __view.recompile(); });
+    const shown = (await page.textContent('#warning')).trim();
+    const file = path.join(ART, 'lipschitz-cli.png');
+    const cli = spawnSync(BIN, ['render', ...(await cliArgs(page)), '-o', file, '--force'], { encoding: 'utf8' }).stderr.split('\n').find((l) => l.includes('changed faster')) || '';
+    // Pixel counts and rates from two float implementations: the same
+    // text, the counts within 5 %, the rates within 0.02.
+    const nums = (t) => (t.match(/\d+(\.\d+)?/g) || []).map(Number);
+    const [a, b] = [nums(shown), nums(cli)];
+    const close = a.length === b.length && a.length > 2 && Math.abs(a[0] - b[0]) <= 0.05 * b[0] && a.slice(2).every((x, i) => Math.abs(x - b[i + 2]) <= 0.02);
+    check('lipschitz: the page shows the CLI warning', !!cli && shown.replace(/\d+(\.\d+)?/g, '#') === cli.replace(/\d+(\.\d+)?/g, '#') && close, `page: ${shown.slice(0, 60)}…  numbers ${a} vs CLI ${b}`);
+    const before = await capture(page);
+    const frames = await page.evaluate(() => __view.frames);
+    await page.click('#lipschitz-fix');
+    await page.waitForFunction((n) => __view.frames > n + 1 && __view.lastFrame.full, frames, { timeout: 60000 });
+    const args = await cliArgs(page);
+    const i = args.indexOf('--lipschitz');
+    check('lipschitz: the advised bound is in the CLI line', i > 0 && Math.abs(Number(args[i + 1]) - b[2]) <= 0.02, args.slice(i, i + 2).join(' '));
+    check('lipschitz: the warning is gone', (await page.textContent('#warning')).trim() === '' && await page.isHidden('#lipschitz-fix'));
+    const fixed = await matchesCli(page, 'lipschitz-fixed');
+    check('lipschitz: the picture changes', differs(before, fixed));
+    await page.close();
+  } finally { proc.kill(); }
+}
+
+// A formula typed in the editor with a name nothing gives a value: it gets
+// 1 and a slider, as `--param r=1` in the CLI line.
+async function newParamCase(browser) {
+  const { url, proc } = await startServer('@sphere');
+  try {
+    const page = await openPage(browser, url, 'new-param');
+    const programs = await page.evaluate(() => __view.programs);
+    await page.fill('#formula', 'x^2+y^2+z^2-r^2');
+    await page.click('#compile');
+    await page.waitForFunction((n) => __view.programs > n || __view.diagnostic, programs, { timeout: 100000 });
+    const state = await page.evaluate(() => ({ diagnostic: __view.diagnostic, names: __view.newParams, note: document.getElementById('params-note').textContent }));
+    check('new parameter: compiled with r = 1, and the page says so', !state.diagnostic && JSON.stringify(state.names) === '["r"]' && state.note.startsWith('new parameter r = 1'), state.diagnostic || state.note);
+    const args = await cliArgs(page);
+    check('new parameter: the CLI line gives --param r=1', args.join(' ').includes('--param r=1'), args.join(' '));
+    const one = await matchesCli(page, 'new-param');
+    await page.evaluate(() => __view.gui().controllersRecursive().find((c) => c._name === 'r').setValue(0.6));
+    const moved = await matchesCli(page, 'new-param-r');
+    check('new parameter: its slider changes the picture', differs(one, moved) && (await cliArgs(page)).includes('r=0.6'));
+    await page.close();
+  } finally { proc.kill(); }
+}
+
 async function exportCase(browser) {
   const file = path.join(ART, 'export-sphere.html');
   execFileSync(BIN, ['view', '@sphere', '--export', file], { stdio: ['ignore', 'ignore', 'inherit'] });
@@ -292,7 +376,7 @@ async function exportCase(browser) {
   try {
     // CASES=scene,export runs only those (for debugging).
     const only = (process.env.CASES || '').split(',').filter(Boolean);
-    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, growCase, lipschitzCase, newParamCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
       try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
     }
   } finally { await browser.close(); }
