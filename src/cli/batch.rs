@@ -184,28 +184,41 @@ fn summarize(files: &[PathBuf]) -> Result<Summary, CliError> {
         let file = f.display().to_string();
         let m = manifest::parse(&file, &read_part(f, manifest::MAX_FILE_BYTES, manifest::WHAT)?).map_err(merge_error)?;
         let dir = f.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        let [width, height] = m.settings.size;
-        summarizer.add(&file, m, |name| frame_on_disk(dir, name, width, height)).map_err(merge_error)?;
+        let frames = FramesDir { dir, resolved: dir.canonicalize().ok(), width: m.settings.size[0], height: m.settings.size[1] };
+        summarizer.add(&file, m, |name| frames.on_disk(name)).map_err(merge_error)?;
     }
     summarizer.finish().map_err(merge_error)
 }
 
-/// What is on disk for frame file `name` of a manifest in `dir`: a frame
-/// counts when it is a whole image of the animation's size in `dir`
-/// itself (a symbolic link that leads out of it does not count).
-fn frame_on_disk(dir: &Path, name: &str, width: u32, height: u32) -> FrameFile {
-    let path = dir.join(name);
-    if !path.exists() {
-        return FrameFile::Absent;
-    }
-    match (dir.canonicalize(), path.canonicalize()) {
-        (Ok(d), Ok(p)) if p.starts_with(&d) => {}
-        _ => return FrameFile::Unusable("a symbolic link to a file outside the manifest's directory".into()),
-    }
-    let Ok(format) = isotrace::output::format_of(&path) else { return FrameFile::Unusable("not a .png or .exr file".into()) };
-    match frame_check::check(&path, format, width, height) {
-        Ok(()) => FrameFile::Present,
-        Err(reason) => FrameFile::Unusable(reason),
+/// The directory of a manifest, where its frames are, and their size.
+struct FramesDir<'a> {
+    dir: &'a Path,
+    /// `dir` with its symbolic links resolved, once.
+    resolved: Option<PathBuf>,
+    width: u32,
+    height: u32,
+}
+
+impl FramesDir<'_> {
+    /// What is on disk for frame file `name` (a file name, no directory
+    /// part): a frame counts when it is a whole image of the animation's
+    /// size in the directory itself (a symbolic link that leads out of it
+    /// does not count).
+    fn on_disk(&self, name: &str) -> FrameFile {
+        let path = self.dir.join(name);
+        let Ok(meta) = std::fs::symlink_metadata(&path) else { return FrameFile::Absent };
+        if meta.file_type().is_symlink() {
+            match (&self.resolved, path.canonicalize()) {
+                (_, Err(_)) => return FrameFile::Absent,
+                (Some(d), Ok(p)) if p.starts_with(d) => {}
+                _ => return FrameFile::Unusable("a symbolic link to a file outside the manifest's directory".into()),
+            }
+        }
+        let Ok(format) = isotrace::output::format_of(&path) else { return FrameFile::Unusable("not a .png or .exr file".into()) };
+        match frame_check::check(&path, format, self.width, self.height) {
+            Ok(()) => FrameFile::Present,
+            Err(reason) => FrameFile::Unusable(reason),
+        }
     }
 }
 
