@@ -380,3 +380,180 @@ fn the_kubernetes_example_renders_its_shards() {
     let o = ok(run_in(&dir, &["manifest", "merge", "frames/*.manifest.json"], &[]));
     assert!(String::from_utf8_lossy(&o.stdout).contains("complete: 3 of 3 frames"));
 }
+
+/// The first manifest of a fresh 4-frame run, as JSON, for the tests that
+/// damage it.
+fn manifest_of_a_run(dir: &Path) -> Value {
+    ok(render_frames(dir, 4, &["--shard", "0/1"], &[]));
+    json(&dir.join("frames/f_.shard-0-of-1.manifest.json"))
+}
+
+/// `manifest merge` of one file: its exit code and stderr.
+fn merge_one(dir: &Path, file: &str) -> (Option<i32>, String) {
+    let o = run_in(dir, &["manifest", "merge", file], &[]);
+    (o.status.code(), stderr(&o))
+}
+
+/// A shard count of 0 (was a division by zero, exit 101), an index past
+/// the count, too many frames and a top level that is not an object are
+/// refused with the file and the JSON path.
+#[test]
+fn manifests_with_impossible_shards_or_shapes_are_refused_by_path() {
+    let dir = fresh("shapes");
+    let m = manifest_of_a_run(&dir);
+    let write = |name: &str, v: &Value| std::fs::write(dir.join(name), serde_json::to_string_pretty(v).unwrap()).unwrap();
+    let mut zero = m.clone();
+    zero["shard"] = serde_json::json!({"index": 0, "count": 0});
+    write("zero.json", &zero);
+    let line = serde_json::to_string_pretty(&zero).unwrap().lines().position(|l| l.starts_with("  \"started\"")).unwrap();
+    assert_eq!(
+        merge_one(&dir, "zero.json"),
+        (Some(1), format!("error: 'zero.json' is not an isotrace frame manifest: shard.count is 0: a shard count must be at least 1, at line {line} column 3\n"))
+    );
+    let mut past = m.clone();
+    past["shard"] = serde_json::json!({"index": 3, "count": 2});
+    write("past.json", &past);
+    assert!(merge_one(&dir, "past.json").1.starts_with("error: 'past.json' is not an isotrace frame manifest: shard.index is 3 but shard.count is 2: the index must be below the count, at line "));
+    let mut many = m.clone();
+    many["settings"]["frames"] = 4_000_000_000u32.into();
+    write("many.json", &many);
+    assert_eq!(merge_one(&dir, "many.json"), (Some(1), "error: 'many.json' is not an isotrace frame manifest: settings.frames is 4000000000: an animation has 1 to 1000000 frames\n".into()));
+    std::fs::write(dir.join("list.json"), "[]").unwrap();
+    assert_eq!(merge_one(&dir, "list.json"), (Some(1), "error: 'list.json' is not an isotrace frame manifest: expected a JSON object at the top level, found an array\n".into()));
+}
+
+/// Runs `isotrace` under an address-space limit of `kib` KiB (`ulimit -v`):
+/// an allocation the limit refuses would abort (exit 134).
+#[cfg(unix)]
+fn run_limited(dir: &Path, kib: u64, args: &[&str]) -> Output {
+    let quoted: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+    let cmd = format!("ulimit -v {kib} && exec '{}' {}", env!("CARGO_BIN_EXE_isotrace"), quoted.join(" "));
+    Command::new("sh").args(["-c", &cmd]).current_dir(dir).env("NODEVICE_SELECT", "1").output().unwrap()
+}
+
+/// Reports and manifests over their size limit are refused by their size,
+/// before they are read; one under it is parsed into its typed form, not a
+/// JSON tree (a 23 MB manifest took 216 MB that way and aborted under a
+/// 300 MB address space; now about 50 MB).
+#[cfg(unix)]
+#[test]
+fn large_manifests_and_reports_are_bounded() {
+    let dir = fresh("large");
+    let sparse = |name: &str, len: u64| std::fs::File::create(dir.join(name)).unwrap().set_len(len).unwrap();
+    sparse("big.manifest.json", isotrace::batch::manifest::MAX_FILE_BYTES + 1);
+    sparse("big-report.json", isotrace::bench::report::MAX_FILE_BYTES + 1);
+    let o = run_limited(&dir, 300_000, &["manifest", "merge", "big.manifest.json"]);
+    assert_eq!(
+        (o.status.code(), stderr(&o).as_str()),
+        (Some(1), "error: cannot read 'big.manifest.json': larger than the limit of 268435456 bytes (256 MiB) for an isotrace frame manifest\n")
+    );
+    let o = run_limited(&dir, 300_000, &["bench", "--merge", "big-report.json"]);
+    assert_eq!(
+        (o.status.code(), stderr(&o).as_str()),
+        (Some(1), "error: cannot read 'big-report.json': larger than the limit of 67108864 bytes (64 MiB) for an isotrace bench report\n")
+    );
+    // 200,000 pending frames of a real manifest's head: 23 MB.
+    let mut m = manifest_of_a_run(&dir);
+    let n = 200_000;
+    m["settings"]["frames"] = n.into();
+    m["frames"] = Value::Array(vec![]);
+    let head = serde_json::to_string(&m).unwrap();
+    let frames: Vec<String> = (0..n).map(|k| format!("{{\"index\":{k},\"t\":{},\"file\":\"f_{k:06}.png\",\"status\":\"pending\",\"gpu_ms\":null,\"wall_ms\":null}}", k as f64 / 7.0)).collect();
+    let text = head.replace("\"frames\":[]", &format!("\"frames\":[\n{}\n]", frames.join(",\n")));
+    std::fs::write(dir.join("long.json"), text).unwrap();
+    let o = run_limited(&dir, 300_000, &["manifest", "merge", "long.json"]);
+    assert_eq!(
+        (o.status.code(), stderr(&o).as_str()),
+        (Some(1), "error: 200000 of 200000 frames are missing: 0-199999; render them with the same command and --skip-existing\n")
+    );
+}
+
+/// --skip-existing renders a frame cut to 50 bytes and an empty one again
+/// (before, both were kept with exit 0 and the merge said complete), and
+/// `manifest merge` does not count a frame damaged after its run.
+#[test]
+fn damaged_frames_are_rendered_again_and_never_count() {
+    let dir = fresh("damaged");
+    ok(render_frames(&dir, 6, &[], &[]));
+    let f = |k: u32| dir.join(format!("frames/f_{k:03}.png"));
+    let whole = std::fs::read(f(1)).unwrap();
+    std::fs::write(f(1), &whole[..50]).unwrap();
+    std::fs::write(f(4), b"").unwrap();
+    let o = ok(render_frames(&dir, 6, &["--skip-existing"], &[]));
+    assert_eq!(
+        stderr(&o),
+        "note: 'frames/f_001.png' is rendered again: a PNG file cut short: it ends at byte 50, inside its IDAT chunk at byte 33\n\
+         note: 'frames/f_004.png' is rendered again: an empty file\n"
+    );
+    let m = json(&dir.join("frames/f_.shard-0-of-1.manifest.json"));
+    let want: Vec<(u64, String)> = (0..6).map(|k| (k, if k == 1 || k == 4 { "rendered" } else { "skipped" }.to_string())).collect();
+    assert_eq!(statuses(&m), want);
+    assert_eq!(std::fs::read(f(1)).unwrap(), whole);
+    ok(run_in(&dir, &["manifest", "merge", "frames/f_.shard-0-of-1.manifest.json"], &[]));
+    std::fs::write(f(2), &whole[..whole.len() - 1]).unwrap();
+    let at = whole.len() - 12;
+    assert_eq!(
+        merge_one(&dir, "frames/f_.shard-0-of-1.manifest.json"),
+        (
+            Some(1),
+            format!(
+                "warning: 'frames/f_.shard-0-of-1.manifest.json': frame 2's file 'f_002.png' does not count: a PNG file cut short: it ends at byte {}, inside its IEND chunk at byte {at}\n\
+                 error: 1 of 6 frames are missing: 2 (f_002.png); render them with the same command and --skip-existing\n",
+                whole.len() - 1
+            )
+        )
+    );
+}
+
+/// A manifest naming a file outside its directory (an absolute path, a
+/// path that climbs out, a symbolic link that leads out) never counts it
+/// as a frame, even when that file is a whole frame of the right size.
+#[test]
+fn frames_outside_the_manifests_directory_never_count() {
+    let dir = fresh("outside");
+    let mut m = manifest_of_a_run(&dir);
+    std::fs::copy(dir.join("frames/f_003.png"), dir.join("x")).unwrap();
+    m["frames"][0]["file"] = "/etc/passwd".into();
+    m["frames"][1]["file"] = "../x".into();
+    std::fs::write(dir.join("frames/evil.json"), m.to_string()).unwrap();
+    #[cfg(unix)]
+    {
+        std::fs::remove_file(dir.join("frames/f_002.png")).unwrap();
+        std::os::unix::fs::symlink(dir.join("x"), dir.join("frames/f_002.png")).unwrap();
+    }
+    let (code, text) = merge_one(&dir, "frames/evil.json");
+    let mut want = "warning: 'frames/evil.json': frame 0's file '/etc/passwd' does not count: an absolute path, not a file in the manifest's directory\n\
+                    warning: 'frames/evil.json': frame 1's file '../x' does not count: not a file name: it climbs out of the manifest's directory\n"
+        .to_string();
+    let mut missing = "0 (f_000.png), 1 (f_001.png)";
+    if cfg!(unix) {
+        want.push_str("warning: 'frames/evil.json': frame 2's file 'f_002.png' does not count: a symbolic link to a file outside the manifest's directory\n");
+        missing = "0 (f_000.png), 1 (f_001.png), 2 (f_002.png)";
+    }
+    want.push_str(&format!("error: {} of 4 frames are missing: {missing}; render them with the same command and --skip-existing\n", missing.matches('(').count()));
+    assert_eq!((code, text), (Some(1), want));
+}
+
+/// Text from a report reaches neither the terminal nor the Markdown raw: a
+/// device name with ESC[2J (clear the screen) and a surface name with a
+/// line break are shown with visible stand-ins.
+#[test]
+fn report_text_is_shown_escaped() {
+    let dir = fresh("escape");
+    ok(run_in(&dir, &["bench", "sphere", "--algebra", "ia", "--size", "8", "--repeat", "1", "--json", "a.json"], &[]));
+    let mut a = json(&dir.join("a.json"));
+    a["settings"]["surfaces"][0] = "sphere\nok".into();
+    a["results"][0]["surface"] = "sphere\nok".into();
+    std::fs::write(dir.join("a.json"), a.to_string()).unwrap();
+    a["device"]["name"] = "gpu\u{1b}[2J".into();
+    std::fs::write(dir.join("b.json"), a.to_string()).unwrap();
+    let o = ok(run_in(&dir, &["bench", "--merge", "a.json", "b.json", "--markdown", "m.md"], &[]));
+    let (out, err) = (String::from_utf8_lossy(&o.stdout).into_owned(), stderr(&o));
+    let md = std::fs::read_to_string(dir.join("m.md")).unwrap();
+    for text in [&out, &err, &md] {
+        assert!(!text.contains('\u{1b}') && !text.contains("sphere\nok"), "{text}");
+    }
+    assert!(err.starts_with("warning: the reports come from different devices (") && err.contains("; gpu\u{241b}[2J (Vulkan, "), "{err}");
+    assert!(out.lines().nth(1).unwrap().starts_with("sphere\u{240a}ok "), "{out}");
+    assert!(md.contains("; gpu\u{241b}[2J (Vulkan, ") && md.contains("\n| sphere\u{240a}ok | 2 |"), "{md}");
+}

@@ -77,6 +77,28 @@ fn markdown_and_json_carry_every_job() {
     assert_eq!(v[1]["error"], "GPU error during render dispatch: lost");
 }
 
+/// Names and errors of a report that `bench --merge` read from a file:
+/// control characters visible, one line, and in Markdown `|` escaped so a
+/// cell stays one cell. A row whose algebra is no column is left out of
+/// the grid.
+#[test]
+fn text_from_a_report_is_escaped_in_the_table_and_the_markdown() {
+    let mut rows = results();
+    rows[0].surface = "a|b\x1b[2J".into();
+    rows[1].surface = "a|b\x1b[2J".into();
+    rows[1].outcome = Outcome::Failed { error: "bad\x07 news".into() };
+    rows.push(JobResult { algebra: "other".into(), ..rows[0].clone() });
+    let t = table_text(&rows, &names(&["ia", "raa"]));
+    assert!(t.lines().nth(1).unwrap().starts_with("a|b\u{241b}[2J          2 ") && t.ends_with("FAILED a|b\u{241b}[2J raa: bad\u{2407} news\n"), "{t}");
+    let md = markdown(&rows, &names(&["ia", "raa"]), "gpu\x1b]0;x\x07\nMachine: forged");
+    assert!(md.starts_with("Machine: gpu\u{241b}]0;x\u{2407}\u{240a}Machine: forged\n\n"), "{md}");
+    assert!(md.contains("\n| a\\|b\u{241b}[2J | 2 | 10.0 |") && md.contains("| a\\|b\u{241b}[2J | raa | FAILED: bad\u{2407} news |"), "{md}");
+    assert!(!t.contains('\x1b') && !md.contains('\x1b'), "{md}");
+    // The grid has no column for it (and does not panic); the details list it.
+    assert_eq!(t.lines().count(), 3);
+    assert!(md.contains("| a\\|b\u{241b}[2J | other | ia |"), "{md}");
+}
+
 fn frame(colors: &[[f32; 4]]) -> Frame {
     let pixels = colors
         .iter()

@@ -6,7 +6,7 @@
 //! its time value, file, status and timings. A summary puts the manifests of
 //! all shards together and lists what is complete and what is missing.
 
-use super::merge::{check_same, typed, MergeError, Part};
+use super::merge::{self, check_pair, MergeError, Part};
 use super::Shard;
 use crate::gpu::DeviceInfo;
 use serde::{Deserialize, Serialize};
@@ -14,6 +14,33 @@ use std::collections::BTreeMap;
 
 /// What a manifest file is (in `NotAPart` messages).
 pub const WHAT: &str = "an isotrace frame manifest";
+
+/// Most frames of one animation (`render --frames`). Frames are rendered
+/// one after the other, so this bounds a run's length and its manifest,
+/// not its memory.
+pub const MAX_FRAMES: u32 = 1_000_000;
+
+/// Largest manifest file read. A manifest has one line of about 125 bytes
+/// per frame (`f_%04d.png`: 1.25 MB for 10,000 frames; `frame_%06d.png`:
+/// 13.2 MB for 100,000), so one shard of [`MAX_FRAMES`] frames writes some
+/// 135 MB; the limit leaves room for file names 130 characters longer.
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+
+/// The keys every manifest of one animation shares, in the order that
+/// explains a difference best.
+const SHARED: [&str; 5] = ["isotrace_version", "settings.formula", "settings.pattern", "settings.frames", "settings"];
+
+/// Parses a manifest's text (`file` names it in messages): a JSON object of
+/// the manifest's schema, with a shard `i/n` (0 ≤ i < n) and 1 to
+/// [`MAX_FRAMES`] frames.
+pub fn parse(file: &str, text: &str) -> Result<Manifest, MergeError> {
+    let m: Manifest = merge::parse(file, text, WHAT)?;
+    if !(1..=MAX_FRAMES).contains(&m.settings.frames) {
+        let reason = format!("settings.frames is {}: an animation has 1 to {MAX_FRAMES} frames", m.settings.frames);
+        return Err(MergeError::NotAPart { file: file.to_string(), what: WHAT, reason });
+    }
+    Ok(m)
+}
 
 /// The file name of shard `shard`'s manifest for frames whose names start
 /// with `stem` (the pattern's file name without the number and extension:
@@ -164,11 +191,15 @@ pub struct Summary {
     pub settings: FrameSettings,
     /// The shards whose manifest was given.
     pub shards: Vec<Shard>,
-    /// When every manifest has the same shard count: the shards without one.
+    /// When every manifest has the same shard count: the shards that own
+    /// frames and have no manifest.
     pub shards_without_manifest: Vec<Shard>,
     /// Complete frames: a manifest says rendered or skipped and the file
-    /// is there. One entry per frame, in order (rendered wins over skipped).
+    /// is there and whole. One entry per frame, in order (rendered wins
+    /// over skipped).
     pub complete: Vec<FrameEntry>,
+    /// Frames a manifest says are done whose file is not counted, and why.
+    pub not_counted: Vec<NotCounted>,
     /// Frame numbers that are not complete, in order.
     pub missing: Vec<usize>,
 }
@@ -180,47 +211,122 @@ impl Summary {
     }
 }
 
-/// Puts manifests together. They must share the isotrace version and every
-/// setting (the first difference is the error). `exists(part, file)` says
-/// whether `file` of manifest `part` (an index into `parts`) is on disk, so
-/// a frame deleted after its run counts as missing.
-pub fn summarize(parts: &[Part], exists: impl Fn(usize, &str) -> bool) -> Result<Summary, MergeError> {
-    check_same(parts, &["isotrace_version", "settings.formula", "settings.pattern", "settings.frames", "settings"], &[])?;
-    let manifests: Vec<Manifest> = parts.iter().map(|p| typed(p, WHAT)).collect::<Result<_, _>>()?;
-    let first = &manifests[0];
-    let n = first.settings.frames as usize;
-    let mut done: BTreeMap<u32, FrameEntry> = BTreeMap::new();
-    for (k, (m, p)) in manifests.iter().zip(parts).enumerate() {
-        for f in &m.frames {
+/// A frame a manifest says is done whose file does not count.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct NotCounted {
+    /// The manifest.
+    pub manifest: String,
+    /// The frame number.
+    pub index: u32,
+    /// The file the manifest names.
+    pub file: String,
+    /// Why it does not count (`an absolute path, …`, `empty`).
+    pub reason: String,
+}
+
+/// What is on disk for a frame a manifest says is done.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FrameFile {
+    /// A whole frame.
+    Present,
+    /// Nothing (deleted after its run): the frame is missing.
+    Absent,
+    /// Something that is not a whole frame of this animation, and why.
+    Unusable(String),
+}
+
+/// Why a manifest's frame `file` cannot be one of its frames, if so.
+/// `render` records a frame by its file name in the manifest's directory;
+/// anything else (`/etc/passwd`, `../x.png`, `sub/x.png`) would let a merge
+/// count a file elsewhere as a frame.
+pub fn foreign_file(file: &str) -> Option<&'static str> {
+    if file.starts_with(['/', '\\']) || file.get(1..3) == Some(":\\") {
+        Some("an absolute path, not a file in the manifest's directory")
+    } else if file.split(['/', '\\']).any(|c| c == "..") || file == "." || file.is_empty() {
+        Some("not a file name: it climbs out of the manifest's directory")
+    } else if file.contains(['/', '\\']) {
+        Some("a path into another directory, not a file in the manifest's directory")
+    } else {
+        None
+    }
+}
+
+/// Puts the manifests of an animation together, one at a time: each must
+/// share the isotrace version and every setting with the first (the first
+/// difference is the error). Only the complete frames are kept, so a merge
+/// holds one manifest at a time.
+#[derive(Debug, Default)]
+pub struct Summarizer {
+    /// The first manifest's compared keys and its record without frames.
+    first: Option<(Part, Manifest)>,
+    done: BTreeMap<u32, FrameEntry>,
+    shards: Vec<Shard>,
+    not_counted: Vec<NotCounted>,
+}
+
+impl Summarizer {
+    /// Adds manifest `m` of `file`. `on_disk(name)` says what is on disk
+    /// for a frame file name of it (a name [`foreign_file`] accepts), so a
+    /// frame deleted or damaged after its run counts as missing.
+    pub fn add(&mut self, file: &str, m: Manifest, mut on_disk: impl FnMut(&str) -> FrameFile) -> Result<(), MergeError> {
+        let part = Part::new(file, &m.isotrace_version, &m.settings);
+        match &self.first {
+            None => self.first = Some((part, m.clone_without_frames())),
+            Some((first, _)) => check_pair(first, &part, &SHARED, &[])?,
+        }
+        let n = m.settings.frames as usize;
+        for f in m.frames {
             if f.index as usize >= n || !m.shard.contains(f.index as usize) {
                 let reason = format!("frame {} is not one of shard {}'s {n} frames", f.index, m.shard);
-                return Err(MergeError::Inconsistent { file: p.file.clone(), reason });
+                return Err(MergeError::Inconsistent { file: file.to_string(), reason });
             }
-            let complete = matches!(f.status, FrameStatus::Rendered | FrameStatus::Skipped) && exists(k, &f.file);
-            let better = done.get(&f.index).is_none_or(|old| old.status == FrameStatus::Skipped && f.status == FrameStatus::Rendered);
-            if complete && better {
-                done.insert(f.index, f.clone());
+            let done = matches!(f.status, FrameStatus::Rendered | FrameStatus::Skipped);
+            let better = self.done.get(&f.index).is_none_or(|old| old.status == FrameStatus::Skipped && f.status == FrameStatus::Rendered);
+            if !(done && better) {
+                continue;
+            }
+            let state = match foreign_file(&f.file) {
+                Some(reason) => FrameFile::Unusable(reason.to_string()),
+                None => on_disk(&f.file),
+            };
+            match state {
+                FrameFile::Present => {
+                    self.done.insert(f.index, f);
+                }
+                FrameFile::Absent => {}
+                FrameFile::Unusable(reason) => self.not_counted.push(NotCounted { manifest: file.to_string(), index: f.index, file: f.file, reason }),
             }
         }
+        self.shards.push(m.shard);
+        Ok(())
     }
-    let mut shards: Vec<Shard> = manifests.iter().map(|m| m.shard).collect();
-    shards.sort();
-    shards.dedup();
-    let count = first.shard.count;
-    let shards_without_manifest = if shards.iter().all(|s| s.count == count) {
-        (0..count).map(|i| Shard { index: i, count }).filter(|s| !shards.contains(s)).collect()
-    } else {
-        vec![]
-    };
-    let missing = (0..n).filter(|k| !done.contains_key(&(*k as u32))).collect();
-    Ok(Summary {
-        isotrace_version: first.isotrace_version.clone(),
-        settings: first.settings.clone(),
-        shards,
-        shards_without_manifest,
-        complete: done.into_values().collect(),
-        missing,
-    })
+
+    /// The summary of the manifests added.
+    pub fn finish(self) -> Result<Summary, MergeError> {
+        let Some((_, first)) = self.first else { return Err(MergeError::Empty) };
+        let n = first.settings.frames as usize;
+        let mut shards = self.shards;
+        shards.sort();
+        shards.dedup();
+        let count = first.shard.count;
+        // Only shards that own a frame (index below the frame count) can
+        // be missing: a count past the frames lists no empty shard.
+        let shards_without_manifest = if shards.iter().all(|s| s.count == count) {
+            (0..count.min(n)).map(|i| Shard { index: i, count }).filter(|s| shards.binary_search(s).is_err()).collect()
+        } else {
+            vec![]
+        };
+        let missing = (0..n).filter(|k| !self.done.contains_key(&(*k as u32))).collect();
+        Ok(Summary {
+            isotrace_version: first.isotrace_version,
+            settings: first.settings,
+            shards,
+            shards_without_manifest,
+            complete: self.done.into_values().collect(),
+            not_counted: self.not_counted,
+            missing,
+        })
+    }
 }
 
 #[cfg(test)]
@@ -231,5 +337,17 @@ mod tests {
     fn manifest_names_follow_the_pattern_and_the_shard() {
         assert_eq!(file_name("f_", Shard { index: 2, count: 4 }), "f_.shard-2-of-4.manifest.json");
         assert_eq!(file_name("", Shard::ALL), "frames.shard-0-of-1.manifest.json");
+    }
+
+    #[test]
+    fn only_file_names_in_the_manifests_directory_are_frames() {
+        assert_eq!(foreign_file("f_0001.png"), None);
+        assert_eq!(foreign_file("..f.png"), None);
+        assert_eq!(foreign_file("/etc/passwd"), Some("an absolute path, not a file in the manifest's directory"));
+        assert_eq!(foreign_file("C:\\x.png"), Some("an absolute path, not a file in the manifest's directory"));
+        assert_eq!(foreign_file("../x"), Some("not a file name: it climbs out of the manifest's directory"));
+        assert_eq!(foreign_file(".."), Some("not a file name: it climbs out of the manifest's directory"));
+        assert_eq!(foreign_file("a/../../x"), Some("not a file name: it climbs out of the manifest's directory"));
+        assert_eq!(foreign_file("sub/x.png"), Some("a path into another directory, not a file in the manifest's directory"));
     }
 }

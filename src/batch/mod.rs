@@ -7,11 +7,14 @@
 //! - [`manifest`]: the record an animation shard writes next to its frames,
 //!   and the summary of many of them (complete and missing frames);
 //! - [`merge`]: putting shard outputs together, refusing parts that come
-//!   from different settings or isotrace versions.
+//!   from different settings or isotrace versions;
+//! - [`frame_check`]: whether a frame file on disk is whole.
 //!
-//! Everything here is pure: reading files, the environment and the clock is
-//! the caller's job, so every rule is unit-tested.
+//! Everything here but [`frame_check`] is pure: reading files, the
+//! environment and the clock is the caller's job, so every rule is
+//! unit-tested.
 
+pub mod frame_check;
 pub mod manifest;
 pub mod merge;
 pub mod shard;
@@ -60,6 +63,21 @@ impl std::fmt::Write for Fnv {
     }
 }
 
+/// Text read from a file (a device or surface name, a formula's origin, a
+/// frame's file name) as one line of a terminal or a report: every control
+/// character is made visible as [`crate::diag::escape_controls`] does, and
+/// line breaks and tabs too, so the text can neither send escape sequences
+/// to a terminal nor pass for lines of the output.
+pub fn one_line(s: &str) -> String {
+    let stand_in = |c| match c {
+        '\n' => '\u{240a}',
+        '\r' => '\u{240d}',
+        '\t' => '\u{2409}',
+        c => c,
+    };
+    crate::diag::escape_controls(s).chars().map(stand_in).collect()
+}
+
 /// Sorted numbers as ranges, `0-3, 7, 9-10`: a list of missing frames stays
 /// readable when a whole shard (every n-th frame) or a run is missing.
 pub fn ranges(sorted: &[usize]) -> String {
@@ -88,6 +106,13 @@ mod tests {
         let mut h = Fnv::default();
         std::fmt::Write::write_fmt(&mut h, format_args!("{}{}", "a", "")).unwrap();
         assert_eq!(h.hex(), fnv1a64(b"a"));
+    }
+
+    #[test]
+    fn text_from_files_stays_on_one_visible_line() {
+        assert_eq!(one_line("llvmpipe\x1b[2J"), "llvmpipe\u{241b}[2J");
+        assert_eq!(one_line("a\r\nb\tc\u{9b}"), "a\u{240d}\u{240a}b\u{2409}c\u{fffd}");
+        assert_eq!(one_line("plain"), "plain");
     }
 
     #[test]

@@ -25,8 +25,11 @@ pub const K8S_INDEX: &str = "JOB_COMPLETION_INDEX";
 /// only the index): set it to the Job's `completions`.
 pub const COUNT_VAR: &str = "ISOTRACE_SHARD_COUNT";
 
-/// Shard `index` of `count` (0 ≤ index < count).
+/// Shard `index` of `count` (0 ≤ index < count). Read from JSON (a
+/// manifest's `shard`) it is checked like `i/n`: a count of 0 or an index
+/// at or past the count is an error, never a division by zero later.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(try_from = "ShardFields")]
 pub struct Shard {
     /// Which shard, from 0.
     pub index: usize,
@@ -51,15 +54,17 @@ impl Shard {
         Shard::new(i, n).ok_or_else(bad)
     }
 
-    /// Whether item `k` of the batch belongs to this shard.
+    /// Whether item `k` of the batch belongs to this shard (never, for a
+    /// count of 0 built in code: no shard is empty by division).
     pub fn contains(self, k: usize) -> bool {
-        k % self.count == self.index
+        k.checked_rem(self.count) == Some(self.index)
     }
 
     /// The items of this shard among `0 … n-1`, in order, made one at a
     /// time (a million frames need no list).
     pub fn items(self, n: usize) -> impl Iterator<Item = usize> {
-        (self.index..n).step_by(self.count)
+        let end = if self.count == 0 { self.index } else { n };
+        (self.index..end).step_by(self.count.max(1))
     }
 
     /// Reads the shard from a scheduler's environment through `lookup`
@@ -146,6 +151,26 @@ fn slurm(
         return Err(ShardError::Inconsistent { detail: format!("{} but {source} make {} shards", g.source, shard.count) });
     }
     Ok(Resolved { shard, source })
+}
+
+/// A shard as JSON holds it, before [`Shard`]'s rule is checked.
+#[derive(Deserialize)]
+struct ShardFields {
+    index: usize,
+    count: usize,
+}
+
+impl TryFrom<ShardFields> for Shard {
+    type Error = String;
+
+    /// The message names the keys (`shard.count`), the JSON path of the one
+    /// place a shard is read from: a manifest's `shard`.
+    fn try_from(f: ShardFields) -> Result<Shard, String> {
+        if f.count == 0 {
+            return Err("shard.count is 0: a shard count must be at least 1".into());
+        }
+        Shard::new(f.index, f.count).ok_or_else(|| format!("shard.index is {} but shard.count is {}: the index must be below the count", f.index, f.count))
+    }
 }
 
 /// `index` of `count`, or an error naming where both came from.
@@ -245,6 +270,17 @@ mod tests {
         assert!(s.contains(4) && !s.contains(5));
         assert_eq!(Shard::ALL.items(3).collect::<Vec<_>>(), [0, 1, 2]);
         assert_eq!(Shard::parse("5/8").unwrap().items(4).count(), 0);
+    }
+
+    #[test]
+    fn json_shards_follow_the_rule_of_i_over_n() {
+        let read = |t: &str| serde_json::from_str::<Shard>(t).map_err(|e| e.to_string());
+        assert_eq!(read(r#"{"index": 2, "count": 4}"#), Ok(Shard { index: 2, count: 4 }));
+        assert_eq!(read(r#"{"index": 0, "count": 0}"#), Err("shard.count is 0: a shard count must be at least 1".into()));
+        assert_eq!(read(r#"{"index": 4, "count": 4}"#), Err("shard.index is 4 but shard.count is 4: the index must be below the count".into()));
+        // Built in code with a count of 0, a shard holds nothing instead of dividing by zero.
+        let zero = Shard { index: 0, count: 0 };
+        assert!(!zero.contains(0) && zero.items(10).next().is_none());
     }
 
     #[test]

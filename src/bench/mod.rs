@@ -10,6 +10,7 @@ pub mod report;
 use crate::batch::Shard;
 use crate::render::{Frame, Stats, Status};
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 
 /// One unit of work: a surface rendered with one variant.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -331,23 +332,27 @@ fn draw_text(img: &mut [u8], w: u32, x0: u32, y0: u32, text: &str, max_w: u32) {
 
 fn cell(r: &JobResult) -> String {
     match &r.outcome {
-        Outcome::Ok(m) if m.field != "compiled" => format!("{} {:.1} ms / {:.2} ev", m.field, m.gpu_ms, m.evals_mean),
+        Outcome::Ok(m) if m.field != "compiled" => format!("{} {:.1} ms / {:.2} ev", shown(&m.field), m.gpu_ms, m.evals_mean),
         Outcome::Ok(m) => format!("{:.1} ms / {:.2} ev", m.gpu_ms, m.evals_mean),
         Outcome::Failed { .. } => "FAILED".to_string(),
     }
 }
 
-/// Rows of (surface, degree, one cell per algebra), surface order kept.
+/// Rows of (surface, degree, one cell per algebra), surface order kept. A
+/// row or a column is found by name in a map, not by a search: a merged
+/// report may hold many thousand surfaces, or columns. A result whose
+/// algebra is no column is left out.
 fn grid<'a>(results: &'a [JobResult], algebras: &[String]) -> Vec<(String, String, Vec<Option<&'a JobResult>>)> {
+    let columns: HashMap<&str, usize> = algebras.iter().enumerate().rev().map(|(k, a)| (a.as_str(), k)).collect();
+    let mut row_of: HashMap<&str, usize> = HashMap::new();
     let mut rows: Vec<(String, String, Vec<Option<&JobResult>>)> = Vec::new();
     for r in results {
-        let col = algebras.iter().position(|a| *a == r.algebra).unwrap_or(0);
-        if !rows.iter().any(|(s, _, _)| *s == r.surface) {
+        let Some(&col) = columns.get(r.algebra.as_str()) else { continue };
+        let row = *row_of.entry(r.surface.as_str()).or_insert_with(|| {
             rows.push((r.surface.clone(), r.degree.clone(), vec![None; algebras.len()]));
-        }
-        if let Some(row) = rows.iter_mut().find(|(s, _, _)| *s == r.surface) {
-            row.2[col] = Some(r);
-        }
+            rows.len() - 1
+        });
+        rows[row].2[col] = Some(r);
     }
     rows
 }
@@ -380,17 +385,28 @@ fn lowest_eps_cell(r: &JobResult) -> String {
     }
 }
 
+/// Text of a report (which `bench --merge` reads from files) as one table
+/// cell: on one line, control characters visible.
+fn shown(s: &str) -> String {
+    crate::batch::one_line(s)
+}
+
+/// [`shown`] for a Markdown table, with `|` escaped so a cell stays one.
+fn md(s: &str) -> String {
+    shown(s).replace('|', "\\|")
+}
+
 fn table(results: &[JobResult], algebras: &[String], eps: bool) -> String {
     let mut s = format!("{:<16} {:<10}", "surface", "degree");
-    for a in algebras {
-        s.push_str(&format!(" {:>24}", format!("{a} (ms / {})", unit(a))));
+    for a in algebras.iter().map(|a| shown(a)) {
+        s.push_str(&format!(" {:>24}", format!("{a} (ms / {})", unit(&a))));
         if eps {
             s.push_str(&format!(" {:>18}", format!("{a} lowest eps")));
         }
     }
     s.push('\n');
     for (surface, degree, cells) in grid(results, algebras) {
-        let deg: String = degree.chars().take(10).collect();
+        let (surface, deg): (String, String) = (shown(&surface), shown(&degree).chars().take(10).collect());
         s.push_str(&format!("{surface:<16} {deg:<10}"));
         for c in cells {
             s.push_str(&format!(" {:>24}", c.map(cell).unwrap_or_else(|| "-".into())));
@@ -402,7 +418,7 @@ fn table(results: &[JobResult], algebras: &[String], eps: bool) -> String {
     }
     for r in results {
         if let Outcome::Failed { error } = &r.outcome {
-            s.push_str(&format!("FAILED {} {}: {}\n", r.surface, r.algebra, error.lines().next().unwrap_or("")));
+            s.push_str(&format!("FAILED {} {}: {}\n", shown(&r.surface), shown(&r.algebra), shown(error.lines().next().unwrap_or(""))));
         }
     }
     s
@@ -410,15 +426,15 @@ fn table(results: &[JobResult], algebras: &[String], eps: bool) -> String {
 
 /// The Markdown report: the summary table and a detail table per job.
 pub fn markdown(results: &[JobResult], algebras: &[String], machine: &str) -> String {
-    let mut s = format!("Machine: {machine}\n\n| surface | degree |");
-    for a in algebras {
-        s.push_str(&format!(" {a} ms | {a} fps | {a} {} |", unit(a)));
+    let mut s = format!("Machine: {}\n\n| surface | degree |", shown(machine));
+    for a in algebras.iter().map(|a| md(a)) {
+        s.push_str(&format!(" {a} ms | {a} fps | {a} {} |", unit(&a)));
     }
     s.push_str("\n|---|---|");
     s.push_str(&"---:|---:|---:|".repeat(algebras.len()));
     s.push('\n');
     for (surface, degree, cells) in grid(results, algebras) {
-        s.push_str(&format!("| {surface} | {degree} |"));
+        s.push_str(&format!("| {} | {} |", md(&surface), md(&degree)));
         for c in cells {
             match c.map(|r| &r.outcome) {
                 Some(Outcome::Ok(m)) => s.push_str(&format!(" {:.1} | {:.1} | {:.2} |", m.gpu_ms, m.fps, m.evals_mean)),
@@ -434,11 +450,11 @@ pub fn markdown(results: &[JobResult], algebras: &[String], machine: &str) -> St
         match &r.outcome {
             Outcome::Ok(m) => s.push_str(&format!(
                 "| {} | {} | {} | {:.1} | {:.1} | {:.2} | {} | {} | {:.2} | {:.2} | {:.1} % | {} | {} | {} |\n",
-                r.surface, r.algebra, if m.field == "compiled" { m.resolved_algebra.clone() } else { format!("{}, {}", m.resolved_algebra, m.field) }, m.gpu_ms, m.wall_ms, m.evals_mean, m.evals_p99, m.evals_max,
+                md(&r.surface), md(&r.algebra), md(&if m.field == "compiled" { m.resolved_algebra.clone() } else { format!("{}, {}", m.resolved_algebra, m.field) }), m.gpu_ms, m.wall_ms, m.evals_mean, m.evals_p99, m.evals_max,
                 m.lower_bound, m.ratio, 100.0 * m.hit_fraction, m.unresolved, m.d_max,
                 m.lowest_eps.as_ref().map_or("-".to_string(), |l| format!("2^{} ({:.1} ms)", l.exponent, l.gpu_ms))
             )),
-            Outcome::Failed { error } => s.push_str(&format!("| {} | {} | FAILED: {} |||||||||||\n", r.surface, r.algebra, error.lines().next().unwrap_or(""))),
+            Outcome::Failed { error } => s.push_str(&format!("| {} | {} | FAILED: {} |||||||||||\n", md(&r.surface), md(&r.algebra), md(error.lines().next().unwrap_or("")))),
         }
     }
     s

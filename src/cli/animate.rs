@@ -1,9 +1,11 @@
 //! `render --frames`: the frames of this run's shard, one after the other,
 //! each written atomically, and the shard's manifest next to them.
 //!
-//! With `--skip-existing` a frame whose file is there is left alone: writes
-//! are atomic (a temporary file and a rename), so a present file is a
-//! complete one, and a re-queued task only renders what is missing.
+//! With `--skip-existing` a frame whose file is there and whole is left
+//! alone: writes are atomic (a temporary file and a rename), so a file this
+//! run's command wrote is complete, and a re-queued task only renders what
+//! is missing. A file damaged since (cut short, empty, another size) is
+//! rendered again ([`isotrace::batch::frame_check`]).
 //!
 //! A batch run (`--shard` or `--skip-existing`) keeps a manifest; a plain
 //! `--frames` run writes only its frames, as before batch work existed. The
@@ -13,9 +15,9 @@
 
 use super::frames::Outputs;
 use super::CliError;
-use isotrace::batch::merge::{check_same, MergeError, Part};
-use isotrace::batch::manifest::{CameraId, FormulaId, FrameEntry, FrameSettings, FrameStatus, Manifest};
-use isotrace::batch::{fnv1a64, Fnv, Shard};
+use isotrace::batch::manifest::{self, CameraId, FormulaId, FrameEntry, FrameSettings, FrameStatus, Manifest};
+use isotrace::batch::merge::{self, check_same, MergeError, Part};
+use isotrace::batch::{fnv1a64, frame_check, one_line, Fnv, Shard};
 use isotrace::gpu::{DeviceInfo, Renderer};
 use isotrace::output::{self, ColorMode};
 use isotrace::render::{Frame, Settings, Traversal};
@@ -52,9 +54,24 @@ impl Animation<'_> {
     }
 
     /// The frames still to render: all of this shard's, or with
-    /// `--skip-existing` those whose file is not there.
+    /// `--skip-existing` those whose file is not there or not whole.
     pub fn todo(&self) -> usize {
-        self.outputs.iter().filter(|(_, p)| !(self.skip_existing && p.is_file())).count()
+        self.outputs.iter().filter(|(_, p)| !self.kept(p, false)).count()
+    }
+
+    /// Whether frame file `p` is left alone: with `--skip-existing`, when it
+    /// is a whole image of this animation's size. A damaged one is rendered
+    /// again, and with `say_why` a note says what is wrong with it.
+    fn kept(&self, p: &Path, say_why: bool) -> bool {
+        if !self.skip_existing || !p.exists() {
+            return false;
+        }
+        let [width, height] = self.settings.size;
+        let whole = output::format_of(p).map_err(|e| e.to_string()).and_then(|format| frame_check::check(p, format, width, height));
+        if let (Err(reason), true) = (&whole, say_why) {
+            eprintln!("note: '{}' is rendered again: {}", one_line(&p.display().to_string()), one_line(reason));
+        }
+        whole.is_ok()
     }
 
     /// With `--skip-existing`, the frames already there must be this run's:
@@ -64,12 +81,12 @@ impl Animation<'_> {
     pub fn check_resume(&self) -> Result<(), CliError> {
         let Some(path) = self.outputs.manifest_path().filter(|p| self.skip_existing && p.is_file()) else { return Ok(()) };
         let file = path.display().to_string();
-        // Bounded as `manifest merge` reads manifests (512 MiB).
-        let Ok(json) = isotrace::bounded::read_file_text(&path, 512 << 20).map_err(|_| ()).and_then(|t| serde_json::from_str(&t).map_err(|_| ())) else {
+        let read = super::batch::read_part(&path, manifest::MAX_FILE_BYTES, manifest::WHAT).ok();
+        let Some(recorded) = read.and_then(|text| merge::parse::<Recorded>(&file, &text, manifest::WHAT).ok()) else {
             return Ok(()); // Unreadable: it is replaced, as before manifests existed.
         };
-        let now = serde_json::json!({ "isotrace_version": env!("CARGO_PKG_VERSION"), "settings": self.settings });
-        let parts = [Part { file: file.clone(), json }, Part { file: "this run".into(), json: now }];
+        let json = serde_json::json!({ "isotrace_version": recorded.isotrace_version, "settings": recorded.settings });
+        let parts = [Part { file: file.clone(), json }, Part::new("this run", env!("CARGO_PKG_VERSION"), &self.settings)];
         match check_same(&parts, &["isotrace_version", "settings"], &[]) {
             Err(MergeError::Differs { key, value_a, value_b, .. }) => Err(CliError::Input(format!(
                 "--skip-existing: '{file}' records another run ({key} is {value_a} there but {value_b} now): its frames would be kept and mixed \
@@ -97,7 +114,7 @@ impl Animation<'_> {
         let bar = super::progress(m.frames.len() as u64, "frames");
         let (mut last, mut heat_max, mut written, mut write_took) = (None, None, Instant::now(), Duration::ZERO);
         for (i, (k, p)) in self.outputs.iter().enumerate() {
-            if self.skip_existing && p.is_file() {
+            if self.kept(&p, true) {
                 m.frames[i].status = FrameStatus::Skipped;
             } else if let Some((r, _)) = renderer {
                 let start = Instant::now();
@@ -138,6 +155,16 @@ impl Animation<'_> {
         write_manifest(&path, &m)?;
         Ok((last, heat_max))
     }
+}
+
+/// What an earlier run's manifest records, compared key by key with this
+/// run's (its frames are skipped over, not kept).
+#[derive(serde::Deserialize)]
+struct Recorded {
+    #[serde(default)]
+    isotrace_version: serde_json::Value,
+    #[serde(default)]
+    settings: serde_json::Value,
 }
 
 /// The manifest's settings: everything that changes the pictures, so the

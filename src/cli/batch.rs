@@ -5,15 +5,15 @@
 
 use super::CliError;
 use clap::{Args, Subcommand};
-use isotrace::batch::manifest::{self, Summary};
-use isotrace::batch::merge::{MergeError, Part};
-use isotrace::batch::{ranges, GivenCount, Shard, ShardError};
+use isotrace::batch::manifest::{self, FrameFile, Summarizer, Summary};
+use isotrace::batch::{frame_check, one_line, ranges, GivenCount, Shard, ShardError};
 use isotrace::bounded;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// Largest part file read: a manifest of a million frames is ~150 MB.
-const MAX_PART_BYTES: u64 = 512 << 20;
+/// Lines of frames that do not count, and of shards without a manifest,
+/// shown before the rest is summed up (the `--json` summary has them all).
+const LISTED: usize = 10;
 
 fn input(m: impl Into<String>) -> CliError {
     CliError::Input(m.into())
@@ -98,9 +98,9 @@ fn wildcard(p: &[char], s: &[char]) -> bool {
     }
 }
 
-/// Reads the parts of a merge (arguments expanded as [`expand`] does). A
-/// file named twice is read once.
-pub fn read_parts(args: &[PathBuf], what: &'static str) -> Result<(Vec<PathBuf>, Vec<Part>), CliError> {
+/// The files of a merge's arguments (expanded as [`expand`] does), each
+/// once, in the order given.
+pub fn part_files(args: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
     let mut files: Vec<PathBuf> = Vec::new();
     for a in args {
         for f in expand(a)? {
@@ -109,16 +109,19 @@ pub fn read_parts(args: &[PathBuf], what: &'static str) -> Result<(Vec<PathBuf>,
             }
         }
     }
-    let parts = files
-        .iter()
-        .map(|f| {
-            let file = f.display().to_string();
-            let text = bounded::read_file_text(f, MAX_PART_BYTES).map_err(|e| input(format!("cannot read '{file}': {e}")))?;
-            let json = serde_json::from_str(&text).map_err(|e| input(MergeError::NotAPart { file: file.clone(), what, reason: e.to_string() }.to_string()))?;
-            Ok(Part { file, json })
-        })
-        .collect::<Result<Vec<_>, CliError>>()?;
-    Ok((files, parts))
+    Ok(files)
+}
+
+/// The text of one part of a merge, `what` (`an isotrace bench report`) of
+/// at most `limit` bytes: a larger file is refused by its size before it
+/// is read, and the read stops past the limit whatever the size said.
+pub fn read_part(path: &Path, limit: u64, what: &str) -> Result<String, CliError> {
+    // The limit is the kind of file's: say which kind it was.
+    let refuse = |e: bounded::ReadError| match e {
+        bounded::ReadError::TooLarge { .. } => input(format!("cannot read '{}': {e} for {what}", path.display())),
+        e => input(format!("cannot read '{}': {e}", path.display())),
+    };
+    bounded::read_file_text(path, limit).map_err(refuse)
 }
 
 /// `isotrace manifest …`.
@@ -151,10 +154,9 @@ pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
     if let Some(p) = &m.json {
         isotrace::output::check_writable(p).map_err(|e| input(e.to_string()))?;
     }
-    let (files, parts) = read_parts(&m.manifests, manifest::WHAT)?;
-    let dirs: Vec<PathBuf> = files.iter().map(|f| f.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf)).collect();
-    let summary = manifest::summarize(&parts, |k, file| dirs[k].join(file).is_file()).map_err(|e| input(e.to_string()))?;
+    let summary = summarize(&part_files(&m.manifests)?)?;
     print!("{}", summary_text(&summary));
+    warn_not_counted(&summary);
     if let Some(p) = &m.json {
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
         isotrace::output::write_atomic(p, text.as_bytes()).map_err(|e| input(e.to_string()))?;
@@ -163,9 +165,8 @@ pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
         return Ok(ExitCode::SUCCESS);
     }
     let mut hint = String::new();
-    if !summary.shards_without_manifest.is_empty() {
-        let list: Vec<String> = summary.shards_without_manifest.iter().map(Shard::to_string).collect();
-        hint = format!("; no manifest for shard {}", list.join(", "));
+    if let Some(list) = listed(&summary.shards_without_manifest) {
+        hint = format!("; no manifest for shard {list}");
     }
     Err(input(format!(
         "{} of {} frames are missing: {}{hint}; render them with the same command and --skip-existing",
@@ -175,33 +176,107 @@ pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
     )))
 }
 
+/// Reads the manifests one at a time (each is dropped once its complete
+/// frames are taken) and checks their frames on disk.
+fn summarize(files: &[PathBuf]) -> Result<Summary, CliError> {
+    let merge_error = |e: isotrace::batch::merge::MergeError| input(e.to_string());
+    let mut summarizer = Summarizer::default();
+    for f in files {
+        let file = f.display().to_string();
+        let m = manifest::parse(&file, &read_part(f, manifest::MAX_FILE_BYTES, manifest::WHAT)?).map_err(merge_error)?;
+        let dir = f.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let frames = FramesDir { dir, resolved: dir.canonicalize().ok(), width: m.settings.size[0], height: m.settings.size[1] };
+        summarizer.add(&file, m, |name| frames.on_disk(name)).map_err(merge_error)?;
+    }
+    summarizer.finish().map_err(merge_error)
+}
+
+/// The directory of a manifest, where its frames are, and their size.
+struct FramesDir<'a> {
+    dir: &'a Path,
+    /// `dir` with its symbolic links resolved, once.
+    resolved: Option<PathBuf>,
+    width: u32,
+    height: u32,
+}
+
+impl FramesDir<'_> {
+    /// What is on disk for frame file `name` (a file name, no directory
+    /// part): a frame counts when it is a whole image of the animation's
+    /// size in the directory itself (a symbolic link that leads out of it
+    /// does not count).
+    fn on_disk(&self, name: &str) -> FrameFile {
+        let path = self.dir.join(name);
+        let Ok(meta) = std::fs::symlink_metadata(&path) else { return FrameFile::Absent };
+        if meta.file_type().is_symlink() {
+            match (&self.resolved, path.canonicalize()) {
+                (_, Err(_)) => return FrameFile::Absent,
+                (Some(d), Ok(p)) if p.starts_with(d) => {}
+                _ => return FrameFile::Unusable("a symbolic link to a file outside the manifest's directory".into()),
+            }
+        }
+        let Ok(format) = isotrace::output::format_of(&path) else { return FrameFile::Unusable("not a .png or .exr file".into()) };
+        match frame_check::check(&path, format, self.width, self.height) {
+            Ok(()) => FrameFile::Present,
+            Err(reason) => FrameFile::Unusable(reason),
+        }
+    }
+}
+
+/// One warning per frame a manifest calls done whose file does not count,
+/// up to [`LISTED`], then their number.
+fn warn_not_counted(s: &Summary) {
+    for f in s.not_counted.iter().take(LISTED) {
+        eprintln!(
+            "warning: '{}': frame {}'s file '{}' does not count: {}",
+            one_line(&f.manifest),
+            f.index,
+            one_line(&f.file),
+            one_line(&f.reason)
+        );
+    }
+    if s.not_counted.len() > LISTED {
+        eprintln!("warning: … and {} more frames whose files do not count (--json lists them all)", s.not_counted.len() - LISTED);
+    }
+}
+
+/// Shards as `1/16, 3/16`, up to [`LISTED`], then their number (a count
+/// in a manifest may make a million shards); `None` for none.
+fn listed(shards: &[Shard]) -> Option<String> {
+    let mut text = shards.iter().take(LISTED).map(Shard::to_string).collect::<Vec<_>>().join(", ");
+    if shards.len() > LISTED {
+        text.push_str(&format!(", … ({} shards in all)", shards.len()));
+    }
+    (!shards.is_empty()).then_some(text)
+}
+
 /// The missing frames with their file names, or as ranges of numbers when
 /// there are more than 20.
 fn missing_list(s: &Summary) -> String {
     let pattern = super::frames::FramePattern::parse(&s.settings.pattern).ok();
     match pattern {
         Some(p) if s.missing.len() <= 20 => {
-            s.missing.iter().map(|&k| format!("{k} ({})", p.name(k as u32).display())).collect::<Vec<_>>().join(", ")
+            s.missing.iter().map(|&k| format!("{k} ({})", one_line(&p.name(k as u32).display().to_string()))).collect::<Vec<_>>().join(", ")
         }
         _ => ranges(&s.missing),
     }
 }
 
-/// The summary for stdout.
+/// The summary for stdout (the pattern and the formula's origin come from
+/// a file: shown on one line, controls visible).
 fn summary_text(s: &Summary) -> String {
     let st = &s.settings;
-    let shards: Vec<String> = s.shards.iter().map(Shard::to_string).collect();
     format!(
         "animation: {} ({}), {} frames, t {} to {}, {}x{}\nmanifests: {} (shards {})\ncomplete: {} of {} frames ({} rendered, {} skipped as already there)\nmissing: {}\n",
-        st.pattern,
-        st.formula.origin,
+        one_line(&st.pattern),
+        one_line(&st.formula.origin),
         st.frames,
         st.t0,
         st.t1,
         st.size[0],
         st.size[1],
         s.shards.len(),
-        shards.join(", "),
+        s.shards.iter().map(Shard::to_string).collect::<Vec<_>>().join(", "),
         s.complete.len(),
         st.frames,
         s.rendered(),

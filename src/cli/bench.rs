@@ -7,7 +7,8 @@ use super::render::{algebra_arg, open_gpu, sphere_options, SphereArgs};
 use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
 use isotrace::batch::merge::MergeError;
-use isotrace::bench::report::{Report, ReportSettings};
+use isotrace::batch::one_line;
+use isotrace::bench::report::{self, Merger, Report, ReportSettings};
 use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
 use isotrace::catalog::{self, Entry};
 use isotrace::gpu::{Gpu, Renderer};
@@ -171,6 +172,14 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     }
     let names: Vec<String> = surfaces.iter().map(|e| e.name.clone()).collect();
     let alg_names: Vec<String> = labelled.iter().map(|(n, _)| n.clone()).collect();
+    if names.len().checked_mul(alg_names.len()).is_none_or(|n| n > report::MAX_JOBS) {
+        return Err(input(format!(
+            "{} surfaces and {} variants make more than {} jobs, the most one batch (and its report) holds; split the surfaces into several runs",
+            names.len(),
+            alg_names.len(),
+            report::MAX_JOBS
+        )));
+    }
     let all_jobs = bench::jobs(&names, &alg_names);
     let timeout = job_timeout(a.job_timeout)?;
     let job_of = |job: &bench::Job| {
@@ -212,10 +221,10 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         };
         match &bar {
             Some(b) => {
-                b.set_message(format!("{} {}", job.surface, job.algebra));
+                b.set_message(format!("{} {}", one_line(&job.surface), job.algebra));
                 b.inc(1);
             }
-            None => eprintln!("[{}/{}] {} {}: {line}", k + 1, jobs.len(), job.surface, job.algebra),
+            None => eprintln!("[{}/{}] {} {}: {}", k + 1, jobs.len(), one_line(&job.surface), job.algebra, one_line(&line)),
         }
         if let (Some(dir), Some(f)) = (&a.out, &frame) {
             let rgb = output::frame_rgb8(f);
@@ -343,9 +352,10 @@ fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Repor
 
 /// "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, llvmpipe Mesa 25.0.7 (LLVM
 /// 15.0.6)), shader opt full, 2 CPU threads": the Markdown report's machine
-/// line.
+/// line. A merged report's devices come from its files: shown on one line,
+/// controls visible.
 pub(super) fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
-    format!("{}, {threads} CPU threads", d.describe())
+    format!("{}, {threads} CPU threads", isotrace::batch::one_line(&d.describe()))
 }
 
 /// The table on stdout and the --markdown and --json files of a report (a
@@ -371,8 +381,16 @@ fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
     for p in [&a.json, &a.markdown].into_iter().flatten() {
         output::check_writable(p).map_err(|e| input(e.to_string()))?;
     }
-    let (_, parts) = super::batch::read_parts(&a.merge, bench::report::WHAT)?;
-    let merged = bench::report::merge(&parts).map_err(|e| match e {
+    let files = super::batch::part_files(&a.merge)?;
+    let mut merger = Merger::default();
+    for f in &files {
+        let file = f.display().to_string();
+        let text = super::batch::read_part(f, report::MAX_FILE_BYTES, report::WHAT)?;
+        let r = report::parse(&file, &text).map_err(|e| input(e.to_string()))?;
+        drop(text);
+        merger.add(&file, r).map_err(|e| input(e.to_string()))?;
+    }
+    let merged = merger.finish().map_err(|e| match e {
         MergeError::Missing { .. } => input(format!("{e}; run their shards again")),
         e => input(e.to_string()),
     })?;
@@ -386,7 +404,7 @@ fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
     if merged.mixed_devices {
         eprintln!("warning: the reports come from different devices ({}): timings compare only within one device", machines.join("; "));
     }
-    eprintln!("merged {} reports: {} jobs", parts.len(), r.results.len());
+    eprintln!("merged {} reports: {} jobs", files.len(), r.results.len());
     write_reports(a, r, &machines.join("; "))
 }
 

@@ -22,10 +22,9 @@ use isotrace::diag::escape_controls;
 use isotrace::output;
 use std::path::{Path, PathBuf};
 
-/// Most frames one `render` writes. Frames are rendered one after the
-/// other, so this bounds the run's length and the file names checked
-/// before it, not its memory.
-pub const MAX_FRAMES: u32 = 1_000_000;
+/// Most frames one `render` writes (what a manifest may list): it bounds
+/// the run's length and the file names checked before it, not its memory.
+pub const MAX_FRAMES: u32 = manifest::MAX_FRAMES;
 
 /// A parsed frame pattern: `prefix`, the frame number padded to `width`
 /// digits (0: no padding), `suffix`.

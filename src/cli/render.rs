@@ -258,7 +258,7 @@ pub struct RenderArgs {
     t1: Option<f64>,
     #[command(flatten)]
     shard: super::batch::ShardArgs,
-    /// With --frames: leave frames whose file exists (writes are atomic, so a present file is complete); a re-run renders only what is missing.
+    /// With --frames: leave frames whose file exists and is a whole image of the frame size (writes are atomic; a damaged file is rendered again); a re-run renders only what is missing.
     #[arg(long, requires = "frames")]
     skip_existing: bool,
 }
