@@ -179,8 +179,8 @@ fn heavy(op: &crate::ir::Op) -> bool {
 /// build then grows about linearly (100 trigonometric products, IA: 23 →
 /// 9.5 s compiled, sooner than the tape's 15 s; RAA 26.5 → 10.5 s, the
 /// tape 19.8 s).
-fn heavy_weight(ir: &Ir, plan: &super::reroll::Plan, traversal: &Traversal) -> usize {
-    if plan.loops.is_empty() && super::balance::balanced(ir, |_| false).is_some() {
+fn heavy_weight(ir: &Ir, plan: &super::compiled::term_loops::Plan, traversal: &Traversal) -> usize {
+    if plan.loops.is_empty() && super::compiled::balance::balanced(ir, |_| false).is_some() {
         return 0;
     }
     let weight = match traversal {
@@ -214,15 +214,15 @@ fn heavy_weight(ir: &Ir, plan: &super::reroll::Plan, traversal: &Traversal) -> u
 fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool {
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
     let line = crossover(traversal) as f64 * (frames.clamp(1, 16) as f64).sqrt();
-    let plan = super::reroll::plan(ir);
+    let plan = super::compiled::term_loops::plan(ir);
     let size = if plan.loops.is_empty() { t.size } else { plan.emitted_nodes(ir) } + heavy_weight(ir, &plan, traversal);
     !csg && size as f64 >= line
 }
 
-/// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
+/// Whether the compiled kernel would be over [`crate::kernel::MAX_SHADER_BYTES`]
 /// (the renderer refuses it; the tape has no such limit).
 fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
-    super::assemble(FieldSource::Compiled(ir), traversal).code_bytes() > super::kernel::MAX_SHADER_BYTES
+    crate::kernel::assemble(FieldSource::Compiled(ir), traversal).code_bytes() > crate::kernel::MAX_SHADER_BYTES
 }
 
 /// The field for formula `f` (parameter values `params`) traced by
