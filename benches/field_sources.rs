@@ -9,7 +9,7 @@
 //! `MESA_SHADER_CACHE_DISABLE=true` for cold figures, one process per
 //! measurement (the README table: scripts/field-crossover.sh).
 
-use isotrace::field::choice;
+use isotrace::choice;
 use isotrace::ir::Domain;
 use isotrace::field::FieldKind;
 use isotrace::gpu::{Gpu, Renderer};
@@ -35,7 +35,7 @@ fn main() {
     let gpu = Gpu::new().expect("device");
     let prepared = choice::choose(kind, &f, &[], &traversal).expect("field");
     let ops = match &prepared {
-        isotrace::field::PreparedField::Tape(t) => t.ops,
+        isotrace::choice::PreparedField::Tape(t) => t.ops,
         _ => isotrace::field::TapeData::new(&f.ir).map_or(0, |t| t.ops),
     };
     let t0 = Instant::now();

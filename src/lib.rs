@@ -20,6 +20,7 @@ pub mod batch;
 pub mod bench;
 pub mod bounded;
 pub mod catalog;
+pub mod choice;
 pub mod codegen;
 pub mod diag;
 pub mod field;

@@ -183,8 +183,8 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
     let s = entry.settings(&f, 96, 72).unwrap();
     let Traversal::Sphere(o) = entry.traversal(&f) else { panic!("creature is sphere traced") };
     let mut t = Traversal::Sphere(o.clone());
-    let scene = isotrace::field::choice::choose(isotrace::field::FieldKind::Scene, &f, &[], &t).unwrap();
-    let (_, lipschitz) = isotrace::field::choice::scene(&f, &[], &t).unwrap();
+    let scene = isotrace::choice::choose(isotrace::field::FieldKind::Scene, &f, &[], &t).unwrap();
+    let (_, lipschitz) = isotrace::choice::scene(&f, &[], &t).unwrap();
     assert_eq!(lipschitz, 1.45);
     if let Traversal::Sphere(o) = &mut t {
         o.lipschitz = lipschitz;
@@ -217,7 +217,7 @@ fn written_out_distances_draw_the_compiled_picture_as_a_scene() {
     let f = Formula::compile("<balls>", &format!("min({})", balls.join(", "))).unwrap();
     let o = SphereOptions::default();
     let t = Traversal::Sphere(o.clone());
-    let (field, lipschitz) = isotrace::field::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
+    let (field, lipschitz) = isotrace::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
     assert_eq!((field.kind(), lipschitz), (isotrace::field::FieldKind::Scene, 1.0));
     let s = common::settings(common::cube(1.3), 96, 96);
     let a = Renderer::new(gpu(), field.source(&f.ir), t).unwrap().render(&s).unwrap();

@@ -172,7 +172,7 @@ fn written_out_distances_lower_to_balls() {
 
 #[test]
 fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
-    use isotrace::field::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
+    use isotrace::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
     use isotrace::render::{BisectOptions, SphereOptions, Traversal};
     let sphere = Traversal::Sphere(SphereOptions::default());
     let kind = |name: &str, t: &Traversal| {

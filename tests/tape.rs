@@ -449,7 +449,7 @@ fn a_formula_of_more_shared_values_than_registers_is_rematerialised() {
         assert!(missed.is_empty(), "{domain:?}: {missed:?}");
     }
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let auto = isotrace::field::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
+    let auto = isotrace::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
     assert_eq!(auto.kind(), isotrace::field::FieldKind::Tape);
 }
 
@@ -459,9 +459,9 @@ fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
     assert_eq!(TapeData::new(&f.ir), Err(isotrace::field::TapeError::Csg));
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     // `Auto` falls back to the compiled field; asking for the tape fails.
-    let auto = isotrace::field::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
+    let auto = isotrace::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
     assert_eq!(auto.kind(), isotrace::field::FieldKind::Compiled);
-    assert!(isotrace::field::choice::choose(isotrace::field::FieldKind::Tape, &f, &[], &t).is_err());
+    assert!(isotrace::choice::choose(isotrace::field::FieldKind::Tape, &f, &[], &t).is_err());
 }
 
 /// Bisection of `data` in `domain` with the per-tile shortening on or off.
@@ -574,7 +574,7 @@ fn the_power_loops_pass_counts_against_the_loop_cap() {
 
 #[test]
 fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
-    use isotrace::field::choice;
+    use isotrace::choice;
     use isotrace::field::FieldKind;
     let kind = |name: &str, domain: Domain| {
         let f = isotrace::catalog::lookup(name).unwrap().compile().unwrap();
@@ -624,7 +624,7 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
 /// products.
 #[test]
 fn auto_weighs_the_frames_of_the_job() {
-    use isotrace::field::choice;
+    use isotrace::choice;
     use isotrace::field::FieldKind;
     let ia = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let kind = |terms: u32, frames: u64| {

@@ -202,7 +202,7 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
 /// takes the tape where `render` would for the same algebra; a scene has no
 /// enclosures to evaluate on boxes.
 fn device_tape(arg: Option<super::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::field::TapeData>, CliError> {
-    use isotrace::field::choice::{choose, FieldKind, PreparedField};
+    use isotrace::choice::{choose, FieldKind, PreparedField};
     use isotrace::render::{BisectOptions, SphereOptions, Traversal};
     let kind = match arg {
         None | Some(super::FieldArg::Compiled) => return Ok(None),

@@ -140,8 +140,8 @@ pub(crate) fn field_kind(a: FieldArg) -> isotrace::field::FieldKind {
 /// takes at least that.
 /// `frames`: how many frames the job renders with the field (auto weighs
 /// the tape's sooner first frame against its slower later ones).
-pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<isotrace::field::PreparedField, CliError> {
-    use isotrace::field::choice::{self, FieldError, SceneFieldError};
+pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<isotrace::choice::PreparedField, CliError> {
+    use isotrace::choice::{self, FieldError, SceneFieldError};
     use isotrace::field::{FieldKind, TapeError};
     let kind = field_kind(arg.unwrap_or(FieldArg::Auto));
     if kind == FieldKind::Auto {

@@ -5,18 +5,50 @@
 //! `field(p)` and, bisecting, the enclosures `cell_enclosure` and
 //! `slab_range`; everything a source adds to a kernel is asked of it here.
 
-pub mod choice;
 pub mod compiled;
 pub mod limits;
 pub mod scene;
 pub mod tape;
 
-pub use choice::{FieldKind, PreparedField};
 pub use scene::{SceneData, Texels};
 pub use tape::{TapeData, TapeError};
 
 use crate::inline::InlineWgsl;
 use crate::ir::{Domain, Ir};
+
+/// The field source asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FieldKind {
+    /// The formula generated into WGSL.
+    Compiled,
+    /// The formula as a tape run by the fixed interpreter.
+    Tape,
+    /// The formula lowered to its blobtree (only a formula of distance
+    /// forms, only sphere traced): [`crate::choice::scene`]; `Auto` takes it from
+    /// [`crate::choice::SCENE_AUTO_MIN_BOUNDED`] bounded primitives on ([`crate::choice::auto_scene`]).
+    Scene,
+    /// Chosen per formula and traversal by [`crate::choice::choose`].
+    #[default]
+    Auto,
+}
+
+impl FieldKind {
+    /// The name `--field`, `.iso` headers and reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            FieldKind::Compiled => "compiled",
+            FieldKind::Tape => "tape",
+            FieldKind::Scene => "scene",
+            FieldKind::Auto => "auto",
+        }
+    }
+
+    /// The kind of a [`FieldKind::name`].
+    pub fn parse(s: &str) -> Option<FieldKind> {
+        [FieldKind::Compiled, FieldKind::Tape, FieldKind::Scene, FieldKind::Auto].into_iter().find(|k| k.name() == s)
+    }
+}
+
 
 /// The per-pixel hooks of a field source that has no tiles (a compiled
 /// formula, a tape): the whole ray is its business (a scene narrows it to

@@ -5,62 +5,9 @@
 //! format, linear layout) is [`crate::scene`]'s.
 
 use crate::codegen::template;
+pub use crate::layout::Texels;
+pub use crate::scene::linear::SceneData;
 
-/// A scene's buffers in the layout of `templates/fields/scene.wgsl`.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct SceneData {
-    /// One word quadruple per post-order node (root last).
-    pub nodes: Vec<[u32; 4]>,
-    /// Transforms and parameters, a vec4 at a time.
-    pub params: Vec<[f32; 4]>,
-    /// The node index of every primitive.
-    pub prims: Vec<u32>,
-    /// Two balls a primitive (centre, radius; +inf bounds nothing): its
-    /// augmented bounding ball, then its limit ball, outside which an
-    /// intersection above it is inactive (`scene::reach`).
-    pub balls: Vec<[f32; 4]>,
-    /// The interpreter features the scene needs (`scene::linear::FEATURE_*`
-    /// bits): part of the kernel, so a renderer built for one set draws
-    /// any scene whose set is within it.
-    pub features: u32,
-}
-
-/// A table of vec4s laid out as a scene texture: rows of
-/// [`TEXTURE_WIDTH`](crate::scene::linear::TEXTURE_WIDTH) texels, the last
-/// padded with zeros.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Texels<T> {
-    /// Texels per row.
-    pub width: u32,
-    /// Rows.
-    pub height: u32,
-    /// `width × height` texels, row by row.
-    pub texels: Vec<T>,
-}
-
-impl<T: Copy + Default> Texels<T> {
-    /// `rows` after an optional header texel, padded to full rows.
-    pub fn from_rows(header: Option<T>, rows: &[T]) -> Texels<T> {
-        let width = crate::scene::linear::TEXTURE_WIDTH;
-        let mut texels: Vec<T> = header.into_iter().chain(rows.iter().copied()).collect();
-        let height = (texels.len().div_ceil(width as usize)).max(1) as u32;
-        texels.resize((width * height) as usize, T::default());
-        Texels { width, height, texels }
-    }
-}
-
-impl SceneData {
-    /// The node texture: texel 0 holds the node count, node i is texel
-    /// i + 1 (`scene_node` in templates/fields/scene.wgsl).
-    pub fn node_texels(&self) -> Texels<[u32; 4]> {
-        Texels::from_rows(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
-    }
-
-    /// The parameter texture: row i of `params` is texel i.
-    pub fn param_texels(&self) -> Texels<[f32; 4]> {
-        Texels::from_rows(None, &self.params)
-    }
-}
 
 /// Most active primitives per 8×8 tile; a tile with more evaluates the
 /// whole tree (counted as an overflow tile). 512 (the paper: 128, 256 for
