@@ -5,7 +5,8 @@
 //! cargo bench --bench compile
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use isotrace::codegen::{render_shader, Domain};
+use isotrace::kernel::render_shader;
+use isotrace::ir::Domain;
 use isotrace::{catalog, validate::validate, Formula};
 use std::hint::black_box;
 

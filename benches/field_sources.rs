@@ -9,7 +9,9 @@
 //! `MESA_SHADER_CACHE_DISABLE=true` for cold figures, one process per
 //! measurement (the README table: scripts/field-crossover.sh).
 
-use isotrace::codegen::{choice, Domain, FieldKind};
+use isotrace::choice;
+use isotrace::ir::Domain;
+use isotrace::field::FieldKind;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::{BisectOptions, Settings, SphereOptions, Traversal};
 use std::time::Instant;
@@ -33,8 +35,8 @@ fn main() {
     let gpu = Gpu::new().expect("device");
     let prepared = choice::choose(kind, &f, &[], &traversal).expect("field");
     let ops = match &prepared {
-        isotrace::codegen::PreparedField::Tape(t) => t.ops,
-        _ => isotrace::codegen::TapeData::new(&f.ir).map_or(0, |t| t.ops),
+        isotrace::choice::PreparedField::Tape(t) => t.ops,
+        _ => isotrace::field::TapeData::new(&f.ir).map_or(0, |t| t.ops),
     };
     let t0 = Instant::now();
     let mut r = Renderer::new(&gpu, prepared.source(&f.ir), traversal).expect("renderer");

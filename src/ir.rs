@@ -346,3 +346,39 @@ impl fmt::Display for Display<'_> {
         }
     }
 }
+
+/// A number domain: how a value is represented on the device (a point, an
+/// interval, a reduced affine form), each with its op library of the same
+/// names behind its prefix (`crate::codegen::library`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Domain {
+    /// Plain f32 (`s_*`).
+    Scalar,
+    /// Interval arithmetic, `vec2<f32>` (`ia_*`).
+    Interval,
+    /// Reduced affine arithmetic (AF1, n = 1), `vec3<f32>` (`ra_*`).
+    Affine,
+}
+
+impl Domain {
+    /// Prefix of the library's operations.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            Domain::Scalar => "s",
+            Domain::Interval => "ia",
+            Domain::Affine => "ra",
+        }
+    }
+    /// The WGSL type of a value.
+    pub fn ty(self) -> &'static str {
+        match self {
+            Domain::Scalar => "f32",
+            Domain::Interval => "vec2<f32>",
+            Domain::Affine => "vec3<f32>",
+        }
+    }
+    /// Name of the generated evaluator function.
+    pub fn eval_fn(self) -> String {
+        format!("eval_{}", self.prefix())
+    }
+}

@@ -344,6 +344,40 @@ pub enum KernelColor {
     Field = 3,
 }
 
+
+/// log2 of the width in texels of the data textures.
+pub const TEXTURE_SHIFT: u32 = 12;
+/// Width in texels of the data textures (a vec4 a texel): a scene's nodes
+/// and parameters, a tape, a compiled formula's term table. The GPU reads
+/// them through `textureLoad`, not from storage buffers: lavapipe turns
+/// every storage-buffer load of a non-uniform address into a loop over its
+/// SIMD lanes with a branch per lane and component, while a texel fetch is
+/// a vector gather.
+pub const TEXTURE_WIDTH: u32 = 1 << TEXTURE_SHIFT;
+
+/// A table of vec4s laid out as a data texture: rows of [`TEXTURE_WIDTH`]
+/// texels, the last padded with zeros.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Texels<T> {
+    /// Texels per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `width × height` texels, row by row.
+    pub texels: Vec<T>,
+}
+
+impl<T: Copy + Default> Texels<T> {
+    /// `rows` after an optional header texel, padded to full rows.
+    pub fn from_rows(header: Option<T>, rows: &[T]) -> Texels<T> {
+        let width = TEXTURE_WIDTH;
+        let mut texels: Vec<T> = header.into_iter().chain(rows.iter().copied()).collect();
+        let height = (texels.len().div_ceil(width as usize)).max(1) as u32;
+        texels.resize((width * height) as usize, T::default());
+        Texels { width, height, texels }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,20 +10,24 @@
 //! ```
 //! let f = isotrace::Formula::compile("<doc>", "r = 1; x^2 + y^2 + z^2 - r^2").unwrap();
 //! assert_eq!(f.ir.degree(), Some(2));
-//! let wgsl = isotrace::codegen::eval_shader(&f.ir, isotrace::codegen::Domain::Interval);
+//! let wgsl = isotrace::field::compiled::eval_shader(&f.ir, isotrace::ir::Domain::Interval);
 //! isotrace::validate::validate(&wgsl).unwrap();
 //! ```
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod batch;
 pub mod bench;
 pub mod bounded;
 pub mod catalog;
+pub mod choice;
 pub mod codegen;
 pub mod diag;
+pub mod field;
 pub mod gpu;
 pub mod inline;
 pub mod ir;
+pub mod kernel;
 pub mod layout;
 pub mod memory;
 pub mod output;
@@ -100,7 +104,7 @@ impl Formula {
 ///   96 → 164 ms).
 ///
 /// Since IA bisection takes polynomial nodes of degree 3 to 6 from their
-/// polynomials along the ray (`codegen::ray_polys`), which keeps what RAA
+/// polynomials along the ray (`field::compiled::ray_polys`), which keeps what RAA
 /// kept and more, IA is the faster of the two on a small formula with such
 /// nodes: the Barth decic 58.7-61.1 → 43.7-45.3 ms at 1024², the heart
 /// 29.0-30.0 → 21.5-22.7, Steiner 13.3-15.1 → 10.1-11.4, the Barth sextic,
@@ -108,15 +112,15 @@ impl Formula {
 /// only the teardrop is slower (8.1-8.6 → 8.9-9.6 ms). A large formula
 /// (more than [`RAY_POLY_AUTO_NODES`] live nodes) may run as a tape, which
 /// has no ray forms, and keeps RAA.
-pub fn choose_algebra(ir: &ir::Ir) -> codegen::Domain {
+pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
     let (minmax, max_power) = ir.shape();
     let degree = ir.degree();
     let polynomial_mid = matches!(degree, Some(4..=10));
     let raa = polynomial_mid && max_power < 16 && minmax == 0 && !ir.is_csg();
-    if raa && !(ir.live().len() <= RAY_POLY_AUTO_NODES && codegen::takes_ray_polynomials(ir)) { codegen::Domain::Affine } else { codegen::Domain::Interval }
+    if raa && !(ir.live().len() <= RAY_POLY_AUTO_NODES && field::compiled::takes_ray_polynomials(ir)) { ir::Domain::Affine } else { ir::Domain::Interval }
 }
 
 /// The most live nodes of a formula for which `choose_algebra` weighs ray
 /// polynomials: well inside what `Auto` compiles rather than runs as a tape
-/// in IA (`codegen::choice::CROSSOVER_BISECT_IA` instructions).
+/// in IA (`field::choice::CROSSOVER_BISECT_IA` instructions).
 pub const RAY_POLY_AUTO_NODES: usize = 300;

@@ -1,12 +1,12 @@
 //! RAA kernels that read ranges without the NaN test: a compiled formula
 //! whose affine forms cannot overflow for inputs within a radius
-//! (`codegen::magnitude`) drops the test, and its `ra_safe` makes the
+//! (`analysis::magnitude`) drops the test, and its `ra_safe` makes the
 //! enclosure of any input past the radius the whole line.
 
 mod common;
 
 use common::*;
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::render::Status;
 use isotrace::Formula;
 
@@ -17,7 +17,7 @@ fn frame(src: &str, s: &isotrace::render::Settings) -> isotrace::render::Frame {
 
 fn bounded(src: &str) -> bool {
     let f = Formula::compile("<test>", src).unwrap();
-    isotrace::codegen::compiled::safe_radius(&f.ir, Domain::Affine).is_some()
+    isotrace::field::compiled::safe_radius(&f.ir, Domain::Affine).is_some()
 }
 
 /// The same formula plus min(0, 1/(x² + 1)), which is 0 (the quotient's
@@ -56,7 +56,7 @@ fn kernels_without_the_nan_test_draw_what_the_tested_kernels_draw() {
 fn inputs_past_the_radius_are_the_whole_line() {
     let src = "min(x^4 + y^4 + z^4 - 1, abs(x) - 2) + min(0, a^4)";
     let f = Formula::compile("<test>", src).unwrap();
-    assert_eq!(isotrace::codegen::compiled::safe_radius(&f.ir, Domain::Affine), Some(16777216.0));
+    assert_eq!(isotrace::field::compiled::safe_radius(&f.ir, Domain::Affine), Some(16777216.0));
     let renderer = isotrace::gpu::Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap();
     let bits = 16777216f32.to_bits();
     assert!(renderer.wgsl().contains(&format!("bitcast<u32>(abs(iso_param(0u))) <= {bits}u")), "the parameter is checked against 2^24");
@@ -90,7 +90,7 @@ fn enclosures_reaching_the_radius_are_finite() {
     ];
     for src in formulas {
         let f = Formula::compile("<test>", src).unwrap();
-        let b = isotrace::codegen::compiled::safe_radius(&f.ir, Domain::Affine).unwrap() as f32;
+        let b = isotrace::field::compiled::safe_radius(&f.ir, Domain::Affine).unwrap() as f32;
         let boxes = [[b / 2.0, b, b / 2.0, b, b / 2.0, b, 0.0, 0.0], [-b, b, -b, b, -b, b, -b, b], [-b, -b, b, b, -b, -b, b, b]];
         let r = isotrace::gpu::eval::eval_boxes(gpu(), &f.ir, Domain::Affine, &boxes, &[]).unwrap();
         for (bx, [lo, hi]) in boxes.iter().zip(r) {

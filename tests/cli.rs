@@ -366,7 +366,7 @@ fn wgsl_prints_the_tape_kernel_which_does_not_depend_on_the_formula() {
 /// IA line takes the tape for one frame and stays compiled for an
 /// animation, whose later frames the tape would make 10-25 times slower.
 /// (Every other term's second factor is written `z − (−b)`, so no run of
-/// terms is long enough to become a loop: `codegen::reroll`.)
+/// terms is long enough to become a loop: `field::compiled::term_loops`.)
 #[test]
 fn auto_takes_the_frames_of_an_animation_into_account() {
     let term = |i: i32| {
@@ -445,7 +445,7 @@ fn eval_gives_the_same_enclosures_with_either_shader_opt_and_refuses_it_with_cpu
 }
 
 /// A formula of thousands of tiny repeated terms compiles as loops
-/// (`codegen::reroll`); hard pixels past the traversal's budget or the
+/// (`field::compiled::term_loops`); hard pixels past the traversal's budget or the
 /// loops' work limit are reported with both named, and the run says it used
 /// the compiled field. (Terms in t at t = 0: terms `c·x` would be collected
 /// into one. The loops' work limit alone no longer leaves pixels here: the

@@ -17,7 +17,7 @@ mod segments;
 
 use harness::*;
 use segments::{check_slopes, run_segments, segment_shader, slope_shader};
-use isotrace::codegen::{self, Domain};
+use isotrace::ir::Domain;
 use isotrace::gpu::eval::eval_boxes;
 use isotrace::gpu::Gpu;
 use isotrace::ir::Ir;
@@ -54,8 +54,8 @@ fn segment_field(ir: &Ir, domain: Domain) -> String {
     };
     format!(
         "{}\n{}\nfn seg_field(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{ return {call}; }}",
-        codegen::libraries(&[domain]),
-        codegen::emit_evaluator(ir, domain)
+        isotrace::codegen::libraries(&[domain]),
+        isotrace::field::compiled::emit_evaluator(ir, domain)
     )
 }
 
@@ -75,9 +75,9 @@ fn slope_enclosures_hold_the_slope_along_ray_segments() {
         };
         let field = format!(
             "{}\n{}\n{}\nfn seg_slope(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dir: vec3<f32>) -> vec2<f32> {{ return evald_{p}(x, y, z, t, dir.x, dir.y, dir.z).zw; }}",
-            codegen::libraries(&[Domain::Scalar, domain]),
-            codegen::derivative::library(domain),
-            codegen::derivative::emit_evaluator_d(&case.ir, domain)
+            isotrace::codegen::libraries(&[Domain::Scalar, domain]),
+            isotrace::field::compiled::derivative::library(domain),
+            isotrace::field::compiled::derivative::emit_evaluator_d(&case.ir, domain)
         );
         run_segments(&GPU, &slope_shader(&field, domain), segs, &case.params, None).unwrap_or_else(|e| panic!("slope kernel failed for {} {domain:?}: {e}", case.name))
     });

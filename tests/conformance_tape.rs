@@ -13,7 +13,8 @@ mod segments;
 
 use harness::*;
 use segments::{check_slopes, run_segments, segment_shader, slope_shader};
-use isotrace::codegen::{self, Domain, TapeData};
+use isotrace::ir::Domain;
+use isotrace::field::TapeData;
 use isotrace::gpu::eval::eval_boxes_tape;
 use isotrace::gpu::Gpu;
 use isotrace::ir::Ir;
@@ -59,9 +60,9 @@ fn segment_field(domain: Domain) -> String {
 fn tape_interpreter(domain: Domain) -> String {
     format!(
         "var<private> g_field_work: u32;\n{}{}\n{}",
-        codegen::libraries(&[Domain::Scalar, domain]),
-        codegen::derivative::library(domain),
-        codegen::tape_field::interpreter(domain, codegen::tape::features::ALL)
+        isotrace::codegen::libraries(&[Domain::Scalar, domain]),
+        isotrace::field::compiled::derivative::library(domain),
+        isotrace::field::tape::wgsl::interpreter(domain, isotrace::field::tape::features::ALL)
     )
 }
 

@@ -11,7 +11,7 @@
 //! Case counts are bounded so the file runs in a few seconds in release.
 
 use isotrace::Formula;
-use isotrace::codegen::{self, Domain};
+use isotrace::ir::Domain;
 use isotrace::validate::validate;
 use proptest::prelude::*;
 
@@ -28,7 +28,7 @@ fn config(cases: u32) -> ProptestConfig {
 fn compile_and_validate(src: &str) -> Result<Formula, isotrace::FormulaError> {
     let f = Formula::compile("<fuzz>", src)?;
     for d in DOMAINS {
-        let wgsl = codegen::eval_shader(&f.ir, d);
+        let wgsl = isotrace::field::compiled::eval_shader(&f.ir, d);
         if let Err(e) = validate(&wgsl) {
             panic!("formula {src:?} in {d:?}:\n{e}");
         }

@@ -5,7 +5,7 @@
 //! generated from it (eval in all three domains, render in both inclusion
 //! domains) passes naga validation.
 
-use isotrace::codegen::{self, Domain};
+use isotrace::ir::Domain;
 use isotrace::validate::validate;
 use isotrace::{catalog, Formula};
 
@@ -59,7 +59,7 @@ fn all_sixteen_compile_with_their_degrees() {
 fn eval_shaders_validate() {
     for (name, f) in knoll() {
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
-            let wgsl = codegen::eval_shader(&f.ir, d);
+            let wgsl = isotrace::field::compiled::eval_shader(&f.ir, d);
             if let Err(e) = validate(&wgsl) {
                 panic!("{name}, eval shader in {d:?}:\n{e}");
             }
@@ -71,7 +71,7 @@ fn eval_shaders_validate() {
 fn render_shaders_validate() {
     for (name, f) in knoll() {
         for d in [Domain::Interval, Domain::Affine] {
-            let wgsl = codegen::render_shader(&f.ir, d);
+            let wgsl = isotrace::kernel::render_shader(&f.ir, d);
             if let Err(e) = validate(&wgsl) {
                 panic!("{name}, render shader in {d:?}:\n{e}");
             }

@@ -80,9 +80,9 @@ fn the_name_scan_finds_every_name_the_generated_shaders_define() {
     use isotrace::render::{BisectOptions, Modalities, Traversal};
     let f = isotrace::Formula::compile("t", "x^2 + y^2 + z^2 - 1").unwrap();
     let m = Modalities { shadows: true, reflect: 1, ..Default::default() };
-    let b = BisectOptions { modalities: m, ..BisectOptions::new(isotrace::codegen::Domain::Affine) };
-    let render = isotrace::codegen::assemble(isotrace::codegen::FieldSource::Compiled(&f.ir), &Traversal::Bisect(b)).wgsl;
-    let eval = isotrace::codegen::eval_shader(&f.ir, isotrace::codegen::Domain::Interval);
+    let b = BisectOptions { modalities: m, ..BisectOptions::new(isotrace::ir::Domain::Affine) };
+    let render = isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &Traversal::Bisect(b)).wgsl;
+    let eval = isotrace::field::compiled::eval_shader(&f.ir, isotrace::ir::Domain::Interval);
     for src in [render, eval] {
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         let scanned: Vec<String> = isotrace::inline::module_names(&src).into_iter().map(|(n, _)| n).collect();

@@ -1,5 +1,5 @@
 //! Per-tile term lists of a compiled formula's rerolled `min` and `max`
-//! loops (`codegen::reroll::lists`, `templates/fields/loop_tiles.wgsl`):
+//! loops (`isotrace::field::compiled::term_loops::lists`, `templates/fields/loop_tiles.wgsl`):
 //! the tile pass notes which terms can be the loop's result over each
 //! tile's candidate slabs, and the per-pixel pass runs only those. The
 //! picture must be the one the whole loops draw, and the f64 reference's.
@@ -7,8 +7,9 @@
 mod common;
 
 use common::gpu;
-use isotrace::codegen::reroll::{self, lists};
-use isotrace::codegen::{Domain, FieldSource};
+use isotrace::field::compiled::term_loops::{self, lists};
+use isotrace::ir::Domain;
+use isotrace::field::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, Settings, Status, Traversal};
 use isotrace::Formula;
@@ -163,7 +164,7 @@ fn a_union_of_three_shapes_in_no_order_is_three_listed_loops() {
 fn only_min_and_max_loops_of_defined_terms_are_listed() {
     let listed = |src: &str| {
         let f = Formula::compile("<t>", src).unwrap();
-        assert_eq!(reroll::plan(&f.ir).loops.len(), 1, "{src}");
+        assert_eq!(term_loops::plan(&f.ir).loops.len(), 1, "{src}");
         lists::for_formula(&f.ir).map(|l| (l.loops.len(), l.terms))
     };
     let roots: Vec<String> = (0..140).map(|i| format!("sqrt(x - {:.3}) - 0.{}", -0.5 + 0.001 * i as f64, i % 9 + 1)).collect();

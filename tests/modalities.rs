@@ -5,10 +5,10 @@
 mod common;
 
 use common::*;
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Modalities, Traversal};
-use isotrace::codegen::FieldSource;
+use isotrace::field::FieldSource;
 use isotrace::render::{Frame, Status};
 
 fn render_with(src: &str, s: &isotrace::render::Settings, m: Modalities) -> Frame {

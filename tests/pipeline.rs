@@ -6,7 +6,7 @@
 mod common;
 
 use common::gpu;
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::record::PackedFrame;
 use isotrace::render::{Method, SettingsField, SphereOptions, Status, Traversal};
@@ -144,12 +144,12 @@ fn gpu_modules_do_not_assemble_shaders() {
 /// error, and a kernel without small passes sends none.
 #[test]
 fn new_renderers_warm_their_small_passes_up() {
-    use isotrace::codegen::FieldSource;
+    use isotrace::field::FieldSource;
     use isotrace::render::BisectOptions;
     use std::sync::atomic::Ordering::Relaxed;
     let own = isotrace::gpu::Gpu::new().unwrap();
     let f = Formula::compile("<t>", "sphere(1)").unwrap();
-    let tape = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+    let tape = isotrace::field::TapeData::new(&f.ir).unwrap();
     let scene = isotrace::scene::format::load(std::path::Path::new("examples/blobs.scene.json")).unwrap();
     let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
     let bisect = || Traversal::Bisect(BisectOptions::new(Domain::Affine));

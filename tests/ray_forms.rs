@@ -1,7 +1,7 @@
 //! Bisection's interval cells on rays, on the device (`gpu::eval::eval_ray_cells`):
 //! the cell enclosure of a compiled formula, with the nodes of degree ≤ 2 in
 //! x, y, z that it takes from their polynomial along the ray
-//! (`codegen::ray_forms`), holds f64 samples of f and of its slope along the
+//! (`field::compiled::ray_forms`), holds f64 samples of f and of its slope along the
 //! ray over the cell, and the scalar field on the ray is f at the cell's ends.
 
 mod common;
@@ -118,7 +118,7 @@ fn cell_enclosures_on_rays_hold_f64_samples() {
     // So is a product of squares, through the square of xy's polynomial.
     let ratio = check("4*x^2*y^2 - 0.01", 1.2, 8);
     assert!(ratio < 1.05, "4x²y²: mean width over sampled range {ratio}");
-    // Polynomials of degree 3 to 6 (`codegen::ray_polys`): Bernstein
+    // Polynomials of degree 3 to 6 (`field::compiled::ray_polys`): Bernstein
     // enclosures of their polynomials along the ray, on average within
     // 1.05-1.35 times the sampled ranges (the pads, which grow with the
     // test rays' long extents, are most of the rest): the 4-bretzel's
@@ -157,7 +157,7 @@ fn box_widening(src: &str, a: f64, seed: u64) -> f64 {
             [a[0].min(b[0]), a[0].max(b[0]), a[1].min(b[1]), a[1].max(b[1]), a[2].min(b[2]), a[2].max(b[2]), 0.0, 0.0]
         })
         .collect();
-    let over_box = isotrace::gpu::eval::eval_boxes(gpu(), &f.ir, isotrace::codegen::Domain::Interval, &boxes, &[]).unwrap();
+    let over_box = isotrace::gpu::eval::eval_boxes(gpu(), &f.ir, isotrace::ir::Domain::Interval, &boxes, &[]).unwrap();
     let got = eval_ray_cells(gpu(), &f.ir, &cs).unwrap();
     got.iter().zip(&over_box).map(|(g, b)| f64::from(b[1] - b[0]) / f64::from(g.value[1] - g.value[0]).max(1e-30)).sum::<f64>() / cs.len() as f64
 }

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::render::{Camera, Status, Unresolved};
 
 /// Analytic ray–sphere (unit sphere at the origin) distance.
@@ -18,7 +18,7 @@ fn sphere_hit(o: glam::DVec3, d: glam::DVec3, r: f64) -> Option<f64> {
 
 /// Also from an eye 100 units away with a 2° field of view (the peer
 /// harness's near-orthographic view): in IA the sphere is one polynomial
-/// along each ray (`codegen::ray_forms`), worked out from the ray's entry
+/// along each ray (`field::compiled::ray_forms`), worked out from the ray's entry
 /// into the box, not from the far eye, whose |o|² is 10⁴.
 #[test]
 fn sphere_depth_within_eps_and_silhouette_within_a_pixel() {
@@ -208,7 +208,7 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
 }
 
 /// A node of degree ≤ 2 in x, y, z with two or more terms is taken from its
-/// polynomial along the ray (`codegen::ray_forms`): its exact range over
+/// polynomial along the ray (`field::compiled::ray_forms`): its exact range over
 /// a cell (the ends and the vertex), its exact slope and its value at a
 /// point, where intervals over the cell's box overestimate a sum of several
 /// variables' terms. icos.csg's ten planes |n·p| and its ball; quadrics
@@ -220,7 +220,7 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
 fn nodes_of_degree_two_are_taken_from_the_ray() {
     let icos = &catalog_formula("icos.csg");
     let f = isotrace::Formula::compile("<test>", icos).unwrap();
-    let wgsl = isotrace::codegen::render_shader(&f.ir, Domain::Interval);
+    let wgsl = isotrace::kernel::render_shader(&f.ir, Domain::Interval);
     assert_eq!(wgsl.matches("ia_ray_lin(g_q").count(), 10, "the ten planes' enclosures");
     assert_eq!(wgsl.matches("ia_ray(g_q").count(), 1, "the ball's");
     assert_eq!(wgsl.matches("s_ray_lin(g_q").count() + wgsl.matches("s_ray(g_q").count(), 11, "and their values at points");
@@ -234,14 +234,14 @@ fn nodes_of_degree_two_are_taken_from_the_ray() {
     ];
     for (src, bbox) in quadrics {
         let f = isotrace::Formula::compile("<test>", src).unwrap();
-        assert!(isotrace::codegen::render_shader(&f.ir, Domain::Interval).contains("ia_ray(g_q"), "{src}");
+        assert!(isotrace::kernel::render_shader(&f.ir, Domain::Interval).contains("ia_ray(g_q"), "{src}");
         assert_no_missed_roots(src, *bbox, Domain::Interval, 48);
     }
 }
 
 /// A polynomial node of degree 3 to 6 whose terms depend on each other is
 /// taken from its polynomial along the ray by its Bernstein coefficients
-/// over each cell (`codegen::ray_polys`): the decocube's three quartic
+/// over each cell (`field::compiled::ray_polys`): the decocube's three quartic
 /// factors, the 4-bretzel's sextic (x² + y²)³ − 4x²y² inside its square,
 /// the tangle whole, a quintic with a product of two sums. No sign change
 /// the f64 reference finds is missed, and every hit is at the RAA kernel's
@@ -257,7 +257,7 @@ fn polynomials_of_degree_three_to_six_are_taken_from_the_ray() {
     ];
     for (src, bbox, call, n) in cases {
         let f = isotrace::Formula::compile("<test>", src).unwrap();
-        let wgsl = isotrace::codegen::render_shader(&f.ir, Domain::Interval);
+        let wgsl = isotrace::kernel::render_shader(&f.ir, Domain::Interval);
         assert_eq!(wgsl.matches(call).count(), *n, "{src}: {call}");
         assert_no_missed_roots(src, *bbox, Domain::Interval, 48);
         let s = settings(*bbox, 48, 48);
@@ -279,7 +279,7 @@ fn catalog_polynomials_from_the_ray_draw_the_raa_picture() {
     let mut checked = 0;
     for e in isotrace::catalog::builtin() {
         let f = e.compile().unwrap();
-        if !isotrace::codegen::takes_ray_polynomials(&f.ir) {
+        if !isotrace::field::compiled::takes_ray_polynomials(&f.ir) {
             continue;
         }
         let mut s = settings(e.header.bbox, 96, 96);

@@ -1,4 +1,4 @@
-//! Rerolled terms (`codegen::reroll`): a long sum of same-shaped terms is
+//! Rerolled terms (`isotrace::field::compiled::term_loops`): a long sum of same-shaped terms is
 //! compiled as a loop over a table of its constants. It must give what the
 //! same sum written out gives: the same enclosures on the device (and they
 //! hold f64 samples), the same picture, and pixels past the loops' work
@@ -14,7 +14,9 @@
 mod common;
 
 use common::gpu;
-use isotrace::codegen::{reroll, Domain, FieldSource};
+use isotrace::field::compiled::term_loops;
+use isotrace::ir::Domain;
+use isotrace::field::FieldSource;
 use isotrace::gpu::eval::{eval_boxes, Box8};
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Status, Traversal};
@@ -23,7 +25,7 @@ use isotrace::Formula;
 /// The sum of `n` terms (a x³ − 0.5)(z + b) on the unit sphere; `alternate`
 /// writes every other term's second factor as `z − (−b)`. Each term is of degree
 /// 4: a node of degree ≤ 2 in x, y, z with two or more terms is taken from
-/// the ray when written out but not inside a loop (`codegen::ray_forms`),
+/// the ray when written out but not inside a loop (`field::compiled::ray_forms`),
 /// and a sum of bilinear terms would be one such node, whose code would
 /// stand in for the loop's in both versions.
 fn sum(n: usize, alternate: bool) -> Formula {
@@ -39,12 +41,12 @@ fn sum(n: usize, alternate: bool) -> Formula {
 #[test]
 fn only_the_uniform_sum_is_rerolled() {
     let (rolled, written) = (sum(300, false), sum(300, true));
-    let plan = reroll::plan(&rolled.ir);
+    let plan = term_loops::plan(&rolled.ir);
     assert_eq!(plan.loops.len(), 1);
     let l = &plan.loops[0];
     assert_eq!((l.slots, l.unroll * l.iterations), (3, 296), "{l:?}");
     assert!(plan.emitted_nodes(&rolled.ir) < 100, "{}", plan.emitted_nodes(&rolled.ir));
-    assert!(reroll::plan(&written.ir).loops.is_empty());
+    assert!(term_loops::plan(&written.ir).loops.is_empty());
 }
 
 /// Boxes around the sphere, some thin, some points.
@@ -76,7 +78,7 @@ fn assert_encloses(f: &Formula, r: &[[f32; 2]], bx: &[Box8], samples: usize, wha
 }
 
 /// Bit for bit at 28 terms (a written-out chain of 32 or more is generated
-/// as a balanced tree, `codegen::balance`, which rounds differently); at
+/// as a balanced tree, `isotrace::field::compiled::balance`, which rounds differently); at
 /// 300 both hold f64 samples of the sum.
 #[test]
 fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
@@ -101,15 +103,15 @@ fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
 }
 
 /// (28 terms: a written-out chain of 32 or more is generated as a balanced
-/// tree, `codegen::balance`, whose rounding differs.) The rerolled sum's
+/// tree, `isotrace::field::compiled::balance`, whose rounding differs.) The rerolled sum's
 /// cells run their scalar work from one call site (`cells_probe.wgsl`,
-/// `codegen::kernel::one_call_site`), the written-out sum's inline: the
+/// `isotrace::kernel::one_call_site`), the written-out sum's inline: the
 /// same pixels hit, at depths within 2 eps (the root searches differ).
 #[test]
 fn a_rerolled_sum_draws_the_written_out_sums_picture() {
     let s = common::settings(common::cube(1.6), 96, 96);
     let (rolled, written) = (sum(28, false), sum(28, true));
-    assert_eq!(reroll::plan(&rolled.ir).loops.len(), 1);
+    assert_eq!(term_loops::plan(&rolled.ir).loops.len(), 1);
     for domain in [Domain::Interval, Domain::Affine] {
         let t = Traversal::Bisect(BisectOptions::new(domain));
         let a = Renderer::new(gpu(), FieldSource::Compiled(&rolled.ir), t.clone()).unwrap().render(&s).unwrap();
@@ -133,7 +135,7 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     let s = common::settings(common::cube(3.0), 48, 48);
     let terms: Vec<String> = (1..=4600).map(|i| format!("{:.9}*t", i as f64 * 1e-9)).collect();
     let long = Formula::compile("<test>", &format!("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8+({})", terms.join("+"))).unwrap();
-    let plan = reroll::plan(&long.ir);
+    let plan = term_loops::plan(&long.ir);
     assert_eq!((plan.loops[0].unroll, plan.iterations()), (64, 71));
     let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     // Counted per invocation (a device without subgroups): in one round
@@ -195,7 +197,7 @@ fn a_rerolled_union_draws_what_the_tape_draws() {
 
 /// 30 balls as distances: a ball's polynomial x² + … − r² would be taken
 /// whole from the ray, which keeps such terms written out
-/// (`codegen::reroll`).
+/// (`isotrace::field::compiled::term_loops`).
 fn distances() -> Vec<String> {
     (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect()
 }
@@ -205,12 +207,12 @@ fn distances() -> Vec<String> {
 /// where both resolve, depth within 2 eps.
 fn draws_what_the_tape_draws(src: &str) {
     let f = Formula::compile("<terms>", src).unwrap();
-    assert_eq!(reroll::plan(&f.ir).loops.len(), 1);
+    assert_eq!(term_loops::plan(&f.ir).loops.len(), 1);
     let s = common::settings(common::cube(1.5), 96, 96);
     for domain in [Domain::Interval, Domain::Affine] {
         let t = Traversal::Bisect(BisectOptions::new(domain));
         let a = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
-        let tape = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+        let tape = isotrace::field::TapeData::new(&f.ir).unwrap();
         let b = Renderer::new(gpu(), FieldSource::Tape(&tape), t).unwrap().render(&s).unwrap();
         assert!(a.stats.hits > 300 && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
         let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();
@@ -321,7 +323,7 @@ fn random_term_shapes(seed: u64, scale: u64) -> (usize, usize, usize) {
             })
             .collect();
         let f = Formula::compile("<random>", &format!("x^2 + y^2 + z^2 - 1 + 0.01*({})", terms.join(" + "))).unwrap();
-        let plan = reroll::plan(&f.ir);
+        let plan = term_loops::plan(&f.ir);
         if plan.loops.is_empty() {
             continue;
         }

@@ -6,8 +6,9 @@
 mod common;
 
 use common::*;
-use isotrace::codegen::kernel::{assemble, FieldSource, PAIR_MAX_NODES};
-use isotrace::codegen::Domain;
+use isotrace::field::FieldSource;
+use isotrace::kernel::{assemble, PAIR_MAX_NODES};
+use isotrace::ir::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, RootSearch, Settings, Status, Traversal};
 use isotrace::Formula;

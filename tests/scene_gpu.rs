@@ -8,7 +8,8 @@ mod scene_pictures;
 
 use common::gpu;
 use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
-use isotrace::codegen::{FieldSource, SceneData};
+use isotrace::field::FieldSource;
+use isotrace::field::SceneData;
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
 use isotrace::Formula;
@@ -61,7 +62,7 @@ fn scene_edits_change_buffers_not_pipelines() {
     let changed = before.pixels.iter().zip(&moved.pixels).filter(|(a, b)| a.status != b.status).count();
     assert!(changed > 20, "{changed}");
     // A scene is sphere traced: asking to bisect it is a typed error.
-    let err = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Bisect(isotrace::render::BisectOptions::new(isotrace::codegen::Domain::Interval)));
+    let err = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Bisect(isotrace::render::BisectOptions::new(isotrace::ir::Domain::Interval)));
     assert!(err.is_err());
 }
 
@@ -182,8 +183,8 @@ fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
     let s = entry.settings(&f, 96, 72).unwrap();
     let Traversal::Sphere(o) = entry.traversal(&f) else { panic!("creature is sphere traced") };
     let mut t = Traversal::Sphere(o.clone());
-    let scene = isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Scene, &f, &[], &t).unwrap();
-    let (_, lipschitz) = isotrace::codegen::choice::scene(&f, &[], &t).unwrap();
+    let scene = isotrace::choice::choose(isotrace::field::FieldKind::Scene, &f, &[], &t).unwrap();
+    let (_, lipschitz) = isotrace::choice::scene(&f, &[], &t).unwrap();
     assert_eq!(lipschitz, 1.45);
     if let Traversal::Sphere(o) = &mut t {
         o.lipschitz = lipschitz;
@@ -216,8 +217,8 @@ fn written_out_distances_draw_the_compiled_picture_as_a_scene() {
     let f = Formula::compile("<balls>", &format!("min({})", balls.join(", "))).unwrap();
     let o = SphereOptions::default();
     let t = Traversal::Sphere(o.clone());
-    let (field, lipschitz) = isotrace::codegen::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
-    assert_eq!((field.kind(), lipschitz), (isotrace::codegen::FieldKind::Scene, 1.0));
+    let (field, lipschitz) = isotrace::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
+    assert_eq!((field.kind(), lipschitz), (isotrace::field::FieldKind::Scene, 1.0));
     let s = common::settings(common::cube(1.3), 96, 96);
     let a = Renderer::new(gpu(), field.source(&f.ir), t).unwrap().render(&s).unwrap();
     let b = Renderer::sphere(gpu(), &f.ir, o).unwrap().render(&s).unwrap();

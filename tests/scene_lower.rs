@@ -172,7 +172,7 @@ fn written_out_distances_lower_to_balls() {
 
 #[test]
 fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
-    use isotrace::codegen::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
+    use isotrace::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
     use isotrace::render::{BisectOptions, SphereOptions, Traversal};
     let sphere = Traversal::Sphere(SphereOptions::default());
     let kind = |name: &str, t: &Traversal| {
@@ -186,7 +186,7 @@ fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
         assert_eq!(kind(name, &sphere), None, "{name}");
     }
     // Bisection needs enclosures, which a scene has not.
-    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(isotrace::codegen::Domain::Interval))), None);
+    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(isotrace::ir::Domain::Interval))), None);
     // The threshold itself: 31 spheres in a row stay compiled, 32 do not.
     let row = |n: usize| (0..n).map(|i| format!("translate({}, 0, 0, sphere(0.4))", i)).reduce(|a, b| format!("union({a}, {b})")).unwrap();
     for (n, want) in [(SCENE_AUTO_MIN_BOUNDED - 1, None), (SCENE_AUTO_MIN_BOUNDED, Some(FieldKind::Scene))] {

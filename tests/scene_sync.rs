@@ -8,7 +8,7 @@ mod common;
 mod scene_pictures;
 
 use glam::DVec3;
-use isotrace::codegen::FieldSource;
+use isotrace::field::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
 use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
@@ -82,7 +82,7 @@ fn union_tiles_draw_the_analytic_spheres() {
 /// The 125-sphere grid's scene `data` rendered at 320×240 with the walk
 /// asked for, checked against the analytic ray test: the frame, the hit
 /// and the miss pixels checked.
-fn analytic_grid(data: &isotrace::codegen::SceneData, synchronized: bool) -> (isotrace::render::Frame, usize, usize) {
+fn analytic_grid(data: &isotrace::field::SceneData, synchronized: bool) -> (isotrace::render::Frame, usize, usize) {
     let (w, h) = (320, 240);
     let s = common::settings(common::cube(1.4), w, h);
     let frame = Renderer::new(common::gpu(), FieldSource::Scene(data), walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
@@ -112,8 +112,8 @@ fn the_walk_is_compiled_in() {
     let mut r = Renderer::new(common::gpu(), FieldSource::Scene(&data), walk(false, 1.0)).unwrap();
     let e = r.set_sphere_options(SphereOptions { synchronized: true, ..SphereOptions::default() }).unwrap_err();
     assert!(e.to_string().contains("the kernel was compiled for the other walk"), "{e}");
-    let wgsl = isotrace::codegen::assemble(FieldSource::Scene(&data), &walk(true, 1.0)).wgsl;
+    let wgsl = isotrace::kernel::assemble(FieldSource::Scene(&data), &walk(true, 1.0)).wgsl;
     assert!(wgsl.contains("var<workgroup> scene_sync_view") && wgsl.contains("workgroupUniformLoad"));
-    let per_ray = isotrace::codegen::assemble(FieldSource::Scene(&data), &walk(false, 1.0)).wgsl;
+    let per_ray = isotrace::kernel::assemble(FieldSource::Scene(&data), &walk(false, 1.0)).wgsl;
     assert!(!per_ray.contains("var<workgroup>"));
 }

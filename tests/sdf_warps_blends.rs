@@ -8,7 +8,7 @@
 
 mod common;
 
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::sdf;
 use common::points;
 use isotrace::Formula;

@@ -7,7 +7,7 @@ mod common;
 use common::gpu;
 use glam::DVec3;
 use isotrace::catalog;
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::Settings;
 use isotrace::render::SphereOptions;

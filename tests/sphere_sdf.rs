@@ -3,7 +3,7 @@
 //! the Lipschitz bound of the example scenes by sampling, the diagnostics of
 //! bad arguments, and naga validation of every kernel for an SDF formula.
 
-use isotrace::codegen::{self, Domain};
+use isotrace::ir::Domain;
 use isotrace::validate::validate;
 use isotrace::Formula;
 
@@ -242,11 +242,11 @@ fn every_kernel_validates_for_the_scenes() {
     for (name, ir) in catalog.chain(profiles) {
         let name = &name[..name.len().min(40)];
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
-            validate(&codegen::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));
+            validate(&isotrace::field::compiled::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));
         }
-        validate(&codegen::render_shader(&ir, Domain::Interval)).unwrap_or_else(|e| panic!("{name} bisect: {e}"));
+        validate(&isotrace::kernel::render_shader(&ir, Domain::Interval)).unwrap_or_else(|e| panic!("{name} bisect: {e}"));
         for (shadows, glass) in [(false, false), (true, false), (false, true), (true, true)] {
-            let wgsl = isotrace::codegen::sphere_shader(&ir, isotrace::render::SphereFeatures { shadows, glass, synchronized: false });
+            let wgsl = isotrace::kernel::sphere_shader(&ir, isotrace::render::SphereFeatures { shadows, glass, synchronized: false });
             validate(&wgsl).unwrap_or_else(|e| panic!("{name} sphere (shadows {shadows}, glass {glass}): {e}"));
             // The traversal only sees the scalar evaluator; unused rays are not compiled.
             assert!(wgsl.contains("fn eval_s(") && !wgsl.contains("fn eval_ia(") && !wgsl.contains("fn eval_ra("));

@@ -6,8 +6,11 @@
 mod common;
 
 use common::gpu;
-use isotrace::codegen::tape::features;
-use isotrace::codegen::{assemble, Domain, FieldSource, TapeData};
+use isotrace::field::tape::features;
+use isotrace::kernel::assemble;
+use isotrace::ir::Domain;
+use isotrace::field::FieldSource;
+use isotrace::field::TapeData;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, Settings, SphereOptions, Status, Traversal};
 use isotrace::Formula;
@@ -113,9 +116,9 @@ fn new_formulas_change_buffers_not_pipelines() {
 #[test]
 fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_them() {
     let (f, data) = tape(&sum_of_inputs(16_100));
-    assert!(data.ops >= isotrace::codegen::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
+    assert!(data.ops >= isotrace::field::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
     assert_eq!((features::unroll(data.features), data.padding()), (16, 16));
-    assert_eq!([1, 4, 8, 16].map(isotrace::codegen::tape::resume_rounds), [3, 3, 15, 7]);
+    assert_eq!([1, 4, 8, 16].map(isotrace::field::tape::resume_rounds), [3, 3, 15, 7]);
     let s = common::settings(common::cube(2.0), 16, 16);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut four = data.clone();
@@ -144,7 +147,7 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_th
 #[test]
 fn a_long_tape_runs_8_an_iteration() {
     let (f, data) = tape(&sum_of_terms(1050));
-    let range = isotrace::codegen::tape::TAPE_UNROLL_8_FROM..isotrace::codegen::tape::TAPE_UNROLL_16_FROM;
+    let range = isotrace::field::tape::TAPE_UNROLL_8_FROM..isotrace::field::tape::TAPE_UNROLL_16_FROM;
     assert!(range.contains(&data.ops), "{} instructions", data.ops);
     assert_eq!(features::unroll(data.features), 8);
     assert_eq!(data.padding() % 8, 0);
@@ -179,7 +182,7 @@ fn sum_of_terms(n: u32) -> String {
 /// [`sum_of_terms`] with every other term's second factor written
 /// `z − (−b)` (swapped factors no longer do: a run compares a product's
 /// operands in a fixed order): no run of same-shaped terms, so its compiled kernel writes every term out (a
-/// uniform sum's becomes a loop, `codegen::reroll`, and `auto` keeps it
+/// uniform sum's becomes a loop, `isotrace::field::compiled::term_loops`, and `auto` keeps it
 /// compiled).
 fn mixed_sum_of_terms(n: u32) -> String {
     let term = |i: u32| {
@@ -446,19 +449,19 @@ fn a_formula_of_more_shared_values_than_registers_is_rematerialised() {
         assert!(missed.is_empty(), "{domain:?}: {missed:?}");
     }
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let auto = isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Auto, &f, &[], &t).unwrap();
-    assert_eq!(auto.kind(), isotrace::codegen::FieldKind::Tape);
+    let auto = isotrace::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
+    assert_eq!(auto.kind(), isotrace::field::FieldKind::Tape);
 }
 
 #[test]
 fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
     let f = Formula::compile("<t>", "x^2 + y^2 + z^2 - 1 where z > 0").unwrap();
-    assert_eq!(TapeData::new(&f.ir), Err(isotrace::codegen::TapeError::Csg));
+    assert_eq!(TapeData::new(&f.ir), Err(isotrace::field::TapeError::Csg));
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     // `Auto` falls back to the compiled field; asking for the tape fails.
-    let auto = isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Auto, &f, &[], &t).unwrap();
-    assert_eq!(auto.kind(), isotrace::codegen::FieldKind::Compiled);
-    assert!(isotrace::codegen::choice::choose(isotrace::codegen::FieldKind::Tape, &f, &[], &t).is_err());
+    let auto = isotrace::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
+    assert_eq!(auto.kind(), isotrace::field::FieldKind::Compiled);
+    assert!(isotrace::choice::choose(isotrace::field::FieldKind::Tape, &f, &[], &t).is_err());
 }
 
 /// Bisection of `data` in `domain` with the per-tile shortening on or off.
@@ -571,7 +574,8 @@ fn the_power_loops_pass_counts_against_the_loop_cap() {
 
 #[test]
 fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
-    use isotrace::codegen::{choice, FieldKind};
+    use isotrace::choice;
+    use isotrace::field::FieldKind;
     let kind = |name: &str, domain: Domain| {
         let f = isotrace::catalog::lookup(name).unwrap().compile().unwrap();
         choice::choose(FieldKind::Auto, &f, &[], &Traversal::Bisect(BisectOptions::new(domain))).unwrap().kind()
@@ -595,7 +599,7 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
     assert_ne!(big, city);
     let auto = |text: &str, domain: Domain| {
         let f = Formula::compile("<big>", text).unwrap();
-        let t = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+        let t = isotrace::field::TapeData::new(&f.ir).unwrap();
         (t.size, choice::choose(FieldKind::Auto, &f, &[], &Traversal::Bisect(BisectOptions::new(domain))).unwrap().kind())
     };
     for domain in [Domain::Affine, Domain::Interval] {
@@ -620,11 +624,12 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
 /// products.
 #[test]
 fn auto_weighs_the_frames_of_the_job() {
-    use isotrace::codegen::{choice, FieldKind};
+    use isotrace::choice;
+    use isotrace::field::FieldKind;
     let ia = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let kind = |terms: u32, frames: u64| {
         let f = Formula::compile("<sum>", &mixed_sum_of_terms(terms)).unwrap();
-        let t = isotrace::codegen::TapeData::new(&f.ir).unwrap();
+        let t = isotrace::field::TapeData::new(&f.ir).unwrap();
         (t.size, choice::choose_for(FieldKind::Auto, &f, &[], &ia, frames).unwrap().kind())
     };
     let (size, one) = kind(250, 1);
@@ -640,7 +645,7 @@ fn auto_weighs_the_frames_of_the_job() {
     assert_eq!(auto(planes.join("*")), FieldKind::Compiled);
     let trig = |n: u32| (0..n).map(|i| format!("{:.3}*sin({:.3}*x + {:.3})*cos({:.3}*y - {:.3})*sin({:.3}*z)", 0.5 + 0.01 * f64::from(i), 1.0 + 0.013 * f64::from(i), 0.002 * f64::from(i), 0.7 + 0.011 * f64::from(i), 0.003 * f64::from(i), 1.1 + 0.007 * f64::from(i))).collect::<Vec<_>>().join(" + ") + " - 0.3";
     // Their terms are one shape, so the compiled field runs them as a loop
-    // (`codegen::reroll`), weighed by its body: cold at 512², 100 terms
+    // (`isotrace::field::compiled::term_loops`), weighed by its body: cold at 512², 100 terms
     // 2.1 s against the tape's 15 s, 200 terms 4.3 s against 38 s.
     assert_eq!(auto(trig(50)), FieldKind::Compiled);
     assert_eq!(auto(trig(100)), FieldKind::Compiled);
@@ -723,7 +728,7 @@ fn an_unresolved_guess_on_a_tape_is_shaded_with_its_gradient() {
 }
 
 /// A long sum is generated as a balanced tree in the compiled field
-/// (`codegen::balance`), where the tape keeps the order written: the two
+/// (`isotrace::field::compiled::balance`), where the tape keeps the order written: the two
 /// draw the same picture, and it misses no sign change of the f64
 /// reference. (Its compile: README, "Long sums as balanced trees".)
 #[test]

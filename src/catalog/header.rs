@@ -43,7 +43,7 @@ pub struct Header {
     pub method: Option<Method>,
     /// `field`: the field source to render with (`render --field`'s
     /// default for this file: compiled, tape, scene or auto).
-    pub field: Option<crate::codegen::choice::FieldKind>,
+    pub field: Option<crate::field::FieldKind>,
     /// `lipschitz`: a Lipschitz bound L >= 1 of the formula (sphere tracing
     /// divides the field by it).
     pub lipschitz: Option<f64>,
@@ -131,10 +131,10 @@ pub enum Algebra {
 impl Algebra {
     /// The number domain this algebra stands for with formula `ir` (auto:
     /// [`crate::choose_algebra`]).
-    pub fn domain(self, ir: &crate::ir::Ir) -> crate::codegen::Domain {
+    pub fn domain(self, ir: &crate::ir::Ir) -> crate::ir::Domain {
         match self {
-            Algebra::Ia => crate::codegen::Domain::Interval,
-            Algebra::Raa => crate::codegen::Domain::Affine,
+            Algebra::Ia => crate::ir::Domain::Interval,
+            Algebra::Raa => crate::ir::Domain::Affine,
             Algebra::Auto => crate::choose_algebra(ir),
         }
     }
@@ -238,7 +238,7 @@ pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value:
             }
         }
         "method" => h.method = Some(Method::parse(value)?),
-        "field" => match crate::codegen::choice::FieldKind::parse(value) {
+        "field" => match crate::field::FieldKind::parse(value) {
             Some(k) => h.field = Some(k),
             None => return Err("expected 'compiled', 'tape', 'scene' or 'auto'".into()),
         },

@@ -13,7 +13,7 @@
 //! against primitive count from the JSON.
 
 use super::CliError;
-use isotrace::codegen::FieldSource;
+use isotrace::field::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::{SphereOptions, Stats, Traversal};
 use isotrace::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
@@ -120,7 +120,7 @@ fn row(scene: (Kind, Blending, u32, usize), path: &str, setup_ms: f64, runs: &[S
 fn compiled_formula(scene: &isotrace::scene::Scene) -> Option<isotrace::Formula> {
     let text = scene.to_formula().ok()?;
     let f = isotrace::Formula::compile("<scene>", &text).ok()?;
-    (isotrace::codegen::tape::TapeData::new(&f.ir).ok()?.size <= COMPILED_MAX_OPS).then_some(f)
+    (isotrace::field::tape::TapeData::new(&f.ir).ok()?.size <= COMPILED_MAX_OPS).then_some(f)
 }
 
 /// Measures one scene: sparse, dense unless `dense_estimate` (ms) passes

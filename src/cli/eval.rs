@@ -3,7 +3,7 @@
 
 use super::{input::FormulaArgs, render::parse_params, resolve_algebra, AlgebraArg, CliError};
 use clap::Args;
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::gpu::eval::{eval_boxes_with, Box8};
 use isotrace::bounded;
 use std::io::{BufRead, Write};
@@ -203,8 +203,8 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
 /// The tape `--field` asks for (`None`: the generated evaluator). `auto`
 /// takes the tape where `render` would for the same algebra; a scene has no
 /// enclosures to evaluate on boxes.
-fn device_tape(arg: Option<super::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::codegen::TapeData>, CliError> {
-    use isotrace::codegen::choice::{choose, FieldKind, PreparedField};
+fn device_tape(arg: Option<super::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::field::TapeData>, CliError> {
+    use isotrace::choice::{choose, FieldKind, PreparedField};
     use isotrace::render::{BisectOptions, SphereOptions, Traversal};
     let kind = match arg {
         None | Some(super::FieldArg::Compiled) => return Ok(None),

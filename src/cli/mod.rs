@@ -18,7 +18,7 @@ mod view;
 pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use isotrace::codegen::{self, Domain};
+use isotrace::ir::Domain;
 use isotrace::{Formula, FormulaError, validate};
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
@@ -115,22 +115,22 @@ pub enum FieldArg {
 }
 
 /// The flag value of a field kind (a header's `field`).
-pub(crate) fn field_arg(k: codegen::FieldKind) -> FieldArg {
+pub(crate) fn field_arg(k: isotrace::field::FieldKind) -> FieldArg {
     match k {
-        codegen::FieldKind::Compiled => FieldArg::Compiled,
-        codegen::FieldKind::Tape => FieldArg::Tape,
-        codegen::FieldKind::Scene => FieldArg::Scene,
-        codegen::FieldKind::Auto => FieldArg::Auto,
+        isotrace::field::FieldKind::Compiled => FieldArg::Compiled,
+        isotrace::field::FieldKind::Tape => FieldArg::Tape,
+        isotrace::field::FieldKind::Scene => FieldArg::Scene,
+        isotrace::field::FieldKind::Auto => FieldArg::Auto,
     }
 }
 
 /// The field kind of a flag value.
-pub(crate) fn field_kind(a: FieldArg) -> codegen::FieldKind {
+pub(crate) fn field_kind(a: FieldArg) -> isotrace::field::FieldKind {
     match a {
-        FieldArg::Compiled => codegen::FieldKind::Compiled,
-        FieldArg::Tape => codegen::FieldKind::Tape,
-        FieldArg::Scene => codegen::FieldKind::Scene,
-        FieldArg::Auto => codegen::FieldKind::Auto,
+        FieldArg::Compiled => isotrace::field::FieldKind::Compiled,
+        FieldArg::Tape => isotrace::field::FieldKind::Tape,
+        FieldArg::Scene => isotrace::field::FieldKind::Scene,
+        FieldArg::Auto => isotrace::field::FieldKind::Auto,
     }
 }
 
@@ -140,9 +140,9 @@ pub(crate) fn field_kind(a: FieldArg) -> codegen::FieldKind {
 /// takes at least that.
 /// `frames`: how many frames the job renders with the field (auto weighs
 /// the tape's sooner first frame against its slower later ones).
-pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<codegen::PreparedField, CliError> {
-    use isotrace::codegen::choice::{self, FieldError, SceneFieldError};
-    use isotrace::codegen::{FieldKind, TapeError};
+pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<isotrace::choice::PreparedField, CliError> {
+    use isotrace::choice::{self, FieldError, SceneFieldError};
+    use isotrace::field::{FieldKind, TapeError};
     let kind = field_kind(arg.unwrap_or(FieldArg::Auto));
     if kind == FieldKind::Auto {
         if let Some((field, lipschitz)) = choice::auto_scene(f, params, t) {
@@ -301,7 +301,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let (products, powers) = ir.nonconstant_products();
     let algebra = domain_name(isotrace::choose_algebra(ir));
     // The runs of same-shaped terms the compiled field writes as loops.
-    let plan = isotrace::codegen::reroll::plan(ir);
+    let plan = isotrace::field::compiled::term_loops::plan(ir);
     let looped: usize = plan.loops.iter().map(|l| l.unroll * l.iterations).sum();
     let mut out = std::io::stdout().lock();
     if a.json {
@@ -370,16 +370,16 @@ fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
         return write_wgsl(src, a.output);
     }
     let src = match a.kernel {
-        KernelArg::Eval => codegen::eval_shader_with(&f.ir, domain, inline),
+        KernelArg::Eval => isotrace::field::compiled::eval_shader_with(&f.ir, domain, inline),
         KernelArg::Sphere if inline.is_some() => return Err(CliError::Input("--inline applies to the render and eval kernels, not to --kernel sphere".into())),
-        KernelArg::Sphere => codegen::sphere_shader(&f.ir, Default::default()),
+        KernelArg::Sphere => isotrace::kernel::sphere_shader(&f.ir, Default::default()),
         KernelArg::Render => {
             if domain == Domain::Scalar {
                 return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
             }
             let m = isotrace::render::Modalities { inline: inline.cloned(), ..Default::default() };
             let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-            codegen::assemble(codegen::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl
+            isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl
         }
     };
     match inline {
@@ -394,16 +394,16 @@ fn tape_wgsl(f: &isotrace::Formula, domain: Domain, kernel: KernelArg, inline: b
     if inline {
         return Err(CliError::Input("--field tape: the functions and hooks of --inline need --field compiled".into()));
     }
-    let tape = codegen::TapeData::new(&f.ir).map_err(|e| CliError::Input(format!("--field tape: {e}; print it with --field compiled")))?;
+    let tape = isotrace::field::TapeData::new(&f.ir).map_err(|e| CliError::Input(format!("--field tape: {e}; print it with --field compiled")))?;
     let traversal = match kernel {
-        KernelArg::Eval => return Ok(codegen::tape_field::eval_shader(domain, tape.features)),
+        KernelArg::Eval => return Ok(isotrace::field::tape::wgsl::eval_shader(domain, tape.features)),
         KernelArg::Sphere => isotrace::render::Traversal::Sphere(Default::default()),
         KernelArg::Render if domain == Domain::Scalar => {
             return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
         }
         KernelArg::Render => isotrace::render::Traversal::Bisect(isotrace::render::BisectOptions::new(domain)),
     };
-    Ok(codegen::assemble(codegen::FieldSource::Tape(&tape), &traversal).wgsl)
+    Ok(isotrace::kernel::assemble(isotrace::field::FieldSource::Tape(&tape), &traversal).wgsl)
 }
 
 /// Validates a generated shader without user WGSL: an invalid one is an
@@ -440,9 +440,9 @@ fn check_inline(f: &Formula, user: &isotrace::inline::InlineWgsl) -> Result<(), 
     let domain = isotrace::choose_algebra(&f.ir);
     let m = isotrace::render::Modalities { inline: Some(user.clone()), ..Default::default() };
     let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-    let render = codegen::assemble(codegen::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl;
+    let render = isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl;
     validate_inline(&render, user, f)?;
-    validate_inline(&codegen::eval_shader_with(&f.ir, domain, Some(user)), user, f)
+    validate_inline(&isotrace::field::compiled::eval_shader_with(&f.ir, domain, Some(user)), user, f)
 }
 
 /// Maps a render error to the CLI's error kinds.

@@ -403,7 +403,7 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
                 return Err(input("--color field applies to --method sphere only"));
             }
             let domain = resolve_algebra(a.view.algebra.or(header.and_then(|h| h.algebra).map(algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
-            if domain == isotrace::codegen::Domain::Scalar {
+            if domain == isotrace::ir::Domain::Scalar {
                 return Err(input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
             }
             let kernel_color = match color {
@@ -524,7 +524,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     // --field, else the .iso header's `field`, else auto.
     let field_given = a.view.field.or(header.and_then(|h| h.field).map(super::field_arg));
     let field = super::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some(), todo as u64)?;
-    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && !matches!(field.source(&f.ir), isotrace::codegen::FieldSource::Scene(_)) {
+    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && !matches!(field.source(&f.ir), isotrace::field::FieldSource::Scene(_)) {
         return Err(input("--scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene"));
     }
     // No device is opened when every frame of the run is already there.
@@ -533,7 +533,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let renderer = match &gpu {
         Some(g) => {
             let t = traversal.clone();
-            let size = || isotrace::codegen::assemble(field.source(&f.ir), &t).wgsl.len();
+            let size = || isotrace::kernel::assemble(field.source(&f.ir), &t).wgsl.len();
             Some(super::with_compile_note(size, || Renderer::new(g, field.source(&f.ir), traversal)).map_err(super::render_error)?)
         }
         None => None,
@@ -543,8 +543,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         (None, Some(r), super::frames::Outputs::One(path)) => {
             let what = || {
                 let field = match field.source(&f.ir) {
-                    isotrace::codegen::FieldSource::Tape(t) => format!("a tape of {} instructions in the interpreter", t.ops),
-                    isotrace::codegen::FieldSource::Scene(_) => "a scene".to_string(),
+                    isotrace::field::FieldSource::Tape(t) => format!("a tape of {} instructions in the interpreter", t.ops),
+                    isotrace::field::FieldSource::Scene(_) => "a scene".to_string(),
                     _ => "the compiled formula".to_string(),
                 };
                 let device = gpu.as_ref().map_or(String::new(), |g| g.info.name.clone());

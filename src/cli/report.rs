@@ -11,19 +11,19 @@ use std::io::Write;
 /// always say so (with or without `--stats`), and how they are drawn. A
 /// tape field also stops at its interpreter's work limit, and a compiled
 /// field at its loops': say which way out there is.
-pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: isotrace::codegen::FieldKind, loops: bool) {
+pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: isotrace::field::FieldKind, loops: bool) {
     let n = frame.stats.unresolved;
     if n == 0 {
         return;
     }
     let (what, guess) = match t {
-        Traversal::Bisect(_) if field == isotrace::codegen::FieldKind::Tape => (
+        Traversal::Bisect(_) if field == isotrace::field::FieldKind::Tape => (
             format!(
                 "exhausted the iteration budget (--max-iter {}) or the tape interpreter's work limit ({} loop iterations a pixel, \
                  or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; --field compiled has none)",
                 s.max_iter,
-                isotrace::codegen::tape::TAPE_WORK_LIMIT,
-                isotrace::codegen::tape::TAPE_BUNDLE_LIMIT
+                isotrace::field::limits::TAPE_WORK_LIMIT,
+                isotrace::field::limits::TAPE_BUNDLE_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),
@@ -32,8 +32,8 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
                 "exhausted the iteration budget (--max-iter {}) or the work limit of the formula's loops over its repeated terms \
                  ({} loop iterations a pixel, or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes)",
                 s.max_iter,
-                isotrace::codegen::reroll::WORK_LIMIT,
-                isotrace::codegen::tape::TAPE_BUNDLE_LIMIT
+                isotrace::field::compiled::term_loops::WORK_LIMIT,
+                isotrace::field::limits::TAPE_BUNDLE_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),
@@ -72,7 +72,7 @@ pub(super) fn lipschitz_warning(violations: &dyn std::fmt::Display, lipschitz: &
     )
 }
 
-pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::codegen::Domain, gpu: &Gpu, field: &str) {
+pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::ir::Domain, gpu: &Gpu, field: &str) {
     let st = &frame.stats;
     let algebra = super::domain_name(domain);
     if a.stats {

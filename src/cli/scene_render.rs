@@ -4,7 +4,7 @@
 
 use super::render::{finish_settings, open_gpu, report_sphere, sphere_options, view_error, view_flags, warn_lipschitz, warn_unresolved, RenderArgs};
 use super::CliError;
-use isotrace::codegen::FieldSource;
+use isotrace::field::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::output::{self, ColorMode};
 use isotrace::render::{Shading, Traversal, View};
@@ -121,7 +121,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
         eprintln!(
             "note: {} tiles had more active primitives than a tile list holds ({}) and evaluated the whole tree",
             frame.stats.field.overflow_tiles,
-            isotrace::codegen::kernel::SCENE_TILE_MAX
+            isotrace::field::scene::SCENE_TILE_MAX
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -9,7 +9,7 @@
 use super::render::RenderArgs;
 use super::CliError;
 use clap::Args;
-use isotrace::codegen::FieldSource;
+use isotrace::field::FieldSource;
 use isotrace::render::{Settings, Traversal};
 use isotrace::view::page::printable;
 use isotrace::view::{Api, ApiError, Reply, Route};

@@ -85,7 +85,7 @@ pub const SPHERE_GLASS: [&str; 2] = [
 ];
 
 /// How the affine library reads a form's range: without the NaN test
-/// where no form can overflow (`codegen::magnitude`), or with it.
+/// where no form can overflow (`analysis::magnitude`), or with it.
 pub const AFFINE_RANGE: [&str; 2] = [
     include_str!("../../templates/domains/affine_range_bounded.wgsl"),
     include_str!("../../templates/domains/affine_range.wgsl"),

@@ -3,7 +3,7 @@
 
 use super::{Author, Gpu, GpuError};
 use crate::layout::{EvalBlock, MAX_PARAMS};
-use crate::codegen::Domain;
+use crate::ir::Domain;
 use crate::ir::Ir;
 use crate::validate::validate;
 use wgpu::util::DeviceExt;
@@ -43,7 +43,7 @@ pub fn eval_boxes_with(
     if boxes.is_empty() {
         return Ok(vec![]);
     }
-    let src = crate::codegen::eval_shader_with(ir, domain, inline);
+    let src = crate::field::compiled::eval_shader_with(ir, domain, inline);
     match inline {
         Some(user) => {
             let start = src.find(&user.text).unwrap_or(0);
@@ -58,7 +58,7 @@ pub fn eval_boxes_with(
     }
     let pipeline = gpu.pipeline("isotrace eval", &src, Author::of(inline.is_some()))?;
     // Rerolled terms read their constants from the field group's table.
-    let table = match crate::codegen::reroll::table_texels(ir) {
+    let table = match crate::field::compiled::term_loops::table_texels(ir) {
         Some(t) => Some(table_group(gpu, &pipeline, &t)?),
         None => None,
     };
@@ -73,7 +73,7 @@ pub fn eval_boxes_with(
 
 /// A one-texture field group: a tape's code or a formula's table of
 /// rerolled constants, at binding 0 (the texture is kept with the group).
-fn table_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, texels: &crate::codegen::Texels<[u32; 4]>) -> Result<(wgpu::BindGroup, wgpu::Texture), EvalError> {
+fn table_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, texels: &crate::field::Texels<[u32; 4]>) -> Result<(wgpu::BindGroup, wgpu::Texture), EvalError> {
     let (texture, view) = gpu.texture("field table", texels, wgpu::TextureFormat::Rgba32Uint)?;
     let group = gpu.scoped("field table bind group", || {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -88,11 +88,11 @@ fn table_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, texels: &crate::code
 /// Evaluates a tape (the fixed interpreter of the tape field source) in
 /// `domain` on every box, with the results of [`eval_boxes`]: the hook the
 /// conformance tests use to check the tape's enclosures on the device.
-pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domain, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
+pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::field::TapeData, domain: Domain, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
     if boxes.is_empty() {
         return Ok(vec![]);
     }
-    let src = crate::codegen::tape_field::eval_shader(domain, tape.features);
+    let src = crate::field::tape::wgsl::eval_shader(domain, tape.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (tape)", &src, Author::Isotrace)?;
     let (group, _texture) = table_group(gpu, &pipeline, &tape.texels())?;
@@ -106,11 +106,11 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::codegen::TapeData, domain: Domai
 
 /// Evaluates a scene's whole tree by the device's interpreter at every
 /// point (the checks of the interpreter against the f64 reference).
-pub fn eval_points_scene(gpu: &Gpu, scene: &crate::codegen::SceneData, points: &[[f32; 3]]) -> Result<Vec<f32>, EvalError> {
+pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[f32; 3]]) -> Result<Vec<f32>, EvalError> {
     if points.is_empty() {
         return Ok(vec![]);
     }
-    let src = crate::codegen::scene_eval_shader(scene.features);
+    let src = crate::field::scene::scene_eval_shader(scene.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (scene)", &src, Author::Isotrace)?;
     let (_nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
@@ -165,15 +165,15 @@ pub struct CellEnclosure {
 }
 
 /// Runs bisection's interval cell enclosure of a compiled formula (with
-/// the nodes it takes from the ray, `codegen::ray_forms`) on every cell.
+/// the nodes it takes from the ray, `field::compiled::ray_forms`) on every cell.
 pub fn eval_ray_cells(gpu: &Gpu, ir: &Ir, cells: &[RayCell]) -> Result<Vec<CellEnclosure>, EvalError> {
     if cells.is_empty() {
         return Ok(vec![]);
     }
-    let src = crate::codegen::ray_cell_eval_shader(ir);
+    let src = crate::field::compiled::ray_cell_eval_shader(ir);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (ray cells)", &src, Author::Isotrace)?;
-    let table = match crate::codegen::reroll::table_texels(ir) {
+    let table = match crate::field::compiled::term_loops::table_texels(ir) {
         Some(t) => Some(table_group(gpu, &pipeline, &t)?),
         None => None,
     };

@@ -7,8 +7,8 @@
 
 use super::dispatch::Rect;
 use super::{storage_entry, texture_entry, Gpu, GpuError};
-use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
-use crate::codegen::FieldSource;
+use crate::field::scene::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
+use crate::field::FieldSource;
 
 /// Binding of the texture the views pass's output is copied into.
 const VIEW_TEXTURE: u32 = 10;
@@ -24,7 +24,7 @@ const TAPE_NOTES: u32 = 5;
 /// Binding of the views pass's output buffer.
 const VIEW_BUFFER: u32 = 6;
 /// Texels a row of the view texture.
-const VIEW_WIDTH: u64 = crate::codegen::kernel::SCENE_VIEW_TEX_WIDTH as u64;
+const VIEW_WIDTH: u64 = crate::field::scene::SCENE_VIEW_TEX_WIDTH as u64;
 
 /// A dispatch's own field resources: the tile lists and views, and the
 /// view texture the trace reads the views from. Kept for the next dispatch
@@ -68,18 +68,18 @@ pub(crate) struct FieldBinding {
     pub dense: bool,
     /// An interpreted tape: bisection's budget must leave room for its work.
     pub tape: bool,
-    /// A compiled formula with rerolled loops (`codegen::reroll`): the same
+    /// A compiled formula with rerolled loops (`crate::field::compiled::term_loops`): the same
     /// budget rule as a tape.
     pub looped: bool,
     /// See [`FieldBinding::resumes`].
     resumes: bool,
     /// The tape, for the size of its per-tile lists (bisection's; `None`
     /// for other fields and traversals).
-    tape_lists: Option<crate::codegen::TapeData>,
+    tape_lists: Option<crate::field::TapeData>,
     /// A compiled formula's per-tile term lists of its rerolled min and max
     /// loops (`templates/fields/loop_tiles.wgsl`; bisection's only: `None`
     /// for other traversals, which bind token buffers in their place).
-    loop_lists: Option<crate::codegen::reroll::lists::Lists>,
+    loop_lists: Option<crate::field::compiled::term_loops::lists::Lists>,
     /// The field group has the lists' bindings (a formula with listed
     /// loops, whatever the traversal).
     lists_bound: bool,
@@ -89,8 +89,8 @@ pub(crate) struct FieldBinding {
 
 impl FieldBinding {
     /// The kind of field source bound.
-    pub fn kind(&self) -> crate::codegen::FieldKind {
-        use crate::codegen::FieldKind;
+    pub fn kind(&self) -> crate::field::FieldKind {
+        use crate::field::FieldKind;
         if self.scene { FieldKind::Scene } else if self.tape { FieldKind::Tape } else { FieldKind::Compiled }
     }
 
@@ -104,7 +104,7 @@ impl FieldBinding {
             self.loop_lists = None;
         }
         if let Some(t) = &mut self.tape_lists {
-            t.features |= kernel_features & crate::codegen::tape::features::MINMAX;
+            t.features |= kernel_features & crate::field::tape::features::MINMAX;
         }
     }
 
@@ -118,19 +118,19 @@ impl FieldBinding {
     /// (a tape kernel with per-tile lists: its tile pass reads the blocks'
     /// entries, `templates/fields/tape_tiles.wgsl`).
     pub fn block_pass(&self) -> bool {
-        self.tape_lists.as_ref().is_some_and(|t| crate::codegen::tape_field::shortens(t.features))
+        self.tape_lists.as_ref().is_some_and(|t| crate::field::tape::wgsl::shortens(t.features))
     }
 
     /// Whether bisection's tile pass may shorten the bound tape per tile:
     /// it has min or max instructions (choice slots).
     pub fn shortens_tape(&self) -> bool {
-        self.tape_lists.as_ref().is_some_and(|t| crate::codegen::tape_field::shortens(t.features) && t.words[2][2] > 0)
+        self.tape_lists.as_ref().is_some_and(|t| crate::field::tape::wgsl::shortens(t.features) && t.words[2][2] > 0)
     }
 
     /// Whether bisection's per-pixel pass runs in rounds that resume the
     /// pixels the field's work limit stopped: a tape, or a compiled formula
     /// with rerolled loops and no per-tile term lists
-    /// (`codegen::kernel::one_call_site`).
+    /// (`kernel::one_call_site`).
     pub fn resumes(&self) -> bool {
         self.resumes
     }
@@ -173,7 +173,7 @@ impl FieldBinding {
     pub fn bytes_per_pixel(&self) -> u64 {
         if self.block_pass() {
             // A tape's choice notes: 2 KB an 8×8 tile.
-            return crate::codegen::tape_field::NOTE_BYTES_PER_TILE / 64;
+            return crate::field::tape::wgsl::NOTE_BYTES_PER_TILE / 64;
         }
         if let Some(l) = &self.loop_lists {
             return l.bytes(1).div_ceil(64);
@@ -233,11 +233,11 @@ impl FieldBinding {
         }
         let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
         let storage = wgpu::BufferUsages::STORAGE;
-        let bytes = self.tape_lists.as_ref().map_or(0, |t| crate::codegen::tape_field::list_bytes(t, tiles));
+        let bytes = self.tape_lists.as_ref().map_or(0, |t| crate::field::tape::wgsl::list_bytes(t, tiles));
         // The counts (binding COUNTS) are the caller's read-back buffer.
         // Only a kernel with per-tile lists notes choices (a tape without
         // min or max binds a token buffer).
-        let notes = if self.block_pass() { tiles * crate::codegen::tape_field::NOTE_BYTES_PER_TILE } else { 0 };
+        let notes = if self.block_pass() { tiles * crate::field::tape::wgsl::NOTE_BYTES_PER_TILE } else { 0 };
         let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage)), (TAPE_NOTES, buffer("tape notes", notes, storage))], view: None };
         *cached = Some((tiles, own.clone()));
         own
@@ -348,8 +348,8 @@ impl FieldBinding {
 pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
     match source {
         FieldSource::Compiled(ir) => {
-            // Rerolled terms read their constants from a table (codegen::reroll).
-            let (layout, textures) = match crate::codegen::reroll::table_texels(ir) {
+            // Rerolled terms read their constants from a table (crate::field::compiled::term_loops).
+            let (layout, textures) = match crate::field::compiled::term_loops::table_texels(ir) {
                 Some(t) => {
                     let (tex, view) = gpu.texture("field table", &t, wgpu::TextureFormat::Rgba32Uint)?;
                     (vec![texture_entry(0, wgpu::TextureSampleType::Uint)], vec![(0, tex, view)])
@@ -359,13 +359,13 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
             let looped = !textures.is_empty();
             // Per-tile term lists of its min and max loops (bound for every
             // kernel of the formula; only bisection's reads them).
-            let loop_lists = crate::codegen::reroll::lists::for_formula(ir);
+            let loop_lists = crate::field::compiled::term_loops::lists::for_formula(ir);
             let mut layout = layout;
             if loop_lists.is_some() {
                 layout.extend([storage_entry(LOOP_LISTS, false), storage_entry(COUNTS, false)]);
             }
             let lists_bound = loop_lists.is_some();
-            let resumes = crate::codegen::kernel::one_call_site(FieldSource::Compiled(ir));
+            let resumes = crate::kernel::one_call_site(FieldSource::Compiled(ir));
             Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, resumes, tape_lists: None, loop_lists, lists_bound, cached: Default::default() })
         }
         FieldSource::Scene(s) => {

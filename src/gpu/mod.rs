@@ -128,7 +128,7 @@ pub struct Gpu {
     /// Whether the device has subgroup operations: a tape's bisection
     /// kernel then counts its interpreter's loop iterations per SIMD bundle
     /// (what lavapipe's loop cap counts) instead of assuming the worst per
-    /// invocation (`codegen::tape::features::BUNDLE_WORK`). Off when
+    /// invocation (`crate::field::tape::features::BUNDLE_WORK`). Off when
     /// `ISOTRACE_NO_SUBGROUPS` is set; a caller may clear it before
     /// building renderers (the tests compare both counts).
     pub subgroups: bool,
@@ -380,7 +380,7 @@ impl Gpu {
 impl Gpu {
     /// A sampled texture of 32-bit texels (`format` Rgba32Uint or
     /// Rgba32Float) holding `t`, and its view.
-    pub fn texture<T: bytemuck::Pod>(&self, label: &str, t: &crate::codegen::Texels<T>, format: wgpu::TextureFormat) -> Result<(wgpu::Texture, wgpu::TextureView), GpuError> {
+    pub fn texture<T: bytemuck::Pod>(&self, label: &str, t: &crate::field::Texels<T>, format: wgpu::TextureFormat) -> Result<(wgpu::Texture, wgpu::TextureView), GpuError> {
         use wgpu::util::DeviceExt;
         let max = self.device.limits().max_texture_dimension_2d;
         if t.width > max || t.height > max {

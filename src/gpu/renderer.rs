@@ -9,7 +9,8 @@
 use super::binding::Binder;
 use super::dispatch::{self, Dispatch, Groups, Rect, Stage};
 use super::{field, storage_entry, Author, Gpu, GpuError};
-use crate::codegen::{self, FieldSource};
+use crate::field::FieldSource;
+use crate::kernel;
 use crate::layout::{FrameBlock, FLAG_UNRESOLVED_GUESS, FLAG_UNRESOLVED_SOLID};
 use crate::render::Unresolved;
 use crate::render::record::{convert, count, count_all, map_all, PackedFrame, Planes, RayStats, Record, Records};
@@ -52,7 +53,7 @@ pub enum RenderError {
     },
 }
 
-pub use crate::codegen::kernel::MAX_SHADER_BYTES;
+pub use crate::kernel::MAX_SHADER_BYTES;
 
 /// Buffers of one dispatch's pass group besides the pixel records.
 pub(crate) struct PassBuffers {
@@ -136,12 +137,12 @@ impl<'g> Renderer<'g> {
         let counted;
         let field = match (field, &traversal) {
             (FieldSource::Tape(t), Traversal::Bisect(_)) if gpu.subgroups => {
-                counted = codegen::TapeData { features: t.features | codegen::tape::features::BUNDLE_WORK, ..t.clone() };
+                counted = crate::field::TapeData { features: t.features | crate::field::tape::features::BUNDLE_WORK, ..t.clone() };
                 FieldSource::Tape(&counted)
             }
             _ => field,
         };
-        let kernel = codegen::assemble_for(field, &traversal, gpu.subgroups);
+        let kernel = kernel::assemble_for(field, &traversal, gpu.subgroups);
         if kernel.code_bytes() > MAX_SHADER_BYTES {
             return Err(RenderError::ShaderTooLarge { bytes: kernel.code_bytes() });
         }
@@ -158,7 +159,7 @@ impl<'g> Renderer<'g> {
         }
         let host: Box<dyn TraversalHost + 'g> = match traversal {
             Traversal::Bisect(b) => Box::new(super::bisect::Host::new(gpu, b)?),
-            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o, codegen::kernel::sphere_tile_pass(field))),
+            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o, kernel::sphere_tile_pass(field))),
         };
         let d = &gpu.device;
         let mut bound = field::bind(gpu, field)?;
@@ -192,7 +193,7 @@ impl<'g> Renderer<'g> {
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
         let features = field_features(field);
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features, resume_rounds: codegen::tape::resume_rounds(codegen::tape::features::unroll(features)) })
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features, resume_rounds: crate::field::tape::resume_rounds(crate::field::tape::features::unroll(features)) })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
@@ -209,11 +210,11 @@ impl<'g> Renderer<'g> {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
         }
         let required = match field {
-            FieldSource::Tape(t) => t.features & codegen::tape::features::REQUIRED,
+            FieldSource::Tape(t) => t.features & crate::field::tape::features::REQUIRED,
             _ => field_features(field),
         };
         if let FieldSource::Tape(t) = field {
-            let step = codegen::tape::features::unroll(self.features);
+            let step = crate::field::tape::features::unroll(self.features);
             if step > t.padding() {
                 let reason = format!("the tape kernel runs {step} instructions an iteration, for long tapes, and this tape's programs are padded for {}: build a new renderer", t.padding());
                 return Err(SettingsError::new(crate::render::SettingsField::Features, "tape", reason).into());
@@ -223,8 +224,8 @@ impl<'g> Renderer<'g> {
         if missing != 0 {
             let (value, reason) = match field {
                 FieldSource::Tape(_) => {
-                    let mut what = codegen::tape::features::names(missing);
-                    if missing & (codegen::tape::features::SLOTS_32 | codegen::tape::features::SLOTS_64) != 0 {
+                    let mut what = crate::field::tape::features::names(missing);
+                    if missing & (crate::field::tape::features::SLOTS_32 | crate::field::tape::features::SLOTS_64) != 0 {
                         what.push("more registers");
                     }
                     ("tape", format!("the formula needs what the tape kernel was built without ({}): build a new renderer", what.join(", ")))
@@ -256,7 +257,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// The tape operation groups and register file this renderer's kernel
-    /// has (`codegen::tape::features`; 0 for other fields): a tape whose
+    /// has (`crate::field::tape::features`; 0 for other fields): a tape whose
     /// features are within them can replace its field with
     /// [`Renderer::set_field`].
     pub fn tape_features(&self) -> u32 {
@@ -279,7 +280,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// Bisection of a compiled formula in `domain`, without modalities.
-    pub fn bisect(gpu: &'g Gpu, ir: &crate::ir::Ir, domain: crate::codegen::Domain) -> Result<Renderer<'g>, RenderError> {
+    pub fn bisect(gpu: &'g Gpu, ir: &crate::ir::Ir, domain: crate::ir::Domain) -> Result<Renderer<'g>, RenderError> {
         Self::new(gpu, FieldSource::Compiled(ir), Traversal::Bisect(crate::render::BisectOptions::new(domain)))
     }
 
@@ -294,12 +295,12 @@ impl<'g> Renderer<'g> {
     }
 
     /// The field source the kernel reads (never `Auto`).
-    pub fn field_kind(&self) -> codegen::FieldKind {
+    pub fn field_kind(&self) -> crate::field::FieldKind {
         self.field.kind()
     }
 
     /// Whether the compiled field runs loops over repeated terms
-    /// (`codegen::reroll`), whose work counts against lavapipe's loop cap.
+    /// (`crate::field::compiled::term_loops`), whose work counts against lavapipe's loop cap.
     pub fn field_loops(&self) -> bool {
         self.field.looped
     }
@@ -446,9 +447,9 @@ impl<'g> Renderer<'g> {
     /// `keep`.
     fn run(&self, s: &Settings, mut keep: Option<&mut Keep>, mut sink: impl FnMut(Rect, Planes)) -> Result<Stats, RenderError> {
         s.check()?;
-        if (self.field.tape || self.field.looped) && self.host.method() == crate::render::Method::Bisect && s.max_iter > codegen::tape::TAPE_MAX_ITER {
+        if (self.field.tape || self.field.looped) && self.host.method() == crate::render::Method::Bisect && s.max_iter > crate::field::limits::TAPE_MAX_ITER {
             let what = if self.field.tape { "a tape field (its interpreter shares" } else { "a formula of rerolled terms (its loops share" };
-            let reason = format!("at most {} with {what} lavapipe's 65,535 loop iterations)", codegen::tape::TAPE_MAX_ITER);
+            let reason = format!("at most {} with {what} lavapipe's 65,535 loop iterations)", crate::field::limits::TAPE_MAX_ITER);
             return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
         }
         let rays = self.host.ray_stats_binding();
@@ -535,7 +536,7 @@ impl<'g> Renderer<'g> {
             .collect();
         // Bisecting a tape or a compiled sum's loops, pixels past the
         // field's work limit are resumed by further rounds of the per-pixel
-        // pass (codegen::kernel::one_call_site): each is a dispatch of its
+        // pass (kernel::one_call_site): each is a dispatch of its
         // own, with lavapipe's loop count afresh.
         let rounds = if self.field.resumes() && self.host.method() == crate::render::Method::Bisect { 1 + self.resume_rounds } else { 1 };
         match (&self.pre, &pass.list) {
@@ -621,8 +622,8 @@ fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
 }
 
 /// Rounds of the per-pixel pass after the first for short tapes (kept here
-/// for the renderer's users: `codegen::tape::resume_rounds` has the rest).
-pub use crate::codegen::tape::TAPE_RESUME_ROUNDS;
+/// for the renderer's users: `crate::field::tape::resume_rounds` has the rest).
+pub use crate::field::tape::TAPE_RESUME_ROUNDS;
 
 /// The interpreter features `field` needs (0 for a compiled field).
 fn field_features(field: FieldSource<'_>) -> u32 {

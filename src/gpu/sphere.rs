@@ -16,7 +16,7 @@ use crate::render::{Bound, CameraFrame, Optimizations, Settings, Shading, Sphere
 /// Sphere tracing on the host.
 pub(crate) struct Host {
     options: SphereOptions,
-    /// Whether the kernel has a tile pass (`codegen::kernel::sphere_tile_pass`,
+    /// Whether the kernel has a tile pass (`kernel::sphere_tile_pass`,
     /// a scene): `main` then runs by indirect dispatch over the tiles it
     /// queues.
     tiles: bool,

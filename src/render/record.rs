@@ -425,14 +425,14 @@ impl TileStats {
             if let Some(a) = self.active.get_mut((ty * self.tiles_x + tx) as usize) {
                 *a = w[1];
             }
-            if w[0] == crate::codegen::kernel::SCENE_VIEW_FULL {
-                self.overflow += u64::from(w[1] > crate::codegen::kernel::SCENE_TILE_MAX);
+            if w[0] == crate::field::scene::SCENE_VIEW_FULL {
+                self.overflow += u64::from(w[1] > crate::field::scene::SCENE_TILE_MAX);
             } else {
                 self.slabs += u64::from((w[0] >> 24) & 0xf);
                 self.view_nodes += u64::from(w[0] & 0xff_ffff);
             }
             self.listed += u64::from(w[1] > 0);
-            self.chain += u64::from(w[1] > 0 && w[0] != crate::codegen::kernel::SCENE_VIEW_FULL && (w[0] >> 28) & 1 == 1);
+            self.chain += u64::from(w[1] > 0 && w[0] != crate::field::scene::SCENE_VIEW_FULL && (w[0] >> 28) & 1 == 1);
         }
     }
 

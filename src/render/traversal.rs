@@ -5,7 +5,7 @@
 
 use super::settings::{SettingsError, SettingsField as F};
 use super::Bound;
-use crate::codegen::Domain;
+use crate::ir::Domain;
 use crate::layout::KernelColor;
 
 /// How rays find the surface.
@@ -63,7 +63,7 @@ impl BisectOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RootSearch {
     /// Two points for a compiled formula of up to
-    /// `codegen::kernel::PAIR_MAX_NODES` nodes, else one (a bigger f keeps
+    /// `kernel::PAIR_MAX_NODES` nodes, else one (a bigger f keeps
     /// the core busy on its own, and its second point costs what it saves).
     #[default]
     Auto,

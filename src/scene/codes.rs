@@ -150,16 +150,7 @@ pub const GRID_ROWS: u32 = 4;
 /// every primitive, (R, vertex count) and the capsule's segment (a.x,
 /// a.y, b.x, b.y).
 pub const PROFILE_ROWS: u32 = 5;
-/// log2 of the width in texels of the node and parameter textures.
-pub const TEXTURE_SHIFT: u32 = 12;
-/// Width in texels of the node and parameter textures (a vec4 a texel).
-/// The GPU reads nodes and parameters through `textureLoad`, not from
-/// storage buffers: lavapipe turns every storage-buffer load of a
-/// non-uniform address into a loop over its 8 SIMD lanes with a branch per
-/// lane and component (about 300 cycles a vec4; Mesa 22.3's
-/// `emit_load_mem`), while a texel fetch is a vector gather. On the
-/// scene kernels that made the interpreter several times faster.
-pub const TEXTURE_WIDTH: u32 = 1 << TEXTURE_SHIFT;
+pub use crate::layout::{TEXTURE_SHIFT, TEXTURE_WIDTH};
 
 /// ABV kind: none, always active (planes).
 pub const ABV_NONE: u32 = 0;

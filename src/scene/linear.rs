@@ -419,6 +419,38 @@ fn lipschitz_bound(scene: &Scene) -> f64 {
     base * roi::field_lipschitz(scene)
 }
 
+/// A scene's buffers in the layout of `templates/fields/scene.wgsl`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SceneData {
+    /// One word quadruple per post-order node (root last).
+    pub nodes: Vec<[u32; 4]>,
+    /// Transforms and parameters, a vec4 at a time.
+    pub params: Vec<[f32; 4]>,
+    /// The node index of every primitive.
+    pub prims: Vec<u32>,
+    /// Two balls a primitive (centre, radius; +inf bounds nothing): its
+    /// augmented bounding ball, then its limit ball, outside which an
+    /// intersection above it is inactive (`scene::reach`).
+    pub balls: Vec<[f32; 4]>,
+    /// The interpreter features the scene needs ([`FEATURE_*`](FEATURE_PRIMITIVES)
+    /// bits): part of the kernel, so a renderer built for one set draws
+    /// any scene whose set is within it.
+    pub features: u32,
+}
+
+impl SceneData {
+    /// The node texture: texel 0 holds the node count, node i is texel
+    /// i + 1 (`scene_node` in templates/fields/scene.wgsl).
+    pub fn node_texels(&self) -> crate::layout::Texels<[u32; 4]> {
+        crate::layout::Texels::from_rows(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
+    }
+
+    /// The parameter texture: row i of `params` is texel i.
+    pub fn param_texels(&self) -> crate::layout::Texels<[f32; 4]> {
+        crate::layout::Texels::from_rows(None, &self.params)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,8 +12,8 @@ impl Linear {
     /// primitive's node index and its two balls, a bounding ball of its ABV
     /// and its limit ball (`reach`; the tile pre-pass tests both against
     /// tile frusta; an infinite radius bounds nothing).
-    pub fn field_data(&self) -> crate::codegen::SceneData {
-        crate::codegen::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls: self.balls(), features: self.features }
+    pub fn field_data(&self) -> super::linear::SceneData {
+        super::linear::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls: self.balls(), features: self.features }
     }
 
     /// The balls of [`Linear::field_data`]: two a primitive.
@@ -96,7 +96,7 @@ pub struct ScenePatch {
     /// The new rows.
     pub params: Vec<[f32; 4]>,
     /// The balls that changed (the primitive's own, limits of others), by
-    /// their index in [`SceneData::balls`](crate::codegen::SceneData).
+    /// their index in [`SceneData::balls`](super::linear::SceneData).
     pub balls: Vec<(u32, [f32; 4])>,
 }
 

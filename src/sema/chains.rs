@@ -2,7 +2,7 @@
 //! union of a thousand shapes often nests it as a balanced tree
 //! (`min(min(a, b), min(c, d))`, a divide and conquer over its list), where
 //! a person writes `min(a, b, c, …)`. The compiled field makes a chain of
-//! same-shaped terms a loop (`codegen::reroll`), with per-tile term lists
+//! same-shaped terms a loop (`field::compiled::term_loops`), with per-tile term lists
 //! for unions; a balanced tree of 1,100 boxes (63 KB) was written out
 //! instead, and its first 512² frame took over two minutes.
 //!
@@ -126,7 +126,7 @@ fn leaves(ir: &Ir, top: NodeId, inner: &impl Fn(NodeId, Func2) -> bool, f: Func2
 /// A key per node for its shape: its operations and variables, with every
 /// constant alike and a commutative node's operands in either order (the
 /// front end orders them by when each was first written). Same-shaped
-/// terms can be one loop (`codegen::reroll` decides; this only brings them
+/// terms can be one loop (`field::compiled::term_loops` decides; this only brings them
 /// together).
 fn shapes(ir: &Ir) -> Vec<u64> {
     let mut key = Vec::with_capacity(ir.nodes.len());
@@ -203,7 +203,7 @@ mod tests {
         // A chain: no min node has two min operands.
         assert_eq!(nested_twice(&tree), 0);
         let t = crate::Formula::compile("<tree>", &tree).unwrap().ir;
-        assert_eq!(crate::codegen::reroll::plan(&t).loops.len(), 1);
+        assert_eq!(crate::field::compiled::term_loops::plan(&t).loops.len(), 1);
         let v = crate::Formula::compile("<chain>", &variadic).unwrap().ir;
         for i in 0..500 {
             let p = [(1.3 * i as f64).sin() * 1.2, (0.7 * i as f64).cos() * 1.2, (0.9 * i as f64).sin() * 1.2, 0.0];
@@ -231,7 +231,7 @@ mod tests {
             .collect();
         let src = format!("min({})", items.join(", "));
         let ir = crate::Formula::compile("<mixed>", &src).unwrap().ir;
-        assert_eq!(crate::codegen::reroll::plan(&ir).loops.len(), 3);
+        assert_eq!(crate::field::compiled::term_loops::plan(&ir).loops.len(), 3);
         // The same formula as a fold of two-operand mins, which no rewrite touches.
         let each: Vec<_> = items.iter().map(|t| crate::Formula::compile("<t>", t).unwrap().ir).collect();
         for i in 0..500 {
@@ -242,6 +242,6 @@ mod tests {
         // One shape in a tree of 300 keeps its order.
         let (tree, _) = boxes(300);
         let t = crate::Formula::compile("<tree>", &tree).unwrap().ir;
-        assert_eq!(crate::codegen::reroll::plan(&t).loops.len(), 1);
+        assert_eq!(crate::field::compiled::term_loops::plan(&t).loops.len(), 1);
     }
 }

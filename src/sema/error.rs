@@ -1,6 +1,7 @@
 //! The semantic pass's errors and how they read.
 
-use super::{function_names, sdf, MAX_EXPONENT, MAX_NODES};
+use super::{sdf, MAX_EXPONENT, MAX_NODES};
+use crate::syntax::function_names;
 use crate::diag::{Diagnostic, Span};
 
 /// Errors of the semantic pass.

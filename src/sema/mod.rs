@@ -52,13 +52,6 @@ fn builtin(name: &str) -> Option<Builtin> {
     }
 }
 
-/// The names of the numeric functions, for suggestions and help (the
-/// distance-field forms are listed by [`sdf::FORMS`]).
-pub fn function_names() -> Vec<&'static str> {
-    let mut v: Vec<&str> = Func1::ALL.iter().map(|f| f.name()).collect();
-    v.extend(["pow", "atan2", "min", "max", "clamp", "mix"]);
-    v
-}
 
 /// Names other languages use for a built-in function.
 const ALIASES: &[(&str, &str)] = &[
@@ -77,7 +70,7 @@ fn suggest_function(name: &str) -> Vec<String> {
     let lower = name.to_ascii_lowercase();
     let limit = (name.len() / 3).max(1);
     let common = |a: &str, b: &str| a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
-    let mut scored: Vec<(usize, std::cmp::Reverse<usize>, &str)> = function_names()
+    let mut scored: Vec<(usize, std::cmp::Reverse<usize>, &str)> = crate::syntax::function_names()
         .into_iter()
         .chain(sdf::names())
         .map(|f| (levenshtein(&lower, f), std::cmp::Reverse(common(&lower, f)), f))

@@ -7,3 +7,11 @@ pub mod parser;
 
 pub use ast::{BinOp, Call, Definition, Expr, ExprKind, Program};
 pub use parser::{parse, SyntaxError};
+
+/// The names of the numeric functions, for suggestions and help (the
+/// distance-field forms are listed by [`crate::sdf::FORMS`]).
+pub fn function_names() -> Vec<&'static str> {
+    let mut v: Vec<&str> = crate::ir::Func1::ALL.iter().map(|f| f.name()).collect();
+    v.extend(["pow", "atan2", "min", "max", "clamp", "mix"]);
+    v
+}

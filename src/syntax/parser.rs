@@ -172,7 +172,7 @@ impl Parser<'_> {
         let after_operand = what.contains("an operator");
         match (&self.current().tok, prev) {
             (Tok::Ident(_) | Tok::Number(_) | Tok::LParen, Some(Tok::Ident(f)))
-                if after_operand && crate::sema::function_names().contains(&f.as_str()) =>
+                if after_operand && super::function_names().contains(&f.as_str()) =>
             {
                 Some(format!("arguments go in parentheses: `{f}(x)`"))
             }

@@ -9,8 +9,9 @@
 //! `TraversalHost::pass_buffers`, `gpu::field`); the browser tests compare
 //! the page's pixels with `isotrace render`, so a drift shows there.
 
-use crate::codegen::kernel::{SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
-use crate::codegen::{self, FieldSource};
+use crate::field::scene::{SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
+use crate::field::FieldSource;
+use crate::kernel;
 use crate::gpu::renderer::{uniform_bytes, RenderError, MAX_SHADER_BYTES};
 use crate::layout::{BisectBlock, FieldLayout, FrameBlock, GpuBlock, PresentBlock, SphereBlock};
 use crate::render::{Settings, Traversal};
@@ -204,7 +205,7 @@ fn data(binding: u32, name: &'static str, d: Vec<u32>) -> Binding {
     Binding { binding, name, read_only: true, size: Size::Data, data: Some(d), indirect: false, clear: false, texture: None }
 }
 
-fn texture<T: bytemuck::Pod>(binding: u32, name: &'static str, t: codegen::Texels<T>, format: &'static str) -> Binding {
+fn texture<T: bytemuck::Pod>(binding: u32, name: &'static str, t: crate::field::Texels<T>, format: &'static str) -> Binding {
     Binding { texture: Some(TextureShape { width: t.width, height: t.height, format }), ..data(binding, name, words(&t.texels)) }
 }
 
@@ -228,7 +229,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     if matches!(traversal, Traversal::Bisect(_)) && !field.has_enclosures() {
         return Err(crate::render::SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
     }
-    let kernel = codegen::assemble(field, traversal);
+    let kernel = kernel::assemble(field, traversal);
     if kernel.code_bytes() > MAX_SHADER_BYTES {
         return Err(RenderError::ShaderTooLarge { bytes: kernel.code_bytes() });
     }
@@ -239,12 +240,12 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
     let mut pass = vec![Binding { clear: false, ..scratch(0, "pixel records", Size::PerPixel { bytes: 16 }) }];
     let mut stages: Vec<Stage> = Vec::new();
     let field_group = match field {
-        // Rerolled terms read their constants from a table (codegen::reroll).
+        // Rerolled terms read their constants from a table (crate::field::compiled::term_loops).
         FieldSource::Compiled(ir) => {
-            let mut group: Vec<Binding> = codegen::reroll::table_texels(ir).map(|t| texture(0, "field table", t, "rgba32uint")).into_iter().collect();
+            let mut group: Vec<Binding> = crate::field::compiled::term_loops::table_texels(ir).map(|t| texture(0, "field table", t, "rgba32uint")).into_iter().collect();
             // Bisection's per-tile term lists of min and max loops
             // (fields/loop_tiles.wgsl): every word is written before it is read.
-            if let (Some(l), Traversal::Bisect(_)) = (codegen::reroll::lists::for_formula(ir), traversal) {
+            if let (Some(l), Traversal::Bisect(_)) = (crate::field::compiled::term_loops::lists::for_formula(ir), traversal) {
                 group.push(kept(1, "loop lists", Size::PerTile { bytes: l.bytes(1) }));
                 group.push(scratch(4, "loop list counts", Size::Fixed { bytes: 16 }));
             }
@@ -256,11 +257,11 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
                 // Bisection's per-tile lists (fields/tape_tiles.wgsl) for the
                 // frame's tiles; a tile that does not fit runs the whole tape.
                 let tiles = u64::from(s.width.div_ceil(8)) * u64::from(s.height.div_ceil(8));
-                let bytes = codegen::tape_field::list_bytes(t, tiles).max(16);
+                let bytes = crate::field::tape::wgsl::list_bytes(t, tiles).max(16);
                 group.push(kept(1, "tape lists", Size::Fixed { bytes }));
                 group.push(scratch(4, "tape list words", Size::Fixed { bytes: 32 }));
                 // Only a kernel with per-tile lists notes choices.
-                let notes = if codegen::tape_field::shortens(t.features) { Size::PerTile { bytes: codegen::tape_field::NOTE_BYTES_PER_TILE } } else { Size::Fixed { bytes: 16 } };
+                let notes = if crate::field::tape::wgsl::shortens(t.features) { Size::PerTile { bytes: crate::field::tape::wgsl::NOTE_BYTES_PER_TILE } } else { Size::Fixed { bytes: 16 } };
                 group.push(kept(5, "tape notes", notes));
             }
             group
@@ -304,7 +305,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
             if b.optimizations.tile_culling {
                 // A tape's block pass (the tile pass's entry point, two
                 // layers deep: gpu::renderer dispatches it the same way).
-                if matches!(field, FieldSource::Tape(t) if codegen::tape_field::shortens(t.features)) {
+                if matches!(field, FieldSource::Tape(t) if crate::field::tape::wgsl::shortens(t.features)) {
                     stages.push(Stage { entry: "tiles", groups: Groups::Blocks { side: 128, layers: 2 }, uses: vec![], copy: None });
                 }
                 stages.extend(tile_pass());
@@ -316,7 +317,7 @@ pub fn program(field: FieldSource<'_>, traversal: &Traversal, s: &Settings) -> R
         }
         Traversal::Sphere(o) => {
             pass.push(scratch(RAY_STATS_BINDING, "ray statistics", Size::PerPixel { bytes: 4 }));
-            if codegen::kernel::sphere_tile_pass(field) {
+            if kernel::sphere_tile_pass(field) {
                 // The tile pass leaves the tiles without primitives out of `main`.
                 pass.extend(tile_list());
                 stages.extend(tile_pass());
@@ -383,7 +384,7 @@ fn blocks<T: GpuBlock>() -> Blocks {
 }
 
 /// The scene buffers of the field group alone (an edit: no shader).
-pub fn scene_buffers(d: &codegen::SceneData) -> Vec<Binding> {
+pub fn scene_buffers(d: &crate::field::SceneData) -> Vec<Binding> {
     vec![
         texture(0, "scene nodes", d.node_texels(), "rgba32uint"),
         texture(1, "scene params", d.param_texels(), "rgba32float"),
@@ -396,7 +397,7 @@ pub fn scene_buffers(d: &codegen::SceneData) -> Vec<Binding> {
 /// validated by naga like every shader isotrace hands to a driver.
 pub fn present_shader() -> Result<String, crate::validate::ValidateError> {
     let header = format!("{}\n{}", PresentBlock::wgsl(), crate::layout::wgsl_constants());
-    let wgsl = codegen::template::splice(PRESENT, &[("uniforms", &header)]).expect("the present template has its marker");
+    let wgsl = crate::codegen::template::splice(PRESENT, &[("uniforms", &header)]).expect("the present template has its marker");
     crate::validate::validate(&wgsl)?;
     Ok(wgsl)
 }

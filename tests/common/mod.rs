@@ -28,7 +28,7 @@ pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
 }
 
 /// Compiles and renders.
-pub fn render(src: &str, domain: isotrace::codegen::Domain, s: &Settings) -> Frame {
+pub fn render(src: &str, domain: isotrace::ir::Domain, s: &Settings) -> Frame {
     let f = Formula::compile("<test>", src).unwrap();
     Renderer::bisect(gpu(), &f.ir, domain).unwrap().render(s).unwrap()
 }

@@ -32,7 +32,7 @@ pub use oracle::*;
 pub use regions::*;
 pub use suite::*;
 
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::ir::Ir;
 use isotrace::reference;
 use std::fmt::Write;

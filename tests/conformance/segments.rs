@@ -1,13 +1,13 @@
 //! The ray-segment kernel of the device conformance tests: it evaluates
 //! `cell_range(o, dir, s0, s1)`, the render kernel's inclusion function,
-//! lifted exactly as `codegen::inclusion` lifts a ray segment (IA: its
+//! lifted exactly as `field::compiled::inclusion` lifts a ray segment (IA: its
 //! bounding box; RAA: x, y, z = c + r·e1 with the one shared symbol e1),
 //! once per segment. The eval kernel cannot do this: it lifts every box side
 //! to an independent form. The field under test is the caller's WGSL; a
 //! field kept as data (a tape) binds its texture at `@group(1) @binding(0)`.
 
 use super::{Seg, SEG_TIME};
-use isotrace::codegen::Domain;
+use isotrace::ir::Domain;
 use isotrace::gpu::Gpu;
 
 /// The kernel over `field`: WGSL that defines `seg_field(x, y, z, t)` in
@@ -58,7 +58,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
 /// Validates `src` (a [`segment_shader`]) and runs it over `segs` in one
 /// dispatch, with `tape` bound at `@group(1) @binding(0)` (as the texture
 /// the interpreter reads) if given.
-pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Option<&isotrace::codegen::TapeData>) -> Result<Vec<[f64; 2]>, String> {
+pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Option<&isotrace::field::TapeData>) -> Result<Vec<[f64; 2]>, String> {
     use wgpu::util::DeviceExt;
     isotrace::validate::validate(src).map_err(|e| e.to_string())?;
     let pipeline = gpu.pipeline("conformance segments", src, isotrace::gpu::Author::Isotrace).map_err(|e| e.to_string())?;

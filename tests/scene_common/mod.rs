@@ -372,7 +372,7 @@ pub fn assert_sparse_and_ranges(scene: &Scene, points: &[[f64; 3]]) -> usize {
 pub fn scene_and_compiled(f: &isotrace::Formula, s: &isotrace::render::Settings) -> (isotrace::render::Frame, isotrace::render::Frame) {
     use isotrace::render::{SphereOptions, Traversal};
     let t = Traversal::Sphere(SphereOptions::default());
-    let (scene, lipschitz) = isotrace::codegen::choice::scene(f, &[], &t).unwrap();
+    let (scene, lipschitz) = isotrace::choice::scene(f, &[], &t).unwrap();
     let o = SphereOptions { lipschitz, ..SphereOptions::default() };
     let own = isotrace::gpu::Gpu::new().unwrap();
     let a = isotrace::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(s).unwrap();

@@ -167,9 +167,9 @@ pub fn bench(gpu: &Gpu, name: &str, args: &Args, kind: ViewKind) -> Result<Row, 
     let domain_alg = isotrace::choose_algebra(&f.ir);
     let r = Renderer::bisect(gpu, &f.ir, domain_alg).map_err(|e| e.to_string())?;
     let algebra = match domain_alg {
-        isotrace::codegen::Domain::Interval => "ia",
-        isotrace::codegen::Domain::Affine => "raa",
-        isotrace::codegen::Domain::Scalar => "scalar",
+        isotrace::ir::Domain::Interval => "ia",
+        isotrace::ir::Domain::Affine => "raa",
+        isotrace::ir::Domain::Scalar => "scalar",
     };
     let view = View::new(&s.camera, &b, clip, size, size, size);
     let cfg = measure::render_config(&view, size)?;

@@ -15,16 +15,18 @@
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
 use super::ray_forms::RayForms;
-use super::{emit_body_tiled, emit_odd_power, Domain, Hook};
+use super::emit::{emit_body_tiled, emit_odd_power};
+use super::Hook;
+use crate::ir::Domain;
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
 /// The derivative helper library for `domain` (interval or affine: the
 /// affine helpers build on the interval ones).
 pub fn library(domain: Domain) -> String {
-    let base = include_str!("../../templates/domains/derivative.wgsl");
+    let base = include_str!("../../../templates/domains/derivative.wgsl");
     match domain {
-        Domain::Affine => format!("{base}\n{}", include_str!("../../templates/domains/derivative_affine.wgsl")),
+        Domain::Affine => format!("{base}\n{}", include_str!("../../../templates/domains/derivative_affine.wgsl")),
         _ => base.to_string(),
     }
 }
@@ -98,7 +100,7 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ti
     let ranged = (slopes != domain).then_some(vp);
     let mut out = head;
     let mut d: Vec<Option<Term>> = vec![None; ir.nodes.len()];
-    let nn = super::nonneg(ir);
+    let nn = crate::analysis::nonneg::nonneg(ir);
     let at = |d: &mut Vec<Option<Term>>, id: NodeId| {
         if d.len() <= id as usize {
             d.resize(id as usize + 1, None);
@@ -577,7 +579,7 @@ impl Terms for Wgsl<'_> {
     }
     fn divide(&mut self, a: Term, c: NodeId) -> Term {
         let by_literal = match self.ir.nodes.get(c as usize) {
-            Some(&Op::Const(k)) => super::divide_by_literal(self.domain, &a.lift(self.p), k),
+            Some(&Op::Const(k)) => crate::codegen::divide_by_literal(self.domain, &a.lift(self.p), k),
             _ => None,
         };
         by_literal.map_or_else(|| self.bin(D::Div, a, Term::Form(format!("v{c}"))), Term::Form)

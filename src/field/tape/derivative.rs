@@ -7,8 +7,8 @@
 //! carrying a derivative through the interpreter (forward mode) keeps one
 //! set of cases in the shader, whose compile time is what the tape exists to cap.
 
-use super::derivative::{rule, Terms, D};
-use super::tape::{Builder, Code, INPUT_DX};
+use crate::field::compiled::derivative::{rule, Terms, D};
+use super::{Builder, Code, INPUT_DX};
 use crate::ir::{Ir, NodeId};
 
 /// Appends the derivative nodes of every live IR node to `b` (`values` maps

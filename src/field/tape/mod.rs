@@ -15,12 +15,13 @@
 //! (a value's register is reused after its last use), which keeps the
 //! interpreter's register file a small fixed array.
 
-use super::tape_derivative::derivative_program;
+use derivative::derivative_program;
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::collections::HashMap;
 
 mod limits;
 pub use limits::*;
+use crate::field::limits::{TAPE_BUNDLE_LIMIT, TAPE_TILE_PASS_BUNDLE_LIMIT, TAPE_TILE_PASS_WORK_LIMIT, TAPE_WORK_LIMIT};
 
 /// Words of the header before the first program: `[value start, value len,
 /// derivative start, derivative len]`, `[value out, derivative f out,
@@ -65,6 +66,8 @@ impl Code {
 pub mod features;
 mod choices;
 mod remat;
+mod derivative;
+pub mod wgsl;
 pub use choices::{is_minmax, TAPE_CHOICE_SLOTS, TAPE_NO_SLOT};
 use choices::choice_slots;
 
@@ -239,7 +242,7 @@ pub struct TapeData {
     /// each use of an input, pinned or not, a constant instruction before
     /// each use of a constant, immediate or not, and a multiply-add counted
     /// as a product and a sum: the size `auto`'s crossovers were measured
-    /// in (`codegen::choice`).
+    /// in (`field::choice`).
     pub size: usize,
     /// Most registers either program uses.
     pub registers: u32,
@@ -620,7 +623,7 @@ fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
     let head = n.code as u32 | flags | r << 16;
     match n.code {
         Code::Const => {
-            let (near, lo, hi) = super::f32_enclosure(n.imm);
+            let (near, lo, hi) = crate::codegen::f32_enclosure(n.imm);
             let near_hi = if near.to_bits() == hi.to_bits() && lo.to_bits() != hi.to_bits() { TAPE_NEAR_HI } else { 0 };
             [head | near_hi, 0, lo.to_bits(), hi.to_bits()]
         }

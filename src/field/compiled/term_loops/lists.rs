@@ -72,7 +72,7 @@ impl Lists {
             self.terms,
             self.iterations,
             self.fallback_iterations[0].min(self.fallback_iterations[1]),
-            include_str!("../../../templates/fields/loop_tiles.wgsl"),
+            include_str!("../../../../templates/fields/loop_tiles.wgsl"),
         )
     }
 }
@@ -131,7 +131,7 @@ pub fn lists(ir: &Ir, plan: &Plan) -> Option<Lists> {
     if ir.is_csg() {
         return None;
     }
-    let nn = crate::codegen::nonneg(ir);
+    let nn = crate::analysis::nonneg::nonneg(ir);
     let mut out = Lists { loops: vec![], bits: 0, terms: 0, iterations: 0, notes_iterations: 0, fallback_iterations: [0; 2] };
     for l in plan.loops.iter().filter(|l| listable(ir, l, &nn)) {
         let terms = (l.iterations * l.unroll) as u32;
@@ -151,7 +151,7 @@ pub fn lists(ir: &Ir, plan: &Plan) -> Option<Lists> {
 
 /// The lists of `ir` as the compiled field generates it.
 pub fn for_formula(ir: &Ir) -> Option<Lists> {
-    let balanced = crate::codegen::compiled::generated_ir(ir);
+    let balanced = crate::field::compiled::generated_ir(ir);
     let ir = balanced.as_ref().unwrap_or(ir);
     lists(ir, &super::plan(ir))
 }

@@ -219,7 +219,7 @@ impl Code {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::codegen::TapeData;
+    use crate::field::TapeData;
 
     /// The operation groups a tape needs (where its inputs live aside).
     fn features_of(src: &str) -> u32 {

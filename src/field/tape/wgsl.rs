@@ -7,13 +7,15 @@
 //! ([`features`]), so every formula within them is a buffer
 //! ([`super::tape`]).
 
-use super::tape::{features, Code};
-use super::{compiled, derivative, libraries, template, Domain};
+use super::{features, Code};
+use crate::codegen::{libraries, template};
+use crate::field::compiled::{self, derivative};
+use crate::ir::Domain;
 
 /// The interpreter template, written against `T` and `op_*`.
-pub const TAPE: &str = include_str!("../../templates/fields/tape.wgsl");
+pub const TAPE: &str = include_str!("../../../templates/fields/tape.wgsl");
 /// Bisection's per-tile shortening of a tape with min or max.
-pub const TAPE_TILES: &str = include_str!("../../templates/fields/tape_tiles.wgsl");
+pub const TAPE_TILES: &str = include_str!("../../../templates/fields/tape_tiles.wgsl");
 
 /// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
 /// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
@@ -109,7 +111,7 @@ pub fn shortens(features: u32) -> bool {
 
 /// Bytes of a tile's choice notes (two bits a slot), and as many for the
 /// notes of the slab being enclosed.
-pub const NOTE_BYTES_PER_TILE: u64 = 2 * (super::tape::TAPE_CHOICE_SLOTS as u64 / 16 * 4);
+pub const NOTE_BYTES_PER_TILE: u64 = 2 * (super::TAPE_CHOICE_SLOTS as u64 / 16 * 4);
 
 /// Most bytes of a tape's per-tile lists in one dispatch: tiles past it run
 /// the whole tape (the lists' allocator says so; the picture is the same
@@ -147,37 +149,7 @@ fn tape_admits(iters: u32) -> bool {
 }
 ";
 
-/// The work limit counted per SIMD bundle with subgroup operations
-/// ([`features::BUNDLE_WORK`]): what lavapipe's loop cap counts. A run's
-/// loop executes as often as its longest active lane needs, so the bundle
-/// adds that (plus the caller's iteration) to one count in workgroup
-/// memory, kept by its lowest active lane. The slot is the smallest local index of the
-/// bundle, taken at the entry point where every lane is active, so it
-/// does not depend on how the driver groups lanes. Shared with a compiled
-/// field's loops over repeated terms (`reroll::support`).
-pub(crate) const BUNDLE_WORK: &str = "
-// One count per bundle, indexed by its smallest local index: 256 covers the
-// largest workgroup (bisection's main, 8 x 8 x 4).
-var<workgroup> g_bundle_work: array<atomic<u32>, 256>;
-var<private> g_bundle: u32;
-var<private> g_lane: u32;
-var<private> g_work_limit: u32 = TAPE_BUNDLE_LIMIT;
-fn field_entry(li: u32) {
-    g_lane = li;
-    g_bundle = subgroupMin(li);
-}
-// Whether a run of `iters` loop iterations keeps the bundle within the
-// limit (and counts it).
-fn bundle_admits(iters: u32) -> bool {
-    let m = subgroupMax(iters) + 1u;
-    var before = 0u;
-    // One active lane (the first) keeps the count.
-    if (g_lane == subgroupBroadcastFirst(g_lane)) { before = atomicAdd(&g_bundle_work[g_bundle], m); }
-    return subgroupMax(before) + m <= g_work_limit;
-}
-";
-
-/// The tape's work limit per SIMD bundle ([`BUNDLE_WORK`]).
+/// The tape's work limit per SIMD bundle ([`crate::field::limits::BUNDLE_WORK_WGSL`]).
 const TAPE_PER_BUNDLE: &str = "fn tape_admits(iters: u32) -> bool { return bundle_admits(iters); }\n\
     fn tape_tile_pass_limit() { g_work_limit = TAPE_TILE_PASS_BUNDLE_LIMIT; }\n";
 
@@ -219,8 +191,8 @@ fn prelude(features: u32, lists: bool) -> String {
          var<private> g_tape_record: bool;\n\
          const TAPE_LIST_NOP: u32 = 0xffffffffu;\n\
          const TAPE_PC_MASK: u32 = 0x3fffffffu;\n{}",
-        super::tape::wgsl_constants(features),
-        if features::bundle_work(features) { format!("{BUNDLE_WORK}{TAPE_PER_BUNDLE}") } else { WORK_PER_LANE.to_string() },
+        super::wgsl_constants(features),
+        if features::bundle_work(features) { format!("{}{TAPE_PER_BUNDLE}", crate::field::limits::BUNDLE_WORK_WGSL) } else { WORK_PER_LANE.to_string() },
         if lists { TAPE_TILES } else { "" },
         if lists { LISTED_TAPE } else { WHOLE_TAPE },
         w = crate::scene::linear::TEXTURE_WIDTH,
@@ -257,9 +229,9 @@ pub fn field_code(domain: Option<Domain>, features: u32) -> String {
     out.push_str(&prelude(features, lists));
     out.push_str(&instantiate(Domain::Scalar, features));
     out.push_str(SCALAR_FIELD);
-    out.push_str(super::UNTILED_FIELD_HOOKS);
+    out.push_str(crate::field::UNTILED_FIELD_HOOKS);
     if !lists {
-        out.push_str(super::UNSHORTENED_FIELD_HOOKS);
+        out.push_str(crate::field::UNSHORTENED_FIELD_HOOKS);
     }
     if let Some(d) = domain {
         out.push_str(&instantiate(d, features));
@@ -312,9 +284,9 @@ mod tests {
     fn the_template_unrolls_as_the_host_pads() {
         for (f, n) in [(0, 1), (features::UNROLL_4, 4), (features::UNROLL_8, 8), (features::UNROLL_16, 16), (features::UNROLL_4 | features::UNROLL_16, 16)] {
             assert_eq!(instantiate(Domain::Scalar, f).matches("= tape_step_s(tape_entry(i").count() as u32, n);
-            assert!(super::super::tape::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
+            assert!(super::super::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
         }
-        assert_eq!(features::unroll(features::ALL), super::super::tape::TAPE_UNROLL);
+        assert_eq!(features::unroll(features::ALL), super::super::TAPE_UNROLL);
     }
 
     #[test]

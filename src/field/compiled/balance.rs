@@ -69,7 +69,7 @@ pub fn balanced(ir: &Ir, fixed: impl Fn(NodeId) -> bool) -> Option<Ir> {
             if plus { top } else { push(&mut out, Op::Neg(top)) }
         } else {
             let ops: Vec<NodeId> = op.operands().iter().map(|&o| map[o as usize]).collect();
-            push(&mut out, super::reroll::with_operands(op, &ops))
+            push(&mut out, super::term_loops::with_operands(op, &ops))
         };
     }
     out.root = map[ir.root as usize];
@@ -184,12 +184,12 @@ mod tests {
         let run: Vec<String> = (0..30).map(|i| format!("+ 0.{:02}*sin({}.25*z)", i + 1, i + 2)).collect();
         for (src, balances) in [(format!("z - 1 {} {}", distinct.join(" "), run.join(" ")), false), (format!("exp(-(z {})) {}", distinct.join(" "), run.join(" ")), true)] {
             let f = crate::Formula::compile("<t>", &src).unwrap();
-            let plan = crate::codegen::reroll::plan(&f.ir);
+            let plan = crate::field::compiled::term_loops::plan(&f.ir);
             assert_eq!(plan.loops.len(), 1);
             let b = balanced(&f.ir, |n| plan.skips(n) || plan.loop_at(n).is_some());
             assert_eq!(b.is_some(), balances, "{src}");
             let Some(b) = b else { continue };
-            let again = crate::codegen::reroll::plan(&b);
+            let again = crate::field::compiled::term_loops::plan(&b);
             assert_eq!((again.loops.len(), again.iterations(), &again.table), (1, plan.iterations(), &plan.table));
             let p = [0.3, -0.7, 0.2];
             assert!((eval(&f.ir, p) - eval(&b, p)).abs() < 1e-9);

@@ -92,34 +92,3 @@ pub fn resume_rounds(unroll: u32) -> u32 {
 /// hard pixels take over 100 cells (`@tangle` in IA: 87): below this the
 /// work limit leaves them 85 such cells at one instruction an iteration.
 pub const TAPE_UNROLL_FROM: usize = 64;
-/// Loop iterations the interpreter may spend in one invocation; past it an
-/// evaluation gives up (enclosures become the whole line, the pixel is
-/// reported unresolved). lavapipe's silent cap of 65,535 iterations counts
-/// the loops of a SIMD bundle of 8 invocations together, and invocations
-/// that diverge run the interpreter one after another (measured: a 17,862
-/// instruction tape whose tile pass stopped at 2 evaluations per invocation
-/// still had its loops cut and culled visible tiles). So each invocation
-/// gets an eighth of what the traversal's budget (at most
-/// [`TAPE_MAX_ITER`]) and its short loops leave: 8 × 5,500 + 16,000 +
-/// slack < 65,535.
-pub const TAPE_WORK_LIMIT: u32 = 5_500;
-/// Loop iterations the interpreter may spend in one SIMD bundle of a kernel
-/// that counts them per bundle ([`super::features::BUNDLE_WORK`]): each run adds
-/// the longest run of its active lanes plus one (the caller's loop
-/// iteration), which is what the bundle's loops execute. The cap of 65,535
-/// less the traversal's budget ([`TAPE_MAX_ITER`]) leaves 9,535 iterations
-/// for the traversal's short loops.
-pub const TAPE_BUNDLE_LIMIT: u32 = 40_000;
-/// The work limit of bisection's tile pass (and the tape's block pass), per
-/// SIMD bundle: they run no traversal, only their slab loop (at most 136
-/// iterations), the notes' loops (at most 128 a slab) and list writing, so
-/// they may go closer to lavapipe's cap than the per-pixel pass. A tape of
-/// 2,975 value and 13,008 derivative instructions (four copies of `@city`'s
-/// blocks) left 101 of 507 tiles and blocks unshortened at
-/// [`TAPE_BUNDLE_LIMIT`].
-pub const TAPE_TILE_PASS_BUNDLE_LIMIT: u32 = 54_000;
-/// [`TAPE_TILE_PASS_BUNDLE_LIMIT`] counted per invocation (an eighth).
-pub const TAPE_TILE_PASS_WORK_LIMIT: u32 = 6_750;
-/// Largest bisection iteration budget with a tape field (see
-/// [`TAPE_WORK_LIMIT`]).
-pub const TAPE_MAX_ITER: u32 = 16_000;

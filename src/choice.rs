@@ -5,42 +5,10 @@
 //! (README, "Compiled or tape"). A later source (a formula lowered to a
 //! blobtree scene) joins as one more [`FieldKind`] value.
 
-use super::{FieldSource, TapeData, TapeError};
+pub use crate::field::FieldKind;
+use crate::field::{FieldSource, SceneData, TapeData, TapeError};
 use crate::ir::Ir;
 use crate::render::Traversal;
-
-/// The field source asked for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum FieldKind {
-    /// The formula generated into WGSL.
-    Compiled,
-    /// The formula as a tape run by the fixed interpreter.
-    Tape,
-    /// The formula lowered to its blobtree (only a formula of distance
-    /// forms, only sphere traced): [`scene`]; `Auto` takes it from
-    /// [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives on ([`auto_scene`]).
-    Scene,
-    /// Chosen per formula and traversal by [`choose`].
-    #[default]
-    Auto,
-}
-
-impl FieldKind {
-    /// The name `--field`, `.iso` headers and reports use.
-    pub fn name(self) -> &'static str {
-        match self {
-            FieldKind::Compiled => "compiled",
-            FieldKind::Tape => "tape",
-            FieldKind::Scene => "scene",
-            FieldKind::Auto => "auto",
-        }
-    }
-
-    /// The kind of a [`FieldKind::name`].
-    pub fn parse(s: &str) -> Option<FieldKind> {
-        [FieldKind::Compiled, FieldKind::Tape, FieldKind::Scene, FieldKind::Auto].into_iter().find(|k| k.name() == s)
-    }
-}
 
 /// A field source ready to be bound: the tape is built once and owned.
 #[derive(Debug, Clone)]
@@ -50,7 +18,7 @@ pub enum PreparedField {
     /// A tape.
     Tape(TapeData),
     /// A blobtree scene's buffers.
-    Scene(super::SceneData),
+    Scene(SceneData),
 }
 
 impl PreparedField {
@@ -106,7 +74,7 @@ impl PreparedField {
 /// ([`HEAVY_WEIGHT`]).
 pub fn crossover(traversal: &Traversal) -> usize {
     match traversal {
-        Traversal::Bisect(b) if b.algebra == super::Domain::Affine => CROSSOVER_BISECT_RAA,
+        Traversal::Bisect(b) if b.algebra == crate::ir::Domain::Affine => CROSSOVER_BISECT_RAA,
         Traversal::Bisect(_) => CROSSOVER_BISECT_IA,
         Traversal::Sphere(_) => CROSSOVER_SPHERE,
     }
@@ -136,7 +104,7 @@ pub const CSG_RATIO: usize = 16;
 /// The value program's min, max, clamp, abs and sign instructions.
 fn minmax_ops(t: &TapeData) -> usize {
     let [start, len, _, _] = t.words[0];
-    t.words[start as usize..(start + len) as usize].iter().filter(|w| super::tape::is_minmax(w[0])).count()
+    t.words[start as usize..(start + len) as usize].iter().filter(|w| crate::field::tape::is_minmax(w[0])).count()
 }
 
 /// What a division, square root or transcendental function (exp, log,
@@ -151,7 +119,7 @@ fn minmax_ops(t: &TapeData) -> usize {
 /// 2.3 s, tape 8.9 s) and 100 reciprocals (1,790; 2.6 s, tape 7.2 s) stay
 /// compiled, 200 of either take the tape (3,890 and 3,680; compiled 16
 /// and 10 s, tape 20 and 11 s). Those families' terms are loops now (a
-/// run compares its terms' operands in a fixed order: [`super::reroll`]),
+/// run compares its terms' operands in a fixed order: [`crate::field::reroll`]),
 /// each body weighed once, so they stay compiled (200 Gaussians 1.8 s,
 /// 200 reciprocals 1.4 s); the weight is for sums of mixed shapes.
 pub const HEAVY_WEIGHT: usize = 6;
@@ -175,16 +143,16 @@ fn heavy(op: &crate::ir::Op) -> bool {
 /// The divisions, square roots and transcendental functions of the code
 /// generated for `ir` (`plan`'s loop bodies once per unrolled term),
 /// weighed for `traversal` ([`HEAVY_WEIGHT`]); none where the compiled
-/// field balances the formula's long sums ([`super::balance`]), whose
+/// field balances the formula's long sums ([`crate::field::balance`]), whose
 /// build then grows about linearly (100 trigonometric products, IA: 23 →
 /// 9.5 s compiled, sooner than the tape's 15 s; RAA 26.5 → 10.5 s, the
 /// tape 19.8 s).
-fn heavy_weight(ir: &Ir, plan: &super::reroll::Plan, traversal: &Traversal) -> usize {
-    if plan.loops.is_empty() && super::balance::balanced(ir, |_| false).is_some() {
+fn heavy_weight(ir: &Ir, plan: &crate::field::compiled::term_loops::Plan, traversal: &Traversal) -> usize {
+    if plan.loops.is_empty() && crate::field::compiled::balance::balanced(ir, |_| false).is_some() {
         return 0;
     }
     let weight = match traversal {
-        Traversal::Bisect(b) if b.algebra == super::Domain::Affine => HEAVY_WEIGHT_RAA,
+        Traversal::Bisect(b) if b.algebra == crate::ir::Domain::Affine => HEAVY_WEIGHT_RAA,
         _ => HEAVY_WEIGHT,
     };
     weight * plan.emitted_weight(ir, |op| usize::from(heavy(op)))
@@ -207,22 +175,22 @@ fn heavy_weight(ir: &Ir, plan: &super::reroll::Plan, traversal: &Traversal) -> u
 /// was then 2,800, and is 9,600 since the lines moved up: [`crossover`]).
 ///
 /// A formula whose long runs of same-shaped terms become loops
-/// ([`super::reroll`]) is weighed by what its generated code holds (the
+/// ([`crate::field::reroll`]) is weighed by what its generated code holds (the
 /// loop bodies, not every term): the 2,503-operation sum of products is
 /// then 81 nodes, shown in 0.9 s cold at 512² where its tape took
 /// 3.0-3.2 s (README, "Long runs of same-shaped terms").
 fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool {
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
     let line = crossover(traversal) as f64 * (frames.clamp(1, 16) as f64).sqrt();
-    let plan = super::reroll::plan(ir);
+    let plan = crate::field::compiled::term_loops::plan(ir);
     let size = if plan.loops.is_empty() { t.size } else { plan.emitted_nodes(ir) } + heavy_weight(ir, &plan, traversal);
     !csg && size as f64 >= line
 }
 
-/// Whether the compiled kernel would be over [`super::kernel::MAX_SHADER_BYTES`]
+/// Whether the compiled kernel would be over [`crate::kernel::MAX_SHADER_BYTES`]
 /// (the renderer refuses it; the tape has no such limit).
 fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
-    super::assemble(FieldSource::Compiled(ir), traversal).code_bytes() > super::kernel::MAX_SHADER_BYTES
+    crate::kernel::assemble(FieldSource::Compiled(ir), traversal).code_bytes() > crate::kernel::MAX_SHADER_BYTES
 }
 
 /// The field for formula `f` (parameter values `params`) traced by

@@ -4,8 +4,9 @@
 //! `templates/fields/loop_tiles.wgsl`), the tile pass's notes and the
 //! per-pixel loop over a tile's list.
 
-use super::reroll::{self, lists::Listed, Loop};
-use super::{value_rhs, Domain, Hook};
+use super::{self as reroll, lists::Listed, Loop};
+use crate::field::compiled::{value_rhs, Hook};
+use crate::ir::Domain;
 use crate::ir::{Ir, NodeId, Op};
 use std::fmt::Write;
 

@@ -9,83 +9,15 @@
 //! generated (a compiled formula) or as an interpreter over buffers bound in
 //! the field group (`@group(1)`), without touching traversal code.
 
-use super::{compiled, tape_field, template, Domain, TapeData};
+use crate::codegen::template;
+use crate::field::FieldSource;
+use crate::ir::Domain;
 use crate::inline::InlineWgsl;
 use crate::ir::Ir;
 use crate::layout::{self, BisectBlock, SphereBlock};
 use crate::render::{BisectOptions, Modalities, RootSearch, SphereFeatures, Traversal};
 use std::fmt::Write;
 use std::ops::Range;
-
-/// Where a render kernel's field comes from.
-#[derive(Debug, Clone, Copy)]
-pub enum FieldSource<'a> {
-    /// A formula generated into WGSL evaluators.
-    Compiled(&'a Ir),
-    /// A blobtree kept as data (nodes and parameters in the field group),
-    /// run by a fixed interpreter: edits change buffers, not the shader.
-    Scene(&'a SceneData),
-    /// A formula flattened into a tape (instructions in the field group),
-    /// run by a fixed interpreter in the traversal's domain: a new formula
-    /// changes buffers, not the shader.
-    Tape(&'a TapeData),
-}
-
-/// A scene's buffers in the layout of `templates/fields/scene.wgsl`.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct SceneData {
-    /// One word quadruple per post-order node (root last).
-    pub nodes: Vec<[u32; 4]>,
-    /// Transforms and parameters, a vec4 at a time.
-    pub params: Vec<[f32; 4]>,
-    /// The node index of every primitive.
-    pub prims: Vec<u32>,
-    /// Two balls a primitive (centre, radius; +inf bounds nothing): its
-    /// augmented bounding ball, then its limit ball, outside which an
-    /// intersection above it is inactive (`scene::reach`).
-    pub balls: Vec<[f32; 4]>,
-    /// The interpreter features the scene needs (`scene::linear::FEATURE_*`
-    /// bits): part of the kernel, so a renderer built for one set draws
-    /// any scene whose set is within it.
-    pub features: u32,
-}
-
-/// A table of vec4s laid out as a scene texture: rows of
-/// [`TEXTURE_WIDTH`](crate::scene::linear::TEXTURE_WIDTH) texels, the last
-/// padded with zeros.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Texels<T> {
-    /// Texels per row.
-    pub width: u32,
-    /// Rows.
-    pub height: u32,
-    /// `width × height` texels, row by row.
-    pub texels: Vec<T>,
-}
-
-impl<T: Copy + Default> Texels<T> {
-    /// `rows` after an optional header texel, padded to full rows.
-    pub fn from_rows(header: Option<T>, rows: &[T]) -> Texels<T> {
-        let width = crate::scene::linear::TEXTURE_WIDTH;
-        let mut texels: Vec<T> = header.into_iter().chain(rows.iter().copied()).collect();
-        let height = (texels.len().div_ceil(width as usize)).max(1) as u32;
-        texels.resize((width * height) as usize, T::default());
-        Texels { width, height, texels }
-    }
-}
-
-impl SceneData {
-    /// The node texture: texel 0 holds the node count, node i is texel
-    /// i + 1 (`scene_node` in templates/fields/scene.wgsl).
-    pub fn node_texels(&self) -> Texels<[u32; 4]> {
-        Texels::from_rows(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
-    }
-
-    /// The parameter texture: row i of `params` is texel i.
-    pub fn param_texels(&self) -> Texels<[f32; 4]> {
-        Texels::from_rows(None, &self.params)
-    }
-}
 
 /// Largest render kernel handed to naga and the driver: 500 KB of WGSL
 /// code ([`Kernel::code_bytes`]: comment lines, which cost the driver
@@ -96,132 +28,6 @@ impl SceneData {
 /// past this a render would sit silent for a very long time; a formula
 /// that gets here is one to simplify.
 pub const MAX_SHADER_BYTES: usize = 500_000;
-
-/// Most active primitives per 8×8 tile; a tile with more evaluates the
-/// whole tree (counted as an overflow tile). 512 (the paper: 128, 256 for
-/// its densest scene): a tile's list spans every depth here, and the
-/// smooth 11,110-primitive aggregate has tiles of up to 459 at 512²; at 128
-/// its 465 overflow tiles evaluated 22,219 nodes a step and ran out of the
-/// loop budget. Costs 10 KiB a tile with the depths and views (160 MB at
-/// 1024²; a dispatch rectangle keeps each buffer within one binding).
-pub const SCENE_TILE_MAX: u32 = 512;
-/// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
-pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;
-/// Texels a row of the texture the trace reads the tile views from (a
-/// power of two; 8192 rows of it hold the views of a 2048² frame).
-pub const SCENE_VIEW_TEX_WIDTH: u32 = 8192;
-/// The view length that means "the whole tree".
-pub const SCENE_VIEW_FULL: u32 = u32::MAX;
-/// Depth slabs per tile (Zanni's depth ranges): each has its own pruned
-/// view of the primitives whose depths meet it.
-pub const SCENE_SLABS_MAX: u32 = 4;
-/// A tile list up to this long keeps one slab (switching views costs a
-/// copy; a short view gains little from slicing).
-pub const SCENE_SLAB_MIN_LIST: u32 = 4;
-/// Longest tile list whose balls a primary ray tests itself to narrow its
-/// range (longer lists: the tile's depths only).
-pub const SCENE_RAY_BALLS: u32 = 16;
-/// Longest list of a union or comb tile (scene_tiles.wgsl): each ray
-/// lists the view entries of the members whose balls it meets (scene.wgsl,
-/// `g_ray_list`), from a 64-bit mask.
-pub const SCENE_UNION_MAX: u32 = 64;
-/// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
-pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
-
-impl FieldSource<'_> {
-    /// The field's WGSL: `field(p)`, and the enclosures in `domain` when a
-    /// traversal needs them (a scene has none: it is sphere traced); `sync`:
-    /// a scene's side of the synchronised tile walk; `bundle`: a compiled
-    /// field's loops count their work per SIMD bundle (a tape says so in
-    /// its features).
-    fn code(&self, domain: Option<Domain>, inline: Option<&InlineWgsl>, sync: bool, bundle: bool) -> String {
-        match self {
-            // Bisection (a domain) runs the tile pass: rerolled min and max loops get per-tile lists.
-            FieldSource::Compiled(ir) => compiled::field_code(ir, domain, inline, bundle, domain.is_some()),
-            FieldSource::Scene(d) => format!("{}\n{}", scene_interpreter(d.features, sync), template::SCENE_TILES),
-            FieldSource::Tape(t) => tape_field::field_code(domain, t.features),
-        }
-    }
-
-    /// How many surfaces the field draws (several with level-set CSG).
-    pub fn surfaces(&self) -> usize {
-        match self {
-            FieldSource::Compiled(ir) => ir.surfaces.len().max(1),
-            FieldSource::Scene(_) | FieldSource::Tape(_) => 1,
-        }
-    }
-
-    /// The compute entry points the field runs before a traversal, every
-    /// dispatch.
-    pub fn passes(&self) -> &'static [&'static str] {
-        match self {
-            FieldSource::Compiled(_) | FieldSource::Tape(_) => &[],
-            FieldSource::Scene(_) => &SCENE_PASSES,
-        }
-    }
-
-    /// Whether the field can give interval enclosures (bisection needs them).
-    pub fn has_enclosures(&self) -> bool {
-        matches!(self, FieldSource::Compiled(_) | FieldSource::Tape(_))
-    }
-}
-
-/// The scene interpreter (templates/fields/scene.wgsl) with its constants,
-/// the code of the node types in `features` and, with `sync`, its side of
-/// the synchronised tile walk.
-fn scene_interpreter(features: u32, sync: bool) -> String {
-    format!(
-        "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
-         const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
-         const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
-         const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n\
-         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}\n{}\n{}",
-        crate::scene::linear::wgsl_constants(),
-        crate::scene::linear::wgsl_noise(),
-        template::SCENE,
-        template::SCENE_SHAPES,
-        template::optional(template::SCENE_SYNC, sync),
-    )
-}
-
-/// The `eval` kernel over a scene: the interpreter runs the whole tree at
-/// each point (the box's low corner), as secondary rays do. The hook the
-/// scene tests use to check the device's interpreter against the f64
-/// reference at random points. The render kernel's frame block is replaced
-/// by the few fields the interpreter's unused tile functions name.
-pub fn scene_eval_shader(features: u32) -> String {
-    use crate::layout::GpuBlock;
-    let frame = "struct SceneEvalFrame { eye: vec4<f32>, forward: vec4<f32>, inf: f32, tile_origin: vec2<u32>, tile_size: vec2<u32> }\n\
-                 var<private> F: SceneEvalFrame;\nvar<private> g_field_work: u32;\n";
-    let eval = "fn scene_eval_point(p: vec3<f32>) -> f32 {\n    var sp = 0u;\n    var top = iso_inf();\n    \
-                for (var j = 0u; j < scene_node_count(); j = j + 1u) { scene_step(scene_entry(j), p, &sp, &top); }\n    return top;\n}\n";
-    let evaluator = format!("{frame}{}\n{eval}", scene_interpreter(features, false));
-    let call = "    let v = scene_eval_point(vec3<f32>(x.x, y.x, z.x));\n    return vec2<f32>(v, v);";
-    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
-        .expect("the eval template has its markers")
-}
-
-/// The `eval` kernel over bisection's interval cells on rays (the hook the
-/// tests use to check the cell enclosure, with the nodes it takes from the
-/// ray, against f64 samples on the device). Three boxes a query, 24
-/// floats: o, dir, s_ref, len (the ray and what `field_begin_ray` gets),
-/// then the cell's s0, s1. Results: box 3k the value's range over the
-/// cell, 3k + 1 the slope's along dir, 3k + 2 the scalar field on the ray
-/// at s0 and at s1. The render kernel's frame block is replaced by the two
-/// fields the field code reads.
-pub fn ray_cell_eval_shader(ir: &Ir) -> String {
-    use crate::layout::GpuBlock;
-    let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\n";
-    let evaluator = format!("{frame}{}", compiled::field_code(ir, Some(Domain::Interval), None, false, false));
-    let call = "    F = CellEvalFrame(0.0, iso_inf());\n    let k = (i / 3u) * 24u;\n    \
-                let o = vec3<f32>(boxes[k], boxes[k + 1u], boxes[k + 2u]);\n    \
-                let dir = vec3<f32>(boxes[k + 3u], boxes[k + 4u], boxes[k + 5u]);\n    \
-                field_begin_ray(o, dir, boxes[k + 6u], boxes[k + 7u]);\n    let s0 = boxes[k + 8u];\n    let s1 = boxes[k + 9u];\n    \
-                let c = cell_enclosure(o, dir, s0, s1, true);\n    \
-                return select(select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), c.zw, i % 3u == 1u), c.xy, i % 3u == 0u);";
-    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
-        .expect("the eval template has its markers")
-}
 
 /// An assembled render kernel.
 #[derive(Debug, Clone)]
@@ -332,7 +138,7 @@ fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
 pub fn one_call_site(field: FieldSource<'_>) -> bool {
     match field {
         FieldSource::Tape(_) => true,
-        FieldSource::Compiled(ir) => super::reroll::table_texels(ir).is_some() && super::reroll::lists::for_formula(ir).is_none(),
+        FieldSource::Compiled(ir) => crate::field::compiled::term_loops::table_texels(ir).is_some() && crate::field::compiled::term_loops::lists::for_formula(ir).is_none(),
         _ => false,
     }
 }

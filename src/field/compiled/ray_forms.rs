@@ -28,7 +28,8 @@
 //! Each enclosure is widened by 32 such roundings (`RAY_PAD` in
 //! templates/fields/ray_forms.wgsl).
 
-use super::{f32_enclosure, lit, ray_polys};
+use super::ray_polys;
+use crate::codegen::{f32_enclosure, lit};
 use crate::ir::{Ir, NodeId, Op, Var};
 use std::fmt::Write;
 
@@ -220,7 +221,7 @@ pub(crate) const MAX_NODES: usize = 1500;
 /// the loop, never from the ray: its coefficients would be worked out for
 /// every ray and never read.
 pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
-    let plan = super::reroll::plan(ir);
+    let plan = super::term_loops::plan(ir);
     nodes_on_ray(ir, |n| plan.skips(n))
 }
 
@@ -343,8 +344,8 @@ impl RayForms {
             false => "    g_poly_mid = 0.5 * len;\n    let pm = p0 + dir * g_poly_mid;\n    let apm = abs(pm);\n",
         };
         let template = match polys.is_empty() {
-            true => include_str!("../../templates/fields/ray_forms.wgsl").to_string(),
-            false => [include_str!("../../templates/fields/ray_forms.wgsl"), include_str!("../../templates/fields/ray_polys.wgsl")].join("\n"),
+            true => include_str!("../../../templates/fields/ray_forms.wgsl").to_string(),
+            false => [include_str!("../../../templates/fields/ray_forms.wgsl"), include_str!("../../../templates/fields/ray_polys.wgsl")].join("\n"),
         };
         let _ = write!(
             out,

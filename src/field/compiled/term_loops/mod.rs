@@ -21,10 +21,11 @@
 //! (`field_admits`); past it the evaluation is the whole line and the pixel
 //! is reported unresolved (`field_exhausted`), as with the tape.
 
+pub(crate) mod emit;
 pub mod lists;
 mod runs;
 
-use super::f32_enclosure;
+use crate::codegen::f32_enclosure;
 use crate::ir::{Ir, NodeId, Op};
 use runs::{chains, Ref, Shape, Terms, Uses};
 
@@ -33,8 +34,8 @@ use runs::{chains, Ref, Shape, Terms, Uses};
 pub const MIN_RUN: usize = 16;
 /// Loop iterations an invocation's rerolled evaluations may spend: the
 /// tape's per-invocation share of lavapipe's cap (the same reasoning:
-/// `codegen::tape::TAPE_WORK_LIMIT`).
-pub const WORK_LIMIT: u32 = super::tape::TAPE_WORK_LIMIT;
+/// `field::limits::TAPE_WORK_LIMIT`).
+pub const WORK_LIMIT: u32 = crate::field::limits::TAPE_WORK_LIMIT;
 /// Most nodes an unrolled loop body holds (terms × their nodes).
 const BODY_MAX: usize = 256;
 
@@ -313,8 +314,8 @@ pub fn support(bundle: bool) -> String {
             "const TAPE_BUNDLE_LIMIT: u32 = {}u;\n{}\
              fn field_admits(iters: u32) -> bool {{\n    let ok = bundle_admits(iters);\n    \
              if (!ok) {{ g_field_exhausted = true; }}\n    return ok;\n}}\n",
-            super::tape::TAPE_BUNDLE_LIMIT,
-            super::tape_field::BUNDLE_WORK
+            crate::field::limits::TAPE_BUNDLE_LIMIT,
+            crate::field::limits::BUNDLE_WORK_WGSL
         )
     } else {
         format!(
@@ -360,9 +361,9 @@ pub fn slot_expr_at(p: &str, q: &str, at: &str) -> String {
 }
 
 /// The table texture of a formula's loops (`None` without loops).
-pub fn table_texels(ir: &Ir) -> Option<super::Texels<[u32; 4]>> {
+pub fn table_texels(ir: &Ir) -> Option<crate::field::Texels<[u32; 4]>> {
     let plan = plan(ir);
-    (!plan.loops.is_empty()).then(|| super::Texels::from_rows(None, &plan.table))
+    (!plan.loops.is_empty()).then(|| crate::field::Texels::from_rows(None, &plan.table))
 }
 
 #[cfg(test)]

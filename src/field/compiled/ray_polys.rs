@@ -111,7 +111,7 @@ impl<'a> Writer<'a> {
         let c = self.coeffs(id, body);
         let at = |v: &[String], k: usize| v.get(k).map_or("0.0", String::as_str).to_string();
         let ulps = 2 * (c.roundings + 8 * c.value.len() as u32 + 8);
-        let scale = super::lit((ulps as f64 * f64::powi(2.0, -24)) as f32);
+        let scale = crate::codegen::lit((ulps as f64 * f64::powi(2.0, -24)) as f32);
         let (v, m) = (&c.value, &c.magnitude);
         let _ = writeln!(decls, "var<private> g_pa{id}: vec4<f32>;\nvar<private> g_pb{id}: vec4<f32>;\nvar<private> g_pm{id}: vec4<f32>;\nvar<private> g_pn{id}: vec4<f32>;");
         let _ = writeln!(body, "    g_pa{id} = vec4<f32>({}, {}, {}, {});", at(v, 0), at(v, 1), at(v, 2), at(v, 3));
@@ -154,8 +154,8 @@ impl<'a> Writer<'a> {
             (None, Op::Div(a, b)) => {
                 let k = self.forms[b as usize].and_then(|q| q.constant()).expect("a division by a constant");
                 let a = self.coeffs(a, body);
-                let r = super::lit((1.0 / k) as f32);
-                let m = super::lit((1.0 / k).abs() as f32);
+                let r = crate::codegen::lit((1.0 / k) as f32);
+                let m = crate::codegen::lit((1.0 / k).abs() as f32);
                 self.bind(id, body, a.value.iter().map(|v| format!("{v} * {r}")).collect(), a.magnitude.iter().map(|v| format!("{v} * {m}")).collect(), a.roundings + 2)
             }
             (None, op) => unreachable!("node {id} ({op:?}) has a degree but no polynomial form"),

@@ -7,8 +7,26 @@
 //! number domain produced them, and how several surfaces with `where`
 //! conditions were combined, is decided here.
 
-use super::ray_forms::{self, RayForms};
-use super::{derivative, emit_evaluator_all, emit_evaluator_on, libraries, libraries_with, Domain, Tiles};
+pub mod balance;
+pub mod derivative;
+mod emit;
+mod ray_forms;
+mod ray_polys;
+pub mod term_loops;
+
+pub use emit::{emit_evaluator, emit_evaluator_all, eval_call, eval_shader, eval_shader_with};
+pub(crate) use emit::{emit_evaluator_on, value_rhs, Hook};
+pub(crate) use term_loops::emit::Tiles;
+
+use crate::codegen::{libraries, libraries_with, template};
+use crate::ir::Domain;
+use ray_forms::RayForms;
+
+/// Whether an IA kernel bisecting `ir` compiled takes polynomial nodes of
+/// degree 3 to 6 from the ray (`ray_polys`): what `choose_algebra` asks.
+pub fn takes_ray_polynomials(ir: &Ir) -> bool {
+    ray_forms::ray_nodes(ir).is_some_and(|r| r.has_polynomials())
+}
 use crate::inline::InlineWgsl;
 use crate::ir::{Ir, NodeId, Op};
 use std::fmt::Write;
@@ -121,7 +139,7 @@ fn inclusion_tiled(ir: &Ir, domain: Domain, safe: bool, tiles: Tiles) -> String 
 /// slopes, of polynomials of low degree, would need their own bound).
 pub fn safe_radius(ir: &Ir, domain: Domain) -> Option<f64> {
     let applies = domain == Domain::Affine && !ir.is_csg() && derivative::slope_domain(ir, domain) == Domain::Interval;
-    applies.then(|| super::magnitude::safe_radius(ir)).flatten()
+    applies.then(|| crate::analysis::magnitude::safe_radius(ir)).flatten()
 }
 
 /// `ra_safe(x, y, z, t)`: whether the inputs of an affine evaluation (the
@@ -228,10 +246,10 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 /// everywhere (`field_view`: the scene's changes with its slab).
 /// `bundle`: the loops' work is counted per SIMD bundle (`reroll::support`).
 fn field_cost(ir: &Ir, bundle: bool) -> String {
-    let plan = super::reroll::plan(ir);
+    let plan = term_loops::plan(ir);
     let (support, iters, exhausted) = match plan.loops.is_empty() {
         true => ("fn field_entry(li: u32) {}\n".to_string(), 0, "false"),
-        false => (super::reroll::support(bundle), plan.iterations(), "g_field_exhausted"),
+        false => (term_loops::support(bundle), plan.iterations(), "g_field_exhausted"),
     };
     format!(
         "{support}fn field_cost() -> u32 {{ return {iters}u; }}\nfn field_exhausted() -> bool {{ return {exhausted}; }}\n\
@@ -243,8 +261,8 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
 /// differs: long sums as balanced trees ([`super::balance`]), unless a loop
 /// computes part of them in order.
 pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
-    let plan = super::reroll::plan(ir);
-    super::balance::balanced(ir, |n| plan.skips(n) || plan.loop_at(n).is_some())
+    let plan = term_loops::plan(ir);
+    balance::balanced(ir, |n| plan.skips(n) || plan.loop_at(n).is_some())
 }
 
 /// The compiled field for a traversal that needs enclosures in `domain`
@@ -253,13 +271,13 @@ pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
 /// call into all of them), so all are included then. `bundle`: its loops'
 /// work is counted per SIMD bundle (bisection on a device with subgroups).
 /// `lists`: a bisection kernel with the tile pass, where rerolled `min` and
-/// `max` loops run per-tile term lists ([`super::reroll::lists`]; not with
+/// `max` loops run per-tile term lists ([`term_loops::lists`]; not with
 /// `inline` WGSL, whose hooks the kernel leaves to the user).
 pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool, lists: bool) -> String {
     let balanced = generated_ir(ir);
     let ir = balanced.as_ref().unwrap_or(ir);
     let lists = match (lists, domain, inline) {
-        (true, Some(_), None) => super::reroll::lists::lists(ir, &super::reroll::plan(ir)),
+        (true, Some(_), None) => term_loops::lists::lists(ir, &term_loops::plan(ir)),
         _ => None,
     };
     let (listed, record) = match lists {
@@ -302,3 +320,26 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
     out.push_str(&inclusion_tiled(ir, d, radius.is_some(), listed));
     out
 }
+
+/// The `eval` kernel over bisection's interval cells on rays (the hook the
+/// tests use to check the cell enclosure, with the nodes it takes from the
+/// ray, against f64 samples on the device). Three boxes a query, 24
+/// floats: o, dir, s_ref, len (the ray and what `field_begin_ray` gets),
+/// then the cell's s0, s1. Results: box 3k the value's range over the
+/// cell, 3k + 1 the slope's along dir, 3k + 2 the scalar field on the ray
+/// at s0 and at s1. The render kernel's frame block is replaced by the two
+/// fields the field code reads.
+pub fn ray_cell_eval_shader(ir: &Ir) -> String {
+    use crate::layout::GpuBlock;
+    let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\n";
+    let evaluator = format!("{frame}{}", field_code(ir, Some(Domain::Interval), None, false, false));
+    let call = "    F = CellEvalFrame(0.0, iso_inf());\n    let k = (i / 3u) * 24u;\n    \
+                let o = vec3<f32>(boxes[k], boxes[k + 1u], boxes[k + 2u]);\n    \
+                let dir = vec3<f32>(boxes[k + 3u], boxes[k + 4u], boxes[k + 5u]);\n    \
+                field_begin_ray(o, dir, boxes[k + 6u], boxes[k + 7u]);\n    let s0 = boxes[k + 8u];\n    let s1 = boxes[k + 9u];\n    \
+                let c = cell_enclosure(o, dir, s0, s1, true);\n    \
+                return select(select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), c.zw, i % 3u == 1u), c.xy, i % 3u == 0u);";
+    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
+        .expect("the eval template has its markers")
+}
+
