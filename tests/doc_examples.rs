@@ -99,40 +99,55 @@ fn extract(text: &str) -> Vec<Example> {
     let mut out = Vec::new();
     let mut i = 0;
     while i < lines.len() {
-        let Some(lang) = lines[i].trim_start().strip_prefix("```") else {
+        let Some(lang) = lines[i].trim_start().strip_prefix("```").map(str::trim) else {
             i += 1;
             continue;
         };
-        let parse_only = lines[..i].iter().rev().find(|l| !l.trim().is_empty()).is_some_and(|l| l.trim().starts_with("<!-- doc-test: parse-only"));
-        let shell = matches!(lang.trim(), "sh" | "bash" | "shell" | "console");
-        let console = lang.trim() == "console";
-        i += 1;
-        let mut pending: Option<(usize, String)> = None;
+        let before = lines[..i].iter().rev().find(|l| !l.trim().is_empty());
+        let mode = match before.is_some_and(|l| l.trim().starts_with("<!-- doc-test: parse-only")) {
+            true => Mode::ParseOnly,
+            false => Mode::Run,
+        };
+        let body_start = i + 1;
+        i = body_start;
         while i < lines.len() && !lines[i].trim_start().starts_with("```") {
-            if shell {
-                let line = lines[i];
-                let text = match &pending {
-                    Some(_) => Some(line.to_string()),
-                    None if console => line.strip_prefix("$ ").map(str::to_string),
-                    None => Some(line.strip_prefix("$ ").unwrap_or(line).to_string()),
-                };
-                if let Some(text) = text {
-                    let (start, mut joined) = pending.take().unwrap_or((i + 1, String::new()));
-                    if let Some(head) = text.strip_suffix('\\') {
-                        joined.push_str(head);
-                        pending = Some((start, joined));
-                    } else {
-                        joined.push_str(&text);
-                        let mode = if parse_only { Mode::ParseOnly } else { Mode::Run };
-                        if is_example(&joined) {
-                            out.push(Example { line: start, command: joined.trim().to_string(), mode });
-                        }
-                    }
-                }
-            }
             i += 1;
         }
+        if matches!(lang, "sh" | "bash" | "shell" | "console") {
+            for (line, command) in commands(&lines[body_start..i], body_start + 1, lang == "console") {
+                if is_example(&command) {
+                    out.push(Example { line, command, mode });
+                }
+            }
+        }
         i += 1;
+    }
+    out
+}
+
+/// The command lines of a shell block whose first line is line `first` of the file: prompts
+/// dropped (in a console block, lines without one are output), continuations joined.
+fn commands(body: &[&str], first: usize, console: bool) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    let mut pending: Option<(usize, String)> = None;
+    for (k, line) in body.iter().enumerate() {
+        let text = match &pending {
+            Some(_) => Some(*line),
+            None if console => line.strip_prefix("$ "),
+            None => Some(line.strip_prefix("$ ").unwrap_or(line)),
+        };
+        let Some(text) = text else { continue };
+        let (start, mut joined) = pending.take().unwrap_or((first + k, String::new()));
+        match text.strip_suffix('\\') {
+            Some(head) => {
+                joined.push_str(head);
+                pending = Some((start, joined));
+            }
+            None => {
+                joined.push_str(text);
+                out.push((start, joined.trim().to_string()));
+            }
+        }
     }
     out
 }
