@@ -1,17 +1,15 @@
 #!/usr/bin/env bash
 # Installs what isotrace needs on a fresh Debian/Ubuntu machine:
-#  - a Rust toolchain (cargo) new enough for edition 2024 (checked, not installed:
-#    use rustup), and
-#  - a Vulkan driver: when no Vulkan ICD is present, Mesa's CPU driver lavapipe
+#  - checks for a Rust toolchain (cargo; install it with rustup), and
+#  - when no Vulkan driver is present, Mesa's CPU driver lavapipe
 #    (apt-get install mesa-vulkan-drivers libvulkan1; as root, else the exact
 #    command is printed), from Mesa 25 of bookworm-backports on Debian 12.
-#  - for the browser tests of `isotrace view`: Debian's chromium, Node.js and
-#    the pinned playwright-core (tests/browser/package-lock.json, npm ci).
-# Sourced by scripts/demo.sh and scripts/test.sh.
+# Sourced by scripts/demo.sh and scripts/test.sh (which also sources
+# scripts/setup-browser.sh for the browser tests).
 set -euo pipefail
 
 if ! command -v cargo >/dev/null 2>&1; then
-    echo "isotrace setup: cargo not found. Install Rust (1.85 or newer) with rustup: https://rustup.rs" >&2
+    echo "isotrace setup: cargo not found. Install Rust (1.90 or newer) with rustup: https://rustup.rs" >&2
     exit 1
 fi
 
@@ -26,7 +24,7 @@ have_vulkan() {
 if ! have_vulkan; then
     cmd="apt-get update -qq && apt-get install -y -qq mesa-vulkan-drivers libvulkan1"
     if [ "$(id -u)" = "0" ]; then
-        echo "isotrace setup: no Vulkan driver found; installing Mesa lavapipe (CPU Vulkan)" >&2
+        echo "isotrace setup: no Vulkan driver found; installing Mesa's CPU driver (lavapipe)" >&2
         DEBIAN_FRONTEND=noninteractive bash -c "$cmd" >&2
     else
         echo "isotrace setup: no Vulkan driver found. Install Mesa's CPU driver with:" >&2
@@ -34,10 +32,8 @@ if ! have_vulkan; then
         exit 1
     fi
 fi
-# lavapipe from Mesa 25 rather than Debian 12's Mesa 22.3: the same pictures,
-# Knoll frames 1.2-1.9x faster and big RAA kernels compiled in about half the
-# time, most other kernels compiled 30-60 % longer (README, "The Vulkan
-# driver"). On bookworm, Mesa 25 comes from Debian's own bookworm-backports.
+# Debian 12 ships Mesa 22.3; its bookworm-backports has Mesa 25, whose lavapipe
+# draws the same pictures with faster frames (docs/benchmarks.md).
 # ISOTRACE_SYSTEM_MESA=1 keeps the distribution's Mesa.
 mesa_version() { dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true; }
 wants_newer_mesa() {
@@ -55,34 +51,13 @@ if wants_newer_mesa; then
         cmd="apt-get update -qq && apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers"
     fi
     if [ "$(id -u)" = "0" ]; then
-        echo "isotrace setup: upgrading lavapipe from Mesa $(mesa_version) to bookworm-backports' Mesa 25" >&2
+        echo "isotrace setup: installing Mesa 25's lavapipe from bookworm-backports (faster frames)" >&2
         DEBIAN_FRONTEND=noninteractive bash -c "$cmd" >&2 ||
             echo "isotrace setup: bookworm-backports unavailable; keeping Mesa $(mesa_version)" >&2
     else
-        echo "isotrace setup: Mesa $(mesa_version) works; Mesa 25 draws frames faster (README, \"The Vulkan driver\"). As root:" >&2
-        echo "    $cmd" >&2
+        echo "isotrace setup: Mesa $(mesa_version) works; Mesa 25 renders faster. To install it:" >&2
+        echo "    sudo bash -c \"$cmd\"" >&2
     fi
 fi
 # Mesa's device-select layer warns on every start without this.
 export NODEVICE_SELECT=1
-
-# The browser tests' Chromium (WebGPU on its bundled SwiftShader) and driver.
-if [ ! -x /usr/lib/chromium/chromium ]; then
-    if [ "$(id -u)" = "0" ]; then
-        echo "isotrace browser tests: installing Debian's chromium" >&2
-        DEBIAN_FRONTEND=noninteractive bash -c "apt-get update -qq && apt-get install -y -qq chromium" >&2
-    else
-        echo "isotrace setup: the browser tests need Chromium: sudo apt-get install -y chromium" >&2
-    fi
-fi
-if ! command -v npm >/dev/null 2>&1; then
-    if [ "$(id -u)" = "0" ]; then
-        DEBIAN_FRONTEND=noninteractive bash -c "apt-get update -qq && apt-get install -y -qq nodejs npm" >&2
-    else
-        echo "isotrace setup: the browser tests need Node.js and npm: sudo apt-get install -y nodejs npm" >&2
-    fi
-fi
-if command -v npm >/dev/null 2>&1; then
-    (cd "$(dirname "${BASH_SOURCE[0]}")/../tests/browser" && npm ci --no-audit --no-fund --silent >&2) ||
-        echo "isotrace setup: npm ci in tests/browser failed; the browser tests cannot run" >&2
-fi

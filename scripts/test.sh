@@ -6,6 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh
+source scripts/setup-browser.sh
 cargo build --release --locked
 cargo test --release --locked "$@"
 bash scripts/simulate-array.sh
