@@ -1,18 +1,33 @@
 //! isotrace: a shader-metaprogramming compiler that ray traces implicit
-//! surfaces f(x, y, z) = 0 robustly on the GPU.
+//! surfaces f(x, y, z) = 0 robustly on the GPU, and blobtree scenes of
+//! distance-field primitives kept as data.
 //!
-//! Pipeline: formula text → [`syntax`] (lexer, recursive-descent parser) →
-//! [`sema`] (names, folding, sharing) → [`ir`] → [`codegen`] (WGSL evaluators
-//! for scalar, interval and reduced affine arithmetic spliced into kernel
-//! templates) → [`validate`] (naga) → [`gpu`] (wgpu, headless) → [`output`]
-//! (PNG / EXR).
+//! Pipeline: formula text → [`syntax`] → [`sema`] → [`ir`] → a field
+//! source ([`field`]: the formula compiled into WGSL, a tape, or a scene)
+//! → [`kernel`] (one traversal × one field source) → [`validate`] (naga)
+//! → [`gpu`] (wgpu, headless) → [`output`] (PNG / EXR).
+//!
+//! The types to start from: [`Formula`], [`Gpu`], [`Renderer`],
+//! [`Settings`], [`Frame`], [`Image`] and, for scenes, [`Scene`]. A
+//! formula to an RGBA picture and a PNG:
 //!
 //! ```
-//! let f = isotrace::Formula::compile("<doc>", "r = 1; x^2 + y^2 + z^2 - r^2").unwrap();
-//! assert_eq!(f.ir.degree(), Some(2));
-//! let wgsl = isotrace::field::compiled::eval_shader(&f.ir, isotrace::ir::Domain::Interval);
-//! isotrace::validate::validate(&wgsl).unwrap();
+//! use isotrace::{Formula, Gpu, Image, Renderer, Settings};
+//!
+//! let formula = Formula::compile("<tangle>", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8")?;
+//! let gpu = Gpu::new()?; // the Vulkan device (lavapipe on a machine without a GPU)
+//! let renderer = Renderer::for_formula(&gpu, &formula)?; // compiles the kernels once
+//! let frame = renderer.render(&Settings::for_box([-3.0, 3.0, -3.0, 3.0, -3.0, 3.0], 96, 96))?;
+//! let image = Image::from_frame(&frame);
+//! assert_eq!(image.rgba.len(), 96 * 96 * 4);
+//! assert!(frame.stats.hits > 1000, "the tangle fills much of the frame");
+//! image.save_png(std::env::temp_dir().join("isotrace-doc-tangle.png"))?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! `examples/render_formula.rs` and `examples/edit_scene.rs` (`cargo run
+//! --release --example edit_scene`) show more: settings, a scene built in
+//! code, edited and rendered again without a new shader.
 #![warn(missing_docs)]
 
 pub mod analysis;
@@ -39,6 +54,11 @@ pub mod sema;
 pub mod syntax;
 pub mod validate;
 pub mod view;
+
+pub use gpu::{Gpu, Renderer};
+pub use output::Image;
+pub use render::{Frame, Settings};
+pub use scene::Scene;
 
 use diag::Diagnostic;
 

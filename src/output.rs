@@ -11,7 +11,9 @@
 //! it. The path `-` is standard output ([`is_stdout`]); an image written
 //! there is a PNG.
 
+mod picture;
 mod temporaries;
+pub use picture::Image;
 
 pub use temporaries::{remove_stale_temporaries, remove_temporaries, STALE_AFTER};
 use std::io::Write;

@@ -156,7 +156,7 @@ mod tests {
         }
         std::fs::write(&path, b"").unwrap();
         assert_eq!(check(&path, Format::Exr, 9, 40), Err("an empty file".into()));
-        assert_eq!(check(&dir, Format::Png, 9, 40), Err("not a regular file".into()));
+        assert_eq!(check(&dir, Format::Png, 9, 40), Err("not a regular file (a directory)".into()));
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -279,6 +279,13 @@ impl<'g> Renderer<'g> {
         self.field.patch_scene(self.gpu, patch).map_err(|m| SettingsError::new(crate::render::SettingsField::Features, "scene edit", m).into())
     }
 
+    /// Bisection of `formula` compiled into the shader, in the number
+    /// domain `render --algebra auto` takes ([`crate::choose_algebra`]),
+    /// without modalities: the short way from a formula to pictures.
+    pub fn for_formula(gpu: &'g Gpu, formula: &crate::Formula) -> Result<Renderer<'g>, RenderError> {
+        Self::bisect(gpu, &formula.ir, crate::choose_algebra(&formula.ir))
+    }
+
     /// Bisection of a compiled formula in `domain`, without modalities.
     pub fn bisect(gpu: &'g Gpu, ir: &crate::ir::Ir, domain: crate::ir::Domain) -> Result<Renderer<'g>, RenderError> {
         Self::new(gpu, FieldSource::Compiled(ir), Traversal::Bisect(crate::render::BisectOptions::new(domain)))
