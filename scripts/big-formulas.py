@@ -1,13 +1,11 @@
 #!/usr/bin/env python3
-"""Writes the big formulas that issue 14's measurements use, one file each.
-
-Usage: scripts/big-formulas.py [OUT]   (default /tmp/big-formulas)
+"""Writes the big formulas that the README's measurements use, one file each.
 
 Every family is seeded, so the files are the same on every machine. Render
 them with `isotrace render -f OUT/NAME.txt --box=-1.5,1.5 --size 512`
 (the cities with `--box=-5.4,5.4,-5.4,5.4,-0.1,2`). The families:
 
-- the issue's table: p400, f1253, f2503, f12503;
+- the sums of bilinear products: p400, f1253, f2503, f12503;
 - 60 KB sums of one shape of term with random three-decimal constants:
   trig (sin·cos·sin products), gauss (Gaussians), spheres (a min of ball
   distances), coarse (a min of balls with one-decimal centres);
@@ -17,10 +15,10 @@ them with `isotrace render -f OUT/NAME.txt --box=-1.5,1.5 --size 512`
   quadrics), btree (a balanced min tree of boxes);
 - city4: four copies of @city's blocks, written out.
 """
+import argparse
 import os
 import re
 import random
-import sys
 
 LIMIT = 64 * 1024
 
@@ -145,7 +143,9 @@ def city4(root):
 
 
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else "/tmp/big-formulas"
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", nargs="?", default="/tmp/big-formulas", metavar="OUT", help="directory to write NAME.txt into, created if missing (default: %(default)s)")
+    out = parser.parse_args().out
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     os.makedirs(out, exist_ok=True)
     seen = set()

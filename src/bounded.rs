@@ -152,9 +152,20 @@ pub fn read_bytes(r: impl Read, limit: u64) -> Result<Vec<u8>, ReadError> {
     Ok(buf)
 }
 
-/// Reads all of `r` as UTF-8 text if it holds at most `limit` bytes.
+/// Reads all of `r` as UTF-8 text if it holds at most `limit` bytes. A
+/// byte-order mark at the start (which some editors write into UTF-8
+/// files) is dropped: it is not part of the text.
 pub fn read_text(r: impl Read, limit: u64) -> Result<String, ReadError> {
-    String::from_utf8(read_bytes(r, limit)?).map_err(|e| ReadError::NotUtf8 { offset: e.utf8_error().valid_up_to() })
+    text_of(read_bytes(r, limit)?)
+}
+
+/// `bytes` as UTF-8 text without a leading byte-order mark.
+fn text_of(bytes: Vec<u8>) -> Result<String, ReadError> {
+    let mut text = String::from_utf8(bytes).map_err(|e| ReadError::NotUtf8 { offset: e.utf8_error().valid_up_to() })?;
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
+    Ok(text)
 }
 
 /// Reads the regular file at `path` ([`open_regular`]) if it holds at most
@@ -168,9 +179,10 @@ pub fn read_file_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
     read_bytes(file, limit)
 }
 
-/// [`read_file_bytes`] as UTF-8 text.
+/// [`read_file_bytes`] as UTF-8 text (a leading byte-order mark dropped,
+/// as [`read_text`] does).
 pub fn read_file_text(path: &Path, limit: u64) -> Result<String, ReadError> {
-    String::from_utf8(read_file_bytes(path, limit)?).map_err(|e| ReadError::NotUtf8 { offset: e.utf8_error().valid_up_to() })
+    text_of(read_file_bytes(path, limit)?)
 }
 
 /// Whether `p`, as written in a file in `dir` (an `.iso` header's `env:`
@@ -232,6 +244,7 @@ mod tests {
         // An endless source ends after limit + 1 bytes.
         assert!(matches!(read_bytes(std::io::repeat(b'y'), 1000), Err(ReadError::TooLarge { limit: 1000 })));
         assert!(matches!(read_text(&b"a\xffb"[..], 10), Err(ReadError::NotUtf8 { offset: 1 })));
+        assert_eq!(read_text(&b"\xef\xbb\xbfx\xef\xbb\xbf"[..], 10).unwrap(), "x\u{feff}");
     }
 
     #[test]

@@ -189,32 +189,99 @@ impl<'a> Escaped<'a> {
     }
 }
 
-/// Edit distance, for "did you mean" suggestions.
+/// Edit distance, for "did you mean" suggestions. Two rows reused for the
+/// whole run: one allocation per call, not one per character of `a`.
 pub fn levenshtein(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut cur = vec![0; b.len() + 1];
     for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
+        cur[0] = i + 1;
         for (j, cb) in b.iter().enumerate() {
             let cost = usize::from(ca != *cb);
             cur[j + 1] = (prev[j] + cost).min(prev[j + 1] + 1).min(cur[j] + 1);
         }
-        prev = cur;
+        std::mem::swap(&mut prev, &mut cur);
     }
     prev[b.len()]
 }
 
+/// Longest name, in bytes, that [`closest`] looks for suggestions for: no
+/// name it is compared with is anywhere near as long, and an edit distance
+/// to a name of megabytes costs seconds for nothing.
+pub const MAX_SUGGESTED_NAME: usize = 64;
+
 /// The candidates closest to `name` (at most three, distance ≤ max(2, len/3)).
+/// None for a name longer than [`MAX_SUGGESTED_NAME`]; a candidate whose
+/// length alone differs by more than the limit is not compared.
 pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Vec<&'a str> {
+    if name.len() > MAX_SUGGESTED_NAME {
+        return vec![];
+    }
     let limit = (name.len() / 3).max(2);
+    let chars = name.chars().count();
     let mut scored: Vec<(usize, &str)> = candidates
         .into_iter()
+        .filter(|c| c.chars().count().abs_diff(chars) <= limit)
         .map(|c| (levenshtein(name, c), c))
         .filter(|(d, _)| *d <= limit)
         .collect();
     scored.sort();
     scored.dedup();
     scored.into_iter().take(3).map(|(_, c)| c).collect()
+}
+
+/// How many characters of user text a message quotes (see [`quote_user_text`]).
+pub const QUOTED_CHARS: usize = 60;
+
+/// User text (a name, a type, a key from a file or a request) for a
+/// message: in single quotes, every control character shown as a visible
+/// symbol (line breaks and tabs too, so the text cannot start a line of
+/// its own), and cut after `max` characters with an ellipsis and the
+/// text's length: `'aaaa…' (52428800 bytes)`. A message then stays one
+/// short line whatever the input holds.
+pub fn quote_user_text(s: &str, max: usize) -> String {
+    let (shown, cut) = visible_prefix(s, max);
+    if cut { format!("'{shown}…' ({} bytes)", s.len()) } else { format!("'{shown}'") }
+}
+
+/// [`quote_user_text`] without the quotes: `aaaa… (52428800 bytes)` when
+/// cut. `usize::MAX` keeps the whole text (a name from a report, printed
+/// in a table).
+pub fn user_text(s: &str, max: usize) -> String {
+    let (shown, cut) = visible_prefix(s, max);
+    if cut { format!("{shown}… ({} bytes)", s.len()) } else { shown }
+}
+
+/// The first `max` characters of `s` with control characters made
+/// visible, and whether `s` goes on.
+fn visible_prefix(s: &str, max: usize) -> (String, bool) {
+    let mut out = String::with_capacity(s.len().min(4 * max.min(1 << 20)));
+    let mut chars = s.chars();
+    for c in chars.by_ref().take(max) {
+        out.push(match c {
+            '\u{0}'..='\u{1f}' => char::from_u32(0x2400 + c as u32).unwrap_or('\u{fffd}'),
+            c => stand_in(c, None).unwrap_or(c),
+        });
+    }
+    (out, chars.next().is_some())
+}
+
+/// A number for a message, short whatever its size: `NaN`, `infinity`,
+/// five significant digits in exponent form from 1e16 on and below 1e-5
+/// (`1e308`, `2.6881e43`), as Rust writes it otherwise (`0.5`, `1200`).
+pub fn show_number(v: f64) -> String {
+    if v.is_nan() {
+        "NaN".into()
+    } else if v.is_infinite() {
+        if v > 0.0 { "infinity".into() } else { "-infinity".into() }
+    } else if v != 0.0 && (v.abs() >= 1e16 || v.abs() < 1e-5) {
+        let s = format!("{v:.4e}");
+        let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        format!("{}e{exp}", mant.trim_end_matches('0').trim_end_matches('.'))
+    } else {
+        format!("{v}")
+    }
 }
 
 /// A number for a message: at most 6 decimals, trailing zeros dropped, so
@@ -237,5 +304,23 @@ mod tests {
         let out = d.render("<f>", "x\x1b[31m + $", false);
         assert!(!out.contains('\x1b'), "{out}");
         assert!(out.contains("1 │ x\u{241b}[31m + $\n  │          ^ here"), "{out}");
+    }
+
+    #[test]
+    fn quoted_user_text_is_escaped_and_cut() {
+        assert_eq!(quote_user_text("sphere", 60), "'sphere'");
+        assert_eq!(quote_user_text("a\nb\x1b[2J\t", 60), "'a\u{240a}b\u{241b}[2J\u{2409}'");
+        assert_eq!(quote_user_text(&"é".repeat(10), 4), "'éééé…' (20 bytes)");
+        assert_eq!(quote_user_text("abcd", 4), "'abcd'");
+    }
+
+    #[test]
+    fn suggestions_skip_long_names_and_far_lengths() {
+        assert_eq!(closest("spher", ["sphere", "box", "shell"]), ["sphere"]);
+        assert!(closest(&"a".repeat(65), ["sphere"]).is_empty());
+        assert_eq!(levenshtein("kitten", "sitting"), 3);
+        assert_eq!(show_number(1e308), "1e308");
+        assert_eq!(show_number(-2.5e-7), "-2.5e-7");
+        assert_eq!(show_number(1200.5), "1200.5");
     }
 }

@@ -1,7 +1,8 @@
 //! Blobtree scenes against the oracles of `../shared/guide/blobtree-reference`
 //! (ported from test_lip.py, test_roi.py, test_sparse.py): the compact
 //! operators' continuity and Lipschitz factor, the per-node ROI property,
-//! the sparse traversal = masked evaluation bit for bit, ABV containment;
+//! the sparse traversal = masked evaluation bit for bit (within rounding
+//! for folded chains of unary nodes), ABV containment;
 //! and primitives against analytic values and against the formula path.
 
 mod scene_common;
@@ -413,4 +414,57 @@ fn compact_forms_refuse_a_discontinuous_range() {
         let p = [x, 0.3, 0.1, 0.0];
         assert_eq!(eval_scalar(&a.ir, p, &[]), eval_scalar(&b.ir, p, &[]));
     }
+}
+
+/// Chains of unary nodes are laid out folded (`scene/fold.rs`): the GPU
+/// tree is shorter, the sparse traversal over it gives the scene's values
+/// (up to the rounding of the merged parameters), and errors still name
+/// the scene's own nodes.
+#[test]
+fn unary_chains_are_laid_out_folded_with_the_scene_values_and_names() {
+    use isotrace::scene::Unary;
+    let mut b = Builder::default();
+    let mut s = b.primitive(Primitive::new(Shape::Sphere { radius: 0.5 }));
+    for _ in 0..1000 {
+        s = b.unary(Unary::Offset { distance: 0.0002 }, s);
+    }
+    s = b.unary(Unary::Shell { thickness: 0.1 }, s);
+    for _ in 0..100 {
+        s = b.unary(Unary::Offset { distance: 0.001 }, s);
+    }
+    let c = b.primitive(Primitive::new(Shape::Box { half: [0.3, 0.3, 0.3] }).translated([0.6, 0.0, 0.0]));
+    let c = b.unary(Unary::Offset { distance: 0.0 }, c);
+    let root = b.operator(Operator::UNION, s, c);
+    let scene = b.finish(root).unwrap();
+    let lin = Linear::new(&scene).unwrap();
+    // The sphere, one offset of 0.2, one shell of 0.3, the box, the union.
+    assert_eq!(lin.len(), 5);
+    assert_eq!(lin.order, [0, 1000, 1101, 1102, 1104]);
+    let mut rng = Rng::new(7);
+    for _ in 0..200 {
+        let p = [rng.range(-1.5, 1.5), rng.range(-1.5, 1.5), rng.range(-1.5, 1.5)];
+        let active = sparse::active_at(&lin, p);
+        let mut mask = vec![false; scene.len()];
+        for &k in &active {
+            mask[lin.order[k as usize]] = true;
+        }
+        let t = sparse::traverse(&lin, &scene, p, &active, Ancestors::Fast).unwrap();
+        match (t.value, scene.eval_masked(p, &mask)) {
+            (Some(v), Some(w)) => assert!((v - w).abs() < 1e-9, "{v} vs {w} at {p:?}"),
+            (v, w) => assert_eq!(v.is_some(), w.is_some(), "at {p:?}"),
+        }
+    }
+    // 32 differences nested on their right above three folded offsets of
+    // 0: the stack error names the scene's node, not the folded tree's.
+    let mut b = Builder::default();
+    let mut acc = b.primitive(Primitive::new(Shape::Sphere { radius: 1.0 }));
+    for _ in 0..3 {
+        acc = b.unary(Unary::Offset { distance: 0.0 }, acc);
+    }
+    for _ in 0..32 {
+        let l = b.primitive(Primitive::new(Shape::Sphere { radius: 1.0 }));
+        acc = b.operator(Operator::DIFFERENCE, l, acc);
+    }
+    let e = Linear::new(&b.finish(acc).unwrap()).unwrap_err().to_string();
+    assert!(e.starts_with("nodes[67]: evaluating it needs a stack of 33 values"), "{e}");
 }

@@ -245,7 +245,7 @@ fn messages_quote_user_text_cut_and_printable() {
     let r = s.request("GET", &path.replace('\x1b', "%1b"), b"");
     assert_eq!((r.status, r.error()), (404, format!("no such page or API: /{}… (307 bytes)", "a".repeat(199))));
     let flag = format!("--\x1b[2J{}", "b".repeat(1000));
-    assert_eq!(refused(&s, &["x", &flag]), bad(&format!("--?[2J{}… (1006 bytes) is not available in the viewer", "b".repeat(194))));
+    assert_eq!(refused(&s, &["x", &flag]), bad(&format!("--\u{241b}[2J{}… (1006 bytes) is not available in the viewer", "b".repeat(194))));
     let format = "g".repeat(1 << 20);
     let r = s.request("POST", "/api/render", serde_json::json!({ "args": ["@sphere"], "format": format }).to_string().as_bytes());
     assert_eq!((r.status, r.error()), (400, format!("unknown format '{}… (1048576 bytes)': png or exr", "g".repeat(200))));

@@ -65,17 +65,11 @@ impl std::fmt::Write for Fnv {
 
 /// Text read from a file (a device or surface name, a formula's origin, a
 /// frame's file name) as one line of a terminal or a report: every control
-/// character is made visible as [`crate::diag::escape_controls`] does, and
+/// character is made visible ([`crate::diag::user_text`]), and
 /// line breaks and tabs too, so the text can neither send escape sequences
 /// to a terminal nor pass for lines of the output.
 pub fn one_line(s: &str) -> String {
-    let stand_in = |c| match c {
-        '\n' => '\u{240a}',
-        '\r' => '\u{240d}',
-        '\t' => '\u{2409}',
-        c => c,
-    };
-    crate::diag::escape_controls(s).chars().map(stand_in).collect()
+    crate::diag::user_text(s, usize::MAX)
 }
 
 /// Sorted numbers as ranges, `0-3, 7, 9-10`: a list of missing frames stays

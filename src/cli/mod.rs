@@ -160,7 +160,7 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32
                 CliError::Rendered(d.render(&f.origin, &f.source, false))
             }
             SceneFieldError::NotSphere => CliError::Input(format!("--field scene: {e}; add --method sphere")),
-            SceneFieldError::Layout(_) => CliError::Input(format!("--field scene: {e}")),
+            SceneFieldError::Layout(_) => CliError::Input(format!("--field scene: in the scene the formula lowers to (`isotrace scene lower` writes it), {e}")),
         })?;
         if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
             o.lipschitz = o.lipschitz.max(lipschitz);
@@ -290,6 +290,10 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
 }
 
 fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
+    if let Some(p) = a.formula.scene_path() {
+        let p = p.display();
+        return Err(CliError::Input(format!("'{p}' is a scene file, not a formula: check it with `isotrace scene check {p}`")));
+    }
     let loaded = a.formula.load_with_header()?;
     let f = &loaded.formula;
     if let Some(user) = &loaded.inline {

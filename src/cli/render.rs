@@ -351,7 +351,29 @@ pub fn view_flags(view: &ViewArgs, mut v: View) -> Result<View, CliError> {
     }
     v.time = view.time.or(v.time);
     v.params.extend(parse_params(&view.params)?);
+    check_framing(view, &v)?;
     Ok(v)
+}
+
+/// Refuses a box too large to frame, naming the box: without --eye the
+/// eye is derived from it, and its own check would name --eye, which the
+/// user never gave.
+fn check_framing(view: &ViewArgs, v: &View) -> Result<(), CliError> {
+    let fov = v.fov.unwrap_or(isotrace::render::view::DEFAULT_FOV);
+    // A bad --fov is its own error (Camera::frame checks it first).
+    if v.eye.is_some() || !(fov > 0.0 && fov < 180.0) {
+        return Ok(());
+    }
+    let eye = isotrace::render::Camera::default_for(&v.bbox, fov, 1.0).eye;
+    if eye.is_finite() && eye.abs().max_element() < 1e30 {
+        return Ok(());
+    }
+    let what = match &view.bbox {
+        Some(b) => format!("invalid --box '{b}'"),
+        None => "invalid box in the .iso header".to_string(),
+    };
+    let at = eye.to_array().map(isotrace::diag::show_number).join(",");
+    Err(input(format!("{what}: too large to frame, the default eye would be at {at} (coordinates must be below 1e30); give a smaller box, or --eye")))
 }
 
 /// The budget, tile and debug flags on top of a view's settings, checked

@@ -41,6 +41,16 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
             format!("exhausted the iteration budget (--max-iter {})", s.max_iter),
             "the nearest cell that may hold the surface",
         ),
+        // A scene's step runs its tile's whole view: a long one spends the
+        // loop budget long before --max-steps.
+        Traversal::Sphere(o) if field == isotrace::field::FieldKind::Scene => (
+            format!(
+                "did not converge within --max-steps {} or the loop budget of {} iterations a pixel (each step evaluates the nodes of the tile's view of the scene)",
+                o.max_steps,
+                isotrace::layout::LOOP_LIMIT
+            ),
+            "their best candidate",
+        ),
         Traversal::Sphere(o) => (format!("did not converge within --max-steps {}", o.max_steps), "their best candidate"),
     };
     let drawn = match s.unresolved {

@@ -31,6 +31,7 @@ mod paths;
 mod write;
 pub use paths::{GridPathError, GridPaths};
 pub use write::to_json;
+pub(crate) use write::node_json;
 
 /// The format version this isotrace reads and writes.
 pub const VERSION: u64 = 1;
@@ -160,7 +161,7 @@ impl<'de> Visitor<'de> for FileVisitor<'_> {
                 "isotrace_scene" => version.replace(check_version(&map.next_value::<Value>()?).map_err(|e| fail(cell, e))?).is_some(),
                 "nodes" => nodes.replace(map.next_value_seed(NodesSeed { failure: cell, ctx: self.ctx })?).is_some(),
                 "root" => root.replace(index(&map.next_value::<Value>()?).map_err(|r| fail(cell, SceneError::new("root", r)))?).is_some(),
-                _ => return Err(fail(cell, SceneError::new(key, "unknown field; a scene file has isotrace_scene, nodes and root"))),
+                _ => return Err(fail(cell, SceneError::new(key_path(&key), "unknown field; a scene file has isotrace_scene, nodes and root"))),
             };
             if seen {
                 return Err(fail(cell, SceneError::new(key, "given twice")));
@@ -236,6 +237,21 @@ fn describe(v: &Value) -> String {
     }
 }
 
+/// A type name from the file, as a message quotes it: cut and escaped.
+fn quote(s: &str) -> String {
+    crate::diag::quote_user_text(s, crate::diag::QUOTED_CHARS)
+}
+
+/// A key from the file as the path of a message names it: as written when
+/// it is short and plain, else quoted, cut and escaped (a key can be
+/// megabytes long, and the path is printed whole).
+fn key_path(k: &str) -> std::borrow::Cow<'_, str> {
+    if k.chars().count() <= crate::diag::QUOTED_CHARS && !k.chars().any(char::is_control) {
+        return k.into();
+    }
+    quote(k).into()
+}
+
 /// A node index: a whole number ≥ 0.
 fn index(v: &Value) -> Result<usize, String> {
     v.as_u64().and_then(|n| usize::try_from(n).ok()).ok_or_else(|| format!("expected a node index (a whole number >= 0), found {}", describe(v)))
@@ -297,7 +313,7 @@ impl Fields<'_> {
     fn only(&self, ty: &str, allowed: &[&str]) -> Result<(), SceneError> {
         for k in self.obj.keys() {
             if k != "type" && !allowed.contains(&k.as_str()) {
-                return Err(self.err(k, format!("unknown field for a {ty}; expected {}", list(allowed))));
+                return Err(self.err(&key_path(k), format!("unknown field for a {ty}; expected {}", list(allowed))));
             }
         }
         Ok(())
@@ -399,7 +415,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         Some(n) => format!("did you mean '{n}'?"),
         None => format!("the types are {}", list(&names)),
     };
-    Err(f.err("type", format!("unknown type '{ty}'; {hint}")))
+    Err(f.err("type", format!("unknown type {}; {hint}", quote(ty))))
 }
 
 fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
@@ -500,7 +516,7 @@ fn profile(f: &Fields) -> Result<Profile, SceneError> {
                 Some(n) => format!("did you mean '{n}'?"),
                 None => format!("the profiles are {}", list(&Profile::NAMES)),
             };
-            return Err(p.err("type", format!("unknown profile '{s}'; {hint}")));
+            return Err(p.err("type", format!("unknown profile {}; {hint}", quote(s))));
         }
         Some(other) => return Err(p.err("type", format!("expected a profile name, found {}", describe(other)))),
         None => return Err(p.err("type", "missing")),
@@ -541,7 +557,7 @@ fn warp(f: &Fields) -> Result<Option<super::warp::Warp>, SceneError> {
     let obj = v.as_object().ok_or_else(|| f.err("warp", format!("expected a warp object, found {}", describe(v))))?;
     let w = Fields { i: f.i, obj, prefix: "warp." };
     let kind = match obj.get("type") {
-        Some(Value::String(s)) => WarpKind::parse(s).ok_or_else(|| w.err("type", format!("unknown warp '{s}'; the warps are twist and bend")))?,
+        Some(Value::String(s)) => WarpKind::parse(s).ok_or_else(|| w.err("type", format!("unknown warp {}; the warps are twist and bend", quote(s))))?,
         Some(other) => return Err(w.err("type", format!("expected a warp name, found {}", describe(other)))),
         None => return Err(w.err("type", "missing")),
     };

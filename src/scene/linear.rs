@@ -95,20 +95,52 @@ pub struct Linear {
     pub features: u32,
     /// The Lipschitz bound the field is traced with ([`Linear::lipschitz`]).
     lipschitz: f64,
+    /// The unary nodes that stand for a merged chain, by post-order index
+    /// (ascending), with the operation of the whole chain.
+    folded: Vec<(u32, Unary)>,
 }
 
 impl Linear {
-    /// Linearises `scene`; refuses a scene whose evaluation would need more
-    /// than [`MAX_STACK`] values (the error names the lowest node that does).
+    /// Linearises `scene`, its chains of unary nodes folded
+    /// ([`fold`](super::fold)); refuses a scene whose evaluation would need
+    /// more than [`MAX_STACK`] values (the error names the lowest node that
+    /// does), one with more than [`MAX_UNPRUNED_DEPTH`](super::fold::MAX_UNPRUNED_DEPTH)
+    /// unprunable nodes above a primitive, and one whose bounds reach
+    /// beyond [`MAX_EXTENT`](super::extent::MAX_EXTENT). Errors name the
+    /// scene's own nodes; [`Linear::order`] holds them too (a merged
+    /// chain: its top node).
     pub fn new(scene: &Scene) -> Result<Linear, SceneError> {
-        let (swap, stack_depth) = operand_order(scene)?;
+        let scene_roi = roi::ranges(scene);
+        super::extent::check(scene, &scene_roi)?;
+        let Some(folded) = super::fold::fold(scene) else {
+            return Linear::build(scene, scene_roi, &|i| i);
+        };
+        let (tree, origin) = (&folded.scene, &folded.origin);
+        let mut lin = Linear::build(tree, roi::ranges(tree), &|i| origin[i])?;
+        for (k, &i) in lin.order.iter().enumerate() {
+            if let Node::Unary { op, .. } = tree.nodes()[i] {
+                if !matches!(scene.nodes()[origin[i]], Node::Unary { op: own, .. } if own == op) {
+                    lin.folded.push((k as u32, op));
+                }
+            }
+        }
+        for i in &mut lin.order {
+            *i = origin[*i];
+        }
+        Ok(lin)
+    }
+
+    /// [`Linear::new`] of a tree that folds no further, with its ranges of
+    /// interest; `name` gives the scene node of a node of `scene`.
+    fn build(scene: &Scene, scene_roi: Vec<Roi>, name: &dyn Fn(NodeId) -> NodeId) -> Result<Linear, SceneError> {
+        super::fold::check_depth(scene, &scene_roi, name)?;
+        let (swap, stack_depth) = operand_order(scene).map_err(|(i, e)| SceneError::at(name(i), "", e))?;
         let order = ordered_post(scene, &swap);
         let n = order.len();
         let mut index = vec![0u32; n];
         for (k, &i) in order.iter().enumerate() {
             index[i] = k as u32;
         }
-        let scene_roi = roi::ranges(scene);
         let bounds = roi::bounds(scene, &scene_roi);
         let mut lin = Linear {
             nodes: Vec::with_capacity(n),
@@ -126,9 +158,10 @@ impl Linear {
             features: features(scene),
             lipschitz: lipschitz_bound(scene),
             order,
+            folded: Vec::new(),
         };
         if !lin.lipschitz.is_finite() {
-            return Err(unbounded_slope(scene));
+            return Err(unbounded_slope(scene, name));
         }
         lin.link(scene, &index, &swap);
         lin.fast = fast_ancestors(&lin.parent, &lin.is_left, &lin.order, scene);
@@ -268,6 +301,12 @@ impl Linear {
         self.lipschitz
     }
 
+    /// The operation of unary node `k` when it stands for a merged chain
+    /// of the scene's ([`Linear::new`]); None: the scene node's own.
+    pub fn folded_unary(&self, k: u32) -> Option<Unary> {
+        self.folded.binary_search_by_key(&k, |e| e.0).ok().map(|j| self.folded[j].1)
+    }
+
     /// Whether node `k` is a unary node.
     pub fn is_unary(&self, k: u32) -> bool {
         is_unary_code((self.nodes[k as usize][0] >> NODE_TYPE_SHIFT) & NODE_TYPE_MASK)
@@ -275,7 +314,7 @@ impl Linear {
 }
 
 /// For every operator, whether to swap its operands, and the root's stack need.
-fn operand_order(scene: &Scene) -> Result<(Vec<bool>, u32), SceneError> {
+fn operand_order(scene: &Scene) -> Result<(Vec<bool>, u32), (NodeId, String)> {
     let nodes = scene.nodes();
     let mut need = vec![1u32; nodes.len()];
     let mut swap = vec![false; nodes.len()];
@@ -291,9 +330,8 @@ fn operand_order(scene: &Scene) -> Result<(Vec<bool>, u32), SceneError> {
             }
             need[i] = l.max(r + 1);
             if need[i] > MAX_STACK {
-                return Err(SceneError::at(
+                return Err((
                     i,
-                    "",
                     format!(
                         "evaluating it needs a stack of {} values, above the limit of {MAX_STACK}: differences nested in their right operand cannot be reordered; nest them on the left",
                         need[i]
@@ -395,17 +433,17 @@ fn features(scene: &Scene) -> u32 {
 /// The error for a scene whose traced bound overflowed: it names the first
 /// primitive whose own bound did (a density's range against its radius, a
 /// warp's rate against its radius), or the scene.
-fn unbounded_slope(scene: &Scene) -> SceneError {
+fn unbounded_slope(scene: &Scene, name: &dyn Fn(NodeId) -> NodeId) -> SceneError {
     let reason = "its Lipschitz bound is not finite, so sphere tracing could not take a step";
     for &i in scene.post_order() {
         if let Node::Primitive(p) = &scene.nodes()[i] {
             if let Shape::Density { radius, iso, range, .. } = p.shape {
                 if !crate::sdf::density_lipschitz(radius, iso, range).is_finite() {
-                    return SceneError::at(i, "range", reason);
+                    return SceneError::at(name(i), "range", reason);
                 }
             }
             if !p.warp.map_or(1.0, |w| w.lipschitz()).is_finite() {
-                return SceneError::at(i, "warp.rate", reason);
+                return SceneError::at(name(i), "warp.rate", reason);
             }
         }
     }

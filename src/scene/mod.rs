@@ -14,7 +14,9 @@
 //! - [`roi`]: ranges of interest, augmented bounding volumes, Lipschitz
 //!   bounds;
 //! - [`linear`], [`rows`], [`patch`]: the post-order buffers the GPU reads,
-//!   their parameter rows, edits in place;
+//!   their parameter rows, edits in place; [`fold`]: chains of unary nodes
+//!   merged for them, and the depth the GPU evaluates; [`extent`]: how far
+//!   out a scene may reach;
 //! - [`sparse`]: the sparse bottom-up traversal, the GPU's oracle;
 //! - [`generate`]: the paper's synthetic scenes (Fig. 16, Fig. 18);
 //! - [`formula`]: the same field as formula text, for the compiled path;
@@ -33,6 +35,8 @@
 pub mod blob;
 pub mod codes;
 pub mod eval;
+pub mod extent;
+pub mod fold;
 pub mod format;
 pub mod frame;
 pub mod formula;
@@ -67,7 +71,9 @@ pub const MAX_NODES: usize = 4_000_000;
 /// The deepest tree accepted, in nodes from the root to a leaf. Every
 /// algorithm here is iterative (a left comb of 111,110 primitives is 111,110
 /// deep), so depth is limited only by the node count; what the GPU needs
-/// bounded is the evaluation stack, see [`linear::MAX_STACK`].
+/// bounded is the evaluation stack ([`linear::MAX_STACK`]) and the nodes
+/// above a primitive that no pruned view leaves out, unary ones mostly
+/// ([`fold::MAX_UNPRUNED_DEPTH`], after merging chains of them).
 pub const MAX_DEPTH: usize = MAX_NODES;
 
 /// A node's index in [`Scene::nodes`].

@@ -7,7 +7,9 @@
 //! This is the CPU port the GPU traversal is checked against. It equals the
 //! masked evaluation ([`Scene::eval_masked`]) bit for bit, with parent or
 //! fast ancestors, directly or through the view (tests/scene_model.rs), and
-//! its stack is empty at the end.
+//! its stack is empty at the end; a chain of unary nodes the layout merged
+//! (`fold.rs`) runs as one node, so there only up to the rounding of the
+//! merged parameter.
 //!
 //! The loop, for each active primitive b in index order, climbs from b:
 //! the next node is a = ANC(b), clamped to the ancestor of the stack top;
@@ -85,6 +87,9 @@ pub fn operator_at(lin: &Linear, scene: &Scene, m: u32) -> Operator {
 
 /// The unary node at post-order index `m`.
 pub fn unary_at(lin: &Linear, scene: &Scene, m: u32) -> Unary {
+    if let Some(op) = lin.folded_unary(m) {
+        return op;
+    }
     match scene.nodes()[lin.order[m as usize]] {
         Node::Unary { op, .. } => op,
         _ => unreachable!("node {m} is not a unary node"),

@@ -1,8 +1,8 @@
 //! The semantic pass's errors and how they read.
 
 use super::{sdf, MAX_EXPONENT, MAX_NODES};
+use crate::diag::{quote_user_text, show_number, Diagnostic, Span, QUOTED_CHARS};
 use crate::syntax::function_names;
-use crate::diag::{Diagnostic, Span};
 
 /// Errors of the semantic pass.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,54 +42,51 @@ impl SemaError {
     pub fn to_diagnostic(&self) -> Diagnostic {
         match self {
             SemaError::UnknownFunction { name, span, suggestions } => {
-                let d = Diagnostic::error(format!("unknown function '{name}'"), *span, "not a function");
+                let d = Diagnostic::error(format!("unknown function {}", quote_name(name)), *span, "not a function");
                 match suggestions.as_slice() {
-                    [] => d
-                        .with_note(format!("functions: {}", function_names().join(" ")))
-                        .with_note(format!("for a product write `{name}*(...)`")),
+                    [] => product_note(d.with_note(format!("functions: {}", function_names().join(" "))), name),
                     s => d.with_note(format!("did you mean {}?", quote_list(s))),
                 }
             }
             SemaError::NotAFunction { name, span } => {
-                Diagnostic::error(format!("'{name}' is not a function"), *span, "called here")
-                    .with_note(format!("for a product write `{name}*(...)`"))
+                product_note(Diagnostic::error(format!("{} is not a function", quote_name(name)), *span, "called here"), name)
             }
             SemaError::FunctionAsValue { name, span } => {
-                Diagnostic::error(format!("function '{name}' used without arguments"), *span, "expected '(' after this")
+                Diagnostic::error(format!("function {} used without arguments", quote_name(name)), *span, "expected '(' after this")
                     .with_note(format!("call it: `{name}(x)`"))
             }
             SemaError::Arity { name, expected, found, span } => Diagnostic::error(
-                format!("wrong number of arguments to '{name}': expected {expected}, found {found}"),
+                format!("wrong number of arguments to {}: expected {expected}, found {found}", quote_name(name)),
                 *span,
                 format!("{found} argument{}", if *found == 1 { "" } else { "s" }),
             ),
             SemaError::Redefinition { name, previous, current } => {
-                Diagnostic::error(format!("redefinition of '{name}'"), *current, "defined again here")
+                Diagnostic::error(format!("redefinition of {}", quote_name(name)), *current, "defined again here")
                     .with_label(*previous, "first defined here")
             }
             SemaError::UseBeforeDefinition { name, used, defined } => {
-                Diagnostic::error(format!("'{name}' is used before its definition"), *used, "used here")
+                Diagnostic::error(format!("{} is used before its definition", quote_name(name)), *used, "used here")
                     .with_label(*defined, "defined here")
                     .with_note("move the definition above its first use")
             }
             SemaError::SelfReference { name, used, defined } => {
-                Diagnostic::error(format!("'{name}' is used in its own definition"), *used, "used here")
+                Diagnostic::error(format!("{} is used in its own definition", quote_name(name)), *used, "used here")
                     .with_label(*defined, "defined here")
                     .with_note("a definition can only use names defined above it")
             }
             SemaError::Reserved { name, span } => {
-                Diagnostic::error(format!("cannot define '{name}': the name is reserved"), *span, "reserved name")
+                Diagnostic::error(format!("cannot define {}: the name is reserved", quote_name(name)), *span, "reserved name")
                     .with_note("x y z t w pi e and the function names cannot be redefined")
             }
             SemaError::NotFinite { span, value } => Diagnostic::error(
-                format!("constant expression evaluates to {}", show_value(*value)),
+                format!("constant expression evaluates to {}", show_number(*value)),
                 *span,
                 if value.is_finite() { "beyond the 32-bit float range" } else { "not a finite number" },
             )
             .with_note("constants must be finite and within the f32 range (|c| < 3.4e38)"),
             SemaError::NumberOutOfRange { span, value } => Diagnostic::error(
                 match value.is_finite() {
-                    true => format!("number {} is too large for a 32-bit float", show_value(*value)),
+                    true => format!("number {} is too large for a 32-bit float", show_number(*value)),
                     false => "number too large for a 32-bit float".to_string(),
                 },
                 *span,
@@ -116,20 +113,18 @@ impl SemaError {
     }
 }
 
-/// A value for a message: `NaN`, `infinity`, `1e39`, `0.5`.
-pub(super) fn show_value(v: f64) -> String {
-    if v.is_nan() {
-        "NaN".into()
-    } else if v.is_infinite() {
-        if v > 0.0 { "infinity".into() } else { "-infinity".into() }
-    } else if v != 0.0 && (v.abs() >= 1e16 || v.abs() < 1e-5) {
-        // Five significant digits: 2.6881e43, 1e39.
-        let s = format!("{v:.4e}");
-        let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
-        format!("{}e{exp}", mant.trim_end_matches('0').trim_end_matches('.'))
-    } else {
-        format!("{v}")
+/// A name from the formula as a message quotes it (cut, escaped).
+pub(super) fn quote_name(name: &str) -> String {
+    quote_user_text(name, QUOTED_CHARS)
+}
+
+/// `d` with the hint to write a product, when the name is short enough to
+/// be written out in it.
+fn product_note(d: Diagnostic, name: &str) -> Diagnostic {
+    if name.chars().count() > QUOTED_CHARS {
+        return d;
     }
+    d.with_note(format!("for a product write `{name}*(...)`"))
 }
 
 pub(super) fn quote_list(s: &[String]) -> String {

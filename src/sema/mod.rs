@@ -19,7 +19,7 @@ mod chains;
 mod error;
 mod terms;
 pub use error::SemaError;
-use error::{quote_list, show_value};
+use error::{quote_list, quote_name};
 
 /// Largest integer exponent accepted by `^`.
 pub const MAX_EXPONENT: u32 = 4096;
@@ -517,15 +517,17 @@ pub fn bind_params(ir: &Ir, given: &[(String, f64)]) -> Result<(Vec<f32>, Vec<Di
             Some(&(_, v)) if v.is_finite() && (v as f32).is_finite() => values.push(v as f32),
             Some(&(_, v)) => {
                 return Err(Diagnostic::error(
-                    format!("value {} of parameter '{name}' is not a finite 32-bit float", show_value(v)),
+                    format!("value {} of parameter {} is not a finite 32-bit float", crate::diag::show_number(v), quote_name(name)),
                     *span,
                     "parameter used here",
                 )
                 .with_note("parameter values must be finite and within the f32 range (|v| < 3.4e38)"));
             }
             None => {
-                let mut d = Diagnostic::error(format!("missing value for parameter '{name}'"), *span, "free name, so a parameter")
-                    .with_note(format!("give it a value on the command line: --param {name}=1.0"));
+                let mut d = Diagnostic::error(format!("missing value for parameter {}", quote_name(name)), *span, "free name, so a parameter");
+                if name.len() <= crate::diag::QUOTED_CHARS {
+                    d = d.with_note(format!("give it a value on the command line: --param {name}=1.0"));
+                }
                 let lower = name.to_ascii_lowercase();
                 if lower != *name && (VARIABLES.iter().any(|(v, _)| *v == lower) || matches!(lower.as_str(), "pi" | "e")) {
                     d = d.with_note(format!("did you mean '{lower}'? names are case-sensitive"));
@@ -542,7 +544,7 @@ pub fn bind_params(ir: &Ir, given: &[(String, f64)]) -> Result<(Vec<f32>, Vec<Di
             continue;
         }
         warned.push(n);
-        let mut d = Diagnostic::plain(format!("parameter '{n}' is given with --param but the formula does not use it"));
+        let mut d = Diagnostic::plain(format!("parameter {} is given with --param but the formula does not use it", quote_name(n)));
         d.severity = crate::diag::Severity::Warning;
         let near: Vec<String> = names
             .iter()

@@ -43,7 +43,7 @@ impl Tok {
     pub fn describe(&self, text: &str) -> String {
         match self {
             Tok::Eof => "end of formula".to_string(),
-            _ => format!("'{text}'"),
+            _ => crate::diag::quote_user_text(text, crate::diag::QUOTED_CHARS),
         }
     }
 }

@@ -61,7 +61,7 @@ impl SyntaxError {
                 }
             }
             SyntaxError::Lex(LexError::InvalidNumber { text, span }) => {
-                Diagnostic::error(format!("invalid number '{text}'"), *span, "not a number")
+                Diagnostic::error(format!("invalid number {}", crate::diag::quote_user_text(text, crate::diag::QUOTED_CHARS)), *span, "not a number")
                     .with_note("numbers look like 2, 0.5, .5, 1e-3 or 2.5E+4")
             }
             SyntaxError::Expected { expected, found, span, hint } => {

@@ -36,14 +36,11 @@ fn served_index() -> String {
 pub const QUOTE_CHARS: usize = 200;
 
 /// User text (a path, a flag, a header) as a message may quote it:
-/// control characters as `?`, and past [`QUOTE_CHARS`] characters cut,
+/// control characters shown as symbols ([`crate::diag::user_text`]), and
+/// past [`QUOTE_CHARS`] characters cut,
 /// with the whole text's length: `abc… (52428800 bytes)`.
 pub fn printable(text: &str) -> String {
-    let mut out: String = text.chars().take(QUOTE_CHARS).map(|c| if c.is_control() { '?' } else { c }).collect();
-    if text.chars().nth(QUOTE_CHARS).is_some() {
-        out.push_str(&format!("… ({} bytes)", text.len()));
-    }
-    out
+    crate::diag::user_text(text, QUOTE_CHARS)
 }
 
 /// Export failures.

@@ -32,7 +32,7 @@ fn transform_json(t: &Transform) -> String {
 }
 
 /// One node as a JSON object on one line.
-fn node_json(n: &Node) -> String {
+pub(crate) fn node_json(n: &Node) -> String {
     let mut s = String::from("{");
     match n {
         Node::Primitive(p) => {
