@@ -472,3 +472,44 @@ fn pixels_past_the_loops_work_limit_are_named_in_the_warning() {
         "{e}"
     );
 }
+
+/// The one line on stderr a command prints when it succeeds, without its
+/// seconds: `wrote P (64×48, ` of `wrote P (64×48, 0.21 s)`.
+fn success_line(o: &Output) -> String {
+    let err = stderr(o);
+    let line = err.strip_suffix(" s)\n").unwrap_or_else(|| panic!("one success line: {err:?}"));
+    let (start, seconds) = line.rsplit_once(", ").unwrap_or_else(|| panic!("seconds in {err:?}"));
+    assert!(seconds.parse::<f64>().is_ok_and(|t| t >= 0.0) && !start.contains('\n'), "{err:?}");
+    start.to_string()
+}
+
+#[test]
+fn success_is_one_line_on_stderr_and_quiet_silences_it() {
+    let png = tmp("said.png");
+    let p = png.to_str().unwrap();
+    let o = isotrace(&["render", "@sphere", "--size", "64x48", "-o", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!((o.stdout.as_slice(), success_line(&o)), (&b""[..], format!("wrote {p} (64×48")));
+    for quiet in ["--quiet", "-q"] {
+        let o = isotrace(&["render", "@sphere", "--size", "64x48", "-o", p, quiet]);
+        assert!(o.status.success() && o.stdout.is_empty() && o.stderr.is_empty(), "{quiet}: {}", stderr(&o));
+    }
+    let wgsl = tmp("said.wgsl");
+    let o = isotrace(&["-q", "wgsl", "@sphere", "-o", wgsl.to_str().unwrap()]);
+    assert!(o.status.success() && o.stderr.is_empty(), "{}", stderr(&o));
+    let o = isotrace(&["wgsl", "@sphere", "-o", wgsl.to_str().unwrap()]);
+    let lines = std::fs::read_to_string(&wgsl).unwrap().lines().count();
+    assert_eq!(success_line(&o), format!("wrote {} ({lines} lines of WGSL", wgsl.display()));
+    // Image data on stdout: the line names it, on stderr.
+    let o = isotrace(&["render", "@sphere", "--size", "16", "-o", "-"]);
+    assert!(o.stdout.starts_with(b"\x89PNG"), "{}", stderr(&o));
+    assert_eq!(success_line(&o), "wrote standard output (16×16");
+    let dir = tmp("said-frames");
+    std::fs::create_dir_all(&dir).unwrap();
+    let pat = dir.join("f_%d.png");
+    let o = isotrace(&["render", "@water", "--size", "16", "--frames", "2", "-o", pat.to_str().unwrap()]);
+    assert_eq!(success_line(&o), "wrote 2 frames (16×16");
+    // Warnings still print under --quiet.
+    let o = isotrace(&["render", "x^2+y^2-z^2-0.1", "--method", "sphere", "--size", "32", "-o", p, "-q"]);
+    assert!(o.status.success() && stderr(&o).starts_with("warning: "), "{}", stderr(&o));
+}

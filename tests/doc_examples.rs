@@ -15,7 +15,7 @@
 //!   `--markdown`, `--out`, `--json FILE` of `bench` and `manifest merge`, a frame pattern with
 //!   `--frames`, a `>` redirection) must exist and not be empty afterwards.
 //! - `isotrace view` without `--export` serves until stopped: it runs with `--port 0` (a given
-//!   `--port` and `--open` are dropped), must print its URL and answer `GET /` with 200, and is then
+//!   `--port` and `--open` are dropped), must print its URL and answer a GET of it with 200, and is then
 //!   stopped.
 //! - A block after a line `<!-- doc-test: parse-only: REASON -->` (an hour-long benchmark, a cluster,
 //!   files from elsewhere) is not run: each `isotrace` command of it must parse, checked by running it
@@ -270,7 +270,7 @@ fn serve(dir: &Path, args: &[String]) -> Result<(), String> {
     std::thread::spawn(move || {
         for line in BufReader::new(stdout).lines().map_while(Result::ok) {
             if let Some(url) = line.strip_prefix("isotrace view: http://") {
-                let _ = tx.send(url.trim_end_matches('/').to_string());
+                let _ = tx.send(url.to_string());
                 return;
             }
         }
@@ -287,10 +287,12 @@ fn serve(dir: &Path, args: &[String]) -> Result<(), String> {
     result.map_err(|e| format!("{e}; stderr:\n{stderr}"))
 }
 
-fn get_root(addr: &str) -> Result<(), String> {
+/// `GET` of the printed URL (`HOST:PORT/?token=…`), as a browser opens it.
+fn get_root(url: &str) -> Result<(), String> {
+    let (addr, path) = url.split_once('/').map_or((url, String::from("/")), |(a, p)| (a, format!("/{p}")));
     let mut s = std::net::TcpStream::connect(addr).map_err(|e| format!("cannot connect to {addr}: {e}"))?;
     s.set_read_timeout(Some(SERVE_TIMEOUT)).unwrap();
-    write!(s, "GET / HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
     let mut status = String::new();
     BufReader::new(s).read_line(&mut status).map_err(|e| format!("no answer from {addr}: {e}"))?;
     if status.starts_with("HTTP/1.1 200") { Ok(()) } else { Err(format!("GET / answered '{}'", status.trim())) }

@@ -153,6 +153,12 @@ impl Animation<'_> {
         }
         m.finished = Some(isotrace::bench::utc_now());
         write_manifest(&path, &m)?;
+        let rendered = m.frames.iter().filter(|f| matches!(f.status, FrameStatus::Rendered)).count();
+        let skipped = m.frames.len() - rendered;
+        let kept = if skipped > 0 { format!("{skipped} already there, ") } else { String::new() };
+        let manifest = path.as_ref().map_or(String::new(), |p| format!(" and the manifest {}", p.display()));
+        let what = format!("wrote {rendered} frames{manifest}");
+        super::notice::done(&isotrace::diag::user_text(&what, 400), &format!("{kept}{}", super::notice::size(s.width, s.height)));
         Ok((last, heat_max))
     }
 }

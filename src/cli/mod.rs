@@ -9,6 +9,7 @@ mod eval;
 mod frames;
 mod input;
 mod modality;
+mod notice;
 mod render;
 mod report;
 mod scene;
@@ -33,6 +34,9 @@ Formulas compile to WGSL interval / reduced-affine evaluators, validated by naga
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print nothing on success (warnings and errors still print).
+    #[arg(long, short = 'q', global = true)]
+    quiet: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -273,6 +277,7 @@ impl From<validate::ValidateError> for CliError {
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
+    notice::begin(cli.quiet);
     memory_budget_from_env()?;
     match cli.command {
         Command::Check(a) => check(a),
@@ -419,7 +424,10 @@ fn validate_generated(src: &str, f: &isotrace::Formula) -> Result<(), CliError> 
 /// Writes a validated shader to `output` or stdout.
 fn write_wgsl(src: String, output: Option<std::path::PathBuf>) -> Result<ExitCode, CliError> {
     match output {
-        Some(path) => input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?,
+        Some(path) => {
+            input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?;
+            notice::wrote(&path, &format!("{} lines of WGSL", src.lines().count()));
+        }
         None => {
             let _ = std::io::stdout().lock().write_all(src.as_bytes());
         }

@@ -575,6 +575,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
             let mut frame = super::with_render_note(what, || r.render(&s)).map_err(super::render_error)?;
             let heat_max = output::recolor(&mut frame, color);
             output::write_frame(path, &frame).map_err(super::output_error)?;
+            super::notice::wrote(path, &super::notice::size(frame.width, frame.height));
             (Some(frame), heat_max)
         }
         _ => (None, None),

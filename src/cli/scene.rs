@@ -141,7 +141,7 @@ fn lower(a: LowerArgs) -> Result<ExitCode, CliError> {
     let json = format::to_json(&scene);
     if write_scene(&a.output, &json)? {
         let sm = scene.summary();
-        println!("wrote {}: {} primitives, {} nodes", a.output.display(), sm.primitives, sm.nodes);
+        super::notice::wrote(&a.output, &format!("{} primitives, {} nodes", sm.primitives, sm.nodes));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -202,7 +202,7 @@ fn generate_scene(a: GenArgs) -> Result<ExitCode, CliError> {
         Blending::SmoothInside => "smooth inside",
         Blending::Smooth => "smooth",
     };
-    println!("wrote {}: {} level {level}, {name}, {} primitives, {} nodes", a.output.display(), k.name(), scene.primitive_count(), scene.len());
+    super::notice::wrote(&a.output, &format!("{} level {level}, {name}, {} primitives, {} nodes", k.name(), scene.primitive_count(), scene.len()));
     Ok(ExitCode::SUCCESS)
 }
 

@@ -108,6 +108,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     let mut frame = renderer.render(&s).map_err(super::render_error)?;
     let heat_max = output::recolor(&mut frame, color);
     output::write_frame(out, &frame).map_err(super::output_error)?;
+    super::notice::wrote(out, &super::notice::size(frame.width, frame.height));
     report_sphere(a, &frame, &s, &o, &gpu, "scene");
     if a.stats {
         eprintln!("scene: {} nodes, {} primitives", lin.nodes.len(), lin.primitives.len());

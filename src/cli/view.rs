@@ -382,7 +382,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
         merge(&mut start, json!({ "server": false }));
         let page = isotrace::view::page::export(&start).map_err(|e| CliError::Internal(e.to_string()))?;
         super::input::write_atomic(path, page.as_bytes()).map_err(CliError::Input)?;
-        eprintln!("wrote {} (a static page: serve it over http(s), e.g. python3 -m http.server; WebGPU needs a secure context)", path.display());
+        super::notice::wrote(path, "a page that needs no server: open it in a browser with WebGPU");
         return Ok(ExitCode::SUCCESS);
     }
     if !is_loopback(&a.host) {
