@@ -23,10 +23,11 @@ use std::ops::Range;
 /// code ([`Kernel::code_bytes`]: comment lines, which cost the driver
 /// nothing, aside), about 3 times the largest catalog kernel (`@city` with
 /// RAA, 156 KB).
-/// lavapipe's compile time grows faster than the shader (`@creature` at
-/// 126 KB takes minutes, a 757 KB kernel did not finish in 13 minutes), so
-/// past this a render would sit silent for a very long time; a formula
-/// that gets here is one to simplify.
+/// lavapipe's compile time grows faster than the shader (the largest
+/// catalog kernels already take long, and a kernel half again past this
+/// limit did not finish at all in a long wait), so past this a render
+/// would sit silent for a very long time; a formula that gets here is one
+/// to simplify.
 pub const MAX_SHADER_BYTES: usize = 500_000;
 
 /// An assembled render kernel.
@@ -106,10 +107,9 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
 /// The largest compiled formula (live IR nodes, `isotrace check`'s
 /// operations) whose bisection kernel gets the two-point root search by
 /// default. A big f keeps the core busy on its own, so the second point
-/// costs nearly what the first does: at 1024² `@creature` (454 nodes) is
-/// faster with two points (137-142 against 147-149 ms), `@city` (678)
-/// slower (412-426 against 406-409 ms). Its second copy of f in the kernel
-/// adds little to the compile (`@city`'s `main` 282 → 292-305 ms).
+/// costs nearly what the first does: `@creature` (454 nodes) renders
+/// faster with two points, `@city` (678) a little slower. A second copy of
+/// f costs little compile.
 pub const PAIR_MAX_NODES: usize = 500;
 
 /// Whether bisecting `field` closes in on roots two points a step
@@ -129,12 +129,12 @@ fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
 /// field's work limit stopped (`gpu::renderer` runs them): an interpreted
 /// field, and a compiled formula with rerolled loops and no per-tile term
 /// lists (sums), whose loops count against the same limit. Each call site
-/// of f is a copy of its loops for lavapipe to compile: one site took the
-/// 12,503-operation sum's cold 512² frame 2.32 → 1.97-2.00 s and the
-/// 1,000-term `sin·cos·sin` sum's 13.1 → 11.9-12.1 s. A listed union keeps the inline
-/// cells: their scalar points are on the ray, where its squares come from
-/// their polynomials along it (`ray_forms`), and from one call site they
-/// are not (1,212 ball distances: 2.22 → 3.09-3.11 s, alternating).
+/// of f is a copy of its loops for lavapipe to compile, so one site
+/// brings a long looped sum's cold first frame noticeably sooner. A listed
+/// union keeps the inline cells: their scalar points are on the ray, where
+/// its squares come from their polynomials along it (`ray_forms`), and
+/// from one call site they are not (a union of a thousand ball distances
+/// renders markedly slower from one site).
 pub fn one_call_site(field: FieldSource<'_>) -> bool {
     match field {
         FieldSource::Tape(_) => true,

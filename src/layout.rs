@@ -1,7 +1,7 @@
 //! The data the host and the kernels share, defined once, in Rust: the
 //! uniform blocks (as `#[repr(C)]` structs whose WGSL declarations are
 //! generated from the same field list) and the constants both sides use
-//! (flag bits, pixel status codes, colour modes). [`wgsl_prelude`] is what
+//! (flag bits, pixel status codes, colour modes). [`wgsl_constants`] is what
 //! code generation splices in front of every render kernel; the test
 //! `uniform_layouts_match_naga` checks the generated WGSL against Rust's
 //! layout with naga, so the two can never drift apart.

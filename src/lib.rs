@@ -111,27 +111,24 @@ impl Formula {
 ///
 /// Reduced affine arithmetic keeps the ray depth as a symbol, so correlated
 /// terms cancel (x^4 - 5x^2 of the tangle cube, the factors of the Barth
-/// and Mitchell surfaces). Measured on the Knoll suite at 1024² (README),
-/// RAA is faster for polynomials of degree 4 to 10: 1.2-1.7x (Barth decic
-/// 483 → 287 ms). It loses elsewhere:
-/// - degree 2: fewer evaluations (1.42 vs 1.53 per pixel on the sphere)
-///   but each costs more, 75 vs 64 ms;
-/// - degree 12 and up, or a power of 16 and up: its error terms grow
-///   (decocube 141 → 179 ms, 4-bretzel 93 → 104 ms, superquadric x^200
-///   156 ms → 6.6 s, as Knoll et al. also found);
+/// and Mitchell surfaces). On the Knoll suite RAA is the faster for
+/// polynomials of degree 4 to 10 (chosen by measurement on lavapipe,
+/// docs/benchmarks.md). It loses elsewhere:
+/// - degree 2: fewer evaluations a pixel, but each costs more;
+/// - degree 12 and up, or a power of 16 and up: its error terms grow (the
+///   decocube, the 4-bretzel, and far worse the superquadric x^200, as
+///   Knoll et al. also found);
 /// - transcendental functions, division, min/max/abs (CSG): RAA goes
-///   through IA for them at extra cost (cloth 210 → 239 ms, sq.csg
-///   96 → 164 ms).
+///   through IA for them at extra cost (cloth, sq.csg).
 ///
 /// Since IA bisection takes polynomial nodes of degree 3 to 6 from their
 /// polynomials along the ray (`field::compiled::ray_polys`), which keeps what RAA
 /// kept and more, IA is the faster of the two on a small formula with such
-/// nodes: the Barth decic 58.7-61.1 → 43.7-45.3 ms at 1024², the heart
-/// 29.0-30.0 → 21.5-22.7, Steiner 13.3-15.1 → 10.1-11.4, the Barth sextic,
-/// the tangle, Mitchell and the Klein bottle by 5-25 %, the two cubics even;
-/// only the teardrop is slower (8.1-8.6 → 8.9-9.6 ms). A large formula
-/// (more than [`RAY_POLY_AUTO_NODES`] live nodes) may run as a tape, which
-/// has no ray forms, and keeps RAA.
+/// nodes (the Barth decic and sextic, the heart, Steiner, the tangle,
+/// Mitchell and the Klein bottle; the two cubics are even, and only the
+/// teardrop is a little slower). A large formula (more than
+/// [`RAY_POLY_AUTO_NODES`] live nodes) may run as a tape, which has no ray
+/// forms, and keeps RAA.
 pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
     let (minmax, max_power) = ir.shape();
     let degree = ir.degree();
@@ -142,5 +139,5 @@ pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
 
 /// The most live nodes of a formula for which `choose_algebra` weighs ray
 /// polynomials: well inside what `Auto` compiles rather than runs as a tape
-/// in IA (`field::choice::CROSSOVER_BISECT_IA` instructions).
+/// in IA ([`crate::choice::CROSSOVER_BISECT_IA`] instructions).
 pub const RAY_POLY_AUTO_NODES: usize = 300;

@@ -155,7 +155,8 @@ pub enum Arity {
 }
 
 /// One row of the language reference: name, form, arity, signature and
-/// what it computes (the README's table is written from this).
+/// what it computes (the user documentation's table of functions is
+/// written from this).
 pub struct Info {
     /// The name users write.
     pub name: &'static str,

@@ -1,5 +1,5 @@
-// isotrace render kernel. Assembled by src/codegen/kernel.rs from one
-// traversal (templates/traverse/) and one field source (src/codegen/field.rs)
+// isotrace render kernel. Assembled by src/kernel.rs from one
+// traversal (templates/traverse/) and one field source (src/field/mod.rs)
 // around the shared frame, camera, pixel and shading code (templates/shared/).
 //
 // Bind groups by lifetime:

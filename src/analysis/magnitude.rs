@@ -6,9 +6,9 @@
 //! because lavapipe's min and max silently drop a NaN (an overflowed or
 //! unbounded form would otherwise read as a wrong finite interval). That
 //! test runs for every range an op reads, hundreds of times in a big
-//! formula, and it is a large part of what lavapipe compiles and runs:
-//! without it `@city`'s cold first RAA frame took a fifth less CPU time
-//! (README, Benchmark, "RAA kernels without the NaN test"). A form can only be NaN after an overflow
+//! formula, and it is a large part of what lavapipe compiles and runs
+//! (a big RAA formula's cold first frame is markedly cheaper without it;
+//! docs/benchmarks.md). A form can only be NaN after an overflow
 //! or an unbounded operation (a division, log, tan, a real power), so for
 //! a formula of bounded operations whose values stay below f32::MAX for
 //! every input within a radius B, the test is not needed within B.

@@ -136,7 +136,7 @@ pub struct Measure {
     pub evals_p99: u32,
     /// Maximum.
     pub evals_max: u32,
-    /// The work lower bound per pixel (see [`Stats::evals_lower_bound`]).
+    /// The work lower bound per pixel (see [`crate::render::BisectStats::evals_lower_bound`]).
     pub lower_bound: f64,
     /// evals_mean / lower_bound.
     pub ratio: f64,

@@ -66,9 +66,9 @@ fn affine_of(lo: f32, hi: f32) -> Option<(f32, f32)> {
 }
 
 /// A literal's affine form, `ra_from_ia` of its enclosing f32 interval
-/// worked out here (`affine_of`): a `ra_from_ia` per literal was a tenth of
-/// the time lavapipe took to create `@creature`'s RAA pipeline (the RAA op
-/// library's helpers are inlined at every use).
+/// worked out here (`affine_of`): a `ra_from_ia` per literal was a sizeable
+/// part of lavapipe's pipeline creation for a formula with many literals
+/// (the RAA op library's helpers are inlined at every use).
 pub(crate) fn affine_literal(lo: f32, hi: f32) -> String {
     match affine_of(lo, hi) {
         Some((c, d)) => format!("vec3<f32>({}, 0.0, {})", lit(c), lit(d)),
@@ -135,8 +135,8 @@ mod tests {
 
     /// The op libraries choose with `select`, never branch: lavapipe runs
     /// both sides of a branch anyway, and branches cost its compiler far
-    /// more (`@city` compiled in RAA: 145 s at 256² with a branchy affine
-    /// min and max, 16 s without; README, "Compiled or tape").
+    /// more (a branchy affine min and max made `@city`'s RAA compile several
+    /// times longer).
     #[test]
     fn the_op_libraries_are_branch_free() {
         let derivative = [include_str!("../../templates/domains/derivative.wgsl"), include_str!("../../templates/domains/derivative_affine.wgsl")];

@@ -10,9 +10,9 @@
 /// evaluation gives up (enclosures become the whole line, the pixel is
 /// reported unresolved). lavapipe's silent cap of 65,535 iterations counts
 /// the loops of a SIMD bundle of 8 invocations together, and invocations
-/// that diverge run the interpreter one after another (measured: a 17,862
-/// instruction tape whose tile pass stopped at 2 evaluations per invocation
-/// still had its loops cut and culled visible tiles). So each invocation
+/// that diverge run the interpreter one after another (a tape of some
+/// 18,000 instructions whose tile pass stopped at 2 evaluations per
+/// invocation still had its loops cut and culled visible tiles). So each invocation
 /// gets an eighth of what the traversal's budget (at most
 /// [`TAPE_MAX_ITER`]) and its short loops leave: 8 × 5,500 + 16,000 +
 /// slack < 65,535.
@@ -45,7 +45,7 @@ pub const TAPE_MAX_ITER: u32 = 16_000;
 /// memory, kept by its lowest active lane. The slot is the smallest local index of the
 /// bundle, taken at the entry point where every lane is active, so it
 /// does not depend on how the driver groups lanes. Shared with a compiled
-/// field's loops over repeated terms (`reroll::support`).
+/// field's loops over repeated terms (`term_loops::support`).
 pub(crate) const BUNDLE_WORK_WGSL: &str = "
 // One count per bundle, indexed by its smallest local index: 256 covers the
 // largest workgroup (bisection's main, 8 x 8 x 4).

@@ -77,9 +77,8 @@ impl Binder<'_> {
     /// pipeline's machine code at its first dispatch (LLVM, on its queue's
     /// thread), so a renderer warms its tile pass and its field's passes
     /// up this way while its per-pixel pass is still being created on the
-    /// other core: the first frame no longer waits for them (`@creature`
-    /// bisected in RAA: its tile pass's ~0.25 s). Best effort: a warm-up
-    /// that fails leaves the compile to the first frame, as before.
+    /// other core: the first frame does not wait for them. Best effort: a
+    /// warm-up that fails leaves the compile to the first frame.
     pub fn warm_up(&self, pipelines: &[wgpu::ComputePipeline], uniforms: &[u8]) -> Result<(), GpuError> {
         let d = &self.gpu.device;
         let rect = Rect { x: 0, y: 0, w: 8, h: 8 };

@@ -88,8 +88,8 @@ impl TraversalHost for Host {
     /// per pixel, its resume state across rounds of `main` (new buffers
     /// are zeroed: every pixel starts new). Only a resumable pass reads
     /// those states; for the others the binding gets 16 bytes, since wgpu
-    /// zeroes a new buffer at its first use and 16 MB at 1024² cost every
-    /// frame a clear and the page faults of fresh memory (1-2 ms).
+    /// zeroes a new buffer at its first use, and 16 MB at 1024² would cost
+    /// every frame a clear and the page faults of fresh memory.
     fn pass_buffers(&self, gpu: &Gpu, rect: Rect, resumable: bool) -> PassBuffers {
         use wgpu::BufferUsages as B;
         let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });

@@ -50,8 +50,9 @@ pub fn max_side(gpu: &Gpu, bytes_per_pixel: u64, indirect: Option<u32>, tile: u3
 }
 
 /// Output buffers of the pass group and their read-back copies, kept between
-/// frames and tiles of the same size (allocating ~30 MB per frame cost
-/// ~15 ms on lavapipe). Slot `i` is the i-th read-back output.
+/// frames and tiles of the same size (allocating tens of MB a frame is a
+/// noticeable part of a frame on lavapipe). Slot `i` is the i-th read-back
+/// output.
 #[derive(Default)]
 pub struct Outputs(Mutex<Vec<Option<(u64, wgpu::Buffer, wgpu::Buffer)>>>);
 

@@ -3,9 +3,9 @@
 //! Mesa's CPU drivers (lavapipe, on llvmpipe's gallivm) compile a kernel
 //! with LLVM at its first dispatch, and most of that time is LLVM's
 //! optimisation passes. gallivm can skip them (`GALLIVM_PERF=nopt`): a
-//! kernel then compiles two to three times sooner and a generated field's
-//! frames run about 1.5-2 times slower (the tape interpreter's about as
-//! fast, its cost being register-file traffic the passes do not remove);
+//! kernel then compiles a few times sooner and a generated field's frames
+//! run markedly slower (the tape interpreter's about as fast, its cost
+//! being register-file traffic the passes do not remove);
 //! the pictures are the same bit for bit. For a job of one frame the
 //! compile is most of the wait, so [`auto_shader_opt`] skips them for small
 //! jobs. gallivm reads the setting once, when the driver first starts in a
@@ -36,15 +36,11 @@ impl ShaderOpt {
 }
 
 /// Work (pixels × frames) up to which [`auto_shader_opt`] skips the passes:
-/// one 1024² frame. Measured on lavapipe (2 cores, cold whole process,
-/// alternating, two runs each): one frame is sooner without them at 512²
-/// (`@sphere` 0.55-0.63 → 0.37-0.42 s, `@tangle` 0.59-0.60 → 0.43-0.49 s,
-/// `@barth-decic` 0.69-0.72 → 0.52-0.59 s, `@city` 2.7-2.8 → 1.55 s, the
-/// 2,503-operation sum's tape 2.75-3.0 → 2.5-2.7 s) and at 1024² (`@tangle`
-/// 0.65-0.67 → 0.46-0.50 s, `@water` 0.74-0.98 → 0.56-0.69 s). Compiled
-/// kernels' frames then take 1.5-2 times as long (the Knoll suite at 1024²:
-/// sphere 20 → 33-36 ms, barth-decic 167-178 → 316 ms, water 112-115 →
-/// 186 ms), so past about one such frame the passes pay for themselves.
+/// one 1024² frame. A single frame of that size or smaller comes sooner
+/// without them, compiled or tape, small formula or large; compiled
+/// kernels' frames then take markedly longer, so past about one such frame
+/// the passes pay for themselves (chosen by measurement on lavapipe,
+/// docs/benchmarks.md).
 pub const SHADER_OPT_NONE_UP_TO: u64 = 1 << 20;
 
 /// The optimisation for a job of `pixel_frames` (pixels of a frame times

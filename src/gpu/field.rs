@@ -28,9 +28,9 @@ const VIEW_WIDTH: u64 = crate::field::scene::SCENE_VIEW_TEX_WIDTH as u64;
 
 /// A dispatch's own field resources: the tile lists and views, and the
 /// view texture the trace reads the views from. Kept for the next dispatch
-/// of as many tiles (making and zeroing them anew cost ~60 ms a frame at
-/// 512² on lavapipe, ~250 ms at 1024²): only the tile counts must start at
-/// zero, everything else is written before it is read.
+/// of as many tiles (making and zeroing them anew is a large part of a
+/// frame on lavapipe): only the tile counts must start at zero, everything
+/// else is written before it is read.
 #[derive(Clone)]
 pub(crate) struct PerDispatch {
     buffers: Vec<(u32, wgpu::Buffer)>,

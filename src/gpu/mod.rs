@@ -283,9 +283,9 @@ impl Gpu {
         };
         let Some((first, rest)) = entries.split_first() else { return Ok(vec![]) };
         // A pipeline per thread: lavapipe translates each entry point to its
-        // own IR at creation, the whole inlined field in each. The tile pass
-        // and the per-pixel pass of `@city` bisected in RAA took 2.1 and 6.6 s
-        // one after the other, 6.9-7.1 s side by side on two cores.
+        // own IR at creation, the whole inlined field in each. Created side
+        // by side on two cores, a big field's passes take little longer
+        // than its largest one alone.
         std::thread::scope(|s| {
             let others = s.spawn(|| {
                 let handles: Vec<_> = rest.iter().map(|e| s.spawn(move || create(e))).collect();

@@ -355,7 +355,7 @@ impl<'g> Renderer<'g> {
 
     /// Renders one frame into `frame`, reusing its pixel memory: a viewer
     /// or an animation renders every frame into the same one. (Touching
-    /// 50 MB of fresh pages costs ~10 ms a 1024² frame on this machine.)
+    /// tens of MB of fresh pages a frame is a noticeable part of it.)
     pub fn render_into(&self, s: &Settings, out: &mut Frame) -> Result<(), RenderError> {
         let start = Instant::now();
         let (pixels, stats) = self.collect(s, std::mem::take(&mut out.pixels), None, "pixels", convert)?;

@@ -222,13 +222,13 @@ fn octahedral(v: u32) -> [f32; 3] {
 }
 
 /// A rendered frame kept as the kernel's records: what a viewer
-/// holds before display, without decoding 1024² pixels (about 3.5 ms a frame
-/// on this machine's two cores). Pixels decode on access.
+/// holds before display, without decoding every pixel of a large frame
+/// (a cost paid on every frame). Pixels decode on access.
 ///
 /// On a device that maps storage buffers in place (lavapipe) and a frame
 /// rendered in one dispatch, the records stay in the kernel's output buffer,
 /// mapped, in the kernel's two planes, and are never copied (16 MB at
-/// 1024²: 1-2 ms a frame here); the next
+/// 1024², a copy a frame saved); the next
 /// [`crate::gpu::Renderer::render_packed`] into the same frame unmaps that
 /// buffer and renders into it again. Otherwise they are copied out, a whole
 /// [`Record`] a pixel.

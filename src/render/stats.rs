@@ -188,7 +188,7 @@ impl TapeListStats {
 pub struct BisectStats {
     /// Bisection depth for a segment across the whole box diagonal.
     pub d_max: u32,
-    /// Work lower bound per pixel, as issue 8 defines it: a hit needs one
+    /// Work lower bound per pixel: a hit needs one
     /// evaluation per level down to an eps cell of its ray's segment
     /// (d_max + 1, with the ray's own d_max), a miss one.
     pub evals_lower_bound: f64,
@@ -212,8 +212,8 @@ pub struct SphereStats {
 
 /// The per-pixel statistics of a frame gathered in one pass, so a renderer
 /// can collect them while it unpacks pixels (on several threads, merged
-/// after). Summing 1024² pixels in several passes plus a selection for the
-/// 99th percentile cost ~20 ms a frame; this costs ~1 ms.
+/// after). Summing a large frame's pixels in several passes plus a
+/// selection for the 99th percentile cost many times more.
 #[derive(Debug, Clone)]
 pub struct StatsAcc {
     pixels: u64,
@@ -292,8 +292,8 @@ impl StatsAcc {
     /// sums as [`StatsAcc::add_parts`] for each. Blocks of 64 are summed in
     /// 32-bit locals without branches, and a block whose pixels all share
     /// one count (a background tile's) enters the histogram at once: this
-    /// runs near memory speed, where a call per pixel took ~4 ms of a 20 ms
-    /// 1024² frame on this machine (a dependent histogram increment each).
+    /// runs near memory speed, where a call per pixel took a noticeable part
+    /// of a fast frame (a dependent histogram increment each).
     #[inline]
     pub fn add_records<T>(&mut self, items: &[T], work: impl Fn(&T) -> (u32, u32, u32)) {
         use crate::layout::{STATUS_HIT, STATUS_UNRESOLVED};

@@ -89,8 +89,9 @@ pub struct Optimizations {
     /// others are also bounded by the mean-value form.
     pub monotone: bool,
     /// First bisection depth at which the derivative is evaluated. 0 (the
-    /// whole segment) measured fastest: 11 % on the geometric mean of eight
-    /// Knoll surfaces against depth 2, up to 36 % on cloth.
+    /// whole segment) is the default, chosen by measurement on the Knoll
+    /// surfaces (docs/benchmarks.md): faster than a deeper start on their
+    /// geometric mean, and most on cloth.
     pub monotone_depth: u32,
     /// A tape field with min or max runs, in each tile, only the
     /// instructions that can reach f over the tile's candidate slabs (the
@@ -274,8 +275,8 @@ pub struct SphereOptions {
     /// A scene's primary rays: the rays of an 8×8 tile walk its depth slabs
     /// together, each slab's view copied into workgroup memory (Zanni et
     /// al.'s Algorithm 3); off: each ray walks them on its own, reading the
-    /// views where the views pass wrote them (faster on lavapipe, see the
-    /// README). Part of the kernel; other fields ignore it.
+    /// views where the views pass wrote them (faster on lavapipe:
+    /// docs/benchmarks.md). Part of the kernel; other fields ignore it.
     pub synchronized: bool,
 }
 
@@ -301,7 +302,7 @@ impl Default for SphereOptions {
 
 /// The secondary rays compiled into a sphere tracing kernel. They are
 /// code, not uniforms: lavapipe inlines every call and pays for the unused
-/// ray loops (measured: the city renders 2-3x slower with both compiled in
+/// ray loops (the city renders several times slower with both compiled in
 /// but switched off).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SphereFeatures {

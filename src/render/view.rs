@@ -1,7 +1,7 @@
 //! A view as a user describes it, partially: an `.iso` header gives some
 //! values, command-line flags override some, and [`View::settings`] turns
-//! the result into the [`Settings`] of a frame once, with the defaults the
-//! README documents. The CLI, `bench`, the benches and the peer harness all
+//! the result into the [`Settings`] of a frame once, with the documented
+//! defaults. The CLI, `bench`, the benches and the peer harness all
 //! go through here, so a header means the same everywhere.
 
 use super::settings::{SettingsError, SettingsField};

@@ -29,9 +29,9 @@ fn ra_finite(a: f32) -> bool { return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800
 // overflowed one (inf, inf) stays exact, where d would be NaN. Everything
 // else is arithmetic, because this runs in every op that converts, hundreds
 // of times in a big formula, and each select and test here cost lavapipe's
-// compiler and the unoptimised frame more than the op around it (@city in
-// RAA: cold first frame 3.0-3.3 -> 2.1-2.4 s with finite tests and a second
-// centre rule dropped). What the dropped cases now give:
+// compiler and the unoptimised frame more than the op around it (a big RAA
+// formula's cold first frame comes markedly sooner without finite tests
+// and a second centre rule). What the cases left out give:
 // - an unbounded interval: d = inf, and a centre of inf or NaN; ra_range, the
 //   only way a form's bounds are read, turns any NaN end into the whole line,
 //   so it still reads as the whole line, and NaN or inf propagate through
@@ -68,7 +68,7 @@ fn ra_scale(a: vec3<f32>, p: f32) -> vec3<f32> {
 // |x1*y1|) goes to the error term; the other cross terms are bounded as in
 // (14), whose rad(x)*rad(y) is |x1 y1| + |x1| y2 + x2 |y1| + x2 y2. Along a
 // ray, where x, y, z are pure e1 forms, this halves the error of x*y and
-// saved 11 % of the evaluations on the Barth decic.
+// saves evaluations (the Barth decic takes about a tenth fewer).
 fn ra_mul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let q = 0.5 * a.y * b.y;
     return vec3<f32>(

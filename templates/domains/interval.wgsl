@@ -14,8 +14,8 @@
 // Branch-free: every case is computed and the result chosen with select().
 // lavapipe runs both sides of an `if` under a lane mask anyway, and
 // branches (early returns most of all) cost its compiler far more than
-// selects: with the affine library written this way, `@creature` in RAA
-// compiled in about a quarter of the time (README, "Compiled or tape").
+// selects: with the affine library written this way, a big RAA formula
+// compiles several times sooner.
 // A discarded case may compute inf or NaN; select() never lets it through.
 //
 // Rounding: like Knoll et al. we do not round arithmetic outward (the

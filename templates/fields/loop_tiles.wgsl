@@ -1,6 +1,6 @@
 // Per-tile term lists of a compiled field's rerolled min and max loops
 // (spliced after the compiled field of a bisection kernel whose formula
-// has such a loop; src/codegen/reroll/lists.rs).
+// has such a loop; src/field/compiled/term_loops/lists.rs).
 //
 // A union of a thousand distances, bisected, evaluated all thousand in
 // every cell of every ray, though near any one tile only a few can be the

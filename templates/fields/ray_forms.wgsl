@@ -59,7 +59,7 @@ fn ia_ray_slope(q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
     let sb = q.y + 2.0 * q.z * t1;
     return vec2<f32>(min(sa, sb) - v.x, max(sa, sb) + v.x);
 }
-// A product of squares k·Q² with Q such a node (src/codegen/ray_forms.rs,
+// A product of squares k·Q² with Q such a node (src/field/compiled/ray_forms.rs,
 // `squares`): Q's range over the cell squared, times k's enclosure; its
 // slope 2k·Q·Q'; its value at t.
 fn ia_ray_sq(k: vec2<f32>, q: vec4<f32>, v: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {

@@ -1,6 +1,6 @@
 // Distance functions of the scene's primitive forms that need more than a
 // line (boxes, polygon profiles, voxel grids), appended to scene.wgsl by
-// codegen::kernel::scene_interpreter: the interpreter there picks among
+// field::scene::scene_interpreter: the interpreter there picks among
 // them per node.
 
 fn sd_box(q: vec3<f32>, h: vec3<f32>) -> f32 {

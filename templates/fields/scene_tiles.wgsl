@@ -422,8 +422,8 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     // A union chain is tried on the list as the scatter left it, a comb on
     // the list sorted, from one call site of scene_chain_tile (as
     // scene_build_view and scene_sift have one each below): lavapipe
-    // inlines every call, and Mesa 25 compiles each copy for about a
-    // quarter of a second.
+    // inlines every call, and compiles each copy anew at a noticeable
+    // cost.
     for (var round = 0u; round < 2u; round = round + 1u) {
         if (round == 1u) {
             // A heap sort by node index (its iterations are bounded by

@@ -1,8 +1,8 @@
 // The tape interpreter, written once against the shared op interface:
 // `T` is the number domain's value type and every `op_*` call is the
-// domain's operation (codegen/tape_wgsl.rs instantiates this file per
+// domain's operation (src/field/tape/wgsl.rs instantiates this file per
 // domain: scalar s_, interval ia_, affine ra_, renaming `op_*`, `T` and
-// the `_T` suffix of its own names). The tape (src/codegen/tape.rs) lives
+// the `_T` suffix of its own names). The tape (src/field/tape/mod.rs) lives
 // in the field group, a texture read by tape_word (a texel fetch is a
 // vector gather on lavapipe; a storage load at a per-lane address runs lane
 // by lane): a header, then the value and the derivative programs, one
@@ -24,10 +24,10 @@
 
 // The register file: module scope, so it is zero-initialised once per
 // invocation and not on every call (lavapipe zeroes a function-scope array
-// on every call: that cost the scene interpreter 5x).
+// on every call, which made the scene interpreter several times slower).
 var<private> g_regs_T: array<T, TAPE_SLOTS>;
 // The inputs of input instructions (kernels for tapes whose inputs are not
-// pinned in registers 0 to 6: src/codegen/tape.rs TAPE_INPUTS).
+// pinned in registers 0 to 6: src/field/tape/mod.rs TAPE_INPUTS).
 var<private> g_in_T: array<T, 7>; // if INPUTS
 
 // The point x, y, z, t and the ray direction: pinned in registers 0 to 6,
@@ -146,16 +146,13 @@ fn tape_step_T(e: u32) -> bool {
     // factor's register would be.
     let c = tape_reg_T(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); // if MINMAX MISC MAD
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
-    // The cases, each behind an `if` on its code (src/codegen/tape_field.rs
+    // The cases, each behind an `if` on its code (src/field/tape/wgsl.rs
     // keeps those of the kernel's groups). A bundle's lanes step through
     // the same instruction, and lavapipe skips an `if` that none of them
     // takes, so a step pays for its own case, not for every case of its
-    // groups as the chain of selects this replaced did (cold, `--field
-    // tape`: a 1,000-term sin·cos·sin tape at 64² 7.8 → 6.4-6.9 s, 1,000
-    // Gaussians 5.8 → 5.2-5.4 s, `@city` bisected at 256² 4.9-5.0 → 4.5-4.8
-    // s in IA and 5.8-6.0 → 5.2-5.8 s in RAA, `@creature` 3.3-3.6 →
-    // 3.0-3.2 s; `@tangle` and the 2,503-operation sum unchanged). A
-    // `switch` ran every case. A code without a case gives the whole line.
+    // groups as a chain of selects would (long transcendental tapes and
+    // CSG tapes come sooner; small ones are unchanged). A `switch` runs
+    // every case. A code without a case gives the whole line.
     var r = op_whole();
     if (code == TAPE_INPUT) { r = tape_input_T(w.w); }
     if (code == TAPE_CONST) { r = k; }
@@ -207,7 +204,7 @@ fn tape_step_T(e: u32) -> bool {
 // tile's shortened list (tape_span), TAPE_UNROLL instructions per loop
 // iteration (1, 4, 8 or 16: lines marked `each unrolled step K` are
 // written once for each K from 1 to TAPE_UNROLL - 1 by
-// src/codegen/tape_field.rs; programs are padded to a multiple of 4, or of
+// src/field/tape/wgsl.rs; programs are padded to a multiple of 4, or of
 // 8 or 16 for the longest tapes, lists to the kernel's TAPE_UNROLL). Past the work
 // limit (tape_admits: the power chains' iterations from the header, the
 // loop's, and with the power case one pass of its loop per instruction,

@@ -1,5 +1,5 @@
 // Per-tile tape shortening for bisection (spliced after the interpreters of
-// a tape field whose tape has min or max; src/codegen/tape_field.rs).
+// a tape field whose tape has min or max; src/field/tape/wgsl.rs).
 //
 // Most of a CSG formula is dead in any small region: a min's operand that
 // lies above the other over the region never reaches the result, and nor
@@ -45,8 +45,8 @@ struct TapeListCounts { used: atomic<u32>, tiles: atomic<u32>, shortened: atomic
 // The choices noted over the tile's candidate slabs, two bits a slot (a
 // vec4 holds 64), then those of the slab being enclosed (a storage buffer,
 // not a private array: lavapipe compiles a dynamically indexed private
-// array into code at every access, which cost the tile pass 0.5 s of
-// compile).
+// array into code at every access, which lengthened the tile pass's
+// compile noticeably).
 @group(1) @binding(5) var<storage, read_write> tape_notes: array<vec4<u32>>;
 // The tile's first vec4 of notes.
 var<private> g_note_base: u32;
@@ -106,9 +106,9 @@ fn tape_note_words() -> u32 { return (tape_word(2u).z + 63u) / 64u; }
 // (a fine slab, a block's coarse slab). The interpreter then notes its
 // choices for the slab apart, and field_slab_end adds them to the tile's if
 // the slab may hold the surface: only those count, and the pass cannot
-// know before the enclosure. (It used to enclose each such slab a second
-// time to note them: twice the interpreter's work for a clear and a merge
-// of the slots in use.)
+// know before the enclosure. (Enclosing each such slab a second time to
+// note them would cost twice the interpreter's work, to save a clear and
+// a merge of the slots in use.)
 fn field_slab_begin(record: bool) {
     g_tape_record = record && field_records();
     if (!g_tape_record) { return; }
@@ -178,7 +178,7 @@ fn tape_reads(w: vec4<u32>, pick: u32) -> vec2<u32> {
 // (the whole tape, or the block's list: tape_span, tape_entry) from the
 // output registers `live`: how many instructions the tile needs, written
 // (with `to` > 0) as entries ending just before word `to`. (One entry an
-// iteration: four, written out, cost lavapipe 1.1 s more compile.)
+// iteration: four, written out, cost lavapipe markedly more compile.)
 fn tape_keep(prog: u32, live0: vec2<u32>, to: u32) -> u32 {
     let span = tape_span(prog);
     var k = vec3<u32>(live0, 0u);

@@ -1,4 +1,4 @@
-// The camera model of the CLI reference (README, "Camera"), and rays
+// The camera model of the CLI (Camera in src/render/mod.rs), and rays
 // against the domain.
 
 // Screen coordinates (sx, sy) of pixel px's centre at unit depth.

@@ -15,8 +15,8 @@
 // written by the kernel and read by the host every frame, and on a CPU
 // device their cost is memory traffic. With the four words side by side
 // every miss still touched its whole 16 bytes; in planes the tile pass's
-// empty tiles write half the lines (the 4-bretzel's ortho tile pass 3.2 →
-// 2.8 ms at 1024²) and the statistics read half the bytes. Each plane is
+// empty tiles write half the lines and the statistics read half the
+// bytes. Each plane is
 // stored a vec2<u32> at a time: lavapipe writes a vector per lane at once,
 // where a struct of four fields took four bounds-checked stores.
 @group(2) @binding(0) var<storage, read_write> pixels: array<vec2<u32>>;
@@ -71,9 +71,8 @@ fn unresolved_color(c: vec3<f32>, px: vec2<u32>) -> vec3<f32> {
 // The pixel of its 8x8 tile that invocation `lid` of an 8x8 layer takes.
 // Each run of 8 invocations (one SIMD bundle on lavapipe) takes a 4x2 block
 // rather than a row of 8: a bundle's loops run until its slowest lane is
-// done, and closer rays need more alike work (over the 1024² Knoll frames,
-// 3-6 % fewer bundle iterations of bisection: the Barth decic's 4.38 → 4.14
-// evaluations a bundle).
+// done, and closer rays need more alike work (a few percent fewer bundle
+// iterations of bisection over the Knoll frames).
 fn tile_pixel(lid: vec2<u32>) -> vec2<u32> {
     let i = lid.y * 8u + lid.x;
     let b = i / 8u;

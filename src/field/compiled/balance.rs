@@ -1,22 +1,22 @@
 //! Long sums rebalanced for the compiled field. A program writes a sum of
 //! many terms as one chain `((t1 + t2) + t3) + …`, and lavapipe's LLVM
 //! back end builds such a chain in time that grows steeply with its
-//! length: a sum of 200 square roots `sqrt((x-a)^2 + …)` built for 12-16 s
-//! cold as a chain and 2.6-4.3 s as a balanced tree, the same code
-//! otherwise (a min of 200 spheres, a chain of another operation, 3 s
-//! either way; README, "Long sums as balanced trees"). So before the compiled field is
-//! generated, every chain of additions and subtractions of at least
-//! [`MIN_TERMS`] terms becomes a balanced tree of the same terms in the same
-//! order, signs carried to where two subtrees meet.
+//! length: a sum of a few hundred square roots `sqrt((x-a)^2 + …)` builds
+//! several times sooner as a balanced tree, the same code otherwise (a
+//! chain of another operation, such as a min of spheres, builds as soon
+//! either way). So before the compiled field is generated, every chain of
+//! additions and subtractions of at least [`MIN_TERMS`] terms becomes a
+//! balanced tree of the same terms in the same order, signs carried to
+//! where two subtrees meet.
 //!
-//! A sum whose terms have one shape is a loop instead ([`super::reroll`],
-//! which now takes those square roots too); what is balanced is a long
-//! sum of mixed shapes.
+//! A sum whose terms have one shape is a loop instead ([`super::term_loops`],
+//! which takes those square roots too); what is balanced is a long sum of
+//! mixed shapes.
 //!
 //! Every domain's enclosure of a reassociated sum still holds the sum (the
 //! interval and affine sums are inclusions whatever the order); only their
 //! rounding differs. A chain of which a loop computes a part
-//! ([`super::reroll`]) is left alone: the loop accumulates in the order
+//! ([`super::term_loops`]) is left alone: the loop accumulates in the order
 //! written.
 
 use crate::ir::{Ir, NodeId, Op};

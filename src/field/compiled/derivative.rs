@@ -34,17 +34,16 @@ pub fn library(domain: Domain) -> String {
 /// The domain the slope program of `evald_<p>` computes in, for values in
 /// `domain`. Affine slopes pay only where their terms cancel, as the
 /// product rule's terms of a polynomial of moderate degree do (the Barth
-/// decic: 5.6 evaluations a pixel with affine slopes, 6.0 with interval
-/// ones). Every min, max, abs, sign, floor and transcendental function
-/// turns the affine slope into an interval and back, and a power's slope
-/// beyond f32 is the whole line in the affine domain where an interval
-/// keeps its sign (the degree-200 superquadric: 56 evaluations a pixel
-/// against 4.9). There the slopes are intervals of the values' ranges: on
-/// the Knoll suite the same evaluations a pixel on the CSG and
-/// transcendental surfaces and fewer on the decocube (4.9 → 4.2), and the
-/// per-pixel kernel's NIR a quarter smaller (`@city`, 1.50 M → 1.11 M
-/// instructions after inlining), which lavapipe's pipeline
-/// creation is proportional to.
+/// decic needs fewer evaluations a pixel with affine slopes than with
+/// interval ones). Every min, max, abs, sign, floor and transcendental
+/// function turns the affine slope into an interval and back, and a
+/// power's slope beyond f32 is the whole line in the affine domain where
+/// an interval keeps its sign (the degree-200 superquadric needs an order
+/// of magnitude more evaluations a pixel with affine slopes). There the
+/// slopes are intervals of the values' ranges: on the Knoll suite as few
+/// or fewer evaluations a pixel, and a per-pixel kernel whose NIR after
+/// inlining is about a quarter smaller (`@city`), which lavapipe's
+/// pipeline creation is proportional to.
 pub fn slope_domain(ir: &Ir, domain: Domain) -> Domain {
     match domain {
         Domain::Affine if ir.degree().is_some_and(|d| d <= AFFINE_SLOPES_MAX_DEGREE) => Domain::Affine,
@@ -569,7 +568,7 @@ impl Terms for Wgsl<'_> {
     /// keeps its sign, their hull where it does not. The product
     /// sign(a)·a' gives that too (and the hull of 0 and a' where a's range
     /// ends at 0), but `ia_mul`'s general case cost icos.csg's ten |n·p|
-    /// a tenth of its frame (30.8 → 26.8 ms, 1024² ortho).
+    /// about a tenth of its frame.
     fn dabs(&mut self, a: Term, da: Term) -> Term {
         if self.p != "ia" {
             let s = self.un(D::Sign, a);

@@ -100,7 +100,7 @@ pub(crate) struct Body {
 
 /// Writes `let v{id} = …;` for every live node, telling `hook` after each
 /// (the derivative emitter adds its `d{id}` there); runs of same-shaped
-/// terms become loops ([`reroll`]).
+/// terms become loops ([`term_loops`]).
 pub(crate) fn emit_body(out: &mut String, ir: &Ir, domain: Domain, hook: impl FnMut(&mut String, Hook)) -> Body {
     emit_body_on(out, ir, domain, None, hook)
 }

@@ -134,7 +134,7 @@ fn inclusion_tiled(ir: &Ir, domain: Domain, safe: bool, tiles: Tiles) -> String 
 }
 
 /// The input radius within which the affine forms of `ir` cannot overflow
-/// ([`super::magnitude`]), where the kernel reads ranges without the NaN
+/// ([`crate::analysis::magnitude`]), where the kernel reads ranges without the NaN
 /// test: affine values of a single surface with interval slopes (affine
 /// slopes, of polynomials of low degree, would need their own bound).
 pub fn safe_radius(ir: &Ir, domain: Domain) -> Option<f64> {
@@ -219,8 +219,8 @@ pub(crate) fn segment_forms(domain: Domain) -> (&'static str, &'static str) {
 /// dropped (the whole line) without `slope` or for a formula of several
 /// surfaces, which has no single slope. Always the derivative form, because
 /// lavapipe runs both arms of a branch under a mask: a `cell_range` arm
-/// beside it was paid for on every cell (Barth decic 234 → 192 ms at 1024²
-/// without it). With slopes it is `evald_<p>`'s code under this name
+/// beside it was paid for on every cell (the Barth decic's frame is a
+/// sixth shorter without it). With slopes it is `evald_<p>`'s code under this name
 /// ([`derivative::emit_cell_enclosure`]). (The tape field has its own: one
 /// interpreter run.)
 fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>, safe: bool, tiles: Tiles) -> String {
@@ -239,12 +239,12 @@ fn cell_enclosure(ir: &Ir, domain: Domain, ray: Option<&RayForms>, safe: bool, t
 const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p.y, p.z, F.time); }\n";
 
 /// What an evaluation of the compiled field costs the traversal: the loop
-/// iterations of its rerolled runs ([`super::reroll`]; none for a formula
+/// iterations of its rerolled runs ([`term_loops`]; none for a formula
 /// written out, which adds nothing to an invocation's loop count; the
 /// sphere tracer keeps its steps within the cap with it), and whether the
 /// work limit refused one (the pixel is then reported). It is one field
 /// everywhere (`field_view`: the scene's changes with its slab).
-/// `bundle`: the loops' work is counted per SIMD bundle (`reroll::support`).
+/// `bundle`: the loops' work is counted per SIMD bundle ([`term_loops::support`]).
 fn field_cost(ir: &Ir, bundle: bool) -> String {
     let plan = term_loops::plan(ir);
     let (support, iters, exhausted) = match plan.loops.is_empty() {

@@ -17,8 +17,8 @@
 //! over the cell squared is k·x²·y²'s exact range, where the product of
 //! x²'s and y²'s ranges over the cell's box is not (x and y move together
 //! along the ray). Such nodes, k·Q² with Q of degree 2, are taken from the
-//! ray through Q's polynomial (4-bretzel, 1024² ortho: 0.735 → 0.682
-//! evaluations a pixel).
+//! ray through Q's polynomial (the 4-bretzel takes fewer evaluations a
+//! pixel).
 //!
 //! Rounding. The coefficients are computed in f32 from the nodes' f64
 //! coefficients rounded to f32; every evaluation on the ray uses those same
@@ -198,9 +198,9 @@ pub(crate) struct RayForms {
 /// (`eval_s_ray`): no longer to compile (it replaces `field(p)` at the
 /// traversal's call sites), but more text, and the kernel of a formula of
 /// thousands of nodes near the 500 KB limit would cross it (the city with
-/// three more copies of its blocks, 2,628 operations: 462 → 571 KB, and
-/// `auto` would take the tape). Such formulas are compile-bound; they are
-/// written as before.
+/// three more copies of its blocks, 2,628 operations, would grow by about
+/// a quarter, and `auto` would take the tape). Such formulas are
+/// compile-bound; they are written without ray forms.
 pub(crate) const MAX_NODES: usize = 1500;
 
 /// The nodes to take from the ray, each the root or used by a node that
@@ -217,7 +217,7 @@ pub(crate) const MAX_NODES: usize = 1500;
 /// have no slope, for one of more than [`MAX_NODES`] live nodes, and where
 /// no node qualifies.
 ///
-/// A node a rerolled loop computes (`reroll::Plan::skips`) is evaluated in
+/// A node a rerolled loop computes (`term_loops::Plan::skips`) is evaluated in
 /// the loop, never from the ray: its coefficients would be worked out for
 /// every ray and never read.
 pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
@@ -226,7 +226,7 @@ pub(crate) fn ray_nodes(ir: &Ir) -> Option<RayForms> {
 }
 
 /// [`ray_nodes`] as the code would take them with every node written out
-/// (what `reroll` asks, to leave such terms written out).
+/// (what `term_loops` asks, to leave such terms written out).
 pub(crate) fn written_out_ray_nodes(ir: &Ir) -> Option<RayForms> {
     nodes_on_ray(ir, |_| false)
 }
@@ -345,7 +345,7 @@ impl RayForms {
         };
         let template = match polys.is_empty() {
             true => include_str!("../../../templates/fields/ray_forms.wgsl").to_string(),
-            false => [include_str!("../../../templates/fields/ray_forms.wgsl"), include_str!("../../../templates/fields/ray_polys.wgsl")].join("\n"),
+            false => [include_str!("../../../templates/fields/ray_forms.wgsl"), include_str!("../../../templates/fields/ray_polys.wgsl")].join("\n") + &ray_polys::bernstein_functions(),
         };
         let _ = write!(
             out,

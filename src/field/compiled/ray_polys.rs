@@ -10,8 +10,9 @@
 //! cell's box are independent. Such a node's coefficients along the ray are
 //! worked out once per ray (`field_begin_ray`), composed from its operands'
 //! (products are convolutions), and a cell encloses it by the polynomial's
-//! Bernstein coefficients over the cell (templates/fields/ray_polys.wgsl),
-//! whose overestimate shrinks with the square of the cell.
+//! Bernstein coefficients over the cell (templates/fields/ray_polys.wgsl and
+//! [`bernstein_functions`]), whose overestimate shrinks with the square of
+//! the cell.
 //!
 //! Rounding. Every value on the ray (cells, slopes, the root search's
 //! points) is of the same f32 coefficients. Each coefficient's error is
@@ -207,3 +208,101 @@ impl<'a> Writer<'a> {
     }
 }
 
+
+/// `ray_poly{n}_bern` for each degree n from 3 to [`MAX_DEGREE`], which
+/// follow templates/fields/ray_polys.wgsl (whose header describes the
+/// algorithm): the Taylor shift of the coefficients to the cell's start, the
+/// powers of its width, and the Bernstein coefficients of the value (degree
+/// n) and of the slope (degree n − 1) with their least and greatest.
+pub(crate) fn bernstein_functions() -> String {
+    (3..=MAX_DEGREE as usize).map(bernstein_function).collect()
+}
+
+/// `ray_poly{n}_bern`, written out as straight-line code.
+fn bernstein_function(n: usize) -> String {
+    const COEFFS: [&str; 7] = ["pa.x", "pa.y", "pa.z", "pa.w", "pb.x", "pb.y", "pb.z"];
+    let mut s = format!("\n// Degree {n}.\nfn ray_poly{n}_bern(pa: vec4<f32>, pb: vec4<f32>, t0: f32, t1: f32) -> vec4<f32> {{\n    let u0 = t0 - g_poly_mid;\n");
+    for (k, c) in COEFFS.iter().enumerate().take(n + 1) {
+        let _ = writeln!(s, "    var a{k} = {c};");
+    }
+    // Horner's synthetic division by (u − u0), n times: round r leaves a_r final.
+    for r in 0..n {
+        let steps: Vec<String> = (r..n).rev().map(|j| format!("a{j} = a{j} + u0 * a{};", j + 1)).collect();
+        let _ = writeln!(s, "    {}", steps.join(" "));
+    }
+    s.push_str("    let h = t1 - t0;\n    let h1 = h;\n");
+    for k in 2..=n {
+        let _ = writeln!(s, "    let h{k} = h{} * h;", k - 1);
+    }
+    s.push_str("    let c0 = a0;\n");
+    for k in 1..=n {
+        let _ = writeln!(s, "    let c{k} = a{k} * h{k};");
+    }
+    s.push_str("    let e0 = a1;\n");
+    for k in 1..n {
+        let _ = writeln!(s, "    let e{k} = {}.0 * a{} * h{k};", k + 1, k + 1);
+    }
+    bernstein_rows(&mut s, "b", "c", n);
+    bernstein_rows(&mut s, "g", "e", n - 1);
+    let fold = |f: &str, v: &str, m: usize| (1..=m).fold(format!("{v}0"), |acc, k| format!("{f}({acc}, {v}{k})"));
+    let _ = writeln!(s, "    return vec4<f32>({}, {}, {}, {});\n}}", fold("min", "b", n), fold("max", "b", n), fold("min", "g", n - 1), fold("max", "g", n - 1));
+    s
+}
+
+/// The Bernstein coefficients `{b}0..{b}m` of the polynomial of degree `m`
+/// in u ∈ [0, 1] whose power coefficients are `{c}0..{c}m`:
+/// b_k = Σ_{i ≤ k} C(k, i) / C(m, i) · c_i.
+fn bernstein_rows(s: &mut String, b: &str, c: &str, m: usize) {
+    for k in 0..=m {
+        let terms: Vec<String> = (0..=k)
+            .map(|i| match bernstein_weight(k, i, m) {
+                w if w == 1.0 => format!("{c}{i}"),
+                w => format!("{} * {c}{i}", crate::codegen::lit(w)),
+            })
+            .collect();
+        let _ = writeln!(s, "    let {b}{k} = {};", terms.join(" + "));
+    }
+}
+
+/// C(k, i) / C(m, i) as the f32 nearest the exact ratio: binomials of
+/// degree ≤ [`MAX_DEGREE`] are integers exact in f32, and IEEE division
+/// rounds their quotient once, to nearest.
+fn bernstein_weight(k: usize, i: usize, m: usize) -> f32 {
+    binomial(k, i) as f32 / binomial(m, i) as f32
+}
+
+fn binomial(n: usize, k: usize) -> u64 {
+    (0..k as u64).fold(1, |acc, j| acc * (n as u64 - j) / (j + 1))
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every Bernstein weight written into the WGSL is the f32 nearest
+    /// C(k, i) / C(m, i): no f32 neighbour of the literal lies closer to the
+    /// exact ratio (the products with the small denominator are exact in f64).
+    #[test]
+    fn bernstein_weights_are_the_nearest_f32_of_exact_ratios() {
+        let wgsl = super::bernstein_functions();
+        let mut checked = 0;
+        for n in 3..=super::MAX_DEGREE as usize {
+            let body = wgsl.split(&format!("fn ray_poly{n}_bern(")).nth(1).expect("a function per degree");
+            for (row, m) in [("b", n), ("g", n - 1)] {
+                for k in 0..=m {
+                    let line = body.lines().find(|l| l.starts_with(&format!("    let {row}{k} = "))).expect("a row per coefficient");
+                    let terms: Vec<&str> = line.trim_end_matches(';').split(" = ").nth(1).expect("a value").split(" + ").collect();
+                    assert_eq!(terms.len(), k + 1, "{line}");
+                    for (i, term) in terms.iter().enumerate() {
+                        let (p, q) = (super::binomial(k, i) as f64, super::binomial(m, i) as f64);
+                        let w: f32 = term.split_once(" * ").map_or(Ok(1.0), |(w, _)| w.parse()).expect("an f32 literal");
+                        let miss = |x: f32| (f64::from(x) * q - p).abs();
+                        let (down, up) = (f32::from_bits(w.to_bits() - 1), f32::from_bits(w.to_bits() + 1));
+                        assert!(miss(w) <= miss(down) && miss(w) <= miss(up), "{line}: {w} is not the f32 nearest {p}/{q}");
+                        assert_eq!(term.contains(" * "), p != q, "{line}: weight 1 is written as the bare coefficient");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, (3..=6).map(|n| (n + 1) * (n + 2) / 2 + n * (n + 1) / 2).sum::<usize>());
+    }
+}

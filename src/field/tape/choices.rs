@@ -16,7 +16,7 @@ pub fn is_minmax(w0: u32) -> bool {
 /// are the tile's 1 KB of notes). A min or max past them is never
 /// shortened. 512 slots left most of a union of 145 boxes (four copies of
 /// `@city`'s blocks: about 900 min and max in its value program) without
-/// one: its tiles kept 85 % of the tape.
+/// one, and its tiles kept most of the tape.
 pub const TAPE_CHOICE_SLOTS: u32 = 4096;
 /// The immediate of a min or max without a slot.
 pub const TAPE_NO_SLOT: u32 = u32::MAX;

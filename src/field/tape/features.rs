@@ -1,15 +1,12 @@
 //! Operation groups a tape kernel is compiled with: the interpreter's step
 //! holds only the cases of the groups its tapes use, and its register file
 //! only as many registers as they need. lavapipe compiles each inlined copy
-//! of the interpreter in full, so the groups halve the compile of a
-//! polynomial kernel (`@sphere` in IA: 9.2 s to 4.5 s cold). When the step
-//! selected among its cases it also ran every case for every instruction,
-//! and the groups made each instruction cheaper (an IA step of a
-//! 1,792-instruction tape took 27 % less time without the parameter case
-//! and 22 % less without the power-chain case); each case is now an `if`
-//! that lavapipe skips when no lane of the bundle takes it, and a bundle
-//! whose lanes disagree still runs every case any of them takes. The
-//! constants, inputs, +, −, × and squares are always in.
+//! of the interpreter in full, so the groups about halve the compile of a
+//! polynomial kernel. Each case is an `if` that lavapipe skips when no lane
+//! of the bundle takes it (a step that selected among its cases would run
+//! every case for every instruction), and a bundle whose lanes disagree
+//! still runs every case any of them takes. The constants, inputs, +, −, ×
+//! and squares are always in.
 
 use super::Code;
 
@@ -21,11 +18,9 @@ pub const MINMAX: u32 = 2;
 pub const SQRT: u32 = 4;
 /// exp. The transcendental functions are a group each (or a pair, where
 /// one's slope is the other): a transcendental case costs more to compile
-/// than all the arithmetic ones together, and when the step computed every
-/// case for every instruction a tape of exponentials alone also paid for
-/// logarithms, real powers and hyperbolic functions at every step (README,
-/// "Transcendental tapes"; the cases are `if`s now, which lavapipe skips
-/// when no lane takes them).
+/// than all the arithmetic ones together, and a tape of exponentials alone
+/// need not carry logarithms, real powers and hyperbolic functions in its
+/// step.
 pub const EXP: u32 = 8;
 /// log.
 pub const LOG: u32 = 1 << 19;

@@ -241,8 +241,8 @@ pub struct TapeData {
     /// Operations of the value program with an input instruction before
     /// each use of an input, pinned or not, a constant instruction before
     /// each use of a constant, immediate or not, and a multiply-add counted
-    /// as a product and a sum: the size `auto`'s crossovers were measured
-    /// in (`field::choice`).
+    /// as a product and a sum: the size `auto`'s crossover lines are drawn
+    /// in ([`crate::choice::crossover`]).
     pub size: usize,
     /// Most registers either program uses.
     pub registers: u32,
@@ -289,8 +289,8 @@ impl TapeData {
         };
         let file = |(v, d): &(Program, Program)| features::for_registers(v.registers.max(d.registers));
         let loaded = programs(&mut b, false)?;
-        // As measured for the crossovers: a constant instruction per use,
-        // a multiply-add as its product and its sum.
+        // In the unit of the crossover lines: a constant instruction per
+        // use, a multiply-add as its product and its sum.
         let size = loaded.0.ops + loaded.0.immediates + loaded.0.fused;
         // Pinned inputs where they keep the register file's size (and fit).
         let (mut value, mut deriv, inputs) = match programs(&mut b, true) {

@@ -5,7 +5,7 @@
 //! depends on the formula itself: the code is a function of the domain and
 //! of the operation groups and register file the kernel is built for
 //! ([`features`]), so every formula within them is a buffer
-//! ([`super::tape`]).
+//! ([`super`]).
 
 use super::{features, Code};
 use crate::codegen::{libraries, template};
@@ -257,7 +257,7 @@ fn cell_enclosure(domain: Domain) -> String {
 }
 
 /// The `isotrace eval` kernel over a tape in `domain`: the same boxes and
-/// results as [`super::eval_shader`], with the tape in `@group(1)`, for
+/// results as [`crate::field::compiled::eval_shader`], with the tape in `@group(1)`, for
 /// tapes within `features`.
 pub fn eval_shader(domain: Domain, features: u32) -> String {
     let lib = match domain {

@@ -54,7 +54,7 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
     var d_max = d_max0;
     var d_last = d_max + EXTRA_LEVELS;
     // The field's per-ray state (a compiled field's nodes of degree ≤ 2
-    // along the ray, src/codegen/ray_forms.rs): every cell and point below
+    // along the ray, src/field/compiled/ray_forms.rs): every cell and point below
     // is on this ray, between `first.x` and its exit.
     field_begin_ray(ray.o, ray.dir, first.x, ray.s_exit - first.x);
     // The cell at (d, k) is done (its root was turned down by accept_hit):

@@ -54,7 +54,7 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
         g_resume.y = RESUME_NONE;
     }
     // The field's per-ray state (a compiled field's nodes along the ray,
-    // src/codegen/ray_forms.rs, for its cell enclosures): every cell below
+    // src/field/compiled/ray_forms.rs, for its cell enclosures): every cell below
     // lies on this ray between s_lo and its exit.
     field_begin_ray(ray.o, ray.dir, s_lo, ray.s_exit - s_lo);
     let len = s_hi - s_lo;

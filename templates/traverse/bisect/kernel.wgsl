@@ -108,19 +108,17 @@ fn cell_s(lo: f32, len: f32, d: u32, k: u32) -> vec2<f32> {
 // - kept within r_j of the midpoint, so that the search never takes more
 //   than one step beyond bisection's: r_j = eps/2 · 2^(n − j) − (b − a)/2,
 //   with n bisection's steps from w down to eps, plus one.
-// Counted on the 16 Knoll surfaces at 1024² (steps a hit): 3.0 to 5.2 with
-// Illinois, the superquadric 14.0 (99th percentile 22); 2.8 to 4.2 with
-// this, the superquadric 7.0 (8). κ = 0.1 took fewer on the polynomials and
-// more on the transcendental surfaces, whose steps cost most (cloth and
-// water 3.0 → 3.5); κ = 0.05 keeps those at 3.0.
+// Counted in steps a hit on the 16 Knoll surfaces: fewer than Illinois on
+// each, and half as many on the superquadric (whose worst pixels gain
+// most). κ = 0.1 took fewer on the polynomials and more on the
+// transcendental surfaces, whose steps cost most (cloth and water);
+// κ = 0.05 keeps those as few as Illinois.
 const ITP_KAPPA: f32 = 0.05;
 // What every step of a search on a cell of width w uses: κ/w, and the
 // power of two at or above w/eps from the bits (its mantissa rounded up
 // into the exponent; no exp2 or log2, which cost lavapipe more than a cheap
 // f's evaluation). Worked out once per search: lavapipe does not move loop-
-// invariant divisions out of a loop. (0.1-1.1 ms of the superquadric's
-// 28-30 ms frame at 1024² in the ortho view, whose root search is a third
-// of it; six rounds alternating.)
+// invariant divisions out of a loop.
 struct ItpCell { kw: f32, up: u32 }
 fn itp_cell(w: f32, eps: f32) -> ItpCell {
     return ItpCell(ITP_KAPPA / w, (bitcast<u32>(w / eps) + 0x007fffffu) & 0xff800000u);

@@ -1,6 +1,6 @@
 // Bisection's root search for a compiled field, one point of f a step (the
 // ITP method), spliced into cells.wgsl at `//!splice:narrow`; its
-// two-points-a-step form is narrow_pair.wgsl (src/codegen/kernel.rs chooses).
+// two-points-a-step form is narrow_pair.wgsl (src/kernel.rs chooses).
 
 // The root in cell [cell.x, cell.y], with fa, fb = f − c at its ends, from
 // one call site of f (lavapipe runs every call site of a loop body on

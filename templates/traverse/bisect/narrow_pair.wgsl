@@ -1,15 +1,15 @@
 // Bisection's root search for a compiled field, two points of f a step,
 // spliced into cells.wgsl at `//!splice:narrow` in place of narrow.wgsl
-// (src/codegen/kernel.rs chooses). A step evaluates f at two points that
+// (src/kernel.rs chooses). A step evaluates f at two points that
 // depend on nothing but the bracket, so the two evaluations are
 // independent: on a CPU device a cheap f is a chain of dependent
 // operations that leaves most of the core idle (the superquadric's x^200
 // is nine multiplications in a row), and the second chain runs in that
 // idle time. A step then costs about what one point cost, and splits the
-// bracket in three where one point splits it in two. Measured at 1024²:
-// the superquadric 20.3 → 17.3 ms in perspective, cloth 26.3 → 23.8, no
-// Knoll surface slower. The price is a second copy of f in the kernel:
-// formulas too large for that keep narrow.wgsl.
+// bracket in three where one point splits it in two: the superquadric and
+// cloth render noticeably faster, and no Knoll surface slower. The price
+// is a second copy of f in the kernel: formulas too large for that keep
+// narrow.wgsl.
 
 // The secant pair's half width starts at this fraction of the bracket's
 // width squared over the cell's (as ITP's κ), and at least eps/4.

@@ -18,9 +18,9 @@
 // the block's shorter tape.
 //
 // One invocation per tile, not per slab: the per-slab form (a workgroup per
-// tile sharing its mask through workgroup memory and barriers) cost ~20 ms
-// at 1024² on lavapipe before doing any work, its price for 16384
-// workgroups with barriers; this form has neither.
+// tile sharing its mask through workgroup memory and barriers) cost a large
+// fixed price a frame on lavapipe before doing any work, for its thousands
+// of workgroups with barriers; this form has neither.
 const COARSE: u32 = 8u;
 // Tiles per workgroup of `main` (its workgroup is 8x8xTILES_PER_GROUP).
 const TILES_PER_GROUP: u32 = 4u;
@@ -188,7 +188,7 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
 // view from 512² up, 0.04 at 120°; rounded, 0.04 % of the sphere's pixels
 // at 512² and 40° move by one 8-bit step, 0.5 % at 120°. Per pixel it
 // costs four multiply-adds, where normalize, the ramp and three square
-// roots took 1.5 ms of the 4-bretzel's 14 ms ortho frame at 1024². (Only
+// roots took a noticeable part of a fast frame (the 4-bretzel's). (Only
 // ENV_MODE 0: the checker and an image have edges.)
 struct TileSky { c00: vec3<f32>, cu: vec3<f32>, cv: vec3<f32>, cuv: vec3<f32> }
 fn background_tile(d0: vec3<f32>, step_x: vec3<f32>, step_y: vec3<f32>) -> TileSky {

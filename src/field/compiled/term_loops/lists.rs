@@ -2,12 +2,12 @@
 //! have them, where each loop's bits lie in a tile's words, and the WGSL
 //! constants and hooks a bisection kernel splices in with them
 //! (`templates/fields/loop_tiles.wgsl` says how the lists are made and why
-//! they are exact; `codegen::loops` writes the loops that note and read
+//! they are exact; `term_loops::emit` writes the loops that note and read
 //! them).
 //!
-//! A bisected union of 1,000 ball distances took 8.2 s at 512², nearly all
-//! in the per-pixel pass evaluating every distance in every cell; near any
-//! one tile a handful can be the least.
+//! Without lists, a bisected union of a thousand ball distances spends
+//! nearly all its frame in the per-pixel pass evaluating every distance in
+//! every cell, while near any one tile a handful can be the least.
 
 use super::{Loop, Plan};
 use crate::ir::{Func1, Func2, Ir, NodeId, Op};
@@ -37,7 +37,7 @@ pub struct Lists {
     pub iterations: u32,
     /// Iterations the tile pass's enclosures spend on them past the plan's
     /// (an interval or affine enclosure runs a listed loop twice, with
-    /// fewer terms an iteration, to note its terms: `codegen::loops`).
+    /// fewer terms an iteration, to note its terms: `term_loops::emit`).
     pub notes_iterations: u32,
     /// Iterations of the per-pixel pass's whole loops over them (the
     /// fallback beside a tile's list), by domain: scalar, then interval
@@ -77,12 +77,11 @@ impl Lists {
     }
 }
 
-/// Fewest terms a listed loop has. The lists cost the driver's compile
-/// about 0.25 s whatever the loop (40 balls: 0.50 → 0.75 s cold at 8²),
-/// and save a frame little where there are few terms (40 balls: the warm
-/// 512² frame 85 → 33 ms); from a few hundred the frame is most of it
-/// (100 balls cold at 512², 0.85 s → 0.91 s with lists; 200 balls 1.5 →
-/// 1.2 s; 1,184 balls 8.1 → 2.2 s).
+/// Fewest terms a listed loop has. The lists add a fixed cost to the
+/// driver's compile whatever the loop, and save a cold frame little where
+/// there are few terms; from a few hundred terms the frame is most of the
+/// time and the lists win by more the more terms there are (chosen by
+/// measurement on lavapipe, docs/benchmarks.md).
 pub const MIN_LISTED_TERMS: usize = 128;
 
 /// Whether a tile's list may leave out terms of loop `l`: a `min` or `max`
@@ -103,10 +102,9 @@ fn listable(ir: &Ir, l: &Loop, nn: &[bool]) -> bool {
 /// pass takes: at most [`SMALL_UNROLL`], at least a `group` of terms that
 /// share texels (in the domain's layout). Each unrolled term is compile
 /// time, and this loop runs only where a tile has no list. (Two or one a
-/// loop would save the kernel of two loops of 312 boxes 0.3-0.5 s of
-/// compile, but a tile past the tile pass's work limit, counted per lane,
-/// then ran out of iterations: 471 of 1,600 pixels unresolved where 4 left
-/// none.)
+/// loop would save some compile, but a tile past the tile pass's work
+/// limit, counted per lane, then ran out of iterations and left pixels
+/// unresolved where 4 left none.)
 pub fn small_unroll(l: &Loop, group: usize) -> usize {
     l.unroll.min(SMALL_UNROLL.max(group))
 }
@@ -118,9 +116,9 @@ pub const SMALL_UNROLL: usize = 4;
 /// runs it twice (the loop's value over the slab, then the notes): twice
 /// [`SMALL_UNROLL`], so that both passes take fewer iterations against
 /// lavapipe's cap than a value pass of the plan's unroll and a notes pass
-/// of [`SMALL_UNROLL`] did. (At [`SMALL_UNROLL`] the kernel of two loops of
-/// 312 boxes compiled 0.6 s sooner, but a union of 1,379 balls left 11
-/// tiles past the tile pass's work limit, and 32 pixels unresolved.)
+/// of [`SMALL_UNROLL`] did. (At [`SMALL_UNROLL`] the kernel compiles a
+/// little sooner, but a union of over a thousand balls left tiles past the
+/// tile pass's work limit, and pixels unresolved.)
 pub fn record_unroll(l: &Loop, group: usize) -> usize {
     l.unroll.min((2 * SMALL_UNROLL).max(group))
 }

@@ -2,15 +2,14 @@
 //! built by a program: a long chain `((… + t_k) + t_k+1) + …` (or of `*`,
 //! `min`, `max`) whose terms have one shape and differ only in their
 //! constants. Written out, every term is more code for lavapipe's LLVM back
-//! end, whose compile time grows steeply with the shader (README, "Compiled
-//! or tape"). Here such a run of terms becomes a loop over a table of their
-//! constants: the shader holds one copy of the term (unrolled a few times),
-//! and the constants come from a texture in the field group
-//! (`@group(1) @binding(0)`). Measured on lavapipe (README, "Long runs of
-//! same-shaped terms"): with a storage load at an index uniform across
-//! lanes the frames were several times slower than with the texture (as if
-//! lavapipe read it lane by lane), and with a WGSL constant or private
-//! array indexed by the loop counter slower still.
+//! end, whose compile time grows steeply with the shader. Here such a run
+//! of terms becomes a loop over a table of their constants: the shader
+//! holds one copy of the term (unrolled a few times), and the constants
+//! come from a texture in the field group (`@group(1) @binding(0)`). A
+//! texture because on lavapipe a storage load at an index uniform across
+//! lanes made the frames several times slower (as if lavapipe read it lane
+//! by lane), and a WGSL constant or private array indexed by the loop
+//! counter slower still.
 //!
 //! The loop accumulates the chain in the order it is written, so every
 //! domain computes what the straight-line code computes (one operation at a
@@ -173,8 +172,8 @@ pub fn plan(ir: &Ir) -> Plan {
     // A term the written-out code takes whole from the ray (a plane, a
     // quadric: `ray_forms`) costs a few operations a cell there, exact,
     // against the loop's interval arithmetic on the cell's box: a product
-    // of 100 planes took 155 ms a warm 512² frame written out and 1,190 ms
-    // as a loop. Such terms stay written out.
+    // of 100 planes renders several times faster written out than as a
+    // loop. Such terms stay written out.
     let rays = super::ray_forms::written_out_ray_nodes(ir);
     let from_ray = |t: usize| rays.as_ref().is_some_and(|r| r.has(terms.roots[t]));
     for (chain, range) in chains.iter().zip(&terms.ranges) {
