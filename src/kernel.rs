@@ -76,7 +76,7 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
                 field.code(Some(b.algebra), user, false, subgroups),
-                bisect(b, field.surfaces(), one_call_site(field), paired_root_search(field, b.root_search)),
+                bisect(b, field.surfaces(), cells_resume(field), paired_root_search(field, b.root_search)),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
@@ -125,7 +125,7 @@ fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
 }
 
 /// Whether bisection runs a cell's scalar work from one call site of f
-/// (`cells_probe.wgsl`), whose rounds of `main` resume the pixels the
+/// (`cells_resumable.wgsl`), whose rounds of `main` resume the pixels the
 /// field's work limit stopped (`gpu::renderer` runs them): an interpreted
 /// field, and a compiled formula with rerolled loops and no per-tile term
 /// lists (sums), whose loops count against the same limit. Each call site
@@ -135,7 +135,7 @@ fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
 /// its squares come from their polynomials along it (`ray_forms`), and
 /// from one call site they are not (a union of a thousand ball distances
 /// renders markedly slower from one site).
-pub fn one_call_site(field: FieldSource<'_>) -> bool {
+pub fn cells_resume(field: FieldSource<'_>) -> bool {
     match field {
         FieldSource::Tape(_) => true,
         FieldSource::Compiled(ir) => crate::field::compiled::term_loops::table_texels(ir).is_some() && crate::field::compiled::term_loops::lists::for_formula(ir).is_none(),

@@ -104,8 +104,8 @@ fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
 
 /// (28 terms: a written-out chain of 32 or more is generated as a balanced
 /// tree, `isotrace::field::compiled::balance`, whose rounding differs.) The rerolled sum's
-/// cells run their scalar work from one call site (`cells_probe.wgsl`,
-/// `isotrace::kernel::one_call_site`), the written-out sum's inline: the
+/// cells run their scalar work from one call site (`cells_resumable.wgsl`,
+/// `isotrace::kernel::cells_resume`), the written-out sum's inline: the
 /// same pixels hit, at depths within 2 eps (the root searches differ).
 #[test]
 fn a_rerolled_sum_draws_the_written_out_sums_picture() {
@@ -128,7 +128,7 @@ fn a_rerolled_sum_draws_the_written_out_sums_picture() {
 /// semantic pass, which leaves t alone):
 /// in one round of the per-pixel pass, those pixels are reported
 /// unresolved; the rounds after it resume them at their cells
-/// (`cells_probe.wgsl`); every pixel drawn as a hit has the f64
+/// (`cells_resumable.wgsl`); every pixel drawn as a hit has the f64
 /// reference's first root.
 #[test]
 fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {

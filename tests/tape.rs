@@ -653,7 +653,7 @@ fn auto_weighs_the_frames_of_the_job() {
 }
 
 /// A tape's hit finds its gradient in the cells' own loop (forward
-/// differences from the root finder's last point, cells_probe.wgsl), where
+/// differences from the root finder's last point, cells_resumable.wgsl), where
 /// the compiled field takes central differences after the traversal: the
 /// normals agree on every pixel both hit at the same depth, away from
 /// creases (where the compiled field's own normal jumps between neighbours

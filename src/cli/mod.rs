@@ -16,6 +16,7 @@ mod scene;
 mod scene_render;
 mod shell;
 mod view;
+mod wgsl;
 pub mod signals;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -46,7 +47,7 @@ enum Command {
     Check(CheckArgs),
     /// Print the complete generated WGSL shader (validated with naga).
     #[command(after_help = "Examples:\n  isotrace wgsl 'x^2 + y^2 + z^2 - 1' --algebra raa\n  isotrace wgsl 'sin(x) - z' --kernel eval --algebra ia -o eval.wgsl")]
-    Wgsl(WgslArgs),
+    Wgsl(wgsl::WgslArgs),
     /// Ray trace the surface f = 0 into a PNG or EXR image.
     #[command(after_help = "Examples:\n  isotrace render 'x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8' --box=-3,3 -o tangle.png\n  isotrace render 'x^2 + y^2 + z^2 - r^2' --param r=1.2 --size 800x600 -o sphere.exr --stats\n  isotrace render 'z - 0.1*sin(4*x + t)' --box=-4,4,-4,4,-1,1 --frames 30 --t0 0 --t1 6.28 -o frames/f_%04d.png\n  isotrace render @water --frames 960 -o frames/f_%04d.png --shard auto --skip-existing    # one task of a Slurm array")]
     Render(render::RenderArgs),
@@ -67,7 +68,7 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Serve an interactive WebGPU page of a formula or a scene (the same WGSL kernels as render).
     #[command(after_help = "Examples:\n  isotrace view @sphere\n  isotrace view examples/blobs.scene.json --port 8080 --open\n  isotrace view 'x^2 + y^2 + z^2 - r^2' --export sphere.html    # a static page, no server")]
-    View(view::ViewArgs),
+    View(view::ViewerArgs),
     /// Print a shell completion script to stdout.
     #[command(after_help = "Examples:\n  isotrace completions bash > ~/.local/share/bash-completion/completions/isotrace\n  isotrace completions zsh > \"${fpath[1]}/_isotrace\"\n  isotrace completions fish > ~/.config/fish/completions/isotrace.fish")]
     Completions(shell::CompletionsArgs),
@@ -180,46 +181,6 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32
     })
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-enum KernelArg {
-    /// The render kernel (stackless interval bisection).
-    Render,
-    /// The `eval` kernel (one invocation per box).
-    Eval,
-    /// The sphere tracing kernel (`render --method sphere`).
-    Sphere,
-}
-
-/// The field sources `isotrace wgsl` can print.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-enum WgslField {
-    /// The formula generated into WGSL.
-    Compiled,
-    /// The tape interpreter's kernel for this formula's tape.
-    Tape,
-}
-
-#[derive(Args, Debug)]
-struct WgslArgs {
-    #[command(flatten)]
-    formula: FormulaArgs,
-    /// Number domain of the inclusion function.
-    #[arg(long, value_enum, default_value = "auto")]
-    algebra: AlgebraArg,
-    /// Which kernel to generate.
-    #[arg(long, value_enum, default_value = "render")]
-    kernel: KernelArg,
-    /// Field source: the formula generated into the shader, or the tape
-    /// interpreter's kernel (which does not depend on the formula, only on
-    /// its operation groups and register file; the per-invocation work
-    /// count: on a device with subgroups `render` uses the per-bundle one).
-    #[arg(long, value_enum, default_value = "compiled")]
-    field: WgslField,
-    /// Write the shader to FILE (.wgsl) instead of stdout.
-    #[arg(short = 'o', long = "output", value_name = "FILE")]
-    output: Option<std::path::PathBuf>,
-}
-
 /// Any failure of a command, rendered once.
 #[derive(Debug)]
 pub enum CliError {
@@ -281,7 +242,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     memory_budget_from_env()?;
     match cli.command {
         Command::Check(a) => check(a),
-        Command::Wgsl(a) => wgsl(a),
+        Command::Wgsl(a) => wgsl::run(a),
         Command::Render(a) => render::run(a),
         Command::Eval(a) => eval::run(a),
         Command::List(a) => list(a),
@@ -302,7 +263,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let loaded = a.formula.load_with_header()?;
     let f = &loaded.formula;
     if let Some(user) = &loaded.inline {
-        check_inline(f, user)?;
+        wgsl::check_inline(f, user)?;
     }
     let ir = &f.ir;
     let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
@@ -362,99 +323,6 @@ pub fn resolve_algebra(a: AlgebraArg, ir: &isotrace::ir::Ir) -> Domain {
         AlgebraArg::Raa => Domain::Affine,
         AlgebraArg::Auto => isotrace::choose_algebra(ir),
     }
-}
-
-fn wgsl(a: WgslArgs) -> Result<ExitCode, CliError> {
-    if let Some(o) = &a.output {
-        let target = isotrace::output::check_extension(o, ".wgsl").and_then(|_| isotrace::output::check_target(o));
-        target.map_err(|e| CliError::Input(e.to_string()))?;
-    }
-    let loaded = a.formula.load_with_header()?;
-    let f = &loaded.formula;
-    let inline = loaded.inline.as_ref();
-    let domain = resolve_algebra(a.algebra, &f.ir);
-    if a.field == WgslField::Tape {
-        let src = tape_wgsl(f, domain, a.kernel, inline.is_some())?;
-        validate_generated(&src, f)?;
-        return write_wgsl(src, a.output);
-    }
-    let src = match a.kernel {
-        KernelArg::Eval => isotrace::field::compiled::eval_shader_with(&f.ir, domain, inline),
-        KernelArg::Sphere if inline.is_some() => return Err(CliError::Input("--inline applies to the render and eval kernels, not to --kernel sphere".into())),
-        KernelArg::Sphere => isotrace::kernel::sphere_shader(&f.ir, Default::default()),
-        KernelArg::Render => {
-            if domain == Domain::Scalar {
-                return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
-            }
-            let m = isotrace::render::Modalities { inline: inline.cloned(), ..Default::default() };
-            let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-            isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl
-        }
-    };
-    match inline {
-        Some(user) => validate_inline(&src, user, f)?,
-        None => validate_generated(&src, f)?,
-    }
-    write_wgsl(src, a.output)
-}
-
-/// The tape field's kernel of `kernel` for the tape of `f`.
-fn tape_wgsl(f: &isotrace::Formula, domain: Domain, kernel: KernelArg, inline: bool) -> Result<String, CliError> {
-    if inline {
-        return Err(CliError::Input("--field tape: the functions and hooks of --inline need --field compiled".into()));
-    }
-    let tape = isotrace::field::TapeData::new(&f.ir).map_err(|e| CliError::Input(format!("--field tape: {e}; print it with --field compiled")))?;
-    let traversal = match kernel {
-        KernelArg::Eval => return Ok(isotrace::field::tape::wgsl::eval_shader(domain, tape.features)),
-        KernelArg::Sphere => isotrace::render::Traversal::Sphere(Default::default()),
-        KernelArg::Render if domain == Domain::Scalar => {
-            return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
-        }
-        KernelArg::Render => isotrace::render::Traversal::Bisect(isotrace::render::BisectOptions::new(domain)),
-    };
-    Ok(isotrace::kernel::assemble(isotrace::field::FieldSource::Tape(&tape), &traversal).wgsl)
-}
-
-/// Validates a generated shader without user WGSL: an invalid one is an
-/// isotrace bug.
-fn validate_generated(src: &str, f: &isotrace::Formula) -> Result<(), CliError> {
-    validate::validate(src).map(|_| ()).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))
-}
-
-/// Writes a validated shader to `output` or stdout.
-fn write_wgsl(src: String, output: Option<std::path::PathBuf>) -> Result<ExitCode, CliError> {
-    match output {
-        Some(path) => {
-            input::write_atomic(&path, src.as_bytes()).map_err(CliError::Input)?;
-            notice::wrote(&path, &format!("{} lines of WGSL", src.lines().count()));
-        }
-        None => {
-            let _ = std::io::stdout().lock().write_all(src.as_bytes());
-        }
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-/// Validates a shader that holds the user's `--inline` WGSL: an error in the
-/// user's part is a user error (exit 1), anything else a bug.
-fn validate_inline(src: &str, user: &isotrace::inline::InlineWgsl, f: &Formula) -> Result<(), CliError> {
-    let start = src.find(&user.text).unwrap_or(0);
-    validate::validate_with_inline(src, start..start + user.text.len(), &user.path, &user.text).map(|_| ()).map_err(|e| match e {
-        validate::InlineError::User(m) => CliError::Rendered(m),
-        validate::InlineError::Bug(b) => CliError::Internal(format!("{b}\nformula ({}): {}", f.origin, f.source.trim())),
-    })
-}
-
-/// `check --inline`: the user's WGSL spliced into the render kernel (with
-/// its hooks) and the eval kernel of the formula, both validated by naga, so
-/// `check` reports what `render` and `eval` would.
-fn check_inline(f: &Formula, user: &isotrace::inline::InlineWgsl) -> Result<(), CliError> {
-    let domain = isotrace::choose_algebra(&f.ir);
-    let m = isotrace::render::Modalities { inline: Some(user.clone()), ..Default::default() };
-    let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-    let render = isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl;
-    validate_inline(&render, user, f)?;
-    validate_inline(&isotrace::field::compiled::eval_shader_with(&f.ir, domain, Some(user)), user, f)
 }
 
 /// Maps a render error to the CLI's error kinds.

@@ -20,7 +20,7 @@ use std::sync::Mutex;
 
 /// `isotrace view` flags.
 #[derive(Args, Debug)]
-pub struct ViewArgs {
+pub struct ViewerArgs {
     /// The formula, @name of a catalog surface, a path ending in .iso, or a .scene.json scene.
     #[arg(value_name = "FORMULA|@name|FILE.iso|SCENE.json", allow_hyphen_values = true)]
     input: String,
@@ -364,7 +364,7 @@ fn is_loopback(host: &str) -> bool {
     host == "localhost" || host.parse::<std::net::IpAddr>().is_ok_and(|a| a.is_loopback())
 }
 
-pub fn run(a: ViewArgs) -> Result<ExitCode, CliError> {
+pub fn run(a: ViewerArgs) -> Result<ExitCode, CliError> {
     let backend = Backend { input: a.input.clone(), gpu: Mutex::new(None), allow_scene_paths: a.allow_scene_paths };
     if a.input == "-" {
         return Err(CliError::Input("isotrace view reads no formula from stdin: give it as an argument, @name or a file".into()));

@@ -32,7 +32,7 @@ pub const BISECT: &str = include_str!("../../templates/traverse/bisect/kernel.wg
 /// with it run from one call site of f (interpreted fields).
 pub const BISECT_CELLS: [&str; 2] = [
     include_str!("../../templates/traverse/bisect/cells.wgsl"),
-    include_str!("../../templates/traverse/bisect/cells_probe.wgsl"),
+    include_str!("../../templates/traverse/bisect/cells_resumable.wgsl"),
 ];
 /// Bisection's root search in a compiled field's cells: one point of f a
 /// step, and two (`narrow` in cells.wgsl).

@@ -130,7 +130,7 @@ impl FieldBinding {
     /// Whether bisection's per-pixel pass runs in rounds that resume the
     /// pixels the field's work limit stopped: a tape, or a compiled formula
     /// with rerolled loops and no per-tile term lists
-    /// (`kernel::one_call_site`).
+    /// (`kernel::cells_resume`).
     pub fn resumes(&self) -> bool {
         self.resumes
     }
@@ -365,7 +365,7 @@ pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, G
                 layout.extend([storage_entry(LOOP_LISTS, false), storage_entry(COUNTS, false)]);
             }
             let lists_bound = loop_lists.is_some();
-            let resumes = crate::kernel::one_call_site(FieldSource::Compiled(ir));
+            let resumes = crate::kernel::cells_resume(FieldSource::Compiled(ir));
             Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, resumes, tape_lists: None, loop_lists, lists_bound, cached: Default::default() })
         }
         FieldSource::Scene(s) => {

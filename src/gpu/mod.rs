@@ -14,6 +14,7 @@ pub mod eval;
 mod field;
 pub mod renderer;
 mod sphere;
+mod uniforms;
 
 pub use driver::ShaderOpt;
 pub use renderer::{RenderError, Renderer, TAPE_RESUME_ROUNDS};

@@ -4,7 +4,7 @@
 // cell costs one derivative enclosure and two call sites of f (visit), and
 // the root finding (narrow) and a leaf's sign test run after the cell loop,
 // once per bracket. For an interpreted field, whose copies are whole
-// interpreters, cells_probe.wgsl runs a cell's scalar work from one call
+// interpreters, cells_resumable.wgsl runs a cell's scalar work from one call
 // site instead (its phases made the compiled field's frames slower).
 
 // Whether the host runs several rounds of `main` over these cells (kernel.wgsl).
@@ -13,7 +13,7 @@ const CELLS_ROUNDS: bool = false;
 const CELLS_GRADIENT: bool = false;
 
 // A secondary ray's segment [s_lo, s_hi], bisected to depth d_max (`grad`
-// is for cells_probe.wgsl: here the kernel takes the hit's gradient itself).
+// is for cells_resumable.wgsl: here the kernel takes the hit's gradient itself).
 fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool) -> Hit {
     return bisect_runs(ray, vec2<f32>(s_lo, s_hi), d_max, budget, Runs(vec2<u32>(0u), vec2<f32>(0.0), vec2<f32>(0.0), 1.0));
 }
