@@ -95,7 +95,7 @@ fn minmax_ops(t: &TapeData) -> usize {
 /// pow, the trigonometric and hyperbolic functions) adds to a formula's
 /// size in `auto`'s weighing, beyond its own instruction, in IA (and
 /// sphere tracing, not measured separately), where its sums stay chains
-/// (see [`heavy_weight`]): the compiled kernel's build then grows much
+/// (see `heavy_weight`): the compiled kernel's build then grows much
 /// faster with them than with bilinear terms of the same size, while each
 /// also makes the tape's step dearer. Chosen by measurement on the
 /// families of [`crossover`] (docs/benchmarks.md). A sum whose terms
@@ -180,7 +180,7 @@ pub fn choose(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &T
 
 /// [`choose`] for a job of `frames` frames (an animation, a benchmark's
 /// runs): `Auto` weighs the tape's sooner first frame against its slower
-/// later ones ([`tape_pays`]).
+/// later ones (`tape_pays`).
 pub fn choose_for(kind: FieldKind, f: &crate::Formula, params: &[f32], traversal: &Traversal, frames: u64) -> Result<PreparedField, FieldError> {
     let ir = &f.ir;
     let hooks = matches!(traversal, Traversal::Bisect(b) if b.modalities.inline.is_some());

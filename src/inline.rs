@@ -221,7 +221,7 @@ fn check_hook(text: &str, d: &FnDecl) -> Result<(), Diagnostic> {
 
 /// Names a WGSL text declares at module scope (`fn`, `struct`, `const`,
 /// `var`, `alias`, `override`), with their spans. A light scan like
-/// [`declarations`]: it skips comments and everything inside braces, which
+/// `declarations`: it skips comments and everything inside braces, which
 /// is all it needs to find the names two module parts would both define.
 pub fn module_names(text: &str) -> Vec<(String, Span)> {
     let b = text.as_bytes();

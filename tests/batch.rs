@@ -235,7 +235,7 @@ fn manifest_merge_reports_missing_frames_and_refuses_mixed_settings() {
 fn shard_auto_reads_the_scheduler_and_names_what_is_missing() {
     let dir = fresh("auto");
     let slurm = [("SLURM_ARRAY_TASK_ID", "5"), ("SLURM_ARRAY_TASK_MIN", "4"), ("SLURM_ARRAY_TASK_MAX", "6"), ("SLURM_ARRAY_TASK_COUNT", "3")];
-    let o = ok(render_frames(&dir, 5, &["--shard", "auto"], &slurm));
+    let o = ok(render_frames(&dir, 5, &["--shard", "auto", "-q"], &slurm));
     assert_eq!(stderr(&o), "note: --shard auto: shard 1/3 from SLURM_ARRAY_TASK_ID=5, SLURM_ARRAY_TASK_MIN=4 and SLURM_ARRAY_TASK_MAX=6\n");
     assert_eq!(statuses(&json(&dir.join("frames/f_.shard-1-of-3.manifest.json"))), [(1, "rendered".into()), (4, "rendered".into())]);
     let o = ok(render_frames(&dir, 5, &["--shard", "auto", "--shard-count", "2"], &[("JOB_COMPLETION_INDEX", "1")]));
@@ -479,7 +479,7 @@ fn damaged_frames_are_rendered_again_and_never_count() {
     let whole = std::fs::read(f(1)).unwrap();
     std::fs::write(f(1), &whole[..50]).unwrap();
     std::fs::write(f(4), b"").unwrap();
-    let o = ok(render_frames(&dir, 6, &["--skip-existing"], &[]));
+    let o = ok(render_frames(&dir, 6, &["--skip-existing", "-q"], &[]));
     assert_eq!(
         stderr(&o),
         "note: 'frames/f_001.png' is rendered again: a PNG file cut short: it ends at byte 50, inside its IDAT chunk at byte 33\n\

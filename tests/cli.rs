@@ -246,7 +246,7 @@ fn header_field_is_the_default_source() {
     };
     assert_eq!(field_of(&[]), "tape");
     assert_eq!(field_of(&["--field", "compiled"]), "compiled");
-    let o = isotrace(&["render", iso.to_str().unwrap(), "--size", "16", "--stats", "-o", out.to_str().unwrap()]);
+    let o = isotrace(&["render", iso.to_str().unwrap(), "--size", "16", "--stats", "-q", "-o", out.to_str().unwrap()]);
     assert!(stderr(&o).starts_with("size 16x16  algebra ia  field tape  eps "), "{}", stderr(&o));
     // A ball has nothing to shorten per tile: no "tape:" line (it once said
     // "0 of 0 tiles … the value program's 0 instructions"); a CSG formula has.

@@ -71,7 +71,7 @@ fn stale_temporaries_of_the_own_target_are_removed() {
     for p in [&stale, &alive, &other, &frame] {
         make_old(p);
     }
-    let o = isotrace(&["render", "@sphere", "--size", "8", "-o", s(&d.join("st.png"))]);
+    let o = isotrace(&["render", "@sphere", "--size", "8", "-q", "-o", s(&d.join("st.png"))]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(stderr(&o), format!("note: removed '{}', a temporary file left by a run that is gone\n", s(&stale)));
     assert!(!stale.exists());
@@ -430,7 +430,7 @@ fn a_huge_generated_shader_is_refused_and_a_slow_compile_is_announced() {
     ), "{e}");
     // The note after a (test-sized) delay, with the shader's size.
     let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))
-        .args(["render", "@sphere", "--size", "8", "-o", s(&d.join("s.png"))])
+        .args(["render", "@sphere", "--size", "8", "-q", "-o", s(&d.join("s.png"))])
         .env("NODEVICE_SELECT", "1")
         .env("ISOTRACE_COMPILE_NOTE_MS", "0")
         .output()
@@ -441,7 +441,7 @@ fn a_huge_generated_shader_is_refused_and_a_slow_compile_is_announced() {
     // A frame still rendering after a (test-sized) delay is named: a big
     // tape's frame takes minutes on a CPU device.
     let o = Command::new(env!("CARGO_BIN_EXE_isotrace"))
-        .args(["render", "x^2 + y^2 + z^2 - 1", "--field", "tape", "--size", "8", "-o", s(&d.join("t.png"))])
+        .args(["render", "x^2 + y^2 + z^2 - 1", "--field", "tape", "--size", "8", "-q", "-o", s(&d.join("t.png"))])
         .env("NODEVICE_SELECT", "1")
         .env("ISOTRACE_RENDER_NOTE_MS", "0")
         .output()

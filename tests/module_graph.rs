@@ -15,29 +15,47 @@ fn code_of(text: &str) -> String {
     while let Some(at) = rest.find("#[cfg(test)]") {
         out.push_str(&rest[..at]);
         let after = &rest[at + "#[cfg(test)]".len()..];
-        let is_mod = after.trim_start().trim_start_matches("pub(crate) ").trim_start_matches("pub ").starts_with("mod ");
-        match (is_mod, after.find('{')) {
-            (true, Some(open)) => {
-                let mut depth = 0;
-                let mut end = after.len();
-                for (i, c) in after[open..].char_indices() {
-                    depth += match c {
-                        '{' => 1,
-                        '}' => -1,
-                        _ => 0,
-                    };
-                    if depth == 0 {
-                        end = open + i + 1;
-                        break;
-                    }
-                }
-                rest = &after[end..];
-            }
-            _ => rest = after,
-        }
+        let item = after.trim_start();
+        let block = item.starts_with("mod ") && item.find('{').is_some_and(|b| item.find(';').is_none_or(|s| b < s));
+        rest = if block { &item[block_end(item)..] } else { after };
     }
     out.push_str(rest);
     out
+}
+
+/// The byte after the brace that closes `item`'s first `{`, braces in
+/// string and character literals aside.
+fn block_end(item: &str) -> usize {
+    let bytes = item.as_bytes();
+    let (mut depth, mut i) = (0i32, item.find('{').unwrap_or(0));
+    while i < bytes.len() {
+        match bytes[i] {
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && bytes[i] != b'"' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            // A character literal ('{', '\''), not a lifetime ('a).
+            b'\'' if bytes.get(i + 2) == Some(&b'\'') => i += 2,
+            b'\'' if bytes.get(i + 1) == Some(&b'\\') => i += 3,
+            b'{' => depth += 1,
+            b'}' => {
+                depth -= 1;
+                if depth == 0 {
+                    return i + 1;
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    bytes.len()
+}
+
+/// Whether a file holds only unit tests (`tests.rs`, `*_tests.rs`).
+fn is_test_file(path: &Path) -> bool {
+    path.file_stem().and_then(|s| s.to_str()).is_some_and(|s| s == "tests" || s.ends_with("_tests"))
 }
 
 /// The library's top-level modules and the modules each uses.
@@ -62,7 +80,7 @@ fn graph_of_source(src: &Path) -> Graph {
                 stack.push(path);
                 continue;
             }
-            if path.extension().is_none_or(|e| e != "rs") {
+            if path.extension().is_none_or(|e| e != "rs") || is_test_file(&path) {
                 continue;
             }
             let code = code_of(&std::fs::read_to_string(&path).expect("a source file"));
@@ -142,4 +160,6 @@ fn a_cycle_and_a_wrong_row_are_seen() {
     assert_eq!(docs["a"], BTreeSet::from(["b".to_string()]));
     assert!(docs["d"].is_empty());
     assert_eq!(code_of("use crate::x;\n#[cfg(test)]\nmod tests { use crate::y; }\nfn f() {} // crate::z"), "use crate::x;\n\nfn f() {} ");
+    let braces_in_literals = "#[cfg(test)]\nmod tests { fn f() { let c = '}'; let s = \"}}\"; let q = '\\''; } }\nuse crate::z;";
+    assert_eq!(code_of(braces_in_literals), "\nuse crate::z;");
 }

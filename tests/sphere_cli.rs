@@ -165,7 +165,7 @@ fn bench_compares_methods_and_over_relaxation() {
 #[test]
 fn non_distance_formula_warns_without_stats() {
     let out = std::env::temp_dir().join(format!("isotrace-ndf-{}.png", std::process::id()));
-    let o = isotrace(&["render", "x^2 + y^2 + z^2 - 1", "--method", "sphere", "--size", "64", "-o", out.to_str().unwrap(), "--json"]);
+    let o = isotrace(&["render", "x^2 + y^2 + z^2 - 1", "--method", "sphere", "--size", "64", "-o", out.to_str().unwrap(), "--json", "-q"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(e.starts_with("warning: on ") && e.contains("the formula is not a distance bound with this Lipschitz bound"), "{e}");

@@ -4,7 +4,7 @@
 //! [`super::dispatch`] and turns the pixel records into a [`Frame`] or a
 //! [`PackedFrame`] with the frame statistics. What differs between
 //! traversals on the host (their uniform block, frame resources, pass
-//! buffers and own statistics) sits behind [`TraversalHost`].
+//! buffers and own statistics) sits behind `TraversalHost`.
 
 use super::binding::Binder;
 use super::dispatch::{self, Dispatch, Groups, Rect, Stage};

@@ -61,7 +61,7 @@ impl Tail {
 }
 
 /// One pixel's whole record: its head, and its tail or, for a miss,
-/// [`Tail::MISS`].
+/// `Tail::MISS`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct Record {

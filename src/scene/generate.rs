@@ -9,7 +9,7 @@
 //!   left comb from largest to smallest (the paper: "to limit ROI
 //!   propagation and detail over-smoothing"); β = 0.15 × the scale. Smooth
 //!   everywhere is one comb of all primitives sorted by scale, the others
-//!   keep the aggregate's hierarchy (see [`aggregate`]).
+//!   keep the aggregate's hierarchy (see `aggregate`).
 //! - [`Kind::Boxes`] (Fig. 18 a-f): 16 rotated boxes, instanced uniformly on
 //!   a 2^L × 2^L grid over [−1, 1]² at scale 2^−L: 16 · 4^L = 16 … 4096.
 //! - [`Kind::SpherePairs`] (Fig. 18 g-l): 12 lenses, each the sharp

@@ -470,7 +470,7 @@ pub struct SceneData {
     /// augmented bounding ball, then its limit ball, outside which an
     /// intersection above it is inactive (`scene::reach`).
     pub balls: Vec<[f32; 4]>,
-    /// The interpreter features the scene needs ([`FEATURE_*`](FEATURE_PRIMITIVES)
+    /// The interpreter features the scene needs (`FEATURE_*`
     /// bits): part of the kernel, so a renderer built for one set draws
     /// any scene whose set is within it.
     pub features: u32,

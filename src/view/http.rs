@@ -234,7 +234,7 @@ pub fn send(stream: &mut TcpStream, answer: &Answer) {
 }
 
 /// Closes a connection whose answer is sent: the write side at once, the
-/// read side once the client has closed its own (or after [`LINGER`]).
+/// read side once the client has closed its own (or after `LINGER`).
 pub fn linger(mut stream: TcpStream) {
     if stream.shutdown(Shutdown::Write).is_err() {
         return;

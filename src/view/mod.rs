@@ -10,7 +10,7 @@
 //! present shader (`templates/view/present.wgsl`). Parameters, t, the
 //! camera and a scene's buffers change no pipeline.
 //!
-//! - [`program`]: the kernel and its description;
+//! - [`program`](mod@program): the kernel and its description;
 //! - [`server`]: the HTTP server and its JSON API;
 //! - [`http`]: its wire layer (limits and deadlines);
 //! - [`access`]: who may call it (Host, Origin, the session token);

@@ -10,7 +10,7 @@
 //! Nodes whose derivative is identically 0 (constants, parameters, time)
 //! are tracked so their terms are not emitted.
 //!
-//! The rules are written once ([`rule`]) against [`Terms`], which the
+//! The rules are written once (`rule`) against `Terms`, which the
 //! generated code implements with WGSL expressions (here) and the tape with
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 

@@ -112,10 +112,10 @@ fn scalar_fn(ir: &Ir) -> String {
 
 /// The render kernel's inclusion functions for `domain` over a compiled
 /// formula: its `surf_<p>` (with CSG selection), its scalar `field(p)`, the
-/// [`enclosures`] and [`cell_enclosure`] built on them, and the scalar
+/// `enclosures` and `cell_enclosure` built on them, and the scalar
 /// field at a point of a ray, `field_ray(o, dir, s)`, after the ray's
 /// `field_begin_ray`: in the interval domain with the nodes of degree ≤ 2
-/// taken from the ray ([`ray_forms`]), elsewhere `field(o + dir s)`.
+/// taken from the ray (`ray_forms`), elsewhere `field(o + dir s)`.
 /// `safe`: the kernel reads ranges without the NaN test and checks its
 /// inputs with `ra_safe` ([`safe_radius`]).
 pub fn inclusion(ir: &Ir, domain: Domain, safe: bool) -> String {
