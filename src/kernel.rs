@@ -113,7 +113,7 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
 pub const PAIR_MAX_NODES: usize = 500;
 
 /// Whether bisecting `field` closes in on roots two points a step
-/// (narrow_pair.wgsl) for the user's `choice`: only a compiled field's
+/// (root_search_two_points.wgsl) for the user's `choice`: only a compiled field's
 /// cells can (an interpreted field's cell work runs from one call site).
 fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
     let FieldSource::Compiled(ir) = field else { return false };
@@ -154,7 +154,7 @@ fn bisect(b: &BisectOptions, surfaces: usize, one_call: bool, pair: bool) -> Str
     let cells = if one_call {
         template::BISECT_CELLS[1].to_string()
     } else {
-        template::splice(template::BISECT_CELLS[0], &[("narrow", template::optional(template::BISECT_NARROW, pair))]).expect("the cells template has its marker")
+        template::splice(template::BISECT_CELLS[0], &[("root_search", template::optional(template::BISECT_ROOT_SEARCH, pair))]).expect("the cells template has its marker")
     };
     template::splice(
         template::BISECT,

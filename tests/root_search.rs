@@ -1,5 +1,5 @@
-//! Bisection's two root searches (templates/traverse/bisect/narrow.wgsl,
-//! one point of f a step, and narrow_pair.wgsl, two): the same hits at the
+//! Bisection's two root searches (templates/traverse/bisect/root_search_one_point.wgsl,
+//! one point of f a step, and root_search_two_points.wgsl, two): the same hits at the
 //! same depth on every Knoll surface, roots where f changes sign, and the
 //! automatic choice by the formula's size.
 

@@ -36,9 +36,9 @@ pub const BISECT_CELLS: [&str; 2] = [
 ];
 /// Bisection's root search in a compiled field's cells: one point of f a
 /// step, and two (`narrow` in cells.wgsl).
-pub const BISECT_NARROW: [&str; 2] = [
-    include_str!("../../templates/traverse/bisect/narrow.wgsl"),
-    include_str!("../../templates/traverse/bisect/narrow_pair.wgsl"),
+pub const BISECT_ROOT_SEARCH: [&str; 2] = [
+    include_str!("../../templates/traverse/bisect/root_search_one_point.wgsl"),
+    include_str!("../../templates/traverse/bisect/root_search_two_points.wgsl"),
 ];
 /// Bisection's tile pass (entry point `tiles`).
 pub const BISECT_TILES: &str = include_str!("../../templates/traverse/bisect/tiles.wgsl");

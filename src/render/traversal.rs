@@ -67,10 +67,10 @@ pub enum RootSearch {
     /// the core busy on its own, and its second point costs what it saves).
     #[default]
     Auto,
-    /// One point of f a step: the ITP method (templates/traverse/bisect/narrow.wgsl).
+    /// One point of f a step: the ITP method (templates/traverse/bisect/root_search_one_point.wgsl).
     OnePoint,
     /// Two independent points of f a step, a secant pair or the bracket's
-    /// thirds (narrow_pair.wgsl): on a CPU device the second point runs in
+    /// thirds (root_search_two_points.wgsl): on a CPU device the second point runs in
     /// the time a cheap f's chain of dependent operations leaves idle.
     /// Only for a compiled field: an interpreted one keeps one point.
     TwoPoints,

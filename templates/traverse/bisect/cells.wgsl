@@ -213,7 +213,7 @@ fn nearest_iso(f0: f32, f1: f32) -> u32 {
     return iso;
 }
 
-// How narrow() (narrow.wgsl or narrow_pair.wgsl, spliced below) closes
+// How narrow() (root_search_one_point.wgsl or root_search_two_points.wgsl, spliced below) closes
 // in on a root: one point or two a step in a monotone cell, looking
 // further along the ray for a sign change of a leaf, then bisecting (or
 // splitting in thirds) the bracket it finds.
@@ -225,4 +225,4 @@ fn narrow_mode(leaf: bool, f0: f32, f1: f32) -> u32 {
     return select(NARROW_ITP, select(NARROW_LOOK, NARROW_BISECT, brackets(f0, f1)), leaf);
 }
 
-//!splice:narrow
+//!splice:root_search

@@ -1,5 +1,5 @@
 // Bisection's root search for a compiled field, two points of f a step,
-// spliced into cells.wgsl at `//!splice:narrow` in place of narrow.wgsl
+// spliced into cells.wgsl at `//!splice:narrow` in place of root_search_one_point.wgsl
 // (src/kernel.rs chooses). A step evaluates f at two points that
 // depend on nothing but the bracket, so the two evaluations are
 // independent: on a CPU device a cheap f is a chain of dependent
@@ -9,7 +9,7 @@
 // bracket in three where one point splits it in two: the superquadric and
 // cloth render noticeably faster, and no Knoll surface slower. The price
 // is a second copy of f in the kernel: formulas too large for that keep
-// narrow.wgsl.
+// root_search_one_point.wgsl.
 
 // The secant pair's half width starts at this fraction of the bracket's
 // width squared over the cell's (as ITP's κ), and at least eps/4.
@@ -33,9 +33,9 @@ const PAIR_SLOPE_RATIO: f32 = 4.0;
 //   3,000 brackets each: one more at most; steps a root: a sphere's 1.8
 //   against ITP's 2.7, a quartic's 2.2 against 2.7, x^200's 3.6 against
 //   5.9).
-// - A leaf: as narrow.wgsl, looking up to LOOKAHEAD cells further, two
+// - A leaf: as root_search_one_point.wgsl, looking up to LOOKAHEAD cells further, two
 //   cells a step, for a sign change, then 7 steps of thirds (3^7 > 2^10,
-//   the ten halvings of narrow.wgsl); without one, the cell's midpoint.
+//   the ten halvings of root_search_one_point.wgsl); without one, the cell's midpoint.
 fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool, slope: vec2<f32>) -> f32 {
     var a = cell.x;
     var b = cell.y;

@@ -1,6 +1,6 @@
 // Bisection's root search for a compiled field, one point of f a step (the
 // ITP method), spliced into cells.wgsl at `//!splice:narrow`; its
-// two-points-a-step form is narrow_pair.wgsl (src/kernel.rs chooses).
+// two-points-a-step form is root_search_two_points.wgsl (src/kernel.rs chooses).
 
 // The root in cell [cell.x, cell.y], with fa, fb = f − c at its ends, from
 // one call site of f (lavapipe runs every call site of a loop body on
@@ -14,7 +14,7 @@
 //   most where the gradient is nearly perpendicular to the ray) and bisect
 //   there 10 times; without one (a tangent root or a feature thinner than a
 //   cell) the cell's midpoint is the answer.
-// (`slope`, the bracket's slope enclosure, is for narrow_pair.wgsl.)
+// (`slope`, the bracket's slope enclosure, is for root_search_two_points.wgsl.)
 fn narrow(ray: Ray, cell: vec2<f32>, f_lo: f32, f_hi: f32, c: f32, leaf: bool, slope: vec2<f32>) -> f32 {
     var a = cell.x;
     var b = cell.y;
