@@ -59,7 +59,7 @@ fn ia_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let p = select(a.xxyy * b.xyxy, vec4<f32>(0.0), zero);
     return vec2<f32>(min(min(p.x, p.y), min(p.z, p.w)), max(max(p.x, p.y), max(p.z, p.w)));
 }
-// a·b for a and b whose functions are never negative (src/codegen/mod.rs
+// a·b for a and b whose functions are never negative (src/analysis/nonneg.rs
 // `nonneg`): [lo·lo, hi·hi], two products where ia_mul takes four and six
 // comparisons. Their enclosures may reach below 0 by a pad (a node taken
 // from the ray); the product's values are not negative all the same.

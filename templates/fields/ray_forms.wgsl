@@ -1,4 +1,4 @@
-// Nodes of degree at most 2 in x, y, z restricted to a ray (src/codegen/
+// Nodes of degree at most 2 in x, y, z restricted to a ray (src/field/compiled/
 // ray_forms.rs): field_begin_ray works out a + b t + c t² of each along the
 // ray p0 + dir t, and their magnitudes over the ray's extent in the domain,
 // from which the pads come.
@@ -32,7 +32,7 @@ fn ray_vertex(q: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(tv, q.x + tv * (q.y + q.z * tv));
 }
 
-// A node of degree ≤ 2 in x, y, z restricted to the ray (src/codegen/
+// A node of degree ≤ 2 in x, y, z restricted to the ray (src/field/compiled/
 // ray_forms.rs): q = (a, b, c, pad) of a + b t + c t², v = (the slope's
 // pad, the vertex t_v, the value there), worked out once per ray. Over the
 // cell [t0, t1]: the values at the ends and, when t_v is inside, at the

@@ -154,7 +154,7 @@ fn safe_fn(ir: &Ir, radius: f64) -> String {
     params.dedup();
     let p: String = params.iter().map(|i| format!(" && bitcast<u32>(abs(iso_param({i}u))) <= {bits}u")).collect();
     format!(
-        "// Inputs within {radius:e} keep every form of this formula finite (src/codegen/magnitude.rs):\n\
+        "// Inputs within {radius:e} keep every form of this formula finite (src/analysis/magnitude.rs):\n\
          // ranges are read without the NaN test (affine_range_bounded.wgsl), and past it an enclosure is the whole line.\n\
          fn ra_safe(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, t: vec3<f32>) -> bool {{\n    \
          let m = abs(vec4<f32>(x.x, y.x, z.x, t.x)) + abs(vec4<f32>(x.y, y.y, z.y, t.y)) + abs(vec4<f32>(x.z, y.z, z.z, t.z));\n    \

@@ -181,7 +181,7 @@ fn tape_span(prog: u32) -> vec2<u32> {
 /// instructions come from (`lists`: per-tile lists).
 fn prelude(features: u32, lists: bool) -> String {
     format!(
-        "{}{}{}\n// The tape (src/codegen/tape.rs): header, value program, derivative program,\n\
+        "{}{}{}\n// The tape (src/field/tape): header, value program, derivative program,\n\
          // a texture of {w} texels a row (TapeData::texels).\n\
          @group(1) @binding(0) var tape_code: texture_2d<u32>;\n\
          fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\

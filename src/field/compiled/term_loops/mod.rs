@@ -325,7 +325,7 @@ pub fn support(bundle: bool) -> String {
         )
     };
     format!(
-        "// Rerolled terms' constants (src/codegen/reroll/mod.rs): {w} texels a row.\n\
+        "// Rerolled terms' constants (src/field/compiled/term_loops): {w} texels a row.\n\
          @group(1) @binding(0) var field_table_tex: texture_2d<u32>;\n\
          fn field_table(i: u32) -> vec4<f32> {{ return bitcast<vec4<f32>>(textureLoad(field_table_tex, vec2<u32>(i & {mask}u, i >> {shift}u), 0)); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
