@@ -25,7 +25,7 @@ fn edit(c: &mut Criterion) {
     let gpu = Gpu::new().expect("a device");
     let o = SphereOptions::default();
     let data = lin.field_data();
-    let mut r = Renderer::new(&gpu, FieldSource::Scene(&data), Traversal::Sphere(o)).expect("renderer");
+    let mut r = Renderer::new(&gpu, &data, Traversal::Sphere(o)).expect("renderer");
     let s = Settings::for_box([-1.3, 1.3, -1.3, 1.3, -1.3, 1.3], 256, 256);
     let j = lin.primitives.len() / 2;
     let Node::Primitive(p) = &scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!("a primitive") };
@@ -50,7 +50,7 @@ fn edit(c: &mut Criterion) {
             nodes[lin.order[lin.primitives[j] as usize]] = Node::Primitive(q);
             let edited = Scene::new(nodes, scene.root()).expect("valid");
             let l = Linear::new(&edited).expect("linearises");
-            r.set_field(FieldSource::Scene(&l.field_data())).expect("same kernel");
+            r.set_field(&l.field_data()).expect("same kernel");
         })
     });
     g.sample_size(10);

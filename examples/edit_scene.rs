@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut linear = Linear::new(&scene)?;
     let gpu = Gpu::new()?;
     let data = linear.field_data();
-    let renderer = Renderer::new(&gpu, FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default()))?;
+    let renderer = Renderer::new(&gpu, &data, Traversal::Sphere(SphereOptions::default()))?;
     let settings = Settings::for_box([-1.6, 1.6, -0.6, 1.0, -0.6, 0.6], 192, 128);
     let before = renderer.render(&settings)?;
     let out = std::env::temp_dir();

@@ -23,11 +23,11 @@ pub enum PreparedField {
 
 impl PreparedField {
     /// The field source over `ir`.
-    pub fn source<'a>(&'a self, ir: &'a Ir) -> FieldSource<'a> {
+    pub fn source<'a>(&'a self, ir: &'a Ir) -> &'a dyn FieldSource {
         match self {
-            PreparedField::Compiled => FieldSource::Compiled(ir),
-            PreparedField::Tape(t) => FieldSource::Tape(t),
-            PreparedField::Scene(d) => FieldSource::Scene(d),
+            PreparedField::Compiled => ir,
+            PreparedField::Tape(t) => t,
+            PreparedField::Scene(d) => d,
         }
     }
 
@@ -163,7 +163,7 @@ fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool 
 /// Whether the compiled kernel would be over [`crate::kernel::MAX_SHADER_BYTES`]
 /// (the renderer refuses it; the tape has no such limit).
 fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
-    crate::kernel::assemble(FieldSource::Compiled(ir), traversal).code_bytes() > crate::kernel::MAX_SHADER_BYTES
+    crate::kernel::assemble(ir, traversal).code_bytes() > crate::kernel::MAX_SHADER_BYTES
 }
 
 /// The field for formula `f` (parameter values `params`) traced by

@@ -10,7 +10,7 @@
 //! the field group (`@group(1)`), without touching traversal code.
 
 use crate::codegen::template;
-use crate::field::FieldSource;
+use crate::field::{CodeRequest, FieldSource};
 use crate::ir::Domain;
 use crate::inline::InlineWgsl;
 use crate::ir::Ir;
@@ -60,7 +60,7 @@ pub fn code_bytes(wgsl: &str) -> usize {
 /// The render kernel of `field` traced by `traversal` (its structural
 /// choices: algebra and modalities, or secondary rays), counting loop work
 /// per invocation: for any device (`isotrace wgsl`, the browser page).
-pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
+pub fn assemble(field: &dyn FieldSource, traversal: &Traversal) -> Kernel {
     assemble_for(field, traversal, false)
 }
 
@@ -68,25 +68,25 @@ pub fn assemble(field: FieldSource<'_>, traversal: &Traversal) -> Kernel {
 /// (`subgroups`): with them, bisecting a compiled field whose runs of terms
 /// are loops counts the loops' work per SIMD bundle, what lavapipe's loop
 /// cap counts, as a tape's interpreter does (`tape::features::BUNDLE_WORK`).
-pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bool) -> Kernel {
+pub fn assemble_for(field: &dyn FieldSource, traversal: &Traversal, subgroups: bool) -> Kernel {
     let shared = [template::FRAME, template::CAMERA, template::PIXELS, template::SHADING].join("\n");
     let (uniforms, field_code, traversal_code, entries, inline) = match traversal {
         Traversal::Bisect(b) => {
             let user = b.modalities.inline.as_ref();
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
-                field.code(Some(b.algebra), user, false, subgroups),
-                bisect(b, field.surfaces(), cells_resume(field), paired_root_search(field, b.root_search)),
+                field.code(&CodeRequest { domain: Some(b.algebra), inline: user, sync: false, bundle: subgroups }),
+                bisect(b, field.surfaces(), field.cells_resume(), paired_root_search(field, b.root_search)),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
         }
         Traversal::Sphere(s) => {
-            let tiles = sphere_tile_pass(field);
+            let tiles = field.lists_tiles();
             let sync = tiles && s.synchronized;
             (
                 format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
-                field.code(None, None, sync, false),
+                field.code(&CodeRequest { sync, ..Default::default() }),
                 sphere(s.features(), tiles, sync),
                 if tiles { &["main", "tiles"][..] } else { &["main"][..] },
                 None,
@@ -100,46 +100,19 @@ pub fn assemble_for(field: FieldSource<'_>, traversal: &Traversal, subgroups: bo
         (start..start + user.text.len(), user)
     });
     let mut entries = entries.to_vec();
-    entries.extend(field.passes());
+    entries.extend(field.passes().iter().map(|p| p.entry));
     Kernel { wgsl, entries, inline }
 }
 
-/// The largest compiled formula (live IR nodes, `isotrace check`'s
-/// operations) whose bisection kernel gets the two-point root search by
-/// default. A big f keeps the core busy on its own, so the second point
-/// costs nearly what the first does: `@creature` (454 nodes) renders
-/// faster with two points, `@city` (678) a little slower. A second copy of
-/// f costs little compile.
-pub const PAIR_MAX_NODES: usize = 500;
-
 /// Whether bisecting `field` closes in on roots two points a step
-/// (root_search_two_points.wgsl) for the user's `choice`: only a compiled field's
-/// cells can (an interpreted field's cell work runs from one call site).
-fn paired_root_search(field: FieldSource<'_>, choice: RootSearch) -> bool {
-    let FieldSource::Compiled(ir) = field else { return false };
+/// (root_search_two_points.wgsl) for the user's `choice`, where its cells
+/// can (an interpreted field's cell work runs from one call site).
+fn paired_root_search(field: &dyn FieldSource, choice: RootSearch) -> bool {
+    let Some(default) = field.pairs_root_search() else { return false };
     match choice {
-        RootSearch::Auto => ir.live().len() <= PAIR_MAX_NODES,
+        RootSearch::Auto => default,
         RootSearch::OnePoint => false,
         RootSearch::TwoPoints => true,
-    }
-}
-
-/// Whether bisection runs a cell's scalar work from one call site of f
-/// (`cells_resumable.wgsl`), whose rounds of `main` resume the pixels the
-/// field's work limit stopped (`gpu::renderer` runs them): an interpreted
-/// field, and a compiled formula with rerolled loops and no per-tile term
-/// lists (sums), whose loops count against the same limit. Each call site
-/// of f is a copy of its loops for lavapipe to compile, so one site
-/// brings a long looped sum's cold first frame noticeably sooner. A listed
-/// union keeps the inline cells: their scalar points are on the ray, where
-/// its squares come from their polynomials along it (`ray_forms`), and
-/// from one call site they are not (a union of a thousand ball distances
-/// renders markedly slower from one site).
-pub fn cells_resume(field: FieldSource<'_>) -> bool {
-    match field {
-        FieldSource::Tape(_) => true,
-        FieldSource::Compiled(ir) => crate::field::compiled::term_loops::table_texels(ir).is_some() && crate::field::compiled::term_loops::lists::for_formula(ir).is_none(),
-        _ => false,
     }
 }
 
@@ -196,12 +169,6 @@ fn hooks(inline: Option<&InlineWgsl>) -> String {
     s
 }
 
-/// Whether sphere tracing `field` runs a tile pass that leaves the empty
-/// tiles out of the per-pixel pass: a scene knows them (its views pass).
-pub fn sphere_tile_pass(field: FieldSource<'_>) -> bool {
-    matches!(field, FieldSource::Scene(_))
-}
-
 /// The sphere tracing traversal with the secondary rays of `features`, with
 /// `tiles`, its tile pass (tiles.wgsl), and with `sync`, the synchronised
 /// walk of a scene's tiles (primary_sync.wgsl).
@@ -221,11 +188,11 @@ fn sphere(features: SphereFeatures, tiles: bool, sync: bool) -> String {
 /// The render kernel of a formula with bisection in `domain` and no
 /// modalities (what `isotrace wgsl` prints by default).
 pub fn render_shader(ir: &Ir, domain: Domain) -> String {
-    assemble(FieldSource::Compiled(ir), &Traversal::Bisect(BisectOptions::new(domain))).wgsl
+    assemble(ir, &Traversal::Bisect(BisectOptions::new(domain))).wgsl
 }
 
 /// The sphere tracing kernel of a formula with the secondary rays of `features`.
 pub fn sphere_shader(ir: &Ir, features: SphereFeatures) -> String {
     let o = crate::render::SphereOptions { shadows: features.shadows, glass: features.glass, synchronized: features.synchronized, ..Default::default() };
-    assemble(FieldSource::Compiled(ir), &Traversal::Sphere(o)).wgsl
+    assemble(ir, &Traversal::Sphere(o)).wgsl
 }

@@ -33,6 +33,7 @@
 pub mod analysis;
 pub mod batch;
 pub mod bench;
+pub mod bindings;
 pub mod bounded;
 pub mod catalog;
 pub mod choice;

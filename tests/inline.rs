@@ -81,7 +81,7 @@ fn the_name_scan_finds_every_name_the_generated_shaders_define() {
     let f = isotrace::Formula::compile("t", "x^2 + y^2 + z^2 - 1").unwrap();
     let m = Modalities { shadows: true, reflect: 1, ..Default::default() };
     let b = BisectOptions { modalities: m, ..BisectOptions::new(isotrace::ir::Domain::Affine) };
-    let render = isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &Traversal::Bisect(b)).wgsl;
+    let render = isotrace::kernel::assemble(&f.ir, &Traversal::Bisect(b)).wgsl;
     let eval = isotrace::field::compiled::eval_shader(&f.ir, isotrace::ir::Domain::Interval);
     for src in [render, eval] {
         let module = naga::front::wgsl::parse_str(&src).unwrap();

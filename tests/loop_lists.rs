@@ -32,7 +32,7 @@ fn balls(n: usize, seed: u64) -> Vec<String> {
 
 /// Bisection of `f` in `domain` with the per-tile lists on or off.
 fn bisect(f: &Formula, domain: Domain, s: &Settings, lists: bool) -> Frame {
-    let mut r = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(domain))).unwrap();
+    let mut r = Renderer::new(gpu(), &f.ir, Traversal::Bisect(BisectOptions::new(domain))).unwrap();
     r.optimizations_mut().expect("bisection").tape_shortening = lists;
     r.render(s).unwrap()
 }
@@ -186,12 +186,12 @@ fn only_min_and_max_loops_of_defined_terms_are_listed() {
 #[test]
 fn the_kernel_runs_lists_per_pixel_and_notes_them_in_the_tile_pass() {
     let f = Formula::compile("<balls>", &format!("min({})", balls(150, 5).join(", "))).unwrap();
-    let r = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
+    let r = Renderer::new(gpu(), &f.ir, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     let w = r.wgsl();
     assert!(w.contains("if (g_loop_list != 0u && admitted) {"), "the listed loop");
     assert!(w.contains("loop_note("), "the tile pass's notes");
     assert!(w.contains("let PAD = vec2<f32>(vec2<f32>(-2.0, 2.0) * gradient_step_size());"), "padded slabs");
-    let sphere = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Sphere(Default::default())).unwrap();
+    let sphere = Renderer::new(gpu(), &f.ir, Traversal::Sphere(Default::default())).unwrap();
     assert!(!sphere.wgsl().contains("g_loop_list"), "sphere tracing has no tile lists");
     let s = common::settings(common::cube(1.3), 32, 32);
     assert!(sphere.render(&s).unwrap().stats.hits > 50);
@@ -207,13 +207,13 @@ fn the_page_binds_the_lists_for_bisection_only() {
     let f = Formula::compile("<balls>", &format!("min({})", balls(150, 5).join(", "))).unwrap();
     let l = lists::for_formula(&f.ir).expect("listed");
     let s = common::settings(common::cube(1.3), 64, 64);
-    let bisect = isotrace::view::program(FieldSource::Compiled(&f.ir), &Traversal::Bisect(BisectOptions::new(Domain::Interval)), &s).unwrap();
+    let bisect = isotrace::view::program(&f.ir, &Traversal::Bisect(BisectOptions::new(Domain::Interval)), &s).unwrap();
     let group = &bisect.groups[1];
     let named = |n: &str| group.iter().find(|b| b.name == n).map(|b| (b.binding, serde_json::to_value(&b.size).unwrap()));
     assert_eq!(named("loop lists"), Some((1, serde_json::json!({"kind": "per_tile", "bytes": l.bytes(1)}))));
     assert_eq!(named("loop list counts"), Some((4, serde_json::json!({"kind": "fixed", "bytes": 16}))));
     assert!(bisect.wgsl.contains("var<storage, read_write> loop_lists"));
-    let sphere = isotrace::view::program(FieldSource::Compiled(&f.ir), &Traversal::Sphere(Default::default()), &s).unwrap();
+    let sphere = isotrace::view::program(&f.ir, &Traversal::Sphere(Default::default()), &s).unwrap();
     assert!(sphere.groups[1].iter().all(|b| !b.name.starts_with("loop list")));
 }
 
@@ -231,7 +231,7 @@ fn tiles_past_the_work_limit_run_the_whole_loop() {
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
     let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let mut on = Renderer::new(&per_lane, FieldSource::Compiled(&f.ir), t()).unwrap();
+    let mut on = Renderer::new(&per_lane, &f.ir, t()).unwrap();
     let a = on.render(&s).unwrap();
     let st = a.stats.field.loop_lists.expect("counted");
     assert!(st.listed > 0 && st.listed < st.tiles, "some tiles listed, some not: {st:?}");

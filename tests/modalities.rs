@@ -13,7 +13,7 @@ use isotrace::render::{Frame, Status};
 
 fn render_with(src: &str, s: &isotrace::render::Settings, m: Modalities) -> Frame {
     let f = isotrace::Formula::compile("<test>", src).unwrap();
-    let frame = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(Domain::Affine) })).unwrap().render(s).unwrap();
+    let frame = Renderer::new(gpu(), &f.ir, Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(Domain::Affine) })).unwrap().render(s).unwrap();
     if let Ok(dir) = std::env::var("ISOTRACE_TEST_IMAGES") {
         let name = format!("{dir}/{}.png", src.len() ^ s.width as usize ^ frame.stats.hits as usize);
         isotrace::output::write_frame(std::path::Path::new(&name), &frame).unwrap();

@@ -156,10 +156,10 @@ fn new_renderers_warm_their_small_passes_up() {
     let sphere = || Traversal::Sphere(SphereOptions::default());
     let s = common::settings(common::cube(1.5), 40, 30);
     let kernels = [
-        ("compiled, bisected", FieldSource::Compiled(&f.ir), bisect(), 1),
-        ("compiled, sphere traced", FieldSource::Compiled(&f.ir), sphere(), 0),
-        ("tape, bisected", FieldSource::Tape(&tape), bisect(), 1),
-        ("scene, sphere traced", FieldSource::Scene(&data), sphere(), 1),
+        ("compiled, bisected", &f.ir, bisect(), 1),
+        ("compiled, sphere traced", &f.ir, sphere(), 0),
+        ("tape, bisected", &tape, bisect(), 1),
+        ("scene, sphere traced", &data, sphere(), 1),
     ];
     for (name, field, traversal, sent) in kernels {
         let before = own.warm_ups[0].load(Relaxed);

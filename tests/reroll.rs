@@ -114,8 +114,8 @@ fn a_rerolled_sum_draws_the_written_out_sums_picture() {
     assert_eq!(term_loops::plan(&rolled.ir).loops.len(), 1);
     for domain in [Domain::Interval, Domain::Affine] {
         let t = Traversal::Bisect(BisectOptions::new(domain));
-        let a = Renderer::new(gpu(), FieldSource::Compiled(&rolled.ir), t.clone()).unwrap().render(&s).unwrap();
-        let b = Renderer::new(gpu(), FieldSource::Compiled(&written.ir), t).unwrap().render(&s).unwrap();
+        let a = Renderer::new(gpu(), &rolled.ir, t.clone()).unwrap().render(&s).unwrap();
+        let b = Renderer::new(gpu(), &written.ir, t).unwrap().render(&s).unwrap();
         assert!(a.stats.hits > 500 && a.stats.unresolved == 0, "{:?}", a.stats);
         let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.depth - q.depth).abs() > 2.0 * s.eps as f32).count();
         assert_eq!(differ, 0, "{domain:?}: {differ} pixels differ");
@@ -142,7 +142,7 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     // some pixels stop; the next rounds resume them.
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
-    let mut r = Renderer::new(&per_lane, FieldSource::Compiled(&long.ir), t()).unwrap();
+    let mut r = Renderer::new(&per_lane, &long.ir, t()).unwrap();
     r.set_resume_rounds(0);
     let one = r.render(&s).unwrap();
     assert!(one.stats.unresolved > 0 && one.stats.hits > 200, "{:?}", one.stats);
@@ -152,7 +152,7 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     let mut frames = vec![("one round, per lane", one), ("per lane", lane)];
     // Counted per SIMD bundle, as lavapipe's cap counts: the same pixels resolve.
     if gpu().subgroups {
-        let r = Renderer::new(gpu(), FieldSource::Compiled(&long.ir), t()).unwrap();
+        let r = Renderer::new(gpu(), &long.ir, t()).unwrap();
         assert!(r.wgsl().contains("subgroupMax"));
         let bundle = r.render(&s).unwrap();
         assert_eq!(bundle.stats.unresolved, 0, "{:?}", bundle.stats);
@@ -179,7 +179,7 @@ fn a_formula_of_loops_caps_the_traversals_budget() {
     let mut s = common::settings(common::cube(1.6), 16, 16);
     s.max_iter = 20_000;
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let e = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t).unwrap().render(&s).err().expect("refused").to_string();
+    let e = Renderer::new(gpu(), &f.ir, t).unwrap().render(&s).err().expect("refused").to_string();
     assert!(e.contains("at most 16000 with a formula of rerolled terms (its loops share lavapipe's 65,535 loop iterations)"), "{e}");
 }
 
@@ -211,9 +211,9 @@ fn draws_what_the_tape_draws(src: &str) {
     let s = common::settings(common::cube(1.5), 96, 96);
     for domain in [Domain::Interval, Domain::Affine] {
         let t = Traversal::Bisect(BisectOptions::new(domain));
-        let a = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
+        let a = Renderer::new(gpu(), &f.ir, t.clone()).unwrap().render(&s).unwrap();
         let tape = isotrace::field::TapeData::new(&f.ir).unwrap();
-        let b = Renderer::new(gpu(), FieldSource::Tape(&tape), t).unwrap().render(&s).unwrap();
+        let b = Renderer::new(gpu(), &tape, t).unwrap().render(&s).unwrap();
         assert!(a.stats.hits > 300 && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
         let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();
         assert_eq!(differ, 0, "{domain:?}");

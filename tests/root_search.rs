@@ -15,7 +15,7 @@ use isotrace::Formula;
 
 fn bisect(f: &Formula, domain: Domain, search: RootSearch, s: &Settings) -> Frame {
     let b = BisectOptions { root_search: search, ..BisectOptions::new(domain) };
-    Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(b)).unwrap().render(s).unwrap()
+    Renderer::new(gpu(), &f.ir, Traversal::Bisect(b)).unwrap().render(s).unwrap()
 }
 
 /// Pixels where the two searches disagree: a different status, or depths
@@ -114,7 +114,7 @@ fn two_point_hits_on_the_sphere_are_at_its_analytic_depth() {
 fn auto_takes_two_points_for_small_formulas_only() {
     let kernel = |f: &Formula, r: RootSearch| {
         let b = BisectOptions { root_search: r, ..BisectOptions::new(Domain::Interval) };
-        assemble(FieldSource::Compiled(&f.ir), &Traversal::Bisect(b)).wgsl
+        assemble(&f.ir, &Traversal::Bisect(b)).wgsl
     };
     let small = Formula::compile("<test>", "x^4 + y^4 + z^4 - 1").unwrap();
     assert_eq!(kernel(&small, RootSearch::Auto), kernel(&small, RootSearch::TwoPoints));

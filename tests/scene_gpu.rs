@@ -36,7 +36,7 @@ fn sphere_and_box(dx: f32) -> SceneData {
 fn scene_interpreter_agrees_with_the_compiled_formula() {
     let s = common::settings(common::cube(2.5), 64, 48);
     let data = sphere_and_box(1.5);
-    let scene = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
+    let scene = Renderer::new(gpu(), &data, Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
     let f = Formula::compile("<t>", "union(sphere(1), translate(1.5, 0, 0, box(0.5, 0.5, 0.5)))").unwrap();
     let compiled = Renderer::sphere(gpu(), &f.ir, SphereOptions::default()).unwrap().render(&s).unwrap();
     // Both stop within the screen-space criterion, and the fixed-point
@@ -53,16 +53,16 @@ fn scene_edits_change_buffers_not_pipelines() {
     let data = sphere_and_box(1.5);
     // A device of its own: the other tests create pipelines concurrently.
     let own = isotrace::gpu::Gpu::new().unwrap();
-    let mut r = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap();
+    let mut r = Renderer::new(&own, &data, Traversal::Sphere(SphereOptions::default())).unwrap();
     let before = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
-    r.set_field(FieldSource::Scene(&sphere_and_box(-1.5))).unwrap();
+    r.set_field(&sphere_and_box(-1.5)).unwrap();
     let moved = r.render(&s).unwrap();
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
     let changed = before.pixels.iter().zip(&moved.pixels).filter(|(a, b)| a.status != b.status).count();
     assert!(changed > 20, "{changed}");
     // A scene is sphere traced: asking to bisect it is a typed error.
-    let err = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Bisect(isotrace::render::BisectOptions::new(isotrace::ir::Domain::Interval)));
+    let err = Renderer::new(gpu(), &data, Traversal::Bisect(isotrace::render::BisectOptions::new(isotrace::ir::Domain::Interval)));
     assert!(err.is_err());
 }
 
@@ -85,7 +85,7 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
     let data = lin.field_data();
     let mut o = SphereOptions::default();
     o.lipschitz = 1.45;
-    let r = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).unwrap();
+    let r = Renderer::new(&own, &data, Traversal::Sphere(o.clone())).unwrap();
     let s = common::settings(common::cube(1.3), 64, 64);
     let before = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
@@ -105,7 +105,7 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
     r.patch_scene(&patch).unwrap();
     let after = r.render(&s).unwrap();
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created, "an edit creates no pipeline");
-    let fresh = Renderer::new(gpu(), FieldSource::Scene(&rebuilt.field_data()), Traversal::Sphere(o)).unwrap().render(&s).unwrap();
+    let fresh = Renderer::new(gpu(), &rebuilt.field_data(), Traversal::Sphere(o)).unwrap().render(&s).unwrap();
     assert_eq!(after.pixels, fresh.pixels, "patched and rebuilt buffers draw the same frame");
     let changed = before.pixels.iter().zip(&after.pixels).filter(|(a, b)| a.status != b.status).count();
     assert!(changed > 10, "the edit shows: {changed} pixels changed");
@@ -128,7 +128,7 @@ fn an_edit_in_place_moves_the_limits_it_bounds() {
     let scene = generate(Kind::SpherePairs, 0, Blending::Sharp, 5).unwrap();
     let mut lin = Linear::new(&scene).unwrap();
     let own = isotrace::gpu::Gpu::new().unwrap();
-    let r = Renderer::new(&own, FieldSource::Scene(&lin.field_data()), Traversal::Sphere(SphereOptions::default())).unwrap();
+    let r = Renderer::new(&own, &lin.field_data(), Traversal::Sphere(SphereOptions::default())).unwrap();
     let s = common::settings(common::cube(1.3), 64, 64);
     let j = (0..lin.primitives.len()).find(|&j| lin.bounds_a_limit(lin.primitives[j] as usize)).expect("a lens");
     let Node::Primitive(p) = &scene.nodes()[lin.order[lin.primitives[j] as usize]] else { unreachable!() };
@@ -139,7 +139,7 @@ fn an_edit_in_place_moves_the_limits_it_bounds() {
     let rebuilt = Linear::new(&with_primitive(&scene, &Linear::new(&scene).unwrap(), j, q)).unwrap();
     assert_eq!(lin.field_data(), rebuilt.field_data());
     r.patch_scene(&patch).unwrap();
-    let fresh = Renderer::new(gpu(), FieldSource::Scene(&rebuilt.field_data()), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
+    let fresh = Renderer::new(gpu(), &rebuilt.field_data(), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
     assert_eq!(r.render(&s).unwrap().pixels, fresh.pixels);
 }
 
@@ -152,7 +152,7 @@ fn the_dense_baseline_draws_the_sparse_picture() {
     let mut o = SphereOptions::default();
     o.lipschitz = 1.45;
     let own = isotrace::gpu::Gpu::new().unwrap();
-    let mut r = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap();
+    let mut r = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap();
     let s = common::settings(common::cube(1.3), 64, 64);
     let sparse = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
@@ -242,7 +242,7 @@ fn depth_slabs_draw_the_whole_tree_picture() {
         let mut o = SphereOptions::default();
         o.lipschitz = if smooth { 1.45 } else { 1.0 };
         let own = isotrace::gpu::Gpu::new().unwrap();
-        let mut r = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap();
+        let mut r = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap();
         let s = common::settings(common::cube(1.4), 96, 96);
         let sliced = r.render(&s).unwrap();
         r.set_scene_dense(true);
@@ -283,7 +283,7 @@ fn slab_changes_are_not_lipschitz_violations() {
     let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 256, 256);
     let render = |lipschitz: f64| {
         let o = SphereOptions { lipschitz, ..SphereOptions::default() };
-        Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap().render(&s).unwrap()
+        Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap().render(&s).unwrap()
     };
     let right = render(1.0);
     assert!(right.stats.field.slabs_mean > 1.2, "{} slabs a tile", right.stats.field.slabs_mean);
@@ -295,7 +295,7 @@ fn slab_changes_are_not_lipschitz_violations() {
     let data = isotrace::scene::linear::Linear::new(&smooth).unwrap().field_data();
     let o = SphereOptions { lipschitz: 1.0, ..SphereOptions::default() };
     let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 512, 512);
-    let wrong = Renderer::new(&own, FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap().render(&s).unwrap();
+    let wrong = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap().render(&s).unwrap();
     assert!(wrong.stats.sphere.lipschitz_seen > 1.05, "{:?}", wrong.stats.sphere);
 }
 
@@ -307,7 +307,7 @@ fn a_scene_split_into_dispatches_draws_the_same_frame() {
     let data = lin.field_data();
     let mut o = SphereOptions::default();
     o.lipschitz = 1.45;
-    let r = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(o)).unwrap();
+    let r = Renderer::new(gpu(), &data, Traversal::Sphere(o)).unwrap();
     let mut s = common::settings(common::cube(1.4), 80, 72);
     let whole = r.render(&s).unwrap();
     s.tile = 24;
@@ -331,7 +331,7 @@ fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere()
     let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
     let (w, h) = (192, 144);
     let s = common::settings(common::cube(1.5), w, h);
-    let frame = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(gpu(), &data, Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
     assert!(frame.stats.tile_ms > 0.0, "the tile pass ran");
     let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
         let mut nearest: Option<(f64, glam::DVec3, f64)> = None;
@@ -394,7 +394,7 @@ fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
     let data = lin.field_data();
     let (w, h) = (240, 180);
     let s = common::settings(common::cube(1.5), w, h);
-    let frame = Renderer::new(gpu(), FieldSource::Scene(&data), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(gpu(), &data, Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
     let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
         let mut nearest: Option<(f64, DVec3, f64)> = None;
         let mut grazing = false;

@@ -264,13 +264,13 @@ fn a_renderer_built_without_a_feature_refuses_a_scene_that_needs_it() {
     let basic = isotrace::scene::generate::generate(isotrace::scene::generate::Kind::Aggregate, 0, isotrace::scene::generate::Blending::Sharp, 1).unwrap();
     let data = Linear::new(&basic).unwrap().field_data();
     let o = isotrace::render::SphereOptions::default();
-    let mut r = isotrace::gpu::Renderer::new(&own, isotrace::field::FieldSource::Scene(&data), isotrace::render::Traversal::Sphere(o)).unwrap();
+    let mut r = isotrace::gpu::Renderer::new(&own, &data, isotrace::render::Traversal::Sphere(o)).unwrap();
     let zoo = Linear::new(&every_node_scene()).unwrap().field_data();
-    let e = r.set_field(isotrace::field::FieldSource::Scene(&zoo)).err().expect("refused").to_string();
+    let e = r.set_field(&zoo).err().expect("refused").to_string();
     assert!(e.contains("the scene uses node types the kernel was built without"), "{e}");
     // The other way round works: a kernel with every feature draws a basic scene.
-    let mut r = isotrace::gpu::Renderer::new(&own, isotrace::field::FieldSource::Scene(&zoo), isotrace::render::Traversal::Sphere(isotrace::render::SphereOptions::default())).unwrap();
-    r.set_field(isotrace::field::FieldSource::Scene(&data)).unwrap();
+    let mut r = isotrace::gpu::Renderer::new(&own, &zoo, isotrace::render::Traversal::Sphere(isotrace::render::SphereOptions::default())).unwrap();
+    r.set_field(&data).unwrap();
 }
 
 #[test]
@@ -386,7 +386,7 @@ fn the_modelling_examples_are_their_formulas() {
         let data = lin.field_data();
         let o = isotrace::render::SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
         let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 96, 96);
-        let frame = isotrace::gpu::Renderer::new(&own, isotrace::field::FieldSource::Scene(&data), isotrace::render::Traversal::Sphere(o)).unwrap().render(&s).unwrap();
+        let frame = isotrace::gpu::Renderer::new(&own, &data, isotrace::render::Traversal::Sphere(o)).unwrap().render(&s).unwrap();
         let hits = frame.pixels.iter().filter(|p| p.status == isotrace::render::Status::Hit).count();
         assert!(hits > 500, "{name}: {hits} hits");
         assert_eq!((frame.stats.unresolved, frame.stats.field.overflow_tiles), (0, 0), "{name}");

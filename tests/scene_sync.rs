@@ -30,8 +30,8 @@ fn the_synchronised_walk_draws_the_per_ray_picture() {
     for (name, scene, l) in grids {
         let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
         let s = common::settings(common::cube(1.4), 120, 96);
-        let ray = Renderer::new(&own, FieldSource::Scene(&data), walk(false, l)).unwrap().render(&s).unwrap();
-        let tile = Renderer::new(&own, FieldSource::Scene(&data), walk(true, l)).unwrap().render(&s).unwrap();
+        let ray = Renderer::new(&own, &data, walk(false, l)).unwrap().render(&s).unwrap();
+        let tile = Renderer::new(&own, &data, walk(true, l)).unwrap().render(&s).unwrap();
         let slabs = tile.stats.field.slabs_mean;
         // (A chain tile holds at most 64 members: a few of the comb's tiles
         // have more, and slabs.)
@@ -85,7 +85,7 @@ fn union_tiles_draw_the_analytic_spheres() {
 fn analytic_grid(data: &isotrace::field::SceneData, synchronized: bool) -> (isotrace::render::Frame, usize, usize) {
     let (w, h) = (320, 240);
     let s = common::settings(common::cube(1.4), w, h);
-    let frame = Renderer::new(common::gpu(), FieldSource::Scene(data), walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(common::gpu(), &data, walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
     let centres: Vec<DVec3> = (0..125).map(|i| DVec3::new((i % 5) as f64, (i / 5 % 5) as f64, (i / 25) as f64) * 0.5 - DVec3::ONE).collect();
     let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
         let mut nearest: Option<(f64, DVec3, f64)> = None;
@@ -109,11 +109,11 @@ fn analytic_grid(data: &isotrace::field::SceneData, synchronized: bool) -> (isot
 #[test]
 fn the_walk_is_compiled_in() {
     let data = isotrace::scene::linear::Linear::new(&sphere_grid(false)).unwrap().field_data();
-    let mut r = Renderer::new(common::gpu(), FieldSource::Scene(&data), walk(false, 1.0)).unwrap();
+    let mut r = Renderer::new(common::gpu(), &data, walk(false, 1.0)).unwrap();
     let e = r.set_sphere_options(SphereOptions { synchronized: true, ..SphereOptions::default() }).unwrap_err();
     assert!(e.to_string().contains("the kernel was compiled for the other walk"), "{e}");
-    let wgsl = isotrace::kernel::assemble(FieldSource::Scene(&data), &walk(true, 1.0)).wgsl;
+    let wgsl = isotrace::kernel::assemble(&data, &walk(true, 1.0)).wgsl;
     assert!(wgsl.contains("var<workgroup> scene_sync_view") && wgsl.contains("workgroupUniformLoad"));
-    let per_ray = isotrace::kernel::assemble(FieldSource::Scene(&data), &walk(false, 1.0)).wgsl;
+    let per_ray = isotrace::kernel::assemble(&data, &walk(false, 1.0)).wgsl;
     assert!(!per_ray.contains("var<workgroup>"));
 }

@@ -37,13 +37,13 @@ fn tape_kernels_depend_on_the_operation_groups_not_the_formula() {
         Traversal::Bisect(BisectOptions::new(Domain::Affine)),
         Traversal::Sphere(SphereOptions::default()),
     ] {
-        let ka = assemble(FieldSource::Tape(&a), &t).wgsl;
-        assert_eq!(ka, assemble(FieldSource::Tape(&a2), &t).wgsl);
-        let kb = assemble(FieldSource::Tape(&b), &t).wgsl;
+        let ka = assemble(&a, &t).wgsl;
+        assert_eq!(ka, assemble(&a2, &t).wgsl);
+        let kb = assemble(&b, &t).wgsl;
         assert!(ka.len() < kb.len(), "{t:?}: the polynomial kernel has fewer cases");
         assert!(!ka.contains("if (code == TAPE_SIN) {") && kb.contains("if (code == TAPE_SIN) {"));
-        let wide = assemble(FieldSource::Tape(&wide_a), &t).wgsl;
-        assert_eq!(wide, assemble(FieldSource::Tape(&wide_b), &t).wgsl);
+        let wide = assemble(&wide_a, &t).wgsl;
+        assert_eq!(wide, assemble(&wide_b, &t).wgsl);
         for k in [&ka, &kb, &wide] {
             isotrace::validate::validate(k).unwrap_or_else(|e| panic!("{t:?}: {e}"));
         }
@@ -58,8 +58,8 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
     let (_, wavy) = tape("x^2 + y^2 + z^2 - 1 + 0.1*sin(5*x)/(1 + y^2)");
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let mut r = Renderer::new(gpu(), FieldSource::Tape(&sphere), t.clone()).unwrap();
-    let e = r.set_field(FieldSource::Tape(&wavy)).err().expect("refused").to_string();
+    let mut r = Renderer::new(gpu(), &sphere, t.clone()).unwrap();
+    let e = r.set_field(&wavy).err().expect("refused").to_string();
     assert!(e.contains("the formula needs what the tape kernel was built without (division, sin/cos): build a new renderer"), "{e}");
     // The ball's inputs are pinned in registers; the Barth decic's are loaded
     // by input instructions (7 more registers would need 32): a kernel
@@ -67,7 +67,7 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     let decic = isotrace::catalog::lookup("barth-decic").unwrap().compile().unwrap();
     let decic = TapeData::new(&decic.ir).unwrap();
     assert_eq!((sphere.features & features::PINNED, decic.features & features::INPUTS), (features::PINNED, features::INPUTS));
-    let e = r.set_field(FieldSource::Tape(&decic)).err().expect("refused").to_string();
+    let e = r.set_field(&decic).err().expect("refused").to_string();
     assert!(e.contains("input instructions") && e.ends_with("build a new renderer"), "{e}");
     // A long polynomial asks for the unrolled loop: a kernel without it runs
     // it, one instruction an iteration, so fewer evaluations fit in the work
@@ -75,15 +75,15 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     let terms: Vec<String> = (1..=30).map(|i| format!("0.01*(x - {i}*0.01)*(y + {i}*0.02)")).collect();
     let (_, long) = tape(&format!("x^2 + y^2 + z^2 - 1 + {}", terms.join(" + ")));
     assert_ne!(long.features & features::UNROLL_4, 0);
-    r.set_field(FieldSource::Tape(&long)).unwrap();
+    r.set_field(&long).unwrap();
     let rolled = r.render(&s).unwrap().stats;
-    let unrolled = Renderer::new(gpu(), FieldSource::Tape(&long), t.clone()).unwrap().render(&s).unwrap().stats;
+    let unrolled = Renderer::new(gpu(), &long, t.clone()).unwrap().render(&s).unwrap().stats;
     assert_eq!(unrolled.unresolved, 0, "{unrolled:?}");
     assert!(unrolled.hits > 0 && rolled.hits + rolled.unresolved >= unrolled.hits, "{rolled:?} {unrolled:?}");
     let mut wide = sphere.clone();
     wide.features |= wavy.features;
-    let mut r = Renderer::new(gpu(), FieldSource::Tape(&wide), t).unwrap();
-    r.set_field(FieldSource::Tape(&wavy)).unwrap();
+    let mut r = Renderer::new(gpu(), &wide, t).unwrap();
+    r.set_field(&wavy).unwrap();
     assert!(r.render(&s).unwrap().stats.hits > 0);
 }
 
@@ -94,10 +94,10 @@ fn new_formulas_change_buffers_not_pipelines() {
     let (_, torus) = tape("(x^2 + y^2 + z^2 + 0.75)^2 - 4*(x^2 + y^2)");
     // A device of its own: the other tests create pipelines concurrently.
     let own = isotrace::gpu::Gpu::new().unwrap();
-    let mut r = Renderer::new(&own, FieldSource::Tape(&sphere), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
+    let mut r = Renderer::new(&own, &sphere, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     let before = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
-    r.set_field(FieldSource::Tape(&torus)).unwrap();
+    r.set_field(&torus).unwrap();
     let after = r.render(&s).unwrap();
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created, "a new formula built a pipeline");
     let changed = before.pixels.iter().zip(&after.pixels).filter(|(a, b)| a.status != b.status).count();
@@ -124,11 +124,11 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_th
     let mut four = data.clone();
     four.features = four.features & !(features::UNROLL_8 | features::UNROLL_16) | features::UNROLL_4;
     assert_eq!(features::unroll(four.features), 4);
-    let frame = Renderer::new(gpu(), FieldSource::Tape(&four), ia()).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(gpu(), &four, ia()).unwrap().render(&s).unwrap();
     assert!(frame.stats.unresolved > 0, "{:?}", frame.stats);
     let missed = misses_of_the_reference(&f, &s, &frame, 500, false);
     assert!(missed.is_empty(), "{} pixels: {:?}", missed.len(), &missed[..missed.len().min(8)]);
-    let mut r = Renderer::new(gpu(), FieldSource::Tape(&data), ia()).unwrap();
+    let mut r = Renderer::new(gpu(), &data, ia()).unwrap();
     let frame = r.render(&s).unwrap();
     assert_eq!(frame.stats.unresolved, 0, "{:?}", frame.stats);
     assert!(frame.stats.hits >= 12, "{:?}", frame.stats);
@@ -137,7 +137,7 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_th
     // A cylinder's programs are 4 and 12 instructions long.
     let (_, cylinder) = tape("x^2 + y^2 - 1");
     assert_eq!(cylinder.padding(), 4);
-    let e = r.set_field(FieldSource::Tape(&cylinder)).err().expect("refused").to_string();
+    let e = r.set_field(&cylinder).err().expect("refused").to_string();
     assert!(e.contains("the tape kernel runs 16 instructions an iteration, for long tapes, and this tape's programs are padded for 4: build a new renderer"), "{e}");
 }
 
@@ -152,7 +152,7 @@ fn a_long_tape_runs_8_an_iteration() {
     assert_eq!(features::unroll(data.features), 8);
     assert_eq!(data.padding() % 8, 0);
     let s = common::settings(common::cube(1.2), 16, 16);
-    let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(gpu(), &data, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
     assert_eq!(frame.stats.unresolved, 0, "{:?}", frame.stats);
     assert!(frame.stats.hits > 30, "{:?}", frame.stats);
     let missed = misses_of_the_reference(&f, &s, &frame, 2000, false);
@@ -256,17 +256,17 @@ fn bisection_agrees_with_the_compiled_field_on_the_knoll_suite() {
             let data = TapeData::new(&f.ir).unwrap();
             let r = match &mut tape_renderer {
                 Some(r) => {
-                    r.set_field(FieldSource::Tape(&data)).unwrap();
+                    r.set_field(&data).unwrap();
                     r
                 }
                 none => {
                     // One kernel for the whole suite: built for every operation.
                     let wide = TapeData { features: features::ALL, ..data.clone() };
-                    none.insert(Renderer::new(gpu(), FieldSource::Tape(&wide), t.clone()).unwrap())
+                    none.insert(Renderer::new(gpu(), &wide, t.clone()).unwrap())
                 }
             };
             let taped = r.render(&s).unwrap();
-            let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
+            let compiled = Renderer::new(gpu(), &f.ir, t.clone()).unwrap().render(&s).unwrap();
             let bad = differences(&compiled, &taped, 2.0 * s.eps);
             assert!(bad.len() <= 2, "{name} {domain:?}: {} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
             hits += taped.stats.hits;
@@ -283,8 +283,8 @@ fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
         let s = entry_settings(&e, &f, 40);
         let t = e.traversal(&f);
         let data = TapeData::new(&f.ir).unwrap();
-        let taped = Renderer::new(gpu(), FieldSource::Tape(&data), t.clone()).unwrap().render(&s).unwrap();
-        let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t).unwrap().render(&s).unwrap();
+        let taped = Renderer::new(gpu(), &data, t.clone()).unwrap().render(&s).unwrap();
+        let compiled = Renderer::new(gpu(), &f.ir, t).unwrap().render(&s).unwrap();
         // Where the interpreter ran out of work the pixel is reported
         // (unresolved), never drawn wrong: compare the others.
         let mut bad = vec![];
@@ -319,7 +319,7 @@ fn pixels_past_the_work_limit_resume_and_miss_no_root() {
     let s = common::settings(common::cube(1.2), 32, 32);
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
-    let mut r = Renderer::new(&per_lane, FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
+    let mut r = Renderer::new(&per_lane, &data, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     r.set_resume_rounds(0);
     let one_round = r.render(&s).unwrap().stats;
     r.set_resume_rounds(isotrace::gpu::TAPE_RESUME_ROUNDS);
@@ -347,14 +347,14 @@ fn counting_work_per_bundle_resolves_more_and_draws_the_same_picture() {
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
-    let mut a = Renderer::new(&per_lane, FieldSource::Tape(&data), ia()).unwrap();
+    let mut a = Renderer::new(&per_lane, &data, ia()).unwrap();
     a.set_resume_rounds(0);
-    let mut b = Renderer::new(gpu(), FieldSource::Tape(&data), ia()).unwrap();
+    let mut b = Renderer::new(gpu(), &data, ia()).unwrap();
     assert!(b.wgsl().contains("subgroupMax"));
     b.set_resume_rounds(0);
     let (lane, bundle) = (a.render(&s).unwrap().stats, b.render(&s).unwrap());
     assert!(bundle.stats.unresolved * 4 < lane.unresolved, "per lane {} vs per bundle {}", lane.unresolved, bundle.stats.unresolved);
-    let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), ia()).unwrap().render(&s).unwrap();
+    let compiled = Renderer::new(gpu(), &f.ir, ia()).unwrap().render(&s).unwrap();
     let bad = differences(&compiled, &bundle, 2.0 * s.eps);
     assert!(bad.is_empty(), "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
     assert!(misses_of_the_reference(&f, &s, &bundle, 2000, false).is_empty());
@@ -371,7 +371,7 @@ fn tape_renders_find_every_sign_change_of_the_reference() {
         let (f, data) = tape(src);
         let s = common::settings(*bbox, 32, 32);
         for domain in [Domain::Interval, Domain::Affine] {
-            let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(domain))).unwrap().render(&s).unwrap();
+            let frame = Renderer::new(gpu(), &data, Traversal::Bisect(BisectOptions::new(domain))).unwrap().render(&s).unwrap();
             assert!(4 * frame.stats.unresolved <= u64::from(s.width * s.height), "{src} {domain:?}: {} unresolved", frame.stats.unresolved);
             // A reported (unresolved) pixel is not a wrong one.
             let missed = misses_of_the_reference(&f, &s, &frame, 4000, true);
@@ -466,7 +466,7 @@ fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
 
 /// Bisection of `data` in `domain` with the per-tile shortening on or off.
 fn bisect_tape(data: &TapeData, domain: Domain, s: &Settings, shorten: bool) -> Frame {
-    let mut r = Renderer::new(gpu(), FieldSource::Tape(data), Traversal::Bisect(BisectOptions::new(domain))).unwrap();
+    let mut r = Renderer::new(gpu(), &data, Traversal::Bisect(BisectOptions::new(domain))).unwrap();
     r.optimizations_mut().expect("bisection").tape_shortening = shorten;
     r.render(s).unwrap()
 }
@@ -549,7 +549,7 @@ fn a_long_csg_tape_is_shortened_per_block_then_per_tile() {
     assert!(short.stats.unresolved <= 2, "{} unresolved", short.stats.unresolved);
     let bad = differences(&whole, &short, 2.0 * s.eps);
     assert!(bad.len() <= 1, "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
-    let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let compiled = Renderer::new(gpu(), &f.ir, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
     let bad = differences(&compiled, &short, 2.0 * s.eps);
     assert!(bad.len() <= 2, "{} pixels differ from the compiled field: {:?}", bad.len(), &bad[..bad.len().min(6)]);
 }
@@ -566,7 +566,7 @@ fn the_power_loops_pass_counts_against_the_loop_cap() {
     assert!(data.features & features::POWERS != 0);
     let s = common::settings(common::cube(1.2), 32, 32);
     let taped = bisect_tape(&data, Domain::Interval, &s, true);
-    let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let compiled = Renderer::new(gpu(), &f.ir, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
     let bad = differences(&compiled, &taped, 2.0 * s.eps);
     assert!(bad.is_empty(), "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
     assert!(misses_of_the_reference(&f, &s, &taped, 2000, false).is_empty());
@@ -674,8 +674,8 @@ fn a_tapes_normals_agree_with_the_compiled_fields() {
         for domain in [Domain::Interval, Domain::Affine] {
             let t = Traversal::Bisect(BisectOptions::new(domain));
             let data = TapeData::new(&f.ir).unwrap();
-            let taped = Renderer::new(gpu(), FieldSource::Tape(&data), t.clone()).unwrap().render(s).unwrap();
-            let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t).unwrap().render(s).unwrap();
+            let taped = Renderer::new(gpu(), &data, t.clone()).unwrap().render(s).unwrap();
+            let compiled = Renderer::new(gpu(), &f.ir, t).unwrap().render(s).unwrap();
             let w = s.width as usize;
             let crease = |k: usize| {
                 let q = &compiled.pixels[k];
@@ -709,7 +709,7 @@ fn an_unresolved_guess_on_a_tape_is_shaded_with_its_gradient() {
     let mut s = common::settings(common::cube(1.5), 48, 48);
     s.max_iter = 2;
     let data = TapeData::new(&f.ir).unwrap();
-    let frame = Renderer::new(gpu(), FieldSource::Tape(&data), Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(gpu(), &data, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap().render(&s).unwrap();
     let cam = s.camera.frame().unwrap();
     let (mut guesses, mut agree) = (0, 0);
     for (k, p) in frame.pixels.iter().enumerate() {
@@ -741,14 +741,14 @@ fn a_long_sum_balanced_in_the_compiled_field_draws_what_the_tape_draws() {
         .collect();
     let (f, data) = tape(&format!("x^2 + y^2 + z^2 - 2 {}", terms.join(" ")));
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let wgsl = assemble(FieldSource::Compiled(&f.ir), &t).wgsl;
+    let wgsl = assemble(&f.ir, &t).wgsl;
     // 61 terms in a chain would nest 60 sums deep; balanced, the comment's
     // formula opens with a handful of parentheses.
     let f_line = wgsl.lines().find(|l| l.starts_with("// f = ")).expect("the formula's comment");
     assert!(f_line.trim_start_matches("// f = ").chars().take_while(|&c| c == '(').count() < 10, "{f_line}");
     let s = common::settings(common::cube(1.6), 32, 32);
-    let compiled = Renderer::new(gpu(), FieldSource::Compiled(&f.ir), t.clone()).unwrap().render(&s).unwrap();
-    let taped = Renderer::new(gpu(), FieldSource::Tape(&data), t).unwrap().render(&s).unwrap();
+    let compiled = Renderer::new(gpu(), &f.ir, t.clone()).unwrap().render(&s).unwrap();
+    let taped = Renderer::new(gpu(), &data, t).unwrap().render(&s).unwrap();
     assert!(compiled.stats.hits > 80 && compiled.stats.unresolved == 0, "{:?}", compiled.stats);
     let bad = differences(&compiled, &taped, 2.0 * s.eps);
     assert!(bad.is_empty(), "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);

@@ -13,7 +13,6 @@
 //! against primitive count from the JSON.
 
 use super::CliError;
-use isotrace::field::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::{SphereOptions, Stats, Traversal};
 use isotrace::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
@@ -139,25 +138,25 @@ fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32,
     let data = lin.field_data();
     let id = (kind, blending, level, lin.primitives.len());
     let t0 = std::time::Instant::now();
-    let mut r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).map_err(super::render_error)?;
+    let mut r = Renderer::new(gpu, &data, Traversal::Sphere(o.clone())).map_err(super::render_error)?;
     let setup = t0.elapsed().as_secs_f64() * 1e3;
     let mut rows = vec![row(id, "sparse", setup, &time_frames(&r, &s, repeat)?)];
     // The same sparse path with the tile's rays walking its slabs together
     // (Algorithm 3): a kernel of its own.
     let t0 = std::time::Instant::now();
     let sync = SphereOptions { synchronized: true, ..o.clone() };
-    let rs = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(sync)).map_err(super::render_error)?;
+    let rs = Renderer::new(gpu, &data, Traversal::Sphere(sync)).map_err(super::render_error)?;
     rows.push(row(id, "sync", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&rs, &s, repeat)?));
     match dense_estimate {
         Some(ms) if ms > DENSE_BUDGET_MS => eprintln!("  dense skipped: about {:.0} s a frame expected (the last level's, scaled by the primitives)", ms / 1e3),
         _ => {
-            r.set_scene_dense(true);
+            r.set_dense(true);
             rows.push(row(id, "dense", setup, &time_frames(&r, &s, repeat)?));
         }
     }
     if let Some(f) = compiled_formula(&scene) {
         let t0 = std::time::Instant::now();
-        let c = Renderer::new(gpu, FieldSource::Compiled(&f.ir), Traversal::Sphere(o)).map_err(super::render_error)?;
+        let c = Renderer::new(gpu, &f.ir, Traversal::Sphere(o)).map_err(super::render_error)?;
         rows.push(row(id, "compiled", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&c, &s, repeat)?));
     }
     Ok(rows)

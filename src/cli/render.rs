@@ -546,7 +546,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     // --field, else the .iso header's `field`, else auto.
     let field_given = a.view.field.or(header.and_then(|h| h.field).map(super::field_arg));
     let field = super::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some(), todo as u64)?;
-    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && !matches!(field.source(&f.ir), isotrace::field::FieldSource::Scene(_)) {
+    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && field.kind() != isotrace::field::FieldKind::Scene {
         return Err(input("--scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene"));
     }
     // No device is opened when every frame of the run is already there.
@@ -564,11 +564,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
         (Some(an), r, _) => an.run(r.as_ref().zip(gpu.as_ref()).map(|(r, g)| (r, &g.info)), &s, color)?,
         (None, Some(r), super::frames::Outputs::One(path)) => {
             let what = || {
-                let field = match field.source(&f.ir) {
-                    isotrace::field::FieldSource::Tape(t) => format!("a tape of {} instructions in the interpreter", t.ops),
-                    isotrace::field::FieldSource::Scene(_) => "a scene".to_string(),
-                    _ => "the compiled formula".to_string(),
-                };
+                let field = field.source(&f.ir).describe();
                 let device = gpu.as_ref().map_or(String::new(), |g| g.info.name.clone());
                 format!("the {}x{} frame ({field}, on {device}; the first frame includes the driver's compile)", s.width, s.height)
             };
@@ -582,10 +578,10 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     };
     if let (Some(frame), Some(renderer), Some(gpu)) = (last, &renderer, &gpu) {
         match renderer.traversal() {
-            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_kind().name()),
-            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_kind().name()),
+            Traversal::Bisect(b) => report(&a, &frame, &s, b.algebra, gpu, renderer.field_name()),
+            Traversal::Sphere(o) => report_sphere(&a, &frame, &s, &o, gpu, renderer.field_name()),
         }
-        warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind(), renderer.field_loops());
+        warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_name(), renderer.field_shares_loop_cap().is_some());
         if let Traversal::Sphere(o) = renderer.traversal() {
             warn_lipschitz(&frame, &o);
         }

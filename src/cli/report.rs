@@ -11,13 +11,13 @@ use std::io::Write;
 /// always say so (with or without `--stats`), and how they are drawn. A
 /// tape field also stops at its interpreter's work limit, and a compiled
 /// field at its loops': say which way out there is.
-pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: isotrace::field::FieldKind, loops: bool) {
+pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: &str, loops: bool) {
     let n = frame.stats.unresolved;
     if n == 0 {
         return;
     }
     let (what, guess) = match t {
-        Traversal::Bisect(_) if field == isotrace::field::FieldKind::Tape => (
+        Traversal::Bisect(_) if field == isotrace::field::FieldKind::Tape.name() => (
             format!(
                 "exhausted the iteration budget (--max-iter {}) or the tape interpreter's work limit ({} loop iterations a pixel, \
                  or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; --field compiled has none)",
@@ -43,7 +43,7 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
         ),
         // A scene's step runs its tile's whole view: a long one spends the
         // loop budget long before --max-steps.
-        Traversal::Sphere(o) if field == isotrace::field::FieldKind::Scene => (
+        Traversal::Sphere(o) if field == isotrace::field::FieldKind::Scene.name() => (
             format!(
                 "did not converge within --max-steps {} or the loop budget of {} iterations a pixel (each step evaluates the nodes of the tile's view of the scene)",
                 o.max_steps,

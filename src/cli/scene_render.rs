@@ -4,7 +4,6 @@
 
 use super::render::{finish_settings, open_gpu, report_sphere, sphere_options, view_error, view_flags, warn_lipschitz, warn_unresolved, RenderArgs};
 use super::CliError;
-use isotrace::field::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::output::{self, ColorMode};
 use isotrace::render::{Shading, Traversal, View};
@@ -104,7 +103,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     let super::frames::Outputs::One(out) = &outputs else { unreachable!("no --frames") };
     let gpu = open_gpu(super::render::shader_opt(a.view.shader_opt, u64::from(s.width) * u64::from(s.height), true))?;
     let data = lin.field_data();
-    let renderer = Renderer::new(&gpu, FieldSource::Scene(&data), Traversal::Sphere(o.clone())).map_err(super::render_error)?;
+    let renderer = Renderer::new(&gpu, &data, Traversal::Sphere(o.clone())).map_err(super::render_error)?;
     let mut frame = renderer.render(&s).map_err(super::render_error)?;
     let heat_max = output::recolor(&mut frame, color);
     output::write_frame(out, &frame).map_err(super::output_error)?;
@@ -116,7 +115,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
             eprintln!("--color {}: white = {m}", a.color);
         }
     }
-    warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_kind(), renderer.field_loops());
+    warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_name(), renderer.field_shares_loop_cap().is_some());
     warn_lipschitz(&frame, &o);
     if frame.stats.field.overflow_tiles > 0 {
         eprintln!(

@@ -9,7 +9,6 @@
 use super::render::RenderArgs;
 use super::CliError;
 use clap::Args;
-use isotrace::field::FieldSource;
 use isotrace::render::{Settings, Traversal};
 use isotrace::view::page::printable;
 use isotrace::view::{Api, ApiError, Reply, Route};
@@ -178,14 +177,14 @@ impl Backend {
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
             let t = Traversal::Sphere(p.options.clone());
-            let program = isotrace::view::program(FieldSource::Scene(&data), &t, &p.settings).map_err(view_render_error)?;
+            let program = isotrace::view::program(&data, &t, &p.settings).map_err(view_render_error)?;
             let scene_json: Value = serde_json::from_str(&isotrace::scene::format::to_json(&scene)).unwrap_or(Value::Null);
             (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "new_params": [], "scene_features": data.features }))
         } else {
             let loaded = r.formula.load_with_header().map_err(bad)?;
             let new_params = default_params(&loaded, &mut r, &mut args)?;
             let p = super::render::plan_loaded(&r, loaded).map_err(bad)?;
-            let program = isotrace::view::program(FieldSource::Compiled(&p.loaded.formula.ir), &p.traversal, &p.settings).map_err(view_render_error)?;
+            let program = isotrace::view::program(&p.loaded.formula.ir, &p.traversal, &p.settings).map_err(view_render_error)?;
             let names = p.loaded.formula.ir.params.iter().map(|(n, _)| n.clone());
             let params: Vec<Value> = names.zip(&p.settings.params).map(|(n, v)| json!({ "name": n, "value": v })).collect();
             let f = &p.loaded.formula;
@@ -216,7 +215,7 @@ impl Backend {
         let t0 = std::time::Instant::now();
         let scene = self.scene(body)?;
         let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
-        let buffers = isotrace::view::scene_buffers(&p.lin.field_data());
+        let buffers = isotrace::view::field_buffers(&p.lin.field_data());
         let t = Traversal::Sphere(p.options.clone());
         let uniforms = isotrace::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::render_error(e)))?;
         Ok(json!({
@@ -247,13 +246,13 @@ impl Backend {
             let scene = self.scene(body)?;
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
-            let renderer = isotrace::gpu::Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(p.options)).map_err(view_render_error)?;
+            let renderer = isotrace::gpu::Renderer::new(gpu, &data, Traversal::Sphere(p.options)).map_err(view_render_error)?;
             let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
             isotrace::output::recolor(&mut f, p.color);
             f
         } else {
             let p = super::render::plan(&r).map_err(bad)?;
-            let renderer = isotrace::gpu::Renderer::new(gpu, FieldSource::Compiled(&p.loaded.formula.ir), p.traversal).map_err(view_render_error)?;
+            let renderer = isotrace::gpu::Renderer::new(gpu, &p.loaded.formula.ir, p.traversal).map_err(view_render_error)?;
             let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
             isotrace::output::recolor(&mut f, p.color);
             f

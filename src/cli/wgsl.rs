@@ -67,7 +67,7 @@ pub(super) fn run(a: WgslArgs) -> Result<ExitCode, CliError> {
             }
             let m = isotrace::render::Modalities { inline: inline.cloned(), ..Default::default() };
             let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-            isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl
+            isotrace::kernel::assemble(&f.ir, &isotrace::render::Traversal::Bisect(b)).wgsl
         }
     };
     match inline {
@@ -91,7 +91,7 @@ fn tape_wgsl(f: &isotrace::Formula, domain: Domain, kernel: KernelArg, inline: b
         }
         KernelArg::Render => isotrace::render::Traversal::Bisect(isotrace::render::BisectOptions::new(domain)),
     };
-    Ok(isotrace::kernel::assemble(isotrace::field::FieldSource::Tape(&tape), &traversal).wgsl)
+    Ok(isotrace::kernel::assemble(&tape, &traversal).wgsl)
 }
 
 /// Validates a generated shader without user WGSL: an invalid one is an
@@ -131,7 +131,7 @@ pub(super) fn check_inline(f: &Formula, user: &isotrace::inline::InlineWgsl) -> 
     let domain = isotrace::choose_algebra(&f.ir);
     let m = isotrace::render::Modalities { inline: Some(user.clone()), ..Default::default() };
     let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-    let render = isotrace::kernel::assemble(isotrace::field::FieldSource::Compiled(&f.ir), &isotrace::render::Traversal::Bisect(b)).wgsl;
+    let render = isotrace::kernel::assemble(&f.ir, &isotrace::render::Traversal::Bisect(b)).wgsl;
     validate_inline(&render, user, f)?;
     validate_inline(&isotrace::field::compiled::eval_shader_with(&f.ir, domain, Some(user)), user, f)
 }

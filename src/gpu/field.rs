@@ -1,396 +1,312 @@
-//! The field group (`@group(1)`) of a render kernel: the buffers a field
-//! source binds, and the passes it runs before the traversal. A compiled
-//! formula lives in the shader and binds none; a tape binds its
-//! instructions; a scene binds its nodes,
-//! parameters, primitives and bounding balls once, and per dispatch the
-//! tile lists and pruned views its pre-passes build.
+//! The field group (`@group(1)`) of a render kernel on the device, made
+//! from the field source's table ([`crate::bindings`]): the resources with
+//! data of their own are uploaded once; those with a size rule are made per
+//! dispatch (kept for the next dispatch of as many tiles); the one a field
+//! reports its statistics in is the caller's read-back buffer.
 
 use super::dispatch::Rect;
 use super::{storage_entry, texture_entry, Gpu, GpuError};
-use crate::field::scene::{SCENE_TILE_MAX, SCENE_VIEW_MAX};
-use crate::field::FieldSource;
+use crate::bindings::{Binding, Stage, Statistics, TexelFormat};
+use crate::field::{BindingRequest, FieldSource, FieldWrite};
 
-/// Binding of the texture the views pass's output is copied into.
-const VIEW_TEXTURE: u32 = 10;
-/// Binding of the counts zeroed before each dispatch: a scene's tile
-/// counts, a tape's words of per-tile lists in use.
-const COUNTS: u32 = 4;
-/// Binding of a tape's per-tile lists (`templates/fields/tape_tiles.wgsl`).
-const TAPE_LISTS: u32 = 1;
-/// Binding of a compiled field's per-tile term lists (`templates/fields/loop_tiles.wgsl`).
-const LOOP_LISTS: u32 = 1;
-/// Binding of a tape's per-tile choice notes (`NOTE_BYTES_PER_TILE`).
-const TAPE_NOTES: u32 = 5;
-/// Binding of the views pass's output buffer.
-const VIEW_BUFFER: u32 = 6;
-/// Texels a row of the view texture.
-const VIEW_WIDTH: u64 = crate::field::scene::SCENE_VIEW_TEX_WIDTH as u64;
-
-/// A dispatch's own field resources: the tile lists and views, and the
-/// view texture the trace reads the views from. Kept for the next dispatch
-/// of as many tiles (making and zeroing them anew is a large part of a
-/// frame on lavapipe): only the tile counts must start at zero, everything
-/// else is written before it is read.
+/// A dispatch's own field resources. Kept for the next dispatch of as many
+/// tiles (making and zeroing them anew is a large part of a frame on
+/// lavapipe): only those marked `clear` must start at zero, everything else
+/// is written before it is read.
 #[derive(Clone)]
 pub(crate) struct PerDispatch {
     buffers: Vec<(u32, wgpu::Buffer)>,
-    view: Option<(wgpu::Texture, wgpu::TextureView)>,
+    textures: Vec<(u32, wgpu::Texture, wgpu::TextureView)>,
+    clears: Vec<wgpu::Buffer>,
 }
 
 impl PerDispatch {
-    /// The buffers to zero before the dispatch (the tile counts, appended to).
+    /// The buffers to zero before the dispatch.
     pub fn clears(&self) -> Vec<wgpu::Buffer> {
-        self.buffers.iter().filter(|(b, _)| *b == COUNTS).map(|(_, b)| b.clone()).collect()
+        self.clears.clone()
     }
 
-    /// The copy of the views pass's output into the view texture (after
-    /// that pass; a buffer cannot be a texture, and the trace reads the
-    /// views as texels: lavapipe loads storage at a per-lane address lane
-    /// by lane).
-    pub fn view_copy(&self) -> Option<(&wgpu::Buffer, &wgpu::Texture)> {
-        let buf = self.buffers.iter().find(|(b, _)| *b == VIEW_BUFFER).map(|(_, b)| b)?;
-        self.view.as_ref().map(|(t, _)| (buf, t))
+    /// The copies after the field's passes (`Stage::copy`): a buffer a
+    /// pass wrote into a texture the trace reads.
+    pub fn copy(&self, from: u32, to: u32) -> Option<(&wgpu::Buffer, &wgpu::Texture)> {
+        let buf = self.buffers.iter().find(|(b, _)| *b == from).map(|(_, b)| b)?;
+        let tex = self.textures.iter().find(|(b, _, _)| *b == to).map(|(_, t, _)| t)?;
+        Some((buf, tex))
     }
 }
 
-/// A field source's layout entries, buffers and pre-passes.
+/// A field source bound on the device: its table, layout, uploaded data
+/// and what the renderer asks of it.
 pub(crate) struct FieldBinding {
-    /// Layout of the field group (static and per-dispatch entries).
+    /// Layout of the field group.
     pub layout: Vec<wgpu::BindGroupLayoutEntry>,
+    /// The table it was made from.
+    table: Vec<Binding>,
+    /// The passes it runs before the traversal.
+    passes: Vec<Stage>,
     /// (binding, buffer) pairs that live as long as the field.
-    pub buffers: Vec<(u32, wgpu::Buffer)>,
-    /// A scene's node and parameter textures (bindings 0 and 1).
+    buffers: Vec<(u32, wgpu::Buffer)>,
+    /// Textures with data, as long as the field.
     textures: Vec<(u32, wgpu::Texture, wgpu::TextureView)>,
-    /// Primitives of a scene (0 for a compiled field).
-    prims: u32,
-    scene: bool,
-    /// A scene evaluates its whole tree in every tile (the dense baseline).
-    pub dense: bool,
-    /// An interpreted tape: bisection's budget must leave room for its work.
-    pub tape: bool,
-    /// A compiled formula with rerolled loops (`crate::field::compiled::term_loops`): the same
-    /// budget rule as a tape.
-    pub looped: bool,
-    /// See [`FieldBinding::resumes`].
+    /// The source's name.
+    pub name: &'static str,
+    /// The source's features.
+    pub features: u32,
+    /// Whether the field's cells resume (bisection's per-pixel pass in rounds).
     resumes: bool,
-    /// The tape, for the size of its per-tile lists (bisection's; `None`
-    /// for other fields and traversals).
-    tape_lists: Option<crate::field::TapeData>,
-    /// A compiled formula's per-tile term lists of its rerolled min and max
-    /// loops (`templates/fields/loop_tiles.wgsl`; bisection's only: `None`
-    /// for other traversals, which bind token buffers in their place).
-    loop_lists: Option<crate::field::compiled::term_loops::lists::Lists>,
-    /// The field group has the lists' bindings (a formula with listed
-    /// loops, whatever the traversal).
-    lists_bound: bool,
+    /// Bisection's block pass before its tile pass.
+    block_pass: bool,
+    /// The source's bits of the frame flags, sparse and dense.
+    flags: [u32; 2],
+    /// Evaluates the whole field in every tile (the dense baseline).
+    pub dense: bool,
+    /// What shares lavapipe's loop cap with bisection's iterations.
+    pub shares_loop_cap: Option<&'static str>,
     /// The last dispatch's own resources and its tile count.
     cached: std::sync::Mutex<Option<(u64, PerDispatch)>>,
 }
 
+/// The wgpu texel format of a table's format.
+fn wgpu_format(f: TexelFormat) -> wgpu::TextureFormat {
+    match f {
+        TexelFormat::Rgba32Uint => wgpu::TextureFormat::Rgba32Uint,
+        TexelFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
+        TexelFormat::R32Uint => wgpu::TextureFormat::R32Uint,
+    }
+}
+
+/// The layout entry of a binding.
+fn layout_entry(b: &Binding) -> wgpu::BindGroupLayoutEntry {
+    match &b.texture {
+        Some(t) => {
+            let sample = if t.format == TexelFormat::Rgba32Float { wgpu::TextureSampleType::Float { filterable: false } } else { wgpu::TextureSampleType::Uint };
+            texture_entry(b.binding, sample)
+        }
+        None => storage_entry(b.binding, b.read_only),
+    }
+}
+
+/// Uploads what `source` binds for a kernel of `request`.
+pub(crate) fn bind(gpu: &Gpu, source: &dyn FieldSource, request: &BindingRequest) -> Result<FieldBinding, GpuError> {
+    let table = source.bindings(request);
+    let layout = table.iter().map(layout_entry).collect();
+    let (mut buffers, mut textures) = (vec![], vec![]);
+    for b in table.iter().filter(|b| b.is_static()) {
+        let words = b.data.as_deref().unwrap_or_default();
+        match &b.texture {
+            Some(t) => {
+                let texels = crate::layout::Texels { width: t.width, height: t.height, texels: words.to_vec() };
+                let (tex, view) = gpu.texture(b.name, &texels, wgpu_format(t.format))?;
+                textures.push((b.binding, tex, view));
+            }
+            None => buffers.push((b.binding, gpu.storage(b.name, bytemuck::cast_slice(words))?)),
+        }
+    }
+    Ok(FieldBinding {
+        layout,
+        passes: source.passes(),
+        table,
+        buffers,
+        textures,
+        name: source.name(),
+        features: source.features(),
+        resumes: source.cells_resume(),
+        block_pass: request.bisect && source.block_pass(request.kernel_features),
+        flags: [source.frame_flags(false), source.frame_flags(true)],
+        dense: false,
+        shares_loop_cap: source.shares_loop_cap(),
+        cached: Default::default(),
+    })
+}
+
 impl FieldBinding {
-    /// The kind of field source bound.
-    pub fn kind(&self) -> crate::field::FieldKind {
-        use crate::field::FieldKind;
-        if self.scene { FieldKind::Scene } else if self.tape { FieldKind::Tape } else { FieldKind::Compiled }
+    /// The binding read back for the statistics, if any.
+    fn reported(&self) -> Option<&Binding> {
+        self.table.iter().find(|b| b.statistics.is_some())
     }
 
-    /// Only bisection's tile pass shortens a tape: other traversals bind
-    /// a token buffer for its lists. A kernel built with per-tile lists
-    /// (`kernel_features`: min and max) reads its blocks' entries there
-    /// whatever tape it runs, so the lists are sized for them.
-    pub fn keep_lists(&mut self, keep: bool, kernel_features: u32) {
-        if !keep {
-            self.tape_lists = None;
-            self.loop_lists = None;
-        }
-        if let Some(t) = &mut self.tape_lists {
-            t.features |= kernel_features & crate::field::tape::features::MINMAX;
-        }
+    /// What the field reports, if anything.
+    pub fn statistics(&self) -> Option<Statistics> {
+        self.reported().and_then(|b| b.statistics)
     }
 
-    /// A kernel with `--inline` WGSL has no term lists (`compiled::field_code`
-    /// leaves its hooks to the user): nothing to size or count.
-    pub fn no_loop_lists(&mut self) {
-        self.loop_lists = None;
-    }
-
-    /// Whether bisection runs the field's block pass before its tile pass
-    /// (a tape kernel with per-tile lists: its tile pass reads the blocks'
-    /// entries, `templates/fields/tape_tiles.wgsl`).
+    /// Whether bisection runs the field's block pass before its tile pass.
     pub fn block_pass(&self) -> bool {
-        self.tape_lists.as_ref().is_some_and(|t| crate::field::tape::wgsl::shortens(t.features))
-    }
-
-    /// Whether bisection's tile pass may shorten the bound tape per tile:
-    /// it has min or max instructions (choice slots).
-    pub fn shortens_tape(&self) -> bool {
-        self.tape_lists.as_ref().is_some_and(|t| crate::field::tape::wgsl::shortens(t.features) && t.words[2][2] > 0)
+        self.block_pass
     }
 
     /// Whether bisection's per-pixel pass runs in rounds that resume the
-    /// pixels the field's work limit stopped: a tape, or a compiled formula
-    /// with rerolled loops and no per-tile term lists
-    /// (`kernel::cells_resume`).
+    /// pixels the field's work limit stopped.
     pub fn resumes(&self) -> bool {
         self.resumes
     }
 
-    /// Whether bisection's tile pass lists the terms of the bound compiled
-    /// formula's min and max loops per tile.
-    pub fn lists_loops(&self) -> bool {
-        self.loop_lists.is_some()
-    }
-
     /// The field's bits of the frame flags.
     pub fn flags(&self) -> u32 {
-        if self.scene && self.dense { crate::layout::FLAG_SCENE_FULL } else { 0 }
+        self.flags[self.dense as usize]
     }
 
-    /// Whether the field reports per-tile statistics.
-    pub fn has_tile_stats(&self) -> bool {
-        self.scene
-    }
-
-    /// Bytes of the statistics a field reports for a rectangle, read back
-    /// with the pixels and bound where the field writes them: a scene's view
-    /// length and active primitives per tile, or a tape's counts of its
-    /// per-tile lists ([`crate::render::TapeListStats`]); 0 when it has none.
+    /// Bytes of the statistics the field reports for a rectangle (0 when
+    /// it has none).
     pub fn tile_stats_size(&self, rect: Rect) -> u64 {
-        if self.loop_lists.is_some() {
-            crate::render::LoopListStats::BYTES
-        } else if self.has_tile_stats() {
-            rect.tiles() * 8
-        } else if self.tape {
-            crate::render::TapeListStats::BYTES
-        } else {
-            0
-        }
+        self.reported().map_or(0, |b| b.size.bytes(rect.pixels(), rect.tiles(), 0))
     }
 
-    /// Bytes per pixel of the field's largest per-dispatch buffer (a
-    /// scene's per-tile lists and views over the 64 pixels of a tile): the
+    /// Bytes per pixel of the field's largest per-dispatch resource: the
     /// dispatch rectangle must keep it within one storage binding.
     pub fn bytes_per_pixel(&self) -> u64 {
-        if self.block_pass() {
-            // A tape's choice notes: 2 KB an 8×8 tile.
-            return crate::field::tape::wgsl::NOTE_BYTES_PER_TILE / 64;
-        }
-        if let Some(l) = &self.loop_lists {
-            return l.bytes(1).div_ceil(64);
-        }
-        if !self.scene {
-            return 0;
-        }
-        [SCENE_TILE_MAX as u64 * 8, SCENE_VIEW_MAX as u64 * 4].into_iter().max().unwrap_or(0) / 64
+        self.table.iter().map(|b| b.size.bytes_per_pixel()).max().unwrap_or(0)
     }
 
-    /// The most pixels a dispatch may cover: a scene's view texture holds
-    /// SCENE_VIEW_MAX texels a tile in rows of VIEW_WIDTH, at most the
-    /// device's texture side of rows.
+    /// The most pixels a dispatch may cover: a texture filled per tile
+    /// holds at most the device's texture side of rows.
     pub fn max_pixels(&self, gpu: &Gpu) -> u64 {
-        if !self.scene {
-            return u64::MAX;
-        }
         let rows = gpu.device.limits().max_texture_dimension_2d as u64;
-        rows * VIEW_WIDTH / SCENE_VIEW_MAX as u64 * 64
+        let per_tile = |b: &Binding| b.size.bytes(64, 1, 0) / 4;
+        let textures = self.table.iter().filter(|b| !b.is_static()).filter_map(|b| b.texture.as_ref().map(|t| (t, per_tile(b))));
+        textures.map(|(t, texels)| rows * u64::from(t.width) / texels.max(1) * 64).min().unwrap_or(u64::MAX)
     }
 
-    /// The per-dispatch resources of a rectangle (a scene's tile lists and
-    /// views, and the view texture; kept from the last dispatch of as many
-    /// tiles, see [`PerDispatch`]), with `stats` (of [`FieldBinding::tile_stats_size`]
-    /// bytes, read back by the caller) bound where the field writes them.
+    /// The per-dispatch resources of a rectangle (kept from the last
+    /// dispatch of as many tiles, see [`PerDispatch`]), with `stats` (of
+    /// [`FieldBinding::tile_stats_size`] bytes, read back by the caller)
+    /// bound where the field writes them.
     pub fn per_dispatch(&self, gpu: &Gpu, rect: Rect, stats: Option<&wgpu::Buffer>) -> PerDispatch {
         let tiles = rect.tiles();
-        if self.lists_bound {
-            return self.loop_per_dispatch(gpu, tiles, stats);
-        }
-        if self.tape {
-            let mut own = self.tape_per_dispatch(gpu, tiles);
-            if let Some(counts) = stats {
-                own.buffers.push((COUNTS, counts.clone()));
-            }
-            return own;
-        }
-        let (true, Some(stats)) = (self.scene, stats) else { return PerDispatch { buffers: vec![], view: None } };
         let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
         let mut own = match cached.take() {
             Some((n, own)) if n == tiles => own,
-            _ => self.make_per_dispatch(gpu, tiles),
+            _ => self.make_per_dispatch(gpu, rect),
         };
         *cached = Some((tiles, own.clone()));
-        own.buffers.push((7, stats.clone()));
-        own
-    }
-
-    /// A tape's per-dispatch lists for `tiles` tiles (kept for the next
-    /// dispatch of as many; only the counts are zeroed).
-    fn tape_per_dispatch(&self, gpu: &Gpu, tiles: u64) -> PerDispatch {
-        let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((n, own)) = cached.as_ref() {
-            if *n == tiles {
-                return own.clone();
+        if let Some(b) = self.reported() {
+            let buffer = stats.cloned().unwrap_or_else(|| token(gpu, b.name));
+            if b.clear {
+                own.clears.push(buffer.clone());
             }
+            own.buffers.push((b.binding, buffer));
         }
-        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
-        let storage = wgpu::BufferUsages::STORAGE;
-        let bytes = self.tape_lists.as_ref().map_or(0, |t| crate::field::tape::wgsl::list_bytes(t, tiles));
-        // The counts (binding COUNTS) are the caller's read-back buffer.
-        // Only a kernel with per-tile lists notes choices (a tape without
-        // min or max binds a token buffer).
-        let notes = if self.block_pass() { tiles * crate::field::tape::wgsl::NOTE_BYTES_PER_TILE } else { 0 };
-        let own = PerDispatch { buffers: vec![(TAPE_LISTS, buffer("tape lists", bytes, storage)), (TAPE_NOTES, buffer("tape notes", notes, storage))], view: None };
-        *cached = Some((tiles, own.clone()));
         own
     }
 
-    /// A compiled field's per-tile term lists for `tiles` tiles (kept for
-    /// the next dispatch of as many; only the counts are zeroed), and its
-    /// counts `stats`: token buffers for a traversal without the lists.
-    fn loop_per_dispatch(&self, gpu: &Gpu, tiles: u64, stats: Option<&wgpu::Buffer>) -> PerDispatch {
-        let buffer = |label, size: u64| {
-            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
-            gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
-        };
-        let mut cached = self.cached.lock().unwrap_or_else(|e| e.into_inner());
-        let mut own = match cached.take() {
-            Some((n, own)) if n == tiles => own,
-            _ => PerDispatch { buffers: vec![(LOOP_LISTS, buffer("loop lists", self.loop_lists.as_ref().map_or(0, |l| l.bytes(tiles))))], view: None },
-        };
-        *cached = Some((tiles, own.clone()));
-        own.buffers.push((COUNTS, stats.cloned().unwrap_or_else(|| buffer("loop list counts", 16))));
+    /// A dispatch's own resources over `rect` (without the statistics).
+    fn make_per_dispatch(&self, gpu: &Gpu, rect: Rect) -> PerDispatch {
+        let (pixels, tiles) = (rect.pixels(), rect.tiles());
+        let mut own = PerDispatch { buffers: vec![], textures: vec![], clears: vec![] };
+        let copies: Vec<_> = self.passes.iter().filter_map(|p| p.copy).collect();
+        for b in self.table.iter().filter(|b| !b.is_static() && b.statistics.is_none()) {
+            let bytes = b.size.bytes(pixels, tiles, 0);
+            if let Some(t) = &b.texture {
+                let rows = (bytes / 4 / u64::from(t.format.words())).div_ceil(u64::from(t.width)).max(1);
+                let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(b.name),
+                    size: wgpu::Extent3d { width: t.width, height: rows as u32, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu_format(t.format),
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                    view_formats: &[],
+                });
+                let view = tex.create_view(&Default::default());
+                own.textures.push((b.binding, tex, view));
+                continue;
+            }
+            // A buffer copied into a texture is whole rows of it.
+            let copied_to = copies.iter().find(|c| c.from == b.binding).and_then(|c| self.table.iter().find(|t| t.binding == c.to));
+            let (size, usage) = match copied_to.and_then(|t| t.texture.as_ref().map(|shape| (t, shape))) {
+                Some((t, shape)) => {
+                    let row = u64::from(shape.width) * 4 * u64::from(shape.format.words());
+                    (t.size.bytes(pixels, tiles, 0).div_ceil(row).max(1) * row, wgpu::BufferUsages::COPY_SRC)
+                }
+                None => (bytes, wgpu::BufferUsages::empty()),
+            };
+            let usage = usage | wgpu::BufferUsages::STORAGE | if b.clear { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() };
+            let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(b.name), size, usage, mapped_at_creation: false });
+            if b.clear {
+                own.clears.push(buffer.clone());
+            }
+            own.buffers.push((b.binding, buffer));
+        }
         own
     }
 
-    /// A dispatch's own resources for `tiles` tiles (without the statistics).
-    fn make_per_dispatch(&self, gpu: &Gpu, tiles: u64) -> PerDispatch {
-        let buffer = |label, size: u64, usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false });
-        let storage = wgpu::BufferUsages::STORAGE;
-        // Whole rows of the view texture (a row holds several tiles' views).
-        let rows = (tiles * SCENE_VIEW_MAX as u64).div_ceil(VIEW_WIDTH);
-        let view = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("scene tile view texels"),
-            size: wgpu::Extent3d { width: VIEW_WIDTH as u32, height: rows as u32, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Uint,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let view_view = view.create_view(&Default::default());
-        let buffers = vec![
-            (COUNTS, buffer("scene tile counts", tiles * 4, storage | wgpu::BufferUsages::COPY_DST)),
-            (5, buffer("scene tile primitives", tiles * SCENE_TILE_MAX as u64 * 4, storage)),
-            (VIEW_BUFFER, buffer("scene tile views", rows * VIEW_WIDTH * 4, storage | wgpu::BufferUsages::COPY_SRC)),
-            (9, buffer("scene tile depths", tiles * SCENE_TILE_MAX as u64 * 8, storage)),
-        ];
-        PerDispatch { buffers, view: Some((view, view_view)) }
+    /// The field's passes over a rectangle, in order, with their workgroups.
+    pub fn passes(&self, rect: Rect) -> Vec<([u32; 3], Option<crate::bindings::Copy>)> {
+        self.passes.iter().map(|p| (self.workgroups(p, rect), p.copy)).collect()
     }
 
-    /// The pre-passes over a rectangle, in order, with their workgroups:
-    /// the scatter runs an invocation per primitive, the view pass one per
-    /// tile (64 to a workgroup).
-    pub fn passes(&self, rect: Rect) -> Vec<[u32; 3]> {
-        if !self.scene {
-            return vec![];
+    fn workgroups(&self, p: &Stage, rect: Rect) -> [u32; 3] {
+        use crate::bindings::Groups;
+        match p.groups {
+            Groups::Items { binding, per_group } => {
+                let items = self.table.iter().find(|b| b.binding == binding).and_then(|b| b.data.as_ref()).map_or(0, |d| d.len() as u32);
+                let groups = items.div_ceil(per_group).max(1);
+                [groups.min(65_535), groups.div_ceil(65_535), 1]
+            }
+            Groups::Tiles { per_group } => [(rect.tiles() as u32).div_ceil(per_group), 1, 1],
+            Groups::Blocks { side, layers } => [rect.w.div_ceil(side), rect.h.div_ceil(side), layers],
+            Groups::PixelTiles { tiles_per_group } => [rect.w.div_ceil(8), rect.h.div_ceil(8).div_ceil(tiles_per_group), 1],
+            Groups::Indirect { .. } => unreachable!("a field's pass is dispatched directly"),
         }
-        let groups = self.prims.div_ceil(64).max(1);
-        let (x, y) = (groups.min(65_535), groups.div_ceil(65_535));
-        vec![[x, y, 1], [(rect.tiles() as u32).div_ceil(64), 1, 1]]
     }
 
-    /// Uploads an edit in place of a scene (`Linear::set_primitive`): the
-    /// changed parameter rows and balls, nothing else. The bind
-    /// group stays valid (same buffers).
-    pub fn patch_scene(&self, gpu: &Gpu, patch: &crate::scene::linear::ScenePatch) -> Result<(), &'static str> {
-        let balls = self.buffers.iter().find(|(k, _)| *k == 3).map(|(_, buf)| buf);
-        let params = self.textures.iter().find(|(k, _, _)| *k == 1).map(|(_, t, _)| t);
-        let (Some(params), Some(balls), true) = (params, balls, self.scene) else {
-            return Err("an edit in place applies to a scene field");
-        };
-        let width = crate::scene::linear::TEXTURE_WIDTH as u64;
-        let end = patch.param_row as u64 + patch.params.len() as u64;
-        if end > width * params.height() as u64 || patch.balls.iter().any(|&(i, _)| (i as u64 + 1) * 16 > balls.size()) {
-            return Err("the edit does not fit the scene's buffers: it belongs to another scene");
-        }
-        // The rows may wrap onto the next texture row: one write per piece.
-        let mut row = patch.param_row as u64;
-        let mut rest: &[[f32; 4]] = &patch.params;
-        while !rest.is_empty() {
-            let (x, y) = (row % width, row / width);
-            let n = rest.len().min((width - x) as usize);
-            gpu.queue.write_texture(
-                wgpu::TexelCopyTextureInfo { texture: params, mip_level: 0, origin: wgpu::Origin3d { x: x as u32, y: y as u32, z: 0 }, aspect: wgpu::TextureAspect::All },
-                bytemuck::cast_slice(&rest[..n]),
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(n as u32 * 16), rows_per_image: None },
-                wgpu::Extent3d { width: n as u32, height: 1, depth_or_array_layers: 1 },
-            );
-            rest = &rest[n..];
-            row += n as u64;
-        }
-        for (i, b) in &patch.balls {
-            gpu.queue.write_buffer(balls, *i as u64 * 16, bytemuck::cast_slice(&[*b]));
+    /// Writes an edit in place into the field's resources: the bind group
+    /// stays valid (same buffers).
+    pub fn write(&self, gpu: &Gpu, writes: &[FieldWrite]) -> Result<(), &'static str> {
+        const FOREIGN: &str = "the edit does not fit the field's buffers: it belongs to another field";
+        for w in writes {
+            match w {
+                FieldWrite::Texels { binding, first, texels } => {
+                    let tex = self.textures.iter().find(|(b, _, _)| b == binding).map(|(_, t, _)| t).ok_or(FOREIGN)?;
+                    write_texel_rows(gpu, tex, *first, texels).ok_or(FOREIGN)?;
+                }
+                FieldWrite::Bytes { binding, offset, bytes } => {
+                    let buf = self.buffers.iter().find(|(b, _)| b == binding).map(|(_, b)| b).ok_or(FOREIGN)?;
+                    if offset + bytes.len() as u64 > buf.size() {
+                        return Err(FOREIGN);
+                    }
+                    gpu.queue.write_buffer(buf, *offset, bytes);
+                }
+            }
         }
         Ok(())
     }
 
-    /// The bind group of these buffers and a dispatch's.
+    /// The bind group of these resources and a dispatch's.
     pub fn group(&self, d: &wgpu::Device, layout: &wgpu::BindGroupLayout, per_dispatch: &PerDispatch) -> wgpu::BindGroup {
-        let views = self.textures.iter().map(|(b, _, view)| (*b, view)).chain(per_dispatch.view.as_ref().map(|(_, v)| (VIEW_TEXTURE, v)));
-        let textures = views.map(|(b, view)| wgpu::BindGroupEntry { binding: b, resource: wgpu::BindingResource::TextureView(view) });
-        let entries: Vec<wgpu::BindGroupEntry> =
-            self.buffers.iter().chain(&per_dispatch.buffers).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).chain(textures).collect();
+        let views = self.textures.iter().chain(&per_dispatch.textures).map(|(b, _, view)| wgpu::BindGroupEntry { binding: *b, resource: wgpu::BindingResource::TextureView(view) });
+        let buffers = self.buffers.iter().chain(&per_dispatch.buffers).map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() });
+        let entries: Vec<wgpu::BindGroupEntry> = buffers.chain(views).collect();
         d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("field"), layout, entries: &entries })
     }
 }
 
-/// Uploads what `source` needs on the device.
-pub(crate) fn bind(gpu: &Gpu, source: FieldSource<'_>) -> Result<FieldBinding, GpuError> {
-    match source {
-        FieldSource::Compiled(ir) => {
-            // Rerolled terms read their constants from a table (crate::field::compiled::term_loops).
-            let (layout, textures) = match crate::field::compiled::term_loops::table_texels(ir) {
-                Some(t) => {
-                    let (tex, view) = gpu.texture("field table", &t, wgpu::TextureFormat::Rgba32Uint)?;
-                    (vec![texture_entry(0, wgpu::TextureSampleType::Uint)], vec![(0, tex, view)])
-                }
-                None => (vec![], vec![]),
-            };
-            let looped = !textures.is_empty();
-            // Per-tile term lists of its min and max loops (bound for every
-            // kernel of the formula; only bisection's reads them).
-            let loop_lists = crate::field::compiled::term_loops::lists::for_formula(ir);
-            let mut layout = layout;
-            if loop_lists.is_some() {
-                layout.extend([storage_entry(LOOP_LISTS, false), storage_entry(COUNTS, false)]);
-            }
-            let lists_bound = loop_lists.is_some();
-            let resumes = crate::kernel::cells_resume(FieldSource::Compiled(ir));
-            Ok(FieldBinding { layout, buffers: vec![], textures, prims: 0, scene: false, dense: false, tape: false, looped, resumes, tape_lists: None, loop_lists, lists_bound, cached: Default::default() })
-        }
-        FieldSource::Scene(s) => {
-            let mut layout = vec![
-                texture_entry(0, wgpu::TextureSampleType::Uint),
-                texture_entry(1, wgpu::TextureSampleType::Float { filterable: false }),
-            ];
-            layout.extend((2..4).map(|b| storage_entry(b, true)));
-            layout.extend([4, 5, 6, 7, 9].map(|b| storage_entry(b, false)));
-            layout.push(texture_entry(VIEW_TEXTURE, wgpu::TextureSampleType::Uint));
-            let (nodes, nodes_view) = gpu.texture("scene nodes", &s.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
-            let (params, params_view) = gpu.texture("scene params", &s.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
-            let buffers = vec![
-                (2, gpu.storage("scene primitives", bytemuck::cast_slice(&s.prims))?),
-                (3, gpu.storage("scene balls", bytemuck::cast_slice(&s.balls))?),
-            ];
-            let textures = vec![(0, nodes, nodes_view), (1, params, params_view)];
-            Ok(FieldBinding { layout, buffers, textures, prims: s.prims.len() as u32, scene: true, dense: false, tape: false, looped: false, resumes: false, tape_lists: None, loop_lists: None, lists_bound: false, cached: Default::default() })
-        }
-        FieldSource::Tape(t) => {
-            let (tex, view) = gpu.texture("tape", &t.texels(), wgpu::TextureFormat::Rgba32Uint)?;
-            // Bisection's per-tile lists (bound for every tape kernel, so
-            // one layout serves every tape; unused by the others).
-            let layout = vec![texture_entry(0, wgpu::TextureSampleType::Uint), storage_entry(TAPE_LISTS, false), storage_entry(COUNTS, false), storage_entry(TAPE_NOTES, false)];
-            Ok(FieldBinding { layout, buffers: vec![], textures: vec![(0, tex, view)], prims: 0, scene: false, dense: false, tape: true, looped: false, resumes: true, tape_lists: Some(t.clone()), loop_lists: None, lists_bound: false, cached: Default::default() })
-        }
+/// A smallest buffer standing in for statistics nobody reads.
+fn token(gpu: &Gpu, label: &str) -> wgpu::Buffer {
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+    gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: 16, usage, mapped_at_creation: false })
+}
+
+/// Writes vec4 `texels` from texel `first` of `tex`, row by row (the rows
+/// may wrap onto the next texture row); `None` if they do not fit.
+fn write_texel_rows(gpu: &Gpu, tex: &wgpu::Texture, first: u64, texels: &[[f32; 4]]) -> Option<()> {
+    let width = u64::from(tex.width());
+    if first + texels.len() as u64 > width * u64::from(tex.height()) {
+        return None;
     }
+    let (mut at, mut rest) = (first, texels);
+    while !rest.is_empty() {
+        let (x, y) = (at % width, at / width);
+        let n = rest.len().min((width - x) as usize);
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo { texture: tex, mip_level: 0, origin: wgpu::Origin3d { x: x as u32, y: y as u32, z: 0 }, aspect: wgpu::TextureAspect::All },
+            bytemuck::cast_slice(&rest[..n]),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(n as u32 * 16), rows_per_image: None },
+            wgpu::Extent3d { width: n as u32, height: 1, depth_or_array_layers: 1 },
+        );
+        rest = &rest[n..];
+        at += n as u64;
+    }
+    Some(())
 }

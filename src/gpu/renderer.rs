@@ -10,10 +10,11 @@ use super::binding::Binder;
 use super::dispatch::{self, Dispatch, Groups, Rect, Stage};
 use super::uniforms::uniforms;
 use super::{field, storage_entry, Author, Gpu, GpuError};
-use crate::field::FieldSource;
+use crate::field::{BindingRequest, FieldSource};
 use crate::kernel;
 use crate::render::record::{convert, count, count_all, map_all, PackedFrame, Planes, RayStats, Record, Records};
 use crate::render::{CameraFrame, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
+use crate::bindings::Statistics;
 use crate::validate::{validate, ValidateError};
 use bytemuck::Zeroable;
 use std::time::Instant;
@@ -111,9 +112,6 @@ pub struct Renderer<'g> {
     field: field::FieldBinding,
     outputs: dispatch::Outputs,
     surfaces: usize,
-    /// The interpreter features compiled in: a scene's node types or a
-    /// tape's operation groups and register file (0 for a compiled field).
-    features: u32,
     /// Rounds of the per-pixel pass after the first, resuming pixels a
     /// tape left at its work limit (bisection of a tape only).
     resume_rounds: u32,
@@ -122,26 +120,16 @@ pub struct Renderer<'g> {
 impl<'g> Renderer<'g> {
     /// Assembles (codegen), validates (naga) and compiles the kernel of
     /// `field` traced by `traversal`.
-    pub fn new(gpu: &'g Gpu, field: FieldSource<'_>, traversal: Traversal) -> Result<Renderer<'g>, RenderError> {
+    pub fn new(gpu: &'g Gpu, field: &dyn FieldSource, traversal: Traversal) -> Result<Renderer<'g>, RenderError> {
         traversal.check()?;
         if matches!(traversal, Traversal::Bisect(_)) && !field.has_enclosures() {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
         }
-        if let (FieldSource::Tape(_), Traversal::Bisect(b)) = (field, &traversal) {
-            if b.modalities.inline.is_some() {
+        if let Traversal::Bisect(b) = &traversal {
+            if b.modalities.inline.is_some() && field.name() != "compiled" {
                 return Err(SettingsError::new(crate::render::SettingsField::Features, "inline", "user WGSL hooks need the compiled field").into());
             }
         }
-        // Where the device has subgroups, a tape's bisection counts its
-        // interpreter's work per SIMD bundle (features::BUNDLE_WORK).
-        let counted;
-        let field = match (field, &traversal) {
-            (FieldSource::Tape(t), Traversal::Bisect(_)) if gpu.subgroups => {
-                counted = crate::field::TapeData { features: t.features | crate::field::tape::features::BUNDLE_WORK, ..t.clone() };
-                FieldSource::Tape(&counted)
-            }
-            _ => field,
-        };
         let kernel = kernel::assemble_for(field, &traversal, gpu.subgroups);
         if kernel.code_bytes() > MAX_SHADER_BYTES {
             return Err(RenderError::ShaderTooLarge { bytes: kernel.code_bytes() });
@@ -159,14 +147,11 @@ impl<'g> Renderer<'g> {
         }
         let host: Box<dyn TraversalHost + 'g> = match traversal {
             Traversal::Bisect(b) => Box::new(super::bisect::Host::new(gpu, b)?),
-            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o, kernel::sphere_tile_pass(field))),
+            Traversal::Sphere(o) => Box::new(super::sphere::Host::new(o, field.lists_tiles())),
         };
         let d = &gpu.device;
-        let mut bound = field::bind(gpu, field)?;
-        bound.keep_lists(host.method() == crate::render::Method::Bisect, field_features(field));
-        if kernel.inline.is_some() {
-            bound.no_loop_lists();
-        }
+        let request = BindingRequest { bisect: host.method() == crate::render::Method::Bisect, kernel_features: field.features(), inline: kernel.inline.is_some() };
+        let bound = field::bind(gpu, field, &request)?;
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries });
         let mut frame_entries = vec![storage_entry(0, true)];
         frame_entries.extend(host.frame_resources().into_iter().map(|(e, _)| e));
@@ -192,91 +177,57 @@ impl<'g> Renderer<'g> {
         let mut pipelines = pipelines.into_iter();
         let main = pipelines.next().expect("a main entry point");
         let pre = pipelines.next();
-        let features = field_features(field);
-        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), features, resume_rounds: crate::field::tape::resume_rounds(crate::field::tape::features::unroll(features)) })
+        Ok(Renderer { gpu, wgsl: kernel.wgsl, main, pre, field_passes, layouts, host, field: bound, outputs: Default::default(), surfaces: field.surfaces(), resume_rounds: field.resume_rounds() })
     }
 
     /// Replaces a data-driven field's buffers (a scene edited, moved,
-    /// grown or shrunk): new buffers and a new field bind group, no new
-    /// shader or pipeline. `field` must be of the kind the kernel was
-    /// built for.
-    pub fn set_field(&mut self, field: FieldSource<'_>) -> Result<(), RenderError> {
-        if let FieldSource::Compiled(_) = field {
-            return Err(SettingsError::new(crate::render::SettingsField::Features, "compiled", "a compiled field is part of the shader: build a new renderer").into());
-        }
-        let mut bound = field::bind(self.gpu, field)?;
-        bound.keep_lists(self.host.method() == crate::render::Method::Bisect, self.features);
-        if (bound.tape, bound.has_tile_stats()) != (self.field.tape, self.field.has_tile_stats()) {
-            return Err(SettingsError::new(crate::render::SettingsField::Features, "field", "a field of another kind than the kernel was built for: build a new renderer").into());
-        }
-        let required = match field {
-            FieldSource::Tape(t) => t.features & crate::field::tape::features::REQUIRED,
-            _ => field_features(field),
-        };
-        if let FieldSource::Tape(t) = field {
-            let step = crate::field::tape::features::unroll(self.features);
-            if step > t.padding() {
-                let reason = format!("the tape kernel runs {step} instructions an iteration, for long tapes, and this tape's programs are padded for {}: build a new renderer", t.padding());
-                return Err(SettingsError::new(crate::render::SettingsField::Features, "tape", reason).into());
-            }
-        }
-        let missing = required & !self.features;
-        if missing != 0 {
-            let (value, reason) = match field {
-                FieldSource::Tape(_) => {
-                    let mut what = crate::field::tape::features::names(missing);
-                    if missing & (crate::field::tape::features::SLOTS_32 | crate::field::tape::features::SLOTS_64) != 0 {
-                        what.push("more registers");
-                    }
-                    ("tape", format!("the formula needs what the tape kernel was built without ({}): build a new renderer", what.join(", ")))
-                }
-                _ => ("scene", "the scene uses node types the kernel was built without (profiles, unary nodes, infill or displacement): build a new renderer".to_string()),
-            };
-            return Err(SettingsError::new(crate::render::SettingsField::Features, value, reason).into());
-        }
-        let dense = self.field.dense;
+    /// grown or shrunk, another tape): new buffers and a new field bind
+    /// group, no new shader or pipeline. `field` must be of the kind the
+    /// kernel was built for, within its features ([`FieldSource::replaces`]).
+    pub fn set_field(&mut self, field: &dyn FieldSource) -> Result<(), RenderError> {
+        field.replaces(self.field.name, self.field.features).map_err(|r| SettingsError::new(crate::render::SettingsField::Features, r.value, r.reason))?;
+        let request = BindingRequest { bisect: self.host.method() == crate::render::Method::Bisect, kernel_features: self.field.features, inline: false };
+        let mut bound = field::bind(self.gpu, field, &request)?;
+        (bound.features, bound.dense) = (self.field.features, self.field.dense);
         self.field = bound;
-        self.field.dense = dense;
         Ok(())
     }
 
-    /// The scene interpreter features this renderer's kernel has
-    /// (`scene::linear::FEATURE_*`; 0 for other fields): a scene whose
-    /// features are within them can replace its field with
+    /// The interpreter features this renderer's kernel has (a scene's node
+    /// types, a tape's operation groups and register file; 0 for a compiled
+    /// field): a field within them can replace its field with
     /// [`Renderer::set_field`].
-    pub fn scene_features(&self) -> u32 {
-        if self.field.tape { 0 } else { self.features }
+    pub fn field_features(&self) -> u32 {
+        self.field.features
     }
 
     /// How many rounds of the per-pixel pass after the first resume the
-    /// pixels a tape field left at its interpreter's work limit (default
-    /// [`TAPE_RESUME_ROUNDS`]; bisection of a tape only, else no effect).
-    /// 0 leaves them unresolved: the comparison the tests and benchmarks make.
+    /// pixels a field left at its work limit (bisection of a field whose
+    /// cells resume, [`FieldSource::cells_resume`]; else no effect). 0
+    /// leaves them unresolved: the comparison the tests and benchmarks make.
     pub fn set_resume_rounds(&mut self, rounds: u32) {
         self.resume_rounds = rounds;
     }
 
-    /// The tape operation groups and register file this renderer's kernel
-    /// has (`crate::field::tape::features`; 0 for other fields): a tape whose
-    /// features are within them can replace its field with
-    /// [`Renderer::set_field`].
-    pub fn tape_features(&self) -> u32 {
-        if self.field.tape { self.features } else { 0 }
-    }
-
-    /// A scene field evaluates its whole tree for every pixel instead of
-    /// its tiles' pruned views (a uniform flag: no new pipeline). The
-    /// dense baseline against which the sparse traversal is measured; the
-    /// picture is the same.
-    pub fn set_scene_dense(&mut self, dense: bool) {
+    /// A field that lists its tiles' work evaluates the whole field for
+    /// every pixel instead (a uniform flag: no new pipeline). The dense
+    /// baseline against which the sparse traversal is measured; the picture
+    /// is the same.
+    pub fn set_dense(&mut self, dense: bool) {
         self.field.dense = dense;
     }
 
-    /// Uploads an edit in place of the scene this renderer draws
-    /// (`scene::linear::Linear::set_primitive`): two small buffer writes,
-    /// no new buffer, bind group, shader or pipeline.
+    /// Uploads an edit in place of the field this renderer draws (for a
+    /// scene, `field::scene::source::patch_writes` of
+    /// `Linear::set_primitive`'s patch): small buffer writes, no new buffer,
+    /// bind group, shader or pipeline.
+    pub fn write_field(&self, writes: &[crate::field::FieldWrite]) -> Result<(), RenderError> {
+        self.field.write(self.gpu, writes).map_err(|m| SettingsError::new(crate::render::SettingsField::Features, "field edit", m).into())
+    }
+
+    /// [`Renderer::write_field`] of a scene's edit in place.
     pub fn patch_scene(&self, patch: &crate::scene::linear::ScenePatch) -> Result<(), RenderError> {
-        self.field.patch_scene(self.gpu, patch).map_err(|m| SettingsError::new(crate::render::SettingsField::Features, "scene edit", m).into())
+        self.write_field(&crate::field::scene::source::patch_writes(patch))
     }
 
     /// Bisection of `formula` compiled into the shader, in the number
@@ -288,12 +239,12 @@ impl<'g> Renderer<'g> {
 
     /// Bisection of a compiled formula in `domain`, without modalities.
     pub fn bisect(gpu: &'g Gpu, ir: &crate::ir::Ir, domain: crate::ir::Domain) -> Result<Renderer<'g>, RenderError> {
-        Self::new(gpu, FieldSource::Compiled(ir), Traversal::Bisect(crate::render::BisectOptions::new(domain)))
+        Self::new(gpu, ir, Traversal::Bisect(crate::render::BisectOptions::new(domain)))
     }
 
     /// Sphere tracing of a compiled formula with options `o`.
     pub fn sphere(gpu: &'g Gpu, ir: &crate::ir::Ir, o: SphereOptions) -> Result<Renderer<'g>, RenderError> {
-        Self::new(gpu, FieldSource::Compiled(ir), Traversal::Sphere(o))
+        Self::new(gpu, ir, Traversal::Sphere(o))
     }
 
     /// The validated shader source.
@@ -301,15 +252,15 @@ impl<'g> Renderer<'g> {
         &self.wgsl
     }
 
-    /// The field source the kernel reads (never `Auto`).
-    pub fn field_kind(&self) -> crate::field::FieldKind {
-        self.field.kind()
+    /// The name of the field source the kernel reads ([`FieldSource::name`]).
+    pub fn field_name(&self) -> &'static str {
+        self.field.name
     }
 
-    /// Whether the compiled field runs loops over repeated terms
-    /// (`crate::field::compiled::term_loops`), whose work counts against lavapipe's loop cap.
-    pub fn field_loops(&self) -> bool {
-        self.field.looped
+    /// What of the field shares lavapipe's loop cap with bisection's
+    /// iterations ([`FieldSource::shares_loop_cap`]).
+    pub fn field_shares_loop_cap(&self) -> Option<&'static str> {
+        self.field.shares_loop_cap
     }
 
     /// The traversal and its current options.
@@ -454,8 +405,7 @@ impl<'g> Renderer<'g> {
     /// `keep`.
     fn run(&self, s: &Settings, mut keep: Option<&mut Keep>, mut sink: impl FnMut(Rect, Planes)) -> Result<Stats, RenderError> {
         s.check()?;
-        if (self.field.tape || self.field.looped) && self.host.method() == crate::render::Method::Bisect && s.max_iter > crate::field::limits::TAPE_MAX_ITER {
-            let what = if self.field.tape { "a tape field (its interpreter shares" } else { "a formula of rerolled terms (its loops share" };
+        if let (Some(what), crate::render::Method::Bisect, true) = (self.field.shares_loop_cap, self.host.method(), s.max_iter > crate::field::limits::TAPE_MAX_ITER) {
             let reason = format!("at most {} with {what} lavapipe's 65,535 loop iterations)", crate::field::limits::TAPE_MAX_ITER);
             return Err(SettingsError::new(crate::render::SettingsField::MaxIter, s.max_iter.to_string(), reason).into());
         }
@@ -480,7 +430,7 @@ impl<'g> Renderer<'g> {
             })?;
             let job = Dispatch {
                 label: "render dispatch",
-                stages: self.stages(rect, &b.pass, b.field.view_copy()),
+                stages: self.stages(rect, &b.pass, &b.field),
                 groups: [&b.groups[0], &b.groups[1], &b.groups[2]],
                 outputs: b.outputs.iter().zip(b.sizes).filter_map(|(o, size)| o.as_ref().map(|(o, st)| (o.clone(), st.clone(), size))).collect(),
                 clears: b.field.clears(),
@@ -491,13 +441,11 @@ impl<'g> Renderer<'g> {
                 if rays.is_some() {
                     ray_stats.add(bytemuck::cast_slice(rest.next().expect("ray words read back")));
                 }
-                if let Some(words) = rest.next() {
-                    if self.field.tape {
-                        tape_lists.add(bytemuck::cast_slice(words));
-                    } else if self.field.lists_loops() {
-                        loop_lists.add(bytemuck::cast_slice(words));
-                    } else {
-                        tiles.add((rect.x, rect.y, rect.w), bytemuck::cast_slice(words));
+                if let (Some(words), Some(kind)) = (rest.next(), self.field.statistics()) {
+                    match kind {
+                        Statistics::TapeLists => tape_lists.add(bytemuck::cast_slice(words)),
+                        Statistics::TermLists => loop_lists.add(bytemuck::cast_slice(words)),
+                        Statistics::TileLists => tiles.add((rect.x, rect.y, rect.w), bytemuck::cast_slice(words)),
                     }
                 }
             })?;
@@ -516,14 +464,11 @@ impl<'g> Renderer<'g> {
         }
         stats.iso_channel = self.surfaces > 1;
         self.host.finish(s, &ray_stats, &mut stats);
-        if self.field.has_tile_stats() {
-            tiles.finish(&mut stats);
-        }
-        if self.field.shortens_tape() {
-            stats.field.tape_lists = Some(tape_lists);
-        }
-        if self.field.lists_loops() {
-            stats.field.loop_lists = Some(loop_lists);
+        match self.field.statistics() {
+            Some(Statistics::TileLists) => tiles.finish(&mut stats),
+            Some(Statistics::TapeLists) => stats.field.tape_lists = Some(tape_lists),
+            Some(Statistics::TermLists) => stats.field.loop_lists = Some(loop_lists),
+            None => {}
         }
         Ok(stats)
     }
@@ -531,15 +476,13 @@ impl<'g> Renderer<'g> {
     /// The passes of one dispatch: the field's pre-passes, the traversal's
     /// tile pass if it runs one, and the per-pixel pass (indirect after a
     /// tile pass).
-    fn stages<'a>(&'a self, rect: Rect, pass: &'a PassBuffers, view_copy: Option<(&'a wgpu::Buffer, &'a wgpu::Texture)>) -> Vec<Stage<'a>> {
-        // A scene's views pass (its last pre-pass) hands its views over as a texture.
-        let n = self.field_passes.len();
+    fn stages<'a>(&'a self, rect: Rect, pass: &'a PassBuffers, field: &'a field::PerDispatch) -> Vec<Stage<'a>> {
+        // A pass may hand what it wrote over as a texture (a scene's node lists).
         let mut stages: Vec<Stage<'a>> = self
             .field_passes
             .iter()
             .zip(self.field.passes(rect))
-            .enumerate()
-            .map(|(i, (pipeline, g))| Stage { pipeline, groups: Groups::Direct(g), copy: view_copy.filter(|_| i + 1 == n) })
+            .map(|(pipeline, (g, copy))| Stage { pipeline, groups: Groups::Direct(g), copy: copy.and_then(|c| field.copy(c.from, c.to)) })
             .collect();
         // Bisecting a tape or a compiled sum's loops, pixels past the
         // field's work limit are resumed by further rounds of the per-pixel
@@ -574,12 +517,3 @@ impl<'g> Renderer<'g> {
 /// Rounds of the per-pixel pass after the first for short tapes (kept here
 /// for the renderer's users: `crate::field::tape::resume_rounds` has the rest).
 pub use crate::field::tape::TAPE_RESUME_ROUNDS;
-
-/// The interpreter features `field` needs (0 for a compiled field).
-fn field_features(field: FieldSource<'_>) -> u32 {
-    match field {
-        FieldSource::Scene(d) => d.features,
-        FieldSource::Tape(t) => t.features,
-        FieldSource::Compiled(_) => 0,
-    }
-}

@@ -107,7 +107,7 @@ pub struct LoopListStats {
 impl LoopListStats {
     /// Bytes of the device's counts (words: tiles, listed tiles, kept
     /// terms, whole terms).
-    pub const BYTES: u64 = 16;
+    pub const BYTES: u64 = crate::field::compiled::source::TERM_LIST_COUNT_BYTES;
 
     /// Adds one dispatch's counts.
     pub fn add(&mut self, words: &[u32]) {
@@ -157,7 +157,7 @@ impl TapeListStats {
     /// Bytes of the device's counts (words: list words in use, tiles,
     /// shortened tiles, kept instructions, whole instructions, blocks,
     /// shortened blocks, instructions they keep).
-    pub const BYTES: u64 = 32;
+    pub const BYTES: u64 = crate::field::tape::source::TAPE_LIST_COUNT_BYTES;
 
     /// Adds one dispatch's counts.
     pub fn add(&mut self, words: &[u32]) {

@@ -28,16 +28,14 @@
 // the tile pass calls field_slab_begin(false) for a coarse slab, (true)
 // for a fine one.)
 //
-// Per tile, LOOP_TILE_WORDS words of loop_lists: the loop iterations its
+// loop_lists (field group): per tile, LOOP_TILE_WORDS words: the loop iterations its
 // lists cost, the tile's bits (LOOP_BITS words: bit k of a loop's words is
 // its term k), the bits of the fine slab being enclosed, and those of its
 // coarse slab.
-@group(1) @binding(1) var<storage, read_write> loop_lists: array<u32>;
-// Counts for the statistics (render::LoopListStats), zeroed before each
+// loop_counts (field group): counts for the statistics (render::LoopListStats), zeroed before each
 // dispatch: tiles with candidate slabs, tiles that run their lists, terms
 // those keep and terms the loops have, summed over them.
 struct LoopListCounts { tiles: atomic<u32>, listed: atomic<u32>, kept: atomic<u32>, whole: atomic<u32> }
-@group(1) @binding(4) var<storage, read_write> loop_counts: LoopListCounts;
 
 // The tile's first word in the tile pass.
 var<private> g_loop_base: u32;

@@ -24,9 +24,7 @@
 // of basic primitives runs the interpreter it ran before profiles, unary
 // nodes and displacements existed (a kernel per feature set, cached).
 
-@group(1) @binding(0) var scene_nodes: texture_2d<u32>;
-@group(1) @binding(1) var scene_params: texture_2d<f32>;
-
+// scene_nodes and scene_params (field group, src/field/scene/source.rs).
 fn scene_texel(i: u32) -> vec2<u32> { return vec2<u32>(i & (SCENE_TEX_WIDTH - 1u), i >> SCENE_TEX_SHIFT); }
 // Node i (texel 0 holds the node count).
 fn scene_node(i: u32) -> vec4<u32> { return textureLoad(scene_nodes, scene_texel(i + 1u), 0); }
@@ -207,10 +205,9 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
     return r;
 }
 
-// Per primitive: its node index and its augmented bounding ball (centre,
-// radius; an infinite radius for unbounded primitives such as planes).
-@group(1) @binding(2) var<storage, read> scene_prims: array<u32>;
-@group(1) @binding(3) var<storage, read> scene_balls: array<vec4<f32>>;
+// scene_prims, scene_balls (field group): per primitive, its node index and
+// its augmented bounding ball (centre, radius; an infinite radius for
+// unbounded primitives such as planes).
 // Each tile's first SCENE_TABLE_WORDS view words are its slab table, the
 // views follow: (slab count, margin, first and last depth of its
 // primitives; 0 slabs: the whole tree), then per slab (its first view word
@@ -235,11 +232,10 @@ fn scene_entry(i: u32) -> u32 {
 fn entry_type(e: u32) -> u32 { return (e >> SCENE_ENTRY_ROW_BITS) & 0x3fu; }
 fn entry_row(e: u32) -> u32 { return e & ((1u << SCENE_ENTRY_ROW_BITS) - 1u); }
 
-// The tiles' pruned views (scene_entry words), copied from scene_tile_view by
+// scene_view_tex (field group): the tiles' pruned views (scene_entry words), copied from scene_tile_view by
 // the host after the views pass: a texel fetch per node instead of a
 // storage load, which lavapipe runs lane by lane at a per-lane address.
 // SCENE_VIEW_TEX_WIDTH texels a row, SCENE_VIEW_MAX a tile.
-@group(1) @binding(10) var scene_view_tex: texture_2d<u32>;
 fn scene_view_node(i: u32) -> u32 {
     return textureLoad(scene_view_tex, vec2<u32>(i % SCENE_VIEW_TEX_WIDTH, i / SCENE_VIEW_TEX_WIDTH), 0).x;
 }

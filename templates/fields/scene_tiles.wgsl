@@ -17,21 +17,17 @@
 // 13-16); within that part of the frustum it is a distance bound of the
 // same surface (scene.wgsl clamps it to the slab).
 
-// Per tile: active primitives appended here (up to SCENE_TILE_MAX), their
+// scene_tile_prims, scene_tile_count, scene_tile_view (field group,
+// src/field/scene/source.rs): per tile, active primitives appended here (up to SCENE_TILE_MAX), their
 // count (may exceed the maximum: overflow), and SCENE_VIEW_MAX words of
 // the slab table and the pruned views (scene.wgsl), which the host copies
 // into the texture the trace reads them from.
-@group(1) @binding(4) var<storage, read_write> scene_tile_count: array<atomic<u32>>;
-@group(1) @binding(5) var<storage, read_write> scene_tile_prims: array<u32>;
-@group(1) @binding(6) var<storage, read_write> scene_tile_view: array<u32>;
-// Per tile, for the statistics: the total length of its slabs' views with
+// scene_tile_len: per tile, for the statistics, the total length of its slabs' views with
 // the slab count in bits 24-27 and bit 28 set for a union or comb tile, or
 // SCENE_VIEW_FULL when the tile evaluates the whole tree (its list
 // overflowed); and the active count.
-@group(1) @binding(7) var<storage, read_write> scene_tile_len: array<vec2<u32>>;
-// Per entry of scene_tile_prims: the view depths (z along the camera's
+// scene_tile_depth: per entry of scene_tile_prims, the view depths (z along the camera's
 // forward axis) its primitive's ball spans.
-@group(1) @binding(9) var<storage, read_write> scene_tile_depth: array<vec2<f32>>;
 
 fn scene_tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
 fn scene_tiles_y() -> u32 { return (F.tile_size.y + 7u) / 8u; }

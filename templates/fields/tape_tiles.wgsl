@@ -31,23 +31,20 @@
 // the argument of a square root or logarithm stay in its domain over the
 // tile's candidate slabs (then it cannot make f empty there).
 
-// The tile's shortened programs: at word L - 4 of a list L the value
+// tape_lists (field group): the tile's shortened programs: at word L - 4 of a list L the value
 // program's (start, length) and the derivative program's, then the entries
 // (pc | pick << 30, padded with TAPE_LIST_NOP to whole loop iterations).
-@group(1) @binding(1) var<storage, read_write> tape_lists: array<u32>;
-// The field group's counts, zeroed before the dispatch and read back for
+// tape_counts (field group): counts, zeroed before the dispatch and read back for
 // the statistics (render::TapeListStats): words of tape_lists in use, tiles
 // with candidate slabs, tiles shortened, and the value instructions those
 // keep and have in all; blocks, blocks shortened, and what those keep.
 struct TapeListCounts { used: atomic<u32>, tiles: atomic<u32>, shortened: atomic<u32>, kept: atomic<u32>, whole: atomic<u32>, blocks: atomic<u32>, blocks_shortened: atomic<u32>, blocks_kept: atomic<u32> }
-@group(1) @binding(4) var<storage, read_write> tape_counts: TapeListCounts;
 
-// The choices noted over the tile's candidate slabs, two bits a slot (a
+// tape_notes (field group): the choices noted over the tile's candidate slabs, two bits a slot (a
 // vec4 holds 64), then those of the slab being enclosed (a storage buffer,
 // not a private array: lavapipe compiles a dynamically indexed private
 // array into code at every access, which lengthened the tile pass's
 // compile noticeably).
-@group(1) @binding(5) var<storage, read_write> tape_notes: array<vec4<u32>>;
 // The tile's first vec4 of notes.
 var<private> g_note_base: u32;
 

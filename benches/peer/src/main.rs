@@ -165,7 +165,7 @@ fn print_header(gpu: &Gpu, args: &Args) {
     println!("# isotrace vs fidget 0.5.1 (JIT), {size}x{size}, median of {} alternating runs after a warm-up", args.repeat);
     println!("# CPU: {} ({cores} cores); isotrace on {} ({}); fidget on {threads} rayon threads", measure::cpu_model(), gpu.info.name, gpu.info.driver);
     if args.scenes.is_some() {
-        println!("# isotrace: the scene field (FieldSource::Scene), sphere tracing with default options, Lipschitz 1 (sharp) or 1.45 (smooth), compact G for smooth operators");
+        println!("# isotrace: the scene field (SceneData as the FieldSource), sphere tracing with default options, Lipschitz 1 (sharp) or 1.45 (smooth), compact G for smooth operators");
         println!("# fidget: the scene as one expression (min / max / max(a,-b); smooth: polynomial g = min(a,b) - h^3/(6 beta^2)), intersected with the box");
         println!("# nodes: fidget expression nodes; build s: building the expression and JitShape::new (not timed in the ms columns)");
     } else {

@@ -99,7 +99,7 @@ fn bench(gpu: &Gpu, args: &Args, kind: ViewKind, k: Kind, b: Blending, level: u3
     let diag = isotrace::render::box_diagonal(&bbox);
     let o = SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
     let data = lin.field_data();
-    let r = Renderer::new(gpu, FieldSource::Scene(&data), Traversal::Sphere(o)).map_err(|e| e.to_string())?;
+    let r = Renderer::new(gpu, &data, Traversal::Sphere(o)).map_err(|e| e.to_string())?;
     let view = View::new(&s.camera, &bbox, None, size, size, size);
     let cfg = measure::render_config(&view, size)?;
     let guard = Duration::from_secs_f64(args.guard);

@@ -12,6 +12,7 @@ pub mod derivative;
 mod emit;
 mod ray_forms;
 mod ray_polys;
+pub mod source;
 pub mod term_loops;
 
 pub use emit::{emit_evaluator, emit_evaluator_all, eval_call, eval_shader, eval_shader_with};

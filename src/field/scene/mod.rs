@@ -8,6 +8,8 @@ use crate::codegen::template;
 pub use crate::layout::Texels;
 pub use crate::scene::linear::SceneData;
 
+pub mod source;
+
 
 /// Most active primitives per 8×8 tile; a tile with more evaluates the
 /// whole tree (counted as an overflow tile). 512 (the paper: 128, 256 for
@@ -49,9 +51,10 @@ pub(crate) fn scene_interpreter(features: u32, sync: bool) -> String {
          const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
          const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
          const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n\
-         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}\n{}\n{}",
+         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}{}\n{}\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
+        source::interpreter_declarations(),
         template::SCENE,
         template::SCENE_SHAPES,
         template::optional(template::SCENE_SYNC, sync),

@@ -69,6 +69,7 @@ mod remat;
 mod encode;
 use encode::{arity, encode, Program};
 mod derivative;
+pub mod source;
 pub mod wgsl;
 pub use choices::{is_minmax, TAPE_CHOICE_SLOTS, TAPE_NO_SLOT};
 use choices::choice_slots;

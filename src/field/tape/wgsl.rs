@@ -17,6 +17,12 @@ pub const TAPE: &str = include_str!("../../../templates/fields/tape.wgsl");
 /// Bisection's per-tile shortening of a tape with min or max.
 pub const TAPE_TILES: &str = include_str!("../../../templates/fields/tape_tiles.wgsl");
 
+/// Bisection's per-tile lists: their bindings and `TAPE_TILES`.
+fn tape_tiles() -> String {
+    use super::source::{TAPE_LISTS, TAPE_LIST_COUNTS, TAPE_NOTES};
+    format!("{}{TAPE_TILES}", crate::bindings::declarations(&[&TAPE_LISTS, &TAPE_LIST_COUNTS, &TAPE_NOTES]))
+}
+
 /// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
 /// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
 /// several domains' interpreters live in one module. The step keeps the
@@ -183,7 +189,7 @@ fn prelude(features: u32, lists: bool) -> String {
     format!(
         "{}{}{}\n// The tape (src/field/tape): header, value program, derivative program,\n\
          // a texture of {w} texels a row (TapeData::texels).\n\
-         @group(1) @binding(0) var tape_code: texture_2d<u32>;\n\
+         {}\
          fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
          var<private> g_tape_exhausted: bool;\n\
@@ -193,7 +199,8 @@ fn prelude(features: u32, lists: bool) -> String {
          const TAPE_PC_MASK: u32 = 0x3fffffffu;\n{}",
         super::wgsl_constants(features),
         if features::bundle_work(features) { format!("{}{TAPE_PER_BUNDLE}", crate::field::limits::BUNDLE_WORK_WGSL) } else { WORK_PER_LANE.to_string() },
-        if lists { TAPE_TILES } else { "" },
+        if lists { tape_tiles() } else { String::new() },
+        crate::bindings::declarations(&[&super::source::TAPE_CODE]),
         if lists { LISTED_TAPE } else { WHOLE_TAPE },
         w = crate::scene::linear::TEXTURE_WIDTH,
         mask = crate::scene::linear::TEXTURE_WIDTH - 1,

@@ -66,12 +66,13 @@ impl Lists {
     /// place of `codegen::UNSHORTENED_FIELD_HOOKS`.
     pub fn support(&self) -> String {
         format!(
-            "const LOOP_BITS: u32 = {}u;\nconst LOOP_TILE_WORDS: u32 = {}u;\nconst LOOP_TERMS: u32 = {}u;\nconst LOOP_WHOLE_ITERATIONS: u32 = {}u;\nconst LOOP_FALLBACK_ITERATIONS: u32 = {}u;\n{}",
+            "const LOOP_BITS: u32 = {}u;\nconst LOOP_TILE_WORDS: u32 = {}u;\nconst LOOP_TERMS: u32 = {}u;\nconst LOOP_WHOLE_ITERATIONS: u32 = {}u;\nconst LOOP_FALLBACK_ITERATIONS: u32 = {}u;\n{}{}",
             self.bits,
             self.tile_words(),
             self.terms,
             self.iterations,
             self.fallback_iterations[0].min(self.fallback_iterations[1]),
+            crate::bindings::declarations(&[&crate::field::compiled::source::TERM_LISTS, &crate::field::compiled::source::TERM_LIST_COUNTS]),
             include_str!("../../../../templates/fields/loop_tiles.wgsl"),
         )
     }

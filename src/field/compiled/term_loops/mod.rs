@@ -326,11 +326,12 @@ pub fn support(bundle: bool) -> String {
     };
     format!(
         "// Rerolled terms' constants (src/field/compiled/term_loops): {w} texels a row.\n\
-         @group(1) @binding(0) var field_table_tex: texture_2d<u32>;\n\
+         {table}\
          fn field_table(i: u32) -> vec4<f32> {{ return bitcast<vec4<f32>>(textureLoad(field_table_tex, vec2<u32>(i & {mask}u, i >> {shift}u), 0)); }}\n\
          // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
          var<private> g_field_exhausted: bool;\n\
          // Whether an evaluation of `iters` loop iterations is within the limit (and counts it).\n{admits}",
+        table = crate::bindings::declarations(&[&crate::field::compiled::source::TERM_TABLE]),
         w = crate::scene::linear::TEXTURE_WIDTH,
         mask = crate::scene::linear::TEXTURE_WIDTH - 1,
         shift = crate::scene::linear::TEXTURE_SHIFT,

@@ -1,0 +1,117 @@
+//! A blobtree scene as a field source: nodes and parameters as data
+//! textures, primitives and bounding balls as buffers, and the per-tile
+//! lists and pruned node lists its two passes build every dispatch.
+
+use super::{SceneData, SCENE_PASSES, SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
+use crate::bindings::{Binding, Copy, Groups, Size, Slot, Stage, Statistics, TexelFormat, FIELD_GROUP};
+use crate::field::{BindingRequest, CodeRequest, FieldSource, FieldWrite, Refusal};
+use crate::scene::linear::ScenePatch;
+
+/// Node words (`templates/fields/scene.wgsl` says their layout).
+pub(crate) const NODES: Slot = Slot::texture(0, "scene nodes", "scene_nodes", TexelFormat::Rgba32Uint);
+/// Node parameters: a primitive's transform rows and form, an operator's ranges.
+pub(crate) const PARAMS: Slot = Slot::texture(1, "scene params", "scene_params", TexelFormat::Rgba32Float);
+/// Per primitive: its node index.
+pub(crate) const PRIMS: Slot = Slot::storage(2, "scene primitives", "scene_prims", "array<u32>", true);
+/// Per primitive: its augmented bounding ball (centre, radius).
+pub(crate) const BALLS: Slot = Slot::storage(3, "scene balls", "scene_balls", "array<vec4<f32>>", true);
+/// Per tile: how many primitives its list holds (zeroed each dispatch).
+pub(crate) const TILE_COUNTS: Slot = Slot::storage(4, "scene tile counts", "scene_tile_count", "array<atomic<u32>>", false);
+/// Per tile: its active primitives.
+pub(crate) const TILE_PRIMS: Slot = Slot::storage(5, "scene tile primitives", "scene_tile_prims", "array<u32>", false);
+/// Per tile: its slab table and pruned node lists, as the views pass writes them.
+pub(crate) const TILE_VIEWS: Slot = Slot::storage(6, "scene tile views", "scene_tile_view", "array<u32>", false);
+/// Per tile, for the statistics: its node lists' length and its active count.
+pub(crate) const TILE_STATS: Slot = Slot::storage(7, "scene tile statistics", "scene_tile_len", "array<vec2<u32>>", false);
+/// Per entry of a tile's list: the depths its primitive's ball spans.
+pub(crate) const TILE_DEPTHS: Slot = Slot::storage(9, "scene tile depths", "scene_tile_depth", "array<vec2<f32>>", false);
+/// `TILE_VIEWS` copied into a texture, which the trace reads a texel at a
+/// time (lavapipe loads storage at a per-lane address lane by lane).
+pub(crate) const VIEW_TEXELS: Slot = Slot::texture(10, "scene tile view texels", "scene_view_tex", TexelFormat::R32Uint);
+
+/// The declarations the interpreter uses.
+pub(crate) fn interpreter_declarations() -> String {
+    crate::bindings::declarations(&[&NODES, &PARAMS, &PRIMS, &BALLS, &VIEW_TEXELS])
+}
+
+/// The declarations the tile passes use.
+fn tile_declarations() -> String {
+    crate::bindings::declarations(&[&TILE_COUNTS, &TILE_PRIMS, &TILE_VIEWS, &TILE_STATS, &TILE_DEPTHS])
+}
+
+impl FieldSource for SceneData {
+    fn name(&self) -> &'static str {
+        "scene"
+    }
+
+    fn code(&self, r: &CodeRequest<'_>) -> String {
+        format!("{}\n{}{}", super::scene_interpreter(self.features, r.sync), tile_declarations(), crate::codegen::template::SCENE_TILES)
+    }
+
+    fn bindings(&self, _: &BindingRequest) -> Vec<Binding> {
+        let tile_list = Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 };
+        let views = Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 };
+        vec![
+            NODES.texels(self.node_texels()),
+            PARAMS.texels(self.param_texels()),
+            PRIMS.data(self.prims.clone()),
+            BALLS.data(bytemuck::cast_slice(&self.balls).to_vec()),
+            TILE_COUNTS.scratch(Size::PerTile { bytes: 4 }),
+            // Only the counts must start at zero: the rest is written before it is read.
+            TILE_PRIMS.kept(tile_list),
+            TILE_VIEWS.kept(views),
+            TILE_STATS.kept(Size::PerTile { bytes: 8 }).reported(Statistics::TileLists),
+            TILE_DEPTHS.kept(Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
+            VIEW_TEXELS.copied(SCENE_VIEW_TEX_WIDTH, views),
+        ]
+    }
+
+    /// The scatter runs an invocation per primitive, the views pass one
+    /// per tile; the views pass hands its lists over as a texture.
+    fn passes(&self) -> Vec<Stage> {
+        let copy = Some(Copy { group: FIELD_GROUP, from: TILE_VIEWS.binding, to: VIEW_TEXELS.binding });
+        vec![
+            Stage::new(SCENE_PASSES[0], Groups::Items { binding: PRIMS.binding, per_group: 64 }),
+            Stage { copy, ..Stage::new(SCENE_PASSES[1], Groups::Tiles { per_group: 64 }) },
+        ]
+    }
+
+    /// None: a scene is sphere traced.
+    fn has_enclosures(&self) -> bool {
+        false
+    }
+
+    fn features(&self) -> u32 {
+        self.features
+    }
+
+    fn lists_tiles(&self) -> bool {
+        true
+    }
+
+    fn frame_flags(&self, dense: bool) -> u32 {
+        if dense { crate::layout::FLAG_SCENE_FULL } else { 0 }
+    }
+
+    fn replaces(&self, kernel_name: &'static str, kernel_features: u32) -> Result<(), Refusal> {
+        if kernel_name != self.name() {
+            return Err(Refusal::new("field", "a field of another kind than the kernel was built for: build a new renderer"));
+        }
+        if self.features & !kernel_features != 0 {
+            return Err(Refusal::new("scene", "the scene uses node types the kernel was built without (profiles, unary nodes, infill or displacement): build a new renderer"));
+        }
+        Ok(())
+    }
+
+    fn describe(&self) -> String {
+        "a scene".to_string()
+    }
+}
+
+/// The writes of an edit in place (`Linear::set_primitive`): the changed
+/// parameter rows and bounding balls, nothing else.
+pub fn patch_writes(patch: &ScenePatch) -> Vec<FieldWrite> {
+    let mut writes = vec![FieldWrite::Texels { binding: PARAMS.binding, first: patch.param_row as u64, texels: patch.params.clone() }];
+    writes.extend(patch.balls.iter().map(|(i, b)| FieldWrite::Bytes { binding: BALLS.binding, offset: *i as u64 * 16, bytes: bytemuck::cast_slice(&[*b]).to_vec() }));
+    writes
+}
