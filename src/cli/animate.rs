@@ -111,7 +111,7 @@ impl Animation<'_> {
             frames: self.outputs.iter().map(|(k, p)| entry(k, self.time(k), &p)).collect(),
         };
         write_manifest(&path, &m)?;
-        let bar = super::progress(m.frames.len() as u64, "frames");
+        let bar = super::notice::progress(m.frames.len() as u64, "frames");
         let (mut last, mut heat_max, mut written, mut write_took) = (None, None, Instant::now(), Duration::ZERO);
         for (i, (k, p)) in self.outputs.iter().enumerate() {
             if self.kept(&p, true) {
@@ -120,9 +120,9 @@ impl Animation<'_> {
                 let start = Instant::now();
                 let mut sk = s.clone();
                 sk.time = self.time(k);
-                let done = r.render(&sk).map_err(super::render_error).and_then(|mut frame| {
+                let done = r.render(&sk).map_err(super::error::render_error).and_then(|mut frame| {
                     heat_max = output::recolor(&mut frame, color);
-                    output::write_frame(&p, &frame).map_err(super::output_error)?;
+                    output::write_frame(&p, &frame).map_err(super::error::output_error)?;
                     Ok(frame)
                 });
                 let frame = match done {
@@ -189,7 +189,7 @@ pub fn frame_settings(f: &Formula, pattern: &str, n: u32, (t0, t1): (f64, f64), 
         size: [s.width, s.height],
         method: t.method().name().to_string(),
         algebra: match t {
-            Traversal::Bisect(b) => Some(super::domain_name(b.algebra).to_string()),
+            Traversal::Bisect(b) => Some(super::args::algebra_name(b.algebra).to_string()),
             Traversal::Sphere(_) => None,
         },
         eps: s.eps,

@@ -15,9 +15,6 @@ use std::process::ExitCode;
 /// shown before the rest is summed up (the `--json` summary has them all).
 const LISTED: usize = 10;
 
-fn input(m: impl Into<String>) -> CliError {
-    CliError::Input(m.into())
-}
 
 /// `--shard` and `--shard-count`.
 #[derive(Args, Debug, Clone, Default)]
@@ -38,15 +35,15 @@ impl ShardArgs {
             None => Ok(None),
             Some("auto") => {
                 let given = self.shard_count.map(|n| GivenCount { count: n, source: format!("--shard-count {n}") });
-                let r = Shard::from_env(|k| std::env::var(k).ok(), given).map_err(|e| input(auto_message(&e)))?;
+                let r = Shard::from_env(|k| std::env::var(k).ok(), given).map_err(|e| CliError::input(auto_message(&e)))?;
                 eprintln!("note: --shard auto: shard {} from {}", r.shard, r.source);
                 Ok(Some(r.shard))
             }
             Some(s) => {
                 if self.shard_count.is_some() {
-                    return Err(input("--shard-count applies to --shard auto only (--shard i/n gives the count)"));
+                    return Err(CliError::input("--shard-count applies to --shard auto only (--shard i/n gives the count)"));
                 }
-                Shard::parse(s).map(Some).map_err(|e| input(format!("invalid --shard {e}, or auto")))
+                Shard::parse(s).map(Some).map_err(|e| CliError::input(format!("invalid --shard {e}, or auto")))
             }
         }
     }
@@ -74,7 +71,7 @@ pub fn expand(arg: &Path) -> Result<Vec<PathBuf>, CliError> {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let entries = std::fs::read_dir(&dir).map_err(|e| input(format!("cannot read '{}': {e}", dir.display())))?;
+    let entries = std::fs::read_dir(&dir).map_err(|e| CliError::input(format!("cannot read '{}': {e}", dir.display())))?;
     let pattern: Vec<char> = name.chars().collect();
     let mut found: Vec<PathBuf> = entries
         .filter_map(Result::ok)
@@ -82,7 +79,7 @@ pub fn expand(arg: &Path) -> Result<Vec<PathBuf>, CliError> {
         .map(|e| if arg.parent().is_some_and(|p| p.as_os_str().is_empty()) { PathBuf::from(e.file_name()) } else { e.path() })
         .collect();
     if found.is_empty() {
-        return Err(input(format!("no file matches '{}'", arg.display())));
+        return Err(CliError::input(format!("no file matches '{}'", arg.display())));
     }
     found.sort();
     Ok(found)
@@ -118,8 +115,8 @@ pub fn part_files(args: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
 pub fn read_part(path: &Path, limit: u64, what: &str) -> Result<String, CliError> {
     // The limit is the kind of file's: say which kind it was.
     let refuse = |e: bounded::ReadError| match e {
-        bounded::ReadError::TooLarge { .. } => input(format!("cannot read '{}': {e} for {what}", path.display())),
-        e => input(format!("cannot read '{}': {e}", path.display())),
+        bounded::ReadError::TooLarge { .. } => CliError::input(format!("cannot read '{}': {e} for {what}", path.display())),
+        e => CliError::input(format!("cannot read '{}': {e}", path.display())),
     };
     bounded::read_file_text(path, limit).map_err(refuse)
 }
@@ -152,14 +149,14 @@ struct MergeArgs {
 pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
     let ManifestCommand::Merge(m) = a.command;
     if let Some(p) = &m.json {
-        isotrace::output::check_writable(p).map_err(|e| input(e.to_string()))?;
+        isotrace::output::check_writable(p).map_err(|e| CliError::input(e.to_string()))?;
     }
     let summary = summarize(&part_files(&m.manifests)?)?;
     print!("{}", summary_text(&summary));
     warn_not_counted(&summary);
     if let Some(p) = &m.json {
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-        isotrace::output::write_atomic(p, text.as_bytes()).map_err(|e| input(e.to_string()))?;
+        isotrace::output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::input(e.to_string()))?;
     }
     if summary.missing.is_empty() {
         return Ok(ExitCode::SUCCESS);
@@ -168,7 +165,7 @@ pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
     if let Some(list) = listed(&summary.shards_without_manifest) {
         hint = format!("; no manifest for shard {list}");
     }
-    Err(input(format!(
+    Err(CliError::input(format!(
         "{} of {} frames are missing: {}{hint}; render them with the same command and --skip-existing",
         summary.missing.len(),
         summary.settings.frames,
@@ -179,7 +176,7 @@ pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
 /// Reads the manifests one at a time (each is dropped once its complete
 /// frames are taken) and checks their frames on disk.
 fn summarize(files: &[PathBuf]) -> Result<Summary, CliError> {
-    let merge_error = |e: isotrace::batch::merge::MergeError| input(e.to_string());
+    let merge_error = |e: isotrace::batch::merge::MergeError| CliError::input(e.to_string());
     let mut summarizer = Summarizer::default();
     for f in files {
         let file = f.display().to_string();

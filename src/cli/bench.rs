@@ -3,8 +3,8 @@
 //! repeats, and reports a Knoll-style table, JSON and Markdown, images and a
 //! contact sheet. A failing job is reported and the batch goes on.
 
-use super::render::{algebra_arg, open_gpu, sphere_options, SphereArgs};
-use super::{domain_name, resolve_algebra, AlgebraArg, CliError};
+use super::args::{algebra_arg, algebra_name, open_gpu, resolve_algebra, sphere_options, AlgebraArg, SphereArgs};
+use super::CliError;
 use clap::Args;
 use isotrace::batch::merge::MergeError;
 use isotrace::batch::one_line;
@@ -52,7 +52,7 @@ pub struct BenchArgs {
     max_steps: Option<u32>,
     /// Field source of every job, as `render --field`: compiled (the default), tape, scene (formulas of distance forms, sphere tracing) or auto (chosen per surface and method). The table names any source but compiled in its cells; the JSON and Markdown reports name it per job.
     #[arg(long, value_enum, value_name = "SOURCE")]
-    field: Option<super::FieldArg>,
+    field: Option<super::args::FieldArg>,
     /// Timed runs per job (after one warm-up run); the median is reported. Building the pipeline and the warm-up run, where a cold Mesa shader cache compiles the shader, are not in the reported ms; their wall time is the JSON's setup_ms.
     #[arg(long, default_value_t = 5)]
     repeat: u32,
@@ -76,7 +76,7 @@ pub struct BenchArgs {
     run_job: Option<usize>,
     /// Whether a CPU driver optimises the kernels, as `render --shader-opt`; by default full, since the table reports frames (none: the frames of generated fields run 1.5-2x slower, after a 2-3x sooner compile).
     #[arg(long, value_enum, value_name = "OPT")]
-    shader_opt: Option<super::render::ShaderOptArg>,
+    shader_opt: Option<super::args::ShaderOptArg>,
     #[command(flatten)]
     shard: super::batch::ShardArgs,
     /// Merge the JSON reports of shards (written with --json) into one report instead of running jobs: the table on stdout, and --json / --markdown as a single run would write them. A quoted wildcard in a file name is expanded.
@@ -94,13 +94,13 @@ fn scenes(a: &BenchArgs) -> Result<ExitCode, CliError> {
         (a.shard.shard.is_some(), "--shard"),
     ];
     if let Some((_, flag)) = misplaced.iter().find(|(given, _)| *given) {
-        return Err(input(format!("{flag} does not apply to --suite scenes")));
+        return Err(CliError::input(format!("{flag} does not apply to --suite scenes")));
     }
     if a.repeat == 0 {
-        return Err(input("--repeat must be at least 1"));
+        return Err(CliError::input("--repeat must be at least 1"));
     }
-    let size = super::render::parse_size(&a.size)?;
-    let opt = super::render::shader_opt(a.shader_opt, 0, false);
+    let size = super::args::parse_size(&a.size)?;
+    let opt = super::args::shader_opt(a.shader_opt, 0, false);
     super::bench_scenes::run(size, a.repeat, a.max_steps, a.max_level.unwrap_or(3), a.json.as_deref(), a.markdown.as_deref(), opt)
 }
 
@@ -112,15 +112,12 @@ fn labelled_variants(a: &BenchArgs) -> Result<Vec<(String, Variant)>, CliError> 
             bench::VariantList::Algebra => "--algebra",
             bench::VariantList::Omega => "--omega",
         };
-        input(format!("invalid {flag} '{}': expected {}", e.value, e.expected))
+        CliError::input(format!("invalid {flag} '{}': expected {}", e.value, e.expected))
     })?;
     let several = variants.iter().filter(|v| matches!(v, Variant::Sphere(_))).count() > 1;
     Ok(variants.iter().map(|v| (v.label(several), v.clone())).collect())
 }
 
-fn input(m: impl Into<String>) -> CliError {
-    CliError::Input(m.into())
-}
 
 fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
     // With neither names nor a suite, the Knoll suite.
@@ -128,7 +125,7 @@ fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
     let mut names: Vec<String> = match suite {
         None => vec![],
         Some(s) => {
-            let names = catalog::suite(s).map_err(|_| input(format!("unknown --suite '{s}': expected {}", catalog::suite_choices())))?;
+            let names = catalog::suite(s).map_err(|_| CliError::input(format!("unknown --suite '{s}': expected {}", catalog::suite_choices())))?;
             names.into_iter().map(String::from).collect()
         }
     };
@@ -137,7 +134,7 @@ fn entries(a: &BenchArgs) -> Result<Vec<Entry>, CliError> {
         .iter()
         .map(|n| {
             let r = if n.ends_with(".iso") { catalog::load_file(n) } else { catalog::lookup(n.trim_start_matches('@')) };
-            r.map_err(|e| input(e.to_string()))
+            r.map_err(|e| CliError::input(e.to_string()))
         })
         .collect()
 }
@@ -158,22 +155,22 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         return scenes(&a);
     }
     if a.max_level.is_some() {
-        return Err(input("--max-level applies to --suite scenes"));
+        return Err(CliError::input("--max-level applies to --suite scenes"));
     }
     let surfaces = entries(&a)?;
     let labelled = labelled_variants(&a)?;
     if let Some(n) = a.max_steps {
-        isotrace::render::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(|e| input(super::settings_message(&e)))?;
+        isotrace::render::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(|e| CliError::input(super::error::settings_message(&e)))?;
     }
-    let size = super::render::parse_size(&a.size)?;
-    let rel_eps = catalog::parse_eps(&a.eps).map_err(|m| input(format!("invalid --eps '{}': {m}", a.eps)))?;
+    let size = super::args::parse_size(&a.size)?;
+    let rel_eps = catalog::parse_eps(&a.eps).map_err(|m| CliError::input(format!("invalid --eps '{}': {m}", a.eps)))?;
     if a.repeat == 0 {
-        return Err(input("--repeat must be at least 1"));
+        return Err(CliError::input("--repeat must be at least 1"));
     }
     let names: Vec<String> = surfaces.iter().map(|e| e.name.clone()).collect();
     let alg_names: Vec<String> = labelled.iter().map(|(n, _)| n.clone()).collect();
     if names.len().checked_mul(alg_names.len()).is_none_or(|n| n > report::MAX_JOBS) {
-        return Err(input(format!(
+        return Err(CliError::input(format!(
             "{} surfaces and {} variants make more than {} jobs, the most one batch (and its report) holds; split the surfaces into several runs",
             names.len(),
             alg_names.len(),
@@ -188,28 +185,70 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
         (entry, variant)
     };
     if let Some(index) = a.run_job {
-        let job = all_jobs.iter().find(|j| j.index == index).ok_or_else(|| input(format!("no job {index} in this batch")))?;
+        let job = all_jobs.iter().find(|j| j.index == index).ok_or_else(|| CliError::input(format!("no job {index} in this batch")))?;
         let (entry, variant) = job_of(job);
         return run_child_job(&a, job, entry, &variant, size, rel_eps);
     }
     let shard = a.shard.resolve()?;
     let jobs = shard.map_or_else(|| all_jobs.clone(), |s| bench::shard(&all_jobs, s));
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir).map_err(|e| input(format!("cannot create --out directory '{}': {e}", dir.display())))?;
-        output::check_writable(&dir.join("probe.png")).map_err(|e| input(format!("--out directory is not writable: {e}")))?;
+        std::fs::create_dir_all(dir).map_err(|e| CliError::input(format!("cannot create --out directory '{}': {e}", dir.display())))?;
+        output::check_writable(&dir.join("probe.png")).map_err(|e| CliError::input(format!("--out directory is not writable: {e}")))?;
     }
     for p in [&a.json, &a.markdown].into_iter().flatten() {
-        output::check_writable(p).map_err(|e| input(e.to_string()))?;
+        output::check_writable(p).map_err(|e| CliError::input(e.to_string()))?;
     }
-    let gpu = open_gpu(super::render::shader_opt(a.shader_opt, 0, false))?;
-    let bar = super::progress(jobs.len() as u64, "jobs");
+    let gpu = open_gpu(super::args::shader_opt(a.shader_opt, 0, false))?;
+    let (results, thumbs) = run_jobs(&a, &gpu, &jobs, job_of, timeout, size, rel_eps)?;
+    if let Some(dir) = &a.out {
+        if !thumbs.is_empty() {
+            let (w, h, rgb) = bench::contact_sheet(&thumbs, 256, 4);
+            output::write_png(&dir.join("contact-sheet.png"), w, h, &rgb).map_err(|e| CliError::input(e.to_string()))?;
+        }
+    }
+    let settings = ReportSettings {
+        surfaces: names,
+        jobs: all_jobs.len(),
+        size: [size.0, size.1],
+        eps_relative: rel_eps,
+        repeat: a.repeat,
+        algebras: alg_names,
+        field: a.field.map_or("compiled", |f| super::args::field_kind(f).name()).into(),
+        methods: a.method.clone(),
+        omegas: a.omega.clone(),
+        max_steps: a.max_steps,
+        find_eps: a.find_eps,
+        shard: shard.map(|s| s.to_string()),
+    };
+    let report = report(settings, results, &gpu);
+    write_reports(&a, &report, &machine(&report.device, report.cpu_threads))
+}
+
+/// `--job-timeout SECONDS` as a duration (positive, finite, at most a day).
+fn job_timeout(s: Option<f64>) -> Result<Option<Duration>, CliError> {
+    match s {
+        None => Ok(None),
+        Some(t) if t.is_finite() && t > 0.0 && t <= 86_400.0 => Ok(Some(Duration::from_secs_f64(t))),
+        Some(t) => Err(CliError::input(format!("invalid --job-timeout {t}: it must be a number of seconds above 0 and at most 86400"))),
+    }
+}
+
+/// A surface's first image, kept for the contact sheet: name, width,
+/// height, RGB bytes.
+type Thumb = (String, u32, u32, Vec<u8>);
+
+/// Runs this shard's jobs (each in a child process under `timeout`, if
+/// given), reporting progress, writing each image to `--out` and keeping
+/// each surface's first image for the contact sheet.
+fn run_jobs<'e>(a: &BenchArgs, gpu: &Gpu, jobs: &[bench::Job], job_of: impl Fn(&bench::Job) -> (&'e Entry, Variant), timeout: Option<Duration>, size: (u32, u32), rel_eps: f64) -> Result<(Vec<JobResult>, Vec<Thumb>), CliError> {
+    let bar = super::notice::progress(jobs.len() as u64, "jobs");
     let mut results = Vec::new();
-    let mut thumbs: Vec<(String, u32, u32, Vec<u8>)> = Vec::new();
+    let mut thumbs: Vec<Thumb> = Vec::new();
     for (k, job) in jobs.iter().enumerate() {
         let (entry, variant) = job_of(job);
         let (outcome, frame) = match timeout {
             Some(t) => (run_job_isolated(job.index, t), None),
-            None => match run_job(&gpu, entry, &variant, size, rel_eps, &a) {
+            None => match run_job(gpu, entry, &variant, size, rel_eps, a) {
                 Ok((m, f)) => (Outcome::Ok(m), Some(f)),
                 Err(e) => (Outcome::Failed { error: e }, None),
             },
@@ -226,20 +265,8 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
             }
             None => eprintln!("[{}/{}] {} {}: {}", k + 1, jobs.len(), one_line(&job.surface), job.algebra, one_line(&line)),
         }
-        if let (Some(dir), Some(f)) = (&a.out, &frame) {
-            let rgb = output::frame_rgb8(f);
-            let path = dir.join(format!("{}_{}.png", job.surface, job.algebra));
-            output::write_png(&path, f.width, f.height, &rgb).map_err(|e| input(e.to_string()))?;
-            if !thumbs.iter().any(|t| t.0 == job.surface) {
-                thumbs.push((job.surface.clone(), f.width, f.height, rgb));
-            }
-        }
-        // A child process wrote its image; read it back for the contact sheet.
-        if let (Some(dir), None, Outcome::Ok(_)) = (&a.out, &frame, &outcome) {
-            let img = output::read_image(&dir.join(format!("{}_{}.png", job.surface, job.algebra))).map(|i| i.to_rgb8());
-            if let (Ok(img), false) = (img, thumbs.iter().any(|t| t.0 == job.surface)) {
-                thumbs.push((job.surface.clone(), img.width(), img.height(), img.into_raw()));
-            }
+        if let Some(dir) = &a.out {
+            keep_image(dir, job, frame.as_ref(), matches!(outcome, Outcome::Ok(_)), &mut thumbs)?;
         }
         let degree = entry.header.degree.clone().unwrap_or_else(|| entry.compile().ok().and_then(|f| f.ir.degree()).map_or("-".into(), |d| d.to_string()));
         results.push(JobResult { index: job.index, surface: job.surface.clone(), degree, algebra: job.algebra.clone(), outcome });
@@ -247,48 +274,39 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    if let Some(dir) = &a.out {
-        if !thumbs.is_empty() {
-            let (w, h, rgb) = bench::contact_sheet(&thumbs, 256, 4);
-            output::write_png(&dir.join("contact-sheet.png"), w, h, &rgb).map_err(|e| input(e.to_string()))?;
-        }
-    }
-    let settings = ReportSettings {
-        surfaces: names,
-        jobs: all_jobs.len(),
-        size: [size.0, size.1],
-        eps_relative: rel_eps,
-        repeat: a.repeat,
-        algebras: alg_names,
-        field: a.field.map_or("compiled", |f| super::field_kind(f).name()).into(),
-        methods: a.method.clone(),
-        omegas: a.omega.clone(),
-        max_steps: a.max_steps,
-        find_eps: a.find_eps,
-        shard: shard.map(|s| s.to_string()),
-    };
-    let report = report(settings, results, &gpu);
-    write_reports(&a, &report, &machine(&report.device, report.cpu_threads))
+    Ok((results, thumbs))
 }
 
-/// `--job-timeout SECONDS` as a duration (positive, finite, at most a day).
-fn job_timeout(s: Option<f64>) -> Result<Option<Duration>, CliError> {
-    match s {
-        None => Ok(None),
-        Some(t) if t.is_finite() && t > 0.0 && t <= 86_400.0 => Ok(Some(Duration::from_secs_f64(t))),
-        Some(t) => Err(input(format!("invalid --job-timeout {t}: it must be a number of seconds above 0 and at most 86400"))),
+/// Writes a job's image into `--out` (`frame`, rendered in this process)
+/// and keeps a surface's first image for the contact sheet.
+fn keep_image(dir: &std::path::Path, job: &bench::Job, frame: Option<&Frame>, ok: bool, thumbs: &mut Vec<Thumb>) -> Result<(), CliError> {
+    if let Some(f) = frame {
+        let rgb = output::frame_rgb8(f);
+        let path = dir.join(format!("{}_{}.png", job.surface, job.algebra));
+        output::write_png(&path, f.width, f.height, &rgb).map_err(|e| CliError::input(e.to_string()))?;
+        if !thumbs.iter().any(|t| t.0 == job.surface) {
+            thumbs.push((job.surface.clone(), f.width, f.height, rgb));
+        }
     }
+    // A child process wrote its image; read it back for the contact sheet.
+    if let (None, true) = (frame, ok) {
+        let img = output::read_image(&dir.join(format!("{}_{}.png", job.surface, job.algebra))).map(|i| i.to_rgb8());
+        if let (Ok(img), false) = (img, thumbs.iter().any(|t| t.0 == job.surface)) {
+            thumbs.push((job.surface.clone(), img.width(), img.height(), img.into_raw()));
+        }
+    }
+    Ok(())
 }
 
 /// The child side of `--job-timeout`: runs one job on its own device,
 /// writes its image into `--out`, and prints the outcome as JSON.
 fn run_child_job(a: &BenchArgs, job: &bench::Job, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64) -> Result<ExitCode, CliError> {
-    let gpu = open_gpu(super::render::shader_opt(a.shader_opt, 0, false))?;
+    let gpu = open_gpu(super::args::shader_opt(a.shader_opt, 0, false))?;
     let outcome = match run_job(&gpu, entry, variant, size, rel_eps, a) {
         Ok((m, f)) => {
             if let Some(dir) = &a.out {
                 let path = dir.join(format!("{}_{}.png", job.surface, job.algebra));
-                output::write_png(&path, f.width, f.height, &output::frame_rgb8(&f)).map_err(|e| input(e.to_string()))?;
+                output::write_png(&path, f.width, f.height, &output::frame_rgb8(&f)).map_err(|e| CliError::input(e.to_string()))?;
             }
             Outcome::Ok(m)
         }
@@ -365,11 +383,11 @@ fn write_reports(a: &BenchArgs, report: &Report, machine: &str) -> Result<ExitCo
     let table = if report.settings.find_eps { bench::table_text_with_eps(results, columns) } else { bench::table_text(results, columns) };
     let _ = std::io::stdout().lock().write_all(table.as_bytes());
     if let Some(p) = &a.markdown {
-        output::write_atomic(p, bench::markdown(results, columns, machine).as_bytes()).map_err(|e| input(e.to_string()))?;
+        output::write_atomic(p, bench::markdown(results, columns, machine).as_bytes()).map_err(|e| CliError::input(e.to_string()))?;
     }
     if let Some(p) = &a.json {
         let text = serde_json::to_string_pretty(report).unwrap_or_default();
-        output::write_atomic(p, text.as_bytes()).map_err(|e| input(e.to_string()))?;
+        output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::input(e.to_string()))?;
     }
     let failed = results.iter().any(|r| matches!(r.outcome, Outcome::Failed { .. }));
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
@@ -379,20 +397,20 @@ fn write_reports(a: &BenchArgs, report: &Report, machine: &str) -> Result<ExitCo
 /// [`bench::report::merge`] for what must agree and how duplicates go).
 fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
     for p in [&a.json, &a.markdown].into_iter().flatten() {
-        output::check_writable(p).map_err(|e| input(e.to_string()))?;
+        output::check_writable(p).map_err(|e| CliError::input(e.to_string()))?;
     }
     let files = super::batch::part_files(&a.merge)?;
     let mut merger = Merger::default();
     for f in &files {
         let file = f.display().to_string();
         let text = super::batch::read_part(f, report::MAX_FILE_BYTES, report::WHAT)?;
-        let r = report::parse(&file, &text).map_err(|e| input(e.to_string()))?;
+        let r = report::parse(&file, &text).map_err(|e| CliError::input(e.to_string()))?;
         drop(text);
-        merger.add(&file, r).map_err(|e| input(e.to_string()))?;
+        merger.add(&file, r).map_err(|e| CliError::input(e.to_string()))?;
     }
     let merged = merger.finish().map_err(|e| match e {
-        MergeError::Missing { .. } => input(format!("{e}; run their shards again")),
-        e => input(e.to_string()),
+        MergeError::Missing { .. } => CliError::input(format!("{e}; run their shards again")),
+        e => CliError::input(e.to_string()),
     })?;
     let r = &merged.report;
     let mut machines: Vec<String> = Vec::new();
@@ -443,12 +461,12 @@ fn job_error(e: &CliError) -> String {
 fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_eps: f64, a: &BenchArgs) -> Result<(Measure, Frame), String> {
     let f = entry.compile().map_err(|e| e.to_string())?;
     // --field, else the header's `field`, else the generated code.
-    let field_arg = a.field.or(entry.header.field.map(super::field_arg)).unwrap_or(super::FieldArg::Compiled);
+    let field_arg = a.field.or(entry.header.field.map(super::args::field_arg)).unwrap_or(super::args::FieldArg::Compiled);
     let b = entry.header.bbox;
     let diag = isotrace::render::box_diagonal(&b);
-    let mut view = entry.header.view();
-    view.eps = Some(rel_eps * diag);
-    let s = view.settings(&f, size.0, size.1).map_err(|e| e.to_string())?.0;
+    let mut defaults = entry.header.view();
+    defaults.eps = Some(rel_eps * diag);
+    let s = defaults.settings(&f, size.0, size.1).map_err(|e| e.to_string())?.0;
     let alg = match variant {
         Variant::Bisect(name) => algebra(name),
         Variant::Sphere(omega) => {
@@ -461,7 +479,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
             // A scene's operators may need a larger Lipschitz bound than the
             // header's (never a smaller one): prepare_field raises it.
             let mut t = Traversal::Sphere(o);
-            let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false, u64::from(a.repeat) + 1).map_err(|e| job_error(&e))?;
+            let field = super::args::prepare_field(Some(field_arg), &f, &s.params, &mut t, false, u64::from(a.repeat) + 1).map_err(|e| job_error(&e))?;
             let start = Instant::now();
             let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
             let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
@@ -475,11 +493,11 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     let alg = if alg == AlgebraArg::Auto { entry.header.algebra.map(algebra_arg).unwrap_or(AlgebraArg::Auto) } else { alg };
     let domain = resolve_algebra(alg, &f.ir);
     let mut t = Traversal::Bisect(BisectOptions::new(domain));
-    let field = super::prepare_field(Some(field_arg), &f, &s.params, &mut t, false, u64::from(a.repeat) + 1).map_err(|e| job_error(&e))?;
+    let field = super::args::prepare_field(Some(field_arg), &f, &s.params, &mut t, false, u64::from(a.repeat) + 1).map_err(|e| job_error(&e))?;
     let start = Instant::now();
     let r = Renderer::new(gpu, field.source(&f.ir), t).map_err(|e| e.to_string())?;
     let (runs, frame, warm) = timed_packed(&r, &s, a.repeat)?;
-    let mut m = Measure::from_runs(&runs, s.eps, domain_name(domain));
+    let mut m = Measure::from_runs(&runs, s.eps, algebra_name(domain));
     m.setup_ms = warm.duration_since(start).as_secs_f64() * 1e3;
     m.field = field.kind().name().into();
     if a.find_eps {

@@ -86,8 +86,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 /// One path's timed frames.
 fn time_frames(r: &Renderer, s: &isotrace::render::Settings, repeat: u32) -> Result<Vec<Stats>, CliError> {
-    r.render(s).map_err(super::render_error)?; // warm-up
-    (0..repeat).map(|_| r.render(s).map(|f| f.stats).map_err(super::render_error)).collect()
+    r.render(s).map_err(super::error::render_error)?; // warm-up
+    (0..repeat).map(|_| r.render(s).map(|f| f.stats).map_err(super::error::render_error)).collect()
 }
 
 /// A row from a path's timed frames.
@@ -129,8 +129,8 @@ fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32,
     let fail = |m: String| CliError::Input(format!("{} level {level}: {m}", kind.name()));
     let scene = generate(kind, level, blending, 1).map_err(|e| fail(e.to_string()))?;
     let lin = Linear::new(&scene).map_err(|e| fail(e.to_string()))?;
-    let view = super::scene_render::framing(&lin).ok_or_else(|| fail("unbounded".into()))?;
-    let s = view.settings_without_params(size.0, size.1).map_err(|e| fail(e.to_string()))?;
+    let framing = super::scene_render::framing(&lin).ok_or_else(|| fail("unbounded".into()))?;
+    let s = framing.settings_without_params(size.0, size.1).map_err(|e| fail(e.to_string()))?;
     let mut o = SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
     if let Some(n) = max_steps {
         o.max_steps = n;
@@ -138,14 +138,14 @@ fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32,
     let data = lin.field_data();
     let id = (kind, blending, level, lin.primitives.len());
     let t0 = std::time::Instant::now();
-    let mut r = Renderer::new(gpu, &data, Traversal::Sphere(o.clone())).map_err(super::render_error)?;
+    let mut r = Renderer::new(gpu, &data, Traversal::Sphere(o.clone())).map_err(super::error::render_error)?;
     let setup = t0.elapsed().as_secs_f64() * 1e3;
     let mut rows = vec![row(id, "sparse", setup, &time_frames(&r, &s, repeat)?)];
     // The same sparse path with the tile's rays walking its slabs together
     // (Algorithm 3): a kernel of its own.
     let t0 = std::time::Instant::now();
     let sync = SphereOptions { synchronized: true, ..o.clone() };
-    let rs = Renderer::new(gpu, &data, Traversal::Sphere(sync)).map_err(super::render_error)?;
+    let rs = Renderer::new(gpu, &data, Traversal::Sphere(sync)).map_err(super::error::render_error)?;
     rows.push(row(id, "sync", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&rs, &s, repeat)?));
     match dense_estimate {
         Some(ms) if ms > DENSE_BUDGET_MS => eprintln!("  dense skipped: about {:.0} s a frame expected (the last level's, scaled by the primitives)", ms / 1e3),
@@ -156,7 +156,7 @@ fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32,
     }
     if let Some(f) = compiled_formula(&scene) {
         let t0 = std::time::Instant::now();
-        let c = Renderer::new(gpu, &f.ir, Traversal::Sphere(o)).map_err(super::render_error)?;
+        let c = Renderer::new(gpu, &f.ir, Traversal::Sphere(o)).map_err(super::error::render_error)?;
         rows.push(row(id, "compiled", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&c, &s, repeat)?));
     }
     Ok(rows)
@@ -184,7 +184,7 @@ pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32
     if max_level > MAX_LEVEL {
         return Err(CliError::Input(format!("invalid --max-level {max_level}: the generated series go up to level {MAX_LEVEL}")));
     }
-    let gpu = super::render::open_gpu(opt)?;
+    let gpu = super::args::open_gpu(opt)?;
     let machine = super::bench::machine(&gpu.info, std::thread::available_parallelism().map_or(1, |n| n.get()));
     let mut rows: Vec<SceneRow> = vec![];
     let jobs = series(max_level);

@@ -1,7 +1,8 @@
 //! `isotrace eval`: the generated evaluator on boxes (or points) read one per
 //! line, run on the device (or with `--cpu` by the f64 reference).
 
-use super::{input::FormulaArgs, render::parse_params, resolve_algebra, AlgebraArg, CliError};
+use super::args::{parse_params, resolve_algebra, AlgebraArg};
+use super::{input::FormulaArgs, CliError};
 use clap::Args;
 use isotrace::ir::Domain;
 use isotrace::gpu::eval::{eval_boxes_with, Box8};
@@ -31,10 +32,10 @@ pub struct EvalArgs {
     /// Evaluator on the device, as `render --field`: compiled (generated code), tape (the fixed
     /// interpreter of the tape field source) or auto (the tape from render's crossover size on).
     #[arg(long, value_enum, value_name = "SOURCE")]
-    field: Option<super::FieldArg>,
+    field: Option<super::args::FieldArg>,
     /// Whether a CPU driver optimises the evaluator, as `render --shader-opt`; auto counts a box as a pixel (none up to 1,048,576 boxes, full past them).
     #[arg(long, value_enum, value_name = "OPT")]
-    shader_opt: Option<super::render::ShaderOptArg>,
+    shader_opt: Option<super::args::ShaderOptArg>,
     #[arg(long, help = super::scene::ALLOW_SCENE_PATHS_HELP)]
     allow_scene_paths: bool,
 }
@@ -134,7 +135,7 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
         let p64: Vec<f64> = params.iter().map(|&v| v as f64).collect();
         boxes.iter().map(|b| cpu_eval(&f.ir, domain, b, &p64)).collect()
     } else {
-        let gpu = super::render::open_gpu(super::render::shader_opt(a.shader_opt, boxes.len() as u64, true))?;
+        let gpu = super::args::open_gpu(super::args::shader_opt(a.shader_opt, boxes.len() as u64, true))?;
         let run = match &tape {
             Some(t) => isotrace::gpu::eval::eval_boxes_tape(&gpu, t, domain, &boxes, &params),
             None => eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref()),
@@ -189,7 +190,7 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
     } else {
         let lin = isotrace::scene::linear::Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
         let points: Vec<[f32; 3]> = boxes.iter().map(|b| [b[0], b[2], b[4]]).collect();
-        let gpu = super::render::open_gpu(super::render::shader_opt(a.shader_opt, points.len() as u64, true))?;
+        let gpu = super::args::open_gpu(super::args::shader_opt(a.shader_opt, points.len() as u64, true))?;
         let got = isotrace::gpu::eval::eval_points_scene(&gpu, &lin.field_data(), &points).map_err(|e| CliError::Internal(e.to_string()))?;
         got.into_iter().map(f64::from).collect()
     };
@@ -203,14 +204,14 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
 /// The tape `--field` asks for (`None`: the generated evaluator). `auto`
 /// takes the tape where `render` would for the same algebra; a scene has no
 /// enclosures to evaluate on boxes.
-fn device_tape(arg: Option<super::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::field::TapeData>, CliError> {
+fn device_tape(arg: Option<super::args::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::field::TapeData>, CliError> {
     use isotrace::choice::{choose, FieldKind, PreparedField};
     use isotrace::render::{BisectOptions, SphereOptions, Traversal};
     let kind = match arg {
-        None | Some(super::FieldArg::Compiled) => return Ok(None),
-        Some(super::FieldArg::Scene) => return Err(CliError::Input("--field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes".into())),
-        Some(super::FieldArg::Tape) => FieldKind::Tape,
-        Some(super::FieldArg::Auto) => FieldKind::Auto,
+        None | Some(super::args::FieldArg::Compiled) => return Ok(None),
+        Some(super::args::FieldArg::Scene) => return Err(CliError::Input("--field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes".into())),
+        Some(super::args::FieldArg::Tape) => FieldKind::Tape,
+        Some(super::args::FieldArg::Auto) => FieldKind::Auto,
     };
     let t = match domain {
         Domain::Scalar => Traversal::Sphere(SphereOptions::default()),

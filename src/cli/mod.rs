@@ -1,10 +1,13 @@
-//! Subcommands and their arguments (clap), and the one place errors are
-//! rendered for the terminal.
+//! Subcommands and their arguments (clap), and the commands too small for
+//! a file of their own (`check`, `list`). Flags shared by commands become
+//! typed settings in [`args`]; errors have their one home in [`error`].
 
 mod animate;
+mod args;
 mod batch;
 mod bench;
 mod bench_scenes;
+mod error;
 mod eval;
 mod frames;
 mod input;
@@ -19,12 +22,11 @@ mod view;
 mod wgsl;
 pub mod signals;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
-use isotrace::ir::Domain;
-use isotrace::{Formula, FormulaError, validate};
-use std::io::{IsTerminal, Write};
+use clap::{Args, Parser, Subcommand};
+use std::io::Write;
 use std::process::ExitCode;
 
+pub use error::CliError;
 pub use input::FormulaArgs;
 
 const ABOUT: &str = "Robust ray tracing of implicit surfaces f(x,y,z) = 0 on the GPU.\n\
@@ -93,149 +95,6 @@ struct CheckArgs {
     json: bool,
 }
 
-/// Number domain of the generated evaluator.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AlgebraArg {
-    /// Plain f32 values (points).
-    Scalar,
-    /// Interval arithmetic.
-    Ia,
-    /// Reduced affine arithmetic (AF1).
-    Raa,
-    /// IA or RAA, chosen per formula.
-    Auto,
-}
-
-/// `--field`: the field source.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FieldArg {
-    /// The formula generated into the shader.
-    Compiled,
-    /// The formula as a tape run by a fixed interpreter.
-    Tape,
-    /// A formula of distance forms lowered to its blobtree scene (sphere tracing).
-    Scene,
-    /// Chosen by formula size, algebra and method.
-    Auto,
-}
-
-/// The flag value of a field kind (a header's `field`).
-pub(crate) fn field_arg(k: isotrace::field::FieldKind) -> FieldArg {
-    match k {
-        isotrace::field::FieldKind::Compiled => FieldArg::Compiled,
-        isotrace::field::FieldKind::Tape => FieldArg::Tape,
-        isotrace::field::FieldKind::Scene => FieldArg::Scene,
-        isotrace::field::FieldKind::Auto => FieldArg::Auto,
-    }
-}
-
-/// The field kind of a flag value.
-pub(crate) fn field_kind(a: FieldArg) -> isotrace::field::FieldKind {
-    match a {
-        FieldArg::Compiled => isotrace::field::FieldKind::Compiled,
-        FieldArg::Tape => isotrace::field::FieldKind::Tape,
-        FieldArg::Scene => isotrace::field::FieldKind::Scene,
-        FieldArg::Auto => isotrace::field::FieldKind::Auto,
-    }
-}
-
-/// The field source of `--field` (default auto) for formula `f` with
-/// parameter values `params`, traced by `t`. A scene needs the Lipschitz
-/// bound of its operators: unless `--lipschitz` was given, sphere tracing
-/// takes at least that.
-/// `frames`: how many frames the job renders with the field (auto weighs
-/// the tape's sooner first frame against its slower later ones).
-pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<isotrace::choice::PreparedField, CliError> {
-    use isotrace::choice::{self, FieldError, SceneFieldError};
-    use isotrace::field::{FieldKind, TapeError};
-    let kind = field_kind(arg.unwrap_or(FieldArg::Auto));
-    if kind == FieldKind::Auto {
-        if let Some((field, lipschitz)) = choice::auto_scene(f, params, t) {
-            if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
-                o.lipschitz = o.lipschitz.max(lipschitz);
-            }
-            return Ok(field);
-        }
-    }
-    if kind == FieldKind::Scene {
-        let (field, lipschitz) = choice::scene(f, params, t).map_err(|e| match e {
-            SceneFieldError::NotBlobtree(n) => {
-                let d = isotrace::diag::Diagnostic::error(format!("--field scene: not a blobtree: {}", n.reason), n.span, "here")
-                    .with_note("a scene is built from distance forms (sphere, box, translate, union, smooth_union, ...) with constant arguments; render it with --field compiled (or auto)");
-                CliError::Rendered(d.render(&f.origin, &f.source, false))
-            }
-            SceneFieldError::NotSphere => CliError::Input(format!("--field scene: {e}; add --method sphere")),
-            SceneFieldError::Layout(_) => CliError::Input(format!("--field scene: in the scene the formula lowers to (`isotrace scene lower` writes it), {e}")),
-        })?;
-        if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
-            o.lipschitz = o.lipschitz.max(lipschitz);
-        }
-        return Ok(field);
-    }
-    choice::choose_for(kind, f, params, t, frames).map_err(|e| {
-        let fix = match &e {
-            FieldError::Tape(TapeError::UserFunction(_) | TapeError::Hooks) => "the functions and hooks of --inline need --field compiled (or auto)",
-            _ => "render it with --field compiled (or auto)",
-        };
-        CliError::Input(format!("--field {}: {e}; {fix}", if kind == FieldKind::Tape { "tape" } else { "auto" }))
-    })
-}
-
-/// Any failure of a command, rendered once.
-#[derive(Debug)]
-pub enum CliError {
-    /// A formula diagnostic.
-    Formula(FormulaError),
-    /// Bad input that is not in a formula (a flag, a file).
-    Input(String),
-    /// An isotrace bug (naga rejected generated code, …).
-    Internal(String),
-    /// No usable GPU device (exit code 2).
-    NoDevice(String),
-    /// Bad input with a diagnostic already rendered (exit code 1).
-    Rendered(String),
-}
-
-impl CliError {
-    /// The text for stderr. Messages quote user text (file names, header
-    /// values, box lines), so control characters in them are made visible
-    /// ([`isotrace::diag::escape_controls`]): no input reaches the terminal raw.
-    pub fn render(&self) -> String {
-        self.text(std::io::stderr().is_terminal())
-    }
-
-    /// The message, with terminal colours or without (for the viewer's page).
-    pub fn text(&self, color: bool) -> String {
-        use isotrace::diag::escape_controls as esc;
-        match self {
-            CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
-            CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {}\n", esc(m)),
-            CliError::Input(m) => format!("error: {}\n", esc(m)),
-            CliError::Internal(m) => format!("{}\n", esc(m)),
-            CliError::NoDevice(m) => format!("error: {}\n", esc(m)),
-            CliError::Rendered(m) => esc(m).into_owned(),
-        }
-    }
-    pub fn exit_code(&self) -> u8 {
-        match self {
-            CliError::Formula(_) | CliError::Input(_) | CliError::Rendered(_) => 1,
-            CliError::Internal(_) => 3,
-            CliError::NoDevice(_) => 2,
-        }
-    }
-}
-
-impl From<FormulaError> for CliError {
-    fn from(e: FormulaError) -> Self {
-        CliError::Formula(e)
-    }
-}
-impl From<validate::ValidateError> for CliError {
-    fn from(e: validate::ValidateError) -> Self {
-        CliError::Internal(e.to_string())
-    }
-}
-
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     notice::begin(cli.quiet);
@@ -269,7 +128,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
     let (products, powers) = ir.nonconstant_products();
-    let algebra = domain_name(isotrace::choose_algebra(ir));
+    let algebra = args::algebra_name(isotrace::choose_algebra(ir));
     // The runs of same-shaped terms the compiled field writes as loops.
     let plan = isotrace::field::compiled::term_loops::plan(ir);
     let looped: usize = plan.loops.iter().map(|l| l.unroll * l.iterations).sum();
@@ -307,85 +166,6 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn domain_name(d: Domain) -> &'static str {
-    match d {
-        Domain::Scalar => "scalar",
-        Domain::Interval => "ia",
-        Domain::Affine => "raa",
-    }
-}
-
-/// The domain an `--algebra` value stands for with this formula.
-pub fn resolve_algebra(a: AlgebraArg, ir: &isotrace::ir::Ir) -> Domain {
-    match a {
-        AlgebraArg::Scalar => Domain::Scalar,
-        AlgebraArg::Ia => Domain::Interval,
-        AlgebraArg::Raa => Domain::Affine,
-        AlgebraArg::Auto => isotrace::choose_algebra(ir),
-    }
-}
-
-/// Maps a render error to the CLI's error kinds.
-pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
-    use isotrace::gpu::RenderError as R;
-    match e {
-        R::Validate(v) => CliError::Internal(v.to_string()),
-        R::Gpu(g) => CliError::Internal(g.to_string()),
-        R::Settings(s) => CliError::Input(settings_message(&s)),
-        R::Inline(m) => CliError::Rendered(m),
-        R::Memory(m) => CliError::Input(memory_message(&m.to_string(), &m)),
-        e @ R::ShaderTooLarge { .. } => CliError::Input(format!(
-            "{e}; render it with --field tape (or auto), which runs the formula from a buffer in a fixed interpreter, simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or split the surface into several renders"
-        )),
-    }
-}
-
-/// After how long a pipeline build is reported on stderr.
-const COMPILE_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(2);
-/// After how long a frame still rendering is reported on stderr.
-const RENDER_NOTE_AFTER: std::time::Duration = std::time::Duration::from_secs(5);
-
-/// Runs `build` (naga, then the driver's shader compiler). When it takes
-/// longer than [`COMPILE_NOTE_AFTER`] (or `ISOTRACE_COMPILE_NOTE_MS`, a
-/// test hook), a note on stderr says what is happening, with the shader's
-/// size from `wgsl_bytes`, so that a long compile does not look like a
-/// hang.
-pub fn with_compile_note<T>(wgsl_bytes: impl FnOnce() -> usize + Send, build: impl FnOnce() -> T) -> T {
-    with_note("ISOTRACE_COMPILE_NOTE_MS", COMPILE_NOTE_AFTER, || format!("compiling the shader ({} KB of WGSL)", wgsl_bytes().div_ceil(1000)), build)
-}
-
-/// Runs `render` (one frame). When it takes longer than
-/// [`RENDER_NOTE_AFTER`] (or `ISOTRACE_RENDER_NOTE_MS`, a test hook), a note
-/// on stderr says what is rendering: a CPU device compiles the kernel at
-/// its first dispatch, and a big formula's tape takes seconds to minutes a
-/// frame there.
-pub fn with_render_note<T>(what: impl FnOnce() -> String + Send, render: impl FnOnce() -> T) -> T {
-    with_note("ISOTRACE_RENDER_NOTE_MS", RENDER_NOTE_AFTER, || format!("still rendering {}", what()), render)
-}
-
-/// Runs `work`; if it is not done after `after` (or the milliseconds in
-/// the environment variable `hook`), prints `note: {note()} …` on stderr.
-/// A delay of zero prints the note before `work` starts: a timer of zero
-/// would race a quick `work` and make the hook's tests depend on speed.
-fn with_note<T>(hook: &str, after: std::time::Duration, note: impl FnOnce() -> String + Send, work: impl FnOnce() -> T) -> T {
-    let after = std::env::var(hook).ok().and_then(|v| v.parse().ok()).map_or(after, std::time::Duration::from_millis);
-    if after.is_zero() {
-        eprintln!("note: {} …", note());
-        return work();
-    }
-    let (done, wait) = std::sync::mpsc::channel::<()>();
-    std::thread::scope(|scope| {
-        scope.spawn(move || {
-            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(after) {
-                eprintln!("note: {} …", note());
-            }
-        });
-        let out = work();
-        drop(done);
-        out
-    })
-}
-
 /// `ISOTRACE_MEMORY_BUDGET`: the largest frame-sized host allocation
 /// (pixels, packed records, encoded image), in bytes or with a k/M/G/T
 /// suffix. Unset: only the allocator refuses.
@@ -397,77 +177,6 @@ fn memory_budget_from_env() -> Result<(), CliError> {
     isotrace::memory::set_budget(Some(bytes));
     Ok(())
 }
-
-/// An output file's error; a refused allocation says what to do.
-pub fn output_error(e: isotrace::output::OutputError) -> CliError {
-    match &e {
-        isotrace::output::OutputError::Memory { source, .. } => CliError::Input(memory_message(&e.to_string(), source)),
-        _ => CliError::Input(e.to_string()),
-    }
-}
-
-/// `message` about a refused frame allocation, with what the user can do.
-fn memory_message(message: &str, m: &isotrace::memory::MemoryError) -> String {
-    match m.budget {
-        Some(_) => format!("{message}; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET"),
-        None => format!("{message}; render a smaller --size"),
-    }
-}
-
-/// The flag a setting is given with on the command line.
-fn flag(field: isotrace::render::SettingsField) -> &'static str {
-    use isotrace::render::SettingsField as F;
-    match field {
-        F::Size => "--size",
-        F::Box => "--box",
-        F::Eye => "--eye",
-        F::Target => "--target",
-        F::Up => "--up",
-        F::Fov => "--fov",
-        F::Eps => "--eps",
-        F::Time => "--t",
-        F::Params => "--param",
-        F::Clip => "--clip",
-        F::MaxIter => "--max-iter",
-        F::Isovalues => "--iso",
-        F::Layers => "--layers",
-        F::Opacity => "--opacity",
-        F::Reflect => "--reflect",
-        F::Reflectivity => "--reflectivity",
-        F::Lipschitz => "--lipschitz",
-        F::Omega => "--omega",
-        F::MaxSteps => "--max-steps",
-        F::Fixpoint => "--fixpoint",
-        F::MinStep => "--min-step",
-        F::EpsMin => "--eps-min",
-        F::Features => "--method",
-    }
-}
-
-/// A settings error in the words of the command line: the flag that sets
-/// the value (flags and `.iso` header keys share their names).
-pub fn settings_message(e: &isotrace::render::SettingsError) -> String {
-    use isotrace::render::SettingsField as F;
-    match (e.field, e.value.is_empty()) {
-        (F::Up, true) => format!("{}: give another --up", e.reason),
-        (F::Eye, true) => format!("{}: give another --eye or --target", e.reason),
-        (_, true) => format!("invalid {}: {}", flag(e.field), e.reason),
-        (_, false) => format!("invalid {} {}: {}", flag(e.field), e.value, e.reason),
-    }
-}
-
-/// A progress bar on a terminal; `None` (plain lines elsewhere) otherwise.
-pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
-    if len <= 1 || !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(len);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(&format!("{{bar:40}} {{pos}}/{{len}} {what} {{elapsed}}")) {
-        bar.set_style(style);
-    }
-    Some(bar)
-}
-
 fn list(a: ListArgs) -> Result<ExitCode, CliError> {
     let mut out = std::io::stdout().lock();
     for e in isotrace::catalog::builtin() {

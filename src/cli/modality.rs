@@ -41,13 +41,10 @@ pub struct ModalityArgs {
     pub allow_header_paths: bool,
 }
 
-fn input(m: impl Into<String>) -> CliError {
-    CliError::Input(m.into())
-}
 
 /// Reads an environment PNG as rgba8 texels.
 fn load_env(path: &std::path::Path) -> Result<EnvImage, CliError> {
-    let img = isotrace::output::read_image(path).map_err(|e| input(format!("cannot read --env image '{}': {e}", path.display())))?;
+    let img = isotrace::output::read_image(path).map_err(|e| CliError::input(format!("cannot read --env image '{}': {e}", path.display())))?;
     let rgba = img.to_rgba8();
     let (width, height) = rgba.dimensions();
     let texels = rgba.pixels().map(|p| u32::from_le_bytes(p.0)).collect();
@@ -59,17 +56,17 @@ fn load_env(path: &std::path::Path) -> Result<EnvImage, CliError> {
 fn spec(a: &ModalityArgs, shadows: bool) -> Result<ModalitySpec, CliError> {
     let mut s = ModalitySpec { shadows: shadows.then_some(true), opacity: a.opacity, layers: a.layers, reflect: a.reflect, reflectivity: a.reflectivity, ..Default::default() };
     if let Some(l) = &a.light {
-        let v = catalog::parse_vec3(l).map_err(|e| input(format!("invalid --light '{l}': {e}")))?;
+        let v = catalog::parse_vec3(l).map_err(|e| CliError::input(format!("invalid --light '{l}': {e}")))?;
         s.light = Some(glam::DVec3::from_array(v));
     }
     if let Some(e) = &a.shadow_eps {
-        s.shadow_eps = Some(catalog::parse_eps(e).map_err(|x| input(format!("invalid --shadow-eps '{e}': {x}")))?);
+        s.shadow_eps = Some(catalog::parse_eps(e).map_err(|x| CliError::input(format!("invalid --shadow-eps '{e}': {x}")))?);
     }
     if let Some(list) = &a.iso {
         let v: Result<Vec<f64>, _> = list.split(',').map(|x| x.trim().parse::<f64>()).collect();
         match v {
             Ok(v) if !v.is_empty() && v.len() <= 8 && v.iter().all(|x| x.is_finite()) => s.iso = Some(v),
-            _ => return Err(input(format!("invalid --iso '{list}': expected 1 to 8 comma-separated numbers"))),
+            _ => return Err(CliError::input(format!("invalid --iso '{list}': expected 1 to 8 comma-separated numbers"))),
         }
     }
     s.env = a.env.as_deref().map(EnvSpec::parse);
@@ -84,9 +81,9 @@ pub fn modalities(a: &ModalityArgs, shadows: bool, color: KernelColor, header: O
     let s = spec(a, shadows)?.or(&defaults);
     refuse_outside_paths(a, &s, header)?;
     if s.shadow_eps.is_some() && a.shadow_eps.is_some() && s.shadows != Some(true) {
-        return Err(input("--shadow-eps needs --shadows"));
+        return Err(CliError::input("--shadow-eps needs --shadows"));
     }
-    s.resolve(color, load_env)?.map_err(|e| input(super::settings_message(&e)))
+    s.resolve(color, load_env)?.map_err(|e| CliError::input(super::error::settings_message(&e)))
 }
 
 /// The trust rule for `.iso` headers: a header may make isotrace read an
@@ -96,7 +93,7 @@ pub fn modalities(a: &ModalityArgs, shadows: bool, color: KernelColor, header: O
 fn refuse_outside_paths(a: &ModalityArgs, s: &ModalitySpec, header: Option<&catalog::Header>) -> Result<(), CliError> {
     let (Some(h), Some(EnvSpec::File(p))) = (header, &s.env) else { return Ok(()) };
     if a.env.is_none() && !a.allow_header_paths && h.outside_paths.contains(p) {
-        return Err(input(format!(
+        return Err(CliError::input(format!(
             "the .iso header's env: image '{}' is outside the directory of the .iso file; give --allow-header-paths to read it (only for files you trust)",
             p.display()
         )));

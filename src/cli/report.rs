@@ -84,7 +84,7 @@ pub(super) fn lipschitz_warning(violations: &dyn std::fmt::Display, lipschitz: &
 
 pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::ir::Domain, gpu: &Gpu, field: &str) {
     let st = &frame.stats;
-    let algebra = super::domain_name(domain);
+    let algebra = super::args::algebra_name(domain);
     if a.stats {
         eprintln!(
             "size {}x{}  algebra {algebra}  field {field}  eps {:.3e}  d_max {}\n\

@@ -129,7 +129,7 @@ fn lower(a: LowerArgs) -> Result<ExitCode, CliError> {
     let loaded = a.formula.load_with_header()?;
     let f = &loaded.formula;
     let mut given = loaded.header.as_ref().map_or(vec![], |h| h.params.clone());
-    given.extend(super::render::parse_params(&a.params)?);
+    given.extend(super::args::parse_params(&a.params)?);
     let (values, warnings) = isotrace::sema::bind_params(&f.ir, &given).map_err(|d| CliError::Rendered(d.render(&f.origin, &f.source, false)))?;
     for w in warnings {
         eprint!("{}", w.render(&f.origin, &f.source, false));

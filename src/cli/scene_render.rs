@@ -2,7 +2,10 @@
 //! field source (its nodes in buffers, one fixed interpreter, per-tile
 //! pruned views) and the sphere tracing traversal.
 
-use super::render::{finish_settings, open_gpu, report_sphere, sphere_options, view_error, view_flags, warn_lipschitz, warn_unresolved, RenderArgs};
+use super::args::{self, apply_budget_flags, flags_over_defaults, open_gpu, sphere_options};
+use super::error::settings_error;
+use super::render::RenderArgs;
+use super::report::{report_sphere, warn_lipschitz, warn_unresolved};
 use super::CliError;
 use isotrace::gpu::Renderer;
 use isotrace::output::{self, ColorMode};
@@ -11,9 +14,6 @@ use isotrace::scene::linear::Linear;
 use std::path::Path;
 use std::process::ExitCode;
 
-fn input(m: impl Into<String>) -> CliError {
-    CliError::Input(m.into())
-}
 
 /// Flags that have no meaning for a scene.
 fn misplaced(a: &RenderArgs) -> Option<String> {
@@ -21,19 +21,19 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
         (a.frames.is_some(), "--frames applies to formulas: a scene has no time to animate".to_string()),
         (a.formula.inline.is_some(), "--inline applies to formulas rendered with --method bisect".into()),
         (a.sphere.method.as_deref().is_some_and(|m| m.trim() != "sphere"), "a scene is sphere traced: --method bisect needs interval enclosures, which a scene's interpreter does not give".into()),
-        (!a.modal.given().is_empty(), format!("{} applies to formulas rendered with --method bisect", a.modal.given().first().copied().unwrap_or(""))),
-        (a.view.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
-        (a.view.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
-        (a.view.time.is_some(), "--t applies to formulas: a scene has no time".into()),
+        (!a.modalities.given().is_empty(), format!("{} applies to formulas rendered with --method bisect", a.modalities.given().first().copied().unwrap_or(""))),
+        (a.settings.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
+        (a.settings.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
+        (a.settings.time.is_some(), "--t applies to formulas: a scene has no time".into()),
         (
-            matches!(a.view.field, Some(super::FieldArg::Compiled | super::FieldArg::Tape)),
+            matches!(a.settings.field, Some(args::FieldArg::Compiled | args::FieldArg::Tape)),
             "--field compiled and --field tape apply to formulas: a scene file is traced by the scene field; to trace its formula, write it with `isotrace scene formula FILE.scene.json -o FILE.txt` and render `-f FILE.txt`".into(),
         ),
     ];
     checks.into_iter().find(|(bad, _)| *bad).map(|(_, m)| m)
 }
 
-/// The default view of a scene: its solid's box with a margin, so
+/// The defaults a scene is framed with: its solid's box with a margin, so
 /// silhouettes are not cut; `None` when a plane is not cut off. The box
 /// is the ABVs' (what `bench --suite scenes` frames, so its series stay
 /// comparable).
@@ -41,7 +41,7 @@ pub fn framing(lin: &Linear) -> Option<View> {
     lin.bounds.padded().map(|bbox| View { bbox, ..View::default() })
 }
 
-/// The view `render` and `view` start from: [`framing`] with the ABVs' box
+/// The framing `render` and the viewer start from: [`framing`] with the ABVs' box
 /// shrunk by sampling the field (`roi::sampled_bounds`, a 32³ grid, scenes
 /// up to about 2,000 nodes), so a scene whose bounding volumes are loose
 /// (smooth blends, a bent bar) still fills the frame.
@@ -66,20 +66,20 @@ pub struct ScenePlan {
 /// Checks the flags against the scene `scene` (read from `path`).
 pub fn plan(a: &RenderArgs, scene: &isotrace::scene::Scene, path: &Path) -> Result<ScenePlan, CliError> {
     if let Some(m) = misplaced(a) {
-        return Err(input(m));
+        return Err(CliError::input(m));
     }
-    let lin = Linear::new(scene).map_err(|e| input(format!("{}: {e}", path.display())))?;
+    let lin = Linear::new(scene).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
     let base = match default_framing(&lin, scene) {
         Some(v) => v,
-        None if a.view.bbox.is_some() => View::default(),
-        None => return Err(input(format!("{}: the scene is unbounded (a plane is not cut off): give --box", path.display()))),
+        None if a.settings.bbox.is_some() => View::default(),
+        None => return Err(CliError::input(format!("{}: the scene is unbounded (a plane is not cut off): give --box", path.display()))),
     };
-    let size = super::render::parse_size(a.size.as_deref().unwrap_or("512"))?;
-    let v = view_flags(&a.view, base)?;
-    let settings = finish_settings(&a.view, v.settings_without_params(size.0, size.1).map_err(view_error)?)?;
-    let color = output::parse_color(&a.color).map_err(|m| input(format!("invalid --color '{}': {m}", a.color)))?;
+    let size = args::parse_size(a.size.as_deref().unwrap_or("512"))?;
+    let v = flags_over_defaults(&a.settings, base)?;
+    let settings = apply_budget_flags(&a.settings, v.settings_without_params(size.0, size.1).map_err(settings_error)?)?;
+    let color = output::parse_color(&a.color).map_err(|m| CliError::input(format!("invalid --color '{}': {m}", a.color)))?;
     if matches!(color, ColorMode::Gradient | ColorMode::Depth) {
-        return Err(input(format!("--color {} applies to --method bisect only", a.color)));
+        return Err(CliError::input(format!("--color {} applies to --method bisect only", a.color)));
     }
     let mut options = sphere_options(&a.sphere, None)?;
     if a.sphere.lipschitz.is_none() {
@@ -94,19 +94,19 @@ pub fn plan(a: &RenderArgs, scene: &isotrace::scene::Scene, path: &Path) -> Resu
 /// Renders the scene at `path`.
 pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
     if let Some(m) = misplaced(a) {
-        return Err(input(m));
+        return Err(CliError::input(m));
     }
     let scene = super::scene::load(path, a.allow_scene_paths)?;
     let ScenePlan { lin, settings: s, options: o, color } = plan(a, &scene, path)?;
     let outputs = super::frames::Outputs::new(&a.output, None, None, false)?;
     outputs.check(a.force, false)?;
     let super::frames::Outputs::One(out) = &outputs else { unreachable!("no --frames") };
-    let gpu = open_gpu(super::render::shader_opt(a.view.shader_opt, u64::from(s.width) * u64::from(s.height), true))?;
+    let gpu = open_gpu(args::shader_opt(a.settings.shader_opt, u64::from(s.width) * u64::from(s.height), true))?;
     let data = lin.field_data();
-    let renderer = Renderer::new(&gpu, &data, Traversal::Sphere(o.clone())).map_err(super::render_error)?;
-    let mut frame = renderer.render(&s).map_err(super::render_error)?;
+    let renderer = Renderer::new(&gpu, &data, Traversal::Sphere(o.clone())).map_err(super::error::render_error)?;
+    let mut frame = renderer.render(&s).map_err(super::error::render_error)?;
     let heat_max = output::recolor(&mut frame, color);
-    output::write_frame(out, &frame).map_err(super::output_error)?;
+    output::write_frame(out, &frame).map_err(super::error::output_error)?;
     super::notice::wrote(out, &super::notice::size(frame.width, frame.height));
     report_sphere(a, &frame, &s, &o, &gpu, "scene");
     if a.stats {

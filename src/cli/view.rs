@@ -85,7 +85,7 @@ fn view_render_error(e: isotrace::gpu::RenderError) -> ApiError {
         e @ isotrace::gpu::RenderError::ShaderTooLarge { .. } => ApiError::bad(format!(
             "error: {e}; the viewer runs the formula as generated code: simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or render it on the command line with `isotrace render … --field tape` (or auto), which runs the formula from a buffer in a fixed interpreter\n"
         )),
-        e => bad(super::render_error(e)),
+        e => bad(super::error::render_error(e)),
     }
 }
 
@@ -217,7 +217,7 @@ impl Backend {
         let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
         let buffers = isotrace::view::field_buffers(&p.lin.field_data());
         let t = Traversal::Sphere(p.options.clone());
-        let uniforms = isotrace::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::render_error(e)))?;
+        let uniforms = isotrace::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::error::render_error(e)))?;
         Ok(json!({
             "buffers": buffers,
             "features": p.lin.features,
@@ -239,7 +239,7 @@ impl Backend {
         };
         let mut guard = self.gpu.lock().unwrap_or_else(|e| e.into_inner());
         if guard.is_none() {
-            *guard = Some(super::render::open_gpu(None).map_err(bad)?);
+            *guard = Some(super::args::open_gpu(None).map_err(bad)?);
         }
         let gpu = guard.as_ref().expect("opened above");
         let mut frame = if is_scene(&args[0]) {
@@ -288,13 +288,13 @@ const NEW_PARAM_VALUE: f64 = 1.0;
 /// `--param` sets [`NEW_PARAM_VALUE`], as a `--param` of the request (so
 /// the page's CLI line gives it too); their names.
 fn default_params(loaded: &super::input::Loaded, r: &mut RenderArgs, args: &mut Vec<String>) -> Result<Vec<String>, ApiError> {
-    let given = super::render::parse_params(&r.view.params).map_err(bad)?;
+    let given = super::args::parse_params(&r.settings.params).map_err(bad)?;
     let header = loaded.header.as_ref().map(|h| h.view().params).unwrap_or_default();
     let set = |name: &str| given.iter().chain(&header).any(|(n, _)| n == name);
     let missing: Vec<String> = loaded.formula.ir.params.iter().map(|(n, _)| n.clone()).filter(|n| !set(n)).collect();
     for name in &missing {
         let p = format!("{name}={NEW_PARAM_VALUE}");
-        r.view.params.push(p.clone());
+        r.settings.params.push(p.clone());
         args.extend(["--param".to_string(), p]);
     }
     Ok(missing)
@@ -329,7 +329,7 @@ fn options_json(t: &Traversal, color: &str) -> Value {
         Traversal::Bisect(b) => {
             let m = &b.modalities;
             json!({
-                "method": "bisect", "algebra": super::domain_name(b.algebra), "color": color, "shadows": m.shadows, "layers": m.layers, "opacity": m.opacity,
+                "method": "bisect", "algebra": super::args::algebra_name(b.algebra), "color": color, "shadows": m.shadows, "layers": m.layers, "opacity": m.opacity,
                 "iso": m.isovalues, "reflect": m.reflect, "reflectivity": m.reflectivity,
             })
         }

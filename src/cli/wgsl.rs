@@ -1,7 +1,13 @@
 //! `isotrace wgsl`: the generated shaders, printed or written, and the
 //! checks of user WGSL (`--inline`) that `render` shares.
 
-use super::*;
+use super::args::{resolve_algebra, AlgebraArg};
+use super::{input, notice, CliError, FormulaArgs};
+use clap::{Args, ValueEnum};
+use isotrace::ir::Domain;
+use isotrace::{validate, Formula};
+use std::io::Write;
+use std::process::ExitCode;
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 enum KernelArg {
