@@ -11,7 +11,6 @@
 //! cargo bench --bench scene_edit
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use isotrace::field::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::{Settings, SphereOptions, Traversal};
 use isotrace::scene::generate::{generate, Blending, Kind};

@@ -6,7 +6,6 @@
 //!
 //! Writes `scene-before.png` and `scene-after.png` in the temporary folder.
 
-use isotrace::field::FieldSource;
 use isotrace::render::{SphereOptions, Traversal};
 use isotrace::scene::linear::Linear;
 use isotrace::scene::{Builder, Operator, Primitive, Shape};

@@ -272,7 +272,12 @@ impl Binding {
 
 /// The WGSL declarations of `slots` in the field group.
 pub fn declarations(slots: &[&Slot]) -> String {
-    slots.iter().map(|s| s.declaration(FIELD_GROUP)).collect()
+    declarations_in(FIELD_GROUP, slots)
+}
+
+/// The WGSL declarations of `slots` in `group`.
+pub fn declarations_in(group: u32, slots: &[&Slot]) -> String {
+    slots.iter().map(|s| s.declaration(group)).collect()
 }
 
 /// A copy after a stage: a buffer it wrote into a scratch texture of the

@@ -9,7 +9,6 @@ mod common;
 use common::gpu;
 use isotrace::field::compiled::term_loops::{self, lists};
 use isotrace::ir::Domain;
-use isotrace::field::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, Settings, Status, Traversal};
 use isotrace::Formula;

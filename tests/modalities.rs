@@ -8,7 +8,6 @@ use common::*;
 use isotrace::ir::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Modalities, Traversal};
-use isotrace::field::FieldSource;
 use isotrace::render::{Frame, Status};
 
 fn render_with(src: &str, s: &isotrace::render::Settings, m: Modalities) -> Frame {

@@ -155,7 +155,7 @@ fn new_renderers_warm_their_small_passes_up() {
     let bisect = || Traversal::Bisect(BisectOptions::new(Domain::Affine));
     let sphere = || Traversal::Sphere(SphereOptions::default());
     let s = common::settings(common::cube(1.5), 40, 30);
-    let kernels = [
+    let kernels: [(&str, &dyn FieldSource, Traversal, u64); 4] = [
         ("compiled, bisected", &f.ir, bisect(), 1),
         ("compiled, sphere traced", &f.ir, sphere(), 0),
         ("tape, bisected", &tape, bisect(), 1),

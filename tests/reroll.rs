@@ -16,7 +16,6 @@ mod common;
 use common::gpu;
 use isotrace::field::compiled::term_loops;
 use isotrace::ir::Domain;
-use isotrace::field::FieldSource;
 use isotrace::gpu::eval::{eval_boxes, Box8};
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Status, Traversal};

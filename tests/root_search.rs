@@ -6,8 +6,8 @@
 mod common;
 
 use common::*;
-use isotrace::field::FieldSource;
-use isotrace::kernel::{assemble, PAIR_MAX_NODES};
+use isotrace::field::compiled::source::PAIR_MAX_NODES;
+use isotrace::kernel::assemble;
 use isotrace::ir::Domain;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, RootSearch, Settings, Status, Traversal};

@@ -8,7 +8,6 @@ mod scene_pictures;
 
 use common::gpu;
 use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
-use isotrace::field::FieldSource;
 use isotrace::field::SceneData;
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
@@ -156,7 +155,7 @@ fn the_dense_baseline_draws_the_sparse_picture() {
     let s = common::settings(common::cube(1.3), 64, 64);
     let sparse = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
-    r.set_scene_dense(true);
+    r.set_dense(true);
     let dense = r.render(&s).unwrap();
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
     assert_eq!((sparse.stats.field.overflow_tiles, dense.stats.field.overflow_tiles), (0, 0));
@@ -245,7 +244,7 @@ fn depth_slabs_draw_the_whole_tree_picture() {
         let mut r = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap();
         let s = common::settings(common::cube(1.4), 96, 96);
         let sliced = r.render(&s).unwrap();
-        r.set_scene_dense(true);
+        r.set_dense(true);
         let dense = r.render(&s).unwrap();
         let f = &sliced.stats.field;
         // The slabs are there (background tiles keep one; measured: 1.75

@@ -8,7 +8,6 @@ mod common;
 mod scene_pictures;
 
 use glam::DVec3;
-use isotrace::field::FieldSource;
 use isotrace::gpu::Renderer;
 use isotrace::render::{SphereOptions, Traversal};
 use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
@@ -85,7 +84,7 @@ fn union_tiles_draw_the_analytic_spheres() {
 fn analytic_grid(data: &isotrace::field::SceneData, synchronized: bool) -> (isotrace::render::Frame, usize, usize) {
     let (w, h) = (320, 240);
     let s = common::settings(common::cube(1.4), w, h);
-    let frame = Renderer::new(common::gpu(), &data, walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
+    let frame = Renderer::new(common::gpu(), data, walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
     let centres: Vec<DVec3> = (0..125).map(|i| DVec3::new((i % 5) as f64, (i / 5 % 5) as f64, (i / 25) as f64) * 0.5 - DVec3::ONE).collect();
     let (hits, misses) = check_against_spheres(&frame, &s, |eye, d, foot| {
         let mut nearest: Option<(f64, DVec3, f64)> = None;

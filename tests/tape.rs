@@ -9,7 +9,6 @@ use common::gpu;
 use isotrace::field::tape::features;
 use isotrace::kernel::assemble;
 use isotrace::ir::Domain;
-use isotrace::field::FieldSource;
 use isotrace::field::TapeData;
 use isotrace::gpu::Renderer;
 use isotrace::render::{BisectOptions, Frame, Settings, SphereOptions, Status, Traversal};
@@ -466,7 +465,7 @@ fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
 
 /// Bisection of `data` in `domain` with the per-tile shortening on or off.
 fn bisect_tape(data: &TapeData, domain: Domain, s: &Settings, shorten: bool) -> Frame {
-    let mut r = Renderer::new(gpu(), &data, Traversal::Bisect(BisectOptions::new(domain))).unwrap();
+    let mut r = Renderer::new(gpu(), data, Traversal::Bisect(BisectOptions::new(domain))).unwrap();
     r.optimizations_mut().expect("bisection").tape_shortening = shorten;
     r.render(s).unwrap()
 }

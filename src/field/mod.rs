@@ -54,12 +54,12 @@ impl FieldKind {
 /// The per-pixel hooks of a field source that has no tiles (a compiled
 /// formula, a tape): the whole ray is its business (a scene narrows it to
 /// the depths its tile's primitives span, templates/fields/scene.wgsl).
-pub(crate) const UNTILED_FIELD_HOOKS: &str = "fn field_enter_pixel(px: vec2<u32>) {}\n\
+pub const UNTILED_FIELD_HOOKS: &str = "fn field_enter_pixel(px: vec2<u32>) {}\n\
     fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> { return vec2<f32>(-F.inf, F.inf); }\n";
 /// The hooks of bisection's tile pass for a field that runs the same code in
 /// every tile (a tape with min or max shortens itself per tile instead:
 /// `templates/fields/tape_tiles.wgsl`).
-pub(crate) const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\n\
+pub const UNSHORTENED_FIELD_HOOKS: &str = "fn field_leave_frustum() {}\n\
     fn field_tile_begin(t: u32, tile: vec2<u32>, block: bool) -> vec3<u32> { return vec3<u32>(0xffffffffu, 0xffffffffu, 0u); }\n\
     fn field_slab_begin(record: bool) {}\nfn field_slab_end(hold: bool) {}\n\
     fn field_tile_done(mask: vec2<u32>, n: u32, block: bool) -> u32 { return 0u; }\n\

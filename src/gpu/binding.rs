@@ -60,10 +60,10 @@ impl Binder<'_> {
             wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
         }
         let resources = self.host.frame_resources();
-        let mut frame = vec![entry(0, uniforms)];
+        let mut frame = vec![entry(crate::kernel::bindings::UNIFORMS.binding, uniforms)];
         frame.extend(resources.iter().map(|(e, b)| entry(e.binding, b)));
         let pixels = &outputs[0].as_ref().expect("pixel records").0;
-        let mut out = vec![entry(0, pixels)];
+        let mut out = vec![entry(crate::kernel::bindings::PIXEL_RECORDS.binding, pixels)];
         out.extend(pass.entries.iter().map(|(i, b)| entry(*i, b)));
         if let (Some(i), Some(Some(o))) = (rays, outputs.get(1)) {
             out.push(entry(i, &o.0));

@@ -4,7 +4,8 @@
 
 use super::dispatch::Rect;
 use super::renderer::{PassBuffers, TraversalHost};
-use super::{storage_entry, Gpu, GpuError};
+use super::{slot_entry, Gpu, GpuError};
+use crate::kernel::bindings::{ENVIRONMENT, RESUME_STATES, TILE_IDS, TILE_LIST, TILE_MASKS};
 use crate::layout::{BisectBlock, FLAG_NO_TAPE_SHORTENING, FLAG_NO_TILE_CULLING};
 use crate::render::record::RayStats;
 use crate::render::settings::MAX_ITER_LIMIT;
@@ -76,11 +77,11 @@ impl TraversalHost for Host {
     }
 
     fn frame_resources(&self) -> Vec<(wgpu::BindGroupLayoutEntry, &wgpu::Buffer)> {
-        vec![(storage_entry(1, true), &self.env)]
+        vec![(slot_entry(&ENVIRONMENT), &self.env)]
     }
 
     fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry> {
-        vec![storage_entry(1, false), storage_entry(2, false), storage_entry(3, false), storage_entry(4, false)]
+        [TILE_MASKS, TILE_LIST, TILE_IDS, RESUME_STATES].iter().map(slot_entry).collect()
     }
 
     /// Per 8×8 tile: its candidate-slab mask (vec4<u32>), and the list of
@@ -96,7 +97,7 @@ impl TraversalHost for Host {
         let masks = buffer("tile masks", rect.tiles() * 16, B::STORAGE);
         let (list, ids) = super::tile_list_buffers(gpu, rect);
         let resume = buffer("resume states", if resumable { rect.pixels() * 16 } else { 16 }, B::STORAGE);
-        PassBuffers { entries: vec![(1, masks), (2, list.clone()), (3, ids), (4, resume)], list: Some(list) }
+        PassBuffers { entries: vec![(TILE_MASKS.binding, masks), (TILE_LIST.binding, list.clone()), (TILE_IDS.binding, ids), (RESUME_STATES.binding, resume)], list: Some(list) }
     }
 
     fn tiles_per_group(&self) -> u32 {

@@ -59,7 +59,7 @@ pub fn eval_boxes_with(
     let pipeline = gpu.pipeline("isotrace eval", &src, Author::of(inline.is_some()))?;
     // Rerolled terms read their constants from the field group's table.
     let table = match crate::field::compiled::term_loops::table_texels(ir) {
-        Some(t) => Some(table_group(gpu, &pipeline, &t)?),
+        Some(t) => Some(table_group(gpu, &pipeline, &t, crate::field::compiled::source::TERM_TABLE.binding)?),
         None => None,
     };
     let mut out = Vec::with_capacity(boxes.len());
@@ -72,14 +72,14 @@ pub fn eval_boxes_with(
 }
 
 /// A one-texture field group: a tape's code or a formula's table of
-/// rerolled constants, at binding 0 (the texture is kept with the group).
-fn table_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, texels: &crate::field::Texels<[u32; 4]>) -> Result<(wgpu::BindGroup, wgpu::Texture), EvalError> {
+/// rerolled constants, at `binding` of the field group (the texture is kept with the group).
+fn table_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, texels: &crate::field::Texels<[u32; 4]>, binding: u32) -> Result<(wgpu::BindGroup, wgpu::Texture), EvalError> {
     let (texture, view) = gpu.texture("field table", texels, wgpu::TextureFormat::Rgba32Uint)?;
     let group = gpu.scoped("field table bind group", || {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("field table"),
             layout: &pipeline.get_bind_group_layout(1),
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+            entries: &[wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(&view) }],
         })
     })?;
     Ok((group, texture))
@@ -95,7 +95,7 @@ pub fn eval_boxes_tape(gpu: &Gpu, tape: &crate::field::TapeData, domain: Domain,
     let src = crate::field::tape::wgsl::eval_shader(domain, tape.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (tape)", &src, Author::Isotrace)?;
-    let (group, _texture) = table_group(gpu, &pipeline, &tape.texels())?;
+    let (group, _texture) = table_group(gpu, &pipeline, &tape.texels(), crate::field::tape::source::TAPE_CODE.binding)?;
     let mut out = Vec::with_capacity(boxes.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
     for part in boxes.chunks(chunk) {
@@ -120,8 +120,8 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[
             label: Some("scene"),
             layout: &pipeline.get_bind_group_layout(1),
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&node_view) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&param_view) },
+                wgpu::BindGroupEntry { binding: crate::field::scene::source::NODES.binding, resource: wgpu::BindingResource::TextureView(&node_view) },
+                wgpu::BindGroupEntry { binding: crate::field::scene::source::PARAMS.binding, resource: wgpu::BindingResource::TextureView(&param_view) },
             ],
         })
     })?;
@@ -174,7 +174,7 @@ pub fn eval_ray_cells(gpu: &Gpu, ir: &Ir, cells: &[RayCell]) -> Result<Vec<CellE
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (ray cells)", &src, Author::Isotrace)?;
     let table = match crate::field::compiled::term_loops::table_texels(ir) {
-        Some(t) => Some(table_group(gpu, &pipeline, &t)?),
+        Some(t) => Some(table_group(gpu, &pipeline, &t, crate::field::compiled::source::TERM_TABLE.binding)?),
         None => None,
     };
     let boxes: Vec<Box8> = cells

@@ -430,6 +430,11 @@ pub(crate) fn tile_list_buffers(gpu: &Gpu, rect: dispatch::Rect) -> (wgpu::Buffe
     (buffer("tile list", 16, B::STORAGE | B::COPY_SRC | B::COPY_DST), buffer("tile ids", rect.tiles() * 4, B::STORAGE))
 }
 
+/// The layout entry of a table's storage buffer.
+pub(crate) fn slot_entry(slot: &crate::bindings::Slot) -> wgpu::BindGroupLayoutEntry {
+    storage_entry(slot.binding, slot.read_only)
+}
+
 /// A compute bind group layout entry for a storage buffer.
 pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {

@@ -9,7 +9,7 @@
 use super::binding::Binder;
 use super::dispatch::{self, Dispatch, Groups, Rect, Stage};
 use super::uniforms::uniforms;
-use super::{field, storage_entry, Author, Gpu, GpuError};
+use super::{field, slot_entry, Author, Gpu, GpuError};
 use crate::field::{BindingRequest, FieldSource};
 use crate::kernel;
 use crate::render::record::{convert, count, count_all, map_all, PackedFrame, Planes, RayStats, Record, Records};
@@ -153,9 +153,9 @@ impl<'g> Renderer<'g> {
         let request = BindingRequest { bisect: host.method() == crate::render::Method::Bisect, kernel_features: field.features(), inline: kernel.inline.is_some() };
         let bound = field::bind(gpu, field, &request)?;
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries });
-        let mut frame_entries = vec![storage_entry(0, true)];
+        let mut frame_entries = vec![slot_entry(&crate::kernel::bindings::UNIFORMS)];
         frame_entries.extend(host.frame_resources().into_iter().map(|(e, _)| e));
-        let mut pass_entries = vec![storage_entry(0, false)];
+        let mut pass_entries = vec![slot_entry(&crate::kernel::bindings::PIXEL_RECORDS)];
         pass_entries.extend(host.pass_layout());
         let layouts = gpu.scoped("bind group layouts", || [layout("frame", &frame_entries), layout("field", &bound.layout), layout("pass", &pass_entries)])?;
         let pipeline_layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -486,7 +486,7 @@ impl<'g> Renderer<'g> {
             .collect();
         // Bisecting a tape or a compiled sum's loops, pixels past the
         // field's work limit are resumed by further rounds of the per-pixel
-        // pass (kernel::cells_resume): each is a dispatch of its
+        // pass (FieldSource::cells_resume): each is a dispatch of its
         // own, with lavapipe's loop count afresh.
         let rounds = if self.field.resumes() && self.host.method() == crate::render::Method::Bisect { 1 + self.resume_rounds } else { 1 };
         match (&self.pre, &pass.list) {

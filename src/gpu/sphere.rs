@@ -8,7 +8,8 @@
 
 use super::dispatch::Rect;
 use super::renderer::{PassBuffers, TraversalHost};
-use super::{storage_entry, Gpu};
+use super::{slot_entry, Gpu};
+use crate::kernel::bindings::{RAY_STATS, TILE_IDS, TILE_LIST};
 use crate::layout::{BoundKind, KernelColor, SphereBlock, FLAG_DYNAMIC_EPS, FLAG_GLASS, FLAG_SCREEN, FLAG_SHADOWS};
 use crate::render::record::RayStats;
 use crate::render::{Bound, CameraFrame, Optimizations, Settings, Shading, SphereOptions, Stats, Traversal};
@@ -16,7 +17,7 @@ use crate::render::{Bound, CameraFrame, Optimizations, Settings, Shading, Sphere
 /// Sphere tracing on the host.
 pub(crate) struct Host {
     options: SphereOptions,
-    /// Whether the kernel has a tile pass (`kernel::sphere_tile_pass`,
+    /// Whether the kernel has a tile pass (`FieldSource::lists_tiles`,
     /// a scene): `main` then runs by indirect dispatch over the tiles it
     /// queues.
     tiles: bool,
@@ -86,9 +87,9 @@ impl TraversalHost for Host {
     /// The per-ray statistics words; with the tile pass, its tile list
     /// (with the indirect dispatch counts of `main`) and tile ids.
     fn pass_layout(&self) -> Vec<wgpu::BindGroupLayoutEntry> {
-        let mut v = vec![storage_entry(1, false)];
+        let mut v = vec![slot_entry(&RAY_STATS)];
         if self.tiles {
-            v.extend([storage_entry(2, false), storage_entry(3, false)]);
+            v.extend([slot_entry(&TILE_LIST), slot_entry(&TILE_IDS)]);
         }
         v
     }
@@ -98,7 +99,7 @@ impl TraversalHost for Host {
             return PassBuffers { entries: vec![], list: None };
         }
         let (list, ids) = super::tile_list_buffers(gpu, rect);
-        PassBuffers { entries: vec![(2, list.clone()), (3, ids)], list: Some(list) }
+        PassBuffers { entries: vec![(TILE_LIST.binding, list.clone()), (TILE_IDS.binding, ids)], list: Some(list) }
     }
 
     /// One 8×8 tile per workgroup (the kernel's `@workgroup_size(8, 8)`).
@@ -111,7 +112,7 @@ impl TraversalHost for Host {
     }
 
     fn ray_stats_binding(&self) -> Option<u32> {
-        Some(1)
+        Some(RAY_STATS.binding)
     }
 
     fn finish(&self, _s: &Settings, rays: &RayStats, stats: &mut Stats) {

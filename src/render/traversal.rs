@@ -63,7 +63,7 @@ impl BisectOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RootSearch {
     /// Two points for a compiled formula of up to
-    /// `kernel::PAIR_MAX_NODES` nodes, else one (a bigger f keeps
+    /// `field::compiled::source::PAIR_MAX_NODES` nodes, else one (a bigger f keeps
     /// the core busy on its own, and its second point costs what it saves).
     #[default]
     Auto,

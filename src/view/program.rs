@@ -9,7 +9,7 @@
 //! `TraversalHost::pass_buffers`, `gpu::field`); the browser tests compare
 //! the page's pixels with `isotrace render`, so a drift shows there.
 
-use crate::bindings::Slot;
+use crate::kernel::bindings::{ENVIRONMENT, PIXEL_RECORDS, RAY_STATS, RESUME_STATES, TILE_IDS, TILE_LIST, TILE_MASKS, UNIFORMS};
 use crate::field::{BindingRequest, FieldSource};
 use crate::kernel;
 use crate::gpu::renderer::{uniform_bytes, RenderError, MAX_SHADER_BYTES};
@@ -67,17 +67,6 @@ pub struct Program {
     /// Lipschitz warning.
     pub ray_stats: Option<u32>,
 }
-
-/// The frame group's uniforms and environment and the pass group's
-/// buffers (`gpu::bisect`, `gpu::sphere` bind the same).
-const UNIFORMS: Slot = Slot::storage(0, "uniforms", "U", "", true);
-const ENVIRONMENT: Slot = Slot::storage(1, "environment", "env_texels", "", true);
-const PIXEL_RECORDS: Slot = Slot::storage(0, "pixel records", "records", "", false);
-const TILE_MASKS: Slot = Slot::storage(1, "tile masks", "tile_masks", "", false);
-const TILE_LIST: Slot = Slot::storage(2, "tile list", "tile_list", "", false);
-const TILE_IDS: Slot = Slot::storage(3, "tile ids", "tile_ids", "", false);
-const RESUME_STATES: Slot = Slot::storage(4, "resume states", "resume", "", false);
-const RAY_STATS: Slot = Slot::storage(1, "ray statistics", "ray_stats", "", false);
 
 
 /// Assembles, checks the size limit of the CLI, validates with naga and
@@ -142,6 +131,10 @@ pub fn program(field: &dyn FieldSource, traversal: &Traversal, s: &Settings) -> 
     for st in &mut stages {
         st.uses = uses.iter().find(|(e, _)| e == st.entry).map(|(_, u)| u.clone()).unwrap_or_default();
     }
+    // The page makes only what the kernel reads: a field's table may hold
+    // bindings another traversal's kernel uses.
+    let used = |b: &Binding| uses.iter().any(|(_, u)| u.contains(&[crate::bindings::FIELD_GROUP, b.binding]));
+    let field_group = field_group.into_iter().filter(used).collect();
     let ray_stats = matches!(traversal, Traversal::Sphere(_)).then_some(RAY_STATS.binding);
     Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms, groups: [frame, field_group, pass], stages, follow, ray_stats })
 }

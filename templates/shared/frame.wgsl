@@ -6,7 +6,7 @@
 // cost every frame a fixed delay on lavapipe, which re-inlined their values
 // into the shader on every dispatch however small; read from the storage
 // buffer where used, they made the tile pass markedly slower than this copy.
-@group(0) @binding(0) var<storage, read> Ubuf: Uniforms;
+// Ubuf: the frame group's uniforms (src/kernel/bindings.rs).
 var<private> F: Frame;
 var<private> U: Traversal;
 

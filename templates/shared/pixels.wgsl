@@ -19,7 +19,7 @@
 // bytes. Each plane is
 // stored a vec2<u32> at a time: lavapipe writes a vector per lane at once,
 // where a struct of four fields took four bounds-checked stores.
-@group(2) @binding(0) var<storage, read_write> pixels: array<vec2<u32>>;
+// pixels: the pass group's records (src/kernel/bindings.rs).
 
 // The pixels of this dispatch: the tail plane starts there.
 fn pixel_count() -> u32 { return F.tile_size.x * F.tile_size.y; }

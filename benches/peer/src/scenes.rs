@@ -19,7 +19,6 @@ use crate::report::{Row, Table};
 use crate::view::{self, View, ViewKind};
 use crate::Args;
 use fidget::context::{BadNode, Context, Node};
-use isotrace::field::FieldSource;
 use isotrace::gpu::{Gpu, Renderer};
 use isotrace::render::{SphereOptions, Traversal};
 use isotrace::scene::generate::{generate, Blending, Kind};

@@ -174,7 +174,7 @@ fn safe_fn(ir: &Ir, radius: f64) -> String {
 /// in the bisection kernel) on every side: a hit's gradient stencil then
 /// lies inside the boxes its tile's term lists were made over
 /// (`templates/fields/loop_tiles.wgsl`).
-pub(crate) fn enclosures(domain: Domain, pad: bool) -> String {
+pub fn enclosures(domain: Domain, pad: bool) -> String {
     let p = domain.prefix();
     let (forms, lift) = segment_forms(domain);
     let s_form = match domain {

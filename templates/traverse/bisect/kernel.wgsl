@@ -12,31 +12,26 @@
 // and the scalar field(p); the traversal never sees the number
 // domain or where the field comes from.
 
-// Per-pixel bindings of the pass group after the pixel records: the tile
-// pass's result, the candidate slabs of each 8x8 tile (xy: slab bits, z:
+// Pass group bindings after the pixel records (src/kernel/bindings.rs):
+// tile_masks, the tile pass's result, the candidate slabs of each 8x8 tile (xy: slab bits, z:
 // enclosures the tile pass spent on the tile, w: the field's program for
 // the tile, see field_enter_tile).
-@group(2) @binding(1) var<storage, read_write> tile_masks: array<vec4<u32>>;
-// The tiles that have candidate slabs (`count` of them, ids in tile_ids),
+// tile_list, tile_ids: the tiles that have candidate slabs (`count` of them, ids in tile_ids),
 // and the indirect dispatch of `main` over them: (x, 1, 1) with
 // x = ceil(count / TILES_PER_GROUP).
 struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
-@group(2) @binding(2) var<storage, read_write> tile_list: TileList;
-@group(2) @binding(3) var<storage, read_write> tile_ids: array<u32>;
-// Per pixel, across the rounds of `main` in one submission (an interpreted
+// resume: per pixel, across the rounds of `main` in one submission (an interpreted
 // field that reaches its work limit is resumed by the next round, whose
 // dispatch starts lavapipe's loop count afresh): x the state (0: not traced,
 // 1: suspended, 2: done), y the start of the segment being bisected (f32
 // bits), z the evaluations so far, w the cell of that segment being worked
 // on (d | k << 5). Zeroed with each dispatch.
-@group(2) @binding(4) var<storage, read_write> resume: array<vec4<u32>>;
 const RESUME_NEW: u32 = 0u;
 const RESUME_SUSPENDED: u32 = 1u;
 const RESUME_DONE: u32 = 2u;
-// Environment image for reflections and the background (equirectangular,
+// env_image (frame group): environment image for reflections and the background (equirectangular,
 // rgba8 packed; one dummy texel when the environment is procedural): a
 // frame resource.
-@group(0) @binding(1) var<storage, read> env_image: array<u32>;
 
 // Extra bisection levels below d_max for cells whose enclosure is not
 // finite (division by an interval containing 0): such a cell is a hit only

@@ -25,11 +25,10 @@
 // pass (tiles.wgsl), for a field that knows which tiles are empty (a scene).
 
 // Per-pixel sphere tracing statistics in the pass group after the pixel
-// records: bits 0-15 over-relaxation fallbacks (saturated); bit 31 the
+// ray_stats (pass group) records: bits 0-15 over-relaxation fallbacks (saturated); bit 31 the
 // primary ray saw f / L change faster than LIPSCHITZ_SLACK per unit of
 // distance (not a distance bound); bits 16-30 the largest such rate as a
 // half float without its sign (the estimate of the Lipschitz bound needed).
-@group(2) @binding(1) var<storage, read_write> ray_stats: array<u32>;
 
 // Bisection steps when a step lands on the far side of the surface (only a
 // formula that is not a distance bound, or --min-step, can do that).

@@ -8,11 +8,9 @@
 // `main` invocation that only finds its ray's range empty still paid for a
 // masked pass of the whole trace (most of a sparse scene's frame).
 
-// The tiles `main` runs on (`count` of them, ids in tile_ids), and its
+// tile_list, tile_ids (pass group): the tiles `main` runs on (`count` of them, ids in tile_ids), and its
 // indirect dispatch: (x, 1, 1) with x = count (one tile a workgroup).
 struct TileList { x: atomic<u32>, y: u32, z: u32, count: atomic<u32> }
-@group(2) @binding(2) var<storage, read_write> tile_list: TileList;
-@group(2) @binding(3) var<storage, read_write> tile_ids: array<u32>;
 
 fn tiles_x() -> u32 { return (F.tile_size.x + 7u) / 8u; }
 

@@ -9,6 +9,8 @@
 //! generated (a compiled formula) or as an interpreter over buffers bound in
 //! the field group (`@group(1)`), without touching traversal code.
 
+pub mod bindings;
+
 use crate::codegen::template;
 use crate::field::{CodeRequest, FieldSource};
 use crate::ir::Domain;
@@ -69,14 +71,14 @@ pub fn assemble(field: &dyn FieldSource, traversal: &Traversal) -> Kernel {
 /// are loops counts the loops' work per SIMD bundle, what lavapipe's loop
 /// cap counts, as a tape's interpreter does (`tape::features::BUNDLE_WORK`).
 pub fn assemble_for(field: &dyn FieldSource, traversal: &Traversal, subgroups: bool) -> Kernel {
-    let shared = [template::FRAME, template::CAMERA, template::PIXELS, template::SHADING].join("\n");
+    let shared = [&bindings::shared(), template::FRAME, template::CAMERA, template::PIXELS, template::SHADING].join("\n");
     let (uniforms, field_code, traversal_code, entries, inline) = match traversal {
         Traversal::Bisect(b) => {
             let user = b.modalities.inline.as_ref();
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
                 field.code(&CodeRequest { domain: Some(b.algebra), inline: user, sync: false, bundle: subgroups }),
-                bisect(b, field.surfaces(), field.cells_resume(), paired_root_search(field, b.root_search)),
+                format!("{}{}", bindings::bisect(), bisect(b, field.surfaces(), field.cells_resume(), paired_root_search(field, b.root_search))),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
@@ -87,7 +89,7 @@ pub fn assemble_for(field: &dyn FieldSource, traversal: &Traversal, subgroups: b
             (
                 format!("{}\nalias Traversal = Sphere;\n{}", layout::wgsl_uniforms::<SphereBlock>(), layout::wgsl_constants()),
                 field.code(&CodeRequest { sync, ..Default::default() }),
-                sphere(s.features(), tiles, sync),
+                format!("{}{}", bindings::sphere(tiles), sphere(s.features(), tiles, sync)),
                 if tiles { &["main", "tiles"][..] } else { &["main"][..] },
                 None,
             )
