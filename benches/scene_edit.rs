@@ -3,7 +3,7 @@
 //! Zanni et al.'s Fig. 16 (level 3, sharp unions: the smooth variant's
 //! frames are dominated by overflow tiles, see the README). "in place" is what an editor
 //! does per change: `Linear::set_primitive` (rows, ABV, ball) and
-//! `Renderer::patch_scene` (two buffer writes); "rebuild" linearises the
+//! `Renderer::edit_field` (two buffer writes); "rebuild" linearises the
 //! edited scene and uploads new buffers (`Linear::new`, `field_data`,
 //! `set_field`). Neither creates a shader or a pipeline; the next frame is
 //! measured apart ("frame after edit", 256², warm).
@@ -31,13 +31,13 @@ fn edit(c: &mut Criterion) {
     let mut g = c.benchmark_group("scene edit, 11110 primitives");
     g.sample_size(20);
     let mut step = 0u32;
-    g.bench_function("in place (set_primitive + patch_scene)", |b| {
+    g.bench_function("in place (set_primitive + edit_field)", |b| {
         b.iter(|| {
             step += 1;
             let mut q = p.clone();
             q.transform.translate[0] += 1e-3 * (step % 7) as f64;
             let patch = lin.set_primitive(j, black_box(&q)).expect("same type");
-            r.patch_scene(&patch).expect("fits");
+            r.edit_field(&patch).expect("fits");
             gpu.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: None }).expect("poll");
         })
     });

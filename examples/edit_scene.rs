@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Lift the middle ball: the edit is a patch of the bound buffers.
     let mut lifted = Primitive::new(Shape::Sphere { radius: 0.45 });
     lifted.transform.translate = [0.0, 0.4, 0.0];
-    renderer.patch_scene(&linear.set_primitive(1, &lifted)?)?;
+    renderer.edit_field(&linear.set_primitive(1, &lifted)?)?;
     let after = renderer.render(&settings)?;
     Image::from_frame(&after).save_png(out.join("scene-after.png"))?;
 

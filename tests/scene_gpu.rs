@@ -101,7 +101,7 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
     assert_eq!((&lin.params, &lin.abv, &lin.nodes), (&rebuilt.params, &rebuilt.abv, &rebuilt.nodes));
     assert_eq!(lin.field_data(), rebuilt.field_data());
 
-    r.patch_scene(&patch).unwrap();
+    r.edit_field(&patch).unwrap();
     let after = r.render(&s).unwrap();
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created, "an edit creates no pipeline");
     let fresh = Renderer::new(gpu(), &rebuilt.field_data(), Traversal::Sphere(o)).unwrap().render(&s).unwrap();
@@ -137,7 +137,7 @@ fn an_edit_in_place_moves_the_limits_it_bounds() {
     assert!(patch.balls.iter().any(|&(i, _)| i % 2 == 1), "a limit moves: {:?}", patch.balls);
     let rebuilt = Linear::new(&with_primitive(&scene, &Linear::new(&scene).unwrap(), j, q)).unwrap();
     assert_eq!(lin.field_data(), rebuilt.field_data());
-    r.patch_scene(&patch).unwrap();
+    r.edit_field(&patch).unwrap();
     let fresh = Renderer::new(gpu(), &rebuilt.field_data(), Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
     assert_eq!(r.render(&s).unwrap().pixels, fresh.pixels);
 }

@@ -141,6 +141,12 @@ pub trait FieldSource: Sync {
     /// Whether the field gives interval enclosures (bisection needs them).
     fn has_enclosures(&self) -> bool;
 
+    /// Whether the field's code takes the user's `--inline` WGSL (its
+    /// functions called from the formula, its hooks).
+    fn takes_inline(&self) -> bool {
+        false
+    }
+
     /// The interpreter features compiled into its kernel (node types,
     /// operation groups; 0 for code generated whole).
     fn features(&self) -> u32 {
@@ -202,6 +208,18 @@ pub trait FieldSource: Sync {
     /// the interpreter").
     fn describe(&self) -> String {
         format!("the {} field", self.name())
+    }
+}
+
+/// An edit in place of a bound field: what it writes into its resources.
+pub trait FieldEdit {
+    /// The writes, by the field's bindings.
+    fn writes(&self) -> Vec<FieldWrite>;
+}
+
+impl FieldEdit for [FieldWrite] {
+    fn writes(&self) -> Vec<FieldWrite> {
+        self.to_vec()
     }
 }
 

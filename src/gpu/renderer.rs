@@ -126,7 +126,7 @@ impl<'g> Renderer<'g> {
             return Err(SettingsError::new(crate::render::SettingsField::Features, "bisect", "this field has no interval enclosures: render it with sphere tracing").into());
         }
         if let Traversal::Bisect(b) = &traversal {
-            if b.modalities.inline.is_some() && field.name() != "compiled" {
+            if b.modalities.inline.is_some() && !field.takes_inline() {
                 return Err(SettingsError::new(crate::render::SettingsField::Features, "inline", "user WGSL hooks need the compiled field").into());
             }
         }
@@ -217,17 +217,11 @@ impl<'g> Renderer<'g> {
         self.field.dense = dense;
     }
 
-    /// Uploads an edit in place of the field this renderer draws (for a
-    /// scene, `field::scene::source::patch_writes` of
-    /// `Linear::set_primitive`'s patch): small buffer writes, no new buffer,
-    /// bind group, shader or pipeline.
-    pub fn write_field(&self, writes: &[crate::field::FieldWrite]) -> Result<(), RenderError> {
-        self.field.write(self.gpu, writes).map_err(|m| SettingsError::new(crate::render::SettingsField::Features, "field edit", m).into())
-    }
-
-    /// [`Renderer::write_field`] of a scene's edit in place.
-    pub fn patch_scene(&self, patch: &crate::scene::linear::ScenePatch) -> Result<(), RenderError> {
-        self.write_field(&crate::field::scene::source::patch_writes(patch))
+    /// Uploads an edit in place of the field this renderer draws (a
+    /// scene's `Linear::set_primitive` gives one): small buffer writes, no
+    /// new buffer, bind group, shader or pipeline.
+    pub fn edit_field(&self, edit: &(impl crate::field::FieldEdit + ?Sized)) -> Result<(), RenderError> {
+        self.field.write(self.gpu, &edit.writes()).map_err(|m| SettingsError::new(crate::render::SettingsField::Features, "field edit", m).into())
     }
 
     /// Bisection of `formula` compiled into the shader, in the number

@@ -1,6 +1,6 @@
 //! Edits of a laid-out scene in place, and the buffers the scene field
 //! source binds: what changes between frames without a new layout, shader
-//! or pipeline (`gpu::Renderer::patch_scene` uploads a [`ScenePatch`]).
+//! or pipeline (`gpu::Renderer::edit_field` uploads a [`ScenePatch`]).
 
 use super::linear::{Linear, ABV_STRIDE, FORM_WARP_SHIFT, NODE_COMB_BIT, NODE_TYPE_SHIFT, NODE_UNION_PATH_BIT, WARP_ROWS};
 use super::roi;
@@ -88,7 +88,7 @@ impl Linear {
 }
 
 /// What an edit in place changes in the scene field's buffers
-/// ([`Linear::set_primitive`]; uploaded by `gpu::Renderer::patch_scene`).
+/// ([`Linear::set_primitive`]; uploaded by `gpu::Renderer::edit_field`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScenePatch {
     /// First changed row of the parameter buffer.

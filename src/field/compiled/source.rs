@@ -61,6 +61,10 @@ impl FieldSource for Ir {
         true
     }
 
+    fn takes_inline(&self) -> bool {
+        true
+    }
+
     /// A formula with rerolled loops and no per-tile term lists (sums),
     /// whose loops count against the interpreters' work limit. Each call
     /// site of f is a copy of its loops for lavapipe to compile, so one

@@ -4,7 +4,7 @@
 
 use super::{SceneData, SCENE_PASSES, SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
 use crate::bindings::{Binding, Copy, Groups, Size, Slot, Stage, Statistics, TexelFormat, FIELD_GROUP};
-use crate::field::{BindingRequest, CodeRequest, FieldSource, FieldWrite, Refusal};
+use crate::field::{BindingRequest, CodeRequest, FieldEdit, FieldSource, FieldWrite, Refusal};
 use crate::scene::linear::ScenePatch;
 
 /// Node words (`templates/fields/scene.wgsl` says their layout).
@@ -108,10 +108,12 @@ impl FieldSource for SceneData {
     }
 }
 
-/// The writes of an edit in place (`Linear::set_primitive`): the changed
-/// parameter rows and bounding balls, nothing else.
-pub fn patch_writes(patch: &ScenePatch) -> Vec<FieldWrite> {
-    let mut writes = vec![FieldWrite::Texels { binding: PARAMS.binding, first: patch.param_row as u64, texels: patch.params.clone() }];
-    writes.extend(patch.balls.iter().map(|(i, b)| FieldWrite::Bytes { binding: BALLS.binding, offset: *i as u64 * 16, bytes: bytemuck::cast_slice(&[*b]).to_vec() }));
-    writes
+/// An edit in place (`Linear::set_primitive`) writes the changed parameter
+/// rows and bounding balls, nothing else.
+impl FieldEdit for ScenePatch {
+    fn writes(&self) -> Vec<FieldWrite> {
+        let mut writes = vec![FieldWrite::Texels { binding: PARAMS.binding, first: self.param_row as u64, texels: self.params.clone() }];
+        writes.extend(self.balls.iter().map(|(i, b)| FieldWrite::Bytes { binding: BALLS.binding, offset: *i as u64 * 16, bytes: bytemuck::cast_slice(&[*b]).to_vec() }));
+        writes
+    }
 }
