@@ -52,7 +52,7 @@ pub(crate) fn scene_interpreter(features: u32, sync: bool) -> String {
          const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}\n{}\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
-        template::SCENE,
+        template::splice(template::SCENE, &[("primitive_cases", &crate::scene::linear::wgsl_primitive_cases())]).expect("the scene template has its marker"),
         template::SCENE_SHAPES,
         template::optional(template::SCENE_SYNC, sync),
     )
