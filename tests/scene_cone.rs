@@ -1,6 +1,6 @@
 //! The capped cone, a primitive added through its descriptor alone
-//! (src/sdf/primitive/cone.rs): its f64 reference against the compiled
-//! formula on the CPU and on the device, the scene interpreter against the
+//! (src/sdf/primitive/cone.rs): its f64 reference against a brute-force
+//! distance and against the compiled formula on the CPU and on the device, the scene interpreter against the
 //! reference, its Lipschitz bound and bounding volume, the scene file's
 //! fields and errors, the formula's argument checks, formula ⇄ scene
 //! lowering, and the scene path's picture against the compiled one.
@@ -23,6 +23,37 @@ fn random_cone(rng: &mut Rng, centre: [f64; 3], scale: f64) -> Primitive {
     let top = [0.0, rng.range(0.0, 0.5), rng.range(0.5, 1.2)][rng.below(3) as usize];
     let shape = cone(scale * rng.range(0.2, 0.6), scale * rng.range(0.2, 0.7), scale * top * 0.5);
     Primitive::new(shape).rotated(rng.direction().to_array(), rng.range(-3.0, 3.0)).scaled(rng.range(0.6, 1.4)).translated(centre)
+}
+
+/// The cone's field against a brute-force distance to its surface in the
+/// (ρ, z) half-plane, sampled densely, with the sign of the trapezoid.
+#[test]
+fn the_cone_is_the_distance_to_its_surface() {
+    use isotrace::sdf::primitive::CONE;
+    // The top radius defaults to 0.
+    assert_eq!(&*CONE.with_defaults(&[1.0, 2.0]), &[1.0, 2.0, 0.0]);
+    assert_eq!(&*CONE.with_defaults(&[1.0, 2.0, 0.5]), &[1.0, 2.0, 0.5]);
+    let brute = |r: f64, h: f64, rt: f64, rho: f64, z: f64| {
+        let pieces = [((0.0, -h), (r, -h)), ((r, -h), (rt, h)), ((rt, h), (0.0, h))];
+        let mut d = f64::INFINITY;
+        for ((ax, az), (bx, bz)) in pieces {
+            for k in 0..=4000 {
+                let t = k as f64 / 4000.0;
+                d = d.min((rho - (ax + (bx - ax) * t)).hypot(z - (az + (bz - az) * t)));
+            }
+        }
+        let inside = z.abs() <= h && rho <= r + (rt - r) * (z + h) / (2.0 * h);
+        if inside { -d } else { d }
+    };
+    let mut rng = Rng::new(10);
+    for (r, h, rt) in [(1.0, 0.5, 0.0), (0.6, 1.0, 0.3), (0.3, 0.4, 0.9), (0.5, 0.5, 0.5)] {
+        for _ in 0..300 {
+            let q = DVec3::new(rng.range(-1.5, 1.5), rng.range(-1.5, 1.5), rng.range(-1.5, 1.5));
+            let got = (CONE.distance)(&[r, h, rt], q);
+            let want = brute(r, h, rt, q.x.hypot(q.y), q.z);
+            assert!((got - want).abs() < 2e-3, "cone({r}, {h}, {rt}) at {q}: {got} vs {want}");
+        }
+    }
 }
 
 fn formula_value(f: &Formula, p: [f64; 3]) -> f64 {

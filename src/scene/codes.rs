@@ -33,7 +33,8 @@ pub const NODE_TYPE_MASK: u32 = 0xff;
 pub const NODE_PARENT_MASK: u32 = (1 << 22) - 1;
 
 // The type codes of the primitive types given by numbers are their
-// descriptors' (the cone's, and any later type's, only there).
+// descriptors'; the types named here are those the layout had before
+// descriptors (later ones are named only by their descriptor).
 
 /// Type code of a sphere.
 pub const SPHERE: u32 = crate::sdf::primitive::SPHERE.code;
@@ -339,7 +340,13 @@ mod tests {
             assert!(features.iter().all(|f| f & c.feature == 0), "{t:?}");
         }
         let w = wgsl_constants();
-        assert!(w.contains("const FORM_CONE: u32 = 8u;\n") && w.contains("const FEATURE_CONE: u32 = 1024u;\n"), "{w}");
-        assert_eq!(w.matches("const FORM_DENSITY:").count(), 1);
+        naga::front::wgsl::parse_str(&w).expect("declared once each");
+        let cases = wgsl_primitive_cases();
+        for t in types::TYPES {
+            let Some(c) = t.wgsl else { continue };
+            let name = t.scene_name.to_uppercase();
+            assert!(w.contains(&format!("const FORM_{name}: u32 = {}u;\n", c.form)) && w.contains(&format!("const FEATURE_{name}: u32 = {}u;\n", c.feature)), "{t:?}");
+            assert!(cases.contains(&format!("    if ((SCENE_FEATURES & FEATURE_{name}) != 0u) {{\n{}    }}\n", c.code)), "{t:?}");
+        }
     }
 }

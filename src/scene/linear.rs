@@ -29,8 +29,8 @@
 //! - [`FORM_PLANE`]: n·q with n = (hx, hy, hz) of unit length (the offset
 //!   moves c).
 //! - [`FORM_DENSITY`]: row 2 is (R, h, T, c) (`sdf::blend`'s density).
-//! - Other types with a case of their own (the cone): row 2 as their
-//!   descriptor's `rows` writes it ([`crate::sdf::primitive`]).
+//! - Other types with a case of their own: row 2 as their descriptor's
+//!   `rows` writes it ([`crate::sdf::primitive`]).
 //! - Profiles and voxel grids have rows of their own after these
 //!   (`rows::profile_rows`, `rows::grid_rows`).
 //!
