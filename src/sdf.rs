@@ -33,7 +33,8 @@
 //! wrap any shape and keep it too; `displace` adds a fixed noise whose
 //! gradient raises it by 1.92·a·f (module `modifier`). A blobtree scene
 //! implements the same definitions, so each is stated once, in the
-//! [`FORMS`] table and the doc comment of its expansion.
+//! [`FORMS`] table and the doc comment of its expansion; a primitive in
+//! its descriptor ([`primitive::TYPES`], a file each), which scenes read too.
 
 use crate::ir::{Func1, NodeId, Op};
 
@@ -41,7 +42,7 @@ mod blend;
 mod build;
 mod modifier;
 mod operator;
-mod primitive;
+pub mod primitive;
 mod profile;
 mod warp;
 
@@ -53,22 +54,8 @@ pub use warp::{bend_lipschitz, bend_point, twist_lipschitz, twist_point};
 /// A distance-field form (primitive, transform or operator).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Form {
-    /// `sphere(r)`
-    Sphere,
-    /// `box(bx, by, bz)`, half extents
-    Box,
-    /// `roundbox(bx, by, bz, r)`, half extents including the rounding
-    RoundBox,
-    /// `torus(R, r)` around the z axis
-    Torus,
-    /// `cylinder(r, h)`, capped, along z, half height h
-    Cylinder,
-    /// `capsule(ax, ay, az, bx, by, bz, r)`
-    Capsule,
-    /// `plane(nx, ny, nz, d)`: the half-space n·p ≤ d (n normalised)
-    Plane,
-    /// `octahedron(s)`: |x| + |y| + |z| ≤ s
-    Octahedron,
+    /// A primitive: `sphere(r)`, `torus(R, r)`, … ([`primitive::TYPES`]).
+    Primitive(&'static primitive::PrimitiveType),
     /// `translate(dx, dy, dz, shape)`
     Translate,
     /// `rotate(ax, ay, az, angle, shape)`: about the axis through the origin, radians
@@ -137,8 +124,6 @@ pub enum Form {
     RoundSubtract,
     /// `sum_union(a, b, T)`: a + b − T where both are below T
     SumUnion,
-    /// `density(R, h, c[, T])`: the normalized density of a segment along z
-    Density,
 }
 
 /// How many arguments a form takes.
@@ -170,16 +155,9 @@ pub struct Info {
     pub doc: &'static str,
 }
 
-/// Every form, in documentation order.
+/// Every form but the primitives ([`primitive::TYPES`] describes those), in
+/// documentation order.
 pub const FORMS: &[Info] = &[
-    Info { name: "sphere", form: Form::Sphere, arity: Arity::Exactly(1), signature: "sphere(r)", doc: "|p| - r; exact, L = 1" },
-    Info { name: "box", form: Form::Box, arity: Arity::Exactly(3), signature: "box(bx, by, bz)", doc: "axis-aligned box with half extents b; exact, L = 1" },
-    Info { name: "roundbox", form: Form::RoundBox, arity: Arity::Exactly(4), signature: "roundbox(bx, by, bz, r)", doc: "box(b - r) - r: same extents, edges rounded by r; exact, L = 1" },
-    Info { name: "torus", form: Form::Torus, arity: Arity::Exactly(2), signature: "torus(R, r)", doc: "ring around the z axis; exact, L = 1" },
-    Info { name: "cylinder", form: Form::Cylinder, arity: Arity::Exactly(2), signature: "cylinder(r, h)", doc: "capped, axis z, radius r, half height h; exact, L = 1" },
-    Info { name: "capsule", form: Form::Capsule, arity: Arity::Exactly(7), signature: "capsule(ax, ay, az, bx, by, bz, r)", doc: "segment a-b thickened by r; exact, L = 1" },
-    Info { name: "plane", form: Form::Plane, arity: Arity::Exactly(4), signature: "plane(nx, ny, nz, d)", doc: "half-space n.p <= d, n normalised; exact, L = 1" },
-    Info { name: "octahedron", form: Form::Octahedron, arity: Arity::Exactly(1), signature: "octahedron(s)", doc: "(|x| + |y| + |z| - s)/sqrt(3); a bound (exact on the faces), L = 1" },
     Info { name: "circle", form: Form::Circle, arity: Arity::Exactly(1), signature: "circle(r)", doc: "2D profile: sqrt(x^2 + y^2) - r, r > 0 (independent of z: a prism along z); exact, L = 1" },
     Info { name: "rect", form: Form::Rect, arity: Arity::Exactly(2), signature: "rect(hx, hy)", doc: "2D profile: length(max(d, 0)) + min(max(d.x, d.y), 0), d = (|x| - hx, |y| - hy); exact, L = 1" },
     Info { name: "roundrect", form: Form::RoundRect, arity: Arity::Exactly(3), signature: "roundrect(hx, hy, r)", doc: "2D profile: rect(hx - r, hy - r) - r: same extents, corners rounded by r; exact, L = 1" },
@@ -214,17 +192,21 @@ pub const FORMS: &[Info] = &[
     Info { name: "round_intersect", form: Form::RoundIntersect, arity: Arity::Exactly(3), signature: "round_intersect(a, b, r)", doc: "min(-r, max(a, b)) + length(max(r + a, 0), max(r + b, 0)), r > 0; L = sqrt(2) times the operands'" },
     Info { name: "round_subtract", form: Form::RoundSubtract, arity: Arity::Exactly(3), signature: "round_subtract(a, b, r)", doc: "round_intersect(a, -b, r): a minus b; L = sqrt(2) times the operands'" },
     Info { name: "sum_union", form: Form::SumUnion, arity: Arity::Exactly(3), signature: "sum_union(a, b, T)", doc: "min(a, b) + (min(max(a, b), T) - T), T > 0: a + b - T where both are below T, else min(a, b); on densities with the same T the density blend; L = the sum of the operands' where both are below T, else the larger" },
-    Info { name: "density", form: Form::Density, arity: Arity::Between(3, 4), signature: "density(R, h, c[, T])", doc: "T (1 - K/c) + max(d - R, 0), K = max(1 - (d/R)^2, 0)^3, d the distance to the segment (0, 0, -h)-(0, 0, h); R > 0, h >= 0, 0 < c < 1, T > 0 (default c R/1.7173, needs R and c constant); L = max(1, T 1.7173/(c R)), 1 at the default T" },
 ];
+
+/// Every form: the primitives, then [`FORMS`].
+pub fn forms() -> impl Iterator<Item = &'static Info> {
+    primitive::TYPES.iter().map(|t| &t.info).chain(FORMS)
+}
 
 /// The form called `name`, if any.
 pub fn lookup(name: &str) -> Option<&'static Info> {
-    FORMS.iter().find(|i| i.name == name)
+    forms().find(|i| i.name == name)
 }
 
 /// Every form name (for suggestions).
 pub fn names() -> impl Iterator<Item = &'static str> {
-    FORMS.iter().map(|i| i.name)
+    forms().map(|i| i.name)
 }
 
 /// What the semantic pass provides to expand a form: node creation (with
@@ -249,12 +231,13 @@ pub trait Sink {
 /// Expands a call of `form` whose arguments are already lowered (`v`, in
 /// order; a transform's shape was lowered over the plain x, y, z).
 pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
+    if let Form::Primitive(t) = form {
+        return primitive::expand(sink, t, v);
+    }
     let mut b = B(sink);
     let b = &mut b;
     match form {
-        Form::Sphere | Form::Box | Form::RoundBox | Form::Torus | Form::Cylinder | Form::Capsule | Form::Plane | Form::Octahedron => {
-            primitive::lower(b, form, v)
-        }
+        Form::Primitive(_) => unreachable!("expanded above"),
         Form::Translate | Form::Rotate | Form::Scale => transform(b, form, v),
         Form::Union | Form::Intersect | Form::Subtract => operator::sharp(b, form, v),
         Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => operator::smooth(b, form, v),
@@ -267,7 +250,7 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
         Form::Mirror => mirror(b, v),
         Form::Twist | Form::Bend => warp::lower(b, form, v),
         Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract | Form::RoundUnion | Form::RoundIntersect | Form::RoundSubtract
-        | Form::SumUnion | Form::Density => blend::lower(b, form, v),
+        | Form::SumUnion => blend::lower(b, form, v),
     }
 }
 

@@ -205,7 +205,7 @@ fn unknown_function_prefix() {
         "1 │ cosine(x)\n",
         "  │ ^^^^^^ not a function\n",
         "  │\n",
-        "  = did you mean 'cos'?\n",
+        "  = did you mean 'cone' or 'cos'?\n",
         "\n",
     ));
 }

@@ -309,8 +309,10 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
 }
 
 /// The names of the interpreter features in `bits` (`scene::linear::FEATURE_*`).
-fn feature_names(bits: u32) -> Vec<&'static str> {
+fn feature_names(bits: u32) -> Vec<String> {
     use isotrace::scene::linear::*;
+    // Primitives with a case of their own name their feature bit in the table.
+    let own = isotrace::sdf::primitive::TYPES.iter().filter_map(|t| t.wgsl.as_ref().filter(|c| c.feature != FEATURE_DENSITY).map(|c| (c.feature, format!("{}s", t.scene_name))));
     [
         (FEATURE_PROFILE, "profiles"),
         (FEATURE_POLYGON, "polygons"),
@@ -324,6 +326,8 @@ fn feature_names(bits: u32) -> Vec<&'static str> {
         (FEATURE_SHAPES, "primitives other than spheres"),
     ]
         .into_iter()
+        .map(|(b, n)| (b, n.to_string()))
+        .chain(own)
         .filter(|(b, _)| bits & b != 0)
         .map(|(_, n)| n)
         .collect()

@@ -1,7 +1,10 @@
 //! The constants of the GPU layout (docs/scene-format.md, "The GPU
 //! layout"): node word bits, type codes, primitive forms, feature bits,
 //! row counts and texture widths, and the WGSL that declares them for the
-//! interpreter (`wgsl_constants`). `linear` re-exports them all.
+//! interpreter (`wgsl_constants`). `linear` re-exports them all. The type
+//! code, form and feature of a primitive type given by numbers are its
+//! descriptor's ([`crate::sdf::primitive`]); those of the types before
+//! descriptors existed are named here too.
 
 use super::{Join, Node, OpKind, Operator};
 
@@ -29,28 +32,34 @@ pub const NODE_TYPE_MASK: u32 = 0xff;
 /// Mask of the parent field.
 pub const NODE_PARENT_MASK: u32 = (1 << 22) - 1;
 
+// The type codes of the primitive types given by numbers are their
+// descriptors'; the types named here are those the layout had before
+// descriptors (later ones are named only by their descriptor).
+
 /// Type code of a sphere.
-pub const SPHERE: u32 = 1;
+pub const SPHERE: u32 = crate::sdf::primitive::SPHERE.code;
 /// Type code of a box.
-pub const BOX: u32 = 2;
+pub const BOX: u32 = crate::sdf::primitive::BOX.code;
 /// Type code of a round box.
-pub const ROUND_BOX: u32 = 3;
+pub const ROUND_BOX: u32 = crate::sdf::primitive::ROUND_BOX.code;
 /// Type code of a capsule.
-pub const CAPSULE: u32 = 4;
+pub const CAPSULE: u32 = crate::sdf::primitive::CAPSULE.code;
 /// Type code of a torus.
-pub const TORUS: u32 = 5;
+pub const TORUS: u32 = crate::sdf::primitive::TORUS.code;
 /// Type code of a capped cylinder.
-pub const CYLINDER: u32 = 6;
+pub const CYLINDER: u32 = crate::sdf::primitive::CYLINDER.code;
 /// Type code of an octahedron.
-pub const OCTAHEDRON: u32 = 7;
+pub const OCTAHEDRON: u32 = crate::sdf::primitive::OCTAHEDRON.code;
 /// Type code of a plane.
-pub const PLANE: u32 = 8;
+pub const PLANE: u32 = crate::sdf::primitive::PLANE.code;
 /// Type code of an extruded profile.
 pub const EXTRUDE: u32 = 9;
 /// Type code of a revolved profile.
 pub const REVOLVE: u32 = 10;
 /// Type code of a voxel grid.
 pub const GRID: u32 = 11;
+/// Type code of a normalized density.
+pub const DENSITY: u32 = crate::sdf::primitive::DENSITY.code;
 /// Type code of a sharp union.
 pub const UNION: u32 = 32;
 /// Type code of a sharp intersection.
@@ -104,8 +113,6 @@ pub const FEATURE_GRID: u32 = 32;
 pub const FEATURE_JOIN: u32 = 64;
 /// Feature bit: twisted or bent primitives.
 pub const FEATURE_WARP: u32 = 128;
-/// Feature bit: normalized density primitives.
-pub const FEATURE_DENSITY: u32 = 256;
 /// Feature bit: primitives other than plain spheres (a frame and extents:
 /// three rows). A scene of plain spheres (unwarped; laid out with the
 /// identity frame, `rows::shape_rows`) runs a kernel that reads two rows a
@@ -121,16 +128,8 @@ pub const MAX_STACK: u32 = 32;
 pub const ABV_STRIDE: u32 = 4;
 /// Parameter rows of every primitive (module doc).
 pub const PRIM_ROWS: u32 = 3;
-/// Primitive form: a rounded box in local q (sphere, box, round box,
-/// capsule in its own frame).
-pub const FORM_BOX: u32 = 0;
-/// Primitive form: a rounded box in (ρ − R, 0, z), ρ = |q.xy| (torus,
-/// cylinder).
-pub const FORM_REVOLVED: u32 = 1;
-/// Primitive form: the octahedron's bound (|x| + |y| + |z| − size)/√3.
-pub const FORM_OCTAHEDRON: u32 = 2;
-/// Primitive form: the half-space n·q − d.
-pub const FORM_PLANE: u32 = 3;
+pub use crate::sdf::primitive::{FORM_BOX, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVED};
+pub use crate::sdf::primitive::density::{FEATURE_DENSITY, FORM_DENSITY};
 /// Primitive form: a 2D profile in q.xy extruded along z.
 pub const FORM_EXTRUDE: u32 = 4;
 /// Primitive form: a 2D profile at (|q.xy| − R, q.z).
@@ -142,8 +141,6 @@ pub const FORM_GRID: u32 = 6;
 pub const FORM_WARP_SHIFT: u32 = 4;
 /// Rows of a warped primitive's warp, before its own rows (`rows::warp_rows`).
 pub const WARP_ROWS: u32 = 4;
-/// Primitive form: a normalized density around a segment along z.
-pub const FORM_DENSITY: u32 = 7;
 /// Rows of a grid primitive before its samples.
 pub const GRID_ROWS: u32 = 4;
 /// Rows of a profile primitive before its polygon vertices: the three of
@@ -171,7 +168,7 @@ pub const SMOOTH_LIPSCHITZ: f64 = 1.45;
 /// The type code of a node.
 pub fn type_code(node: &Node) -> u32 {
     match node {
-        Node::Primitive(p) => p.shape.kind() as u32,
+        Node::Primitive(p) => p.shape.kind().code(),
         Node::Operator { op, .. } => op_code(op),
         Node::Unary { op, .. } => op.kind() as u32,
     }
@@ -198,7 +195,9 @@ fn op_code(op: &Operator) -> u32 {
     base + 3 * style
 }
 
-/// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …).
+/// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …),
+/// then the `FORM_<NAME>` and `FEATURE_<NAME>` of the primitive types with
+/// a case of their own that the list does not name.
 pub fn wgsl_constants() -> String {
     let consts: [(&str, u32); 70] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
@@ -269,12 +268,35 @@ pub fn wgsl_constants() -> String {
         ("NODE_GRID", GRID),
         ("FORM_GRID", FORM_GRID),
         ("FORM_DENSITY", FORM_DENSITY),
-        ("NODE_DENSITY", super::ShapeKind::Density as u32),
+        ("NODE_DENSITY", DENSITY),
         ("GRID_ROWS", GRID_ROWS),
     ];
     let mut s = String::new();
     for (name, v) in consts {
         s.push_str(&format!("const {name}: u32 = {v}u;\n"));
+    }
+    for t in crate::sdf::primitive::TYPES {
+        let Some(case) = t.wgsl else { continue };
+        let name = t.scene_name.to_uppercase();
+        for (prefix, v) in [("FORM", case.form), ("FEATURE", case.feature)] {
+            let name = format!("{prefix}_{name}");
+            if !consts.iter().any(|(n, _)| *n == name) {
+                s.push_str(&format!("const {name}: u32 = {v}u;\n"));
+            }
+        }
+    }
+    s
+}
+
+/// The cases of the primitive types that have one (`primitive_cases` in
+/// `scene_shape`, templates/fields/scene.wgsl), in type-code order, each
+/// compiled where the scene has its feature.
+pub fn wgsl_primitive_cases() -> String {
+    let mut s = String::new();
+    for t in crate::sdf::primitive::TYPES {
+        if let Some(case) = t.wgsl {
+            s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.scene_name.to_uppercase(), case.code);
+        }
     }
     s
 }
@@ -296,3 +318,35 @@ pub const ENTRY_ROW_BITS: u32 = 25;
 const _: () = assert!((super::MAX_NODES as u64) * (PRIM_ROWS as u64) < 1 << ENTRY_ROW_BITS);
 const _: () = assert!(DISPLACE < 1 << (31 - ENTRY_ROW_BITS));
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sdf::primitive as types;
+
+    #[test]
+    fn primitive_type_codes_leave_the_other_types_theirs() {
+        for t in types::TYPES {
+            assert!(![EXTRUDE, REVOLVE, GRID].contains(&t.code) && t.code < UNION, "{t:?}");
+        }
+    }
+
+    #[test]
+    fn forms_and_features_of_cases_are_their_own() {
+        let features = [FEATURE_PROFILE, FEATURE_POLYGON, FEATURE_UNARY, FEATURE_INFILL, FEATURE_DISPLACE, FEATURE_GRID, FEATURE_JOIN, FEATURE_WARP, FEATURE_SHAPES];
+        for t in types::TYPES {
+            let Some(c) = t.wgsl else { continue };
+            assert!(![FORM_EXTRUDE, FORM_REVOLVE, FORM_GRID].contains(&c.form), "{t:?}");
+            assert!(features.iter().all(|f| f & c.feature == 0), "{t:?}");
+        }
+        let w = wgsl_constants();
+        naga::front::wgsl::parse_str(&w).expect("declared once each");
+        let cases = wgsl_primitive_cases();
+        for t in types::TYPES {
+            let Some(c) = t.wgsl else { continue };
+            let name = t.scene_name.to_uppercase();
+            assert!(w.contains(&format!("const FORM_{name}: u32 = {}u;\n", c.form)) && w.contains(&format!("const FEATURE_{name}: u32 = {}u;\n", c.feature)), "{t:?}");
+            assert!(cases.contains(&format!("    if ((SCENE_FEATURES & FEATURE_{name}) != 0u) {{\n{}    }}\n", c.code)), "{t:?}");
+        }
+    }
+}

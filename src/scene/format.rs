@@ -230,20 +230,12 @@ impl<'de> Visitor<'de> for NodesSeed<'_> {
 const TRANSFORM_FIELDS: [&str; 3] = ["translate", "rotate", "scale"];
 
 /// The fields of each shape, before the transform's.
-fn shape_fields(kind: ShapeKind) -> &'static [&'static str] {
+fn shape_fields(kind: ShapeKind) -> Vec<&'static str> {
     match kind {
-        ShapeKind::Sphere => &["radius"],
-        ShapeKind::Box => &["half"],
-        ShapeKind::RoundBox => &["half", "radius"],
-        ShapeKind::Capsule => &["a", "b", "radius"],
-        ShapeKind::Torus => &["major", "minor"],
-        ShapeKind::Cylinder => &["radius", "half_height"],
-        ShapeKind::Octahedron => &["size"],
-        ShapeKind::Plane => &["normal", "offset"],
-        ShapeKind::Extrude => &["profile", "half_height"],
-        ShapeKind::Revolve => &["profile", "offset"],
-        ShapeKind::Grid => &["file", "spacing", "origin"],
-        ShapeKind::Density => &["radius", "half_length", "iso", "range"],
+        ShapeKind::Analytic(t) => t.fields.iter().map(|f| f.name).collect(),
+        ShapeKind::Extrude => vec!["profile", "half_height"],
+        ShapeKind::Revolve => vec!["profile", "offset"],
+        ShapeKind::Grid => vec!["file", "spacing", "origin"],
     }
 }
 
@@ -268,7 +260,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         None => return Err(f.err("type", "missing")),
     };
     if let Some(kind) = ShapeKind::parse(ty) {
-        let fields: Vec<&str> = shape_fields(kind).iter().chain(&TRANSFORM_FIELDS).chain(&["warp"]).copied().collect();
+        let fields: Vec<&str> = shape_fields(kind).into_iter().chain(TRANSFORM_FIELDS).chain(["warp"]).collect();
         f.only(ty, &fields)?;
         let shape = if kind == ShapeKind::Grid { Shape::Grid(grid_ref(&f, ctx)?) } else { shape(&f, kind)? };
         return Ok(Node::Primitive(Primitive { shape, transform: transform(&f)?, warp: warp(&f)? }));
@@ -307,7 +299,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         return Ok(Node::Operator { op, left: f.index("left")?, right: f.index("right")? });
     }
     let names: Vec<&str> =
-        ShapeKind::ALL.iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
+        ShapeKind::all().into_iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
     let near = crate::diag::closest(ty, names.iter().copied());
     let hint = match near.first() {
         Some(n) => format!("did you mean '{n}'?"),
@@ -318,25 +310,21 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
 
 fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
     Ok(match kind {
-        ShapeKind::Sphere => Shape::Sphere { radius: f.number("radius")? },
-        ShapeKind::Box => Shape::Box { half: f.vec3("half")? },
-        ShapeKind::RoundBox => Shape::RoundBox { half: f.vec3("half")?, radius: f.number("radius")? },
-        ShapeKind::Capsule => Shape::Capsule { a: f.vec3("a")?, b: f.vec3("b")?, radius: f.number("radius")? },
-        ShapeKind::Torus => Shape::Torus { major: f.number("major")?, minor: f.number("minor")? },
-        ShapeKind::Cylinder => Shape::Cylinder { radius: f.number("radius")?, half_height: f.number("half_height")? },
-        ShapeKind::Octahedron => Shape::Octahedron { size: f.number("size")? },
-        ShapeKind::Plane => Shape::Plane { normal: f.vec3("normal")?, offset: f.number("offset")? },
+        ShapeKind::Analytic(t) => {
+            let mut v = Vec::with_capacity(t.param_count());
+            for field in t.fields {
+                match (field.len, f.obj.get(field.name), field.default) {
+                    (1, Some(x), _) => v.push(f.number_of(field.name, x)?),
+                    (_, Some(_), _) => v.extend(f.vec3(field.name)?),
+                    (_, None, Some(d)) => v.push(d.value(&v)),
+                    (_, None, None) => return Err(f.err(field.name, "missing")),
+                }
+            }
+            Shape::from_analytic(t, &v)
+        }
         ShapeKind::Extrude => Shape::Extrude { profile: profile(f)?, half_height: f.number("half_height")? },
         ShapeKind::Revolve => Shape::Revolve { profile: profile(f)?, offset: f.number("offset")? },
         ShapeKind::Grid => unreachable!("grids are read by grid_ref"),
-        // h 0, c ½ and the T that makes the primitive 1-Lipschitz by default.
-        ShapeKind::Density => {
-            let radius = f.number("radius")?;
-            let or = |name: &str, default: f64| f.obj.get(name).map_or(Ok(default), |v| f.number_of(name, v));
-            let iso = or("iso", 0.5)?;
-            let range = or("range", crate::sdf::density_default_range(radius, iso))?;
-            Shape::Density { radius, half_length: or("half_length", 0.0)?, iso, range }
-        }
     })
 }
 

@@ -54,17 +54,12 @@ fn args(v: &[f64]) -> String {
 pub fn primitive_formula(p: &Primitive) -> Option<String> {
     let mut s = match p.shape {
         Shape::Grid(_) => return None,
-        Shape::Sphere { radius } => format!("sphere({})", num(radius)),
-        Shape::Box { half } => format!("box({})", args(&half)),
-        Shape::RoundBox { half, radius } => format!("roundbox({}, {})", args(&half), num(radius)),
-        Shape::Capsule { a, b, radius } => format!("capsule({}, {}, {})", args(&a), args(&b), num(radius)),
-        Shape::Torus { major, minor } => format!("torus({}, {})", num(major), num(minor)),
-        Shape::Cylinder { radius, half_height } => format!("cylinder({}, {})", num(radius), num(half_height)),
-        Shape::Octahedron { size } => format!("octahedron({})", num(size)),
-        Shape::Plane { normal, offset } => format!("plane({}, {})", args(&normal), num(offset)),
         Shape::Extrude { profile, half_height } => format!("extrude({}, {})", num(half_height), profile_formula(&profile)),
         Shape::Revolve { profile, offset } => format!("revolve({}, {})", num(offset), profile_formula(&profile)),
-        Shape::Density { radius, half_length, iso, range } => format!("density({}, {}, {}, {})", num(radius), num(half_length), num(iso), num(range)),
+        ref shape => {
+            let (t, v) = shape.analytic()?;
+            format!("{}({})", t.info.name, args(&v))
+        }
     };
     s = placed(s, &p.transform);
     // A warp turns the primitive as placed in the warp's frame, which the

@@ -150,21 +150,14 @@ fn sig(v: f64) -> f64 {
     format!("{v:.6e}").parse().unwrap_or(v)
 }
 
-/// Every number of `p` to 7 significant digits.
+/// Every number of `p` to 7 significant digits (profiles and grids, which
+/// generated scenes do not have, keep theirs).
 fn rounded(mut p: Primitive) -> Primitive {
     let r3 = |v: [f64; 3]| v.map(sig);
-    p.shape = match p.shape {
-        Shape::Sphere { radius } => Shape::Sphere { radius: sig(radius) },
-        Shape::Box { half } => Shape::Box { half: r3(half) },
-        Shape::RoundBox { half, radius } => Shape::RoundBox { half: r3(half), radius: sig(radius) },
-        Shape::Capsule { a, b, radius } => Shape::Capsule { a: r3(a), b: r3(b), radius: sig(radius) },
-        Shape::Torus { major, minor } => Shape::Torus { major: sig(major), minor: sig(minor) },
-        Shape::Cylinder { radius, half_height } => Shape::Cylinder { radius: sig(radius), half_height: sig(half_height) },
-        Shape::Octahedron { size } => Shape::Octahedron { size: sig(size) },
-        Shape::Plane { normal, offset } => Shape::Plane { normal: r3(normal), offset: sig(offset) },
-        // Generated scenes have none of these; they keep their numbers.
-        shape @ (Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Density { .. }) => shape,
-    };
+    if let Some((t, mut v)) = p.shape.analytic() {
+        v.iter_mut().for_each(|x| *x = sig(*x));
+        p.shape = Shape::from_analytic(t, &v);
+    }
     let t = &mut p.transform;
     t.translate = r3(t.translate);
     t.scale = sig(t.scale);

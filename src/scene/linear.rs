@@ -29,6 +29,8 @@
 //! - [`FORM_PLANE`]: n·q with n = (hx, hy, hz) of unit length (the offset
 //!   moves c).
 //! - [`FORM_DENSITY`]: row 2 is (R, h, T, c) (`sdf::blend`'s density).
+//! - Other types with a case of their own: row 2 as their descriptor's
+//!   `rows` writes it ([`crate::sdf::primitive`]).
 //! - Profiles and voxel grids have rows of their own after these
 //!   (`rows::profile_rows`, `rows::grid_rows`).
 //!
@@ -418,8 +420,7 @@ fn features(scene: &Scene) -> u32 {
                 Shape::Extrude { profile: Profile::Polygon { .. }, .. } | Shape::Revolve { profile: Profile::Polygon { .. }, .. } => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
                 Shape::Grid(_) => FEATURE_GRID,
-                Shape::Density { .. } => FEATURE_DENSITY,
-                _ => 0,
+                ref shape => shape.analytic().and_then(|(t, _)| t.wgsl).map_or(0, |c| c.feature),
             }) | if p.warp.is_some() { FEATURE_WARP } else { 0 }
                 | if matches!(p.shape, Shape::Sphere { .. }) && p.warp.is_none() { 0 } else { FEATURE_SHAPES },
             Node::Operator { op, .. } => if op.join.is_some() { FEATURE_JOIN } else { 0 },
@@ -431,15 +432,18 @@ fn features(scene: &Scene) -> u32 {
 }
 
 /// The error for a scene whose traced bound overflowed: it names the first
-/// primitive whose own bound did (a density's range against its radius, a
-/// warp's rate against its radius), or the scene.
+/// primitive whose own bound did (at the field its type blames, as a
+/// density's range against its radius; a warp's rate against its radius),
+/// or the scene.
 fn unbounded_slope(scene: &Scene, name: &dyn Fn(NodeId) -> NodeId) -> SceneError {
     let reason = "its Lipschitz bound is not finite, so sphere tracing could not take a step";
     for &i in scene.post_order() {
         if let Node::Primitive(p) = &scene.nodes()[i] {
-            if let Shape::Density { radius, iso, range, .. } = p.shape {
-                if !crate::sdf::density_lipschitz(radius, iso, range).is_finite() {
-                    return SceneError::at(name(i), "range", reason);
+            if let Some((t, v)) = p.shape.analytic() {
+                if let crate::sdf::primitive::Lipschitz::Of { bound, field } = t.lipschitz {
+                    if !bound(&v).is_finite() {
+                        return SceneError::at(name(i), field, reason);
+                    }
                 }
             }
             if !p.warp.map_or(1.0, |w| w.lipschitz()).is_finite() {

@@ -1,11 +1,19 @@
 //! Primitives: the distance forms of [`crate::sdf`], each under a rigid
 //! transform with uniform scale.
 //!
-//! Every local distance here is the same function, written the same way, as
-//! the formula language's form of the same name (`sdf::lower`), so a scene
-//! and the formula `translate(t, rotate(axis, angle, scale(s, form)))` give
-//! the same field up to rounding (tests/scene_model.rs checks it at random
-//! points with `reference::eval_scalar`).
+//! A shape given by numbers is one of the primitive types of
+//! [`crate::sdf::primitive`], which describe everything about it (its
+//! field, constraints, bounds, rows and formula form); [`Shape`] holds its
+//! numbers by name, and [`Shape::analytic`] and [`Shape::from_analytic`]
+//! convert them to the type's parameters and back. Profiles and voxel
+//! grids, which hold more than numbers, are described here and in
+//! [`super::profile`] and [`super::grid`].
+//!
+//! Every local distance is the same function, written the same way, as the
+//! formula language's form of the same name, so a scene and the formula
+//! `translate(t, rotate(axis, angle, scale(s, form)))` give the same field
+//! up to rounding (tests/scene_model.rs checks it at random points with
+//! `reference::eval_scalar`).
 //!
 //! **Transform.** A primitive's field is d(p) = s · f_local(Rᵀ(p − t) / s):
 //! translate by t, rotate by R, scale by s > 0, applied to the shape in that
@@ -18,6 +26,7 @@
 
 use super::grid::{Grid, Placement};
 use super::profile::{self, Profile};
+use crate::sdf::primitive::{self as types, Params, PrimitiveType};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
 
@@ -113,6 +122,56 @@ pub enum Shape {
         /// T > 0: the value at the support's edge (the sum's range).
         range: f64,
     },
+    /// `cone(r, h, rt)`: the capped cone along the local z axis, radius r
+    /// at z = −h and rt at z = h.
+    Cone {
+        /// r > 0: the radius at the base, z = −h.
+        radius: f64,
+        /// h > 0.
+        half_height: f64,
+        /// rt ≥ 0: the radius at the top, z = h (0: pointed).
+        top_radius: f64,
+    },
+}
+
+impl Shape {
+    /// The primitive type of a shape given by numbers, with its parameters;
+    /// `None` for profiles and voxel grids.
+    pub fn analytic(&self) -> Option<(&'static PrimitiveType, Params)> {
+        let of = |t: &'static PrimitiveType, v: &[f64]| Some((t, Params::new(v)));
+        match *self {
+            Shape::Sphere { radius } => of(&types::SPHERE, &[radius]),
+            Shape::Box { half } => of(&types::BOX, &half),
+            Shape::RoundBox { half: [x, y, z], radius } => of(&types::ROUND_BOX, &[x, y, z, radius]),
+            Shape::Capsule { a: [ax, ay, az], b: [bx, by, bz], radius } => of(&types::CAPSULE, &[ax, ay, az, bx, by, bz, radius]),
+            Shape::Torus { major, minor } => of(&types::TORUS, &[major, minor]),
+            Shape::Cylinder { radius, half_height } => of(&types::CYLINDER, &[radius, half_height]),
+            Shape::Octahedron { size } => of(&types::OCTAHEDRON, &[size]),
+            Shape::Plane { normal: [x, y, z], offset } => of(&types::PLANE, &[x, y, z, offset]),
+            Shape::Density { radius, half_length, iso, range } => of(&types::DENSITY, &[radius, half_length, iso, range]),
+            Shape::Cone { radius, half_height, top_radius } => of(&types::CONE, &[radius, half_height, top_radius]),
+            Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => None,
+        }
+    }
+
+    /// The shape of primitive type `t` with parameters `v` (all of them, in
+    /// its parameter order).
+    pub fn from_analytic(t: &PrimitiveType, v: &[f64]) -> Shape {
+        let v3 = |k: usize| [v[k], v[k + 1], v[k + 2]];
+        match t.scene_name {
+            "sphere" => Shape::Sphere { radius: v[0] },
+            "box" => Shape::Box { half: v3(0) },
+            "round_box" => Shape::RoundBox { half: v3(0), radius: v[3] },
+            "capsule" => Shape::Capsule { a: v3(0), b: v3(3), radius: v[6] },
+            "torus" => Shape::Torus { major: v[0], minor: v[1] },
+            "cylinder" => Shape::Cylinder { radius: v[0], half_height: v[1] },
+            "octahedron" => Shape::Octahedron { size: v[0] },
+            "plane" => Shape::Plane { normal: v3(0), offset: v[3] },
+            "density" => Shape::Density { radius: v[0], half_length: v[1], iso: v[2], range: v[3] },
+            "cone" => Shape::Cone { radius: v[0], half_height: v[1], top_radius: v[2] },
+            other => unreachable!("every primitive type has a variant of Shape; {other} has none"),
+        }
+    }
 }
 
 /// A loaded voxel grid and where it came from (a scene file names the
@@ -141,72 +200,49 @@ impl std::fmt::Debug for GridRef {
 
 /// The primitive types, with the type codes of the linear form
 /// ([`crate::scene::linear`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ShapeKind {
-    /// `sphere`
-    Sphere = 1,
-    /// `box`
-    Box = 2,
-    /// `round_box`
-    RoundBox = 3,
-    /// `capsule`
-    Capsule = 4,
-    /// `torus`
-    Torus = 5,
-    /// `cylinder`
-    Cylinder = 6,
-    /// `octahedron`
-    Octahedron = 7,
-    /// `plane`
-    Plane = 8,
+    /// A type given by numbers (`sphere`, `torus`, …).
+    Analytic(&'static PrimitiveType),
     /// `extrude`
-    Extrude = 9,
+    Extrude,
     /// `revolve`
-    Revolve = 10,
+    Revolve,
     /// `grid`
-    Grid = 11,
-    /// `density`
-    Density = 12,
+    Grid,
 }
 
 impl ShapeKind {
     /// Every kind, in type-code order.
-    pub const ALL: [ShapeKind; 12] = [
-        ShapeKind::Sphere,
-        ShapeKind::Box,
-        ShapeKind::RoundBox,
-        ShapeKind::Capsule,
-        ShapeKind::Torus,
-        ShapeKind::Cylinder,
-        ShapeKind::Octahedron,
-        ShapeKind::Plane,
-        ShapeKind::Extrude,
-        ShapeKind::Revolve,
-        ShapeKind::Grid,
-        ShapeKind::Density,
-    ];
+    pub fn all() -> Vec<ShapeKind> {
+        let mut all: Vec<ShapeKind> = types::TYPES.iter().map(|&t| ShapeKind::Analytic(t)).chain([ShapeKind::Extrude, ShapeKind::Revolve, ShapeKind::Grid]).collect();
+        all.sort_by_key(|k| k.code());
+        all
+    }
+
+    /// The type code of a node word.
+    pub fn code(self) -> u32 {
+        match self {
+            ShapeKind::Analytic(t) => t.code,
+            ShapeKind::Extrude => super::codes::EXTRUDE,
+            ShapeKind::Revolve => super::codes::REVOLVE,
+            ShapeKind::Grid => super::codes::GRID,
+        }
+    }
 
     /// The `type` of a scene file node.
     pub fn name(self) -> &'static str {
         match self {
-            ShapeKind::Sphere => "sphere",
-            ShapeKind::Box => "box",
-            ShapeKind::RoundBox => "round_box",
-            ShapeKind::Capsule => "capsule",
-            ShapeKind::Torus => "torus",
-            ShapeKind::Cylinder => "cylinder",
-            ShapeKind::Octahedron => "octahedron",
-            ShapeKind::Plane => "plane",
+            ShapeKind::Analytic(t) => t.scene_name,
             ShapeKind::Extrude => "extrude",
             ShapeKind::Revolve => "revolve",
             ShapeKind::Grid => "grid",
-            ShapeKind::Density => "density",
         }
     }
 
     /// The kind named `name` in a scene file.
     pub fn parse(name: &str) -> Option<ShapeKind> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
+        Self::all().into_iter().find(|k| k.name() == name)
     }
 }
 
@@ -214,72 +250,30 @@ impl Shape {
     /// Its kind.
     pub fn kind(&self) -> ShapeKind {
         match self {
-            Shape::Sphere { .. } => ShapeKind::Sphere,
-            Shape::Box { .. } => ShapeKind::Box,
-            Shape::RoundBox { .. } => ShapeKind::RoundBox,
-            Shape::Capsule { .. } => ShapeKind::Capsule,
-            Shape::Torus { .. } => ShapeKind::Torus,
-            Shape::Cylinder { .. } => ShapeKind::Cylinder,
-            Shape::Octahedron { .. } => ShapeKind::Octahedron,
-            Shape::Plane { .. } => ShapeKind::Plane,
             Shape::Extrude { .. } => ShapeKind::Extrude,
             Shape::Revolve { .. } => ShapeKind::Revolve,
             Shape::Grid(_) => ShapeKind::Grid,
-            Shape::Density { .. } => ShapeKind::Density,
+            shape => ShapeKind::Analytic(shape.analytic().expect("a shape given by numbers").0),
         }
     }
 
-    /// The distance (or, for the octahedron, the bound) at local point `q`.
+    /// The distance (or, for the octahedron and the density, the bound) at
+    /// local point `q`.
     pub fn local_distance(&self, q: DVec3) -> f64 {
         match self {
             Shape::Grid(g) => g.grid.eval(q.to_array()),
-            shape => shape.analytic_distance(q),
-        }
-    }
-
-    /// [`Shape::local_distance`] of the shapes given by numbers.
-    fn analytic_distance(&self, q: DVec3) -> f64 {
-        match *self {
-            Shape::Sphere { radius } => q.length() - radius,
-            Shape::Box { half } => box_distance(q, DVec3::from(half)),
-            Shape::RoundBox { half, radius } => box_distance(q, DVec3::from(half) - DVec3::splat(radius)) - radius,
-            Shape::Capsule { a, b, radius } => capsule_distance(q, DVec3::from(a), DVec3::from(b)) - radius,
-            Shape::Torus { major, minor } => {
-                let ring = q.x.hypot_like(q.y) - major;
-                ring.hypot_like(q.z) - minor
+            Shape::Extrude { profile, half_height } => profile::extrude(profile.distance(DVec2::new(q.x, q.y)), q.z, *half_height),
+            Shape::Revolve { profile, offset } => profile.distance(DVec2::new((q.x * q.x + q.y * q.y).sqrt() - offset, q.z)),
+            shape => {
+                let (t, v) = shape.analytic().expect("a shape given by numbers");
+                (t.distance)(&v, q)
             }
-            Shape::Cylinder { radius, half_height } => {
-                let dx = q.x.hypot_like(q.y) - radius;
-                let dz = q.z.abs() - half_height;
-                dx.max(dz).min(0.0) + dx.max(0.0).hypot_like(dz.max(0.0))
-            }
-            Shape::Octahedron { size } => (q.x.abs() + q.y.abs() + q.z.abs() - size) * (1.0 / 3f64.sqrt()),
-            Shape::Plane { normal, offset } => {
-                let n = DVec3::from(normal);
-                n.dot(q) / n.length() - offset
-            }
-            Shape::Extrude { profile, half_height } => profile::extrude(profile.distance(DVec2::new(q.x, q.y)), q.z, half_height),
-            Shape::Revolve { profile, offset } => profile.distance(DVec2::new(q.x.hypot_like(q.y) - offset, q.z)),
-            Shape::Density { radius, half_length, iso, range } => {
-                let d = q.x.hypot_like(q.y).hypot_like(q.z - q.z.clamp(-half_length, half_length));
-                crate::sdf::density(d, radius, iso, range)
-            }
-            Shape::Grid(_) => unreachable!("a grid is not given by numbers"),
         }
     }
 
     /// Checks the parameters; the error names the field (`radius`,
     /// `half[1]`) and says what is wrong.
     pub fn check(&self) -> Result<(), (String, String)> {
-        let positive = |name: &str, v: f64| if v > 0.0 { Ok(()) } else { Err((name.to_string(), "must be > 0".to_string())) };
-        let positive3 = |name: &str, v: [f64; 3]| {
-            for (k, c) in v.iter().enumerate() {
-                if !(*c > 0.0) {
-                    return Err((format!("{name}[{k}]"), "must be > 0".to_string()));
-                }
-            }
-            Ok(())
-        };
         for (name, v) in self.fields() {
             if !v.is_finite() {
                 return Err((name, "must be finite".into()));
@@ -288,47 +282,9 @@ impl Shape {
         match *self {
             // Checked when its file was read.
             Shape::Grid(_) => Ok(()),
-            Shape::Density { radius, half_length, iso, range } => {
-                positive("radius", radius)?;
-                positive("range", range)?;
-                if !(half_length >= 0.0) {
-                    return Err(("half_length".into(), "must be >= 0".into()));
-                }
-                if !(iso > 0.0 && iso < 1.0) {
-                    return Err(("iso".into(), "must be between 0 and 1 (exclusive): the kernel's values".into()));
-                }
-                Ok(())
-            }
-            Shape::Sphere { radius } => positive("radius", radius),
-            Shape::Box { half } => positive3("half", half),
-            Shape::RoundBox { half, radius } => {
-                positive3("half", half)?;
-                let smallest = half[0].min(half[1]).min(half[2]);
-                if !(radius >= 0.0 && radius <= smallest) {
-                    return Err(("radius".into(), format!("must be >= 0 and <= the smallest half extent ({smallest})")));
-                }
-                Ok(())
-            }
-            Shape::Capsule { radius, .. } => positive("radius", radius),
-            Shape::Torus { major, minor } => {
-                positive("major", major)?;
-                positive("minor", minor)
-            }
-            Shape::Cylinder { radius, half_height } => {
-                positive("radius", radius)?;
-                positive("half_height", half_height)
-            }
-            Shape::Octahedron { size } => positive("size", size),
-            Shape::Plane { normal, .. } => {
-                if DVec3::from(normal).length() > 0.0 {
-                    Ok(())
-                } else {
-                    Err(("normal".into(), "must not be zero".into()))
-                }
-            }
             Shape::Extrude { profile, half_height } => {
                 profile.check()?;
-                positive("half_height", half_height)
+                if half_height > 0.0 { Ok(()) } else { Err(("half_height".into(), "must be > 0".into())) }
             }
             Shape::Revolve { profile, offset } => {
                 profile.check()?;
@@ -340,79 +296,49 @@ impl Shape {
                 }
                 Ok(())
             }
+            ref shape => {
+                let (t, v) = shape.analytic().expect("a shape given by numbers");
+                (t.check)(&v)
+            }
         }
     }
-}
 
-impl Shape {
     /// The shape reflected across its local yz plane (x ↦ −x), as a shape
     /// of the same type; `None` for a voxel grid, whose samples a scene file
-    /// names by file. Shapes symmetric in x are themselves.
+    /// names by file. A revolution is symmetric about every plane through
+    /// its axis, so it is itself.
     pub fn mirror_x(&self) -> Option<Shape> {
-        let flip = |v: [f64; 3]| [-v[0], v[1], v[2]];
         Some(match *self {
-            Shape::Capsule { a, b, radius } => Shape::Capsule { a: flip(a), b: flip(b), radius },
-            Shape::Plane { normal, offset } => Shape::Plane { normal: flip(normal), offset },
             Shape::Extrude { profile, half_height } => Shape::Extrude { profile: profile.mirror_x(), half_height },
-            // A revolution is symmetric about every plane through its axis.
             Shape::Grid(_) => return None,
-            ref s => s.clone(),
+            Shape::Revolve { .. } => self.clone(),
+            ref shape => {
+                let (t, mut v) = shape.analytic().expect("a shape given by numbers");
+                let mut at = 0;
+                for f in t.fields {
+                    if f.mirrored {
+                        v[at] = -v[at];
+                    }
+                    at += f.len;
+                }
+                Shape::from_analytic(t, &v)
+            }
         })
     }
 
     /// Every number of the shape with its field name (`half[1]`).
     pub fn fields(&self) -> Vec<(String, f64)> {
         let one = |n: &str, v: f64| vec![(n.to_string(), v)];
-        let three = |n: &str, v: [f64; 3]| (0..3).map(|k| (format!("{n}[{k}]"), v[k])).collect::<Vec<_>>();
         match *self {
-            Shape::Sphere { radius } => one("radius", radius),
-            Shape::Box { half } => three("half", half),
-            Shape::RoundBox { half, radius } => [three("half", half), one("radius", radius)].concat(),
-            Shape::Capsule { a, b, radius } => [three("a", a), three("b", b), one("radius", radius)].concat(),
-            Shape::Torus { major, minor } => [one("major", major), one("minor", minor)].concat(),
-            Shape::Cylinder { radius, half_height } => [one("radius", radius), one("half_height", half_height)].concat(),
-            Shape::Octahedron { size } => one("size", size),
-            Shape::Plane { normal, offset } => [three("normal", normal), one("offset", offset)].concat(),
             Shape::Extrude { profile, half_height } => [profile.fields(), one("half_height", half_height)].concat(),
             Shape::Revolve { profile, offset } => [profile.fields(), one("offset", offset)].concat(),
             Shape::Grid(_) => Vec::new(),
-            Shape::Density { radius, half_length, iso, range } => {
-                [one("radius", radius), one("half_length", half_length), one("iso", iso), one("range", range)].concat()
+            ref shape => {
+                let (t, v) = shape.analytic().expect("a shape given by numbers");
+                t.param_names().into_iter().zip(v.iter().copied()).collect()
             }
         }
     }
-}
-
-/// sqrt(a² + b²) written as the formula language writes `length`, so the
-/// two paths round alike (`f64::hypot` rounds differently).
-trait HypotLike {
-    fn hypot_like(self, other: f64) -> f64;
-}
-
-impl HypotLike for f64 {
-    fn hypot_like(self, other: f64) -> f64 {
-        (self * self + other * other).sqrt()
-    }
-}
-
-/// The exact box distance, as `sdf`'s `boxd`.
-fn box_distance(p: DVec3, b: DVec3) -> f64 {
-    let q = p.abs() - b;
-    let qp = q.max(DVec3::ZERO);
-    let outside = (qp.x * qp.x + qp.y * qp.y + qp.z * qp.z).sqrt();
-    outside + q.x.max(q.y.max(q.z)).min(0.0)
-}
-
-/// Distance to the segment a–b (a sphere around a when a = b), as `sdf`'s capsule.
-fn capsule_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let pa = p - a;
-    let ba = b - a;
-    let bb = ba.dot(ba);
-    if bb == 0.0 {
-        return pa.length();
-    }
-    let h = (pa.dot(ba) / bb).max(0.0).min(1.0);
-    (pa - ba * h).length()
 }
 
 /// A rotation: `angle` radians, right-handed, about `axis` (not zero; it is
@@ -581,8 +507,8 @@ impl Primitive {
         self.transform.check()?;
         if let Some(w) = &self.warp {
             w.check()?;
-            if let Shape::Plane { .. } = self.shape {
-                return Err(("warp".into(), "a plane cannot be warped: it is unbounded, and a warp is bounded by its operand's cylinder".into()));
+            if let Some((t, _)) = self.shape.analytic().filter(|(t, v)| !t.bounded(v)) {
+                return Err(("warp".into(), format!("a {} cannot be warped: it is unbounded, and a warp is bounded by its operand's cylinder", t.scene_name)));
             }
         }
         Ok(())

@@ -21,6 +21,7 @@
 //! Planes are unbounded: they have no ABV and are always active.
 
 use super::{Node, Primitive, Scene, Shape};
+use crate::sdf::primitive::Bound;
 use glam::DVec3;
 
 /// A node's range of interest [lo, hi], lo ≤ 0 ≤ hi.
@@ -97,8 +98,7 @@ pub fn field_lipschitz(scene: &Scene) -> f64 {
                 let scale = p.transform.scale * p.warp.map_or(1.0, |w| w.frame.scale);
                 let own = match p.shape {
                     Shape::Grid(ref g) => levels[i].map_or(g.grid.lipschitz(), |l| g.grid.lipschitz_above(l / scale)),
-                    Shape::Density { radius, iso, range, .. } => crate::sdf::density_lipschitz(radius, iso, range),
-                    _ => 1.0,
+                    ref shape => shape.analytic().map_or(1.0, |(t, v)| t.lipschitz.of(&v)),
                 };
                 own * p.warp.map_or(1.0, |w| w.lipschitz())
             }
@@ -329,23 +329,6 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
             }
             None => Abv::Sphere { centre, radius: 0.0 },
         },
-        Shape::Sphere { radius } => Abv::Sphere { centre, radius: s * radius + r_plus },
-        Shape::Box { half } | Shape::RoundBox { half, .. } => obb(half),
-        Shape::Capsule { a, b, radius } => Abv::Capsule {
-            a: t.to_world(DVec3::from(a)).to_array(),
-            b: t.to_world(DVec3::from(b)).to_array(),
-            radius: s * radius + r_plus,
-        },
-        Shape::Torus { major, minor } => obb([major + minor, major + minor, minor]),
-        Shape::Cylinder { radius, half_height } => obb([radius, radius, half_height]),
-        Shape::Octahedron { size } => Abv::Sphere { centre, radius: s * size + 3f64.sqrt() * r_plus },
-        Shape::Plane { .. } => Abv::Always,
-        // {T·(1 − K/c) + max(d − R, 0) ≤ r} lies within R + max(r − T, 0) of the skeleton.
-        Shape::Density { radius, half_length, range, .. } => Abv::Capsule {
-            a: t.to_world(DVec3::new(0.0, 0.0, -half_length)).to_array(),
-            b: t.to_world(DVec3::new(0.0, 0.0, half_length)).to_array(),
-            radius: s * radius + (r_plus - s * range).max(0.0),
-        },
         Shape::Extrude { profile, half_height } => {
             let (lo, hi) = profile.bounds();
             let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.0];
@@ -356,6 +339,19 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
             let (lo, hi) = profile.bounds();
             let radius = offset + hi[0];
             profile_box(p, [0.0, 0.0, 0.5 * (lo[1] + hi[1])], [radius, radius, 0.5 * (hi[1] - lo[1])], r_plus)
+        }
+        ref shape => {
+            let (ty, v) = shape.analytic().expect("a shape given by numbers");
+            match (ty.bound)(&v) {
+                Bound::Box(h) => obb(h),
+                Bound::Ball { radius, slope } => Abv::Sphere { centre, radius: s * radius + slope * r_plus },
+                Bound::Capsule { a, b, radius, allowance } => Abv::Capsule {
+                    a: t.to_world(DVec3::from(a)).to_array(),
+                    b: t.to_world(DVec3::from(b)).to_array(),
+                    radius: s * radius + (r_plus - s * allowance).max(0.0),
+                },
+                Bound::Unbounded => Abv::Always,
+            }
         }
     }
 }

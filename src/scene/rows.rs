@@ -3,7 +3,7 @@
 //! bounding volumes the tile passes test. Written here, read by
 //! templates/fields/scene.wgsl and scene_tiles.wgsl.
 
-use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_OCTAHEDRON, FORM_PLANE, FORM_REVOLVE, FORM_REVOLVED, FORM_WARP_SHIFT, FORM_DENSITY};
+use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_REVOLVE, FORM_WARP_SHIFT};
 use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
 use glam::{DMat3, DQuat, DVec3};
@@ -71,50 +71,16 @@ fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
     let mut m = p.transform.matrix();
     let s = p.transform.scale;
     let f = |v: f64| v as f32;
-    // The last row: (the box part's half extents, rounding radius); a
-    // revolved form's major radius in place of its unbounded y extent.
-    let (half, round, form) = match p.shape {
-        Shape::Sphere { radius } => ([0.0; 3], radius, FORM_BOX),
-        Shape::Box { half } => (half, 0.0, FORM_BOX),
-        Shape::RoundBox { half, radius } => (half.map(|h| h - radius), radius, FORM_BOX),
-        Shape::Capsule { a, b, radius } => {
-            // The segment in a frame of its own: centred, along local z,
-            // right-handed (the frame is a rotation).
-            let (a, b) = (glam::DVec3::from(a), glam::DVec3::from(b));
-            let (c, len) = ((a + b) * 0.5, (b - a).length());
-            let u = if len > 0.0 { (b - a) / len } else { glam::DVec3::Z };
-            let (e1, e2) = u.any_orthonormal_pair();
-            let e1 = if e1.cross(e2).dot(u) < 0.0 { -e1 } else { e1 };
-            m = [e1, e2, u].map(|e| {
-                let row = |j: usize| e.x * m[0][j] + e.y * m[1][j] + e.z * m[2][j];
-                [row(0), row(1), row(2), row(3) - e.dot(c)]
-            });
-            ([0.0, 0.0, len * 0.5], radius, FORM_BOX)
-        }
-        Shape::Torus { major, minor } => ([0.0, major, 0.0], minor, FORM_REVOLVED),
-        Shape::Cylinder { radius, half_height } => ([radius, 0.0, half_height], 0.0, FORM_REVOLVED),
-        Shape::Octahedron { size } => ([size, 0.0, 0.0], 0.0, FORM_OCTAHEDRON),
-        Shape::Plane { normal, offset } => {
-            // n·q − offset = n·q' with the origin moved by offset along n
-            // (m's last column is the local point of the world origin).
-            let n = glam::DVec3::from(normal) / glam::DVec3::from(normal).length();
-            for (r, nk) in m.iter_mut().zip(n.to_array()) {
-                r[3] -= offset * nk;
-            }
-            (n.to_array(), 0.0, FORM_PLANE)
-        }
-        // (R, h, T, c).
-        Shape::Density { radius, half_length, iso, range } => ([radius, half_length, range], iso, FORM_DENSITY),
-        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => unreachable!("profiles and grids have rows of their own"),
-    };
+    let (t, v) = p.shape.analytic().expect("profiles and grids have rows of their own");
     if let (Shape::Sphere { radius }, None) = (&p.shape, &p.warp) {
         // A plain sphere needs no frame: |p − c| − s·radius (the kernel of
         // a scene of spheres reads only the last two rows).
         let c = p.transform.translate.map(|v| v as f32);
         return vec![[0.0, 0.0, 0.0, 1.0], [c[0], c[1], c[2], FORM_BOX as f32], [0.0, 0.0, 0.0, f(s * radius)]];
     }
-    let [r0, r1] = frame_rows(m, s, form);
-    vec![r0, r1, [f(half[0]), f(half[1]), f(half[2]), f(round)]]
+    let rows = (t.rows)(&v, &mut m);
+    let [r0, r1] = frame_rows(m, s, rows.form);
+    vec![r0, r1, rows.row.map(f)]
 }
 
 /// An extruded or revolved profile's rows: the frame, (e.x, e.y, half

@@ -35,7 +35,7 @@
 //! formula and a scene agree to rounding.
 
 use super::{Form, Sink, B};
-use crate::ir::{Func3, NodeId, Op};
+use crate::ir::NodeId;
 
 /// max over t of |d/dt (1 − t²)³| = 6t(1 − t²)² at t = 1/√5: 96/(25√5).
 pub const DENSITY_SLOPE: f64 = 1.717_300_206_719_838_4;
@@ -107,8 +107,7 @@ pub fn density_lipschitz(radius: f64, iso: f64, range: f64) -> f64 {
     (range * DENSITY_SLOPE / (iso * radius)).max(1.0)
 }
 
-/// Expands the chamfer, round and sum blends and `density` (`v`: the
-/// lowered arguments).
+/// Expands the chamfer, round and sum blends (`v`: the lowered arguments).
 pub(super) fn lower<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
     match form {
         Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract => {
@@ -130,7 +129,6 @@ pub(super) fn lower<S: Sink>(b: &mut B<'_, S>, form: Form, v: &[NodeId]) -> Resu
             let excess = b.sub(hi, v[2])?;
             b.add(lo, excess)
         }
-        Form::Density => density_form(b, v),
         _ => unreachable!("{form:?} is not a blend"),
     }
 }
@@ -179,56 +177,6 @@ fn round<S: Sink>(b: &mut B<'_, S>, union: bool, a: NodeId, o: NodeId, r: NodeId
         let m = b.min(nr, m)?;
         b.add(m, corner)
     }
-}
-
-/// `density(R, h, c[, T])`: [`density`] of the distance d to the segment
-/// from (0, 0, −h) to (0, 0, h), √(x² + y² + (z − clamp(z, −h, h))²) (for a
-/// constant h = 0 the plain |p|, the same number). Without T, R and c must
-/// be constants for the default [`density_default_range`].
-fn density_form<S: Sink>(b: &mut B<'_, S>, v: &[NodeId]) -> Result<NodeId, S::Error> {
-    // Checked before anything divides by R or c.
-    b.positive(v, 0, "the support radius R")?;
-    b.non_negative(v, 1, "the half length h")?;
-    if let Some(c) = b.0.konst(v[2]) {
-        if !(c > 0.0 && c < 1.0) {
-            return Err(b.0.bad_argument(2, format!("the isovalue c must be between 0 and 1 (exclusive), got {c}")));
-        }
-    }
-    let (radius, iso) = (v[0], v[2]);
-    let range = match v.get(3) {
-        Some(&t) => {
-            b.positive(v, 3, "the range T")?;
-            t
-        }
-        None => match (b.0.konst(radius), b.0.konst(iso)) {
-            (Some(r), Some(c)) => b.c(density_default_range(r, c))?,
-            // There is no argument 3: the error points at the call.
-            _ => return Err(b.0.bad_argument(3, "the range T is needed when R or c is not a constant (the default c·R/1.7173 needs both)".into())),
-        },
-    };
-    let [x, y, z] = b.xyz()?;
-    let d = if b.is(v[1], 0.0) {
-        b.length(&[x, y, z])?
-    } else {
-        let lo = b.neg(v[1])?;
-        let near = b.0.push(Op::Call3(Func3::Clamp, z, lo, v[1]))?;
-        let w = b.sub(z, near)?;
-        b.length(&[x, y, w])?
-    };
-    // t = d/R; k = max(1 − t·t, 0); T·(1 − k·k·k/c) + max(d − R, 0)
-    let t = b.div(d, radius)?;
-    let one = b.c(1.0)?;
-    let tt = b.sqr(t)?;
-    let k = b.sub(one, tt)?;
-    let zero = b.c(0.0)?;
-    let k = b.max(k, zero)?;
-    let k3 = b.0.push(Op::PowI(k, 3))?;
-    let kc = b.div(k3, iso)?;
-    let inside = b.sub(one, kc)?;
-    let inside = b.mul(range, inside)?;
-    let beyond = b.sub(d, radius)?;
-    let beyond = b.max(beyond, zero)?;
-    b.add(inside, beyond)
 }
 
 #[cfg(test)]

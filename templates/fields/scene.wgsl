@@ -49,7 +49,9 @@ fn scene_local(r0: vec4<f32>, r1: vec4<f32>, p: vec3<f32>) -> vec3<f32> {
 // r0..r2 (the layout of src/scene/linear.rs), at p. One branch-free formula
 // for every basic type: lavapipe runs the branches of a switch on SIMD
 // lanes one after another under masks, so a switch over eight types cost
-// all eight every node. Profiles only where the scene has them.
+// all eight every node. Profiles, grids and the types with a case of their
+// own (primitive_cases: src/sdf/primitive, spliced in by
+// src/field/scene/mod.rs) only where the scene has them.
 fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
     let q = scene_local(r0, r1, p);
     let form = u32(r1.w) & 15u;
@@ -63,13 +65,7 @@ fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32
         // A branch: SIMD groups without a profile's lane skip it.
         if (leaf && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r2, form, o); }
     }
-    if ((SCENE_FEATURES & FEATURE_DENSITY) != 0u) {
-        // r2 = (R, h, T, c) (src/sdf/blend.rs, density).
-        let dd = length(vec3<f32>(q.xy, q.z - clamp(q.z, -r2.y, r2.y)));
-        let t = dd / r2.x;
-        let k = max(1.0 - t * t, 0.0);
-        d = select(d, r2.z * (1.0 - k * k * k / r2.w) + max(dd - r2.x, 0.0), form == FORM_DENSITY);
-    }
+    //!splice:primitive_cases
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         // A branch: the eight sample fetches only on a grid's lanes.
         if (leaf && form == FORM_GRID) { d = scene_grid(q, r2, o); }

@@ -38,23 +38,24 @@ pub(crate) fn node_json(n: &Node) -> String {
         Node::Primitive(p) => {
             s += &format!("\"type\": \"{}\"", p.shape.kind().name());
             let values: Vec<String> = match p.shape {
-                Shape::Sphere { radius } => vec![num(radius)],
-                Shape::Box { half } => vec![nums(&half)],
-                Shape::RoundBox { half, radius } => vec![nums(&half), num(radius)],
-                Shape::Capsule { a, b, radius } => vec![nums(&a), nums(&b), num(radius)],
-                Shape::Torus { major, minor } => vec![num(major), num(minor)],
-                Shape::Cylinder { radius, half_height } => vec![num(radius), num(half_height)],
-                Shape::Octahedron { size } => vec![num(size)],
-                Shape::Plane { normal, offset } => vec![nums(&normal), num(offset)],
                 Shape::Extrude { profile, half_height } => vec![profile_json(&profile), num(half_height)],
                 Shape::Revolve { profile, offset } => vec![profile_json(&profile), num(offset)],
-                Shape::Density { radius, half_length, iso, range } => vec![num(radius), num(half_length), num(iso), num(range)],
                 Shape::Grid(ref g) => {
                     let file = serde_json::to_string(&g.file).unwrap_or_else(|_| "\"\"".into());
                     match g.placement {
                         Some(pl) => vec![file, num(pl.spacing), nums(&pl.origin)],
                         None => vec![file],
                     }
+                }
+                ref shape => {
+                    let (t, v) = shape.analytic().expect("a shape given by numbers");
+                    let mut at = 0;
+                    let mut values = Vec::with_capacity(t.fields.len());
+                    for field in t.fields {
+                        values.push(if field.len == 1 { num(v[at]) } else { nums(&v[at..at + field.len]) });
+                        at += field.len;
+                    }
+                    values
                 }
             };
             for (k, v) in shape_fields(p.shape.kind()).iter().zip(values) {

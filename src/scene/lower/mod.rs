@@ -262,39 +262,12 @@ impl Walker<'_> {
     fn form(&mut self, form: Form, c: &Call, span: Span) -> Result<Rc<Tree>, NotBlobtree> {
         let a = &c.args[..];
         let shape = match form {
-            Form::Sphere => Shape::Sphere { radius: self.num(&a[0])? },
-            Form::Box => Shape::Box { half: self.nums(a)? },
-            Form::RoundBox => {
-                let [x, y, z, radius] = self.nums(a)?;
-                Shape::RoundBox { half: [x, y, z], radius }
+            Form::Primitive(t) => {
+                let given: Vec<f64> = a.iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+                Shape::from_analytic(t, &t.with_defaults(&given))
             }
-            Form::Torus => {
-                let [major, minor] = self.nums(a)?;
-                Shape::Torus { major, minor }
-            }
-            Form::Cylinder => {
-                let [radius, half_height] = self.nums(a)?;
-                Shape::Cylinder { radius, half_height }
-            }
-            Form::Capsule => {
-                let v: [f64; 7] = self.nums(a)?;
-                Shape::Capsule { a: [v[0], v[1], v[2]], b: [v[3], v[4], v[5]], radius: v[6] }
-            }
-            Form::Plane => {
-                let [x, y, z, offset] = self.nums(a)?;
-                Shape::Plane { normal: [x, y, z], offset }
-            }
-            Form::Octahedron => Shape::Octahedron { size: self.num(&a[0])? },
             Form::Extrude => Shape::Extrude { half_height: self.num(&a[0])?, profile: self.profile(&a[1])? },
             Form::Revolve => Shape::Revolve { offset: self.num(&a[0])?, profile: self.profile(&a[1])? },
-            Form::Density => {
-                let [radius, half_length, iso] = self.nums(a)?;
-                let range = match a.get(3) {
-                    Some(e) => self.num(e)?,
-                    None => sdf::density_default_range(radius, iso),
-                };
-                Shape::Density { radius, half_length, iso, range }
-            }
             _ => return self.composite(form, a, span),
         };
         Ok(Rc::new(Tree::Leaf(Primitive::new(shape), span)))
@@ -320,7 +293,7 @@ impl Walker<'_> {
                 moved(Transform { scale, ..Transform::default() }, self.shape(&a[1])?)
             }
             Form::Union | Form::Intersect | Form::Subtract => {
-                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::Union as usize];
+                let kind = op_kind(form);
                 let mut acc = self.shape(&a[0])?;
                 for e in &a[1..] {
                     acc = Rc::new(Tree::Op(sharp(kind), acc, self.shape(e)?, span));
@@ -328,12 +301,12 @@ impl Walker<'_> {
                 Ok(acc)
             }
             Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => {
-                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::SmoothUnion as usize];
+                let kind = op_kind(form);
                 let (l, r, k) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 Ok(Rc::new(Tree::Op(smooth(kind, k, super::operator::DEFAULT_RANGE_FACTOR * k), l, r, span)))
             }
             Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => {
-                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::CompactUnion as usize];
+                let kind = op_kind(form);
                 let (l, r, beta) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 let range = match a.get(3) {
                     Some(e) => self.num(e)?,
@@ -342,12 +315,12 @@ impl Walker<'_> {
                 Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
             }
             Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract => {
-                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::ChamferUnion as usize];
+                let kind = op_kind(form);
                 let (l, r, radius) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::Chamfer { radius }), l, r, span)))
             }
             Form::RoundUnion | Form::RoundIntersect | Form::RoundSubtract => {
-                let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][form as usize - Form::RoundUnion as usize];
+                let kind = op_kind(form);
                 let (l, r, radius) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::Round { radius }), l, r, span)))
             }
@@ -383,10 +356,19 @@ impl Walker<'_> {
                 Ok(Rc::new(Tree::Unary(Unary::Displace { amplitude, frequency }, self.shape(&a[2])?, span)))
             }
             _ => {
-                let name = sdf::FORMS.iter().find(|i| i.form == form).map_or("?", |i| i.name);
+                let name = sdf::forms().find(|i| i.form == form).map_or("?", |i| i.name);
                 Err(not(format!("'{name}' has no blobtree node"), span))
             }
         }
+    }
+}
+
+/// Whether an operator form is a union, an intersection or a difference.
+fn op_kind(form: Form) -> OpKind {
+    match form {
+        Form::Intersect | Form::SmoothIntersect | Form::CompactIntersect | Form::ChamferIntersect | Form::RoundIntersect => OpKind::Intersection,
+        Form::Subtract | Form::SmoothSubtract | Form::CompactSubtract | Form::ChamferSubtract | Form::RoundSubtract => OpKind::Difference,
+        _ => OpKind::Union,
     }
 }
 

@@ -23,3 +23,15 @@ fn parameters_are_checked_with_field_names() {
     let p = Primitive::new(Shape::Sphere { radius: 1.0 }).scaled(0.0);
     assert_eq!(p.check(), Err(("scale".into(), "must be > 0".into())));
 }
+
+#[test]
+fn every_primitive_type_has_a_shape_of_its_own() {
+    for &t in &crate::sdf::primitive::TYPES {
+        let v: Vec<f64> = (0..t.param_count()).map(|k| 0.25 + k as f64).collect();
+        let shape = Shape::from_analytic(t, &v);
+        let (back, w) = shape.analytic().expect("given by numbers");
+        assert_eq!((back, &*w), (t, &v[..]), "{t:?}");
+        assert_eq!(shape.kind(), ShapeKind::Analytic(t));
+        assert_eq!(ShapeKind::parse(t.scene_name), Some(ShapeKind::Analytic(t)));
+    }
+}
