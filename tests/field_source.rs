@@ -36,7 +36,7 @@ fn field(p: vec3<f32>) -> f32 {
 fn field_ray(o: vec3<f32>, dir: vec3<f32>, s: f32) -> f32 { return field(o + dir * s); }
 fn field_cost() -> u32 { return 1u; }
 fn field_exhausted() -> bool { return false; }
-fn field_view() -> u32 { return 0u; }
+fn field_tree() -> u32 { return 0u; }
 fn field_entry(li: u32) {}
 fn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {}
 ";

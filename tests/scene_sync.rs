@@ -112,7 +112,7 @@ fn the_walk_is_compiled_in() {
     let e = r.set_sphere_options(SphereOptions { synchronized: true, ..SphereOptions::default() }).unwrap_err();
     assert!(e.to_string().contains("the kernel was compiled for the other walk"), "{e}");
     let wgsl = isotrace::kernel::assemble(&data, &walk(true, 1.0)).wgsl;
-    assert!(wgsl.contains("var<workgroup> scene_sync_view") && wgsl.contains("workgroupUniformLoad"));
+    assert!(wgsl.contains("var<workgroup> scene_sync_pruned") && wgsl.contains("workgroupUniformLoad"));
     let per_ray = isotrace::kernel::assemble(&data, &walk(false, 1.0)).wgsl;
     assert!(!per_ray.contains("var<workgroup>"));
 }

@@ -537,7 +537,7 @@ async function main() {
         maxStorageBufferBindingSize: adapter.limits.maxStorageBufferBindingSize, maxBufferSize: adapter.limits.maxBufferSize,
         // A scene's stages bind up to 8 storage buffers (the default limit is 8, SwiftShader's 10).
         maxStorageBuffersPerShaderStage: adapter.limits.maxStorageBuffersPerShaderStage,
-        // A scene's tile views are a texture of 8192-texel rows, one row per
+        // A scene's tile pruned trees are a texture of 8192-texel rows, one row per
         // 8 tiles (8192 rows at 2048²).
         maxTextureDimension2D: adapter.limits.maxTextureDimension2D,
       },

@@ -1,6 +1,6 @@
 //! `isotrace render FILE.scene.json`: a blobtree scene through the scene
 //! field source (its nodes in buffers, one fixed interpreter, per-tile
-//! pruned views) and the sphere tracing traversal.
+//! pruned trees) and the sphere tracing traversal.
 
 use super::args::{self, apply_budget_flags, flags_over_defaults, open_gpu, sphere_options};
 use super::error::settings_error;

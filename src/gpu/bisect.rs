@@ -9,7 +9,7 @@ use crate::kernel::bindings::{ENVIRONMENT, RESUME_STATES, TILE_IDS, TILE_LIST, T
 use crate::layout::{BisectBlock, FLAG_NO_TAPE_SHORTENING, FLAG_NO_TILE_CULLING};
 use crate::render::record::RayStats;
 use crate::render::settings::MAX_ITER_LIMIT;
-use crate::render::{BisectOptions, CameraFrame, Environment, Optimizations, Settings, SphereOptions, Stats, Traversal};
+use crate::render::{BisectOptions, CameraBasis, Environment, Optimizations, Settings, SphereOptions, Stats, Traversal};
 
 /// 8×8 pixel tiles per workgroup of the per-pixel pass (`TILES_PER_GROUP`
 /// in traverse/bisect/tiles.wgsl).
@@ -36,7 +36,7 @@ impl Host {
 
 /// Bisection's uniform block for a frame (device-free: the viewer's page
 /// gets the same bytes).
-pub(crate) fn block(options: &BisectOptions, s: &Settings, cam: &CameraFrame) -> BisectBlock {
+pub(crate) fn block(options: &BisectOptions, s: &Settings, cam: &CameraBasis) -> BisectBlock {
     let m = &options.modalities;
     let o = &options.optimizations;
     let dist = (s.camera.eye - s.camera.target).length();
@@ -68,7 +68,7 @@ pub(crate) fn flags(options: &BisectOptions) -> u32 {
 }
 
 impl TraversalHost for Host {
-    fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8> {
+    fn block(&self, s: &Settings, cam: &CameraBasis) -> Vec<u8> {
         bytemuck::bytes_of(&block(&self.options, s, cam)).to_vec()
     }
 

@@ -13,7 +13,7 @@ use super::{field, slot_entry, Author, Gpu, GpuError};
 use crate::field::{BindingRequest, FieldSource};
 use crate::kernel;
 use crate::render::record::{convert, count, count_all, map_all, PackedFrame, Planes, RayStats, Record, Records};
-use crate::render::{CameraFrame, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
+use crate::render::{CameraBasis, Frame, Optimizations, Settings, SettingsError, SphereOptions, Stats, StatsAcc, Traversal};
 use crate::bindings::Statistics;
 use crate::validate::{validate, ValidateError};
 use bytemuck::Zeroable;
@@ -67,7 +67,7 @@ pub(crate) struct PassBuffers {
 /// What a traversal adds to the pipeline on the host.
 pub(crate) trait TraversalHost: Sync {
     /// The traversal's uniform block for a frame.
-    fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8>;
+    fn block(&self, s: &Settings, cam: &CameraBasis) -> Vec<u8>;
     /// Its bits of the frame flags.
     fn flags(&self) -> u32;
     /// Frame-group layout entries after the uniforms (binding 0), and the
@@ -375,7 +375,7 @@ impl<'g> Renderer<'g> {
 
     /// The rectangles a frame of settings `s` is rendered in: the largest
     /// per-pixel buffer must fit one storage binding (the records, or a
-    /// scene's per-tile lists and views), the indirect dispatch its limit,
+    /// scene's per-tile lists and pruned trees), the indirect dispatch its limit,
     /// and the field its own.
     fn rects(&self, s: &Settings) -> Vec<Rect> {
         let per_pixel = std::mem::size_of::<Record>() as u64;

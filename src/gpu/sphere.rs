@@ -12,7 +12,7 @@ use super::{slot_entry, Gpu};
 use crate::kernel::bindings::{RAY_STATS, TILE_IDS, TILE_LIST};
 use crate::layout::{BoundKind, KernelColor, SphereBlock, FLAG_DYNAMIC_EPS, FLAG_GLASS, FLAG_SCREEN, FLAG_SHADOWS};
 use crate::render::record::RayStats;
-use crate::render::{Bound, CameraFrame, Optimizations, Settings, Shading, SphereOptions, Stats, Traversal};
+use crate::render::{Bound, CameraBasis, Optimizations, Settings, Shading, SphereOptions, Stats, Traversal};
 
 /// Sphere tracing on the host.
 pub(crate) struct Host {
@@ -32,7 +32,7 @@ impl Host {
 
 /// Sphere tracing's uniform block for a frame (device-free: the viewer's
 /// page gets the same bytes).
-pub(crate) fn block(o: &SphereOptions, s: &Settings, cam: &CameraFrame) -> SphereBlock {
+pub(crate) fn block(o: &SphereOptions, s: &Settings, cam: &CameraBasis) -> SphereBlock {
     let f4 = |a: f64, b: f64, c: f64, d: f64| [a as f32, b as f32, c as f32, d as f32];
     let (bound_kind, bound_a, bound_b) = match o.bound {
         None => (BoundKind::None, [0.0; 4], [0.0; 4]),
@@ -72,7 +72,7 @@ pub(crate) fn flags(o: &SphereOptions) -> u32 {
 }
 
 impl TraversalHost for Host {
-    fn block(&self, s: &Settings, cam: &CameraFrame) -> Vec<u8> {
+    fn block(&self, s: &Settings, cam: &CameraBasis) -> Vec<u8> {
         bytemuck::bytes_of(&block(&self.options, s, cam)).to_vec()
     }
 

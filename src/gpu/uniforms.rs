@@ -5,7 +5,7 @@ use super::binding::Binder;
 use super::dispatch::Rect;
 use super::renderer::RenderError;
 use crate::layout::{FrameBlock, FLAG_UNRESOLVED_GUESS, FLAG_UNRESOLVED_SOLID};
-use crate::render::{CameraFrame, Settings, SettingsError, Traversal, Unresolved};
+use crate::render::{CameraBasis, Settings, SettingsError, Traversal, Unresolved};
 
 /// The uniform bytes of a whole-frame dispatch of `traversal` (frame
 /// block, then the traversal's block), device-free: what the viewer's page
@@ -36,7 +36,7 @@ pub(super) fn uniforms(binder: &Binder<'_>, s: &Settings, rect: Rect) -> Result<
 }
 
 /// The frame block of a frame (the tile fields are filled per dispatch).
-fn frame_block(s: &Settings, cam: &CameraFrame, flags: u32) -> FrameBlock {
+fn frame_block(s: &Settings, cam: &CameraBasis, flags: u32) -> FrameBlock {
     let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
     let mut params = [0.0f32; crate::layout::MAX_PARAMS];
     params[..s.params.len()].copy_from_slice(&s.params);

@@ -29,10 +29,10 @@ pub struct Camera {
     pub fov_deg: f64,
 }
 
-/// The orthonormal frame a [`Camera`] produces (exactly the formulas of the
+/// The orthonormal basis a [`Camera`] produces (exactly the formulas of the
 /// CLI reference, so renders compare with other tools).
 #[derive(Debug, Clone, Copy)]
-pub struct CameraFrame {
+pub struct CameraBasis {
     /// normalize(target − eye)
     pub forward: DVec3,
     /// normalize(cross(forward, up))
@@ -66,7 +66,7 @@ impl Camera {
     /// The camera frame, or an error when the view is degenerate. The
     /// field of view and finiteness are checked first, so a bad value is
     /// reported as itself and not as a degenerate frame it causes.
-    pub fn frame(&self) -> Result<CameraFrame, SettingsError> {
+    pub fn frame(&self) -> Result<CameraBasis, SettingsError> {
         use SettingsField as F;
         if !(self.fov_deg > 0.0 && self.fov_deg < 180.0) {
             return Err(SettingsError::new(F::Fov, self.fov_deg.to_string(), "the field of view must be between 0 and 180 degrees"));
@@ -87,11 +87,11 @@ impl Camera {
             return Err(SettingsError::new(F::Up, "", "the up vector is parallel to the viewing direction"));
         }
         let right = r.normalize();
-        Ok(CameraFrame { forward, right, up: right.cross(forward), tan_half_fov: (0.5 * self.fov_deg.to_radians()).tan() })
+        Ok(CameraBasis { forward, right, up: right.cross(forward), tan_half_fov: (0.5 * self.fov_deg.to_radians()).tan() })
     }
 
     /// The unit primary ray direction through pixel (i, j), j = 0 the top row.
-    pub fn ray(frame: &CameraFrame, i: u32, j: u32, w: u32, h: u32) -> DVec3 {
+    pub fn ray(frame: &CameraBasis, i: u32, j: u32, w: u32, h: u32) -> DVec3 {
         let (wf, hf) = (w as f64, h as f64);
         let sx = ((i as f64 + 0.5) / wf * 2.0 - 1.0) * frame.tan_half_fov * wf / hf;
         let sy = (1.0 - (j as f64 + 0.5) / hf * 2.0) * frame.tan_half_fov;

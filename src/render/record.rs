@@ -403,7 +403,7 @@ pub struct TileStats {
     overflow: u64,
     /// Depth slabs and their views' nodes, summed over tiles with views.
     slabs: u64,
-    view_nodes: u64,
+    pruned_nodes: u64,
     /// Tiles with primitives, and those of them that are union or comb tiles.
     listed: u64,
     chain: u64,
@@ -425,14 +425,14 @@ impl TileStats {
             if let Some(a) = self.active.get_mut((ty * self.tiles_x + tx) as usize) {
                 *a = w[1];
             }
-            if w[0] == crate::field::scene::SCENE_VIEW_FULL {
+            if w[0] == crate::field::scene::SCENE_WHOLE_TREE {
                 self.overflow += u64::from(w[1] > crate::field::scene::SCENE_TILE_MAX);
             } else {
                 self.slabs += u64::from((w[0] >> 24) & 0xf);
-                self.view_nodes += u64::from(w[0] & 0xff_ffff);
+                self.pruned_nodes += u64::from(w[0] & 0xff_ffff);
             }
             self.listed += u64::from(w[1] > 0);
-            self.chain += u64::from(w[1] > 0 && w[0] != crate::field::scene::SCENE_VIEW_FULL && (w[0] >> 28) & 1 == 1);
+            self.chain += u64::from(w[1] > 0 && w[0] != crate::field::scene::SCENE_WHOLE_TREE && (w[0] >> 28) & 1 == 1);
         }
     }
 
@@ -444,7 +444,7 @@ impl TileStats {
         stats.field.active_max = self.active.iter().copied().max().unwrap_or(0);
         stats.field.overflow_tiles = self.overflow;
         stats.field.slabs_mean = self.slabs as f64 / n;
-        stats.field.slab_view_mean = self.view_nodes as f64 / self.slabs.max(1) as f64;
+        stats.field.slab_view_mean = self.pruned_nodes as f64 / self.slabs.max(1) as f64;
         stats.field.chain_share = self.chain as f64 / self.listed.max(1) as f64;
         stats.field.tiles_x = self.tiles_x;
         stats.field.tile_active = self.active;

@@ -14,7 +14,7 @@ pub struct Stats {
     /// pass; 0 without one).
     pub tile_ms: f64,
     /// The part of `gpu_ms` spent in the field source's pre-passes (a
-    /// scene's tile lists and pruned views; 0 for a compiled formula).
+    /// scene's tile lists and pruned trees; 0 for a compiled formula).
     pub field_ms: f64,
     /// Wall time of the whole frame including read-back, milliseconds.
     pub wall_ms: f64,
@@ -64,10 +64,10 @@ pub struct FieldStats {
     /// evaluate the whole tree (exact, slower).
     pub overflow_tiles: u64,
     /// Mean depth slabs per tile (Zanni's depth ranges; each slab has a
-    /// view of its own).
+    /// pruned tree of its own).
     pub slabs_mean: f64,
-    /// Mean nodes in a slab's pruned view: what a step evaluates (a union
-    /// or comb tile's view holds its members, and a comb's operators).
+    /// Mean nodes in a slab's pruned tree: what a step evaluates (a union
+    /// or comb tile's pruned tree holds its members, and a comb's operators).
     pub slab_view_mean: f64,
     /// The share of the tiles with primitives that are union or comb tiles:
     /// each ray evaluates only the members whose balls it meets.

@@ -2,9 +2,9 @@
 //! evaluate.
 //!
 //! The GPU interpreter (templates/fields/scene.wgsl) runs a tile's pruned
-//! view node by node, and every evaluation of a pixel shares one budget of
+//! pruned tree node by node, and every evaluation of a pixel shares one budget of
 //! loop iterations ([`LOOP_LIMIT`]: lavapipe stops an invocation after
-//! 65,535). A view leaves out an operator whose other operand is missing,
+//! 65,535). A pruned tree leaves out an operator whose other operand is missing,
 //! but never a unary node above a present primitive (it changes the value),
 //! nor an operator whose other operand holds a plane (always present). A
 //! primitive under a chain of such nodes costs the whole chain at every
@@ -25,11 +25,11 @@ use super::roi::{self, Abv, Roi};
 use super::{Node, NodeId, Scene, SceneError, Unary};
 use crate::layout::LOOP_LIMIT;
 
-/// The most nodes above a primitive that no pruned view can leave out
+/// The most nodes above a primitive that no pruned tree can leave out
 /// (unary nodes, operators whose other operand holds a plane), after
-/// folding. A view holds at most 1,024 words (`SCENE_VIEW_MAX`), so this
+/// folding. A pruned tree holds at most 1,024 words (`SCENE_PRUNED_MAX`), so this
 /// leaves room for the primitives of a tile, and a pixel gets some 110
-/// evaluations of such a view within [`LOOP_LIMIT`]: sphere tracing a
+/// evaluations of such a pruned tree within [`LOOP_LIMIT`]: sphere tracing a
 /// chain of 512 shells converges with room to spare, where 2,500 left
 /// pixels unconverged and 8,000 drew nothing.
 pub const MAX_UNPRUNED_DEPTH: usize = 512;
@@ -120,7 +120,7 @@ fn push(out: &mut Vec<Node>, origin: &mut Vec<NodeId>, n: Node, i: NodeId) -> us
 }
 
 /// Refuses a (folded) scene with a primitive under more than
-/// [`MAX_UNPRUNED_DEPTH`] nodes that no view can leave out; `name` gives
+/// [`MAX_UNPRUNED_DEPTH`] nodes that no pruned tree can leave out; `name` gives
 /// the scene node a folded node stands for, for the message.
 pub fn check_depth(scene: &Scene, roi: &[Roi], name: &dyn Fn(NodeId) -> NodeId) -> Result<(), SceneError> {
     let nodes = scene.nodes();

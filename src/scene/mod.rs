@@ -38,7 +38,7 @@ pub mod eval;
 pub mod extent;
 pub mod fold;
 pub mod format;
-pub mod frame;
+pub mod placement;
 pub mod formula;
 pub mod generate;
 pub mod grid;

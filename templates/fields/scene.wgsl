@@ -204,20 +204,20 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
 // scene_prims, scene_balls (field group): per primitive, its node index and
 // its augmented bounding ball (centre, radius; an infinite radius for
 // unbounded primitives such as planes).
-// Each tile's first SCENE_TABLE_WORDS view words are its slab table, the
-// views follow: (slab count, margin, first and last depth of its
-// primitives; 0 slabs: the whole tree), then per slab (its first view word
+// Each tile's first SCENE_TABLE_WORDS tile words are its slab table, the
+// pruned trees follow: (slab count, margin, first and last depth of its
+// primitives; 0 slabs: the whole tree), then per slab (its first tile word
 // in the tile, its length, the view depth where its core begins, 0).
-// Written by the views pre-pass (scene_tiles.wgsl) and read, like the
-// views, as texels: once per pixel, where storage loads would run lane by
+// Written by the pruning pass (scene_tiles.wgsl) and read, like the
+// pruned trees, as texels: once per pixel, where storage loads would run lane by
 // lane.
 const SCENE_TABLE_WORDS: u32 = 4u * (SCENE_SLABS_MAX + 1u);
 
 const SCENE_NO_TILE: u32 = 0xffffffffu;
-// A node as a pruned view holds it: isLeaf (bit 31), type (bits
+// A node as a pruned tree holds it: isLeaf (bit 31), type (bits
 // SCENE_ENTRY_ROW_BITS to 30) and its first parameter row (the bits below):
 // what the interpreter needs, without a fetch of the node's own texel. A
-// leaf's type is 0 (its rows say its form), or in a view the sharp union,
+// leaf's type is 0 (its rows say its form), or in a pruned tree the sharp union,
 // intersection or difference whose right operand it is, fused into it
 // (scene_tiles.wgsl): the operator then costs no node of its own.
 fn scene_entry(i: u32) -> u32 {
@@ -228,35 +228,35 @@ fn scene_entry(i: u32) -> u32 {
 fn entry_type(e: u32) -> u32 { return (e >> SCENE_ENTRY_ROW_BITS) & 0x3fu; }
 fn entry_row(e: u32) -> u32 { return e & ((1u << SCENE_ENTRY_ROW_BITS) - 1u); }
 
-// scene_view_tex (field group): the tiles' pruned views (scene_entry words), copied from scene_tile_view by
-// the host after the views pass: a texel fetch per node instead of a
+// scene_pruned_tex (field group): the tiles' pruned trees (scene_entry words), copied from scene_tile_pruned by
+// the host after the pruning pass: a texel fetch per node instead of a
 // storage load, which lavapipe runs lane by lane at a per-lane address.
-// SCENE_VIEW_TEX_WIDTH texels a row, SCENE_VIEW_MAX a tile.
-fn scene_view_node(i: u32) -> u32 {
-    return textureLoad(scene_view_tex, vec2<u32>(i % SCENE_VIEW_TEX_WIDTH, i / SCENE_VIEW_TEX_WIDTH), 0).x;
+// SCENE_PRUNED_TEX_WIDTH texels a row, SCENE_PRUNED_MAX a tile.
+fn scene_pruned_node(i: u32) -> u32 {
+    return textureLoad(scene_pruned_tex, vec2<u32>(i % SCENE_PRUNED_TEX_WIDTH, i / SCENE_PRUNED_TEX_WIDTH), 0).x;
 }
 
-// The tile whose pruned view this invocation's field evaluates: set for a
+// The tile whose pruned tree this invocation's field evaluates: set for a
 // primary ray (its point stays in the tile's frustum), cleared for
 // secondary rays, which leave it and need the whole tree.
 var<private> g_scene_tile: u32 = SCENE_NO_TILE;
 
-// The view this invocation evaluates: its length (SCENE_VIEW_FULL: the
-// whole tree) and first word in scene_tile_view.
-var<private> g_scene_len: u32 = SCENE_VIEW_FULL;
+// The pruned tree this invocation evaluates: its length (SCENE_WHOLE_TREE: the
+// whole tree) and first word in scene_tile_pruned.
+var<private> g_scene_len: u32 = SCENE_WHOLE_TREE;
 var<private> g_scene_vbase: u32 = 0u;
 
 // A tile's depth slabs (Zanni's depth ranges; each ray walks them on its
 // own, or the tile's rays together with scene_sync.wgsl):
-// the view of slab k holds the primitives whose bounding volume meets the
+// the pruned tree of slab k holds the primitives whose bounding volume meets the
 // tile's frustum within the slab's depths widened by a margin. The current
 // slab's core depths (view-space z; the slab is used there) and its padded
-// depths (its view is exact there).
+// depths (its pruned tree is exact there).
 var<private> g_scene_core: vec2<f32>;
 var<private> g_scene_pad: vec2<f32>;
 
 // The tile's slab table, read once per pixel: each slab's core start
-// (+inf past the last), first view word and view length, and the margin.
+// (+inf past the last), first tile word and pruned-tree length, and the margin.
 // Changing slabs then reads registers only (a storage read at a per-lane
 // address runs lane by lane on lavapipe, and every evaluation runs the
 // change under a mask whether or not any lane changes).
@@ -265,20 +265,20 @@ var<private> g_slab_off: vec4<u32>;
 var<private> g_slab_len: vec4<u32>;
 var<private> g_slab_margin: f32;
 var<private> g_slab_count: u32 = 0u;
-// The view depths where the tile's primitives are (written by the views
+// The view depths where the tile's primitives are (written by the pruning
 // pass; the whole line outside a tile).
 var<private> g_scene_depths: vec2<f32>;
 // The tile's balls for a ray's own range (field_ray_range): their first
-// view word in the tile | their count << 16 | SCENE_UNION_TILE for a
+// tile word in the tile | their count << 16 | SCENE_UNION_TILE for a
 // union tile (scene_tiles.wgsl); 0 for none.
 var<private> g_scene_balls: u32 = 0u;
-// In a union or comb tile, the view entries this ray evaluates, in order,
+// In a union or comb tile, the pruned-tree entries this ray evaluates, in order,
 // and their count (g_ray_own: a list is in use): a union tile's members
 // whose balls the ray meets, a comb tile's the same with each one's
 // operator after it but the first's (the chain of the members present).
 // Set for all members on entering a pixel, then by field_ray_range for the
 // ray. A list read per entry costs the loop less than working out the next
-// member from a mask at every step, which every view's loop would pay.
+// member from a mask at every step, which every pruned tree's loop would pay.
 var<private> g_ray_list: array<u32, 2 * SCENE_UNION_MAX>;
 var<private> g_ray_len: u32 = 0u;
 var<private> g_ray_own: bool = false;
@@ -308,12 +308,12 @@ fn scene_first_bits(n: u32) -> vec2<u32> {
 fn scene_union() -> bool { return (g_scene_balls & SCENE_UNION_TILE) != 0u; }
 fn scene_comb() -> bool { return (g_scene_balls & SCENE_COMB_TILE) != 0u; }
 
-// Counts the changes of the evaluated view (slab or whole tree): two values
-// of f taken under different views are values of different fields (each
+// Counts the changes of the evaluated pruned tree (slab or whole tree): two values
+// of f taken under different pruned trees are values of different fields (each
 // exact only near its slab), so the traversal's check of how fast f changes
-// compares only values of one view (field_view).
+// compares only values of one pruned tree (field_tree).
 var<private> g_scene_epoch: u32 = 0u;
-fn field_view() -> u32 { return g_scene_epoch; }
+fn field_tree() -> u32 { return g_scene_epoch; }
 
 // Makes slab k (0-based) of the current tile the one evaluated.
 fn scene_use_slab(k: u32) {
@@ -323,7 +323,7 @@ fn scene_use_slab(k: u32) {
     g_scene_core = vec2<f32>(lo, hi);
     g_scene_pad = vec2<f32>(lo - g_slab_margin, hi + g_slab_margin);
     g_scene_len = g_slab_len[min(k, 3u)];
-    g_scene_vbase = g_scene_tile * SCENE_VIEW_MAX + g_slab_off[min(k, 3u)];
+    g_scene_vbase = g_scene_tile * SCENE_PRUNED_MAX + g_slab_off[min(k, 3u)];
 }
 
 // The slab whose core holds view depth z.
@@ -335,31 +335,31 @@ fn scene_find_slab(z: f32) {
 fn field_enter_pixel(px: vec2<u32>) {
     let t = (px - F.tile_origin) / 8u;
     g_scene_tile = t.y * ((F.tile_size.x + 7u) / 8u) + t.x;
-    let tb = g_scene_tile * SCENE_VIEW_MAX;
-    let slabs = scene_view_node(tb);
+    let tb = g_scene_tile * SCENE_PRUNED_MAX;
+    let slabs = scene_pruned_node(tb);
     if (slabs == 0u) {
         field_leave_frustum();
         return;
     }
-    g_slab_margin = bitcast<f32>(scene_view_node(tb + 1u));
-    g_scene_depths = vec2<f32>(bitcast<f32>(scene_view_node(tb + 2u)), bitcast<f32>(scene_view_node(tb + 3u)));
-    g_scene_balls = scene_view_node(tb + 7u);
+    g_slab_margin = bitcast<f32>(scene_pruned_node(tb + 1u));
+    g_scene_depths = vec2<f32>(bitcast<f32>(scene_pruned_node(tb + 2u)), bitcast<f32>(scene_pruned_node(tb + 3u)));
+    g_scene_balls = scene_pruned_node(tb + 7u);
     g_ray_own = scene_union() || scene_comb();
     if (g_ray_own) { scene_ray_list(scene_first_bits((g_scene_balls >> 16u) & 0xffu)); }
     g_slab_count = slabs;
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
         let e = tb + 4u * (k + 1u);
-        g_slab_off[k] = scene_view_node(e);
-        g_slab_len[k] = scene_view_node(e + 1u);
-        g_slab_start[k] = bitcast<f32>(scene_view_node(e + 2u));
+        g_slab_off[k] = scene_pruned_node(e);
+        g_slab_len[k] = scene_pruned_node(e + 1u);
+        g_slab_start[k] = bitcast<f32>(scene_pruned_node(e + 2u));
     }
     scene_use_slab(0u);
 }
 fn field_leave_frustum() {
     g_scene_epoch = g_scene_epoch + 1u;
     g_scene_tile = SCENE_NO_TILE;
-    g_scene_len = SCENE_VIEW_FULL;
+    g_scene_len = SCENE_WHOLE_TREE;
     g_scene_vbase = 0u;
     g_scene_core = vec2<f32>(-F.inf, F.inf);
     g_scene_pad = g_scene_core;
@@ -368,13 +368,13 @@ fn field_leave_frustum() {
     g_ray_own = false;
 }
 
-// Whether no primitive meets tile t's frustum (its views pass found none:
+// Whether no primitive meets tile t's frustum (its pruning pass found none:
 // a slab table whose depths are empty; 0 slabs is the whole tree), so that
 // no ray of the tile meets the surface (field_ray_range is empty there).
 fn field_tile_empty(t: u32) -> bool {
-    let tb = t * SCENE_VIEW_MAX;
-    if (scene_view_node(tb) == 0u) { return false; }
-    return bitcast<f32>(scene_view_node(tb + 2u)) > bitcast<f32>(scene_view_node(tb + 3u));
+    let tb = t * SCENE_PRUNED_MAX;
+    if (scene_pruned_node(tb) == 0u) { return false; }
+    return bitcast<f32>(scene_pruned_node(tb + 2u)) > bitcast<f32>(scene_pruned_node(tb + 3u));
 }
 
 // The part of the ray o + d t where the current tile's primitives are (no
@@ -397,15 +397,15 @@ fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 // union or comb tile the balls met within `range` are the ray's members
 // (scene_ray_list).
 fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> {
-    let at = g_scene_tile * SCENE_VIEW_MAX + (g_scene_balls & 0xffffu);
+    let at = g_scene_tile * SCENE_PRUNED_MAX + (g_scene_balls & 0xffffu);
     let n = (g_scene_balls >> 16u) & 0xffu;
     var lo = F.inf;
     var hi = -F.inf;
     var mask = vec2<u32>(0u);
     for (var i = 0u; i < n; i = i + 1u) {
         let w = at + 4u * i;
-        let c = bitcast<vec3<f32>>(vec3<u32>(scene_view_node(w), scene_view_node(w + 1u), scene_view_node(w + 2u)));
-        let r = bitcast<f32>(scene_view_node(w + 3u));
+        let c = bitcast<vec3<f32>>(vec3<u32>(scene_pruned_node(w), scene_pruned_node(w + 1u), scene_pruned_node(w + 2u)));
+        let r = bitcast<f32>(scene_pruned_node(w + 3u));
         // The distance of c from the line, from the perpendicular itself
         // (b^2 - |oc|^2 + r^2 cancels badly for a small far ball), padded
         // by f32's error in it.
@@ -427,9 +427,9 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
     return vec2<f32>(max(range.x, lo), min(range.y, hi));
 }
 
-// The node list this invocation evaluates: the slab's view, or (length
-// SCENE_VIEW_FULL) the whole tree.
-fn scene_view_len() -> u32 { return g_scene_len; }
+// The node list this invocation evaluates: the slab's pruned tree, or (length
+// SCENE_WHOLE_TREE) the whole tree.
+fn scene_pruned_len() -> u32 { return g_scene_len; }
 
 // The scene bounds its own work by the traversal's guard (field_cost):
 // it never gives up on an evaluation.
@@ -437,8 +437,8 @@ fn field_exhausted() -> bool { return false; }
 
 // Loop iterations one evaluation costs: its nodes.
 fn field_cost() -> u32 {
-    let len = scene_view_len();
-    return select(len, scene_node_count(), len == SCENE_VIEW_FULL);
+    let len = scene_pruned_len();
+    return select(len, scene_node_count(), len == SCENE_WHOLE_TREE);
 }
 
 // The interpreter's value stack below its top (kept in a register): module
@@ -486,13 +486,13 @@ fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f
     }
 }
 
-// The field: the nodes of the view (or of the whole tree), in post-order,
-// on a value stack (Zanni's Algorithm 4). An empty view has no surface
+// The field: the nodes of the pruned tree (or of the whole tree), in post-order,
+// on a value stack (Zanni's Algorithm 4). An empty pruned tree has no surface
 // (in its slab: the value is the distance to the slab's end).
 fn field(p: vec3<f32>) -> f32 {
     let z = dot(p - F.eye.xyz, F.forward.xyz);
     if (SCENE_SYNC) {
-        // The workgroup's slab is the only view at hand: beyond its padded
+        // The workgroup's slab is the only pruned tree at hand: beyond its padded
         // depths it says nothing, and 0 there makes an over-relaxed step
         // fall back and a plain one end the slab's march (the ray's march
         // is clamped to the slab's core, the next slab's march goes on).
@@ -500,8 +500,8 @@ fn field(p: vec3<f32>) -> f32 {
     } else if (z < g_scene_core.x || z >= g_scene_core.y) {
         scene_find_slab(z);
     }
-    let len = scene_view_len();
-    let full = len == SCENE_VIEW_FULL;
+    let len = scene_pruned_len();
+    let full = len == SCENE_WHOLE_TREE;
     let n = select(len, scene_node_count(), full);
     // A union or comb tile's ray takes its own entries from its list, in
     // one loop with the others (a branch would run both loops under masks
@@ -514,14 +514,14 @@ fn field(p: vec3<f32>) -> f32 {
     var j = 0u;
     for (; j < steps; j = j + 1u) {
         let at = select(j, g_ray_list[min(j, 2u * SCENE_UNION_MAX - 1u)], own);
-        // A view holds packed entries; the whole tree's nodes are packed
+        // A pruned tree holds packed entries; the whole tree's nodes are packed
         // here (a branch, not a select, which would fetch both).
         var e: u32;
         if (full) { e = scene_entry(at); } else { e = scene_slab_entry(at) | fuse; }
         scene_step(e, p, &sp, &top);
     }
     g_field_work = g_field_work + j;
-    // The view is exact only within the slab's padded depths: a positive
+    // The pruned tree is exact only within the slab's padded depths: a positive
     // value is no larger than the distance to them, so no step leaves the
     // slab (a ray's depth changes no faster than t). Inside stays inside.
     return select(top, min(top, min(g_scene_pad.y - z, z - g_scene_pad.x)), top > 0.0);

@@ -4,27 +4,27 @@
 // 2024 builds a tile A-buffer with depth ranges and synchronises a tile's
 // rays over them; here a tile's list holds every primitive whose augmented
 // bounding sphere (the bounding volume of {f_p <= r_p+}) meets the tile's
-// frustum, with the depths the sphere spans, and the views of the tile's
+// frustum, with the depths the sphere spans, and the pruned trees of the tile's
 // depth slabs are built here, once per tile and slab, for the trace to
 // read: each ray walks the slabs on its own (no workgroup barriers in the
 // tracing kernel), or with `--scene-walk tile` the tile's rays walk them
-// together, each slab's view copied into workgroup memory (scene_sync.wgsl).
+// together, each slab's pruned tree copied into workgroup memory (scene_sync.wgsl).
 //
-// Why it is exact: a primitive missing from a slab's view has its region
+// Why it is exact: a primitive missing from a slab's pruned tree has its region
 // {f_p <= r_p+} outside the frustum or outside the slab's padded depths, so
 // no ray of the tile meets its surface there, and the sparse (masked) field
 // agrees with the full one where it matters (the ranges of interest, eq.
 // 13-16); within that part of the frustum it is a distance bound of the
 // same surface (scene.wgsl clamps it to the slab).
 
-// scene_tile_prims, scene_tile_count, scene_tile_view (field group,
+// scene_tile_prims, scene_tile_count, scene_tile_pruned (field group,
 // src/field/scene/source.rs): per tile, active primitives appended here (up to SCENE_TILE_MAX), their
-// count (may exceed the maximum: overflow), and SCENE_VIEW_MAX words of
-// the slab table and the pruned views (scene.wgsl), which the host copies
+// count (may exceed the maximum: overflow), and SCENE_PRUNED_MAX words of
+// the slab table and the pruned trees (scene.wgsl), which the host copies
 // into the texture the trace reads them from.
-// scene_tile_len: per tile, for the statistics, the total length of its slabs' views with
+// scene_tile_len: per tile, for the statistics, the total length of its slabs' pruned trees with
 // the slab count in bits 24-27 and bit 28 set for a union or comb tile, or
-// SCENE_VIEW_FULL when the tile evaluates the whole tree (its list
+// SCENE_WHOLE_TREE when the tile evaluates the whole tree (its list
 // overflowed); and the active count.
 // scene_tile_depth: per entry of scene_tile_prims, the view depths (z along the camera's
 // forward axis) its primitive's ball spans.
@@ -178,12 +178,12 @@ fn scene_sift(base: u32, start: u32, end: u32) {
     }
 }
 
-// Loop iterations of the views pass's traversals so far, for this tile:
-// past SCENE_VIEWS_WORK a view is not built (the tile falls back to fewer
+// Loop iterations of the pruning pass's traversals so far, for this tile:
+// past SCENE_PRUNE_WORK a pruned tree is not built (the tile falls back to fewer
 // slabs, then to the whole tree) rather than cut short by lavapipe's loop
 // cap (65,535 iterations, the heap sort included).
-const SCENE_VIEWS_WORK: u32 = 40000u;
-var<private> g_views_work: u32;
+const SCENE_PRUNE_WORK: u32 = 40000u;
+var<private> g_prune_work: u32;
 
 // Is entry j of a tile's list in the depths [lo, hi]?
 fn scene_in_slab(j: u32, lo: f32, hi: f32) -> bool {
@@ -198,18 +198,18 @@ fn scene_next_member(base: u32, count: u32, k0: u32, lo: f32, hi: f32) -> u32 {
         if (k >= count || scene_in_slab(base + k, lo, hi)) { break; }
         k = k + 1u;
     }
-    g_views_work = g_views_work + (k - k0) + 1u;
+    g_prune_work = g_prune_work + (k - k0) + 1u;
     return k;
 }
 
 // The sparse bottom-up traversal over the tree's structure only (which
 // operands are missing depends on the tree, not on field values) for the
 // entries of the tile's node-sorted list (base, count) in depths [lo, hi],
-// writing the pruned view, the post-order node list the slab's rays
+// writing the pruned tree, the post-order node list the slab's rays
 // evaluate, from word `at` (at most `room` words). Fast ancestors and
 // clamping after Zanni §5.1 (as reconstructed and checked in
 // src/scene/sparse.rs). Returns (length, 1 when it fitted).
-fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32) -> vec2<u32> {
+fn scene_build_pruned(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32) -> vec2<u32> {
     let n = scene_node_count();
     let root = n - 1u;
     var vlen = 0u;
@@ -221,7 +221,7 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
     var ok = true;
     var k = scene_next_member(base, count, 0u, lo, hi);
     loop {
-        if (g_views_work > SCENE_VIEWS_WORK) { ok = false; }
+        if (g_prune_work > SCENE_PRUNE_WORK) { ok = false; }
         if (k >= count || !ok) { break; }
         var b = scene_tile_prims[base + k];
         let k_next = scene_next_member(base, count, k + 1u, lo, hi);
@@ -231,12 +231,12 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
         if (vlen + 2u > room) { ok = false; break; }
         present = true;
         var start = vlen;
-        scene_tile_view[at + vlen] = scene_entry(b);
+        scene_tile_pruned[at + vlen] = scene_entry(b);
         vlen = vlen + 1u;
         loop {
             if (b == root) { break; }
-            g_views_work = g_views_work + 1u;
-            if (g_views_work > SCENE_VIEWS_WORK) { ok = false; break; }
+            g_prune_work = g_prune_work + 1u;
+            if (g_prune_work > SCENE_PRUNE_WORK) { ok = false; break; }
             var anc = scene_fast(b);
             if (sp > 0u) { anc = min(anc, s_anc[sp - 1u]); }
             if (anc > nxt) {
@@ -268,12 +268,12 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
                 present = true;
                 // A sharp operator whose right operand is a plain leaf (the
                 // last entry, its operand's root) is fused into it.
-                let last = scene_tile_view[at + vlen - 1u];
+                let last = scene_tile_pruned[at + vlen - 1u];
                 let sharp = kind == NODE_UNION || kind == NODE_INTERSECTION || kind == NODE_DIFFERENCE;
                 if (rp && sharp && (last >> 31u) != 0u && entry_type(last) == 0u) {
-                    scene_tile_view[at + vlen - 1u] = last | (kind << SCENE_ENTRY_ROW_BITS);
+                    scene_tile_pruned[at + vlen - 1u] = last | (kind << SCENE_ENTRY_ROW_BITS);
                 } else {
-                    scene_tile_view[at + vlen] = scene_entry(m);
+                    scene_tile_pruned[at + vlen] = scene_entry(m);
                     vlen = vlen + 1u;
                 }
             } else {
@@ -292,19 +292,19 @@ fn scene_build_view(base: u32, count: u32, lo: f32, hi: f32, at: u32, room: u32)
         }
     }
     // A stack overflow (or a bug) leaves the stack non-empty: not fitted.
-    // An empty view (nothing present) means no surface in the slab.
+    // An empty pruned tree (nothing present) means no surface in the slab.
     return vec2<u32>(select(0u, vlen, present), select(0u, 1u, ok && sp == 0u));
 }
 
-// Four words of a tile's slab table (scene.wgsl), at view word w.
+// Four words of a tile's slab table (scene.wgsl), at tile word w.
 fn scene_table_write(w: u32, v: vec4<u32>) {
-    scene_tile_view[w] = v.x;
-    scene_tile_view[w + 1u] = v.y;
-    scene_tile_view[w + 2u] = v.z;
-    scene_tile_view[w + 3u] = v.w;
+    scene_tile_pruned[w] = v.x;
+    scene_tile_pruned[w + 1u] = v.y;
+    scene_tile_pruned[w + 2u] = v.z;
+    scene_tile_pruned[w + 3u] = v.w;
 }
 
-// Writes the balls of the tile's list (base, count) from view word `at`
+// Writes the balls of the tile's list (base, count) from tile word `at`
 // (centre, radius as scene_reach widens it; four words each) when there are
 // at most SCENE_RAY_BALLS, all finite, and they fit in `room` (their
 // scene_tight_ball, as the scatter listed them). Returns the
@@ -334,7 +334,7 @@ fn scene_margin(lo: f32, hi: f32) -> f32 {
 // tile's field is then the least of its members' values, and so is a
 // ray's over the members whose balls it meets (the others' surfaces are
 // off the ray, as a primitive off the tile's frustum is off its rays): the
-// view is the members' leaves, in any order, and their balls follow it, so
+// pruned tree is the members' leaves, in any order, and their balls follow it, so
 // each ray picks its own members (scene.wgsl, field_ray_range) and
 // evaluates only those, the whole depth range in one slab.
 //
@@ -342,7 +342,7 @@ fn scene_margin(lo: f32, hi: f32) -> f32 {
 // off the tree's left spine of union-style operators (NODE_COMB_BIT), so
 // the pruned tree of any of its subsets is a chain in post-order, each
 // member after the first joined by its own operator (the sparse rule: an
-// operator with one operand present is that operand). The view holds two
+// operator with one operand present is that operand). The pruned tree holds two
 // words a member, its leaf and its operator, and a ray evaluates the
 // chain of its own members. Writes the tile's table and returns true, or
 // false for a tile that is neither.
@@ -359,17 +359,17 @@ fn scene_chain_tile(t: u32, base: u32, count: u32, tb: u32, comb: bool) -> bool 
     }
     let words = select(count, 2u * count, comb);
     let vbase = tb + SCENE_TABLE_WORDS;
-    let balls = scene_write_balls(base, count, vbase + words, SCENE_VIEW_MAX - SCENE_TABLE_WORDS - words, SCENE_TABLE_WORDS + words);
+    let balls = scene_write_balls(base, count, vbase + words, SCENE_PRUNED_MAX - SCENE_TABLE_WORDS - words, SCENE_TABLE_WORDS + words);
     if (balls == 0u) { return false; }
     for (var i = 0u; i < count; i = i + 1u) {
         let b = scene_tile_prims[base + i];
         if (comb) {
             // The bottom leaf's parent is not its own operator, but it is
             // the spine's first node: never joined (nothing comes before).
-            scene_tile_view[vbase + 2u * i] = scene_entry(b);
-            scene_tile_view[vbase + 2u * i + 1u] = scene_entry(min(scene_node(b).x & NODE_PARENT_MASK, scene_node_count() - 1u));
+            scene_tile_pruned[vbase + 2u * i] = scene_entry(b);
+            scene_tile_pruned[vbase + 2u * i + 1u] = scene_entry(min(scene_node(b).x & NODE_PARENT_MASK, scene_node_count() - 1u));
         } else {
-            scene_tile_view[vbase + i] = scene_entry(b);
+            scene_tile_pruned[vbase + i] = scene_entry(b);
         }
     }
     let margin = scene_margin(front, back);
@@ -384,22 +384,22 @@ fn scene_chain_tile(t: u32, base: u32, count: u32, tb: u32, comb: bool) -> bool 
 // Pass 2, one invocation per tile: sort the tile's active primitives by
 // node index, cut the depths they span into up to SCENE_SLABS_MAX slabs of
 // equal depth (Zanni's depth ranges; one slab for a short list), and write
-// each slab's pruned view. A slab's members are the primitives whose depths
-// meet the slab widened by a margin: its view is then exact a margin beyond
+// each slab's pruned tree. A slab's members are the primitives whose depths
+// meet the slab widened by a margin: its pruned tree is then exact a margin beyond
 // the slab, so a ray's steps never stop at a slab's end (the field clamps
 // them to the widened slab, scene.wgsl). Views that do not fit fall back
 // to one slab, a list that overflowed or a stack too deep to the whole tree.
 @compute @workgroup_size(64)
-fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn scene_prune(@builtin(global_invocation_id) gid: vec3<u32>) {
     load_uniforms();
     let t = gid.x;
     let nt = scene_tiles_x() * scene_tiles_y();
     if (t >= nt) { return; }
     let count = atomicLoad(&scene_tile_count[t]);
-    let tb = t * SCENE_VIEW_MAX;
+    let tb = t * SCENE_PRUNED_MAX;
     if (count > SCENE_TILE_MAX || (F.flags & FLAG_SCENE_FULL) != 0u) {
         scene_table_write(tb, vec4<u32>(0u));
-        scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
+        scene_tile_len[t] = vec2<u32>(SCENE_WHOLE_TREE, count);
         return;
     }
     let base = t * SCENE_TILE_MAX;
@@ -417,7 +417,7 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     // A union chain is tried on the list as the scatter left it, a comb on
     // the list sorted, from one call site of scene_chain_tile (as
-    // scene_build_view and scene_sift have one each below): lavapipe
+    // scene_build_pruned and scene_sift have one each below): lavapipe
     // inlines every call, and compiles each copy anew at a noticeable
     // cost.
     for (var round = 0u; round < 2u; round = round + 1u) {
@@ -446,9 +446,9 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let margin = scene_margin(zlo, zhi);
     var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);
-    // The views follow the slab table; offsets count from the tile's start.
+    // The pruned trees follow the slab table; offsets count from the tile's start.
     let vbase = tb + SCENE_TABLE_WORDS;
-    let room = SCENE_VIEW_MAX - SCENE_TABLE_WORDS;
+    let room = SCENE_PRUNED_MAX - SCENE_TABLE_WORDS;
     var total = 0u;
     var fitted = true;
     var k = 0u;
@@ -456,9 +456,9 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (k >= slabs) { break; }
         let c0 = select(zlo + (zhi - zlo) * f32(k) / f32(slabs), -F.inf, k == 0u);
         let c1 = select(zlo + (zhi - zlo) * f32(k + 1u) / f32(slabs), F.inf, k + 1u == slabs);
-        let r = scene_build_view(base, count, c0 - margin, c1 + margin, vbase + total, room - total);
+        let r = scene_build_pruned(base, count, c0 - margin, c1 + margin, vbase + total, room - total);
         if (r.y == 0u) {
-            // The slabs' views do not fit: one view of the whole list
+            // The slabs' pruned trees do not fit: one pruned tree of the whole list
             // instead, from the start.
             if (slabs > 1u) {
                 slabs = 1u;
@@ -475,15 +475,15 @@ fn scene_views(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if (!fitted) {
         scene_table_write(tb, vec4<u32>(0u));
-        scene_tile_len[t] = vec2<u32>(SCENE_VIEW_FULL, count);
+        scene_tile_len[t] = vec2<u32>(SCENE_WHOLE_TREE, count);
         return;
     }
     // The depths where the tile's primitives are: no surface lies outside
     // them in the tile's frustum, so primary rays are traced only there
     // (eq. 21-22 at the ends of the list; an empty list: no steps at all).
     scene_table_write(tb, vec4<u32>(slabs, bitcast<u32>(margin), bitcast<u32>(front - margin), bitcast<u32>(back + margin)));
-    // A short list's balls after the views, for each ray's own range.
-    scene_tile_view[tb + 7u] = select(0u, scene_write_balls(base, count, vbase + total, room - total, SCENE_TABLE_WORDS + total), count <= SCENE_RAY_BALLS);
-    // Statistics: the views' total length, the slab count in bits 24-27.
+    // A short list's balls after the pruned trees, for each ray's own range.
+    scene_tile_pruned[tb + 7u] = select(0u, scene_write_balls(base, count, vbase + total, room - total, SCENE_TABLE_WORDS + total), count <= SCENE_RAY_BALLS);
+    // Statistics: the pruned trees' total length, the slab count in bits 24-27.
     scene_tile_len[t] = vec2<u32>(total | (slabs << 24u), count);
 }

@@ -5,7 +5,7 @@
 
 use fidget::context::{BadNode, Context, Node};
 use glam::DVec3;
-use isotrace::render::{Camera, CameraFrame};
+use isotrace::render::{Camera, CameraBasis};
 use nalgebra::{Matrix4, Vector3};
 
 /// The vertical field of view of `--view ortho`, degrees: narrow enough
@@ -78,7 +78,7 @@ pub fn framed(base: &Camera, bbox: &[f64; 6], clip: Option<f64>, aspect: f64, fo
 /// far depth (k = 0) to the near depth (k = D) uniformly in 1/depth (fidget
 /// puts +k towards the viewer).
 pub struct View {
-    frame: CameraFrame,
+    frame: CameraBasis,
     eye: Vector3<f64>,
     /// 1 / depth = alpha·k + beta.
     alpha: f64,

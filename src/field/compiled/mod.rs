@@ -244,7 +244,7 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 /// written out, which adds nothing to an invocation's loop count; the
 /// sphere tracer keeps its steps within the cap with it), and whether the
 /// work limit refused one (the pixel is then reported). It is one field
-/// everywhere (`field_view`: the scene's changes with its slab).
+/// everywhere (`field_tree`: the scene's changes with its slab).
 /// `bundle`: the loops' work is counted per SIMD bundle ([`term_loops::support`]).
 fn field_cost(ir: &Ir, bundle: bool) -> String {
     let plan = term_loops::plan(ir);
@@ -254,7 +254,7 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
     };
     format!(
         "{support}fn field_cost() -> u32 {{ return {iters}u; }}\nfn field_exhausted() -> bool {{ return {exhausted}; }}\n\
-         fn field_view() -> u32 {{ return 0u; }}\n"
+         fn field_tree() -> u32 {{ return 0u; }}\n"
     )
 }
 

@@ -16,40 +16,40 @@ pub mod source;
 /// its densest scene): a tile's list spans every depth here, and the
 /// smooth 11,110-primitive aggregate has tiles of up to 459 at 512²; at 128
 /// its 465 overflow tiles evaluated 22,219 nodes a step and ran out of the
-/// loop budget. Costs 10 KiB a tile with the depths and views (160 MB at
+/// loop budget. Costs 10 KiB a tile with the depths and pruned trees (160 MB at
 /// 1024²; a dispatch rectangle keeps each buffer within one binding).
 pub const SCENE_TILE_MAX: u32 = 512;
-/// Longest pruned view of a tile (2 × SCENE_TILE_MAX − 1 nodes).
-pub const SCENE_VIEW_MAX: u32 = 2 * SCENE_TILE_MAX;
-/// Texels a row of the texture the trace reads the tile views from (a
-/// power of two; 8192 rows of it hold the views of a 2048² frame).
-pub const SCENE_VIEW_TEX_WIDTH: u32 = 8192;
-/// The view length that means "the whole tree".
-pub const SCENE_VIEW_FULL: u32 = u32::MAX;
+/// Longest pruned tree of a tile (2 × SCENE_TILE_MAX − 1 nodes).
+pub const SCENE_PRUNED_MAX: u32 = 2 * SCENE_TILE_MAX;
+/// Texels a row of the texture the trace reads the tile pruned trees from (a
+/// power of two; 8192 rows of it hold the pruned trees of a 2048² frame).
+pub const SCENE_PRUNED_TEX_WIDTH: u32 = 8192;
+/// The pruned-tree length that means "the whole tree".
+pub const SCENE_WHOLE_TREE: u32 = u32::MAX;
 /// Depth slabs per tile (Zanni's depth ranges): each has its own pruned
-/// view of the primitives whose depths meet it.
+/// pruned tree of the primitives whose depths meet it.
 pub const SCENE_SLABS_MAX: u32 = 4;
-/// A tile list up to this long keeps one slab (switching views costs a
-/// copy; a short view gains little from slicing).
+/// A tile list up to this long keeps one slab (switching pruned trees costs a
+/// copy; a short pruned tree gains little from slicing).
 pub const SCENE_SLAB_MIN_LIST: u32 = 4;
 /// Longest tile list whose balls a primary ray tests itself to narrow its
 /// range (longer lists: the tile's depths only).
 pub const SCENE_RAY_BALLS: u32 = 16;
 /// Longest list of a union or comb tile (scene_tiles.wgsl): each ray
-/// lists the view entries of the members whose balls it meets (scene.wgsl,
+/// lists the pruned-tree entries of the members whose balls it meets (scene.wgsl,
 /// `g_ray_list`), from a 64-bit mask.
 pub const SCENE_UNION_MAX: u32 = 64;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
-pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_views"];
+pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_prune"];
 
 /// The scene interpreter (templates/fields/scene.wgsl) with its constants,
 /// the code of the node types in `features` and, with `sync`, its side of
 /// the synchronised tile walk.
 pub(crate) fn scene_interpreter(features: u32, sync: bool) -> String {
     format!(
-        "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_VIEW_MAX: u32 = {SCENE_VIEW_MAX}u;\n\
-         const SCENE_VIEW_TEX_WIDTH: u32 = {SCENE_VIEW_TEX_WIDTH}u;\n\
-         const SCENE_VIEW_FULL: u32 = {SCENE_VIEW_FULL}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
+        "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_PRUNED_MAX: u32 = {SCENE_PRUNED_MAX}u;\n\
+         const SCENE_PRUNED_TEX_WIDTH: u32 = {SCENE_PRUNED_TEX_WIDTH}u;\n\
+         const SCENE_WHOLE_TREE: u32 = {SCENE_WHOLE_TREE}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
          const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n\
          const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}{}\n{}\n{}",
         crate::scene::linear::wgsl_constants(),

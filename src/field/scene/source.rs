@@ -2,7 +2,7 @@
 //! textures, primitives and bounding balls as buffers, and the per-tile
 //! lists and pruned node lists its two passes build every dispatch.
 
-use super::{SceneData, SCENE_PASSES, SCENE_TILE_MAX, SCENE_VIEW_MAX, SCENE_VIEW_TEX_WIDTH};
+use super::{SceneData, SCENE_PASSES, SCENE_TILE_MAX, SCENE_PRUNED_MAX, SCENE_PRUNED_TEX_WIDTH};
 use crate::bindings::{Binding, Copy, Groups, Size, Slot, Stage, Statistics, TexelFormat, FIELD_GROUP};
 use crate::field::{BindingRequest, CodeRequest, FieldEdit, FieldSource, FieldWrite, Refusal};
 use crate::scene::linear::ScenePatch;
@@ -19,24 +19,24 @@ pub(crate) const BALLS: Slot = Slot::storage(3, "scene balls", "scene_balls", "a
 pub(crate) const TILE_COUNTS: Slot = Slot::storage(4, "scene tile counts", "scene_tile_count", "array<atomic<u32>>", false);
 /// Per tile: its active primitives.
 pub(crate) const TILE_PRIMS: Slot = Slot::storage(5, "scene tile primitives", "scene_tile_prims", "array<u32>", false);
-/// Per tile: its slab table and pruned node lists, as the views pass writes them.
-pub(crate) const TILE_VIEWS: Slot = Slot::storage(6, "scene tile views", "scene_tile_view", "array<u32>", false);
+/// Per tile: its slab table and pruned node lists, as the pruning pass writes them.
+pub(crate) const TILE_PRUNED: Slot = Slot::storage(6, "scene tile pruned trees", "scene_tile_pruned", "array<u32>", false);
 /// Per tile, for the statistics: its node lists' length and its active count.
 pub(crate) const TILE_STATS: Slot = Slot::storage(7, "scene tile statistics", "scene_tile_len", "array<vec2<u32>>", false);
 /// Per entry of a tile's list: the depths its primitive's ball spans.
 pub(crate) const TILE_DEPTHS: Slot = Slot::storage(9, "scene tile depths", "scene_tile_depth", "array<vec2<f32>>", false);
-/// `TILE_VIEWS` copied into a texture, which the trace reads a texel at a
+/// `TILE_PRUNED` copied into a texture, which the trace reads a texel at a
 /// time (lavapipe loads storage at a per-lane address lane by lane).
-pub(crate) const VIEW_TEXELS: Slot = Slot::texture(10, "scene tile view texels", "scene_view_tex", TexelFormat::R32Uint);
+pub(crate) const PRUNED_TEXELS: Slot = Slot::texture(10, "scene tile pruned texels", "scene_pruned_tex", TexelFormat::R32Uint);
 
 /// The declarations the interpreter uses.
 pub(crate) fn interpreter_declarations() -> String {
-    crate::bindings::declarations(&[&NODES, &PARAMS, &PRIMS, &BALLS, &VIEW_TEXELS])
+    crate::bindings::declarations(&[&NODES, &PARAMS, &PRIMS, &BALLS, &PRUNED_TEXELS])
 }
 
 /// The declarations the tile passes use.
 fn tile_declarations() -> String {
-    crate::bindings::declarations(&[&TILE_COUNTS, &TILE_PRIMS, &TILE_VIEWS, &TILE_STATS, &TILE_DEPTHS])
+    crate::bindings::declarations(&[&TILE_COUNTS, &TILE_PRIMS, &TILE_PRUNED, &TILE_STATS, &TILE_DEPTHS])
 }
 
 impl FieldSource for SceneData {
@@ -50,7 +50,7 @@ impl FieldSource for SceneData {
 
     fn bindings(&self, _: &BindingRequest) -> Vec<Binding> {
         let tile_list = Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 4 };
-        let views = Size::PerTile { bytes: SCENE_VIEW_MAX as u64 * 4 };
+        let pruned = Size::PerTile { bytes: SCENE_PRUNED_MAX as u64 * 4 };
         vec![
             NODES.texels(self.node_texels()),
             PARAMS.texels(self.param_texels()),
@@ -59,17 +59,17 @@ impl FieldSource for SceneData {
             TILE_COUNTS.scratch(Size::PerTile { bytes: 4 }),
             // Only the counts must start at zero: the rest is written before it is read.
             TILE_PRIMS.kept(tile_list),
-            TILE_VIEWS.kept(views),
+            TILE_PRUNED.kept(pruned),
             TILE_STATS.kept(Size::PerTile { bytes: 8 }).reported(Statistics::TileLists),
             TILE_DEPTHS.kept(Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
-            VIEW_TEXELS.copied(SCENE_VIEW_TEX_WIDTH, views),
+            PRUNED_TEXELS.copied(SCENE_PRUNED_TEX_WIDTH, pruned),
         ]
     }
 
-    /// The scatter runs an invocation per primitive, the views pass one
-    /// per tile; the views pass hands its lists over as a texture.
+    /// The scatter runs an invocation per primitive, the pruning pass one
+    /// per tile; the pruning pass hands its lists over as a texture.
     fn passes(&self) -> Vec<Stage> {
-        let copy = Some(Copy { group: FIELD_GROUP, from: TILE_VIEWS.binding, to: VIEW_TEXELS.binding });
+        let copy = Some(Copy { group: FIELD_GROUP, from: TILE_PRUNED.binding, to: PRUNED_TEXELS.binding });
         vec![
             Stage::new(SCENE_PASSES[0], Groups::Items { binding: PRIMS.binding, per_group: 64 }),
             Stage { copy, ..Stage::new(SCENE_PASSES[1], Groups::Tiles { per_group: 64 }) },

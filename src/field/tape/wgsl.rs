@@ -220,8 +220,8 @@ fn field(p: vec3<f32>) -> f32 {
 // Loop iterations of one evaluation of the value program.
 fn field_cost() -> u32 { return tape_word(2u).x + tape_word(0u).y / TAPE_UNROLL + tape_word(0u).y * TAPE_POW_PASSES; }
 fn field_exhausted() -> bool { return g_tape_exhausted; }
-// One field everywhere (see the scene's field_view).
-fn field_view() -> u32 { return 0u; }
+// One field everywhere (see the scene's field_tree).
+fn field_tree() -> u32 { return 0u; }
 ";
 
 /// The tape field for a traversal that needs enclosures in `domain`

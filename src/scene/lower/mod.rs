@@ -26,7 +26,7 @@
 //! So the zero set (the picture) is the same; `tests/scene_lower.rs` checks
 //! the signs by sampling.
 
-use super::frame::Frame;
+use super::placement::Placement;
 use super::warp::WarpKind;
 use super::{Blend, Builder, Join, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
@@ -395,7 +395,7 @@ fn compose(outer: &Transform, inner: &Transform) -> Transform {
 /// offsets and walls scale with it. The gyroid and the noise are fixed in
 /// the world, and a scene's unary node has no frame of its own, so a
 /// transform over them is not a blobtree node.
-fn moved_unary(op: &Unary, tf: &Frame, span: Span) -> Result<Unary, NotBlobtree> {
+fn moved_unary(op: &Unary, tf: &Placement, span: Span) -> Result<Unary, NotBlobtree> {
     let s = tf.scale();
     match *op {
         Unary::Offset { distance } => Ok(Unary::Offset { distance: s * distance }),
@@ -412,11 +412,11 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
     // Below a warp: the warp, its frame being the frame it was met in.
     type Warping = Option<(WarpKind, f64, Transform)>;
     enum Task<'t> {
-        Visit(&'t Tree, Frame, Warping),
+        Visit(&'t Tree, Placement, Warping),
         Combine(Operator, Span),
         Wrap(Unary, Span),
     }
-    let mut stack = vec![Task::Visit(tree, Frame::identity(), None)];
+    let mut stack = vec![Task::Visit(tree, Placement::identity(), None)];
     let mut out: Vec<usize> = vec![];
     while let Some(task) = stack.pop() {
         let (id, span) = match task {
@@ -439,13 +439,13 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
                 continue;
             }
             Task::Visit(Tree::Warped(kind, rate, sub, span), tf, w) => {
-                let Frame::Plain(frame) = tf else {
+                let Placement::Plain(frame) = tf else {
                     return Err(not(format!("a mirrored '{}' is not a blobtree node (reflect its operand instead)", kind.name()), *span));
                 };
                 if w.is_some() {
                     return Err(not("a twist or bend inside another is not a blobtree node (a primitive carries one warp)", *span));
                 }
-                stack.push(Task::Visit(sub, Frame::identity(), Some((*kind, *rate, frame))));
+                stack.push(Task::Visit(sub, Placement::identity(), Some((*kind, *rate, frame))));
                 continue;
             }
             Task::Visit(Tree::Op(op, l, r, span), tf, w) => {

@@ -77,7 +77,7 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
     var cand_err = F.inf;
     var cand_t = t0;
     var probing = false;      // t is the midpoint probe of a step out of the domain
-    var view_safe = 0u;       // the field's view at t_safe (field_view)
+    var tree_safe = 0u;       // the field's pruned tree at t_safe (field_tree)
     loop {
         // Stop before lavapipe's silent loop cap as well: the steps, the
         // field's own loop iterations so far, and room for the normal and
@@ -105,7 +105,7 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
                 // minimum step or over-relaxation jumped in). The rate of
                 // change across the step is at most 1 for a distance bound,
                 // so it counts as evidence too. The root is bracketed.
-                if (m.steps > 1u && t <= t1 && field_view() == view_safe) { m.ratio = max(m.ratio, (f_safe - signed) / max(t - t_safe, 1e-30)); }
+                if (m.steps > 1u && t <= t1 && field_tree() == tree_safe) { m.ratio = max(m.ratio, (f_safe - signed) / max(t - t_safe, 1e-30)); }
                 m.t = bracket(o, d, t_safe, t);
                 m.steps = m.steps + u32(BRACKET_STEPS);
                 m.status = STATUS_HIT;
@@ -115,9 +115,9 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
             // bound changes no faster than the distance (ratio <= 1).
             // Samples beyond the domain do not count: f far outside says
             // nothing about the bound where the surface is; nor do two
-            // samples of different views of a scene (a deeper slab's view
+            // samples of different pruned trees of a scene (a deeper slab's pruned tree
             // may hold a primitive the shallower one rightly left out).
-            if (m.steps > 1u && t != t_safe && t <= t1 && field_view() == view_safe) { m.ratio = max(m.ratio, abs(signed - f_safe) / abs(t - t_safe)); }
+            if (m.steps > 1u && t != t_safe && t <= t1 && field_tree() == tree_safe) { m.ratio = max(m.ratio, abs(signed - f_safe) / abs(t - t_safe)); }
             // The spheres overlap, so [t_safe, t] holds no surface: beyond
             // t1 the ray has left the domain. (After a failed over-relaxed
             // step the fallback comes first, even beyond t1.)
@@ -140,7 +140,7 @@ fn march(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32, budget: u32, c: Crit) -> 
             stride = max(signed * omega, U.min_step);
             t_safe = t;
             f_safe = signed;
-            view_safe = field_view();
+            tree_safe = field_tree();
             let err = radius / threshold(c, t);
             if (err < cand_err) {
                 cand_err = err;
@@ -300,7 +300,7 @@ fn missed_ray(t: f32) -> March { return March(t, STATUS_MISS, 0u, 0u, 0.0, 0.0, 
 
 // Shades and writes pixel px (record idx) of the primary ray along d: h is
 // its march from the eye, g the field's gradient at h's point (taken by the
-// caller, under the view the march evaluated), c its termination rule.
+// caller, under the pruned tree the march evaluated), c its termination rule.
 fn finish_pixel(px: vec2<u32>, idx: u32, d: vec3<f32>, h: March, g: vec3<f32>, c: Crit) {
     var color = vec4<f32>(background(d), 0.0);
     var normal = vec3<f32>(0.0);

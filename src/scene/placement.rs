@@ -10,7 +10,7 @@ use glam::{DMat3, DQuat, DVec3};
 
 /// A placement: a similarity transform, or one with a reflection.
 #[derive(Debug, Clone)]
-pub enum Frame {
+pub enum Placement {
     /// t + R s q.
     Plain(Transform),
     /// t + L s q with L orthogonal (det ±1).
@@ -39,30 +39,30 @@ fn rotation_of(m: DMat3) -> Option<Rotation> {
     Some(Rotation { axis: axis.into(), angle })
 }
 
-impl Frame {
+impl Placement {
     /// No motion.
-    pub fn identity() -> Frame {
-        Frame::Plain(Transform::default())
+    pub fn identity() -> Placement {
+        Placement::Plain(Transform::default())
     }
 
     /// The uniform scale (it multiplies field values).
     pub fn scale(&self) -> f64 {
         match self {
-            Frame::Plain(t) => t.scale,
-            Frame::General { s, .. } => *s,
+            Placement::Plain(t) => t.scale,
+            Placement::General { s, .. } => *s,
         }
     }
 
     /// Whether it moves nothing.
     pub fn is_identity(&self) -> bool {
-        matches!(self, Frame::Plain(t) if *t == Transform::default())
+        matches!(self, Placement::Plain(t) if *t == Transform::default())
     }
 
-    /// This frame after `inner`: p ↦ self(inner(p)).
-    pub fn then(&self, inner: &Transform, compose: impl Fn(&Transform, &Transform) -> Transform) -> Frame {
+    /// This placement after `inner`: p ↦ self(inner(p)).
+    pub fn then(&self, inner: &Transform, compose: impl Fn(&Transform, &Transform) -> Transform) -> Placement {
         match self {
-            Frame::Plain(t) => Frame::Plain(compose(t, inner)),
-            Frame::General { t, l, s } => Frame::General {
+            Placement::Plain(t) => Placement::Plain(compose(t, inner)),
+            Placement::General { t, l, s } => Placement::General {
                 t: *t + *l * DVec3::from(inner.translate) * *s,
                 l: *l * rotation_matrix(&inner.rotate),
                 s: s * inner.scale,
@@ -70,31 +70,31 @@ impl Frame {
         }
     }
 
-    /// This frame after the reflection across the plane through the origin
+    /// This placement after the reflection across the plane through the origin
     /// with normal `n` (not zero).
-    pub fn reflected(&self, n: DVec3) -> Frame {
+    pub fn reflected(&self, n: DVec3) -> Placement {
         let n = n.normalize();
         let h = DMat3::IDENTITY - 2.0 * DMat3::from_cols(n * n.x, n * n.y, n * n.z);
         match self {
-            Frame::Plain(tf) => Frame::General { t: DVec3::from(tf.translate), l: rotation_matrix(&tf.rotate) * h, s: tf.scale },
-            Frame::General { t, l, s } => Frame::General { t: *t, l: *l * h, s: *s },
+            Placement::Plain(tf) => Placement::General { t: DVec3::from(tf.translate), l: rotation_matrix(&tf.rotate) * h, s: tf.scale },
+            Placement::General { t, l, s } => Placement::General { t: *t, l: *l * h, s: *s },
         }
     }
 
-    /// Primitive `p` placed by this frame; `None` for a reflected shape that
+    /// Primitive `p` placed by this placement; `None` for a reflected shape that
     /// has no mirrored twin (a voxel grid, a warped primitive).
     pub fn place(&self, p: &Primitive, compose: impl Fn(&Transform, &Transform) -> Transform) -> Option<Primitive> {
         let (t, l, s) = match self {
             // A warped primitive's frame moves; its own transform is in it.
-            Frame::Plain(tf) => {
+            Placement::Plain(tf) => {
                 return Some(match &p.warp {
                     None => Primitive { shape: p.shape.clone(), transform: compose(tf, &p.transform), warp: None },
                     Some(w) => Primitive { warp: Some(super::warp::Warp { frame: compose(tf, &w.frame), clamp: None, ..*w }), ..p.clone() },
                 });
             }
             // A reflected warp is another warp (the twist's sense flips).
-            Frame::General { .. } if p.warp.is_some() => return None,
-            Frame::General { t, l, s } => (*t, *l, *s),
+            Placement::General { .. } if p.warp.is_some() => return None,
+            Placement::General { t, l, s } => (*t, *l, *s),
         };
         let translate = (t + l * DVec3::from(p.transform.translate) * s).into();
         let m = l * rotation_matrix(&p.transform.rotate);
