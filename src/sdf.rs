@@ -31,24 +31,25 @@
 //! valid 3D fields (prisms along z) that `extrude` and `revolve` turn into
 //! bounded solids, both keeping the bound. `offset`, `shell` and `infill`
 //! wrap any shape and keep it too; `displace` adds a fixed noise whose
-//! gradient raises it by 1.92·a·f (module `modifier`). A blobtree scene
+//! gradient raises it by 1.92·a·f (module `unary`). A blobtree scene
 //! implements the same definitions, so each is stated once, in the
 //! [`FORMS`] table and the doc comment of its expansion; a primitive in
-//! its descriptor ([`primitive::TYPES`], a file each), which scenes read too.
+//! its descriptor ([`primitive::TYPES`], a file each), which scenes read
+//! too, and so is a unary form ([`unary::TYPES`]).
 
 use crate::ir::{Func1, NodeId, Op};
 
 mod blend;
 mod build;
-mod modifier;
 mod operator;
 pub mod primitive;
 mod profile;
+pub mod unary;
 mod warp;
 
 use build::B;
 pub use blend::{chamfer_intersect, chamfer_range, chamfer_union, density, density_default_range, density_lipschitz, round_intersect, round_union, sum_union, DENSITY_SLOPE};
-pub use modifier::{noise, NOISE_GRADIENT, NOISE_WAVES};
+pub use unary::{noise, NOISE_GRADIENT, NOISE_WAVES};
 pub use warp::{bend_lipschitz, bend_point, twist_lipschitz, twist_point};
 
 /// A distance-field form (primitive, transform or operator).
@@ -56,6 +57,8 @@ pub use warp::{bend_lipschitz, bend_point, twist_lipschitz, twist_point};
 pub enum Form {
     /// A primitive: `sphere(r)`, `torus(R, r)`, … ([`primitive::TYPES`]).
     Primitive(&'static primitive::PrimitiveType),
+    /// A unary form: `offset(d, shape)`, `shell(t, shape)`, … ([`unary::TYPES`]).
+    Unary(&'static unary::UnaryType),
     /// `translate(dx, dy, dz, shape)`
     Translate,
     /// `rotate(ax, ay, az, angle, shape)`: about the axis through the origin, radians
@@ -94,14 +97,6 @@ pub enum Form {
     Extrude,
     /// `revolve(R, shape)`: a 2D shape revolved around the z axis
     Revolve,
-    /// `offset(d, shape)`
-    Offset,
-    /// `shell(t, shape)`
-    Shell,
-    /// `infill(period, thickness, shape)`: intersected with a gyroid sheet
-    Infill,
-    /// `displace(a, f, shape)`: plus a·noise
-    Displace,
     /// `repeat(sx, sy, sz, nx, ny, nz, shape)`: a centred grid of copies
     Repeat,
     /// `mirror(nx, ny, nz, shape)`: with its reflection across a plane
@@ -155,8 +150,8 @@ pub struct Info {
     pub doc: &'static str,
 }
 
-/// Every form but the primitives ([`primitive::TYPES`] describes those), in
-/// documentation order.
+/// Every form but the primitives and the unary forms ([`primitive::TYPES`]
+/// and [`unary::TYPES`] describe those), in documentation order.
 pub const FORMS: &[Info] = &[
     Info { name: "circle", form: Form::Circle, arity: Arity::Exactly(1), signature: "circle(r)", doc: "2D profile: sqrt(x^2 + y^2) - r, r > 0 (independent of z: a prism along z); exact, L = 1" },
     Info { name: "rect", form: Form::Rect, arity: Arity::Exactly(2), signature: "rect(hx, hy)", doc: "2D profile: length(max(d, 0)) + min(max(d.x, d.y), 0), d = (|x| - hx, |y| - hy); exact, L = 1" },
@@ -177,12 +172,8 @@ pub const FORMS: &[Info] = &[
     Info { name: "compact_union", form: Form::CompactUnion, arity: Arity::Between(3, 4), signature: "compact_union(a, b, beta[, r_o])", doc: "Zanni's compact G (eq. 12, 17, 18): the blend of smooth_union, closed beyond r_o (default 2 beta, at least 7/6 beta); the same field as a scene's smooth_union; L = the operands' times 6 r_o/(6 r_o - beta)" },
     Info { name: "compact_intersect", form: Form::CompactIntersect, arity: Arity::Between(3, 4), signature: "compact_intersect(a, b, beta[, r_o])", doc: "compact G of smooth_intersect, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
     Info { name: "compact_subtract", form: Form::CompactSubtract, arity: Arity::Between(3, 4), signature: "compact_subtract(a, b, beta[, r_o])", doc: "compact G of smooth_subtract, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
-    Info { name: "offset", form: Form::Offset, arity: Arity::Exactly(2), signature: "offset(d, shape)", doc: "shape - d: dilates by d > 0, erodes by d < 0; keeps L" },
-    Info { name: "shell", form: Form::Shell, arity: Arity::Exactly(2), signature: "shell(t, shape)", doc: "|shape| - t/2, t > 0: a wall of thickness t centred on the surface; keeps L" },
-    Info { name: "infill", form: Form::Infill, arity: Arity::Exactly(3), signature: "infill(period, thickness, shape)", doc: "max(shape, |G|/(k sqrt 6) - thickness/2), G = sin(kx) cos(ky) + sin(ky) cos(kz) + sin(kz) cos(kx), k = 2 pi/period: the shape cut to a gyroid sheet at least thickness thick; L = max(the shape's, 1)" },
     Info { name: "repeat", form: Form::Repeat, arity: Arity::Exactly(7), signature: "repeat(sx, sy, sz, nx, ny, nz, shape)", doc: "the union of nx ny nz copies of shape translated by s (i - (n - 1)/2), a centred grid; n constant whole numbers >= 1, at most 4096 copies; keeps L" },
     Info { name: "mirror", form: Form::Mirror, arity: Arity::Exactly(4), signature: "mirror(nx, ny, nz, shape)", doc: "the union of shape and its reflection across the plane through the origin with normal n (n not zero); keeps L" },
-    Info { name: "displace", form: Form::Displace, arity: Arity::Exactly(3), signature: "displace(a, f, shape)", doc: "shape + a n(p), a >= 0, f > 0, n = sum of w_k sin(f m_k (a_k.p) + phi_k) (sdf::NOISE_WAVES), |n| <= 1; L = the shape's + 1.92 a f: give --lipschitz" },
     Info { name: "twist", form: Form::Twist, arity: Arity::Exactly(2), signature: "twist(k, shape)", doc: "shape(c x + s y, c y - s x, z), c = cos(k z), s = sin(k z): turned by k z radians about the z axis; L = the shape's times (a + sqrt(a^2 + 4))/2, a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
     Info { name: "bend", form: Form::Bend, arity: Arity::Exactly(2), signature: "bend(k, shape)", doc: "shape(c x - s y, s x + c y, z), c = cos(k x), s = sin(k x): a bar along x curls into an arc of radius 1/k; L = the shape's times (1 + a), a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
     Info { name: "chamfer_union", form: Form::ChamferUnion, arity: Arity::Exactly(3), signature: "chamfer_union(a, b, r)", doc: "min(min(a, b), (a + b - r)/sqrt(2)), r > 0: a 45 degree bevel of width r, min(a, b) where either is above r/(2 - sqrt(2)); L = sqrt(2) times the operands'" },
@@ -194,9 +185,9 @@ pub const FORMS: &[Info] = &[
     Info { name: "sum_union", form: Form::SumUnion, arity: Arity::Exactly(3), signature: "sum_union(a, b, T)", doc: "min(a, b) + (min(max(a, b), T) - T), T > 0: a + b - T where both are below T, else min(a, b); on densities with the same T the density blend; L = the sum of the operands' where both are below T, else the larger" },
 ];
 
-/// Every form: the primitives, then [`FORMS`].
+/// Every form: the primitives, then [`FORMS`], then the unary forms.
 pub fn forms() -> impl Iterator<Item = &'static Info> {
-    primitive::TYPES.iter().map(|t| &t.info).chain(FORMS)
+    primitive::TYPES.iter().map(|t| &t.info).chain(FORMS).chain(unary::TYPES.iter().map(|t| &t.info))
 }
 
 /// The form called `name`, if any.
@@ -231,13 +222,15 @@ pub trait Sink {
 /// Expands a call of `form` whose arguments are already lowered (`v`, in
 /// order; a transform's shape was lowered over the plain x, y, z).
 pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
-    if let Form::Primitive(t) = form {
-        return primitive::expand(sink, t, v);
+    match form {
+        Form::Primitive(t) => return primitive::expand(sink, t.expand, v),
+        Form::Unary(t) => return primitive::expand(sink, t.expand, v),
+        _ => {}
     }
     let mut b = B(sink);
     let b = &mut b;
     match form {
-        Form::Primitive(_) => unreachable!("expanded above"),
+        Form::Primitive(_) | Form::Unary(_) => unreachable!("expanded above"),
         Form::Translate | Form::Rotate | Form::Scale => transform(b, form, v),
         Form::Union | Form::Intersect | Form::Subtract => operator::sharp(b, form, v),
         Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => operator::smooth(b, form, v),
@@ -245,7 +238,6 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
         Form::Circle | Form::Rect | Form::RoundRect | Form::Capsule2d | Form::Polygon | Form::Extrude | Form::Revolve => {
             profile::lower(b, form, v)
         }
-        Form::Offset | Form::Shell | Form::Infill | Form::Displace => modifier::lower(b, form, v),
         Form::Repeat => repeat(b, v),
         Form::Mirror => mirror(b, v),
         Form::Twist | Form::Bend => warp::lower(b, form, v),

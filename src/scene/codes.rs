@@ -88,25 +88,25 @@ pub const ROUND_INTERSECTION: u32 = 42;
 pub const ROUND_DIFFERENCE: u32 = 43;
 /// Type code of the sum blend (a union).
 pub const SUM_UNION: u32 = 44;
-/// Type code of an offset, the first unary node (codes 48-55 are unary).
-pub const OFFSET: u32 = 48;
+/// Type code of an offset, the first unary node (codes 48-55 are unary;
+/// a unary type's code, like its feature, is its descriptor's,
+/// [`crate::sdf::unary`]).
+pub const OFFSET: u32 = crate::sdf::unary::OFFSET.code;
 /// Type code of a shell.
-pub const SHELL: u32 = 49;
+pub const SHELL: u32 = crate::sdf::unary::SHELL.code;
 /// Type code of a gyroid infill.
-pub const INFILL: u32 = 50;
+pub const INFILL: u32 = crate::sdf::unary::INFILL.code;
 /// Type code of a displacement.
-pub const DISPLACE: u32 = 51;
+pub const DISPLACE: u32 = crate::sdf::unary::DISPLACE.code;
 
 /// Feature bit: extruded or revolved profiles (their rows and formula).
 pub const FEATURE_PROFILE: u32 = 1;
 /// Feature bit: polygon profiles (a loop over the vertices).
 pub const FEATURE_POLYGON: u32 = 2;
-/// Feature bit: unary nodes (offset, shell).
+/// Feature bit: unary nodes (of every unary type; those with a feature of
+/// their own also set it).
 pub const FEATURE_UNARY: u32 = 4;
-/// Feature bit: gyroid infill.
-pub const FEATURE_INFILL: u32 = 8;
-/// Feature bit: noise displacement.
-pub const FEATURE_DISPLACE: u32 = 16;
+pub use crate::sdf::unary::{FEATURE_DISPLACE, FEATURE_INFILL};
 /// Feature bit: voxel grids (trilinear interpolation of their samples).
 pub const FEATURE_GRID: u32 = 32;
 /// Feature bit: chamfer, round and sum blends.
@@ -170,7 +170,7 @@ pub fn type_code(node: &Node) -> u32 {
     match node {
         Node::Primitive(p) => p.shape.kind().code(),
         Node::Operator { op, .. } => op_code(op),
-        Node::Unary { op, .. } => op.kind() as u32,
+        Node::Unary { op, .. } => op.kind().code,
     }
 }
 
@@ -197,9 +197,10 @@ fn op_code(op: &Operator) -> u32 {
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …),
 /// then the `FORM_<NAME>` and `FEATURE_<NAME>` of the primitive types with
-/// a case of their own that the list does not name.
+/// a case of their own that the list does not name, then the `NODE_<NAME>`
+/// and (where they have one) `FEATURE_<NAME>` of the unary types.
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 70] = [
+    let consts: [(&str, u32); 64] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_COMB_BIT", NODE_COMB_BIT),
         ("NODE_UNION_PATH_BIT", NODE_UNION_PATH_BIT),
@@ -238,10 +239,6 @@ pub fn wgsl_constants() -> String {
         ("SCENE_ENTRY_ROW_BITS", ENTRY_ROW_BITS),
         ("NODE_EXTRUDE", EXTRUDE),
         ("NODE_REVOLVE", REVOLVE),
-        ("NODE_OFFSET", OFFSET),
-        ("NODE_SHELL", SHELL),
-        ("NODE_INFILL", INFILL),
-        ("NODE_DISPLACE", DISPLACE),
         ("NODE_CHAMFER_UNION", CHAMFER_UNION),
         ("NODE_CHAMFER_INTERSECTION", CHAMFER_INTERSECTION),
         ("NODE_CHAMFER_DIFFERENCE", CHAMFER_DIFFERENCE),
@@ -256,8 +253,6 @@ pub fn wgsl_constants() -> String {
         ("FEATURE_PROFILE", FEATURE_PROFILE),
         ("FEATURE_POLYGON", FEATURE_POLYGON),
         ("FEATURE_UNARY", FEATURE_UNARY),
-        ("FEATURE_INFILL", FEATURE_INFILL),
-        ("FEATURE_DISPLACE", FEATURE_DISPLACE),
         ("FEATURE_GRID", FEATURE_GRID),
         ("FEATURE_JOIN", FEATURE_JOIN),
         ("FEATURE_WARP", FEATURE_WARP),
@@ -285,6 +280,13 @@ pub fn wgsl_constants() -> String {
             }
         }
     }
+    for t in crate::sdf::unary::TYPES {
+        let name = t.name().to_uppercase();
+        s.push_str(&format!("const NODE_{name}: u32 = {}u;\n", t.code));
+        if t.wgsl.feature != 0 {
+            s.push_str(&format!("const FEATURE_{name}: u32 = {}u;\n", t.wgsl.feature));
+        }
+    }
     s
 }
 
@@ -296,6 +298,20 @@ pub fn wgsl_primitive_cases() -> String {
     for t in crate::sdf::primitive::TYPES {
         if let Some(case) = t.wgsl {
             s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.scene_name.to_uppercase(), case.code);
+        }
+    }
+    s
+}
+
+/// The cases of the unary types (`unary_cases` in `scene_unary`,
+/// templates/fields/scene.wgsl), in type-code order, those with a feature
+/// of their own compiled where the scene has it.
+pub fn wgsl_unary_cases() -> String {
+    let mut s = String::new();
+    for t in crate::sdf::unary::TYPES {
+        match t.wgsl.feature {
+            0 => s += t.wgsl.code,
+            _ => s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.name().to_uppercase(), t.wgsl.code),
         }
     }
     s
@@ -347,6 +363,20 @@ mod tests {
             let name = t.scene_name.to_uppercase();
             assert!(w.contains(&format!("const FORM_{name}: u32 = {}u;\n", c.form)) && w.contains(&format!("const FEATURE_{name}: u32 = {}u;\n", c.feature)), "{t:?}");
             assert!(cases.contains(&format!("    if ((SCENE_FEATURES & FEATURE_{name}) != 0u) {{\n{}    }}\n", c.code)), "{t:?}");
+        }
+    }
+
+    #[test]
+    fn unary_codes_and_features_are_their_own() {
+        let w = wgsl_constants();
+        let cases = wgsl_unary_cases();
+        for t in crate::sdf::unary::TYPES {
+            assert!(is_unary_code(t.code) && t.code < 1 << (31 - ENTRY_ROW_BITS), "{t:?}");
+            let name = t.name().to_uppercase();
+            assert!(w.contains(&format!("const NODE_{name}: u32 = {}u;\n", t.code)), "{t:?}");
+            assert!(cases.contains(t.wgsl.code) && t.wgsl.code.contains(&format!("ty == NODE_{name}")), "{t:?}");
+            let f = t.wgsl.feature;
+            assert!(f == 0 || (f & FEATURE_UNARY == 0 && w.contains(&format!("const FEATURE_{name}: u32 = {f}u;\n"))), "{t:?}");
         }
     }
 }

@@ -15,7 +15,7 @@
 //! follows the scene, not a JSON tree of it. Every error names the JSON path
 //! of the bad value: `nodes[812].radius: must be > 0`.
 
-use super::{Node, Operator, Primitive, Profile, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, Unary, UnaryKind, MAX_NODES};
+use super::{Node, Operator, Primitive, Profile, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, Unary, MAX_NODES};
 use crate::bounded::{self, ReadError};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde_json::Value;
@@ -271,11 +271,11 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
     if let Some(kind) = super::warp::WarpKind::parse(ty) {
         return warp_node(&f, kind, ctx);
     }
-    if let Some(kind) = UnaryKind::parse(ty) {
-        let fields: Vec<&str> = ["child"].iter().chain(kind.fields()).copied().collect();
+    if let Some(t) = crate::sdf::unary::by_name(ty) {
+        let fields: Vec<&str> = ["child"].iter().chain(t.fields).copied().collect();
         f.only(ty, &fields)?;
-        let values = kind.fields().iter().map(|k| f.number(k)).collect::<Result<Vec<f64>, _>>()?;
-        return Ok(Node::Unary { op: Unary::from_values(kind, &values), child: f.index("child")? });
+        let values = t.fields.iter().map(|k| f.number(k)).collect::<Result<Vec<f64>, _>>()?;
+        return Ok(Node::Unary { op: Unary::from_values(t, &values), child: f.index("child")? });
     }
     if let Some(k) = Operator::NAMES.iter().position(|n| *n == ty) {
         let size = match k {
@@ -299,7 +299,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         return Ok(Node::Operator { op, left: f.index("left")?, right: f.index("right")? });
     }
     let names: Vec<&str> =
-        ShapeKind::all().into_iter().map(|k| k.name()).chain(Operator::NAMES).chain(UnaryKind::ALL.iter().map(|k| k.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
+        ShapeKind::all().into_iter().map(|k| k.name()).chain(Operator::NAMES).chain(crate::sdf::unary::TYPES.iter().map(|t| t.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
     let near = crate::diag::closest(ty, names.iter().copied());
     let hint = match near.first() {
         Some(n) => format!("did you mean '{n}'?"),

@@ -424,9 +424,7 @@ fn features(scene: &Scene) -> u32 {
             }) | if p.warp.is_some() { FEATURE_WARP } else { 0 }
                 | if matches!(p.shape, Shape::Sphere { .. }) && p.warp.is_none() { 0 } else { FEATURE_SHAPES },
             Node::Operator { op, .. } => if op.join.is_some() { FEATURE_JOIN } else { 0 },
-            Node::Unary { op: Unary::Infill { .. }, .. } => FEATURE_UNARY | FEATURE_INFILL,
-            Node::Unary { op: Unary::Displace { .. }, .. } => FEATURE_UNARY | FEATURE_DISPLACE,
-            Node::Unary { .. } => FEATURE_UNARY,
+            Node::Unary { op, .. } => FEATURE_UNARY | op.kind().wgsl.feature,
         }
     })
 }

@@ -59,7 +59,8 @@ pub use lower::{from_formula, NotBlobtree};
 pub use operator::{Blend, Join, OpKind, Operator};
 pub use primitive::{Primitive, Rotation, Shape, ShapeKind, Transform};
 pub use profile::Profile;
-pub use unary::{Unary, UnaryKind};
+pub use crate::sdf::unary::UnaryType;
+pub use unary::Unary;
 
 use std::collections::BTreeMap;
 

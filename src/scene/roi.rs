@@ -258,12 +258,8 @@ pub fn trace_levels(scene: &Scene) -> Vec<Option<f64>> {
                 level[right] = b;
             }
             Node::Unary { op, child } => {
-                level[child] = match op {
-                    super::Unary::Offset { distance } => l.map(|v| v + distance),
-                    super::Unary::Shell { .. } => None,
-                    super::Unary::Infill { .. } => l,
-                    super::Unary::Displace { amplitude, .. } => l.map(|v| v - amplitude),
-                };
+                let (t, v) = op.typed();
+                level[child] = l.and_then(|l| (t.operand_level)(&v, l));
             }
             Node::Primitive(_) => {}
         }

@@ -8,20 +8,11 @@ use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
 use glam::{DMat3, DQuat, DVec3};
 
-/// A unary node's parameter row (its type code tells the interpreter
-/// which): offset (d), shell (t/2), infill (k = 2π/period, thickness/2,
-/// 1/(k√6)), displace (amplitude, frequency).
+/// A unary node's parameter row, its type's (`crate::sdf::unary`; its
+/// type code tells the interpreter which).
 pub fn unary_row(op: &Unary) -> [f32; 4] {
-    let f = |v: f64| v as f32;
-    match *op {
-        Unary::Offset { distance } => [f(distance), 0.0, 0.0, 0.0],
-        Unary::Shell { thickness } => [f(0.5 * thickness), 0.0, 0.0, 0.0],
-        Unary::Infill { period, thickness } => {
-            let k = std::f64::consts::TAU / period;
-            [f(k), f(0.5 * thickness), f(1.0 / (k * 6f64.sqrt())), 0.0]
-        }
-        Unary::Displace { amplitude, frequency } => [f(amplitude), f(frequency), 0.0, 0.0],
-    }
+    let (t, v) = op.typed();
+    (t.row)(&v).map(|x| x as f32)
 }
 
 /// A primitive's rows in `params` (the layout of linear.rs's module doc):

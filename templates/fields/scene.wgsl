@@ -135,20 +135,13 @@ fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o:
     return d;
 }
 
-// A unary node of type `ty` with record k on operand value v at p (src/scene/
-// unary.rs; rows in linear.rs, unary_row): offset v - d, shell |v| - t/2,
-// infill max(v, |gyroid(k p)| / (k sqrt 6) - thickness/2), displace
-// v + a n(p).
+// A unary node of type `ty` with record k (its type's row) on operand
+// value v at p: the case of its type (unary_cases: src/sdf/unary, a file a
+// type, spliced in by src/field/scene/mod.rs), those with a feature of
+// their own only where the scene has it.
 fn scene_unary(ty: u32, k: vec4<f32>, v: f32, p: vec3<f32>) -> f32 {
-    var r = select(v - k.x, abs(v) - k.x, ty == NODE_SHELL);
-    if ((SCENE_FEATURES & FEATURE_INFILL) != 0u) {
-        let q = p * k.x;
-        let g = sin(q.x) * cos(q.y) + sin(q.y) * cos(q.z) + sin(q.z) * cos(q.x);
-        r = select(r, max(v, abs(g) * k.z - k.y), ty == NODE_INFILL);
-    }
-    if ((SCENE_FEATURES & FEATURE_DISPLACE) != 0u) {
-        r = select(r, v + k.x * scene_noise(p, k.y), ty == NODE_DISPLACE);
-    }
+    var r = v;
+    //!splice:unary_cases
     return r;
 }
 

@@ -78,7 +78,7 @@ pub(crate) fn node_json(n: &Node) -> String {
         }
         Node::Unary { op, child } => {
             s += &format!("\"type\": \"{}\", \"child\": {child}", op.kind().name());
-            for (k, v) in op.kind().fields().iter().zip(op.values()) {
+            for (k, v) in op.kind().fields.iter().zip(op.values()) {
                 s += &format!(", \"{k}\": {}", num(v));
             }
         }

@@ -345,15 +345,10 @@ impl Walker<'_> {
                 }
                 Ok(copies(&Copies::Mirror { normal: n }, self.shape(&a[3])?, span))
             }
-            Form::Offset => Ok(Rc::new(Tree::Unary(Unary::Offset { distance: self.num(&a[0])? }, self.shape(&a[1])?, span))),
-            Form::Shell => Ok(Rc::new(Tree::Unary(Unary::Shell { thickness: self.num(&a[0])? }, self.shape(&a[1])?, span))),
-            Form::Infill => {
-                let [period, thickness] = self.nums(a)?;
-                Ok(Rc::new(Tree::Unary(Unary::Infill { period, thickness }, self.shape(&a[2])?, span)))
-            }
-            Form::Displace => {
-                let [amplitude, frequency] = self.nums(a)?;
-                Ok(Rc::new(Tree::Unary(Unary::Displace { amplitude, frequency }, self.shape(&a[2])?, span)))
+            Form::Unary(t) => {
+                let n = t.param_count();
+                let v: Vec<f64> = a[..n].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+                Ok(Rc::new(Tree::Unary(Unary::from_values(t, &v), self.shape(&a[n])?, span)))
             }
             _ => {
                 let name = sdf::forms().find(|i| i.form == form).map_or("?", |i| i.name);
@@ -391,17 +386,16 @@ fn compose(outer: &Transform, inner: &Transform) -> Transform {
     Transform { translate: t.into(), rotate, scale: outer.scale * inner.scale }
 }
 
-/// A unary node under transform `tf` (whose scale multiplies values):
-/// offsets and walls scale with it. The gyroid and the noise are fixed in
-/// the world, and a scene's unary node has no frame of its own, so a
-/// transform over them is not a blobtree node.
+/// A unary node under transform `tf` (whose scale multiplies values), as
+/// its type moves (`UnaryType::moved`). A scene's unary node has no frame
+/// of its own, so a transform over a pattern fixed in the world (the
+/// gyroid, the noise) is not a blobtree node.
 fn moved_unary(op: &Unary, tf: &Placement, span: Span) -> Result<Unary, NotBlobtree> {
-    let s = tf.scale();
-    match *op {
-        Unary::Offset { distance } => Ok(Unary::Offset { distance: s * distance }),
-        Unary::Shell { thickness } => Ok(Unary::Shell { thickness: s * thickness }),
-        _ if tf.is_identity() => Ok(*op),
-        _ => Err(not(format!("a transform over '{}' is not a blobtree node (its pattern is fixed in the world): transform its operand instead", op.kind().name()), span)),
+    let (t, v) = op.typed();
+    match t.moved {
+        Some(moved) => Ok(Unary::from_values(t, &moved(&v, tf.scale()))),
+        None if tf.is_identity() => Ok(*op),
+        None => Err(not(format!("a transform over '{}' is not a blobtree node (its pattern is fixed in the world): transform its operand instead", op.kind().name()), span)),
     }
 }
 
@@ -460,7 +454,7 @@ fn build(tree: &Rc<Tree>, b: &mut Builder, spans: &mut Vec<Span>) -> Result<usiz
                 (b.operator(op, l, r), span)
             }
             Task::Visit(Tree::Unary(op, sub, span), tf, w) => {
-                if w.is_some() && matches!(op, Unary::Infill { .. } | Unary::Displace { .. }) {
+                if w.is_some() && op.kind().moved.is_none() {
                     return Err(not(format!("'{}' under a twist or bend is not a blobtree node (its pattern is fixed in the world)", op.kind().name()), *span));
                 }
                 stack.push(Task::Wrap(moved_unary(op, &tf, *span)?, *span));

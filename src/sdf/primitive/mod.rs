@@ -417,11 +417,12 @@ impl Sink for DynSink<'_> {
     }
 }
 
-/// Expands a call of primitive type `t` (`v`: the lowered arguments).
-pub(super) fn expand<S: Sink>(sink: &mut S, t: &PrimitiveType, v: &[NodeId]) -> Result<NodeId, S::Error> {
+/// Runs expansion `f` (a primitive type's or a unary type's) on the
+/// lowered arguments `v`.
+pub(super) fn expand<S: Sink>(sink: &mut S, f: Expand, v: &[NodeId]) -> Result<NodeId, S::Error> {
     let mut keep = Keep { sink, error: RefCell::new(None) };
     let mut dyn_sink = DynSink(&mut keep);
-    let r = (t.expand)(&mut B(&mut dyn_sink), v);
+    let r = f(&mut B(&mut dyn_sink), v);
     match r {
         Ok(n) => Ok(n),
         Err(Stopped) => Err(keep.error.into_inner().expect("an expansion stops only on an error it kept")),
