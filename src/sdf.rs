@@ -18,7 +18,7 @@
 //! of their operands; and the smooth operators of Zanni et al. (eq. 8-11),
 //! g = min(a, b) - k/6·max(1 - |a - b|/k, 0)^3, have gradient
 //! (1 - w)∇a + w∇b with w ∈ [0, ½] in the blend zone, a convex combination,
-//! so they keep it too. The chamfer and round blends (module `blend`) have
+//! so they keep it too. The chamfer and round blends (module `join`) have
 //! √2 times the operands' bound, `sum_union` their sum where both are below
 //! T, `density` max(1, T·1.7173/(c·R)) (1 at its default T); `twist` and
 //! `bend` (module `warp`) multiply it by (a + √(a² + 4))/2 and 1 + a,
@@ -41,6 +41,7 @@ use crate::ir::{Func1, NodeId, Op};
 
 mod blend;
 mod build;
+pub mod join;
 mod operator;
 pub mod primitive;
 mod profile;
@@ -48,7 +49,8 @@ pub mod unary;
 mod warp;
 
 use build::B;
-pub use blend::{chamfer_intersect, chamfer_range, chamfer_union, density, density_default_range, density_lipschitz, round_intersect, round_union, sum_union, DENSITY_SLOPE};
+pub use blend::{density, density_default_range, density_lipschitz, DENSITY_SLOPE};
+pub use join::{chamfer_intersect, chamfer_range, chamfer_union, round_intersect, round_union, sum_union};
 pub use unary::{noise, NOISE_GRADIENT, NOISE_WAVES};
 pub use warp::{bend_lipschitz, bend_point, twist_lipschitz, twist_point};
 
@@ -59,6 +61,8 @@ pub enum Form {
     Primitive(&'static primitive::PrimitiveType),
     /// A unary form: `offset(d, shape)`, `shell(t, shape)`, … ([`unary::TYPES`]).
     Unary(&'static unary::UnaryType),
+    /// A join of an operation: `chamfer_union(a, b, r)`, … ([`join::TYPES`]).
+    Join(&'static join::JoinType, join::OpKind),
     /// `translate(dx, dy, dz, shape)`
     Translate,
     /// `rotate(ax, ay, az, angle, shape)`: about the axis through the origin, radians
@@ -105,20 +109,6 @@ pub enum Form {
     Twist,
     /// `bend(k, shape)`: the xy plane turned by k·x
     Bend,
-    /// `chamfer_union(a, b, r)`: a 45° bevel of width r
-    ChamferUnion,
-    /// `chamfer_intersect(a, b, r)`
-    ChamferIntersect,
-    /// `chamfer_subtract(a, b, r)`: a minus b
-    ChamferSubtract,
-    /// `round_union(a, b, r)`: a circular fillet of radius r
-    RoundUnion,
-    /// `round_intersect(a, b, r)`
-    RoundIntersect,
-    /// `round_subtract(a, b, r)`: a minus b
-    RoundSubtract,
-    /// `sum_union(a, b, T)`: a + b − T where both are below T
-    SumUnion,
 }
 
 /// How many arguments a form takes.
@@ -150,8 +140,9 @@ pub struct Info {
     pub doc: &'static str,
 }
 
-/// Every form but the primitives and the unary forms ([`primitive::TYPES`]
-/// and [`unary::TYPES`] describe those), in documentation order.
+/// Every form but the primitives, the joins and the unary forms
+/// ([`primitive::TYPES`], [`join::TYPES`] and [`unary::TYPES`] describe
+/// those), in documentation order.
 pub const FORMS: &[Info] = &[
     Info { name: "circle", form: Form::Circle, arity: Arity::Exactly(1), signature: "circle(r)", doc: "2D profile: sqrt(x^2 + y^2) - r, r > 0 (independent of z: a prism along z); exact, L = 1" },
     Info { name: "rect", form: Form::Rect, arity: Arity::Exactly(2), signature: "rect(hx, hy)", doc: "2D profile: length(max(d, 0)) + min(max(d.x, d.y), 0), d = (|x| - hx, |y| - hy); exact, L = 1" },
@@ -176,18 +167,13 @@ pub const FORMS: &[Info] = &[
     Info { name: "mirror", form: Form::Mirror, arity: Arity::Exactly(4), signature: "mirror(nx, ny, nz, shape)", doc: "the union of shape and its reflection across the plane through the origin with normal n (n not zero); keeps L" },
     Info { name: "twist", form: Form::Twist, arity: Arity::Exactly(2), signature: "twist(k, shape)", doc: "shape(c x + s y, c y - s x, z), c = cos(k z), s = sin(k z): turned by k z radians about the z axis; L = the shape's times (a + sqrt(a^2 + 4))/2, a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
     Info { name: "bend", form: Form::Bend, arity: Arity::Exactly(2), signature: "bend(k, shape)", doc: "shape(c x - s y, s x + c y, z), c = cos(k x), s = sin(k x): a bar along x curls into an arc of radius 1/k; L = the shape's times (1 + a), a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
-    Info { name: "chamfer_union", form: Form::ChamferUnion, arity: Arity::Exactly(3), signature: "chamfer_union(a, b, r)", doc: "min(min(a, b), (a + b - r)/sqrt(2)), r > 0: a 45 degree bevel of width r, min(a, b) where either is above r/(2 - sqrt(2)); L = sqrt(2) times the operands'" },
-    Info { name: "chamfer_intersect", form: Form::ChamferIntersect, arity: Arity::Exactly(3), signature: "chamfer_intersect(a, b, r)", doc: "max(max(a, b), (a + b + r)/sqrt(2)), r > 0; L = sqrt(2) times the operands'" },
-    Info { name: "chamfer_subtract", form: Form::ChamferSubtract, arity: Arity::Exactly(3), signature: "chamfer_subtract(a, b, r)", doc: "chamfer_intersect(a, -b, r): a minus b; L = sqrt(2) times the operands'" },
-    Info { name: "round_union", form: Form::RoundUnion, arity: Arity::Exactly(3), signature: "round_union(a, b, r)", doc: "max(r, min(a, b)) - length(max(r - a, 0), max(r - b, 0)), r > 0: a circular fillet of radius r, min(a, b) where either is above r; L = sqrt(2) times the operands'" },
-    Info { name: "round_intersect", form: Form::RoundIntersect, arity: Arity::Exactly(3), signature: "round_intersect(a, b, r)", doc: "min(-r, max(a, b)) + length(max(r + a, 0), max(r + b, 0)), r > 0; L = sqrt(2) times the operands'" },
-    Info { name: "round_subtract", form: Form::RoundSubtract, arity: Arity::Exactly(3), signature: "round_subtract(a, b, r)", doc: "round_intersect(a, -b, r): a minus b; L = sqrt(2) times the operands'" },
-    Info { name: "sum_union", form: Form::SumUnion, arity: Arity::Exactly(3), signature: "sum_union(a, b, T)", doc: "min(a, b) + (min(max(a, b), T) - T), T > 0: a + b - T where both are below T, else min(a, b); on densities with the same T the density blend; L = the sum of the operands' where both are below T, else the larger" },
 ];
 
-/// Every form: the primitives, then [`FORMS`], then the unary forms.
+/// Every form: the primitives, then [`FORMS`], then the joins' and the
+/// unary forms.
 pub fn forms() -> impl Iterator<Item = &'static Info> {
-    primitive::TYPES.iter().map(|t| &t.info).chain(FORMS).chain(unary::TYPES.iter().map(|t| &t.info))
+    let joins = join::TYPES.iter().flat_map(|t| t.forms);
+    primitive::TYPES.iter().map(|t| &t.info).chain(FORMS).chain(joins).chain(unary::TYPES.iter().map(|t| &t.info))
 }
 
 /// The form called `name`, if any.
@@ -223,14 +209,15 @@ pub trait Sink {
 /// order; a transform's shape was lowered over the plain x, y, z).
 pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, S::Error> {
     match form {
-        Form::Primitive(t) => return primitive::expand(sink, t.expand, v),
-        Form::Unary(t) => return primitive::expand(sink, t.expand, v),
+        Form::Primitive(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
+        Form::Unary(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
+        Form::Join(t, kind) => return primitive::expand(sink, |b| (t.expand)(b, kind, v)),
         _ => {}
     }
     let mut b = B(sink);
     let b = &mut b;
     match form {
-        Form::Primitive(_) | Form::Unary(_) => unreachable!("expanded above"),
+        Form::Primitive(_) | Form::Unary(_) | Form::Join(..) => unreachable!("expanded above"),
         Form::Translate | Form::Rotate | Form::Scale => transform(b, form, v),
         Form::Union | Form::Intersect | Form::Subtract => operator::sharp(b, form, v),
         Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => operator::smooth(b, form, v),
@@ -241,8 +228,6 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
         Form::Repeat => repeat(b, v),
         Form::Mirror => mirror(b, v),
         Form::Twist | Form::Bend => warp::lower(b, form, v),
-        Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract | Form::RoundUnion | Form::RoundIntersect | Form::RoundSubtract
-        | Form::SumUnion => blend::lower(b, form, v),
     }
 }
 

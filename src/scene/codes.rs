@@ -6,7 +6,7 @@
 //! descriptor's ([`crate::sdf::primitive`]); those of the types before
 //! descriptors existed are named here too.
 
-use super::{Join, Node, OpKind, Operator};
+use super::{Node, OpKind, Operator};
 
 /// isLeaf bit of a node word.
 pub const NODE_LEAF_BIT: u32 = 1 << 31;
@@ -74,20 +74,22 @@ pub const SMOOTH_INTERSECTION: u32 = 36;
 pub const SMOOTH_DIFFERENCE: u32 = 37;
 /// Type code of a chamfer union. The binary operators are three codes a
 /// style from 32 (union, intersection, difference), so (code − 32) mod 3
-/// tells the operation.
-pub const CHAMFER_UNION: u32 = 38;
+/// tells the operation; a join's codes are its descriptor's
+/// ([`crate::sdf::join`]), those named here the ones the layout had before
+/// descriptors.
+pub const CHAMFER_UNION: u32 = crate::sdf::join::CHAMFER.code;
 /// Type code of a chamfer intersection.
-pub const CHAMFER_INTERSECTION: u32 = 39;
+pub const CHAMFER_INTERSECTION: u32 = CHAMFER_UNION + 1;
 /// Type code of a chamfer difference.
-pub const CHAMFER_DIFFERENCE: u32 = 40;
+pub const CHAMFER_DIFFERENCE: u32 = CHAMFER_UNION + 2;
 /// Type code of a round union.
-pub const ROUND_UNION: u32 = 41;
+pub const ROUND_UNION: u32 = crate::sdf::join::ROUND.code;
 /// Type code of a round intersection.
-pub const ROUND_INTERSECTION: u32 = 42;
+pub const ROUND_INTERSECTION: u32 = ROUND_UNION + 1;
 /// Type code of a round difference.
-pub const ROUND_DIFFERENCE: u32 = 43;
+pub const ROUND_DIFFERENCE: u32 = ROUND_UNION + 2;
 /// Type code of the sum blend (a union).
-pub const SUM_UNION: u32 = 44;
+pub const SUM_UNION: u32 = crate::sdf::join::SUM.code;
 /// Type code of an offset, the first unary node (codes 48-55 are unary;
 /// a unary type's code, like its feature, is its descriptor's,
 /// [`crate::sdf::unary`]).
@@ -185,22 +187,21 @@ fn op_code(op: &Operator) -> u32 {
         OpKind::Intersection => INTERSECTION,
         OpKind::Difference => DIFFERENCE,
     };
-    let style = match (op.blend, op.join) {
-        (Some(_), _) => 1,
-        (None, Some(Join::Chamfer { .. })) => 2,
-        (None, Some(Join::Round { .. })) => 3,
-        (None, Some(Join::Sum { .. })) => return SUM_UNION,
-        (None, None) => 0,
-    };
-    base + 3 * style
+    match (op.blend, op.join) {
+        (Some(_), _) => base + 3,
+        (None, Some(j)) => j.typed().0.code + op.kind as u32,
+        (None, None) => base,
+    }
 }
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …),
 /// then the `FORM_<NAME>` and `FEATURE_<NAME>` of the primitive types with
-/// a case of their own that the list does not name, then the `NODE_<NAME>`
-/// and (where they have one) `FEATURE_<NAME>` of the unary types.
+/// a case of their own that the list does not name, the `NODE_<NAME>` of
+/// the joins' operations and the range of their codes (`NODE_JOIN_FIRST`,
+/// `NODE_JOIN_LAST`), then the `NODE_<NAME>` and (where they have one)
+/// `FEATURE_<NAME>` of the unary types.
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 64] = [
+    let consts: [(&str, u32); 57] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_COMB_BIT", NODE_COMB_BIT),
         ("NODE_UNION_PATH_BIT", NODE_UNION_PATH_BIT),
@@ -239,13 +240,6 @@ pub fn wgsl_constants() -> String {
         ("SCENE_ENTRY_ROW_BITS", ENTRY_ROW_BITS),
         ("NODE_EXTRUDE", EXTRUDE),
         ("NODE_REVOLVE", REVOLVE),
-        ("NODE_CHAMFER_UNION", CHAMFER_UNION),
-        ("NODE_CHAMFER_INTERSECTION", CHAMFER_INTERSECTION),
-        ("NODE_CHAMFER_DIFFERENCE", CHAMFER_DIFFERENCE),
-        ("NODE_ROUND_UNION", ROUND_UNION),
-        ("NODE_ROUND_INTERSECTION", ROUND_INTERSECTION),
-        ("NODE_ROUND_DIFFERENCE", ROUND_DIFFERENCE),
-        ("NODE_SUM_UNION", SUM_UNION),
         ("FORM_EXTRUDE", FORM_EXTRUDE),
         ("FORM_REVOLVE", FORM_REVOLVE),
         ("PROFILE_ROWS", PROFILE_ROWS),
@@ -270,6 +264,13 @@ pub fn wgsl_constants() -> String {
     for (name, v) in consts {
         s.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }
+    s + &descriptor_constants(&consts)
+}
+
+/// The constants the descriptors name (`wgsl_constants`' doc) that the
+/// list `consts` does not.
+fn descriptor_constants(consts: &[(&str, u32)]) -> String {
+    let mut s = String::new();
     for t in crate::sdf::primitive::TYPES {
         let Some(case) = t.wgsl else { continue };
         let name = t.scene_name.to_uppercase();
@@ -280,6 +281,13 @@ pub fn wgsl_constants() -> String {
             }
         }
     }
+    for t in crate::sdf::join::TYPES {
+        for (k, name) in t.scene_names.iter().enumerate() {
+            s.push_str(&format!("const NODE_{}: u32 = {}u;\n", name.to_uppercase(), t.code + k as u32));
+        }
+    }
+    let (first, last) = join_codes();
+    s.push_str(&format!("const NODE_JOIN_FIRST: u32 = {first}u;\nconst NODE_JOIN_LAST: u32 = {last}u;\n"));
     for t in crate::sdf::unary::TYPES {
         let name = t.name().to_uppercase();
         s.push_str(&format!("const NODE_{name}: u32 = {}u;\n", t.code));
@@ -301,6 +309,18 @@ pub fn wgsl_primitive_cases() -> String {
         }
     }
     s
+}
+
+/// The first and last type codes of the joins.
+fn join_codes() -> (u32, u32) {
+    let codes = crate::sdf::join::TYPES.iter().flat_map(|t| (0..t.scene_names.len() as u32).map(|k| t.code + k));
+    (codes.clone().min().expect("joins"), codes.max().expect("joins"))
+}
+
+/// The cases of the joins (`join_cases` in `scene_join`,
+/// templates/fields/scene.wgsl), in type-code order.
+pub fn wgsl_join_cases() -> String {
+    crate::sdf::join::TYPES.iter().map(|t| t.wgsl).collect()
 }
 
 /// The cases of the unary types (`unary_cases` in `scene_unary`,
@@ -363,6 +383,21 @@ mod tests {
             let name = t.scene_name.to_uppercase();
             assert!(w.contains(&format!("const FORM_{name}: u32 = {}u;\n", c.form)) && w.contains(&format!("const FEATURE_{name}: u32 = {}u;\n", c.feature)), "{t:?}");
             assert!(cases.contains(&format!("    if ((SCENE_FEATURES & FEATURE_{name}) != 0u) {{\n{}    }}\n", c.code)), "{t:?}");
+        }
+    }
+
+    #[test]
+    fn join_codes_are_operator_codes_before_the_unary_ones() {
+        let w = wgsl_constants();
+        let cases = wgsl_join_cases();
+        for t in crate::sdf::join::TYPES {
+            assert!(t.code >= SMOOTH_DIFFERENCE + 1 && t.code + t.scene_names.len() as u32 <= OFFSET && (t.code - UNION) % 3 == 0, "{t:?}");
+            for (k, name) in t.scene_names.iter().enumerate() {
+                let name = name.to_uppercase();
+                assert!(w.contains(&format!("const NODE_{name}: u32 = {}u;\n", t.code + k as u32)), "{t:?}");
+            }
+            let last = t.scene_names.last().expect("a name").to_uppercase();
+            assert!(cases.contains(t.wgsl) && t.wgsl.contains(&format!("ty <= NODE_{last}")) || t.wgsl.contains(&format!("ty == NODE_{last}")), "{t:?}");
         }
     }
 

@@ -277,12 +277,11 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         let values = t.fields.iter().map(|k| f.number(k)).collect::<Result<Vec<f64>, _>>()?;
         return Ok(Node::Unary { op: Unary::from_values(t, &values), child: f.index("child")? });
     }
-    if let Some(k) = Operator::NAMES.iter().position(|n| *n == ty) {
-        let size = match k {
-            0..=2 => None,
-            3..=5 => Some("beta"),
-            6..=11 => Some("radius"),
-            _ => Some("range"),
+    if let Some(op) = Operator::parse(ty, 0.0) {
+        let size = match (op.blend, op.join) {
+            (Some(_), _) => Some("beta"),
+            (None, Some(j)) => Some(j.size().0),
+            (None, None) => None,
         };
         let fields: &[&str] = match size {
             None => &["left", "right"],
@@ -299,7 +298,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         return Ok(Node::Operator { op, left: f.index("left")?, right: f.index("right")? });
     }
     let names: Vec<&str> =
-        ShapeKind::all().into_iter().map(|k| k.name()).chain(Operator::NAMES).chain(crate::sdf::unary::TYPES.iter().map(|t| t.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
+        ShapeKind::all().into_iter().map(|k| k.name()).chain(Operator::names()).chain(crate::sdf::unary::TYPES.iter().map(|t| t.name())).chain(["repeat", "mirror", "twist", "bend"]).collect();
     let near = crate::diag::closest(ty, names.iter().copied());
     let hint = match near.first() {
         Some(n) => format!("did you mean '{n}'?"),

@@ -9,7 +9,7 @@
 //! Only small scenes fit: the formula language reads at most 64 KiB of text
 //! (about 500 primitives) and compiles at most 50,000 operations.
 
-use super::{Join, Node, Primitive, Profile, Scene, Shape};
+use super::{Node, Primitive, Profile, Scene, Shape};
 use crate::syntax::parser::MAX_SOURCE_BYTES;
 
 /// Why a scene has no formula.
@@ -108,9 +108,10 @@ pub fn to_formula(scene: &Scene) -> Result<String, NoFormula> {
                 let verb = ["union", "intersect", "subtract"][op.kind as usize];
                 match (op.blend, op.join) {
                     (Some(b), _) => format!("compact_{verb}({l}, {r}, {}, {})", num(b.beta), num(b.range)),
-                    (None, Some(Join::Chamfer { radius })) => format!("chamfer_{verb}({l}, {r}, {})", num(radius)),
-                    (None, Some(Join::Round { radius })) => format!("round_{verb}({l}, {r}, {})", num(radius)),
-                    (None, Some(Join::Sum { range })) => format!("sum_union({l}, {r}, {})", num(range)),
+                    (None, Some(j)) => {
+                        let (t, size) = j.typed();
+                        format!("{}({l}, {r}, {})", t.forms[op.kind as usize].name, num(size))
+                    }
                     (None, None) => format!("{verb}({l}, {r})"),
                 }
             }

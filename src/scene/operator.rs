@@ -8,16 +8,8 @@
 //! with h = max(β − |a − b|, 0), and the host refuses r_o < 7β/6, where G
 //! would be discontinuous (so 6r_o − β > 0 in b_r).
 
-/// Union, intersection or difference (left minus right).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum OpKind {
-    /// min (sharp) or G∪.
-    Union,
-    /// max (sharp) or G∩.
-    Intersection,
-    /// max(a, −b) (sharp) or G\.
-    Difference,
-}
+pub use crate::sdf::join::OpKind;
+use crate::sdf::join::{self as joins, JoinType};
 
 /// The blend of a smooth operator.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,10 +61,11 @@ impl Blend {
     }
 }
 
-/// A compact edge blend other than Zanni's G (definitions in
-/// [`crate::sdf`]'s `blend` module): each equals the sharp operator outside
-/// its operator range, so ranges of interest and bounding volumes treat it
-/// like G with that r_o.
+/// A compact edge blend other than Zanni's G: each equals the sharp
+/// operator outside its operator range, so ranges of interest and bounding
+/// volumes treat it like G with that r_o. What each computes is its
+/// descriptor's ([`crate::sdf::join`], a file a join); this is the scene
+/// model's data, a variant a join with its two conversions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Join {
     /// A 45° bevel of width `radius` (r_o = r/(2 − √2); Lipschitz ×√2).
@@ -95,21 +88,35 @@ pub enum Join {
 }
 
 impl Join {
+    /// Its descriptor and size.
+    pub fn typed(&self) -> (&'static JoinType, f64) {
+        match *self {
+            Join::Chamfer { radius } => (&joins::CHAMFER, radius),
+            Join::Round { radius } => (&joins::ROUND, radius),
+            Join::Sum { range } => (&joins::SUM, range),
+        }
+    }
+
+    /// The join of type `t` with size `size`.
+    pub fn from_size(t: &JoinType, size: f64) -> Join {
+        match t.scene_names[0] {
+            "chamfer_union" => Join::Chamfer { radius: size },
+            "round_union" => Join::Round { radius: size },
+            "sum_union" => Join::Sum { range: size },
+            other => unreachable!("join {other} has no variant"),
+        }
+    }
+
     /// Its size parameter and that parameter's field name in a scene file.
     pub fn size(&self) -> (&'static str, f64) {
-        match *self {
-            Join::Chamfer { radius } | Join::Round { radius } => ("radius", radius),
-            Join::Sum { range } => ("range", range),
-        }
+        let (t, size) = self.typed();
+        (t.field, size)
     }
 
     /// The operator range r_o beyond which the blend is the sharp operator.
     pub fn range(&self) -> f64 {
-        match *self {
-            Join::Chamfer { radius } => crate::sdf::chamfer_range(radius),
-            Join::Round { radius } => radius,
-            Join::Sum { range } => range,
-        }
+        let (t, size) = self.typed();
+        (t.range)(size)
     }
 
     /// Checks the size; the error names the field.
@@ -162,46 +169,37 @@ impl Operator {
     /// The operator of scene file type `name`, with its size (β for the
     /// smooth ones, else the join's size) when it has one.
     pub fn parse(name: &str, size: f64) -> Option<Operator> {
-        let k = Self::NAMES.iter().position(|n| *n == name)?;
-        let kind = [OpKind::Union, OpKind::Intersection, OpKind::Difference][k % 3];
-        Some(match k {
-            0..=2 => Operator::sharp(kind),
-            3..=5 => Operator::smooth(kind, Blend::new(size)),
-            6..=8 => Operator::joined(kind, Join::Chamfer { radius: size }),
-            9..=11 => Operator::joined(kind, Join::Round { radius: size }),
-            _ => Operator::joined(OpKind::Union, Join::Sum { range: size }),
-        })
+        const KINDS: [OpKind; 3] = [OpKind::Union, OpKind::Intersection, OpKind::Difference];
+        if let Some(k) = Self::SHARP.iter().position(|n| *n == name) {
+            return Some(Operator::sharp(KINDS[k]));
+        }
+        if let Some(k) = Self::SMOOTH.iter().position(|n| *n == name) {
+            return Some(Operator::smooth(KINDS[k], Blend::new(size)));
+        }
+        let (t, k) = joins::TYPES.iter().find_map(|t| Some((*t, t.scene_names.iter().position(|n| *n == name)?)))?;
+        Some(Operator::joined(KINDS[k], Join::from_size(t, size)))
     }
 
     /// The `type` of a scene file node.
     pub fn name(&self) -> &'static str {
-        let style = match (self.blend, self.join) {
-            (Some(_), _) => 1,
-            (None, Some(Join::Chamfer { .. })) => 2,
-            (None, Some(Join::Round { .. })) => 3,
-            (None, Some(Join::Sum { .. })) => return "sum_union",
-            (None, None) => 0,
-        };
-        Self::NAMES[3 * style + self.kind as usize]
+        match (self.blend, self.join) {
+            (Some(_), _) => Self::SMOOTH[self.kind as usize],
+            (None, Some(j)) => j.typed().0.scene_names[self.kind as usize],
+            (None, None) => Self::SHARP[self.kind as usize],
+        }
     }
 
-    /// Every operator type name, in type-code order (three a style: union,
-    /// intersection, difference; the sum only as a union).
-    pub const NAMES: [&'static str; 13] = [
-        "union",
-        "intersection",
-        "difference",
-        "smooth_union",
-        "smooth_intersection",
-        "smooth_difference",
-        "chamfer_union",
-        "chamfer_intersection",
-        "chamfer_difference",
-        "round_union",
-        "round_intersection",
-        "round_difference",
-        "sum_union",
-    ];
+    /// The sharp operators' type names, in [`OpKind`] order.
+    pub const SHARP: [&'static str; 3] = ["union", "intersection", "difference"];
+
+    /// The compact smooth operators' type names, in [`OpKind`] order.
+    pub const SMOOTH: [&'static str; 3] = ["smooth_union", "smooth_intersection", "smooth_difference"];
+
+    /// Every operator type name, in type-code order: sharp, smooth, then
+    /// the joins' ([`crate::sdf::join::TYPES`]).
+    pub fn names() -> impl Iterator<Item = &'static str> {
+        Self::SHARP.into_iter().chain(Self::SMOOTH).chain(joins::TYPES.iter().flat_map(|t| t.scene_names.iter().copied()))
+    }
 
     /// Whether swapping the operands leaves the value unchanged, bit for
     /// bit (min, max and |a − b| are symmetric), so the linear form may
@@ -221,16 +219,9 @@ impl Operator {
 
     /// The value for two present operands.
     pub fn apply(&self, a: f64, b: f64) -> f64 {
-        use crate::sdf::{chamfer_intersect, chamfer_union, round_intersect, round_union, sum_union};
         if let Some(j) = self.join {
-            let c = if self.kind == OpKind::Difference { -b } else { b };
-            return match (j, self.kind) {
-                (Join::Chamfer { radius }, OpKind::Union) => chamfer_union(a, c, radius),
-                (Join::Chamfer { radius }, _) => chamfer_intersect(a, c, radius),
-                (Join::Round { radius }, OpKind::Union) => round_union(a, c, radius),
-                (Join::Round { radius }, _) => round_intersect(a, c, radius),
-                (Join::Sum { range }, _) => sum_union(a, c, range),
-            };
+            let (t, size) = j.typed();
+            return t.apply(self.kind, a, b, size);
         }
         match self.blend {
             None => g(self.kind, a, b, 0.0),
@@ -258,13 +249,11 @@ impl Operator {
 
     /// The bound of this operator's value from its operands' bounds
     /// `la`, `lb`: the larger for sharp operators and G (whose own factor
-    /// the renderer's 1.45 covers), √2 times it for a chamfer or a round
-    /// fillet, the sum for the sum blend.
+    /// the renderer's 1.45 covers), a join's own rule for a join.
     pub fn combine_lipschitz(&self, la: f64, lb: f64) -> f64 {
         match self.join {
             None => la.max(lb),
-            Some(Join::Chamfer { .. } | Join::Round { .. }) => std::f64::consts::SQRT_2 * la.max(lb),
-            Some(Join::Sum { .. }) => la + lb,
+            Some(j) => (j.typed().0.lipschitz)(la, lb),
         }
     }
 }

@@ -157,15 +157,15 @@ fn scene_blend_range(x: f32, beta: f32, r_o: f32) -> f32 {
     return beta * max(1.0 - 6.0 * x / max(6.0 * r_o - beta, 1e-30), 0.0);
 }
 
-// The chamfer, round and sum joins of x and y as unions (src/sdf/blend.rs);
-// an intersection is the negated union of the negated operands, which is
-// the same arithmetic as its own formula (negation and min/max are exact).
+// The join `ty` of x and y with size s as a union: the case of its join
+// (join_cases: src/sdf/join, a file a join, spliced in by
+// src/field/scene/mod.rs); an intersection is the negated union of the
+// negated operands, which is the same arithmetic as its own formula
+// (negation and min/max are exact).
 fn scene_join(ty: u32, x: f32, y: f32, s: f32) -> f32 {
-    let chamfer = min(min(x, y), (x + y - s) * 0.70710678);
-    // Exactly min(x, y) where an operand is beyond s, as on the host.
-    let round = select(min(x, y), s - length(vec2<f32>(s - x, s - y)), max(x, y) < s);
-    let sum = min(x, y) + (min(max(x, y), s) - s);
-    return select(select(sum, round, ty <= NODE_ROUND_DIFFERENCE), chamfer, ty <= NODE_CHAMFER_DIFFERENCE);
+    var j = min(x, y);
+    //!splice:join_cases
+    return j;
 }
 
 // Operator `ty` with record k = (beta, r_o, join size, 0) on operands a
@@ -189,7 +189,7 @@ fn scene_operator(ty: u32, k: vec4<f32>, a: f32, b: f32) -> f32 {
     var r = select(select(hi, lo, uni), blended, beta > 0.0 && !outside);
     if ((SCENE_FEATURES & FEATURE_JOIN) != 0u) {
         let m = select(-1.0, 1.0, uni);
-        r = select(r, m * scene_join(ty, m * a, m * c, k.z), ty >= NODE_CHAMFER_UNION && ty <= NODE_SUM_UNION);
+        r = select(r, m * scene_join(ty, m * a, m * c, k.z), ty >= NODE_JOIN_FIRST && ty <= NODE_JOIN_LAST);
     }
     return r;
 }

@@ -55,7 +55,7 @@ pub(crate) fn scene_interpreter(features: u32, sync: bool) -> String {
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
         source::interpreter_declarations(),
-        template::splice(template::SCENE, &[("primitive_cases", &crate::scene::linear::wgsl_primitive_cases()), ("unary_cases", &crate::scene::linear::wgsl_unary_cases())]).expect("the scene template has its marker"),
+        template::splice(template::SCENE, &[("primitive_cases", &crate::scene::linear::wgsl_primitive_cases()), ("unary_cases", &crate::scene::linear::wgsl_unary_cases()), ("join_cases", &crate::scene::linear::wgsl_join_cases())]).expect("the scene template has its marker"),
         template::SCENE_SHAPES,
         template::optional(template::SCENE_SYNC, sync),
     )

@@ -314,19 +314,9 @@ impl Walker<'_> {
                 };
                 Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
             }
-            Form::ChamferUnion | Form::ChamferIntersect | Form::ChamferSubtract => {
-                let kind = op_kind(form);
-                let (l, r, radius) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::Chamfer { radius }), l, r, span)))
-            }
-            Form::RoundUnion | Form::RoundIntersect | Form::RoundSubtract => {
-                let kind = op_kind(form);
-                let (l, r, radius) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::Round { radius }), l, r, span)))
-            }
-            Form::SumUnion => {
-                let (l, r, range) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                Ok(Rc::new(Tree::Op(Operator::joined(OpKind::Union, Join::Sum { range }), l, r, span)))
+            Form::Join(t, kind) => {
+                let (l, r, size) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
+                Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::from_size(t, size)), l, r, span)))
             }
             Form::Twist | Form::Bend => {
                 let kind = if form == Form::Twist { WarpKind::Twist } else { WarpKind::Bend };
@@ -361,8 +351,8 @@ impl Walker<'_> {
 /// Whether an operator form is a union, an intersection or a difference.
 fn op_kind(form: Form) -> OpKind {
     match form {
-        Form::Intersect | Form::SmoothIntersect | Form::CompactIntersect | Form::ChamferIntersect | Form::RoundIntersect => OpKind::Intersection,
-        Form::Subtract | Form::SmoothSubtract | Form::CompactSubtract | Form::ChamferSubtract | Form::RoundSubtract => OpKind::Difference,
+        Form::Intersect | Form::SmoothIntersect | Form::CompactIntersect => OpKind::Intersection,
+        Form::Subtract | Form::SmoothSubtract | Form::CompactSubtract => OpKind::Difference,
         _ => OpKind::Union,
     }
 }

@@ -417,12 +417,15 @@ impl Sink for DynSink<'_> {
     }
 }
 
-/// Runs expansion `f` (a primitive type's or a unary type's) on the
-/// lowered arguments `v`.
-pub(super) fn expand<S: Sink>(sink: &mut S, f: Expand, v: &[NodeId]) -> Result<NodeId, S::Error> {
+/// Runs expansion `f` (of a primitive type, a join or a unary type) over
+/// the semantic pass `sink`.
+pub(super) fn expand<S: Sink, F>(sink: &mut S, f: F) -> Result<NodeId, S::Error>
+where
+    F: FnOnce(&mut Ir<'_, '_>) -> Result<NodeId, Stopped>,
+{
     let mut keep = Keep { sink, error: RefCell::new(None) };
     let mut dyn_sink = DynSink(&mut keep);
-    let r = f(&mut B(&mut dyn_sink), v);
+    let r = f(&mut B(&mut dyn_sink));
     match r {
         Ok(n) => Ok(n),
         Err(Stopped) => Err(keep.error.into_inner().expect("an expansion stops only on an error it kept")),
