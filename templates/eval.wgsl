@@ -6,14 +6,11 @@
 // The uniform block (generated from src/layout.rs: EvalBlock).
 //!splice:uniforms
 
-// Uniforms from a read-only storage buffer, copied to a private variable at
-// the entry point (why: see shared/frame.wgsl).
-@group(0) @binding(0) var<storage, read> Ubuf: Eval;
+// Uniforms (Ubuf) from a read-only storage buffer, copied to a private
+// variable at the entry point (why: see shared/frame.wgsl); the boxes and
+// results (src/codegen/template.rs says their layout).
+//!splice:bindings
 var<private> U: Eval;
-// 8 floats per box: x0 x1 y0 y1 z0 z1 t0 t1 (a point has lo == hi).
-@group(0) @binding(1) var<storage, read> boxes: array<f32>;
-// lo, hi per box (empty: lo > hi; a scalar result: lo == hi).
-@group(0) @binding(2) var<storage, read_write> results: array<vec2<f32>>;
 
 fn iso_inf() -> f32 { return U.inf; }
 fn iso_param(i: u32) -> f32 { return U.params[i / 4u][i % 4u]; }

@@ -5,10 +5,28 @@
 //! modality, a secondary ray) is a template file of its own that is spliced
 //! in, or its `*_off.wgsl` stand-in.
 
+use crate::bindings::Slot;
+
 /// The render kernel's frame: uniforms, shared code, field, traversal.
 pub const RENDER: &str = include_str!("../../templates/render.wgsl");
 /// The `isotrace eval` kernel: one invocation per box.
-pub const EVAL: &str = include_str!("../../templates/eval.wgsl");
+const EVAL: &str = include_str!("../../templates/eval.wgsl");
+
+/// The `eval` kernel's uniforms (`layout::EvalBlock`).
+pub const EVAL_UNIFORMS: Slot = Slot::storage(0, "eval uniforms", "Ubuf", "Eval", true);
+/// Its boxes: 8 floats a box, x0 x1 y0 y1 z0 z1 t0 t1 (a point has lo == hi).
+pub const EVAL_BOXES: Slot = Slot::storage(1, "boxes", "boxes", "array<f32>", true);
+/// Its results: lo, hi per box (empty: lo > hi; a scalar result: lo == hi).
+pub const EVAL_RESULTS: Slot = Slot::storage(2, "results", "results", "array<vec2<f32>>", false);
+
+/// The `eval` kernel (templates/eval.wgsl) with its `parts` and the
+/// declarations of its bindings.
+pub fn eval(parts: &[(&str, &str)]) -> String {
+    let bindings = crate::bindings::declarations_in(0, &[&EVAL_UNIFORMS, &EVAL_BOXES, &EVAL_RESULTS]);
+    let mut all = parts.to_vec();
+    all.push(("bindings", &bindings));
+    splice(EVAL, &all).expect("the eval template has its markers")
+}
 
 /// Shared by every traversal: the frame group's uniforms and helpers.
 pub const FRAME: &str = include_str!("../../templates/shared/frame.wgsl");

@@ -2,6 +2,7 @@
 //! a batch of boxes, one invocation per box, all in one dispatch.
 
 use super::{Author, Gpu, GpuError};
+use crate::codegen::template::{EVAL_BOXES, EVAL_RESULTS, EVAL_UNIFORMS};
 use crate::layout::{EvalBlock, MAX_PARAMS};
 use crate::ir::Domain;
 use crate::ir::Ir;
@@ -226,9 +227,9 @@ fn run_chunk_with(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, boxes: &[Box8], p
             label: Some("eval"),
             layout: &pipeline.get_bind_group_layout(0),
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: bbuf.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: obuf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: EVAL_UNIFORMS.binding, resource: ubuf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: EVAL_BOXES.binding, resource: bbuf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: EVAL_RESULTS.binding, resource: obuf.as_entire_binding() },
             ],
         });
         let mut enc = d.create_command_encoder(&Default::default());

@@ -262,7 +262,6 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
     }
     let user = inline.map_or(String::new(), |i| i.text.clone());
     let uniforms = crate::layout::EvalBlock::wgsl();
-    template::splice(template::EVAL, &[("uniforms", &uniforms), ("library", &lib), ("inline", &user), ("evaluator", &eval), ("call", &eval_call(domain))])
-        .expect("the eval template has its markers")
+    template::eval(&[("uniforms", &uniforms), ("library", &lib), ("inline", &user), ("evaluator", &eval), ("call", &eval_call(domain))])
 }
 

@@ -340,7 +340,6 @@ pub fn ray_cell_eval_shader(ir: &Ir) -> String {
                 field_begin_ray(o, dir, boxes[k + 6u], boxes[k + 7u]);\n    let s0 = boxes[k + 8u];\n    let s1 = boxes[k + 9u];\n    \
                 let c = cell_enclosure(o, dir, s0, s1, true);\n    \
                 return select(select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), c.zw, i % 3u == 1u), c.xy, i % 3u == 0u);";
-    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
-        .expect("the eval template has its markers")
+    template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
 }
 

@@ -74,7 +74,6 @@ pub fn scene_eval_shader(features: u32) -> String {
                 for (var j = 0u; j < scene_node_count(); j = j + 1u) { scene_step(scene_entry(j), p, &sp, &top); }\n    return top;\n}\n";
     let evaluator = format!("{frame}{}\n{eval}", scene_interpreter(features, false));
     let call = "    let v = scene_eval_point(vec3<f32>(x.x, y.x, z.x));\n    return vec2<f32>(v, v);";
-    template::splice(template::EVAL, &[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
-        .expect("the eval template has its markers")
+    template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
 }
 

@@ -279,8 +279,7 @@ pub fn eval_shader(domain: Domain, features: u32) -> String {
     };
     use crate::layout::GpuBlock;
     let uniforms = crate::layout::EvalBlock::wgsl();
-    template::splice(template::EVAL, &[("uniforms", &uniforms), ("library", &lib), ("inline", ""), ("evaluator", &interp), ("call", call)])
-        .expect("the eval template has its markers")
+    template::eval(&[("uniforms", &uniforms), ("library", &lib), ("inline", ""), ("evaluator", &interp), ("call", call)])
 }
 
 #[cfg(test)]
