@@ -37,6 +37,7 @@ pub mod bindings;
 pub mod bounded;
 pub mod catalog;
 pub mod choice;
+mod cli;
 pub mod codegen;
 pub mod diag;
 pub mod field;
@@ -62,6 +63,13 @@ pub use render::{Frame, Settings};
 pub use scene::Scene;
 
 use diag::Diagnostic;
+
+/// The `isotrace` command line, which `src/main.rs` runs: parses the
+/// process's arguments, runs the command and returns its exit code.
+#[doc(hidden)]
+pub fn command_line() -> std::process::ExitCode {
+    cli::main()
+}
 
 /// A formula that parsed and passed the semantic checks.
 #[derive(Debug, Clone)]
