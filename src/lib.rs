@@ -57,6 +57,9 @@ pub mod syntax;
 pub mod validate;
 pub mod view;
 
+#[cfg(test)]
+mod tests;
+
 pub use gpu::{Gpu, Renderer};
 pub use output::Image;
 pub use render::{Frame, Settings};

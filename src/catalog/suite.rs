@@ -37,7 +37,7 @@ pub fn suite(name: &str) -> Result<Vec<&'static str>, CatalogError> {
     match name {
         "knoll" => Ok(KNOLL.to_vec()),
         "sdf" => Ok(SDF.to_vec()),
-        // An entry's name is its file stem (tests/catalog.rs checks that no
+        // An entry's name is its file stem (src/tests/catalog.rs checks that no
         // built-in file overrides it), so the names need no parsing.
         "all" => Ok(BUILTIN.iter().map(|(file, _)| file.strip_suffix(".iso").unwrap_or(file)).collect()),
         _ => Err(CatalogError::UnknownSuite { name: name.to_string() }),

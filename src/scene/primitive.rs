@@ -12,7 +12,7 @@
 //! Every local distance is the same function, written the same way, as the
 //! formula language's form of the same name, so a scene and the formula
 //! `translate(t, rotate(axis, angle, scale(s, form)))` give the same field
-//! up to rounding (tests/scene_model.rs checks it at random points with
+//! up to rounding (src/tests/scene_model.rs checks it at random points with
 //! `reference::eval_scalar`).
 //!
 //! **Transform.** A primitive's field is d(p) = s · f_local(Rᵀ(p − t) / s):

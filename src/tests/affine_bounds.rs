@@ -3,21 +3,21 @@
 //! (`analysis::magnitude`) drops the test, and its `ra_safe` makes the
 //! enclosure of any input past the radius the whole line.
 
-mod common;
+use super::common;
 
 use common::*;
-use isotrace::ir::Domain;
-use isotrace::render::Status;
-use isotrace::Formula;
+use crate::ir::Domain;
+use crate::render::Status;
+use crate::Formula;
 
-fn frame(src: &str, s: &isotrace::render::Settings) -> isotrace::render::Frame {
+fn frame(src: &str, s: &crate::render::Settings) -> crate::render::Frame {
     let f = Formula::compile("<test>", src).unwrap();
-    isotrace::gpu::Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap().render(s).unwrap()
+    crate::gpu::Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap().render(s).unwrap()
 }
 
 fn bounded(src: &str) -> bool {
     let f = Formula::compile("<test>", src).unwrap();
-    isotrace::field::compiled::safe_radius(&f.ir, Domain::Affine).is_some()
+    crate::field::compiled::safe_radius(&f.ir, Domain::Affine).is_some()
 }
 
 /// The same formula plus min(0, 1/(x² + 1)), which is 0 (the quotient's
@@ -30,7 +30,7 @@ fn kernels_without_the_nan_test_draw_what_the_tested_kernels_draw() {
     let (city, creature) = (catalog_formula("city"), catalog_formula("creature"));
     let formulas = [
         (city.as_str(), [-2.6, 2.6, -2.6, 2.6, -0.1, 2.0]),
-        (creature.as_str(), isotrace::catalog::lookup("creature").unwrap().header.bbox),
+        (creature.as_str(), crate::catalog::lookup("creature").unwrap().header.bbox),
         ("min(sqrt(x^2 + y^2) - 0.8, abs(z) - 0.3) + 0.1*sin(3*x) + max(abs(y) - 0.9, 0)", cube(1.5)),
         ("sin(x)*cos(y) + sin(y)*cos(z) + sin(z)*cos(x) + 0.2*abs(x*y*z)", cube(3.0)),
     ];
@@ -56,12 +56,12 @@ fn kernels_without_the_nan_test_draw_what_the_tested_kernels_draw() {
 fn inputs_past_the_radius_are_the_whole_line() {
     let src = "min(x^4 + y^4 + z^4 - 1, abs(x) - 2) + min(0, a^4)";
     let f = Formula::compile("<test>", src).unwrap();
-    assert_eq!(isotrace::field::compiled::safe_radius(&f.ir, Domain::Affine), Some(16777216.0));
-    let renderer = isotrace::gpu::Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap();
+    assert_eq!(crate::field::compiled::safe_radius(&f.ir, Domain::Affine), Some(16777216.0));
+    let renderer = crate::gpu::Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap();
     let bits = 16777216f32.to_bits();
     assert!(renderer.wgsl().contains(&format!("bitcast<u32>(abs(iso_param(0u))) <= {bits}u")), "the parameter is checked against 2^24");
     let mut s = settings(cube(1.5), 48, 48);
-    let draw = |s: &isotrace::render::Settings| renderer.render(s).unwrap();
+    let draw = |s: &crate::render::Settings| renderer.render(s).unwrap();
     s.params = vec![0.5];
     let within = draw(&s);
     s.params = vec![1e8];
@@ -90,9 +90,9 @@ fn enclosures_reaching_the_radius_are_finite() {
     ];
     for src in formulas {
         let f = Formula::compile("<test>", src).unwrap();
-        let b = isotrace::field::compiled::safe_radius(&f.ir, Domain::Affine).unwrap() as f32;
+        let b = crate::field::compiled::safe_radius(&f.ir, Domain::Affine).unwrap() as f32;
         let boxes = [[b / 2.0, b, b / 2.0, b, b / 2.0, b, 0.0, 0.0], [-b, b, -b, b, -b, b, -b, b], [-b, -b, b, b, -b, -b, b, b]];
-        let r = isotrace::gpu::eval::eval_boxes(gpu(), &f.ir, Domain::Affine, &boxes, &[]).unwrap();
+        let r = crate::gpu::eval::eval_boxes(gpu(), &f.ir, Domain::Affine, &boxes, &[]).unwrap();
         for (bx, [lo, hi]) in boxes.iter().zip(r) {
             assert!(lo.is_finite() && hi.is_finite() && lo <= hi, "{src} over {bx:?} (radius {b}): [{lo}, {hi}]");
         }

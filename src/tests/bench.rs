@@ -1,9 +1,9 @@
 //! The benchmark bookkeeping: shard selection, the report formats, the
 //! image comparison and the contact sheet.
 
-use isotrace::batch::Shard;
-use isotrace::bench::*;
-use isotrace::render::{Frame, PixelOut, Stats, Status};
+use crate::batch::Shard;
+use crate::bench::*;
+use crate::render::{Frame, PixelOut, Stats, Status};
 
 fn names(v: &[&str]) -> Vec<String> {
     v.iter().map(|s| s.to_string()).collect()
@@ -35,7 +35,7 @@ fn shard_syntax() {
 }
 
 fn measure(ms: f64, evals: f64) -> Measure {
-    let stats = Stats { gpu_ms: ms, wall_ms: ms + 1.0, pixels: 100, hits: 25, evals_mean: evals, evals_p99: 9, evals_max: 12, bisect: isotrace::render::BisectStats { d_max: 11, evals_lower_bound: 4.0 }, ..Default::default() };
+    let stats = Stats { gpu_ms: ms, wall_ms: ms + 1.0, pixels: 100, hits: 25, evals_mean: evals, evals_p99: 9, evals_max: 12, bisect: crate::render::BisectStats { d_max: 11, evals_lower_bound: 4.0 }, ..Default::default() };
     Measure::from_runs(&[stats.clone(), Stats { gpu_ms: ms * 3.0, ..stats.clone() }, Stats { gpu_ms: ms * 0.5, ..stats }], 0.01, "ia")
 }
 

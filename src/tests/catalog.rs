@@ -1,7 +1,7 @@
 //! The surface catalog: the built-in `.iso` files and the header parser.
 
-use isotrace::catalog::{self, CatalogError, Clip, Status, parse_box, parse_eps, parse_iso, parse_vec3};
-use isotrace::Formula;
+use crate::catalog::{self, CatalogError, Clip, Status, parse_box, parse_eps, parse_iso, parse_vec3};
+use crate::Formula;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -123,7 +123,7 @@ fn every_surface_changes_sign_inside_its_box() {
                     for k in 0..N {
                         let at = |lo: f64, hi: f64, n: usize| lo + (hi - lo) * n as f64 / (N - 1) as f64;
                         let p = [at(b[0], b[1], i), at(b[2], b[3], j), at(b[4], b[5], k), t];
-                        let v = isotrace::reference::eval_scalar(&ir, p, &params);
+                        let v = crate::reference::eval_scalar(&ir, p, &params);
                         assert!(!v.is_nan(), "{}: NaN at {p:?}", e.name);
                         if v < 0.0 { neg += 1 } else if v > 0.0 { pos += 1 }
                     }
@@ -328,7 +328,7 @@ fn sdf_scenes_use_sphere_tracing_and_their_bounds_hold_the_object() {
             for j in 0..N {
                 for k in 0..N {
                     let p = [at(b[0], b[1], i), at(b[2], b[3], j), at(b[4], b[5], k), 0.0];
-                    if isotrace::reference::eval_scalar(&ir, p, &[]) <= 0.0 {
+                    if crate::reference::eval_scalar(&ir, p, &[]) <= 0.0 {
                         let r = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt();
                         assert!(r <= radius, "{name}: inside point {p:?} is outside the bound ({r} > {radius})");
                     }

@@ -3,11 +3,11 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use isotrace::gpu::Renderer;
-use isotrace::render::Settings;
-use isotrace::gpu::Gpu;
-use isotrace::render::{Camera, Frame};
-use isotrace::Formula;
+use crate::gpu::Renderer;
+use crate::render::Settings;
+use crate::gpu::Gpu;
+use crate::render::{Camera, Frame};
+use crate::Formula;
 use std::sync::OnceLock;
 
 /// The device shared by every test of a binary.
@@ -19,7 +19,7 @@ pub fn gpu() -> &'static Gpu {
 /// The text of a catalog surface (`examples/*.iso`, header lines and all:
 /// they are comments to the formula language).
 pub fn catalog_formula(name: &str) -> String {
-    isotrace::catalog::lookup(name).unwrap().formula
+    crate::catalog::lookup(name).unwrap().formula
 }
 
 /// Settings with the CLI's defaults for a box and size.
@@ -28,7 +28,7 @@ pub fn settings(bbox: [f64; 6], w: u32, h: u32) -> Settings {
 }
 
 /// Compiles and renders.
-pub fn render(src: &str, domain: isotrace::ir::Domain, s: &Settings) -> Frame {
+pub fn render(src: &str, domain: crate::ir::Domain, s: &Settings) -> Frame {
     let f = Formula::compile("<test>", src).unwrap();
     Renderer::bisect(gpu(), &f.ir, domain).unwrap().render(s).unwrap()
 }
@@ -39,7 +39,7 @@ pub fn sign_change_near(f: &Formula, s: &Settings, k: u32, t: f64) -> bool {
     let d = Camera::ray(&cf, k % s.width, k / s.width, s.width, s.height);
     let g = |t: f64| {
         let p = s.camera.eye + d * t;
-        isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
+        crate::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
     };
     let (a, b) = (g(t - 2.0 * s.eps), g(t + 2.0 * s.eps));
     (a <= 0.0) != (b <= 0.0)
@@ -61,7 +61,7 @@ pub fn reference_root(f: &Formula, s: &Settings, i: u32, j: u32, samples: usize)
     let (t0, t1) = clip(o, d, &s.bbox)?;
     let g = |t: f64| {
         let p = o + d * t;
-        isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
+        crate::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, s.time], &[])
     };
     let step = (t1 - t0) / samples as f64;
     let mut a = t0;
@@ -107,8 +107,8 @@ pub fn exr_channel(frame: &Frame, name: &str) -> Vec<f32> {
     static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let k = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let path = std::env::temp_dir().join(format!("isotrace-test-{}-{k}.exr", std::process::id()));
-    isotrace::output::write_exr(&path, frame).unwrap();
-    let (w, h, channels) = isotrace::output::read_exr_channels(&path).unwrap();
+    crate::output::write_exr(&path, frame).unwrap();
+    let (w, h, channels) = crate::output::read_exr_channels(&path).unwrap();
     let _ = std::fs::remove_file(&path);
     assert_eq!((w, h), (frame.width, frame.height));
     channels.into_iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no EXR channel {name}")).1

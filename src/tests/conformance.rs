@@ -1,7 +1,7 @@
-//! Conformance of the CPU reference (`isotrace::reference`): the inclusion
+//! Conformance of the CPU reference (`crate::reference`): the inclusion
 //! property of `eval_interval` / `eval_affine` for every operation, the
 //! Knoll surfaces and random expression trees, strict emptiness (the suite
-//! of `conformance/suite.rs`, which `tests/conformance_device.rs` runs on
+//! of `conformance/suite.rs`, which `src/tests/conformance_device.rs` runs on
 //! the generated WGSL), and the IA-vs-RAA enclosure widths along ray
 //! segments (which only the CPU can measure: the device's eval kernel takes
 //! boxes, and a box lifts each coordinate to an independent form, so
@@ -12,7 +12,7 @@
 mod harness;
 
 use harness::*;
-use isotrace::reference::{affine_range, eval_affine, eval_interval};
+use crate::reference::{affine_range, eval_affine, eval_interval};
 
 // The checks both backends run; the CPU affords more random trees.
 conformance_suite!(Cpu, Budget { trees: 400, boxes_per_tree: 200, segment_trees: 200 });

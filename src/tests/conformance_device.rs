@@ -7,7 +7,7 @@
 //! f32 rounding margin). Strict emptiness is checked for every operation.
 //!
 //! The checks are the suite of `conformance/suite.rs`, the one
-//! `tests/conformance.rs` runs on the CPU reference. One device is shared by
+//! `src/tests/conformance.rs` runs on the CPU reference. One device is shared by
 //! every test.
 
 #[path = "conformance/harness.rs"]
@@ -17,10 +17,10 @@ mod segments;
 
 use harness::*;
 use segments::{check_slopes, run_segments, segment_shader, slope_shader};
-use isotrace::ir::Domain;
-use isotrace::gpu::eval::eval_boxes;
-use isotrace::gpu::Gpu;
-use isotrace::ir::Ir;
+use crate::ir::Domain;
+use crate::gpu::eval::eval_boxes;
+use crate::gpu::Gpu;
+use crate::ir::Ir;
 use std::sync::LazyLock;
 
 static GPU: LazyLock<Gpu> = LazyLock::new(|| Gpu::new().unwrap_or_else(|e| panic!("the device conformance tests need a GPU or lavapipe: {e}")));
@@ -54,8 +54,8 @@ fn segment_field(ir: &Ir, domain: Domain) -> String {
     };
     format!(
         "{}\n{}\nfn seg_field(x: {ty}, y: {ty}, z: {ty}, t: {ty}) -> vec2<f32> {{ return {call}; }}",
-        isotrace::codegen::libraries(&[domain]),
-        isotrace::field::compiled::emit_evaluator(ir, domain)
+        crate::codegen::libraries(&[domain]),
+        crate::field::compiled::emit_evaluator(ir, domain)
     )
 }
 
@@ -75,9 +75,9 @@ fn slope_enclosures_hold_the_slope_along_ray_segments() {
         };
         let field = format!(
             "{}\n{}\n{}\nfn seg_slope(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dir: vec3<f32>) -> vec2<f32> {{ return evald_{p}(x, y, z, t, dir.x, dir.y, dir.z).zw; }}",
-            isotrace::codegen::libraries(&[Domain::Scalar, domain]),
-            isotrace::field::compiled::derivative::library(domain),
-            isotrace::field::compiled::derivative::emit_evaluator_d(&case.ir, domain)
+            crate::codegen::libraries(&[Domain::Scalar, domain]),
+            crate::field::compiled::derivative::library(domain),
+            crate::field::compiled::derivative::emit_evaluator_d(&case.ir, domain)
         );
         run_segments(&GPU, &slope_shader(&field, domain), segs, &case.params, None).unwrap_or_else(|e| panic!("slope kernel failed for {} {domain:?}: {e}", case.name))
     });

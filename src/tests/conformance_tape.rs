@@ -1,5 +1,5 @@
 //! Conformance of the tape field source on the device: the same suite as
-//! `tests/conformance_device.rs` (every operation, the Knoll surfaces,
+//! `src/tests/conformance_device.rs` (every operation, the Knoll surfaces,
 //! random trees, on boxes and on ray segments lifted as the render kernel
 //! lifts them, and strict emptiness), with every formula flattened into a
 //! tape and run by the fixed interpreter (`templates/fields/tape.wgsl`)
@@ -13,11 +13,11 @@ mod segments;
 
 use harness::*;
 use segments::{check_slopes, run_segments, segment_shader, slope_shader};
-use isotrace::ir::Domain;
-use isotrace::field::TapeData;
-use isotrace::gpu::eval::eval_boxes_tape;
-use isotrace::gpu::Gpu;
-use isotrace::ir::Ir;
+use crate::ir::Domain;
+use crate::field::TapeData;
+use crate::gpu::eval::eval_boxes_tape;
+use crate::gpu::Gpu;
+use crate::ir::Ir;
 use std::sync::LazyLock;
 
 static GPU: LazyLock<Gpu> = LazyLock::new(|| Gpu::new().unwrap_or_else(|e| panic!("the tape conformance tests need a GPU or lavapipe: {e}")));
@@ -60,15 +60,15 @@ fn segment_field(domain: Domain) -> String {
 fn tape_interpreter(domain: Domain) -> String {
     format!(
         "var<private> g_field_work: u32;\n{}{}\n{}",
-        isotrace::codegen::libraries(&[Domain::Scalar, domain]),
-        isotrace::field::compiled::derivative::library(domain),
-        isotrace::field::tape::wgsl::interpreter(domain, isotrace::field::tape::features::ALL)
+        crate::codegen::libraries(&[Domain::Scalar, domain]),
+        crate::field::compiled::derivative::library(domain),
+        crate::field::tape::wgsl::interpreter(domain, crate::field::tape::features::ALL)
     )
 }
 
 /// The tape's slope enclosures (its derivative program, the ray direction
 /// an exact f32) hold the f64 slope along random ray segments, as the
-/// generated code's do (`tests/conformance_device.rs`).
+/// generated code's do (`src/tests/conformance_device.rs`).
 #[test]
 fn slope_enclosures_hold_the_slope_along_ray_segments() {
     let mut cases = op_cases();

@@ -10,9 +10,9 @@
 //!
 //! Case counts are bounded so the file runs in a few seconds in release.
 
-use isotrace::Formula;
-use isotrace::ir::Domain;
-use isotrace::validate::validate;
+use crate::Formula;
+use crate::ir::Domain;
+use crate::validate::validate;
 use proptest::prelude::*;
 
 const DOMAINS: [Domain; 3] = [Domain::Scalar, Domain::Interval, Domain::Affine];
@@ -25,10 +25,10 @@ fn config(cases: u32) -> ProptestConfig {
 
 /// Compiles; if that succeeds, every eval shader must validate.
 #[allow(clippy::result_large_err)] // the error is the library's own type
-fn compile_and_validate(src: &str) -> Result<Formula, isotrace::FormulaError> {
+fn compile_and_validate(src: &str) -> Result<Formula, crate::FormulaError> {
     let f = Formula::compile("<fuzz>", src)?;
     for d in DOMAINS {
-        let wgsl = isotrace::field::compiled::eval_shader(&f.ir, d);
+        let wgsl = crate::field::compiled::eval_shader(&f.ir, d);
         if let Err(e) = validate(&wgsl) {
             panic!("formula {src:?} in {d:?}:\n{e}");
         }
@@ -38,7 +38,7 @@ fn compile_and_validate(src: &str) -> Result<Formula, isotrace::FormulaError> {
 
 /// The diagnostic of a failure must render without panicking and point
 /// inside (or just past) the source.
-fn check_error(src: &str, e: &isotrace::FormulaError) {
+fn check_error(src: &str, e: &crate::FormulaError) {
     for (span, _) in &e.diagnostic.labels {
         assert!(span.start <= span.end && span.end as usize <= src.len(), "{src:?}: span {span:?}");
     }

@@ -5,9 +5,9 @@
 //! generated from it (eval in all three domains, render in both inclusion
 //! domains) passes naga validation.
 
-use isotrace::ir::Domain;
-use isotrace::validate::validate;
-use isotrace::{catalog, Formula};
+use crate::ir::Domain;
+use crate::validate::validate;
+use crate::{catalog, Formula};
 
 /// Table 1's rows in its order, with the polynomial degree of the formula
 /// isotrace uses (None: not a polynomial). The expected value of
@@ -59,7 +59,7 @@ fn all_sixteen_compile_with_their_degrees() {
 fn eval_shaders_validate() {
     for (name, f) in knoll() {
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
-            let wgsl = isotrace::field::compiled::eval_shader(&f.ir, d);
+            let wgsl = crate::field::compiled::eval_shader(&f.ir, d);
             if let Err(e) = validate(&wgsl) {
                 panic!("{name}, eval shader in {d:?}:\n{e}");
             }
@@ -71,7 +71,7 @@ fn eval_shaders_validate() {
 fn render_shaders_validate() {
     for (name, f) in knoll() {
         for d in [Domain::Interval, Domain::Affine] {
-            let wgsl = isotrace::kernel::render_shader(&f.ir, d);
+            let wgsl = crate::kernel::render_shader(&f.ir, d);
             if let Err(e) = validate(&wgsl) {
                 panic!("{name}, render shader in {d:?}:\n{e}");
             }
@@ -81,7 +81,7 @@ fn render_shaders_validate() {
 
 #[test]
 fn variables() {
-    use isotrace::ir::Var;
+    use crate::ir::Var;
     for (name, f) in knoll() {
         let vars = f.ir.variables();
         let animated = matches!(name, "sin.blob" | "water");

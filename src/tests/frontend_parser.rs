@@ -2,9 +2,9 @@
 //! syntax, comments, definitions, names, constant folding, common
 //! sub-expression sharing, integer powers, degrees, variables and parameters.
 
-use isotrace::Formula;
-use isotrace::ir::{Func1, Func2, Ir, Op, Var};
-use isotrace::syntax::{self, BinOp, Expr, ExprKind};
+use crate::Formula;
+use crate::ir::{Func1, Func2, Ir, Op, Var};
+use crate::syntax::{self, BinOp, Expr, ExprKind};
 
 /// The body of a parsed formula as an s-expression.
 fn sx(src: &str) -> String {
@@ -220,7 +220,7 @@ fn free_names_are_parameters() {
     assert_eq!(names, ["a", "b", "c_1"]);
     assert_eq!(count(&ir, |op| matches!(op, Op::Param(0))), 1, "a is one node");
     // Names are case-sensitive: X is a parameter, not x.
-    let ir2 = isotrace::Formula::compile("<t>", "X + x").unwrap().ir;
+    let ir2 = crate::Formula::compile("<t>", "X + x").unwrap().ir;
     assert_eq!(ir2.params.len(), 1);
     assert_eq!(ir2.variables(), vec![Var::X]);
 }
@@ -331,17 +331,17 @@ fn degrees() {
 
 #[test]
 fn where_clauses_and_several_surfaces() {
-    let f = isotrace::Formula::compile("<t>", "a = 2; x^2 + y^2 + z^2 - 1 where z > 0 and x < a; z where x^2 + y^2 < 1;").unwrap();
+    let f = crate::Formula::compile("<t>", "a = 2; x^2 + y^2 + z^2 - 1 where z > 0 and x < a; z where x^2 + y^2 < 1;").unwrap();
     assert_eq!(f.ir.surfaces.len(), 2);
     assert_eq!(f.ir.surfaces[0].conditions.len(), 2);
     assert!(!f.ir.surfaces[0].conditions[0].1 && f.ir.surfaces[0].conditions[1].1);
     assert!(f.ir.is_csg());
-    assert!(!isotrace::Formula::compile("<t>", "x - 1").unwrap().ir.is_csg());
+    assert!(!crate::Formula::compile("<t>", "x - 1").unwrap().ir.is_csg());
     // `;` only follows a surface with a where clause.
-    let e = isotrace::Formula::compile("<t>", "x; y where z < 0").unwrap_err();
+    let e = crate::Formula::compile("<t>", "x; y where z < 0").unwrap_err();
     assert_eq!(e.diagnostic.message, "expected end of formula, found ';'");
-    let e = isotrace::Formula::compile("<t>", "x where y").unwrap_err();
+    let e = crate::Formula::compile("<t>", "x where y").unwrap_err();
     assert_eq!(e.diagnostic.message, "expected '<' or '>', found end of formula");
-    let e = isotrace::Formula::compile("<t>", "where = 1; x").unwrap_err();
+    let e = crate::Formula::compile("<t>", "where = 1; x").unwrap_err();
     assert_eq!(e.diagnostic.message, "cannot define 'where': the name is reserved");
 }

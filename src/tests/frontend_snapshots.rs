@@ -1,13 +1,13 @@
 //! Snapshot tests of the generated evaluators.
 //!
 //! Every `tests/snapshots/in/NAME.iso` is compiled and its evaluator in each
-//! domain (`isotrace::field::compiled::emit_evaluator`) is compared with
+//! domain (`crate::field::compiled::emit_evaluator`) is compared with
 //! `tests/snapshots/out/NAME.{s,ia,ra}.wgsl`. Run with `ISOTRACE_BLESS=1` to
 //! (re)write the expected outputs after an intended change, then review the
 //! diff. Each snapshot's complete eval shader must also pass naga.
 
-use isotrace::Formula;
-use isotrace::ir::Domain;
+use crate::Formula;
+use crate::ir::Domain;
 use std::path::{Path, PathBuf};
 
 const DOMAINS: [Domain; 3] = [Domain::Scalar, Domain::Interval, Domain::Affine];
@@ -40,7 +40,7 @@ fn evaluator_snapshots() {
         let src = std::fs::read_to_string(path).unwrap();
         let f = Formula::compile(&path.display().to_string(), &src).unwrap_or_else(|e| panic!("{e}"));
         for d in DOMAINS {
-            let got = isotrace::field::compiled::emit_evaluator(&f.ir, d);
+            let got = crate::field::compiled::emit_evaluator(&f.ir, d);
             let out = dir("out").join(format!("{name}.{}.wgsl", d.prefix()));
             if bless() {
                 std::fs::write(&out, &got).unwrap();
@@ -75,8 +75,8 @@ fn snapshot_shaders_validate() {
         let src = std::fs::read_to_string(&path).unwrap();
         let f = Formula::compile(&name, &src).unwrap_or_else(|e| panic!("{e}"));
         for d in DOMAINS {
-            let wgsl = isotrace::field::compiled::eval_shader(&f.ir, d);
-            if let Err(e) = isotrace::validate::validate(&wgsl) {
+            let wgsl = crate::field::compiled::eval_shader(&f.ir, d);
+            if let Err(e) = crate::validate::validate(&wgsl) {
                 panic!("{name} in {d:?}: {e}");
             }
         }

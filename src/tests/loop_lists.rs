@@ -1,17 +1,17 @@
 //! Per-tile term lists of a compiled formula's rerolled `min` and `max`
-//! loops (`isotrace::field::compiled::term_loops::lists`, `templates/fields/loop_tiles.wgsl`):
+//! loops (`crate::field::compiled::term_loops::lists`, `templates/fields/loop_tiles.wgsl`):
 //! the tile pass notes which terms can be the loop's result over each
 //! tile's candidate slabs, and the per-pixel pass runs only those. The
 //! picture must be the one the whole loops draw, and the f64 reference's.
 
-mod common;
+use super::common;
 
 use common::gpu;
-use isotrace::field::compiled::term_loops::{self, lists};
-use isotrace::ir::Domain;
-use isotrace::gpu::Renderer;
-use isotrace::render::{BisectOptions, Frame, Settings, Status, Traversal};
-use isotrace::Formula;
+use crate::field::compiled::term_loops::{self, lists};
+use crate::ir::Domain;
+use crate::gpu::Renderer;
+use crate::render::{BisectOptions, Frame, Settings, Status, Traversal};
+use crate::Formula;
 
 /// `n` ball distances at pseudo-random centres in [-1, 1]³ (radii 0.06 to
 /// 0.18), seeded.
@@ -206,13 +206,13 @@ fn the_page_binds_the_lists_for_bisection_only() {
     let f = Formula::compile("<balls>", &format!("min({})", balls(150, 5).join(", "))).unwrap();
     let l = lists::for_formula(&f.ir).expect("listed");
     let s = common::settings(common::cube(1.3), 64, 64);
-    let bisect = isotrace::view::program(&f.ir, &Traversal::Bisect(BisectOptions::new(Domain::Interval)), &s).unwrap();
+    let bisect = crate::view::program(&f.ir, &Traversal::Bisect(BisectOptions::new(Domain::Interval)), &s).unwrap();
     let group = &bisect.groups[1];
     let named = |n: &str| group.iter().find(|b| b.name == n).map(|b| (b.binding, serde_json::to_value(&b.size).unwrap()));
     assert_eq!(named("loop lists"), Some((1, serde_json::json!({"kind": "per_tile", "bytes": l.bytes(1)}))));
     assert_eq!(named("loop list counts"), Some((4, serde_json::json!({"kind": "fixed", "bytes": 16}))));
     assert!(bisect.wgsl.contains("var<storage, read_write> loop_lists"));
-    let sphere = isotrace::view::program(&f.ir, &Traversal::Sphere(Default::default()), &s).unwrap();
+    let sphere = crate::view::program(&f.ir, &Traversal::Sphere(Default::default()), &s).unwrap();
     assert!(sphere.groups[1].iter().all(|b| !b.name.starts_with("loop list")));
 }
 
@@ -227,7 +227,7 @@ fn tiles_past_the_work_limit_run_the_whole_loop() {
     // Without spaces, within the front end's 64 KiB.
     let f = Formula::compile("<balls>", &format!("min({})", balls(700, 9).join(",")).replace(' ', "")).unwrap();
     let s = common::settings(common::cube(1.3), 40, 40);
-    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    let mut per_lane = crate::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
     let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut on = Renderer::new(&per_lane, &f.ir, t()).unwrap();

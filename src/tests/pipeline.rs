@@ -3,14 +3,14 @@
 //! that are uniforms changing without recompiling, and the module
 //! boundaries the architecture promises (docs/architecture.md).
 
-mod common;
+use super::common;
 
 use common::gpu;
-use isotrace::ir::Domain;
-use isotrace::gpu::Renderer;
-use isotrace::render::record::PackedFrame;
-use isotrace::render::{Method, SettingsField, SphereOptions, Status, Traversal};
-use isotrace::Formula;
+use crate::ir::Domain;
+use crate::gpu::Renderer;
+use crate::render::record::PackedFrame;
+use crate::render::{Method, SettingsField, SphereOptions, Status, Traversal};
+use crate::Formula;
 
 /// Packed frames decode to exactly the frame `render` returns, with the
 /// same statistics, for both traversals.
@@ -91,7 +91,7 @@ fn traversals_share_the_record() {
     let interior = |i: usize| [i.wrapping_sub(1), i + 1, i.wrapping_sub(w), i + w].iter().all(|&k| b.pixels.get(k).is_some_and(|n| n.status == b.pixels[i].status));
     for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate().filter(|(i, _)| interior(*i)) {
         assert_eq!(p.status, q.status, "pixel {i}");
-        if p.status == isotrace::render::Status::Hit {
+        if p.status == crate::render::Status::Hit {
             compared += 1;
             assert!((p.depth - q.depth).abs() < 2e-2, "{} vs {}", p.depth, q.depth);
             let dot: f32 = (0..3).map(|k| p.normal[k] * q.normal[k]).sum();
@@ -117,7 +117,7 @@ fn sphere_options_change_without_recompiling() {
     assert_eq!(after.stats.sphere.sor_fallbacks, 0);
     assert!(matches!(r.traversal(), Traversal::Sphere(o) if o.omega == 1.0));
     let err = r.set_sphere_options(SphereOptions { glass: true, ..Default::default() }).unwrap_err();
-    assert!(matches!(err, isotrace::gpu::RenderError::Settings(ref e) if e.field == SettingsField::Features), "{err}");
+    assert!(matches!(err, crate::gpu::RenderError::Settings(ref e) if e.field == SettingsField::Features), "{err}");
     let mut b = Renderer::bisect(gpu(), &f.ir, Domain::Interval).unwrap();
     assert!(b.set_sphere_options(SphereOptions::default()).is_err());
     assert!(b.optimizations_mut().is_some() && r.optimizations_mut().is_none());
@@ -144,14 +144,14 @@ fn gpu_modules_do_not_assemble_shaders() {
 /// error, and a kernel without small passes sends none.
 #[test]
 fn new_renderers_warm_their_small_passes_up() {
-    use isotrace::field::FieldSource;
-    use isotrace::render::BisectOptions;
+    use crate::field::FieldSource;
+    use crate::render::BisectOptions;
     use std::sync::atomic::Ordering::Relaxed;
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let f = Formula::compile("<t>", "sphere(1)").unwrap();
-    let tape = isotrace::field::TapeData::new(&f.ir).unwrap();
-    let scene = isotrace::scene::format::load(std::path::Path::new("examples/blobs.scene.json")).unwrap();
-    let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
+    let tape = crate::field::TapeData::new(&f.ir).unwrap();
+    let scene = crate::scene::format::load(std::path::Path::new("examples/blobs.scene.json")).unwrap();
+    let data = crate::scene::linear::Linear::new(&scene).unwrap().field_data();
     let bisect = || Traversal::Bisect(BisectOptions::new(Domain::Affine));
     let sphere = || Traversal::Sphere(SphereOptions::default());
     let s = common::settings(common::cube(1.5), 40, 30);

@@ -4,11 +4,11 @@
 //! (`field::compiled::ray_forms`), holds f64 samples of f and of its slope along the
 //! ray over the cell, and the scalar field on the ray is f at the cell's ends.
 
-mod common;
+use super::common;
 
 use common::gpu;
-use isotrace::gpu::eval::{eval_ray_cells, CellEnclosure, RayCell};
-use isotrace::Formula;
+use crate::gpu::eval::{eval_ray_cells, CellEnclosure, RayCell};
+use crate::Formula;
 
 /// A small deterministic generator (xorshift), uniform in [0, 1).
 struct Rng(u64);
@@ -55,7 +55,7 @@ fn check(src: &str, a: f64, seed: u64) -> f64 {
     let got: Vec<CellEnclosure> = eval_ray_cells(gpu(), &f.ir, &cs).unwrap();
     let eval = |c: &RayCell, s: f64| {
         let p = [0, 1, 2].map(|k| c.o[k] as f64 + c.dir[k] as f64 * s);
-        isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[])
+        crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[])
     };
     let mut ratios = vec![];
     for (c, e) in cs.iter().zip(&got) {
@@ -149,7 +149,7 @@ fn cell_enclosures_on_rays_hold_f64_samples() {
 fn box_widening(src: &str, a: f64, seed: u64) -> f64 {
     let f = Formula::compile("<test>", src).unwrap();
     let cs = cells(a, 400, seed);
-    let boxes: Vec<isotrace::gpu::eval::Box8> = cs
+    let boxes: Vec<crate::gpu::eval::Box8> = cs
         .iter()
         .map(|c| {
             let end = |s: f32| [0, 1, 2].map(|k| c.o[k] + c.dir[k] * s);
@@ -157,7 +157,7 @@ fn box_widening(src: &str, a: f64, seed: u64) -> f64 {
             [a[0].min(b[0]), a[0].max(b[0]), a[1].min(b[1]), a[1].max(b[1]), a[2].min(b[2]), a[2].max(b[2]), 0.0, 0.0]
         })
         .collect();
-    let over_box = isotrace::gpu::eval::eval_boxes(gpu(), &f.ir, isotrace::ir::Domain::Interval, &boxes, &[]).unwrap();
+    let over_box = crate::gpu::eval::eval_boxes(gpu(), &f.ir, crate::ir::Domain::Interval, &boxes, &[]).unwrap();
     let got = eval_ray_cells(gpu(), &f.ir, &cs).unwrap();
     got.iter().zip(&over_box).map(|(g, b)| f64::from(b[1] - b[0]) / f64::from(g.value[1] - g.value[0]).max(1e-30)).sum::<f64>() / cs.len() as f64
 }

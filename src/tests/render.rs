@@ -2,11 +2,11 @@
 //! the unresolved counter, and no missed sign changes against a brute-force
 //! f64 reference.
 
-mod common;
+use super::common;
 
 use common::*;
-use isotrace::ir::Domain;
-use isotrace::render::{Camera, Status, Unresolved};
+use crate::ir::Domain;
+use crate::render::{Camera, Status, Unresolved};
 
 /// Analytic ray–sphere (unit sphere at the origin) distance.
 fn sphere_hit(o: glam::DVec3, d: glam::DVec3, r: f64) -> Option<f64> {
@@ -111,9 +111,9 @@ fn tiled_and_untiled_renders_are_identical() {
 
 #[test]
 fn packed_frames_hold_the_same_pixels_and_statistics() {
-    use isotrace::gpu::Renderer;
-use isotrace::render::record::PackedFrame;
-    let f = isotrace::Formula::compile("<test>", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8").unwrap();
+    use crate::gpu::Renderer;
+use crate::render::record::PackedFrame;
+    let f = crate::Formula::compile("<test>", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8").unwrap();
     let r = Renderer::bisect(gpu(), &f.ir, Domain::Affine).unwrap();
     for tile in [1024, 24] {
         let mut s = settings(cube(3.0), 72, 48);
@@ -172,7 +172,7 @@ fn unresolved_pixels_are_counted_and_flagged() {
 /// has a sign change of f (found by dense f64 sampling) must be a hit, no
 /// farther than the reference root plus eps.
 fn assert_no_missed_roots(src: &str, bbox: [f64; 6], domain: Domain, size: u32) {
-    let f = isotrace::Formula::compile("<test>", src).unwrap();
+    let f = crate::Formula::compile("<test>", src).unwrap();
     let s = settings(bbox, size, size);
     let frame = render(src, domain, &s);
     let mut missed = vec![];
@@ -219,8 +219,8 @@ fn no_missed_sign_changes_on_knoll_surfaces() {
 #[test]
 fn nodes_of_degree_two_are_taken_from_the_ray() {
     let icos = &catalog_formula("icos.csg");
-    let f = isotrace::Formula::compile("<test>", icos).unwrap();
-    let wgsl = isotrace::kernel::render_shader(&f.ir, Domain::Interval);
+    let f = crate::Formula::compile("<test>", icos).unwrap();
+    let wgsl = crate::kernel::render_shader(&f.ir, Domain::Interval);
     assert_eq!(wgsl.matches("ia_ray_lin(g_q").count(), 10, "the ten planes' enclosures");
     assert_eq!(wgsl.matches("ia_ray(g_q").count(), 1, "the ball's");
     assert_eq!(wgsl.matches("s_ray_lin(g_q").count() + wgsl.matches("s_ray(g_q").count(), 11, "and their values at points");
@@ -233,8 +233,8 @@ fn nodes_of_degree_two_are_taken_from_the_ray() {
         ("(x - 0.2)^2/0.8 + 2*(y + 0.1)^2 + (1.5*z)^2 - 0.3*x*z - 0.7", cube(1.2)),
     ];
     for (src, bbox) in quadrics {
-        let f = isotrace::Formula::compile("<test>", src).unwrap();
-        assert!(isotrace::kernel::render_shader(&f.ir, Domain::Interval).contains("ia_ray(g_q"), "{src}");
+        let f = crate::Formula::compile("<test>", src).unwrap();
+        assert!(crate::kernel::render_shader(&f.ir, Domain::Interval).contains("ia_ray(g_q"), "{src}");
         assert_no_missed_roots(src, *bbox, Domain::Interval, 48);
     }
 }
@@ -256,8 +256,8 @@ fn polynomials_of_degree_three_to_six_are_taken_from_the_ray() {
         ("(x + 0.5*y)*(x^2 + z^2 - 1)^2 - y^3*z + 0.1*sin(x)", cube(1.5), "ia_ray_poly(ray_poly5_bern(g_pa", 1),
     ];
     for (src, bbox, call, n) in cases {
-        let f = isotrace::Formula::compile("<test>", src).unwrap();
-        let wgsl = isotrace::kernel::render_shader(&f.ir, Domain::Interval);
+        let f = crate::Formula::compile("<test>", src).unwrap();
+        let wgsl = crate::kernel::render_shader(&f.ir, Domain::Interval);
         assert_eq!(wgsl.matches(call).count(), *n, "{src}: {call}");
         assert_no_missed_roots(src, *bbox, Domain::Interval, 48);
         let s = settings(*bbox, 48, 48);
@@ -277,16 +277,16 @@ fn polynomials_of_degree_three_to_six_are_taken_from_the_ray() {
 #[test]
 fn catalog_polynomials_from_the_ray_draw_the_raa_picture() {
     let mut checked = 0;
-    for e in isotrace::catalog::builtin() {
+    for e in crate::catalog::builtin() {
         let f = e.compile().unwrap();
-        if !isotrace::field::compiled::takes_ray_polynomials(&f.ir) {
+        if !crate::field::compiled::takes_ray_polynomials(&f.ir) {
             continue;
         }
         let mut s = settings(e.header.bbox, 96, 96);
         s.time = e.header.t.unwrap_or(0.0);
-        s.clip_sphere = e.header.clip.map(|isotrace::catalog::Clip::Sphere(r)| r);
-        s.params = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
-        let draw = |d| isotrace::gpu::Renderer::bisect(gpu(), &f.ir, d).unwrap().render(&s).unwrap();
+        s.clip_sphere = e.header.clip.map(|crate::catalog::Clip::Sphere(r)| r);
+        s.params = crate::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
+        let draw = |d| crate::gpu::Renderer::bisect(gpu(), &f.ir, d).unwrap().render(&s).unwrap();
         let (ia, raa) = (draw(Domain::Interval), draw(Domain::Affine));
         let tangent = |k: usize, depth: f32| !sign_change_near(&f, &s, k as u32, depth as f64);
         let bad: Vec<String> = ia
@@ -356,20 +356,20 @@ fn the_tile_pass_encloses_only_inside_the_domain() {
 /// solves to eps, the bisection path refines the first eps cell).
 #[test]
 fn optimisations_do_not_change_the_picture() {
-    use isotrace::gpu::Renderer;
-use isotrace::render::Optimizations;
+    use crate::gpu::Renderer;
+use crate::render::Optimizations;
     let variants = [
         Optimizations { tile_culling: false, monotone: false, ..Default::default() },
         Optimizations { tile_culling: true, monotone: false, ..Default::default() },
         Optimizations { tile_culling: false, monotone: true, ..Default::default() },
     ];
-    for e in isotrace::catalog::builtin().into_iter().take(16) {
+    for e in crate::catalog::builtin().into_iter().take(16) {
         let f = e.compile().unwrap();
         let mut s = settings(e.header.bbox, 40, 40);
         s.time = e.header.t.unwrap_or(0.0);
-        s.clip_sphere = e.header.clip.map(|isotrace::catalog::Clip::Sphere(r)| r);
-        s.params = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
-        let mut r = Renderer::bisect(gpu(), &f.ir, isotrace::choose_algebra(&f.ir)).unwrap();
+        s.clip_sphere = e.header.clip.map(|crate::catalog::Clip::Sphere(r)| r);
+        s.params = crate::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
+        let mut r = Renderer::bisect(gpu(), &f.ir, crate::choose_algebra(&f.ir)).unwrap();
         let all = r.render(&s).unwrap();
         for o in variants {
             *r.optimizations_mut().unwrap() = o;
@@ -407,7 +407,7 @@ use isotrace::render::Optimizations;
 #[test]
 fn steep_roots_are_found_within_eps() {
     let src = "x^200 + y^200 + z^200 - 1";
-    let f = isotrace::Formula::compile("<test>", src).unwrap();
+    let f = crate::Formula::compile("<test>", src).unwrap();
     for domain in [Domain::Interval, Domain::Affine] {
         let s = settings(cube(1.5), 64, 64);
         let frame = render(src, domain, &s);

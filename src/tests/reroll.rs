@@ -1,4 +1,4 @@
-//! Rerolled terms (`isotrace::field::compiled::term_loops`): a long sum of same-shaped terms is
+//! Rerolled terms (`crate::field::compiled::term_loops`): a long sum of same-shaped terms is
 //! compiled as a loop over a table of its constants. It must give what the
 //! same sum written out gives: the same enclosures on the device (and they
 //! hold f64 samples), the same picture, and pixels past the loops' work
@@ -11,15 +11,15 @@
 //! every domain), so the values are the same. (Swapped factors would no
 //! longer do: a run compares a product's operands in a fixed order.)
 
-mod common;
+use super::common;
 
 use common::gpu;
-use isotrace::field::compiled::term_loops;
-use isotrace::ir::Domain;
-use isotrace::gpu::eval::{eval_boxes, Box8};
-use isotrace::gpu::Renderer;
-use isotrace::render::{BisectOptions, Status, Traversal};
-use isotrace::Formula;
+use crate::field::compiled::term_loops;
+use crate::ir::Domain;
+use crate::gpu::eval::{eval_boxes, Box8};
+use crate::gpu::Renderer;
+use crate::render::{BisectOptions, Status, Traversal};
+use crate::Formula;
 
 /// The sum of `n` terms (a x³ − 0.5)(z + b) on the unit sphere; `alternate`
 /// writes every other term's second factor as `z − (−b)`. Each term is of degree
@@ -69,7 +69,7 @@ fn assert_encloses(f: &Formula, r: &[[f32; 2]], bx: &[Box8], samples: usize, wha
         for s in 0..samples {
             let w = s as f64 / (samples - 1) as f64;
             let p = [0, 2, 4].map(|i| f64::from(b8[i]) + w * f64::from(b8[i + 1] - b8[i]));
-            let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+            let v = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
             let tol = 1e-5 * (1.0 + v.abs());
             assert!(f64::from(e[0]) - tol <= v && v <= f64::from(e[1]) + tol, "{what} box {k}: {v} outside {e:?}");
         }
@@ -77,7 +77,7 @@ fn assert_encloses(f: &Formula, r: &[[f32; 2]], bx: &[Box8], samples: usize, wha
 }
 
 /// Bit for bit at 28 terms (a written-out chain of 32 or more is generated
-/// as a balanced tree, `isotrace::field::compiled::balance`, which rounds differently); at
+/// as a balanced tree, `crate::field::compiled::balance`, which rounds differently); at
 /// 300 both hold f64 samples of the sum.
 #[test]
 fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
@@ -102,9 +102,9 @@ fn a_rerolled_sum_has_the_enclosures_of_the_written_out_sum() {
 }
 
 /// (28 terms: a written-out chain of 32 or more is generated as a balanced
-/// tree, `isotrace::field::compiled::balance`, whose rounding differs.) The rerolled sum's
+/// tree, `crate::field::compiled::balance`, whose rounding differs.) The rerolled sum's
 /// cells run their scalar work from one call site (`cells_resumable.wgsl`,
-/// `isotrace::kernel::cells_resume`), the written-out sum's inline: the
+/// `crate::kernel::cells_resume`), the written-out sum's inline: the
 /// same pixels hit, at depths within 2 eps (the root searches differ).
 #[test]
 fn a_rerolled_sum_draws_the_written_out_sums_picture() {
@@ -139,7 +139,7 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     // Counted per invocation (a device without subgroups): in one round
     // some pixels stop; the next rounds resume them.
-    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    let mut per_lane = crate::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
     let mut r = Renderer::new(&per_lane, &long.ir, t()).unwrap();
     r.set_resume_rounds(0);
@@ -196,7 +196,7 @@ fn a_rerolled_union_draws_what_the_tape_draws() {
 
 /// 30 balls as distances: a ball's polynomial x² + … − r² would be taken
 /// whole from the ray, which keeps such terms written out
-/// (`isotrace::field::compiled::term_loops`).
+/// (`crate::field::compiled::term_loops`).
 fn distances() -> Vec<String> {
     (0..30).map(|i| format!("sqrt((x - {:.3})^2 + (y - {:.3})^2 + z^2) - 0.2", -1.2 + 0.08 * i as f64, 0.5 * (0.7 * i as f64).sin())).collect()
 }
@@ -211,7 +211,7 @@ fn draws_what_the_tape_draws(src: &str) {
     for domain in [Domain::Interval, Domain::Affine] {
         let t = Traversal::Bisect(BisectOptions::new(domain));
         let a = Renderer::new(gpu(), &f.ir, t.clone()).unwrap().render(&s).unwrap();
-        let tape = isotrace::field::TapeData::new(&f.ir).unwrap();
+        let tape = crate::field::TapeData::new(&f.ir).unwrap();
         let b = Renderer::new(gpu(), &tape, t).unwrap().render(&s).unwrap();
         assert!(a.stats.hits > 300 && a.stats.unresolved == 0 && b.stats.unresolved == 0, "{:?} {:?}", a.stats, b.stats);
         let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p.status != q.status || (p.status == Status::Hit && (p.depth - q.depth).abs() > 2.0 * s.eps as f32)).count();

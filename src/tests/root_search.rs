@@ -3,15 +3,15 @@
 //! same depth on every Knoll surface, roots where f changes sign, and the
 //! automatic choice by the formula's size.
 
-mod common;
+use super::common;
 
 use common::*;
-use isotrace::field::compiled::source::PAIR_MAX_NODES;
-use isotrace::kernel::assemble;
-use isotrace::ir::Domain;
-use isotrace::gpu::Renderer;
-use isotrace::render::{BisectOptions, Frame, RootSearch, Settings, Status, Traversal};
-use isotrace::Formula;
+use crate::field::compiled::source::PAIR_MAX_NODES;
+use crate::kernel::assemble;
+use crate::ir::Domain;
+use crate::gpu::Renderer;
+use crate::render::{BisectOptions, Frame, RootSearch, Settings, Status, Traversal};
+use crate::Formula;
 
 fn bisect(f: &Formula, domain: Domain, search: RootSearch, s: &Settings) -> Frame {
     let b = BisectOptions { root_search: search, ..BisectOptions::new(domain) };
@@ -41,13 +41,13 @@ fn disagreements(f: &Formula, s: &Settings, one: &Frame, two: &Frame) -> Vec<Str
 
 #[test]
 fn both_root_searches_give_the_same_picture_on_the_knoll_surfaces() {
-    for e in isotrace::catalog::builtin().into_iter().take(16) {
+    for e in crate::catalog::builtin().into_iter().take(16) {
         let f = e.compile().unwrap();
         let mut s = settings(e.header.bbox, 48, 48);
         s.time = e.header.t.unwrap_or(0.0);
-        s.clip_sphere = e.header.clip.map(|isotrace::catalog::Clip::Sphere(r)| r);
-        s.params = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
-        let domain = isotrace::choose_algebra(&f.ir);
+        s.clip_sphere = e.header.clip.map(|crate::catalog::Clip::Sphere(r)| r);
+        s.params = crate::sema::bind_params(&f.ir, &e.header.params).unwrap().0;
+        let domain = crate::choose_algebra(&f.ir);
         let one = bisect(&f, domain, RootSearch::OnePoint, &s);
         let two = bisect(&f, domain, RootSearch::TwoPoints, &s);
         assert!(one.stats.hits > 0, "{}: no hits", e.name);
@@ -93,7 +93,7 @@ fn two_point_hits_on_the_sphere_are_at_its_analytic_depth() {
     let cf = s.camera.frame().unwrap();
     let mut hits = 0;
     for (k, p) in frame.pixels.iter().enumerate() {
-        let d = isotrace::render::Camera::ray(&cf, k as u32 % s.width, k as u32 / s.width, s.width, s.height).normalize();
+        let d = crate::render::Camera::ray(&cf, k as u32 % s.width, k as u32 / s.width, s.width, s.height).normalize();
         let o = s.camera.eye;
         let b = o.dot(d);
         let disc = b * b - (o.dot(o) - 1.0);

@@ -4,8 +4,8 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
-use isotrace::scene::generate::Rng;
-use isotrace::scene::{Blend, Builder, Join, NodeId, OpKind, Operator, Primitive, Scene, Shape};
+use crate::scene::generate::Rng;
+use crate::scene::{Blend, Builder, Join, NodeId, OpKind, Operator, Primitive, Scene, Shape};
 
 /// How leaves are combined.
 #[derive(Clone, Copy, Debug)]
@@ -121,8 +121,8 @@ pub fn surface_points(scene: &Scene, rng: &mut Rng, k: usize, band: f64) -> Vec<
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for n in scene.nodes() {
-        if let isotrace::scene::Node::Primitive(p) = n {
-            let bb = isotrace::scene::roi::abv(p, 0.0).aabb();
+        if let crate::scene::Node::Primitive(p) = n {
+            let bb = crate::scene::roi::abv(p, 0.0).aabb();
             if bb.is_bounded() {
                 for a in 0..3 {
                     lo[a] = lo[a].min(bb.min[a] - 1.0);
@@ -179,8 +179,8 @@ pub fn eval_rows(ty: u32, rows: &[[f32; 4]], p: [f64; 3]) -> f64 {
 
 /// A random profile of size about `scale` (every type; polygons of 3 to
 /// 16 vertices, star-shaped around the origin so they are simple).
-pub fn random_profile(rng: &mut Rng, scale: f64) -> isotrace::scene::Profile {
-    use isotrace::scene::Profile;
+pub fn random_profile(rng: &mut Rng, scale: f64) -> crate::scene::Profile {
+    use crate::scene::Profile;
     let u = |rng: &mut Rng, lo: f64, hi: f64| scale * rng.range(lo, hi);
     match rng.below(5) {
         0 => Profile::Circle { radius: u(rng, 0.2, 0.7) },
@@ -220,8 +220,8 @@ pub fn random_profiled(rng: &mut Rng, centre: [f64; 3], scale: f64) -> Primitive
 
 /// A random unary node's operation (displacements gentle, so sampled
 /// Lipschitz checks stay meaningful).
-pub fn random_unary(rng: &mut Rng) -> isotrace::scene::Unary {
-    use isotrace::scene::Unary;
+pub fn random_unary(rng: &mut Rng) -> crate::scene::Unary {
+    use crate::scene::Unary;
     match rng.below(4) {
         0 => Unary::Offset { distance: rng.range(-0.1, 0.25) },
         1 => Unary::Shell { thickness: rng.range(0.05, 0.3) },
@@ -285,8 +285,8 @@ pub fn same(a: Option<f64>, b: Option<f64>) -> bool {
 /// pruned view, the view built alone is the same, and the traversal stack
 /// stays below the scene's evaluation stack. Returns the masked value and
 /// the deepest traversal stack.
-pub fn assert_sparse_is_masked(lin: &isotrace::scene::linear::Linear, scene: &Scene, p: [f64; 3], active: &[bool], a: &[u32]) -> (Option<f64>, u32) {
-    use isotrace::scene::sparse::{self, Ancestors};
+pub fn assert_sparse_is_masked(lin: &crate::scene::linear::Linear, scene: &Scene, p: [f64; 3], active: &[bool], a: &[u32]) -> (Option<f64>, u32) {
+    use crate::scene::sparse::{self, Ancestors};
     let reference = scene.eval_masked(p, active);
     let mut max_stack = 0;
     for anc in [Ancestors::Fast, Ancestors::Parent] {
@@ -318,8 +318,8 @@ pub const EVERY_FORM: &str = "\
 /// of those the ones whose depths differ by more than a pixel's footprint,
 /// pixels hit in one picture only). A footprint is the pixel's height at
 /// its depth: both traversals stop within the screen-space hit criterion.
-pub fn picture_agreement(a: &isotrace::render::Frame, b: &isotrace::render::Frame, s: &isotrace::render::Settings) -> (usize, usize, usize) {
-    use isotrace::render::Status;
+pub fn picture_agreement(a: &crate::render::Frame, b: &crate::render::Frame, s: &crate::render::Settings) -> (usize, usize, usize) {
+    use crate::render::Status;
     let (mut both, mut far, mut differ) = (0, 0, 0);
     let per_pixel = 2.0 * (s.camera.fov_deg as f32 / 2.0).to_radians().tan() / s.height as f32;
     for (p, q) in a.pixels.iter().zip(&b.pixels) {
@@ -339,7 +339,7 @@ pub fn picture_agreement(a: &isotrace::render::Frame, b: &isotrace::render::Fram
 /// masked tree is exact inside its range of interest and on the same side
 /// outside. Returns the number of node checks.
 pub fn assert_sparse_and_ranges(scene: &Scene, points: &[[f64; 3]]) -> usize {
-    use isotrace::scene::{linear::Linear, roi, Node};
+    use crate::scene::{linear::Linear, roi, Node};
     let lin = Linear::new(scene).unwrap();
     let r = roi::ranges(scene);
     let mut checks = 0;
@@ -369,13 +369,13 @@ pub fn assert_sparse_and_ranges(scene: &Scene, points: &[[f64; 3]]) -> usize {
 
 /// Formula `f` drawn through the scene field (with the bound its blobtree
 /// is traced with) and compiled, sphere traced with that bound, in view `s`.
-pub fn scene_and_compiled(f: &isotrace::Formula, s: &isotrace::render::Settings) -> (isotrace::render::Frame, isotrace::render::Frame) {
-    use isotrace::render::{SphereOptions, Traversal};
+pub fn scene_and_compiled(f: &crate::Formula, s: &crate::render::Settings) -> (crate::render::Frame, crate::render::Frame) {
+    use crate::render::{SphereOptions, Traversal};
     let t = Traversal::Sphere(SphereOptions::default());
-    let (scene, lipschitz) = isotrace::choice::scene(f, &[], &t).unwrap();
+    let (scene, lipschitz) = crate::choice::scene(f, &[], &t).unwrap();
     let o = SphereOptions { lipschitz, ..SphereOptions::default() };
-    let own = isotrace::gpu::Gpu::new().unwrap();
-    let a = isotrace::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(s).unwrap();
-    let b = isotrace::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(s).unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
+    let a = crate::gpu::Renderer::new(&own, scene.source(&f.ir), Traversal::Sphere(o.clone())).unwrap().render(s).unwrap();
+    let b = crate::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(s).unwrap();
     (a, b)
 }

@@ -5,13 +5,13 @@
 //! fields and errors, the formula's argument checks, formula ⇄ scene
 //! lowering, and the scene path's picture against the compiled one.
 
-mod scene_common;
+use super::scene_common;
 
 use glam::DVec3;
-use isotrace::scene::generate::Rng;
-use isotrace::scene::linear::{self, Linear};
-use isotrace::scene::{format, roi, Builder, Operator, Primitive, Scene, Shape};
-use isotrace::Formula;
+use crate::scene::generate::Rng;
+use crate::scene::linear::{self, Linear};
+use crate::scene::{format, roi, Builder, Operator, Primitive, Scene, Shape};
+use crate::Formula;
 
 fn cone(radius: f64, half_height: f64, top_radius: f64) -> Shape {
     Shape::Cone { radius, half_height, top_radius }
@@ -29,7 +29,7 @@ fn random_cone(rng: &mut Rng, centre: [f64; 3], scale: f64) -> Primitive {
 /// (ρ, z) half-plane, sampled densely, with the sign of the trapezoid.
 #[test]
 fn the_cone_is_the_distance_to_its_surface() {
-    use isotrace::sdf::primitive::CONE;
+    use crate::sdf::primitive::CONE;
     // The top radius defaults to 0.
     assert_eq!(&*CONE.with_defaults(&[1.0, 2.0]), &[1.0, 2.0, 0.0]);
     assert_eq!(&*CONE.with_defaults(&[1.0, 2.0, 0.5]), &[1.0, 2.0, 0.5]);
@@ -57,7 +57,7 @@ fn the_cone_is_the_distance_to_its_surface() {
 }
 
 fn formula_value(f: &Formula, p: [f64; 3]) -> f64 {
-    isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[])
+    crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[])
 }
 
 #[test]
@@ -66,7 +66,7 @@ fn the_scene_cone_is_the_formula_cone() {
     for _ in 0..60 {
         let centre = [0, 1, 2].map(|_| rng.range(-1.0, 1.0));
         let prim = random_cone(&mut rng, centre, 1.0);
-        let src = isotrace::scene::formula::primitive_formula(&prim).expect("a cone has a form");
+        let src = crate::scene::formula::primitive_formula(&prim).expect("a cone has a form");
         assert!(src.contains("cone("), "{src}");
         let f = Formula::compile("<cone>", &src).unwrap_or_else(|e| panic!("{src}: {e}"));
         for _ in 0..200 {
@@ -123,9 +123,9 @@ fn cone_scene(rng: &mut Rng) -> Scene {
         items.push(b.primitive(p));
     }
     let mut twisted = random_cone(rng, [0.0, 0.0, 1.5], 0.8);
-    twisted.warp = Some(isotrace::scene::warp::Warp { kind: isotrace::scene::warp::WarpKind::Twist, rate: 0.8, frame: Default::default(), clamp: None });
+    twisted.warp = Some(crate::scene::warp::Warp { kind: crate::scene::warp::WarpKind::Twist, rate: 0.8, frame: Default::default(), clamp: None });
     items.push(b.primitive(twisted));
-    let smooth = Operator::smooth(isotrace::scene::OpKind::Union, isotrace::scene::Blend::new(0.2));
+    let smooth = Operator::smooth(crate::scene::OpKind::Union, crate::scene::Blend::new(0.2));
     let left = b.fold(Operator::UNION, &items[..6]);
     let right = b.fold(smooth, &items[6..]);
     let root = b.operator(Operator::UNION, left, right);
@@ -134,18 +134,18 @@ fn cone_scene(rng: &mut Rng) -> Scene {
 
 #[test]
 fn the_device_interpreter_and_the_compiled_formula_agree_with_the_reference() {
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let mut rng = Rng::new(13);
     for _ in 0..3 {
         let scene = cone_scene(&mut rng);
         let lin = Linear::new(&scene).unwrap();
-        let cone_feature = isotrace::sdf::primitive::CONE.wgsl.unwrap().feature;
+        let cone_feature = crate::sdf::primitive::CONE.wgsl.unwrap().feature;
         assert_eq!(lin.features & cone_feature, cone_feature);
         assert!(lin.features & linear::FEATURE_WARP != 0);
         let bb = lin.bounds;
         let points: Vec<[f64; 3]> = (0..4000).map(|_| [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.3, bb.max[k] + 0.3))).collect();
         let p32: Vec<[f32; 3]> = points.iter().map(|p| p.map(|c| c as f32)).collect();
-        let got = isotrace::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
+        let got = crate::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
         let worst = p32.iter().zip(&got).map(|(p, g)| (*g as f64 - scene.eval(p.map(f64::from))).abs()).fold(0.0, f64::max);
         assert!(worst < 2e-4, "scene interpreter: worst difference {worst}");
     }
@@ -155,7 +155,7 @@ fn the_device_interpreter_and_the_compiled_formula_agree_with_the_reference() {
     let f = Formula::compile("<cone>", src).unwrap();
     let points: Vec<[f64; 3]> = (0..4000).map(|_| [rng.range(-2.0, 2.0), rng.range(-1.5, 1.5), rng.range(-1.5, 1.5)]).collect();
     let boxes: Vec<[f32; 8]> = points.iter().map(|p| [p[0] as f32, p[0] as f32, p[1] as f32, p[1] as f32, p[2] as f32, p[2] as f32, 0.0, 0.0]).collect();
-    let got = isotrace::gpu::eval::eval_boxes(&own, &f.ir, isotrace::ir::Domain::Scalar, &boxes, &[]).unwrap();
+    let got = crate::gpu::eval::eval_boxes(&own, &f.ir, crate::ir::Domain::Scalar, &boxes, &[]).unwrap();
     let mut worst = 0.0f64;
     for (b, g) in boxes.iter().zip(&got) {
         worst = worst.max((g[0] as f64 - formula_value(&f, [b[0], b[2], b[4]].map(f64::from))).abs());
@@ -163,7 +163,7 @@ fn the_device_interpreter_and_the_compiled_formula_agree_with_the_reference() {
     assert!(worst < 2e-4, "compiled formula: worst difference {worst}");
     let h = 0.02f32;
     let cells: Vec<[f32; 8]> = boxes.iter().map(|b| [b[0], b[0] + h, b[2], b[2] + h, b[4], b[4] + h, 0.0, 0.0]).collect();
-    let enclosures = isotrace::gpu::eval::eval_boxes(&own, &f.ir, isotrace::ir::Domain::Interval, &cells, &[]).unwrap();
+    let enclosures = crate::gpu::eval::eval_boxes(&own, &f.ir, crate::ir::Domain::Interval, &cells, &[]).unwrap();
     for (c, e) in cells.iter().zip(&enclosures) {
         for corner in [[c[0], c[2], c[4]], [c[1], c[3], c[5]]] {
             let v = formula_value(&f, corner.map(f64::from));
@@ -182,15 +182,15 @@ fn cones_round_trip_through_the_file_format_and_the_formula() {
     // The top radius may be left out: 0.
     let text = r#"{"isotrace_scene": 1, "root": 0, "nodes": [{"type": "cone", "radius": 1, "half_height": 0.5, "translate": [1, 0, 0]}]}"#;
     let one = format::parse(text).unwrap();
-    let isotrace::scene::Node::Primitive(p) = &one.nodes()[0] else { panic!("a primitive") };
+    let crate::scene::Node::Primitive(p) = &one.nodes()[0] else { panic!("a primitive") };
     assert_eq!(p.shape, cone(1.0, 0.5, 0.0));
     assert_eq!(one.to_formula().unwrap(), "n0 = translate(1.0, 0.0, 0.0, cone(1.0, 0.5, 0.0));\nn0\n");
     // A formula lowers to the cone it names.
     let f = Formula::compile("<cone>", "translate(1, 0, 0, cone(1, 0.5))").unwrap();
-    assert_eq!(isotrace::scene::from_formula(&f, &[]).unwrap(), one);
+    assert_eq!(crate::scene::from_formula(&f, &[]).unwrap(), one);
     let f = Formula::compile("<cone>", "cone(1, 0.5, 1.5)").unwrap();
-    let lowered = isotrace::scene::from_formula(&f, &[]).unwrap();
-    assert!(matches!(&lowered.nodes()[0], isotrace::scene::Node::Primitive(p) if p.shape == cone(1.0, 0.5, 1.5)));
+    let lowered = crate::scene::from_formula(&f, &[]).unwrap();
+    assert!(matches!(&lowered.nodes()[0], crate::scene::Node::Primitive(p) if p.shape == cone(1.0, 0.5, 1.5)));
 }
 
 #[test]
@@ -218,7 +218,7 @@ fn bad_cones_are_named_by_their_json_path_and_their_argument() {
 /// pixel's footprint).
 #[test]
 fn cones_draw_the_compiled_picture_through_the_scene_path() {
-    use isotrace::render::Settings;
+    use crate::render::Settings;
     let src = "union(translate(-1, 0, 0, rotate(1, 0, 0, -1.2, cone(0.6, 0.6))), \
                translate(0.2, 0, 0, rotate(1, 0.5, 0, 0.9, cone(0.3, 0.5, 0.6))), \
                compact_union(translate(1.3, 0, 0, cone(0.5, 0.4, 0.2)), translate(1.3, 0, 0.6, sphere(0.25)), 0.15))";

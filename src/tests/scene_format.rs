@@ -1,9 +1,9 @@
 //! The `.scene.json` format: exact error messages with JSON paths, round
 //! trips, the read limit; and the generated scenes' primitive counts.
 
-use isotrace::scene::format::{self, FormatError, MAX_SCENE_BYTES};
-use isotrace::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
-use isotrace::scene::linear::Linear;
+use crate::scene::format::{self, FormatError, MAX_SCENE_BYTES};
+use crate::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
+use crate::scene::linear::Linear;
 
 fn err(json: &str) -> String {
     format::parse(json).unwrap_err().to_string()
@@ -92,7 +92,7 @@ fn reads_are_bounded() {
     std::fs::File::create(&big).unwrap().set_len(MAX_SCENE_BYTES + 1).unwrap();
     let e = format::load(&big).unwrap_err();
     let _ = std::fs::remove_file(&big);
-    assert!(matches!(e, FormatError::Read(isotrace::bounded::ReadError::TooLarge { limit: MAX_SCENE_BYTES })), "{e}");
+    assert!(matches!(e, FormatError::Read(crate::bounded::ReadError::TooLarge { limit: MAX_SCENE_BYTES })), "{e}");
     assert_eq!(e.to_string(), "larger than the limit of 67108864 bytes (64 MiB)");
     // An endless device is not opened at all.
     let e = format::load(std::path::Path::new("/dev/zero")).unwrap_err();
@@ -142,7 +142,7 @@ fn generated_scenes_have_the_papers_counts() {
 /// variants use compact unions with r_o = 2β.
 #[test]
 fn generated_scenes_rotate_and_blend_as_described() {
-    use isotrace::scene::{Node, Shape};
+    use crate::scene::{Node, Shape};
     for kind in [Kind::Aggregate, Kind::Boxes, Kind::SpherePairs] {
         let scene = generate(kind, 1, Blending::Smooth, 2).unwrap();
         let mut smooth = 0;

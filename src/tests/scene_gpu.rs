@@ -2,16 +2,16 @@
 //! fixed interpreter, traced by the same sphere tracing traversal as a
 //! compiled formula and agreeing with it; edits change buffers only.
 
-mod common;
-mod scene_common;
-mod scene_pictures;
+use super::common;
+use super::scene_common;
+use super::scene_pictures;
 
 use common::gpu;
 use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
-use isotrace::field::SceneData;
-use isotrace::gpu::Renderer;
-use isotrace::render::{SphereOptions, Traversal};
-use isotrace::Formula;
+use crate::field::SceneData;
+use crate::gpu::Renderer;
+use crate::render::{SphereOptions, Traversal};
+use crate::Formula;
 use std::sync::atomic::Ordering;
 
 const LEAF: u32 = 1 << 31;
@@ -28,7 +28,7 @@ fn sphere_and_box(dx: f32) -> SceneData {
     // Each primitive's ball, then its limit (none: a union).
     let none = [0.0, 0.0, 0.0, f32::INFINITY];
     let balls = vec![[0.0, 0.0, 0.0, 1.0], none, [dx, 0.0, 0.0, 0.75f32.sqrt()], none];
-    SceneData { nodes, params, prims: vec![0, 1], balls, features: isotrace::scene::linear::FEATURE_SHAPES }
+    SceneData { nodes, params, prims: vec![0, 1], balls, features: crate::scene::linear::FEATURE_SHAPES }
 }
 
 #[test]
@@ -51,7 +51,7 @@ fn scene_edits_change_buffers_not_pipelines() {
     let s = common::settings(common::cube(2.5), 32, 32);
     let data = sphere_and_box(1.5);
     // A device of its own: the other tests create pipelines concurrently.
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let mut r = Renderer::new(&own, &data, Traversal::Sphere(SphereOptions::default())).unwrap();
     let before = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
@@ -61,26 +61,26 @@ fn scene_edits_change_buffers_not_pipelines() {
     let changed = before.pixels.iter().zip(&moved.pixels).filter(|(a, b)| a.status != b.status).count();
     assert!(changed > 20, "{changed}");
     // A scene is sphere traced: asking to bisect it is a typed error.
-    let err = Renderer::new(gpu(), &data, Traversal::Bisect(isotrace::render::BisectOptions::new(isotrace::ir::Domain::Interval)));
+    let err = Renderer::new(gpu(), &data, Traversal::Bisect(crate::render::BisectOptions::new(crate::ir::Domain::Interval)));
     assert!(err.is_err());
 }
 
 /// The scene with primitive `j` (in post-order primitive order) replaced.
-fn with_primitive(scene: &isotrace::scene::Scene, lin: &isotrace::scene::linear::Linear, j: usize, p: isotrace::scene::Primitive) -> isotrace::scene::Scene {
+fn with_primitive(scene: &crate::scene::Scene, lin: &crate::scene::linear::Linear, j: usize, p: crate::scene::Primitive) -> crate::scene::Scene {
     let id = lin.order[lin.primitives[j] as usize];
     let mut nodes = scene.nodes().to_vec();
-    nodes[id] = isotrace::scene::Node::Primitive(p);
-    isotrace::scene::Scene::new(nodes, scene.root()).unwrap()
+    nodes[id] = crate::scene::Node::Primitive(p);
+    crate::scene::Scene::new(nodes, scene.root()).unwrap()
 }
 
 #[test]
 fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
-    use isotrace::scene::generate::{generate, Blending, Kind};
-    use isotrace::scene::linear::Linear;
-    use isotrace::scene::{Node, Primitive};
+    use crate::scene::generate::{generate, Blending, Kind};
+    use crate::scene::linear::Linear;
+    use crate::scene::{Node, Primitive};
     let scene = generate(Kind::Aggregate, 1, Blending::Smooth, 7).unwrap();
     let mut lin = Linear::new(&scene).unwrap();
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let data = lin.field_data();
     let mut o = SphereOptions::default();
     o.lipschitz = 1.45;
@@ -110,7 +110,7 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
     assert!(changed > 10, "the edit shows: {changed} pixels changed");
 
     // Another type is not an edit in place.
-    let sphere = Primitive::new(isotrace::scene::Shape::Octahedron { size: 0.1 });
+    let sphere = Primitive::new(crate::scene::Shape::Octahedron { size: 0.1 });
     let e = lin.set_primitive(j, &sphere).unwrap_err();
     assert!(e.reason.contains("keeps the primitive's type"), "{e}");
     assert!(lin.set_primitive(lin.primitives.len(), &q).is_err());
@@ -121,12 +121,12 @@ fn an_edit_in_place_uploads_what_a_rebuild_would_and_draws_the_same_frame() {
 /// draws the rebuilt frame.
 #[test]
 fn an_edit_in_place_moves_the_limits_it_bounds() {
-    use isotrace::scene::generate::{generate, Blending, Kind};
-    use isotrace::scene::linear::Linear;
-    use isotrace::scene::{Node, Primitive};
+    use crate::scene::generate::{generate, Blending, Kind};
+    use crate::scene::linear::Linear;
+    use crate::scene::{Node, Primitive};
     let scene = generate(Kind::SpherePairs, 0, Blending::Sharp, 5).unwrap();
     let mut lin = Linear::new(&scene).unwrap();
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let r = Renderer::new(&own, &lin.field_data(), Traversal::Sphere(SphereOptions::default())).unwrap();
     let s = common::settings(common::cube(1.3), 64, 64);
     let j = (0..lin.primitives.len()).find(|&j| lin.bounds_a_limit(lin.primitives[j] as usize)).expect("a lens");
@@ -144,13 +144,13 @@ fn an_edit_in_place_moves_the_limits_it_bounds() {
 
 #[test]
 fn the_dense_baseline_draws_the_sparse_picture() {
-    use isotrace::scene::generate::{generate, Blending, Kind};
+    use crate::scene::generate::{generate, Blending, Kind};
     let scene = generate(Kind::Aggregate, 1, Blending::Smooth, 3).unwrap();
-    let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
+    let lin = crate::scene::linear::Linear::new(&scene).unwrap();
     let data = lin.field_data();
     let mut o = SphereOptions::default();
     o.lipschitz = 1.45;
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let mut r = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap();
     let s = common::settings(common::cube(1.3), 64, 64);
     let sparse = r.render(&s).unwrap();
@@ -177,13 +177,13 @@ fn the_dense_baseline_draws_the_sparse_picture() {
 fn a_formula_lowered_to_a_scene_draws_the_compiled_picture() {
     // @creature: smooth unions and a smooth difference, lowered to compact
     // operators (the same zero set), traced with the bound they need.
-    let entry = isotrace::catalog::lookup("creature").unwrap();
+    let entry = crate::catalog::lookup("creature").unwrap();
     let f = entry.compile().unwrap();
     let s = entry.settings(&f, 96, 72).unwrap();
     let Traversal::Sphere(o) = entry.traversal(&f) else { panic!("creature is sphere traced") };
     let mut t = Traversal::Sphere(o.clone());
-    let scene = isotrace::choice::choose(isotrace::field::FieldKind::Scene, &f, &[], &t).unwrap();
-    let (_, lipschitz) = isotrace::choice::scene(&f, &[], &t).unwrap();
+    let scene = crate::choice::choose(crate::field::FieldKind::Scene, &f, &[], &t).unwrap();
+    let (_, lipschitz) = crate::choice::scene(&f, &[], &t).unwrap();
     assert_eq!(lipschitz, 1.45);
     if let Traversal::Sphere(o) = &mut t {
         o.lipschitz = lipschitz;
@@ -216,8 +216,8 @@ fn written_out_distances_draw_the_compiled_picture_as_a_scene() {
     let f = Formula::compile("<balls>", &format!("min({})", balls.join(", "))).unwrap();
     let o = SphereOptions::default();
     let t = Traversal::Sphere(o.clone());
-    let (field, lipschitz) = isotrace::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
-    assert_eq!((field.kind(), lipschitz), (isotrace::field::FieldKind::Scene, 1.0));
+    let (field, lipschitz) = crate::choice::auto_scene(&f, &[], &t).expect("auto takes the scene");
+    assert_eq!((field.kind(), lipschitz), (crate::field::FieldKind::Scene, 1.0));
     let s = common::settings(common::cube(1.3), 96, 96);
     let a = Renderer::new(gpu(), field.source(&f.ir), t).unwrap().render(&s).unwrap();
     let b = Renderer::sphere(gpu(), &f.ir, o).unwrap().render(&s).unwrap();
@@ -236,11 +236,11 @@ fn written_out_distances_draw_the_compiled_picture_as_a_scene() {
 fn depth_slabs_draw_the_whole_tree_picture() {
     for smooth in [false, true] {
         let scene = if smooth { sphere_grid_tree() } else { sphere_grid_cut() };
-        let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
+        let lin = crate::scene::linear::Linear::new(&scene).unwrap();
         let data = lin.field_data();
         let mut o = SphereOptions::default();
         o.lipschitz = if smooth { 1.45 } else { 1.0 };
-        let own = isotrace::gpu::Gpu::new().unwrap();
+        let own = crate::gpu::Gpu::new().unwrap();
         let mut r = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap();
         let s = common::settings(common::cube(1.4), 96, 96);
         let sliced = r.render(&s).unwrap();
@@ -271,15 +271,15 @@ fn depth_slabs_draw_the_whole_tree_picture() {
 /// still reported.
 #[test]
 fn slab_changes_are_not_lipschitz_violations() {
-    use isotrace::scene::generate::{generate, Blending, Kind};
+    use crate::scene::generate::{generate, Blending, Kind};
     let scene = generate(Kind::Aggregate, 3, Blending::Sharp, 1).unwrap();
-    let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
+    let lin = crate::scene::linear::Linear::new(&scene).unwrap();
     let data = lin.field_data();
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     // At 256² a tile's frustum holds more primitives than a union tile
     // takes (64) in a third of the tiles, so those have slabs (at 512²
     // nearly every tile is a union tile, with no slab change at all).
-    let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 256, 256);
+    let s = crate::render::Settings::for_box(lin.bounds.padded().unwrap(), 256, 256);
     let render = |lipschitz: f64| {
         let o = SphereOptions { lipschitz, ..SphereOptions::default() };
         Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap().render(&s).unwrap()
@@ -291,9 +291,9 @@ fn slab_changes_are_not_lipschitz_violations() {
     // Compact smooth unions raise the bound above 1: traced with 1, the
     // check still sees it within a slab or a ray's own chain (512²).
     let smooth = generate(Kind::Aggregate, 2, Blending::Smooth, 1).unwrap();
-    let data = isotrace::scene::linear::Linear::new(&smooth).unwrap().field_data();
+    let data = crate::scene::linear::Linear::new(&smooth).unwrap().field_data();
     let o = SphereOptions { lipschitz: 1.0, ..SphereOptions::default() };
-    let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 512, 512);
+    let s = crate::render::Settings::for_box(lin.bounds.padded().unwrap(), 512, 512);
     let wrong = Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap().render(&s).unwrap();
     assert!(wrong.stats.sphere.lipschitz_seen > 1.05, "{:?}", wrong.stats.sphere);
 }
@@ -302,7 +302,7 @@ fn slab_changes_are_not_lipschitz_violations() {
 /// slabs and views) draws the one-dispatch picture.
 #[test]
 fn a_scene_split_into_dispatches_draws_the_same_frame() {
-    let lin = isotrace::scene::linear::Linear::new(&sphere_grid(true)).unwrap();
+    let lin = crate::scene::linear::Linear::new(&sphere_grid(true)).unwrap();
     let data = lin.field_data();
     let mut o = SphereOptions::default();
     o.lipschitz = 1.45;
@@ -326,8 +326,8 @@ fn a_scene_split_into_dispatches_draws_the_same_frame() {
 #[test]
 fn a_sparse_scene_leaves_its_empty_tiles_to_the_tile_pass_and_misses_no_sphere() {
     let f = Formula::compile("<t>", "union(translate(-1, 0, 0, sphere(0.3)), translate(1, 0, 0, sphere(0.3)))").unwrap();
-    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
-    let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
+    let scene = crate::scene::from_formula(&f, &[]).unwrap();
+    let data = crate::scene::linear::Linear::new(&scene).unwrap().field_data();
     let (w, h) = (192, 144);
     let s = common::settings(common::cube(1.5), w, h);
     let frame = Renderer::new(gpu(), &data, Traversal::Sphere(SphereOptions::default())).unwrap().render(&s).unwrap();
@@ -388,8 +388,8 @@ fn intersected_spheres_are_listed_where_their_lens_is_and_miss_no_pixel() {
     let lenses: Vec<String> = pairs.iter().map(|&(a, b)| format!("intersect({}, {})", sphere(a), sphere(b))).collect();
     let src = format!("union({}, subtract({}, {}))", lenses.join(", "), sphere(bitten.0), sphere(bitten.1));
     let f = Formula::compile("<t>", &src).unwrap();
-    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
-    let lin = isotrace::scene::linear::Linear::new(&scene).unwrap();
+    let scene = crate::scene::from_formula(&f, &[]).unwrap();
+    let lin = crate::scene::linear::Linear::new(&scene).unwrap();
     let data = lin.field_data();
     let (w, h) = (240, 180);
     let s = common::settings(common::cube(1.5), w, h);

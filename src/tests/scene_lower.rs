@@ -9,11 +9,11 @@
 //!   not the zero set; the module docs give the argument, this checks it).
 //! * What is not a blobtree is refused with the reason and its span.
 
-use isotrace::scene::generate::{generate, Blending, Kind, Rng};
-use isotrace::scene::{from_formula, Scene};
-use isotrace::Formula;
+use crate::scene::generate::{generate, Blending, Kind, Rng};
+use crate::scene::{from_formula, Scene};
+use crate::Formula;
 
-fn lower(src: &str, params: &[f32]) -> Result<Scene, isotrace::scene::NotBlobtree> {
+fn lower(src: &str, params: &[f32]) -> Result<Scene, crate::scene::NotBlobtree> {
     let f = Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{e}"));
     from_formula(&f, params)
 }
@@ -33,7 +33,7 @@ fn a_scene_written_as_a_formula_lowers_back_to_the_same_field() {
     }
     for file in ["blobs", "aggregate-1", "boxes-1", "sphere-pairs-0"] {
         let path = format!("{}/examples/{file}.scene.json", env!("CARGO_MANIFEST_DIR"));
-        scenes.push(isotrace::scene::format::load(std::path::Path::new(&path)).unwrap());
+        scenes.push(crate::scene::format::load(std::path::Path::new(&path)).unwrap());
     }
     for (i, scene) in scenes.iter().enumerate() {
         let text = scene.to_formula().unwrap();
@@ -57,7 +57,7 @@ fn transforms_compose_down_to_the_primitives() {
     let scene = from_formula(&f, &[]).unwrap();
     assert_eq!(scene.primitive_count(), 2);
     for p in points(3000, [-2.0; 3], [2.0; 3], 11) {
-        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
         let got = scene.eval(p);
         assert!((want - got).abs() < 1e-6, "at {p:?}: formula {want}, scene {got}");
     }
@@ -66,13 +66,13 @@ fn transforms_compose_down_to_the_primitives() {
 #[test]
 fn the_catalog_models_lower_with_the_formula_sign_everywhere() {
     for name in ["creature", "city", "jewel"] {
-        let entry = isotrace::catalog::lookup(name).unwrap();
+        let entry = crate::catalog::lookup(name).unwrap();
         let f = entry.compile().unwrap();
         let scene = from_formula(&f, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
         let b = entry.header.bbox;
         let (mut near, mut checked) = (0, 0);
         for p in points(20000, [b[0], b[2], b[4]], [b[1], b[3], b[5]], 1) {
-            let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+            let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
             let got = scene.eval(p);
             if want.abs() < 1e-9 {
                 continue;
@@ -148,7 +148,7 @@ fn written_out_distances_lower_to_balls() {
         let scene = from_formula(&f, &[]).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(scene.primitive_count(), if src.starts_with("min") { 41 } else { 2 });
         for p in points(3000, [-1.3; 3], [1.3; 3], 5) {
-            let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+            let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
             let got = scene.eval(p);
             assert!((want - got).abs() < 1e-9, "at {p:?}: formula {want}, scene {got}");
         }
@@ -172,11 +172,11 @@ fn written_out_distances_lower_to_balls() {
 
 #[test]
 fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
-    use isotrace::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
-    use isotrace::render::{BisectOptions, SphereOptions, Traversal};
+    use crate::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
+    use crate::render::{BisectOptions, SphereOptions, Traversal};
     let sphere = Traversal::Sphere(SphereOptions::default());
     let kind = |name: &str, t: &Traversal| {
-        let f = isotrace::catalog::lookup(name).unwrap().compile().unwrap();
+        let f = crate::catalog::lookup(name).unwrap().compile().unwrap();
         auto_scene(&f, &[], t).map(|(field, l)| (field.kind(), l))
     };
     // @city: 36 bounded primitives (and a ground plane), sharp unions.
@@ -186,7 +186,7 @@ fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
         assert_eq!(kind(name, &sphere), None, "{name}");
     }
     // Bisection needs enclosures, which a scene has not.
-    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(isotrace::ir::Domain::Interval))), None);
+    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(crate::ir::Domain::Interval))), None);
     // The threshold itself: 31 spheres in a row stay compiled, 32 do not.
     let row = |n: usize| (0..n).map(|i| format!("translate({}, 0, 0, sphere(0.4))", i)).reduce(|a, b| format!("union({a}, {b})")).unwrap();
     for (n, want) in [(SCENE_AUTO_MIN_BOUNDED - 1, None), (SCENE_AUTO_MIN_BOUNDED, Some(FieldKind::Scene))] {

@@ -5,16 +5,16 @@
 //! for folded chains of unary nodes), ABV containment;
 //! and primitives against analytic values and against the formula path.
 
-mod scene_common;
+use super::scene_common;
 
-use isotrace::reference::eval_scalar;
-use isotrace::scene::generate::Rng;
-use isotrace::scene::linear::Linear;
-use isotrace::scene::operator::{compact, OpKind};
-use isotrace::scene::roi::{self, Abv};
-use isotrace::scene::sparse::{self, Ancestors};
-use isotrace::scene::{Builder, Node, Operator, Primitive, Scene, Shape};
-use isotrace::Formula;
+use crate::reference::eval_scalar;
+use crate::scene::generate::Rng;
+use crate::scene::linear::Linear;
+use crate::scene::operator::{compact, OpKind};
+use crate::scene::roi::{self, Abv};
+use crate::scene::sparse::{self, Ancestors};
+use crate::scene::{Builder, Node, Operator, Primitive, Scene, Shape};
+use crate::Formula;
 use scene_common::{assert_sparse_is_masked, random_primitive, random_tree, surface_points, TreeShape};
 
 const KINDS: [OpKind; 3] = [OpKind::Union, OpKind::Intersection, OpKind::Difference];
@@ -191,7 +191,7 @@ fn abvs_contain_the_primitives_region_of_interest() {
         let prim = random_primitive(&mut rng, centre, size, false);
         let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
         let abv = roi::abv(&prim, r_plus);
-        let rows = isotrace::scene::linear::abv_rows(&abv);
+        let rows = crate::scene::linear::abv_rows(&abv);
         let bb = abv.aabb();
         for _ in 0..300 {
             let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
@@ -263,7 +263,7 @@ fn primitives_equal_the_formula_path() {
         for _ in 0..10 {
             let (centre, size) = ([0, 1, 2].map(|_| rng.range(-1.0, 1.0)), rng.range(0.5, 1.5));
             let prim = scene_common::primitive_of_kind(&mut rng, k, centre, size);
-            let src = isotrace::scene::formula::primitive_formula(&prim).expect("a basic primitive has a form");
+            let src = crate::scene::formula::primitive_formula(&prim).expect("a basic primitive has a form");
             let f = Formula::compile("<scene>", &src).unwrap();
             for _ in 0..100 {
                 let p = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
@@ -283,7 +283,7 @@ fn scenes_equal_their_formula() {
         for _ in 0..30 {
             let n = 2 + rng.below(8) as usize;
             let scene = random_tree(&mut rng, n, TreeShape::Random, smooth, false);
-            let src = isotrace::scene::formula::to_formula(&scene).unwrap();
+            let src = crate::scene::formula::to_formula(&scene).unwrap();
             let f = Formula::compile("<scene>", &src).unwrap_or_else(|e| panic!("{e}"));
             for _ in 0..100 {
                 let p = [0, 1, 2].map(|_| rng.range(-4.0, 4.0));
@@ -301,7 +301,7 @@ fn scenes_equal_their_formula() {
 /// evaluate only its own.
 #[test]
 fn union_paths_mark_the_leaves_under_sharp_unions_only() {
-    use isotrace::scene::Blend;
+    use crate::scene::Blend;
     let mut b = Builder::default();
     let ball = |b: &mut Builder, x: f64| b.primitive(Primitive::new(Shape::Sphere { radius: 0.2 }).translated([x, 0.0, 0.0]));
     let [p0, p1, p2, p3, p4, p5] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0].map(|x| ball(&mut b, x));
@@ -349,7 +349,7 @@ fn params_rows_reproduce_each_primitive() {
         let word = lin.nodes[k as usize];
         // The type field's top bits are a leaf's union-path and comb flags
         // (the first set for all here).
-        assert_ne!(word[0] & isotrace::scene::linear::NODE_UNION_PATH_BIT, 0);
+        assert_ne!(word[0] & crate::scene::linear::NODE_UNION_PATH_BIT, 0);
         let ty = (word[0] >> 22) & 0x3f;
         let rows = &lin.params[word[1] as usize..];
         let Node::Primitive(prim) = &scene.nodes()[lin.order[k as usize]] else { unreachable!() };
@@ -375,7 +375,7 @@ fn node_words_follow_the_fixed_layout() {
         let node = &scene.nodes()[lin.order[k]];
         assert_eq!(w[0] >> 31 == 1, matches!(node, Node::Primitive(_)));
         assert_eq!((w[0] >> 30) & 1 == 1, lin.is_left[k]);
-        assert_eq!((w[0] >> 22) & 0xff, isotrace::scene::linear::type_code(node));
+        assert_eq!((w[0] >> 22) & 0xff, crate::scene::linear::type_code(node));
         assert_eq!(w[0] & 0x3f_ffff, lin.parent[k]);
         assert_eq!(w[1], next_param);
         assert_eq!(w[2], lin.fast[k]);
@@ -384,7 +384,7 @@ fn node_words_follow_the_fixed_layout() {
         assert_eq!(w[3], prim.unwrap_or(0) as u32);
         assert!(w[2] >= lin.parent[k]);
         next_param += match node {
-            Node::Primitive(p) => isotrace::scene::linear::primitive_rows(p).len() as u32,
+            Node::Primitive(p) => crate::scene::linear::primitive_rows(p).len() as u32,
             Node::Operator { .. } | Node::Unary { .. } => 1,
         };
         if let Node::Operator { .. } = node {
@@ -422,7 +422,7 @@ fn compact_forms_refuse_a_discontinuous_range() {
 /// the scene's own nodes.
 #[test]
 fn unary_chains_are_laid_out_folded_with_the_scene_values_and_names() {
-    use isotrace::scene::Unary;
+    use crate::scene::Unary;
     let mut b = Builder::default();
     let mut s = b.primitive(Primitive::new(Shape::Sphere { radius: 0.5 }));
     for _ in 0..1000 {

@@ -6,14 +6,14 @@
 //! the ranges of interest with it in the tree, and the device's
 //! interpreter against the reference at random points.
 
-mod scene_common;
+use super::scene_common;
 
 use glam::{DVec2, DVec3};
-use isotrace::scene::generate::Rng;
-use isotrace::scene::linear::{self, Linear};
-use isotrace::scene::profile::{self, Profile};
-use isotrace::scene::roi;
-use isotrace::scene::{format, Builder, Node, Primitive, Scene, Shape, Unary};
+use crate::scene::generate::Rng;
+use crate::scene::linear::{self, Linear};
+use crate::scene::profile::{self, Profile};
+use crate::scene::roi;
+use crate::scene::{format, Builder, Node, Primitive, Scene, Shape, Unary};
 use scene_common::{assert_sparse_and_ranges, picture_agreement, random_profile, random_profiled, scene_and_compiled, surface_points, zoo_tree, EVERY_FORM};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -103,7 +103,7 @@ fn unary_nodes_follow_their_definitions() {
         (q.x.sin() * q.y.cos() + q.y.sin() * q.z.cos() + q.z.sin() * q.x.cos()).abs() / (k * 6f64.sqrt()) - 0.05
     };
     assert_eq!(Unary::Infill { period: 0.5, thickness: 0.1 }.apply(-1.0, p.to_array()), g.max(-1.0));
-    let n = isotrace::sdf::noise(p.to_array(), 3.0);
+    let n = crate::sdf::noise(p.to_array(), 3.0);
     assert_eq!(Unary::Displace { amplitude: 0.1, frequency: 3.0 }.apply(0.5, p.to_array()), 0.5 + 0.1 * n);
     // |n| ≤ 1 (the weights sum to 1) and its gradient is within the bound.
     let mut rng = Rng::new(3);
@@ -111,9 +111,9 @@ fn unary_nodes_follow_their_definitions() {
     for _ in 0..5000 {
         let q = DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
         let f = 4.0;
-        assert!(isotrace::sdf::noise(q.to_array(), f).abs() <= 1.0);
-        let grad: DVec3 = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (isotrace::sdf::noise((q + e * h).to_array(), f) - isotrace::sdf::noise((q - e * h).to_array(), f)) / (2.0 * h)).into();
-        assert!(grad.length() <= isotrace::sdf::NOISE_GRADIENT * f * (1.0 + 1e-6), "{}", grad.length());
+        assert!(crate::sdf::noise(q.to_array(), f).abs() <= 1.0);
+        let grad: DVec3 = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (crate::sdf::noise((q + e * h).to_array(), f) - crate::sdf::noise((q - e * h).to_array(), f)) / (2.0 * h)).into();
+        assert!(grad.length() <= crate::sdf::NOISE_GRADIENT * f * (1.0 + 1e-6), "{}", grad.length());
     }
 }
 
@@ -213,16 +213,16 @@ pub fn every_node_scene() -> Scene {
     let bumpy = b.unary(Unary::Displace { amplitude: 0.04, frequency: 5.0 }, torus);
     let grown = b.unary(Unary::Offset { distance: 0.05 }, items[0]);
     items[0] = grown;
-    let sharp = b.fold(isotrace::scene::Operator::UNION, &items);
-    let smooth = isotrace::scene::Operator::smooth(isotrace::scene::OpKind::Union, isotrace::scene::Blend::new(0.1));
+    let sharp = b.fold(crate::scene::Operator::UNION, &items);
+    let smooth = crate::scene::Operator::smooth(crate::scene::OpKind::Union, crate::scene::Blend::new(0.1));
     let top = b.fold(smooth, &[shell, infill, bumpy]);
-    let root = b.operator(isotrace::scene::Operator::UNION, sharp, top);
+    let root = b.operator(crate::scene::Operator::UNION, sharp, top);
     b.finish(root).unwrap()
 }
 
 #[test]
 fn the_device_interpreter_agrees_with_the_reference_at_random_points() {
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let mut rng = Rng::new(7);
     let mut scenes = vec![every_node_scene()];
     scenes.extend((0..6).map(|_| zoo_tree(&mut rng, 20)));
@@ -231,7 +231,7 @@ fn the_device_interpreter_agrees_with_the_reference_at_random_points() {
         let bb = lin.bounds;
         let points: Vec<[f64; 3]> = (0..4000).map(|_| [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.3, bb.max[k] + 0.3))).collect();
         let p32: Vec<[f32; 3]> = points.iter().map(|p| p.map(|c| c as f32)).collect();
-        let got = isotrace::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
+        let got = crate::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
         let mut worst = 0.0f64;
         for (p, g) in p32.iter().zip(&got) {
             let want = scene.eval(p.map(f64::from));
@@ -249,27 +249,27 @@ fn features_name_the_node_types_a_scene_uses() {
     let lin = Linear::new(&scene).unwrap();
     let all = linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE | linear::FEATURE_SHAPES;
     assert_eq!(lin.features, all);
-    use isotrace::scene::generate::{generate, Blending, Kind};
+    use crate::scene::generate::{generate, Blending, Kind};
     let basic = generate(Kind::Aggregate, 1, Blending::Smooth, 1).unwrap();
     assert_eq!(Linear::new(&basic).unwrap().features, linear::FEATURE_SHAPES);
     let spheres = generate(Kind::SpherePairs, 0, Blending::Smooth, 1).unwrap();
     assert_eq!(Linear::new(&spheres).unwrap().features, 0, "spheres only: the plain-sphere kernel");
     // Displacement raises the bound the scene is traced with.
-    assert!(lin.lipschitz() > linear::SMOOTH_LIPSCHITZ * (1.0 + 0.04 * 5.0 * isotrace::sdf::NOISE_GRADIENT) - 1e-9);
+    assert!(lin.lipschitz() > linear::SMOOTH_LIPSCHITZ * (1.0 + 0.04 * 5.0 * crate::sdf::NOISE_GRADIENT) - 1e-9);
 }
 
 #[test]
 fn a_renderer_built_without_a_feature_refuses_a_scene_that_needs_it() {
-    let own = isotrace::gpu::Gpu::new().unwrap();
-    let basic = isotrace::scene::generate::generate(isotrace::scene::generate::Kind::Aggregate, 0, isotrace::scene::generate::Blending::Sharp, 1).unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
+    let basic = crate::scene::generate::generate(crate::scene::generate::Kind::Aggregate, 0, crate::scene::generate::Blending::Sharp, 1).unwrap();
     let data = Linear::new(&basic).unwrap().field_data();
-    let o = isotrace::render::SphereOptions::default();
-    let mut r = isotrace::gpu::Renderer::new(&own, &data, isotrace::render::Traversal::Sphere(o)).unwrap();
+    let o = crate::render::SphereOptions::default();
+    let mut r = crate::gpu::Renderer::new(&own, &data, crate::render::Traversal::Sphere(o)).unwrap();
     let zoo = Linear::new(&every_node_scene()).unwrap().field_data();
     let e = r.set_field(&zoo).err().expect("refused").to_string();
     assert!(e.contains("the scene uses node types the kernel was built without"), "{e}");
     // The other way round works: a kernel with every feature draws a basic scene.
-    let mut r = isotrace::gpu::Renderer::new(&own, &zoo, isotrace::render::Traversal::Sphere(isotrace::render::SphereOptions::default())).unwrap();
+    let mut r = crate::gpu::Renderer::new(&own, &zoo, crate::render::Traversal::Sphere(crate::render::SphereOptions::default())).unwrap();
     r.set_field(&data).unwrap();
 }
 
@@ -339,15 +339,15 @@ fn profile_rows_follow_the_layout() {
 /// compiled formula's (the same functions; f64 on both sides).
 #[test]
 fn a_formula_of_every_new_form_lowers_to_the_same_field() {
-    let f = isotrace::Formula::compile("<zoo>", EVERY_FORM).unwrap();
-    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    let f = crate::Formula::compile("<zoo>", EVERY_FORM).unwrap();
+    let scene = crate::scene::from_formula(&f, &[]).unwrap();
     let lin = Linear::new(&scene).unwrap();
     assert_eq!(lin.features, linear::FEATURE_PROFILE | linear::FEATURE_POLYGON | linear::FEATURE_UNARY | linear::FEATURE_INFILL | linear::FEATURE_DISPLACE | linear::FEATURE_SHAPES);
     let mut rng = Rng::new(9);
     let mut worst = 0.0f64;
     for _ in 0..20_000 {
         let p = [rng.range(-2.2, 2.2), rng.range(-1.5, 1.5), rng.range(-0.8, 0.8)];
-        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
         worst = worst.max((scene.eval(p) - want).abs());
     }
     assert!(worst < 1e-9, "{worst}");
@@ -357,8 +357,8 @@ fn a_formula_of_every_new_form_lowers_to_the_same_field() {
 /// the same picture, depth within a pixel's footprint.
 #[test]
 fn every_new_form_draws_the_compiled_picture_through_the_scene_path() {
-    use isotrace::render::Settings;
-    let f = isotrace::Formula::compile("<zoo>", EVERY_FORM).unwrap();
+    use crate::render::Settings;
+    let f = crate::Formula::compile("<zoo>", EVERY_FORM).unwrap();
     let s = Settings::for_box([-2.3, 2.3, -1.6, 1.6, -0.9, 0.9], 128, 96);
     let (a, b) = scene_and_compiled(&f, &s);
     let (both, far, differ) = picture_agreement(&a, &b, &s);
@@ -375,19 +375,19 @@ fn every_new_form_draws_the_compiled_picture_through_the_scene_path() {
 #[test]
 fn the_modelling_examples_are_their_formulas() {
     let dir = env!("CARGO_MANIFEST_DIR");
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     for name in ["heat-exchanger", "carved", "profiles", "procedural"] {
         let src = std::fs::read_to_string(format!("{dir}/examples/scene-src/{name}.txt")).unwrap();
-        let f = isotrace::Formula::compile(name, &src).unwrap();
-        let lowered = isotrace::scene::from_formula(&f, &[]).unwrap();
+        let f = crate::Formula::compile(name, &src).unwrap();
+        let lowered = crate::scene::from_formula(&f, &[]).unwrap();
         let file = format::load(std::path::Path::new(&format!("{dir}/examples/{name}.scene.json"))).unwrap();
         assert_eq!(file, lowered, "{name}: regenerate with isotrace scene lower");
         let lin = Linear::new(&file).unwrap();
         let data = lin.field_data();
-        let o = isotrace::render::SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
-        let s = isotrace::render::Settings::for_box(lin.bounds.padded().unwrap(), 96, 96);
-        let frame = isotrace::gpu::Renderer::new(&own, &data, isotrace::render::Traversal::Sphere(o)).unwrap().render(&s).unwrap();
-        let hits = frame.pixels.iter().filter(|p| p.status == isotrace::render::Status::Hit).count();
+        let o = crate::render::SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
+        let s = crate::render::Settings::for_box(lin.bounds.padded().unwrap(), 96, 96);
+        let frame = crate::gpu::Renderer::new(&own, &data, crate::render::Traversal::Sphere(o)).unwrap().render(&s).unwrap();
+        let hits = frame.pixels.iter().filter(|p| p.status == crate::render::Status::Hit).count();
         assert!(hits > 500, "{name}: {hits} hits");
         assert_eq!((frame.stats.unresolved, frame.stats.field.overflow_tiles), (0, 0), "{name}");
     }
@@ -412,7 +412,7 @@ fn grid_nodes_read_their_file_once_and_round_trip() {
     assert_eq!(format::parse_in(&format::to_json(&scene), std::path::Path::new(dir)).unwrap(), scene);
     assert_eq!(Linear::new(&scene).unwrap().features, linear::FEATURE_GRID | linear::FEATURE_SHAPES);
     // The field is the grid's interpolant under the primitive's transform.
-    let g = isotrace::scene::grid::Grid::pebble();
+    let g = crate::scene::grid::Grid::pebble();
     for p in [[0.1, 0.2, 0.3], [0.9, -0.4, 0.2], [3.0, 2.0, 1.0]] {
         let Node::Primitive(prim) = &scene.nodes()[0] else { unreachable!() };
         assert_eq!(prim.distance(p), g.eval(p));
@@ -474,12 +474,12 @@ fn grid_bounding_volumes_and_bounds_hold_by_sampling() {
 
 #[test]
 fn the_device_interpolates_grids_as_the_reference_does() {
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let scene = pebbles();
     let lin = Linear::new(&scene).unwrap();
     let mut rng = Rng::new(11);
     let p32: Vec<[f32; 3]> = (0..20_000).map(|_| [rng.range(-1.6, 3.6) as f32, rng.range(-1.6, 2.2) as f32, rng.range(-1.4, 1.4) as f32]).collect();
-    let got = isotrace::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
+    let got = crate::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
     let worst = p32.iter().zip(&got).map(|(p, g)| (*g as f64 - scene.eval(p.map(f64::from))).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-4, "{worst}");
 }
@@ -490,8 +490,8 @@ fn the_device_interpolates_grids_as_the_reference_does() {
 #[test]
 fn repeat_is_a_centred_grid_of_copies_on_both_paths() {
     let src = "repeat(0.5, 0.6, 1, 3, 2, 1, shell(0.04, extrude(0.1, circle(0.15))))";
-    let f = isotrace::Formula::compile("<repeat>", src).unwrap();
-    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    let f = crate::Formula::compile("<repeat>", src).unwrap();
+    let scene = crate::scene::from_formula(&f, &[]).unwrap();
     assert_eq!(scene.primitive_count(), 6);
     let one = |p: [f64; 3]| {
         let q = DVec2::new(p[0], p[1]);
@@ -506,14 +506,14 @@ fn repeat_is_a_centred_grid_of_copies_on_both_paths() {
                 want = want.min(one([p[0] - 0.5 * (i as f64 - 1.0), p[1] - 0.6 * (j as f64 - 0.5), p[2]]));
             }
         }
-        let compiled = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        let compiled = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
         assert!((compiled - want).abs() < 1e-12 && (scene.eval(p) - want).abs() < 1e-12, "{p:?}: {compiled} {} {want}", scene.eval(p));
     }
     for (bad, message) in [
         ("repeat(1, 1, 1, 2.5, 1, 1, sphere(0.2))", "a copy count must be a whole number from 1 to 4096, got 2.5"),
         ("repeat(1, 1, 1, 100, 100, 1, sphere(0.2))", "10000 copies, above the limit of 4096"),
     ] {
-        let e = isotrace::Formula::compile("<repeat>", bad).unwrap_err();
+        let e = crate::Formula::compile("<repeat>", bad).unwrap_err();
         assert!(format!("{e:?}").contains(message), "{bad}: {e:?}");
     }
 }
@@ -533,18 +533,18 @@ fn mirror_reflects_every_shape_on_both_paths() {
             shell(0.05, translate(0.9, 0.6, -0.2, scale(0.7, rotate(0, 0, 1, 0.3, roundbox(0.2, 0.1, 0.15, 0.03))))),
             intersect(translate(0.5, 0, 0, sphere(0.6)), plane(1, 0.3, 0.2, 0.5)));
         mirror(0, 1, 0, scale(1.3, mirror(1, 0.2, -0.1, translate(0.2, 0, 0, parts))))";
-    let f = isotrace::Formula::compile("<mirror>", src).unwrap();
-    let scene = isotrace::scene::from_formula(&f, &[]).unwrap();
+    let f = crate::Formula::compile("<mirror>", src).unwrap();
+    let scene = crate::scene::from_formula(&f, &[]).unwrap();
     assert_eq!(scene.primitive_count(), 24);
     let mut rng = Rng::new(13);
     let mut worst = 0.0f64;
     for _ in 0..20_000 {
         let p = [rng.range(-2.5, 2.5), rng.range(-2.0, 2.0), rng.range(-1.5, 1.5)];
-        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
         worst = worst.max((scene.eval(p) - want).abs());
     }
     assert!(worst < 1e-9, "{worst}");
-    let e = isotrace::scene::from_formula(&isotrace::Formula::compile("<m>", "mirror(1, 0, 0, infill(0.5, 0.1, sphere(1)))").unwrap(), &[]).unwrap_err();
+    let e = crate::scene::from_formula(&crate::Formula::compile("<m>", "mirror(1, 0, 0, infill(0.5, 0.1, sphere(1)))").unwrap(), &[]).unwrap_err();
     assert_eq!(e.reason, "a transform over 'infill' is not a blobtree node (its pattern is fixed in the world): transform its operand instead");
 }
 
@@ -563,7 +563,7 @@ fn repeat_and_mirror_nodes_expand_as_their_forms_lower() {
     assert_eq!(scene.primitive_count(), 2 * 2 * 6);
     let src = "repeat(3, 1.5, 1, 2, 3, 1, mirror(1, 0.2, 0, union(translate(0.6, 0.1, 0, capsule(0, 0, 0, 0.3, 0.2, -0.1, 0.08)), \
                translate(0.9, -0.4, 0, extrude(0.05, polygon(0, 0, 0.3, 0, 0.1, 0.2))))))";
-    let lowered = isotrace::scene::from_formula(&isotrace::Formula::compile("<copies>", src).unwrap(), &[]).unwrap();
+    let lowered = crate::scene::from_formula(&crate::Formula::compile("<copies>", src).unwrap(), &[]).unwrap();
     let mut rng = Rng::new(14);
     for _ in 0..5000 {
         let p = [rng.range(-3.5, 3.5), rng.range(-2.5, 2.5), rng.range(-0.6, 0.6)];

@@ -4,7 +4,7 @@
 //! slabs.
 #![allow(dead_code)]
 
-use isotrace::render::Status;
+use crate::render::Status;
 
 /// Two pictures of one surface drawn by different paths (the scene's
 /// pruned views and per-ray ranges against the whole tree or the compiled
@@ -15,7 +15,7 @@ use isotrace::render::Status;
 /// where it starts; those are fewer than 1 % of the hits. Hit depths agree
 /// within `tol` footprints (a pixel's width at that depth). Returns the
 /// hits and the hits whose depths differ by more than a footprint.
-pub fn same_picture(a: &isotrace::render::Frame, b: &isotrace::render::Frame, w: usize, h: usize, tol: f32) -> (usize, usize) {
+pub fn same_picture(a: &crate::render::Frame, b: &crate::render::Frame, w: usize, h: usize, tol: f32) -> (usize, usize) {
     let (mut hits, mut far, mut edge) = (0, 0, 0);
     for j in 0..h {
         for i in 0..w {
@@ -51,7 +51,7 @@ pub fn same_picture(a: &isotrace::render::Frame, b: &isotrace::render::Frame, w:
 /// it) and its normal is the sphere's radial direction where the ray
 /// stopped (the tracer's forward differences from its last fixed-point
 /// value). Returns the hits and misses checked.
-pub fn check_against_spheres(frame: &isotrace::render::Frame, s: &isotrace::render::Settings, mut expect: impl FnMut(glam::DVec3, glam::DVec3, f64) -> (Option<(f64, glam::DVec3, f64)>, bool)) -> (usize, usize) {
+pub fn check_against_spheres(frame: &crate::render::Frame, s: &crate::render::Settings, mut expect: impl FnMut(glam::DVec3, glam::DVec3, f64) -> (Option<(f64, glam::DVec3, f64)>, bool)) -> (usize, usize) {
     use glam::DVec3;
     let (w, h) = (s.width, s.height);
     let cf = s.camera.frame().unwrap();
@@ -61,7 +61,7 @@ pub fn check_against_spheres(frame: &isotrace::render::Frame, s: &isotrace::rend
     let (mut hits, mut misses) = (0, 0);
     for j in 0..h {
         for i in 0..w {
-            let d = isotrace::render::Camera::ray(&cf, i, j, w, h);
+            let d = crate::render::Camera::ray(&cf, i, j, w, h);
             let (nearest, grazing) = expect(eye, d, foot);
             if grazing {
                 continue;
@@ -97,8 +97,8 @@ pub fn ray_ball(eye: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Opt
 
 /// The 125 spheres of radius 0.17 on a 5×5×5 grid of spacing 0.5 in
 /// [−1, 1]³, added to `b`.
-fn grid_spheres(b: &mut isotrace::scene::Builder) -> Vec<isotrace::scene::NodeId> {
-    use isotrace::scene::{Primitive, Shape};
+fn grid_spheres(b: &mut crate::scene::Builder) -> Vec<crate::scene::NodeId> {
+    use crate::scene::{Primitive, Shape};
     (0..125)
         .map(|i| {
             let c = [i % 5, i / 5 % 5, i / 25].map(|k| -1.0 + 0.5 * k as f64);
@@ -108,17 +108,17 @@ fn grid_spheres(b: &mut isotrace::scene::Builder) -> Vec<isotrace::scene::NodeId
 }
 
 /// The compact smooth union of the grids below (β 0.1).
-fn grid_blend() -> isotrace::scene::Operator {
-    use isotrace::scene::{Blend, OpKind, Operator};
+fn grid_blend() -> crate::scene::Operator {
+    use crate::scene::{Blend, OpKind, Operator};
     Operator::smooth(OpKind::Union, Blend { beta: 0.1, range: 0.2 })
 }
 
 /// The grid's spheres combined as a left comb of sharp or compact smooth
 /// unions.
-pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
-    let mut b = isotrace::scene::Builder::default();
+pub fn sphere_grid(smooth: bool) -> crate::scene::Scene {
+    let mut b = crate::scene::Builder::default();
     let items = grid_spheres(&mut b);
-    let op = if smooth { grid_blend() } else { isotrace::scene::Operator::UNION };
+    let op = if smooth { grid_blend() } else { crate::scene::Operator::UNION };
     let root = b.fold(op, &items);
     b.finish(root).unwrap()
 }
@@ -126,8 +126,8 @@ pub fn sphere_grid(smooth: bool) -> isotrace::scene::Scene {
 /// The compactly blended grid as a balanced tree of smooth unions (the
 /// fold of `sphere_grid` is a left comb): its leaves are on no comb, so
 /// its tiles are cut into depth slabs where the comb's are comb tiles.
-pub fn sphere_grid_tree() -> isotrace::scene::Scene {
-    let mut b = isotrace::scene::Builder::default();
+pub fn sphere_grid_tree() -> crate::scene::Scene {
+    let mut b = crate::scene::Builder::default();
     let mut items = grid_spheres(&mut b);
     while items.len() > 1 {
         items = items.chunks(2).map(|p| if p.len() == 2 { b.operator(grid_blend(), p[0], p[1]) } else { p[0] }).collect();
@@ -138,9 +138,9 @@ pub fn sphere_grid_tree() -> isotrace::scene::Scene {
 /// The sharp grid cut by a ball that holds it (the same surface): no leaf
 /// is on a union path, so its tiles are cut into depth slabs where the
 /// plain sharp grid's tiles are union tiles.
-pub fn sphere_grid_cut() -> isotrace::scene::Scene {
-    use isotrace::scene::{Operator, Primitive, Shape};
-    let mut b = isotrace::scene::Builder::default();
+pub fn sphere_grid_cut() -> crate::scene::Scene {
+    use crate::scene::{Operator, Primitive, Shape};
+    let mut b = crate::scene::Builder::default();
     let items = grid_spheres(&mut b);
     let grid = b.fold(Operator::UNION, &items);
     let hull = b.primitive(Primitive::new(Shape::Sphere { radius: 2.5 }));

@@ -7,13 +7,13 @@
 //! ranges of interest with it in the tree, the device against the
 //! reference, and the picture against the compiled formula's.
 
-mod scene_common;
+use super::scene_common;
 
 use glam::DVec3;
-use isotrace::scene::generate::Rng;
-use isotrace::scene::linear::{self, Linear};
-use isotrace::scene::warp::{Warp, WarpKind};
-use isotrace::scene::{format, roi, Builder, Join, Node, NodeId, OpKind, Operator, Primitive, Scene, Shape, Transform};
+use crate::scene::generate::Rng;
+use crate::scene::linear::{self, Linear};
+use crate::scene::warp::{Warp, WarpKind};
+use crate::scene::{format, roi, Builder, Join, Node, NodeId, OpKind, Operator, Primitive, Scene, Shape, Transform};
 use scene_common::{assert_sparse_and_ranges, picture_agreement, random_primitive, scene_and_compiled, surface_points, EVERY_FORM};
 
 fn warp(kind: WarpKind, rate: f64, frame: Transform) -> Option<Warp> {
@@ -21,7 +21,7 @@ fn warp(kind: WarpKind, rate: f64, frame: Transform) -> Option<Warp> {
 }
 
 fn density(radius: f64, half_length: f64) -> Shape {
-    Shape::Density { radius, half_length, iso: 0.5, range: isotrace::sdf::density_default_range(radius, 0.5) }
+    Shape::Density { radius, half_length, iso: 0.5, range: crate::sdf::density_default_range(radius, 0.5) }
 }
 
 /// A random tree of plain, warped and density primitives joined by every
@@ -52,7 +52,7 @@ fn procedural_tree(rng: &mut Rng, n: usize) -> Scene {
             let mut p = random_primitive(rng, [0.0; 3], size, false);
             if w < 0.65 {
                 let kind = [WarpKind::Twist, WarpKind::Bend][rng.below(2) as usize];
-                let frame = Transform { translate: c, rotate: Some(isotrace::scene::Rotation { axis: rng.direction().to_array(), angle: rng.range(0.0, 3.0) }), scale: rng.range(0.7, 1.3) };
+                let frame = Transform { translate: c, rotate: Some(crate::scene::Rotation { axis: rng.direction().to_array(), angle: rng.range(0.0, 3.0) }), scale: rng.range(0.7, 1.3) };
                 p.warp = warp(kind, rng.range(-2.0, 2.0), frame);
             } else {
                 p = p.translated(c);
@@ -68,7 +68,7 @@ fn procedural_tree(rng: &mut Rng, n: usize) -> Scene {
         let op = match rng.below(5) {
             0 => Operator::joined(kind, Join::Chamfer { radius: size }),
             1 => Operator::joined(kind, Join::Round { radius: size }),
-            2 => Operator::smooth(kind, isotrace::scene::Blend::new(size)),
+            2 => Operator::smooth(kind, crate::scene::Blend::new(size)),
             _ => Operator::sharp(kind),
         };
         let m = b.operator(op, items[i], items[i + 1]);
@@ -85,19 +85,19 @@ fn warped_primitives_are_the_shape_at_the_warped_point_inside_their_cylinder() {
         let size = rng.range(0.4, 1.0);
         let mut p = random_primitive(&mut rng, [0.0; 3], size, false);
         let plain = p.clone();
-        let frame = Transform { translate: [0, 1, 2].map(|_| rng.range(-1.0, 1.0)), rotate: Some(isotrace::scene::Rotation { axis: rng.direction().to_array(), angle: rng.range(0.0, 3.0) }), scale: rng.range(0.5, 2.0) };
+        let frame = Transform { translate: [0, 1, 2].map(|_| rng.range(-1.0, 1.0)), rotate: Some(crate::scene::Rotation { axis: rng.direction().to_array(), angle: rng.range(0.0, 3.0) }), scale: rng.range(0.5, 2.0) };
         let kind = [WarpKind::Twist, WarpKind::Bend][rng.below(2) as usize];
         let k = rng.range(-2.0, 2.0);
         p.warp = warp(kind, k, frame);
-        let lone = isotrace::scene::Scene::new(vec![Node::Primitive(p.clone())], 0).unwrap();
+        let lone = crate::scene::Scene::new(vec![Node::Primitive(p.clone())], 0).unwrap();
         let Node::Primitive(fitted) = &lone.nodes()[0] else { unreachable!() };
         let c = fitted.warp.unwrap().clamp.unwrap();
         for _ in 0..200 {
             let x = DVec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
             let q = frame.to_local(x);
             let w = match kind {
-                WarpKind::Twist => isotrace::sdf::twist_point(k, q.to_array()),
-                WarpKind::Bend => isotrace::sdf::bend_point(k, q.to_array()),
+                WarpKind::Twist => crate::sdf::twist_point(k, q.to_array()),
+                WarpKind::Bend => crate::sdf::bend_point(k, q.to_array()),
             };
             let want = frame.scale * plain.distance(w);
             assert!((p.distance(x.to_array()) - want).abs() <= 1e-12 * want.abs().max(1.0));
@@ -157,9 +157,9 @@ fn abvs_of_warped_and_density_primitives_contain_their_region_of_interest() {
         } else {
             let size = rng.range(0.4, 1.0);
             let mut p = random_primitive(&mut rng, [0.2, 0.0, -0.3], size, false);
-            let frame = Transform { translate: [0.5, 0.0, 0.0], rotate: Some(isotrace::scene::Rotation { axis: [1.0, 1.0, 0.0], angle: 0.7 }), scale: 1.2 };
+            let frame = Transform { translate: [0.5, 0.0, 0.0], rotate: Some(crate::scene::Rotation { axis: [1.0, 1.0, 0.0], angle: 0.7 }), scale: 1.2 };
             p.warp = warp([WarpKind::Twist, WarpKind::Bend][rng.below(2) as usize], rng.range(-2.0, 2.0), frame);
-            p.warp = isotrace::scene::warp::fit(&p, r_plus);
+            p.warp = crate::scene::warp::fit(&p, r_plus);
             p
         };
         let abv = roi::abv(&p, r_plus);
@@ -195,7 +195,7 @@ fn sparse_traversal_and_ranges_hold_with_procedural_nodes() {
 #[test]
 fn a_blobs_bound_counts_only_overlapping_members_and_holds() {
     let mut b = Builder::default();
-    let t = isotrace::sdf::density_default_range(0.5, 0.5);
+    let t = crate::sdf::density_default_range(0.5, 0.5);
     let mut acc = None;
     for k in 0..24 {
         let a = k as f64 * 0.5;
@@ -221,14 +221,14 @@ fn a_blobs_bound_counts_only_overlapping_members_and_holds() {
 
 /// Every procedural node in one scene.
 pub fn procedural_scene() -> Scene {
-    let text = include_str!("../examples/scene-src/procedural.txt");
-    let f = isotrace::Formula::compile("procedural.txt", text).unwrap();
-    isotrace::scene::from_formula(&f, &[]).unwrap()
+    let text = include_str!("../../examples/scene-src/procedural.txt");
+    let f = crate::Formula::compile("procedural.txt", text).unwrap();
+    crate::scene::from_formula(&f, &[]).unwrap()
 }
 
 #[test]
 fn the_device_interpreter_agrees_with_the_reference_on_procedural_nodes() {
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let mut rng = Rng::new(26);
     let mut scenes = vec![procedural_scene()];
     scenes.extend((0..6).map(|_| procedural_tree(&mut rng, 8)));
@@ -239,7 +239,7 @@ fn the_device_interpreter_agrees_with_the_reference_on_procedural_nodes() {
         let bb = lin.bounds;
         let points: Vec<[f64; 3]> = (0..4000).map(|_| [0, 1, 2].map(|k| rng.range(bb.min[k] - 1.0, bb.max[k] + 1.0))).collect();
         let p32: Vec<[f32; 3]> = points.iter().map(|p| p.map(|c| c as f32)).collect();
-        let got = isotrace::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
+        let got = crate::gpu::eval::eval_points_scene(&own, &lin.field_data(), &p32).unwrap();
         let mut worst = 0.0f64;
         for (p, g) in p32.iter().zip(&got) {
             let want = scene.eval(p.map(f64::from));
@@ -256,14 +256,14 @@ fn the_device_interpreter_agrees_with_the_reference_on_procedural_nodes() {
 /// warp's stretches, near 1 close to the cylinder).
 #[test]
 fn the_procedural_formula_lowers_to_the_same_surface() {
-    let text = include_str!("../examples/scene-src/procedural.txt");
-    let f = isotrace::Formula::compile("procedural.txt", text).unwrap();
+    let text = include_str!("../../examples/scene-src/procedural.txt");
+    let f = crate::Formula::compile("procedural.txt", text).unwrap();
     let scene = procedural_scene();
     let mut rng = Rng::new(27);
     let (mut near, mut worst) = (0, 0.0f64);
     for _ in 0..40_000 {
         let p = [rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-1.2, 1.2)];
-        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
         let got = scene.eval(p);
         assert_eq!(got > 0.0, want > 0.0, "{p:?}: scene {got}, formula {want}");
         if want.abs() < 0.05 {
@@ -280,11 +280,11 @@ fn the_procedural_formula_lowers_to_the_same_surface() {
 #[test]
 fn every_node_type_draws_the_compiled_picture_through_the_scene_path() {
     let (defs, zoo) = EVERY_FORM.rsplit_once(';').unwrap();
-    let procedural = include_str!("../examples/scene-src/procedural.txt");
+    let procedural = include_str!("../../examples/scene-src/procedural.txt");
     let (pdefs, proc_root) = procedural.trim_end().rsplit_once(';').unwrap();
     let text = format!("{defs};\nzoo = {};\n{pdefs};\nunion(zoo, translate(0, 0, -2.4, {}))", zoo.trim(), proc_root.trim());
-    let f = isotrace::Formula::compile("every.txt", &text).unwrap();
-    let s = isotrace::render::Settings::for_box([-2.0, 2.0, -2.0, 2.0, -3.6, 1.0], 128, 128);
+    let f = crate::Formula::compile("every.txt", &text).unwrap();
+    let s = crate::render::Settings::for_box([-2.0, 2.0, -2.0, 2.0, -3.6, 1.0], 128, 128);
     let (a, b) = scene_and_compiled(&f, &s);
     let (both, far, differ) = picture_agreement(&a, &b, &s);
     assert!(both > 1500, "{both}");
@@ -310,13 +310,13 @@ fn procedural_nodes_round_trip_and_file_nodes_expand_as_the_forms_lower() {
         {"type": "union", "left": 0, "right": 1}]}"#;
     let scene = format::parse(file).unwrap();
     let formula = "translate(1, 0, 0, rotate(1, 0, 0, 0.4, twist(1.2, rotate(1, 0, 0, -0.4, translate(-1, 0, 0, union(translate(1, 0.5, 0, box(0.2, 0.3, 1)), translate(1, -0.6, 0.5, sphere(0.3))))))))";
-    let f = isotrace::Formula::compile("<twist>", formula).unwrap();
-    let lowered = isotrace::scene::from_formula(&f, &[]).unwrap();
+    let f = crate::Formula::compile("<twist>", formula).unwrap();
+    let lowered = crate::scene::from_formula(&f, &[]).unwrap();
     for _ in 0..5000 {
         let p = [rng.range(-1.0, 3.0), rng.range(-2.0, 2.0), rng.range(-2.0, 2.0)];
         let (a, b) = (scene.eval(p), lowered.eval(p));
         assert!((a - b).abs() < 1e-9, "{p:?}: {a} vs {b}");
-        let want = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+        let want = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
         assert_eq!(a > 0.0, want > 0.0);
     }
 }
@@ -330,8 +330,8 @@ fn procedural_scenes_are_their_formula_text() {
     scenes.extend((0..10).map(|_| procedural_tree(&mut rng, 6)));
     for scene in scenes {
         let text = scene.to_formula().unwrap();
-        let f = isotrace::Formula::compile("<scene>", &text).unwrap();
-        let back = isotrace::scene::from_formula(&f, &[]).unwrap();
+        let f = crate::Formula::compile("<scene>", &text).unwrap();
+        let back = crate::scene::from_formula(&f, &[]).unwrap();
         for _ in 0..500 {
             let p = [0, 1, 2].map(|_| rng.range(-4.0, 4.0));
             let (a, b) = (scene.eval(p), back.eval(p));
@@ -364,7 +364,7 @@ fn bad_procedural_nodes_are_named_by_their_json_path() {
     assert_eq!(layout(r#"{"type": "density", "radius": 1e-300, "range": 1e300}"#), format!("nodes[0].range: {reason}"));
     assert_eq!(layout(r#"{"type": "box", "half": [1, 1, 1], "warp": {"type": "twist", "rate": 1e308}}"#), format!("nodes[0].warp.rate: {reason}"));
     // A warp in a warp is refused where the formula says so.
-    let e = isotrace::scene::from_formula(&isotrace::Formula::compile("<w>", "twist(1, bend(1, sphere(1)))").unwrap(), &[]).unwrap_err();
+    let e = crate::scene::from_formula(&crate::Formula::compile("<w>", "twist(1, bend(1, sphere(1)))").unwrap(), &[]).unwrap_err();
     assert!(e.reason.contains("a twist or bend inside another"), "{}", e.reason);
 }
 
@@ -434,7 +434,7 @@ fn sampled_bounds_hold_the_solid_and_are_tighter() {
 #[test]
 fn a_large_blobs_bound_is_searched_too() {
     let mut b = Builder::default();
-    let t = isotrace::sdf::density_default_range(0.5, 0.5);
+    let t = crate::sdf::density_default_range(0.5, 0.5);
     let mut acc = None;
     for i in 0..20 {
         for j in 0..20 {

@@ -4,12 +4,12 @@
 //! workgroup memory. It must draw what the per-ray walk draws, and miss no
 //! surface at the slabs' seams.
 
-mod common;
-mod scene_pictures;
+use super::common;
+use super::scene_pictures;
 
 use glam::DVec3;
-use isotrace::gpu::Renderer;
-use isotrace::render::{SphereOptions, Traversal};
+use crate::gpu::Renderer;
+use crate::render::{SphereOptions, Traversal};
 use scene_pictures::{check_against_spheres, ray_ball, same_picture, sphere_grid, sphere_grid_cut, sphere_grid_tree};
 
 fn walk(synchronized: bool, lipschitz: f64) -> Traversal {
@@ -24,10 +24,10 @@ fn walk(synchronized: bool, lipschitz: f64) -> Traversal {
 /// footprint), and the synchronised one reports what it did.
 #[test]
 fn the_synchronised_walk_draws_the_per_ray_picture() {
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let grids = [("cut", sphere_grid_cut(), 1.0), ("tree", sphere_grid_tree(), 1.45), ("union", sphere_grid(false), 1.0), ("comb", sphere_grid(true), 1.45)];
     for (name, scene, l) in grids {
-        let data = isotrace::scene::linear::Linear::new(&scene).unwrap().field_data();
+        let data = crate::scene::linear::Linear::new(&scene).unwrap().field_data();
         let s = common::settings(common::cube(1.4), 120, 96);
         let ray = Renderer::new(&own, &data, walk(false, l)).unwrap().render(&s).unwrap();
         let tile = Renderer::new(&own, &data, walk(true, l)).unwrap().render(&s).unwrap();
@@ -36,7 +36,7 @@ fn the_synchronised_walk_draws_the_per_ray_picture() {
         // have more, and slabs.)
         assert!(if matches!(name, "cut" | "tree") { slabs > 1.5 } else { slabs < 1.1 }, "{name}: {slabs} slabs a tile");
         assert_eq!((tile.stats.unresolved, tile.stats.field.overflow_tiles), (0, 0));
-        // As between the slabs and the whole tree (tests/scene_gpu.rs): a
+        // As between the slabs and the whole tree (src/tests/scene_gpu.rs): a
         // ray that grazes one sphere within the screen-space criterion on
         // its way to another may stop at either, depending on where its
         // march samples, and the synchronised march restarts at each slab
@@ -55,7 +55,7 @@ fn the_synchronised_walk_draws_the_per_ray_picture() {
 /// slab's view into the next.
 #[test]
 fn the_synchronised_walk_misses_no_sphere_at_a_slab_seam() {
-    let data = isotrace::scene::linear::Linear::new(&sphere_grid_cut()).unwrap().field_data();
+    let data = crate::scene::linear::Linear::new(&sphere_grid_cut()).unwrap().field_data();
     let (frame, hits, misses) = analytic_grid(&data, true);
     eprintln!("hits {hits}, misses {misses}, slabs {}", frame.stats.field.slabs_mean);
     assert!(frame.stats.field.slabs_mean > 1.2 && hits > 1000 && misses > 30000, "hits {hits}, misses {misses}");
@@ -69,7 +69,7 @@ fn the_synchronised_walk_misses_no_sphere_at_a_slab_seam() {
 /// or stop behind it.
 #[test]
 fn union_tiles_draw_the_analytic_spheres() {
-    let data = isotrace::scene::linear::Linear::new(&sphere_grid(false)).unwrap().field_data();
+    let data = crate::scene::linear::Linear::new(&sphere_grid(false)).unwrap().field_data();
     for synchronized in [false, true] {
         let (frame, hits, misses) = analytic_grid(&data, synchronized);
         let f = &frame.stats.field;
@@ -81,7 +81,7 @@ fn union_tiles_draw_the_analytic_spheres() {
 /// The 125-sphere grid's scene `data` rendered at 320×240 with the walk
 /// asked for, checked against the analytic ray test: the frame, the hit
 /// and the miss pixels checked.
-fn analytic_grid(data: &isotrace::field::SceneData, synchronized: bool) -> (isotrace::render::Frame, usize, usize) {
+fn analytic_grid(data: &crate::field::SceneData, synchronized: bool) -> (crate::render::Frame, usize, usize) {
     let (w, h) = (320, 240);
     let s = common::settings(common::cube(1.4), w, h);
     let frame = Renderer::new(common::gpu(), data, walk(synchronized, 1.0)).unwrap().render(&s).unwrap();
@@ -107,12 +107,12 @@ fn analytic_grid(data: &isotrace::field::SceneData, synchronized: bool) -> (isot
 /// silently (the CLI refuses the flag there, tests/scene_cli.rs).
 #[test]
 fn the_walk_is_compiled_in() {
-    let data = isotrace::scene::linear::Linear::new(&sphere_grid(false)).unwrap().field_data();
+    let data = crate::scene::linear::Linear::new(&sphere_grid(false)).unwrap().field_data();
     let mut r = Renderer::new(common::gpu(), &data, walk(false, 1.0)).unwrap();
     let e = r.set_sphere_options(SphereOptions { synchronized: true, ..SphereOptions::default() }).unwrap_err();
     assert!(e.to_string().contains("the kernel was compiled for the other walk"), "{e}");
-    let wgsl = isotrace::kernel::assemble(&data, &walk(true, 1.0)).wgsl;
+    let wgsl = crate::kernel::assemble(&data, &walk(true, 1.0)).wgsl;
     assert!(wgsl.contains("var<workgroup> scene_sync_view") && wgsl.contains("workgroupUniformLoad"));
-    let per_ray = isotrace::kernel::assemble(&data, &walk(false, 1.0)).wgsl;
+    let per_ray = crate::kernel::assemble(&data, &walk(false, 1.0)).wgsl;
     assert!(!per_ray.contains("var<workgroup>"));
 }

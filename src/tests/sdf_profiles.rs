@@ -4,19 +4,19 @@
 //! a capped cylinder), a brute-force distance and a winding-number inside
 //! test for polygons, and the definitions of the gyroid sheet and noise
 //! written out from their specification. The bounds by sampling, the
-//! diagnostics and the kernels are in `tests/sphere_sdf.rs`.
+//! diagnostics and the kernels are in `src/tests/sphere_sdf.rs`.
 
-mod common;
+use super::common;
 
 use common::points;
-use isotrace::Formula;
+use crate::Formula;
 
 fn f(src: &str) -> Formula {
     Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{src}: {e}"))
 }
 
 fn at(formula: &Formula, p: [f64; 3]) -> f64 {
-    isotrace::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
+    crate::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
 }
 
 fn close(a: f64, b: f64) -> bool {
@@ -66,7 +66,7 @@ fn profiles_are_exact_2d_distances_independent_of_z() {
 #[test]
 fn a_segment_of_variable_length_may_collapse() {
     let g = f("capsule2d(0, 0, t, 0, 0.5)");
-    let v = |p: [f64; 3], t: f64| isotrace::reference::eval_scalar(&g.ir, [p[0], p[1], p[2], t], &[]);
+    let v = |p: [f64; 3], t: f64| crate::reference::eval_scalar(&g.ir, [p[0], p[1], p[2], t], &[]);
     assert!(close(v([0.0, 1.0, 0.0], 0.0), 0.5));
     assert!(close(v([3.0, 0.0, 0.0], 0.0), 2.5));
     assert!(close(v([3.0, 0.0, 0.0], 2.0), 0.5));
@@ -215,7 +215,7 @@ fn spec_noise(p: [f64; 3], f: f64) -> f64 {
 
 #[test]
 fn the_noise_table_is_the_specified_one() {
-    use isotrace::sdf::{noise, NOISE_GRADIENT, NOISE_WAVES};
+    use crate::sdf::{noise, NOISE_GRADIENT, NOISE_WAVES};
     let mut weights = 0.0;
     let mut gradient = 0.0;
     for (a, m, w, _) in NOISE_WAVES {
@@ -239,7 +239,7 @@ fn displace_adds_bounded_noise_with_a_bounded_gradient() {
     let mut steepest: f64 = 0.0;
     for p in points(2.0, 2000, 11) {
         let v = at(&n, p);
-        assert_eq!(v, isotrace::sdf::noise(p, freq), "at {p:?}");
+        assert_eq!(v, crate::sdf::noise(p, freq), "at {p:?}");
         assert!(v.abs() <= 1.0);
         let sphere = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0;
         assert!(close(at(&g, p), sphere + 0.2 * spec_noise(p, freq)));
@@ -252,7 +252,7 @@ fn displace_adds_bounded_noise_with_a_bounded_gradient() {
         }
         steepest = steepest.max(grad.sqrt());
     }
-    assert!(steepest <= isotrace::sdf::NOISE_GRADIENT * freq, "|grad n| = {steepest}");
+    assert!(steepest <= crate::sdf::NOISE_GRADIENT * freq, "|grad n| = {steepest}");
     // A bound that is not loose by an order of magnitude.
     assert!(steepest > 0.5 * freq, "|grad n| = {steepest}");
 }
@@ -262,14 +262,14 @@ fn displace_adds_bounded_noise_with_a_bounded_gradient() {
 #[test]
 fn the_scene_path_lowers_the_new_forms_or_says_why_not() {
     for src in ["extrude(1, circle(1))", "union(sphere(1), shell(0.1, box(1, 1, 1)))", "scale(2, offset(0.1, revolve(1, polygon(0, 0, 1, 0, 0, 1))))"] {
-        assert!(isotrace::scene::from_formula(&f(src), &[]).is_ok(), "{src}");
+        assert!(crate::scene::from_formula(&f(src), &[]).is_ok(), "{src}");
     }
     for (src, at, reason) in [
         ("translate(1, 0, 0, displace(0.1, 2, sphere(1)))", "displace", "a transform over 'displace' is not a blobtree node (its pattern is fixed in the world): transform its operand instead"),
         ("union(sphere(1), circle(2))", "circle", "a 2D profile is a blobtree node only inside extrude or revolve"),
         ("extrude(1, sphere(1))", "sphere", "extrude and revolve take a 2D profile here (circle, rect, roundrect, capsule2d or polygon)"),
     ] {
-        let e = isotrace::scene::from_formula(&f(src), &[]).expect_err(src);
+        let e = crate::scene::from_formula(&f(src), &[]).expect_err(src);
         assert_eq!(e.reason, reason, "{src}");
         let start = e.span.start as usize;
         assert_eq!(&src[start..start + at.len()], at, "{src}: {:?}", e.span);

@@ -1,24 +1,24 @@
 //! The warps (`twist`, `bend`), the chamfer, round and sum blends and the
 //! normalized `density` primitive, compiled, against the f64 definitions of
-//! `isotrace::sdf` (the functions a blobtree scene evaluates) composed here
+//! `crate::sdf` (the functions a blobtree scene evaluates) composed here
 //! with primitives written out in this file; then the facts those
 //! definitions promise (sharp outside the operator range, a fillet, the
 //! density's surface radius), the argument checks, and one evaluation on
 //! the device.
 
-mod common;
+use super::common;
 
-use isotrace::ir::Domain;
-use isotrace::sdf;
+use crate::ir::Domain;
+use crate::sdf;
 use common::points;
-use isotrace::Formula;
+use crate::Formula;
 
 fn f(src: &str) -> Formula {
     Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{src}: {e}"))
 }
 
 fn at(formula: &Formula, p: [f64; 3]) -> f64 {
-    isotrace::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
+    crate::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
 }
 
 /// Within 1e-12, relative to the value (absolute below 1).
@@ -190,7 +190,7 @@ fn density_follows_its_definition() {
         sdf::sum_union(a, b, 0.3)
     });
     // A point skeleton folds to |p|: no clamp is built.
-    assert!(!f("density(1, 0, 0.5)").ir.nodes.iter().any(|op| matches!(op, isotrace::ir::Op::Call3(..))));
+    assert!(!f("density(1, 0, 0.5)").ir.nodes.iter().any(|op| matches!(op, crate::ir::Op::Call3(..))));
     // T is required only when the default cannot be computed.
     f("density(t, 0, 0.5, 0.3)");
 }
@@ -273,20 +273,20 @@ fn bad_arguments_point_at_the_argument() {
 /// the CPU's f64 within f32 rounding, and its intervals enclose it.
 #[test]
 fn twist_and_chamfer_on_the_device_match_the_cpu() {
-    let gpu = isotrace::gpu::Gpu::new().unwrap_or_else(|e| panic!("this test needs a GPU or lavapipe: {e}"));
+    let gpu = crate::gpu::Gpu::new().unwrap_or_else(|e| panic!("this test needs a GPU or lavapipe: {e}"));
     let g = f("chamfer_union(twist(0.8, box(0.5, 0.3, 1)), translate(0.6, 0, 0.4, sphere(0.4)), 0.2)");
     let pts = points(1.5, 500, 11);
     // f32 coordinates, and the CPU evaluated at those very coordinates.
     let p32: Vec<[f32; 3]> = pts.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]).collect();
     let cpu: Vec<f64> = p32.iter().map(|p| at(&g, [p[0] as f64, p[1] as f64, p[2] as f64])).collect();
     let boxes: Vec<[f32; 8]> = p32.iter().map(|p| [p[0], p[0], p[1], p[1], p[2], p[2], 0.0, 0.0]).collect();
-    let scalar = isotrace::gpu::eval::eval_boxes(&gpu, &g.ir, Domain::Scalar, &boxes, &[]).unwrap();
+    let scalar = crate::gpu::eval::eval_boxes(&gpu, &g.ir, Domain::Scalar, &boxes, &[]).unwrap();
     for ((p, want), got) in p32.iter().zip(&cpu).zip(&scalar) {
         assert!((got[0] as f64 - want).abs() <= 2e-6 * (1.0 + want.abs()), "at {p:?}: device {}, cpu {want}", got[0]);
     }
     let h = 0.01f32;
     let small: Vec<[f32; 8]> = p32.iter().map(|p| [p[0] - h, p[0] + h, p[1] - h, p[1] + h, p[2] - h, p[2] + h, 0.0, 0.0]).collect();
-    let ranges = isotrace::gpu::eval::eval_boxes(&gpu, &g.ir, Domain::Interval, &small, &[]).unwrap();
+    let ranges = crate::gpu::eval::eval_boxes(&gpu, &g.ir, Domain::Interval, &small, &[]).unwrap();
     for ((p, want), r) in p32.iter().zip(&cpu).zip(&ranges) {
         let slack = 1e-5 * (1.0 + want.abs());
         assert!(r[0] as f64 <= want + slack && *want <= r[1] as f64 + slack, "at {p:?}: {want} not in {r:?}");

@@ -2,17 +2,17 @@
 //! against the analytic sphere, each technique switched off, tiles, the
 //! convex bound, and formulas that are not distance bounds.
 
-mod common;
+use super::common;
 
 use common::gpu;
 use glam::DVec3;
-use isotrace::catalog;
-use isotrace::ir::Domain;
-use isotrace::gpu::Renderer;
-use isotrace::render::Settings;
-use isotrace::render::SphereOptions;
-use isotrace::render::{Camera, Frame, Status};
-use isotrace::Formula;
+use crate::catalog;
+use crate::ir::Domain;
+use crate::gpu::Renderer;
+use crate::render::Settings;
+use crate::render::SphereOptions;
+use crate::render::{Camera, Frame, Status};
+use crate::Formula;
 
 /// Settings from a catalog scene's header (box, camera), CLI defaults otherwise.
 fn scene(name: &str, w: u32, h: u32) -> (Formula, Settings, catalog::Header) {
@@ -62,7 +62,7 @@ fn first_approach(f: &Formula, o: DVec3, d: DVec3, t0: f64, t1: f64, thr: &dyn F
             return None;
         }
         let p = o + d * t;
-        let v = isotrace::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, 0.0], &[]);
+        let v = crate::reference::eval_scalar(&f.ir, [p.x, p.y, p.z, 0.0], &[]);
         let gap = v - thr(t);
         if gap < 0.0 {
             return Some(t);
@@ -227,7 +227,7 @@ fn relative_field(f: &Formula, fr: &Frame, s: &Settings, only: Status) -> Vec<f6
             let p = fr.pixels[(j * s.width + i) as usize];
             if p.status == only {
                 let q = s.camera.eye + Camera::ray(&cf, i, j, s.width, s.height) * p.depth as f64;
-                v.push(isotrace::reference::eval_scalar(&f.ir, [q.x, q.y, q.z, 0.0], &[]) / (r_px * p.depth as f64));
+                v.push(crate::reference::eval_scalar(&f.ir, [q.x, q.y, q.z, 0.0], &[]) / (r_px * p.depth as f64));
             }
         }
     }
@@ -319,7 +319,7 @@ fn lipschitz_bound_divides_the_field() {
     // A lower estimate of the true bound 2, from the samples the rays took.
     assert!(wrong.stats.sphere.lipschitz_seen > 1.5 && wrong.stats.sphere.lipschitz_seen < 2.01, "{}", wrong.stats.sphere.lipschitz_seen);
     let err = SphereOptions { lipschitz: 0.5, ..Default::default() }.check().unwrap_err();
-    assert_eq!((err.field, err.value.as_str()), (isotrace::render::SettingsField::Lipschitz, "0.5"));
+    assert_eq!((err.field, err.value.as_str()), (crate::render::SettingsField::Lipschitz, "0.5"));
     assert!(err.reason.starts_with("a Lipschitz bound must be at least 1"), "{err}");
 }
 

@@ -3,16 +3,16 @@
 //! the Lipschitz bound of the example scenes by sampling, the diagnostics of
 //! bad arguments, and naga validation of every kernel for an SDF formula.
 
-use isotrace::ir::Domain;
-use isotrace::validate::validate;
-use isotrace::Formula;
+use crate::ir::Domain;
+use crate::validate::validate;
+use crate::Formula;
 
 fn f(src: &str) -> Formula {
     Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{src}: {e}"))
 }
 
 fn at(formula: &Formula, p: [f64; 3]) -> f64 {
-    isotrace::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
+    crate::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
 }
 
 fn close(a: f64, b: f64) -> bool {
@@ -125,11 +125,11 @@ fn lipschitz_ratio(src: &str, b: [f64; 6]) -> f64 {
 /// passes the surface: |f(p) - f(q)| <= |p - q| on random pairs, near and far.
 #[test]
 fn scenes_and_smooth_operators_are_1_lipschitz() {
-    let mut cases: Vec<(String, [f64; 6])> = isotrace::catalog::suite("sdf")
+    let mut cases: Vec<(String, [f64; 6])> = crate::catalog::suite("sdf")
         .unwrap()
         .into_iter()
         .map(|n| {
-            let e = isotrace::catalog::lookup(n).unwrap();
+            let e = crate::catalog::lookup(n).unwrap();
             (e.formula, e.header.bbox)
         })
         .collect();
@@ -170,7 +170,7 @@ fn displace_raises_the_bound_by_its_noise_gradient() {
     for (a, freq) in [(0.1, 3.0), (0.05, 10.0)] {
         let src = format!("displace({a}, {freq}, torus(1, 0.3))");
         let worst = lipschitz_ratio(&src, [-2.0, 2.0, -2.0, 2.0, -1.0, 1.0]);
-        let bound = 1.0 + isotrace::sdf::NOISE_GRADIENT * a * freq;
+        let bound = 1.0 + crate::sdf::NOISE_GRADIENT * a * freq;
         assert!(worst <= bound, "{src}: Lipschitz ratio {worst} above {bound}");
         assert!(worst > 1.0 + 0.3 * (bound - 1.0), "{src}: Lipschitz ratio {worst}: does the noise displace?");
     }
@@ -237,16 +237,16 @@ fn profiles_and_modifiers_report_bad_arguments() {
 /// (interval, affine, scalar; bisection and sphere tracing) validates.
 #[test]
 fn every_kernel_validates_for_the_scenes() {
-    let catalog = isotrace::catalog::suite("sdf").unwrap().into_iter().map(|n| (n.to_string(), isotrace::catalog::lookup(n).unwrap().compile().unwrap().ir));
+    let catalog = crate::catalog::suite("sdf").unwrap().into_iter().map(|n| (n.to_string(), crate::catalog::lookup(n).unwrap().compile().unwrap().ir));
     let profiles = PROFILE_SCENES.iter().chain(&["displace(0.05, 4, revolve(1, rect(0.2, 0.4)))"]).map(|s| (s.to_string(), f(s).ir));
     for (name, ir) in catalog.chain(profiles) {
         let name = &name[..name.len().min(40)];
         for d in [Domain::Scalar, Domain::Interval, Domain::Affine] {
-            validate(&isotrace::field::compiled::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));
+            validate(&crate::field::compiled::eval_shader(&ir, d)).unwrap_or_else(|e| panic!("{name} {d:?}: {e}"));
         }
-        validate(&isotrace::kernel::render_shader(&ir, Domain::Interval)).unwrap_or_else(|e| panic!("{name} bisect: {e}"));
+        validate(&crate::kernel::render_shader(&ir, Domain::Interval)).unwrap_or_else(|e| panic!("{name} bisect: {e}"));
         for (shadows, glass) in [(false, false), (true, false), (false, true), (true, true)] {
-            let wgsl = isotrace::kernel::sphere_shader(&ir, isotrace::render::SphereFeatures { shadows, glass, synchronized: false });
+            let wgsl = crate::kernel::sphere_shader(&ir, crate::render::SphereFeatures { shadows, glass, synchronized: false });
             validate(&wgsl).unwrap_or_else(|e| panic!("{name} sphere (shadows {shadows}, glass {glass}): {e}"));
             // The traversal only sees the scalar evaluator; unused rays are not compiled.
             assert!(wgsl.contains("fn eval_s(") && !wgsl.contains("fn eval_ia(") && !wgsl.contains("fn eval_ra("));

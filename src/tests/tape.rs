@@ -3,16 +3,16 @@
 //! compiled field's (bisection in IA and RAA over the Knoll suite, sphere
 //! tracing over the sdf suite) and with the f64 CPU reference.
 
-mod common;
+use super::common;
 
 use common::gpu;
-use isotrace::field::tape::features;
-use isotrace::kernel::assemble;
-use isotrace::ir::Domain;
-use isotrace::field::TapeData;
-use isotrace::gpu::Renderer;
-use isotrace::render::{BisectOptions, Frame, Settings, SphereOptions, Status, Traversal};
-use isotrace::Formula;
+use crate::field::tape::features;
+use crate::kernel::assemble;
+use crate::ir::Domain;
+use crate::field::TapeData;
+use crate::gpu::Renderer;
+use crate::render::{BisectOptions, Frame, Settings, SphereOptions, Status, Traversal};
+use crate::Formula;
 use std::sync::atomic::Ordering;
 
 fn tape(src: &str) -> (Formula, TapeData) {
@@ -44,7 +44,7 @@ fn tape_kernels_depend_on_the_operation_groups_not_the_formula() {
         let wide = assemble(&wide_a, &t).wgsl;
         assert_eq!(wide, assemble(&wide_b, &t).wgsl);
         for k in [&ka, &kb, &wide] {
-            isotrace::validate::validate(k).unwrap_or_else(|e| panic!("{t:?}: {e}"));
+            crate::validate::validate(k).unwrap_or_else(|e| panic!("{t:?}: {e}"));
         }
     }
 }
@@ -63,7 +63,7 @@ fn a_tape_beyond_the_kernel_is_refused_by_name() {
     // The ball's inputs are pinned in registers; the Barth decic's are loaded
     // by input instructions (7 more registers would need 32): a kernel
     // without that case refuses it.
-    let decic = isotrace::catalog::lookup("barth-decic").unwrap().compile().unwrap();
+    let decic = crate::catalog::lookup("barth-decic").unwrap().compile().unwrap();
     let decic = TapeData::new(&decic.ir).unwrap();
     assert_eq!((sphere.features & features::PINNED, decic.features & features::INPUTS), (features::PINNED, features::INPUTS));
     let e = r.set_field(&decic).err().expect("refused").to_string();
@@ -92,7 +92,7 @@ fn new_formulas_change_buffers_not_pipelines() {
     let (_, sphere) = tape("x^2 + y^2 + z^2 - 1");
     let (_, torus) = tape("(x^2 + y^2 + z^2 + 0.75)^2 - 4*(x^2 + y^2)");
     // A device of its own: the other tests create pipelines concurrently.
-    let own = isotrace::gpu::Gpu::new().unwrap();
+    let own = crate::gpu::Gpu::new().unwrap();
     let mut r = Renderer::new(&own, &sphere, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     let before = r.render(&s).unwrap();
     let created = own.pipelines_created.load(Ordering::Relaxed);
@@ -115,9 +115,9 @@ fn new_formulas_change_buffers_not_pipelines() {
 #[test]
 fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_them() {
     let (f, data) = tape(&sum_of_inputs(16_100));
-    assert!(data.ops >= isotrace::field::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
+    assert!(data.ops >= crate::field::tape::TAPE_UNROLL_16_FROM, "{} instructions", data.ops);
     assert_eq!((features::unroll(data.features), data.padding()), (16, 16));
-    assert_eq!([1, 4, 8, 16].map(isotrace::field::tape::resume_rounds), [3, 3, 15, 7]);
+    assert_eq!([1, 4, 8, 16].map(crate::field::tape::resume_rounds), [3, 3, 15, 7]);
     let s = common::settings(common::cube(2.0), 16, 16);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let mut four = data.clone();
@@ -146,7 +146,7 @@ fn a_tape_past_the_work_limit_reports_its_pixels_and_16_an_iteration_resolves_th
 #[test]
 fn a_long_tape_runs_8_an_iteration() {
     let (f, data) = tape(&sum_of_terms(1050));
-    let range = isotrace::field::tape::TAPE_UNROLL_8_FROM..isotrace::field::tape::TAPE_UNROLL_16_FROM;
+    let range = crate::field::tape::TAPE_UNROLL_8_FROM..crate::field::tape::TAPE_UNROLL_16_FROM;
     assert!(range.contains(&data.ops), "{} instructions", data.ops);
     assert_eq!(features::unroll(data.features), 8);
     assert_eq!(data.padding() % 8, 0);
@@ -181,7 +181,7 @@ fn sum_of_terms(n: u32) -> String {
 /// [`sum_of_terms`] with every other term's second factor written
 /// `z − (−b)` (swapped factors no longer do: a run compares a product's
 /// operands in a fixed order): no run of same-shaped terms, so its compiled kernel writes every term out (a
-/// uniform sum's becomes a loop, `isotrace::field::compiled::term_loops`, and `auto` keeps it
+/// uniform sum's becomes a loop, `crate::field::compiled::term_loops`, and `auto` keeps it
 /// compiled).
 fn mixed_sum_of_terms(n: u32) -> String {
     let term = |i: u32| {
@@ -216,7 +216,7 @@ fn misses_of_the_reference(f: &Formula, s: &Settings, frame: &Frame, samples: us
 }
 
 /// Settings of a catalog entry at a small size.
-fn entry_settings(e: &isotrace::catalog::Entry, f: &Formula, n: u32) -> Settings {
+fn entry_settings(e: &crate::catalog::Entry, f: &Formula, n: u32) -> Settings {
     e.settings(f, n, n).unwrap()
 }
 
@@ -248,8 +248,8 @@ fn bisection_agrees_with_the_compiled_field_on_the_knoll_suite() {
         // Pixels past the interpreter's work limit are reported, not
         // compared (the superquadric's x^200 in RAA, for one, runs out).
         let mut hits = 0;
-        for name in isotrace::catalog::suite("knoll").unwrap() {
-            let e = isotrace::catalog::lookup(name).unwrap();
+        for name in crate::catalog::suite("knoll").unwrap() {
+            let e = crate::catalog::lookup(name).unwrap();
             let f = e.compile().unwrap();
             let s = entry_settings(&e, &f, 40);
             let data = TapeData::new(&f.ir).unwrap();
@@ -276,8 +276,8 @@ fn bisection_agrees_with_the_compiled_field_on_the_knoll_suite() {
 
 #[test]
 fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
-    for name in isotrace::catalog::suite("sdf").unwrap() {
-        let e = isotrace::catalog::lookup(name).unwrap();
+    for name in crate::catalog::suite("sdf").unwrap() {
+        let e = crate::catalog::lookup(name).unwrap();
         let f = e.compile().unwrap();
         let s = entry_settings(&e, &f, 40);
         let t = e.traversal(&f);
@@ -316,12 +316,12 @@ fn sphere_tracing_agrees_with_the_compiled_field_on_the_sdf_suite() {
 fn pixels_past_the_work_limit_resume_and_miss_no_root() {
     let (f, data) = tape(&sum_of_terms(280));
     let s = common::settings(common::cube(1.2), 32, 32);
-    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    let mut per_lane = crate::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
     let mut r = Renderer::new(&per_lane, &data, Traversal::Bisect(BisectOptions::new(Domain::Interval))).unwrap();
     r.set_resume_rounds(0);
     let one_round = r.render(&s).unwrap().stats;
-    r.set_resume_rounds(isotrace::gpu::TAPE_RESUME_ROUNDS);
+    r.set_resume_rounds(crate::field::tape::TAPE_RESUME_ROUNDS);
     let frame = r.render(&s).unwrap();
     assert!(one_round.unresolved >= 4, "one round resolved it all: {one_round:?}");
     assert_eq!(frame.stats.unresolved, 0);
@@ -344,7 +344,7 @@ fn counting_work_per_bundle_resolves_more_and_draws_the_same_picture() {
     let (f, data) = tape(&src);
     let s = common::settings(common::cube(1.2), 32, 32);
     let ia = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let mut per_lane = isotrace::gpu::Gpu::new().unwrap();
+    let mut per_lane = crate::gpu::Gpu::new().unwrap();
     per_lane.subgroups = false;
     let mut a = Renderer::new(&per_lane, &data, ia()).unwrap();
     a.set_resume_rounds(0);
@@ -448,19 +448,19 @@ fn a_formula_of_more_shared_values_than_registers_is_rematerialised() {
         assert!(missed.is_empty(), "{domain:?}: {missed:?}");
     }
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
-    let auto = isotrace::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
-    assert_eq!(auto.kind(), isotrace::field::FieldKind::Tape);
+    let auto = crate::choice::choose(crate::field::FieldKind::Auto, &f, &[], &t).unwrap();
+    assert_eq!(auto.kind(), crate::field::FieldKind::Tape);
 }
 
 #[test]
 fn a_formula_that_cannot_be_a_tape_is_a_typed_error() {
     let f = Formula::compile("<t>", "x^2 + y^2 + z^2 - 1 where z > 0").unwrap();
-    assert_eq!(TapeData::new(&f.ir), Err(isotrace::field::TapeError::Csg));
+    assert_eq!(TapeData::new(&f.ir), Err(crate::field::TapeError::Csg));
     let t = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     // `Auto` falls back to the compiled field; asking for the tape fails.
-    let auto = isotrace::choice::choose(isotrace::field::FieldKind::Auto, &f, &[], &t).unwrap();
-    assert_eq!(auto.kind(), isotrace::field::FieldKind::Compiled);
-    assert!(isotrace::choice::choose(isotrace::field::FieldKind::Tape, &f, &[], &t).is_err());
+    let auto = crate::choice::choose(crate::field::FieldKind::Auto, &f, &[], &t).unwrap();
+    assert_eq!(auto.kind(), crate::field::FieldKind::Compiled);
+    assert!(crate::choice::choose(crate::field::FieldKind::Tape, &f, &[], &t).is_err());
 }
 
 /// Bisection of `data` in `domain` with the per-tile shortening on or off.
@@ -478,7 +478,7 @@ fn shortened_tiles_draw_the_whole_tapes_surface() {
     let balls: Vec<String> = (0..5).map(|i| format!("sqrt((x-{})^2+(y-{})^2+z^2)-0.35", i as f64 - 2.0, (i % 2) as f64 - 0.5)).collect();
     let union = format!("min({}, max(abs(x)-2.5, max(abs(y)-0.2, abs(z+0.8)-0.15)))", balls.iter().skip(1).fold(balls[0].clone(), |a, b| format!("min({a}, {b})")));
     let entry = |name: &str, n: u32| {
-        let e = isotrace::catalog::lookup(name).unwrap();
+        let e = crate::catalog::lookup(name).unwrap();
         let f = e.compile().unwrap();
         let s = entry_settings(&e, &f, n);
         (f, s)
@@ -573,10 +573,10 @@ fn the_power_loops_pass_counts_against_the_loop_cap() {
 
 #[test]
 fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
-    use isotrace::choice;
-    use isotrace::field::FieldKind;
+    use crate::choice;
+    use crate::field::FieldKind;
     let kind = |name: &str, domain: Domain| {
-        let f = isotrace::catalog::lookup(name).unwrap().compile().unwrap();
+        let f = crate::catalog::lookup(name).unwrap().compile().unwrap();
         choice::choose(FieldKind::Auto, &f, &[], &Traversal::Bisect(BisectOptions::new(domain))).unwrap().kind()
     };
     // The city's 257 min/max compiled for minutes in RAA (145 s cold at
@@ -598,7 +598,7 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
     assert_ne!(big, city);
     let auto = |text: &str, domain: Domain| {
         let f = Formula::compile("<big>", text).unwrap();
-        let t = isotrace::field::TapeData::new(&f.ir).unwrap();
+        let t = crate::field::TapeData::new(&f.ir).unwrap();
         (t.size, choice::choose(FieldKind::Auto, &f, &[], &Traversal::Bisect(BisectOptions::new(domain))).unwrap().kind())
     };
     for domain in [Domain::Affine, Domain::Interval] {
@@ -623,12 +623,12 @@ fn auto_keeps_csg_formulas_compiled_in_both_algebras() {
 /// products.
 #[test]
 fn auto_weighs_the_frames_of_the_job() {
-    use isotrace::choice;
-    use isotrace::field::FieldKind;
+    use crate::choice;
+    use crate::field::FieldKind;
     let ia = Traversal::Bisect(BisectOptions::new(Domain::Interval));
     let kind = |terms: u32, frames: u64| {
         let f = Formula::compile("<sum>", &mixed_sum_of_terms(terms)).unwrap();
-        let t = isotrace::field::TapeData::new(&f.ir).unwrap();
+        let t = crate::field::TapeData::new(&f.ir).unwrap();
         (t.size, choice::choose_for(FieldKind::Auto, &f, &[], &ia, frames).unwrap().kind())
     };
     let (size, one) = kind(250, 1);
@@ -644,7 +644,7 @@ fn auto_weighs_the_frames_of_the_job() {
     assert_eq!(auto(planes.join("*")), FieldKind::Compiled);
     let trig = |n: u32| (0..n).map(|i| format!("{:.3}*sin({:.3}*x + {:.3})*cos({:.3}*y - {:.3})*sin({:.3}*z)", 0.5 + 0.01 * f64::from(i), 1.0 + 0.013 * f64::from(i), 0.002 * f64::from(i), 0.7 + 0.011 * f64::from(i), 0.003 * f64::from(i), 1.1 + 0.007 * f64::from(i))).collect::<Vec<_>>().join(" + ") + " - 0.3";
     // Their terms are one shape, so the compiled field runs them as a loop
-    // (`isotrace::field::compiled::term_loops`), weighed by its body: cold at 512², 100 terms
+    // (`crate::field::compiled::term_loops`), weighed by its body: cold at 512², 100 terms
     // 2.1 s against the tape's 15 s, 200 terms 4.3 s against 38 s.
     assert_eq!(auto(trig(50)), FieldKind::Compiled);
     assert_eq!(auto(trig(100)), FieldKind::Compiled);
@@ -661,7 +661,7 @@ fn auto_weighs_the_frames_of_the_job() {
 /// take the whole tape).
 #[test]
 fn a_tapes_normals_agree_with_the_compiled_fields() {
-    let e = isotrace::catalog::lookup("icos.csg").unwrap();
+    let e = crate::catalog::lookup("icos.csg").unwrap();
     let icos = e.compile().unwrap();
     let cases = [
         ("sphere", Formula::compile("<sphere>", "x^2 + y^2 + z^2 - 1").unwrap(), common::settings(common::cube(1.5), 64, 64)),
@@ -717,7 +717,7 @@ fn an_unresolved_guess_on_a_tape_is_shaded_with_its_gradient() {
             continue;
         }
         guesses += 1;
-        let at = s.camera.eye + isotrace::render::Camera::ray(&cam, i, j, s.width, s.height).normalize() * f64::from(p.depth);
+        let at = s.camera.eye + crate::render::Camera::ray(&cam, i, j, s.width, s.height).normalize() * f64::from(p.depth);
         let want = at.normalize();
         let cos = f64::from(p.normal[0]) * want.x + f64::from(p.normal[1]) * want.y + f64::from(p.normal[2]) * want.z;
         agree += usize::from(cos > 0.999);
@@ -727,7 +727,7 @@ fn an_unresolved_guess_on_a_tape_is_shaded_with_its_gradient() {
 }
 
 /// A long sum is generated as a balanced tree in the compiled field
-/// (`isotrace::field::compiled::balance`), where the tape keeps the order written: the two
+/// (`crate::field::compiled::balance`), where the tape keeps the order written: the two
 /// draw the same picture, and it misses no sign change of the f64
 /// reference. (Its compile: README, "Long sums as balanced trees".)
 #[test]

@@ -3,9 +3,9 @@
 //! `output::srgb8` of `record::convert` (colour, normals, work heat map),
 //! on the device, for records of every status.
 
-use isotrace::gpu::Gpu;
-use isotrace::layout::{PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS};
-use isotrace::render::record::{convert, Head, Record, Tail};
+use crate::gpu::Gpu;
+use crate::layout::{PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS};
+use crate::render::record::{convert, Head, Record, Tail};
 
 /// Records with every status, random colours, normals, work.
 fn records(n: usize) -> Vec<[u32; 4]> {
@@ -25,7 +25,7 @@ fn present_decodes_records_like_the_cli() {
         Ok(g) => g,
         Err(e) => panic!("no device: {e}"),
     };
-    let present = isotrace::view::present_shader().expect("the present shader validates");
+    let present = crate::view::present_shader().expect("the present shader validates");
     let wgsl = format!(
         "{present}\n@group(0) @binding(2) var<storage, read_write> decoded: array<u32>;\n\
          @group(0) @binding(3) var<storage, read> mode: array<u32>;\n\
@@ -35,8 +35,8 @@ fn present_decodes_records_like_the_cli() {
              decoded[id.x] = c.x | (c.y << 8u) | (c.z << 16u);\n\
          }}\n"
     );
-    isotrace::validate::validate(&wgsl).expect("validates");
-    let pipeline = &gpu.pipelines("present test", &wgsl, isotrace::gpu::Author::Isotrace, &["decode_test"]).expect("pipeline")[0];
+    crate::validate::validate(&wgsl).expect("validates");
+    let pipeline = &gpu.pipelines("present test", &wgsl, crate::gpu::Author::Isotrace, &["decode_test"]).expect("pipeline")[0];
     let recs = records(4096);
     let steps_max = 300u32;
     for mode in [PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS] {
@@ -67,14 +67,14 @@ fn present_decodes_records_like_the_cli() {
         let mut off = 0;
         for (r, g) in recs.iter().zip(got) {
             let rec = Record::new(Head::from_words([r[0], r[3]]), &Tail::from_words([r[1], r[2]]));
-            let mut frame = isotrace::render::Frame { width: 1, height: 1, pixels: vec![convert(&rec)], stats: Default::default() };
+            let mut frame = crate::render::Frame { width: 1, height: 1, pixels: vec![convert(&rec)], stats: Default::default() };
             let cli_mode = match mode {
-                PRESENT_NORMAL => isotrace::output::ColorMode::Normal,
-                PRESENT_STEPS => isotrace::output::ColorMode::Steps { max: Some(steps_max) },
-                _ => isotrace::output::ColorMode::Shade,
+                PRESENT_NORMAL => crate::output::ColorMode::Normal,
+                PRESENT_STEPS => crate::output::ColorMode::Steps { max: Some(steps_max) },
+                _ => crate::output::ColorMode::Shade,
             };
-            isotrace::output::recolor(&mut frame, cli_mode);
-            let want = isotrace::output::frame_rgb8(&frame);
+            crate::output::recolor(&mut frame, cli_mode);
+            let want = crate::output::frame_rgb8(&frame);
             let have = [(g & 255) as u8, (g >> 8 & 255) as u8, (g >> 16 & 255) as u8];
             let d = want.iter().zip(have).map(|(a, b)| (*a as i32 - b as i32).abs()).max().unwrap();
             // The stored colour is exact; normals and the heat map go through

@@ -3,7 +3,7 @@
 //! emptiness cases.
 
 use super::{Case, Rng};
-use isotrace::catalog;
+use crate::catalog;
 
 /// One formula per operation of the language, as (name, source).
 pub const OPS: &[(&str, &str)] = &[
@@ -38,7 +38,7 @@ pub fn knoll_cases() -> Vec<Case> {
 pub fn catalog_case(name: &str) -> Case {
     let e = catalog::lookup(name).unwrap_or_else(|err| panic!("{err}"));
     let f = e.compile().unwrap_or_else(|err| panic!("{name}: {err}"));
-    let (params, _) = isotrace::sema::bind_params(&f.ir, &e.header.params).unwrap_or_else(|d| panic!("{name}: {}", d.message));
+    let (params, _) = crate::sema::bind_params(&f.ir, &e.header.params).unwrap_or_else(|d| panic!("{name}: {}", d.message));
     Case { name: e.name.clone(), source: formula_lines(&e.formula), ir: f.ir, params, domain: Some(e.header.bbox) }
 }
 

@@ -2,8 +2,8 @@
 //! backends' interface. The sampling oracle and the rounding margin are in
 //! `oracle.rs`, boxes and ray segments in `regions.rs`, the formula tables
 //! and generators in `formulas.rs`, the suite's tests (a macro) in
-//! `suite.rs`. `tests/conformance.rs` runs the suite against the CPU
-//! reference (`isotrace::reference`) and `tests/conformance_device.rs`
+//! `suite.rs`. `src/tests/conformance.rs` runs the suite against the CPU
+//! reference (`crate::reference`) and `src/tests/conformance_device.rs`
 //! against the generated WGSL on the device; both include this file with
 //! `#[path]`.
 //!
@@ -32,9 +32,9 @@ pub use oracle::*;
 pub use regions::*;
 pub use suite::*;
 
-use isotrace::ir::Domain;
-use isotrace::ir::Ir;
-use isotrace::reference;
+use crate::ir::Domain;
+use crate::ir::Ir;
+use crate::reference;
 use std::fmt::Write;
 
 /// A box as the eval kernel takes it: `[x0, x1, y0, y1, z0, z1, t0, t1]`.
@@ -228,8 +228,8 @@ impl Case {
         Case::try_new(name, source).unwrap_or_else(|e| panic!("{name}: {e}"))
     }
     /// Compiles `source`.
-    pub fn try_new(name: &str, source: &str) -> Result<Case, isotrace::FormulaError> {
-        let f = isotrace::Formula::compile(name, source)?;
+    pub fn try_new(name: &str, source: &str) -> Result<Case, crate::FormulaError> {
+        let f = crate::Formula::compile(name, source)?;
         Ok(Case { name: name.to_string(), source: source.to_string(), ir: f.ir, params: vec![], domain: None })
     }
     /// With parameter values.

@@ -3,10 +3,10 @@
 //! between a sample and an enclosure.
 
 use super::{Box8, Rng};
-use isotrace::ir::{Func1, Func2, Func3, Ir, Op};
-use isotrace::reference::affine::affine_op;
-use isotrace::reference::interval::interval_op;
-use isotrace::reference::{self, scalar_op, var_index};
+use crate::ir::{Func1, Func2, Func3, Ir, Op};
+use crate::reference::affine::affine_op;
+use crate::reference::interval::interval_op;
+use crate::reference::{self, scalar_op, var_index};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Floating-point format an enclosure was computed in.

@@ -7,8 +7,8 @@
 //! field kept as data (a tape) binds its texture at `@group(1) @binding(0)`.
 
 use super::{Seg, SEG_TIME};
-use isotrace::ir::Domain;
-use isotrace::gpu::Gpu;
+use crate::ir::Domain;
+use crate::gpu::Gpu;
 
 /// The kernel over `field`: WGSL that defines `seg_field(x, y, z, t)` in
 /// the domain's representation (`vec2<f32>` intervals for IA, `vec3<f32>`
@@ -58,10 +58,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
 /// Validates `src` (a [`segment_shader`]) and runs it over `segs` in one
 /// dispatch, with `tape` bound at `@group(1) @binding(0)` (as the texture
 /// the interpreter reads) if given.
-pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Option<&isotrace::field::TapeData>) -> Result<Vec<[f64; 2]>, String> {
+pub fn run_segments(gpu: &Gpu, src: &str, segs: &[Seg], params: &[f32], tape: Option<&crate::field::TapeData>) -> Result<Vec<[f64; 2]>, String> {
     use wgpu::util::DeviceExt;
-    isotrace::validate::validate(src).map_err(|e| e.to_string())?;
-    let pipeline = gpu.pipeline("conformance segments", src, isotrace::gpu::Author::Isotrace).map_err(|e| e.to_string())?;
+    crate::validate::validate(src).map_err(|e| e.to_string())?;
+    let pipeline = gpu.pipeline("conformance segments", src, crate::gpu::Author::Isotrace).map_err(|e| e.to_string())?;
     let n = segs.len() as u32;
     assert!(n > 0 && n <= 65_535 * 64, "one dispatch of up to 4M segments");
     let mut uniforms = vec![f32::INFINITY.to_bits(), SEG_TIME.to_bits(), n, 0];
@@ -142,7 +142,7 @@ pub fn check_slopes(cases: &[super::Case], n: usize, seed: u64, slopes: &dyn Fn(
                     continue;
                 }
                 let s = s.map(f64::from);
-                let f = |u: f64| isotrace::reference::eval_scalar(&case.ir, [s[0] + s[3] * u, s[1] + s[4] * u, s[2] + s[5] * u, f64::from(SEG_TIME)], &params);
+                let f = |u: f64| crate::reference::eval_scalar(&case.ir, [s[0] + s[3] * u, s[1] + s[4] * u, s[2] + s[5] * u, f64::from(SEG_TIME)], &params);
                 let h = (s[7] - s[6]) * 1e-4;
                 for j in 0..16 {
                     let u = s[6] + 2.0 * h + (s[7] - s[6] - 4.0 * h) * (j as f64 + 0.5) / 16.0;

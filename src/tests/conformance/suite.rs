@@ -1,7 +1,7 @@
 //! The conformance suite, written once and run once per backend, as fidget
-//! runs its `interval_tests!`: `tests/conformance.rs` invokes
+//! runs its `interval_tests!`: `src/tests/conformance.rs` invokes
 //! [`conformance_suite!`] for the CPU reference and
-//! `tests/conformance_device.rs` for the generated WGSL on the device. A
+//! `src/tests/conformance_device.rs` for the generated WGSL on the device. A
 //! case added to the tables of `formulas.rs` (or to the catalog's `knoll`
 //! suite) is therefore checked on both.
 
@@ -28,7 +28,7 @@ macro_rules! conformance_suite {
         /// Every operation of the language on 3000 random boxes of every kind.
         #[test]
         fn every_operation_encloses() {
-            use $crate::harness::*;
+            use self::harness::*;
             check_all(&$backend, &op_cases(), &mut |_, rng| random_boxes(rng, 3000), 11);
         }
 
@@ -36,14 +36,14 @@ macro_rules! conformance_suite {
         /// on random boxes ([`knoll_boxes`]).
         #[test]
         fn knoll_surfaces_enclose() {
-            use $crate::harness::*;
+            use self::harness::*;
             check_all(&$backend, &knoll_cases(), &mut knoll_boxes, 12);
         }
 
         /// Random expression trees on random boxes.
         #[test]
         fn random_trees_enclose() {
-            use $crate::harness::*;
+            use self::harness::*;
             let b: Budget = $budget;
             check_all(&$backend, &random_cases(13, b.trees), &mut |_, rng| random_boxes(rng, b.boxes_per_tree), 13);
         }
@@ -54,7 +54,7 @@ macro_rules! conformance_suite {
         /// and random trees.
         #[test]
         fn ray_segments_enclose() {
-            use $crate::harness::*;
+            use self::harness::*;
             let b: Budget = $budget;
             let mut cases = op_cases();
             cases.extend(knoll_cases());
@@ -65,7 +65,7 @@ macro_rules! conformance_suite {
         /// Every operation applied to an undefined argument is empty.
         #[test]
         fn emptiness_propagates() {
-            use $crate::harness::*;
+            use self::harness::*;
             check_emptiness(&$backend, &empty_cases(), 14);
         }
     };
