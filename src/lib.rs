@@ -2,9 +2,9 @@
 //! surfaces f(x, y, z) = 0 robustly on the GPU, and blobtree scenes of
 //! distance-field primitives kept as data.
 //!
-//! Pipeline: formula text → [`syntax`] → [`sema`] → [`ir`] → a field
+//! Pipeline: formula text → parser → semantic checks → [`ir`] → a field
 //! source ([`field`]: the formula compiled into WGSL, a tape, or a scene)
-//! → [`kernel`] (one traversal × one field source) → [`validate`] (naga)
+//! → render kernel (one traversal × one field source) → naga validation
 //! → [`gpu`] (wgpu, headless) → [`output`] (PNG / EXR).
 //!
 //! The types to start from: [`Formula`], [`Gpu`], [`Renderer`],
@@ -30,32 +30,32 @@
 //! code, edited and rendered again without a new shader.
 #![warn(missing_docs)]
 
-pub mod analysis;
-pub mod batch;
-pub mod bench;
+pub(crate) mod analysis;
+pub(crate) mod batch;
+pub(crate) mod bench;
 pub mod bindings;
-pub mod bounded;
-pub mod catalog;
-pub mod choice;
+pub(crate) mod bounded;
+pub(crate) mod catalog;
+pub(crate) mod choice;
 mod cli;
 pub mod codegen;
 pub mod diag;
 pub mod field;
 pub mod gpu;
-pub mod inline;
+pub(crate) mod inline;
 pub mod ir;
-pub mod kernel;
-pub mod layout;
-pub mod memory;
+pub(crate) mod kernel;
+pub(crate) mod layout;
+pub(crate) mod memory;
 pub mod output;
-pub mod reference;
+pub(crate) mod reference;
 pub mod render;
 pub mod scene;
-pub mod sdf;
-pub mod sema;
-pub mod syntax;
-pub mod validate;
-pub mod view;
+pub(crate) mod sdf;
+pub(crate) mod sema;
+pub(crate) mod syntax;
+pub(crate) mod validate;
+pub(crate) mod view;
 
 #[cfg(test)]
 mod tests;
@@ -151,5 +151,5 @@ pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
 
 /// The most live nodes of a formula for which `choose_algebra` weighs ray
 /// polynomials: well inside what `Auto` compiles rather than runs as a tape
-/// in IA ([`crate::choice::CROSSOVER_BISECT_IA`] instructions).
+/// in IA (`crate::choice::CROSSOVER_BISECT_IA` instructions).
 pub const RAY_POLY_AUTO_NODES: usize = 300;

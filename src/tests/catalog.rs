@@ -338,3 +338,23 @@ fn sdf_scenes_use_sphere_tracing_and_their_bounds_hold_the_object() {
     }
     assert!(catalog::lookup("jewel").unwrap().header.bound.is_some());
 }
+
+/// The module documentation's example: an entry by name, its header and formula.
+#[test]
+fn an_entry_is_found_by_name_and_compiles() {
+    let e = crate::catalog::lookup("tangle").unwrap();
+    assert_eq!(e.header.bbox, [-3.0, 3.0, -3.0, 3.0, -3.0, 3.0]);
+    assert_eq!(e.compile().unwrap().ir.degree(), Some(4));
+}
+
+/// The suites: Knoll's table, the distance-field scenes, every entry.
+#[test]
+fn suites_name_their_entries() {
+    use crate::catalog;
+    let knoll = catalog::suite("knoll").unwrap();
+    assert_eq!((knoll.len(), knoll[0], knoll[15]), (16, "sphere", "water"));
+    assert_eq!(catalog::suite("sdf").unwrap(), ["jewel", "city", "creature"]);
+    assert_eq!(catalog::suite("all").unwrap().len(), catalog::builtin().len());
+    let e = catalog::suite("knol").unwrap_err();
+    assert_eq!(e.to_string(), "unknown suite 'knol': expected knoll, sdf or all");
+}
