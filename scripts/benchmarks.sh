@@ -9,7 +9,7 @@
 #               the first time, then about 15 minutes)
 #   scenes      isotrace bench --suite scenes to level 3 and the peer's scene series (over an hour:
 #               the dense baseline's frames take up to a minute each)
-#   scene-edit  cargo bench --bench scene_edit
+#   scene-edit  cargo bench --features internals --bench scene_edit
 #   big         the big formulas of scripts/big-formulas.py, cold, whole process (about 10 minutes)
 #   latency     catalog surfaces' first picture, cold and warm, whole process (about a minute)
 #
@@ -79,9 +79,9 @@ fi
 if wants scene-edit; then
     echo "benchmarks: scene edits" >&2
     if [ "$quick" = 1 ]; then
-        cargo bench --locked --bench scene_edit -- --warm-up-time 1 --measurement-time 2 "in place" 2>&1 | tee "$out/scene-edit.txt"
+        cargo bench --locked --features internals --bench scene_edit -- --warm-up-time 1 --measurement-time 2 "in place" 2>&1 | tee "$out/scene-edit.txt"
     else
-        cargo bench --locked --bench scene_edit 2>&1 | tee "$out/scene-edit.txt"
+        cargo bench --locked --features internals --bench scene_edit 2>&1 | tee "$out/scene-edit.txt"
     fi
 fi
 

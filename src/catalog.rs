@@ -4,13 +4,8 @@
 //! header. `#` starts a comment in the formula language, so the whole file is
 //! still a valid formula and [`Entry::formula`] is the complete file text
 //! (diagnostics then point at the file's own lines). The format is described
-//! in `examples/README.md`.
-//!
-//! ```
-//! let e = isotrace::catalog::lookup("tangle").unwrap();
-//! assert_eq!(e.header.bbox, [-3.0, 3.0, -3.0, 3.0, -3.0, 3.0]);
-//! assert_eq!(e.compile().unwrap().ir.degree(), Some(4));
-//! ```
+//! in `examples/README.md`. `src/tests/catalog.rs` looks up the tangle as
+//! an example (`an_entry_is_found_by_name_and_compiles`).
 
 use crate::diag::closest;
 pub use crate::render::{Bound, Method};
@@ -19,9 +14,13 @@ use std::path::{Path, PathBuf};
 
 mod header;
 mod suite;
-pub use header::{parse_box, parse_eps, parse_number, parse_vec3, Algebra, Clip, Header, Status};
+pub use header::{parse_box, parse_eps, parse_number, parse_vec3, Algebra, Header, Status};
+#[cfg(test)]
+pub(crate) use header::Clip;
 use header::apply;
-pub use suite::{suite, suite_choices, SUITES};
+pub use suite::{suite, suite_choices};
+#[cfg(test)]
+pub(crate) use suite::SUITES;
 
 /// The box of a file that gives none: `[-2, 2]³`.
 pub use crate::render::view::DEFAULT_BOX;
@@ -159,6 +158,7 @@ impl Entry {
 
     /// The settings of a `width × height` frame of this entry's formula
     /// `f` (from [`Entry::compile`]) with the header's view.
+    #[cfg(any(test, feature = "internals"))]
     pub fn settings(&self, f: &Formula, width: u32, height: u32) -> Result<crate::render::Settings, crate::render::ViewError> {
         Ok(self.header.view().settings(f, width, height)?.0)
     }
@@ -166,6 +166,7 @@ impl Entry {
     /// The traversal the header asks for (`method`, `algebra`, and for
     /// sphere tracing `lipschitz` and `bound`), every technique and
     /// optimisation at its default, no modalities.
+    #[cfg(any(test, feature = "internals"))]
     pub fn traversal(&self, f: &Formula) -> crate::render::Traversal {
         use crate::render::{BisectOptions, SphereOptions, Traversal};
         let h = &self.header;

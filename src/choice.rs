@@ -5,7 +5,7 @@
 //! lavapipe (docs/benchmarks.md). A later source (a formula lowered to a
 //! blobtree scene) joins as one more [`FieldKind`] value.
 
-pub use crate::field::FieldKind;
+pub(crate) use crate::field::FieldKind;
 use crate::field::{FieldSource, SceneData, TapeData, TapeError};
 use crate::ir::Ir;
 use crate::render::Traversal;

@@ -89,7 +89,7 @@ impl Diagnostic {
     /// given on the command line).
     ///
     /// Control characters in any of the text (source, name, message,
-    /// labels, notes) are shown as visible symbols ([`escape_controls`]),
+    /// labels, notes) are shown as visible symbols (`escape_controls`),
     /// so a hostile formula or `.iso` file cannot send escape sequences to
     /// the terminal; spans are moved with them so carets stay under the
     /// character they point at.
@@ -148,7 +148,7 @@ fn stand_in(c: char, next: Option<char>) -> Option<char> {
 /// `s` with every terminal control character replaced by a visible symbol
 /// (see [`Diagnostic::render`]); borrowed when there is none. Use it for
 /// any message that quotes user text before it is printed.
-pub fn escape_controls(s: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn escape_controls(s: &str) -> std::borrow::Cow<'_, str> {
     Escaped::new(s).text
 }
 
@@ -191,7 +191,7 @@ impl<'a> Escaped<'a> {
 
 /// Edit distance, for "did you mean" suggestions. Two rows reused for the
 /// whole run: one allocation per call, not one per character of `a`.
-pub fn levenshtein(a: &str, b: &str) -> usize {
+pub(crate) fn levenshtein(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut prev: Vec<usize> = (0..=b.len()).collect();
     let mut cur = vec![0; b.len() + 1];
@@ -209,12 +209,12 @@ pub fn levenshtein(a: &str, b: &str) -> usize {
 /// Longest name, in bytes, that [`closest`] looks for suggestions for: no
 /// name it is compared with is anywhere near as long, and an edit distance
 /// to a name of megabytes costs seconds for nothing.
-pub const MAX_SUGGESTED_NAME: usize = 64;
+pub(crate) const MAX_SUGGESTED_NAME: usize = 64;
 
 /// The candidates closest to `name` (at most three, distance ≤ max(2, len/3)).
 /// None for a name longer than [`MAX_SUGGESTED_NAME`]; a candidate whose
 /// length alone differs by more than the limit is not compared.
-pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Vec<&'a str> {
+pub(crate) fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Vec<&'a str> {
     if name.len() > MAX_SUGGESTED_NAME {
         return vec![];
     }
@@ -232,7 +232,7 @@ pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
 }
 
 /// How many characters of user text a message quotes (see [`quote_user_text`]).
-pub const QUOTED_CHARS: usize = 60;
+pub(crate) const QUOTED_CHARS: usize = 60;
 
 /// User text (a name, a type, a key from a file or a request) for a
 /// message: in single quotes, every control character shown as a visible
@@ -240,7 +240,7 @@ pub const QUOTED_CHARS: usize = 60;
 /// its own), and cut after `max` characters with an ellipsis and the
 /// text's length: `'aaaa…' (52428800 bytes)`. A message then stays one
 /// short line whatever the input holds.
-pub fn quote_user_text(s: &str, max: usize) -> String {
+pub(crate) fn quote_user_text(s: &str, max: usize) -> String {
     let (shown, cut) = visible_prefix(s, max);
     if cut { format!("'{shown}…' ({} bytes)", s.len()) } else { format!("'{shown}'") }
 }
@@ -248,7 +248,7 @@ pub fn quote_user_text(s: &str, max: usize) -> String {
 /// [`quote_user_text`] without the quotes: `aaaa… (52428800 bytes)` when
 /// cut. `usize::MAX` keeps the whole text (a name from a report, printed
 /// in a table).
-pub fn user_text(s: &str, max: usize) -> String {
+pub(crate) fn user_text(s: &str, max: usize) -> String {
     let (shown, cut) = visible_prefix(s, max);
     if cut { format!("{shown}… ({} bytes)", s.len()) } else { shown }
 }
@@ -270,7 +270,7 @@ fn visible_prefix(s: &str, max: usize) -> (String, bool) {
 /// A number for a message, short whatever its size: `NaN`, `infinity`,
 /// five significant digits in exponent form from 1e16 on and below 1e-5
 /// (`1e308`, `2.6881e43`), as Rust writes it otherwise (`0.5`, `1200`).
-pub fn show_number(v: f64) -> String {
+pub(crate) fn show_number(v: f64) -> String {
     if v.is_nan() {
         "NaN".into()
     } else if v.is_infinite() {
@@ -286,7 +286,7 @@ pub fn show_number(v: f64) -> String {
 
 /// A number for a message: at most 6 decimals, trailing zeros dropped, so
 /// a bound computed in floating point (7/6 of 0.6) reads as written (0.7).
-pub fn short_number(v: f64) -> String {
+pub(crate) fn short_number(v: f64) -> String {
     let s = format!("{v:.6}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" { "0".into() } else { s.to_string() }

@@ -308,13 +308,6 @@ pub fn wgsl_uniforms<T: GpuBlock>() -> String {
     )
 }
 
-/// The bytes of one uniform buffer: frame block, then traversal block.
-pub fn uniform_bytes<T: GpuBlock>(frame: &FrameBlock, trav: &T) -> Vec<u8> {
-    let mut v = bytemuck::bytes_of(frame).to_vec();
-    v.extend_from_slice(bytemuck::bytes_of(trav));
-    v
-}
-
 /// The convex bound kinds of sphere tracing's technique 5.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
@@ -355,7 +348,7 @@ pub const TEXTURE_SHIFT: u32 = 12;
 /// a vector gather.
 pub const TEXTURE_WIDTH: u32 = 1 << TEXTURE_SHIFT;
 
-/// A table of vec4s laid out as a data texture: rows of [`TEXTURE_WIDTH`]
+/// A table of vec4s laid out as a data texture: rows of `TEXTURE_WIDTH`
 /// texels, the last padded with zeros.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Texels<T> {

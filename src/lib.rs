@@ -2,9 +2,9 @@
 //! surfaces f(x, y, z) = 0 robustly on the GPU, and blobtree scenes of
 //! distance-field primitives kept as data.
 //!
-//! Pipeline: formula text → [`syntax`] → [`sema`] → [`ir`] → a field
+//! Pipeline: formula text → parser → semantic checks → [`ir`] → a field
 //! source ([`field`]: the formula compiled into WGSL, a tape, or a scene)
-//! → [`kernel`] (one traversal × one field source) → [`validate`] (naga)
+//! → render kernel (one traversal × one field source) → naga validation
 //! → [`gpu`] (wgpu, headless) → [`output`] (PNG / EXR).
 //!
 //! The types to start from: [`Formula`], [`Gpu`], [`Renderer`],
@@ -30,31 +30,49 @@
 //! code, edited and rendered again without a new shader.
 #![warn(missing_docs)]
 
-pub mod analysis;
-pub mod batch;
-pub mod bench;
+/// An internal module: crate-private, or public (and hidden from the
+/// documentation) with the `internals` feature, which the benchmarks in
+/// `benches/` build with. Nothing outside the benchmarks should use it: its
+/// items change without notice.
+macro_rules! internal_mod {
+    ($name:ident) => {
+        #[cfg(feature = "internals")]
+        #[doc(hidden)]
+        pub mod $name;
+        #[cfg(not(feature = "internals"))]
+        pub(crate) mod $name;
+    };
+}
+
+internal_mod!(analysis);
+internal_mod!(batch);
+internal_mod!(bench);
 pub mod bindings;
-pub mod bounded;
-pub mod catalog;
-pub mod choice;
+internal_mod!(bounded);
+internal_mod!(catalog);
+internal_mod!(choice);
+mod cli;
 pub mod codegen;
 pub mod diag;
 pub mod field;
 pub mod gpu;
-pub mod inline;
+internal_mod!(inline);
 pub mod ir;
-pub mod kernel;
-pub mod layout;
-pub mod memory;
+internal_mod!(kernel);
+internal_mod!(layout);
+internal_mod!(memory);
 pub mod output;
-pub mod reference;
+internal_mod!(reference);
 pub mod render;
 pub mod scene;
-pub mod sdf;
-pub mod sema;
-pub mod syntax;
-pub mod validate;
-pub mod view;
+internal_mod!(sdf);
+internal_mod!(sema);
+internal_mod!(syntax);
+internal_mod!(validate);
+internal_mod!(view);
+
+#[cfg(test)]
+mod tests;
 
 pub use gpu::{Gpu, Renderer};
 pub use output::Image;
@@ -62,6 +80,13 @@ pub use render::{Frame, Settings};
 pub use scene::Scene;
 
 use diag::Diagnostic;
+
+/// The `isotrace` command line, which `src/main.rs` runs: parses the
+/// process's arguments, runs the command and returns its exit code.
+#[doc(hidden)]
+pub fn command_line() -> std::process::ExitCode {
+    cli::main()
+}
 
 /// A formula that parsed and passed the semantic checks.
 #[derive(Debug, Clone)]
@@ -140,5 +165,5 @@ pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
 
 /// The most live nodes of a formula for which `choose_algebra` weighs ray
 /// polynomials: well inside what `Auto` compiles rather than runs as a tape
-/// in IA ([`crate::choice::CROSSOVER_BISECT_IA`] instructions).
+/// in IA (`crate::choice::CROSSOVER_BISECT_IA` instructions).
 pub const RAY_POLY_AUTO_NODES: usize = 300;

@@ -1,21 +1,21 @@
 //! Image files: PNG (8-bit sRGB) and OpenEXR (float channels), always
 //! written atomically (temporary file in the same directory + rename).
 //!
-//! Every file isotrace writes goes through [`write_atomic`]: only a regular
+//! Every file isotrace writes goes through `write_atomic`: only a regular
 //! file (or nothing) may be where it writes. A device, a FIFO, a socket or
-//! a directory there is refused before any work ([`check_target`]), so a
+//! a directory there is refused before any work (`check_target`), so a
 //! write never turns `/dev/full` into a file nor blocks on a FIFO. A
 //! symbolic link there is replaced by the new file, like any file, and the
 //! file it pointed to is left as it was: a write lands only at the path
 //! named, so a link planted in a shared output directory cannot redirect
-//! it. The path `-` is standard output ([`is_stdout`]); an image written
+//! it. The path `-` is standard output (`is_stdout`); an image written
 //! there is a PNG.
 
 mod picture;
 mod temporaries;
 pub use picture::Image;
 
-pub use temporaries::{remove_stale_temporaries, remove_temporaries, STALE_AFTER};
+pub(crate) use temporaries::{remove_stale_temporaries, remove_temporaries};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -89,13 +89,13 @@ pub enum Format {
 }
 
 /// Whether `path` is `-`, standard output.
-pub fn is_stdout(path: &Path) -> bool {
+pub(crate) fn is_stdout(path: &Path) -> bool {
     path.as_os_str() == "-"
 }
 
 /// The format a path asks for, by extension (case-insensitive); PNG for
 /// standard output.
-pub fn format_of(path: &Path) -> Result<Format, OutputError> {
+pub(crate) fn format_of(path: &Path) -> Result<Format, OutputError> {
     if is_stdout(path) {
         return Ok(Format::Png);
     }
@@ -116,7 +116,7 @@ fn tmp_path(path: &Path) -> PathBuf {
 
 /// Checks that `path` ends in `expected` (`.wgsl`, `.scene.json`; exactly,
 /// since readers recognise files by it). Standard output passes.
-pub fn check_extension(path: &Path, expected: &'static str) -> Result<(), OutputError> {
+pub(crate) fn check_extension(path: &Path, expected: &'static str) -> Result<(), OutputError> {
     match path.to_str() {
         _ if is_stdout(path) => Ok(()),
         Some(p) if p.ends_with(expected) && p.len() > expected.len() => Ok(()),
@@ -127,7 +127,7 @@ pub fn check_extension(path: &Path, expected: &'static str) -> Result<(), Output
 /// Checks that nothing but a regular file or a symbolic link (replaced,
 /// not followed) is at `path`. Nothing there is fine; a `stat` that fails
 /// otherwise is left for the write to report.
-pub fn check_target(path: &Path) -> Result<(), OutputError> {
+pub(crate) fn check_target(path: &Path) -> Result<(), OutputError> {
     if is_stdout(path) {
         return Ok(());
     }
@@ -140,7 +140,7 @@ pub fn check_target(path: &Path) -> Result<(), OutputError> {
 /// Checks, before any work, that `path` is no directory, device, FIFO or
 /// socket ([`check_target`]) and that its directory exists and is writable
 /// (by creating and removing the temporary file).
-pub fn check_writable(path: &Path) -> Result<(), OutputError> {
+pub(crate) fn check_writable(path: &Path) -> Result<(), OutputError> {
     if is_stdout(path) {
         return Ok(());
     }
@@ -155,7 +155,7 @@ pub fn check_writable(path: &Path) -> Result<(), OutputError> {
 /// Checks that `path` is not an existing read-only file. Replacing one by a
 /// rename works whatever its mode, so without this check a file the user
 /// protected would be silently overwritten.
-pub fn check_not_read_only(path: &Path) -> Result<(), OutputError> {
+pub(crate) fn check_not_read_only(path: &Path) -> Result<(), OutputError> {
     if is_stdout(path) {
         return Ok(());
     }
@@ -167,7 +167,7 @@ pub fn check_not_read_only(path: &Path) -> Result<(), OutputError> {
 
 /// Writes through a temporary file and a rename, or to standard output
 /// for `-`.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     if is_stdout(path) {
         let mut out = std::io::stdout().lock();
         return out.write_all(bytes).and_then(|_| out.flush()).map_err(|source| OutputError::Io { path: path.to_path_buf(), source });
@@ -177,7 +177,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
 
 /// Like [`write_atomic`], with the content produced by `fill` (a file
 /// only: standard output cannot seek, which the EXR writer needs).
-pub fn write_atomic_with(
+pub(crate) fn write_atomic_with(
     path: &Path,
     fill: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<(), String>,
 ) -> Result<(), OutputError> {
@@ -209,25 +209,25 @@ fn keep_mode(path: &Path, tmp: &Path) -> std::io::Result<()> {
 }
 
 /// Linear [0, 1] → 8-bit sRGB.
-pub fn srgb8(c: f32) -> u8 {
+pub(crate) fn srgb8(c: f32) -> u8 {
     let c = c.clamp(0.0, 1.0);
     let s = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
     (s * 255.0 + 0.5) as u8
 }
 
 /// The frame as 8-bit sRGB RGB bytes, row-major.
-pub fn frame_rgb8(frame: &crate::render::Frame) -> Vec<u8> {
+pub(crate) fn frame_rgb8(frame: &crate::render::Frame) -> Vec<u8> {
     frame.pixels.iter().flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2])]).collect()
 }
 
 /// [`frame_rgb8`] allocated fallibly (see [`crate::memory`]).
-pub fn try_frame_rgb8(frame: &crate::render::Frame) -> Result<Vec<u8>, crate::memory::MemoryError> {
+pub(crate) fn try_frame_rgb8(frame: &crate::render::Frame) -> Result<Vec<u8>, crate::memory::MemoryError> {
     let items = frame.pixels.iter().flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2])]);
     crate::memory::collect(frame.pixels.len() * 3, (frame.width, frame.height), "PNG bytes", items)
 }
 
 /// Encodes RGB8 bytes as PNG into `w`.
-pub fn encode_png(w: &mut impl Write, width: u32, height: u32, rgb: &[u8]) -> Result<(), String> {
+pub(crate) fn encode_png(w: &mut impl Write, width: u32, height: u32, rgb: &[u8]) -> Result<(), String> {
     use image::ImageEncoder;
     image::codecs::png::PngEncoder::new(w)
         .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
@@ -286,7 +286,7 @@ pub fn write_exr(path: &Path, frame: &crate::render::Frame) -> Result<(), Output
 
 /// Name of the per-pixel work channel: what `evals` counts depends on the
 /// traversal.
-pub fn work_channel(frame: &crate::render::Frame) -> &'static str {
+pub(crate) fn work_channel(frame: &crate::render::Frame) -> &'static str {
     match frame.stats.method {
         crate::render::Method::Bisect => "evals",
         crate::render::Method::Sphere => "steps",
@@ -295,7 +295,7 @@ pub fn work_channel(frame: &crate::render::Frame) -> &'static str {
 
 /// What the colour channels of an image show (`--color`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ColorMode {
+pub(crate) enum ColorMode {
     /// The shaded surface.
     #[default]
     Shade,
@@ -320,7 +320,7 @@ pub enum ColorMode {
 
 /// Parses `shade` (alias `phong`), `steps` (alias `evals`), `steps:MAX`,
 /// `normal`, `gradient`, `depth`, `field` or `overlap`.
-pub fn parse_color(s: &str) -> Result<ColorMode, String> {
+pub(crate) fn parse_color(s: &str) -> Result<ColorMode, String> {
     match s.trim() {
         "shade" | "phong" => Ok(ColorMode::Shade),
         "steps" | "evals" => Ok(ColorMode::Steps { max: None }),
@@ -338,7 +338,7 @@ pub fn parse_color(s: &str) -> Result<ColorMode, String> {
 
 /// A heat map colour (linear RGB) for v in [0, 1]: black, purple, red,
 /// orange, pale yellow, monotone in brightness so the picture reads in grey too.
-pub fn heat(v: f64) -> [f32; 3] {
+pub(crate) fn heat(v: f64) -> [f32; 3] {
     const STOPS: [[f64; 3]; 5] = [[0.0, 0.0, 0.02], [0.27, 0.03, 0.45], [0.78, 0.13, 0.30], [0.98, 0.55, 0.05], [1.0, 1.0, 0.75]];
     let x = if v.is_finite() { v.clamp(0.0, 1.0) } else { 1.0 } * 4.0;
     let k = (x.floor() as usize).min(3);
@@ -350,7 +350,7 @@ pub fn heat(v: f64) -> [f32; 3] {
 /// Recolours a frame for `mode` (`Shade` and `Field` leave it as the
 /// kernel drew it). Returns the heat map's full-scale value for `Steps`
 /// and `Overlap`.
-pub fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32> {
+pub(crate) fn recolor(frame: &mut crate::render::Frame, mode: ColorMode) -> Option<u32> {
     match mode {
         ColorMode::Shade | ColorMode::Field | ColorMode::Gradient | ColorMode::Depth => None,
         ColorMode::Steps { max } => {
@@ -406,12 +406,12 @@ pub fn write_frame(path: &Path, frame: &crate::render::Frame) -> Result<(), Outp
 /// The largest image file read back: an `--env` image (a 16384 × 8192
 /// equirectangular PNG of noise is about 400 MiB; real ones compress far
 /// better) or a bench job's frame.
-pub const MAX_IMAGE_BYTES: u64 = 512 << 20;
+pub(crate) const MAX_IMAGE_BYTES: u64 = 512 << 20;
 
 /// Reads an image file ([`crate::bounded::read_file_bytes`]: a regular
 /// file of at most [`MAX_IMAGE_BYTES`]) and decodes it from memory (by its
 /// content, within the decoder's default allocation limit).
-pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
+pub(crate) fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
     let bytes = crate::bounded::read_file_bytes(path, MAX_IMAGE_BYTES).map_err(|e| e.to_string())?;
     image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?.decode().map_err(|e| e.to_string())
 }

@@ -50,8 +50,11 @@ mod warp;
 
 use build::B;
 pub use blend::{density, density_default_range, density_lipschitz, DENSITY_SLOPE};
+pub use unary::NOISE_WAVES;
+#[cfg(test)]
 pub use join::{chamfer_intersect, chamfer_range, chamfer_union, round_intersect, round_union, sum_union};
-pub use unary::{noise, NOISE_GRADIENT, NOISE_WAVES};
+#[cfg(test)]
+pub use unary::{noise, NOISE_GRADIENT};
 pub use warp::{bend_lipschitz, bend_point, twist_lipschitz, twist_point};
 
 /// A distance-field form (primitive, transform or operator).

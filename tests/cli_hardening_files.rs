@@ -391,21 +391,6 @@ fn a_refused_allocation_is_an_error_without_a_budget() {
 
 /// The encoders allocate fallibly too (a budget below their need, set in
 /// this test process only).
-#[test]
-fn encoding_a_frame_checks_its_memory() {
-    use isotrace::render::{Frame, PixelOut, Stats, Status};
-    let px = PixelOut { color: [0.0; 4], normal: [0.0; 3], depth: 1.0, evals: 0, level: 0, iso: 0, status: Status::Miss };
-    let frame = Frame { width: 16, height: 16, pixels: vec![px; 256], stats: Stats::default() };
-    let d = dir("memory-encode");
-    isotrace::memory::set_budget(Some(700));
-    let png = isotrace::output::write_frame(&d.join("a.png"), &frame).unwrap_err();
-    let exr = isotrace::output::write_frame(&d.join("a.exr"), &frame).unwrap_err();
-    isotrace::memory::set_budget(None);
-    assert_eq!(png.to_string(), format!("cannot write '{}': a 16x16 frame needs 768 bytes of host memory for its PNG bytes, over the memory budget of 700 bytes", s(&d.join("a.png"))));
-    assert_eq!(exr.to_string(), format!("cannot write '{}': a 16x16 frame needs 9.2 kB of host memory for its EXR channels, over the memory budget of 700 bytes", s(&d.join("a.exr"))));
-    assert!(isotrace::output::write_frame(&d.join("a.png"), &frame).is_ok());
-}
-
 // 11. Shader compilation budget and bench job timeouts (item 5).
 
 #[test]

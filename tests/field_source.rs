@@ -5,13 +5,12 @@
 //! traversals, and is compared with the compiled formula of the same torus.
 //! Its radii change with `Renderer::set_field`, without a new shader.
 
-mod common;
 
 use isotrace::bindings::{Binding, Slot};
 use isotrace::field::{BindingRequest, CodeRequest, FieldSource, Refusal};
 use isotrace::ir::Domain;
 use isotrace::render::{BisectOptions, Frame, SphereOptions, Status, Traversal};
-use isotrace::{Formula, Renderer};
+use isotrace::{Formula, Renderer, Settings};
 
 /// A torus about the z axis: major radius `major`, minor radius `minor`.
 struct DataTorus {
@@ -113,8 +112,8 @@ fn compiled_torus(major: f32, minor: f32) -> Formula {
 
 #[test]
 fn a_source_outside_the_library_renders_as_the_compiled_formula_does() {
-    let gpu = common::gpu();
-    let s = common::settings(common::cube(1.6), 160, 120);
+    let gpu = gpu();
+    let s = Settings::for_box([-1.6, 1.6, -1.6, 1.6, -1.6, 1.6], 160, 120);
     let torus = DataTorus { major: 1.0, minor: 0.4 };
     let formula = compiled_torus(1.0, 0.4);
     for (name, traversal) in [("bisection", bisect()), ("sphere tracing", sphere())] {
@@ -131,8 +130,8 @@ fn a_source_outside_the_library_renders_as_the_compiled_formula_does() {
 
 #[test]
 fn its_data_changes_without_a_new_shader() {
-    let gpu = common::gpu();
-    let s = common::settings(common::cube(1.6), 120, 90);
+    let gpu = gpu();
+    let s = Settings::for_box([-1.6, 1.6, -1.6, 1.6, -1.6, 1.6], 120, 90);
     let mut r = Renderer::new(gpu, &DataTorus { major: 1.0, minor: 0.4 }, bisect()).unwrap();
     let wgsl = r.wgsl().to_string();
     r.set_field(&DataTorus { major: 0.9, minor: 0.2 }).unwrap();
@@ -144,4 +143,10 @@ fn its_data_changes_without_a_new_shader() {
     // A field of another kind is refused by the source's own rule.
     let e = r.set_field(&compiled_torus(1.0, 0.4).ir).err().expect("refused").to_string();
     assert!(e.contains("a compiled field is part of the shader"), "{e}");
+}
+
+/// The device shared by the tests.
+fn gpu() -> &'static isotrace::Gpu {
+    static GPU: std::sync::OnceLock<isotrace::Gpu> = std::sync::OnceLock::new();
+    GPU.get_or_init(|| isotrace::Gpu::new().expect("a Vulkan device (install mesa-vulkan-drivers)"))
 }

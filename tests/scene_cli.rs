@@ -138,10 +138,17 @@ fn formula_prints_the_scene_as_distance_forms() {
     let text = stdout(&o);
     assert!(text.starts_with("n0 = sphere(1.0);\nn1 = translate(1.2, 0.0, 0.0, rotate(0.0, 0.0, 1.0, 0.4, roundbox(0.6, 0.6, 0.6, 0.15)));\nn2 = compact_union(n0, n1, 0.3, 0.6);\n"), "{text}");
     assert!(text.ends_with("\nn14\n"));
-    let f = isotrace::Formula::compile("<scene>", &text).unwrap();
+    isotrace::Formula::compile("<scene>", &text).unwrap();
     let scene = isotrace::scene::format::load(std::path::Path::new(blobs)).unwrap();
-    let p = [0.9, 0.2, -0.3];
-    let v = isotrace::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+    // The f64 reference evaluates the printed formula (`eval --cpu`; it reads
+    // points as f32, so this one is exact in f32).
+    let p = [0.875, 0.1875, -0.3125];
+    let (iso, point) = (tmp("blobs-forms.iso"), tmp("blobs-point.txt"));
+    std::fs::write(&iso, &text).unwrap();
+    std::fs::write(&point, format!("{} {} {}\n", p[0], p[1], p[2])).unwrap();
+    let o = isotrace(&["eval", "-f", iso.to_str().unwrap(), "--algebra", "scalar", "--cpu", "--boxes", point.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: f64 = stdout(&o).trim().parse().unwrap();
     assert!((v - scene.eval(p)).abs() < 1e-12);
     let big = tmp("agg2.scene.json");
     let o = isotrace(&["scene", "gen", "aggregate", "--level", "2", "-o", big.to_str().unwrap()]);

@@ -19,7 +19,7 @@ pub mod manifest;
 pub mod merge;
 pub mod shard;
 
-pub use shard::{GivenCount, Resolved, Shard, ShardError};
+pub use shard::{GivenCount, Shard, ShardError};
 
 /// 64-bit FNV-1a of `bytes`, as 16 hex digits: identifies a formula's text
 /// or a set of options in a manifest. Not cryptographic: it tells shards of

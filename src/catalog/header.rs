@@ -112,6 +112,7 @@ impl Header {
     }
 
     /// The value of parameter `name`, if the header sets it.
+    #[cfg(test)]
     pub fn param(&self, name: &str) -> Option<f64> {
         self.params.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
     }
@@ -131,30 +132,12 @@ pub enum Algebra {
 impl Algebra {
     /// The number domain this algebra stands for with formula `ir` (auto:
     /// [`crate::choose_algebra`]).
+    #[cfg(any(test, feature = "internals"))]
     pub fn domain(self, ir: &crate::ir::Ir) -> crate::ir::Domain {
         match self {
             Algebra::Ia => crate::ir::Domain::Interval,
             Algebra::Raa => crate::ir::Domain::Affine,
             Algebra::Auto => crate::choose_algebra(ir),
-        }
-    }
-
-    /// Parses `ia`, `raa` or `auto`.
-    pub fn parse(s: &str) -> Option<Algebra> {
-        match s.trim() {
-            "ia" => Some(Algebra::Ia),
-            "raa" => Some(Algebra::Raa),
-            "auto" => Some(Algebra::Auto),
-            _ => None,
-        }
-    }
-
-    /// The spelling in files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Algebra::Ia => "ia",
-            Algebra::Raa => "raa",
-            Algebra::Auto => "auto",
         }
     }
 }
@@ -166,16 +149,6 @@ pub enum Status {
     Published,
     /// A reconstruction: the original formula is not known.
     Reconstruction,
-}
-
-impl Status {
-    /// The spelling in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Status::Published => "published",
-            Status::Reconstruction => "reconstruction",
-        }
-    }
 }
 
 /// The `clip` key: a region to intersect an unbounded surface with.

@@ -22,22 +22,13 @@ const SDF: &[&str] = &["jewel", "city", "creature"];
 /// The entry names of suite `name`, each a name [`super::lookup`] finds:
 /// `knoll` (Table 1 of Knoll et al.), `sdf` (the distance-field scenes) or
 /// `all` (every built-in entry, in catalog order). `all` is read from the
-/// built-in table, so a new `.iso` file joins it without an edit here.
-///
-/// ```
-/// use isotrace::catalog;
-/// let knoll = catalog::suite("knoll").unwrap();
-/// assert_eq!((knoll.len(), knoll[0], knoll[15]), (16, "sphere", "water"));
-/// assert_eq!(catalog::suite("sdf").unwrap(), ["jewel", "city", "creature"]);
-/// assert_eq!(catalog::suite("all").unwrap().len(), catalog::builtin().len());
-/// let e = catalog::suite("knol").unwrap_err();
-/// assert_eq!(e.to_string(), "unknown suite 'knol': expected knoll, sdf or all");
-/// ```
+/// built-in table, so a new `.iso` file joins it without an edit here
+/// (`src/tests/catalog.rs`: `suites_name_their_entries`).
 pub fn suite(name: &str) -> Result<Vec<&'static str>, CatalogError> {
     match name {
         "knoll" => Ok(KNOLL.to_vec()),
         "sdf" => Ok(SDF.to_vec()),
-        // An entry's name is its file stem (tests/catalog.rs checks that no
+        // An entry's name is its file stem (src/tests/catalog.rs checks that no
         // built-in file overrides it), so the names need no parsing.
         "all" => Ok(BUILTIN.iter().map(|(file, _)| file.strip_suffix(".iso").unwrap_or(file)).collect()),
         _ => Err(CatalogError::UnknownSuite { name: name.to_string() }),

@@ -5,7 +5,7 @@
 //! alone: writes are atomic (a temporary file and a rename), so a file this
 //! run's command wrote is complete, and a re-queued task only renders what
 //! is missing. A file damaged since (cut short, empty, another size) is
-//! rendered again ([`isotrace::batch::frame_check`]).
+//! rendered again ([`crate::batch::frame_check`]).
 //!
 //! A batch run (`--shard` or `--skip-existing`) keeps a manifest; a plain
 //! `--frames` run writes only its frames, as before batch work existed. The
@@ -15,13 +15,13 @@
 
 use super::frames::Outputs;
 use super::CliError;
-use isotrace::batch::manifest::{self, CameraId, FormulaId, FrameEntry, FrameSettings, FrameStatus, Manifest};
-use isotrace::batch::merge::{self, check_same, MergeError, Part};
-use isotrace::batch::{fnv1a64, frame_check, one_line, Fnv, Shard};
-use isotrace::gpu::{DeviceInfo, Renderer};
-use isotrace::output::{self, ColorMode};
-use isotrace::render::{Frame, Settings, Traversal};
-use isotrace::Formula;
+use crate::batch::manifest::{self, CameraId, FormulaId, FrameEntry, FrameSettings, FrameStatus, Manifest};
+use crate::batch::merge::{self, check_same, MergeError, Part};
+use crate::batch::{fnv1a64, frame_check, one_line, Fnv, Shard};
+use crate::gpu::{DeviceInfo, Renderer};
+use crate::output::{self, ColorMode};
+use crate::render::{Frame, Settings, Traversal};
+use crate::Formula;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -106,7 +106,7 @@ impl Animation<'_> {
             settings: self.settings.clone(),
             shard: self.shard,
             device: renderer.map(|(_, d)| d.clone()),
-            started: isotrace::bench::utc_now(),
+            started: crate::bench::utc_now(),
             finished: None,
             frames: self.outputs.iter().map(|(k, p)| entry(k, self.time(k), &p)).collect(),
         };
@@ -151,14 +151,14 @@ impl Animation<'_> {
         if let Some(b) = bar {
             b.finish_and_clear();
         }
-        m.finished = Some(isotrace::bench::utc_now());
+        m.finished = Some(crate::bench::utc_now());
         write_manifest(&path, &m)?;
         let rendered = m.frames.iter().filter(|f| matches!(f.status, FrameStatus::Rendered)).count();
         let skipped = m.frames.len() - rendered;
         let kept = if skipped > 0 { format!("{skipped} already there, ") } else { String::new() };
         let manifest = path.as_ref().map_or(String::new(), |p| format!(" and the manifest {}", p.display()));
         let what = format!("wrote {rendered} frames{manifest}");
-        super::notice::done(&isotrace::diag::user_text(&what, 400), &format!("{kept}{}", super::notice::size(s.width, s.height)));
+        super::notice::done(&crate::diag::user_text(&what, 400), &format!("{kept}{}", super::notice::size(s.width, s.height)));
         Ok((last, heat_max))
     }
 }

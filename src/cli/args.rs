@@ -6,11 +6,11 @@
 use super::CliError;
 use clap::{Args, ValueEnum};
 use glam::DVec3;
-use isotrace::catalog::{self, Header};
-use isotrace::gpu::{Gpu, ShaderOpt};
-use isotrace::ir::Domain;
-use isotrace::render::settings::DEFAULT_MAX_ITER;
-use isotrace::render::{Bound, Method, Settings, Shading, SphereOptions, Unresolved, View};
+use crate::catalog::{self, Header};
+use crate::gpu::{Gpu, ShaderOpt};
+use crate::ir::Domain;
+use crate::render::settings::DEFAULT_MAX_ITER;
+use crate::render::{Bound, Method, Settings, Shading, SphereOptions, Unresolved, View};
 
 /// The flags of a render's [`Settings`] (its box, camera, eps, time,
 /// parameters, budget) and of its algebra, field and device: `render` of
@@ -69,7 +69,7 @@ pub struct SettingsArgs {
     pub shader_opt: Option<ShaderOptArg>,
 }
 
-/// `--shader-opt`: see `isotrace::gpu::driver`.
+/// `--shader-opt`: see `crate::gpu::driver`.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShaderOptArg {
     Auto,
@@ -81,7 +81,7 @@ pub enum ShaderOptArg {
 /// GALLIVM_PERF of the user's) auto for a job of `pixel_frames`, or full
 /// where the job measures frames (`auto_none` false: bench).
 pub fn shader_opt(arg: Option<ShaderOptArg>, pixel_frames: u64, auto_none: bool) -> Option<ShaderOpt> {
-    let auto = || if auto_none { isotrace::gpu::driver::auto_shader_opt(pixel_frames) } else { ShaderOpt::Full };
+    let auto = || if auto_none { crate::gpu::driver::auto_shader_opt(pixel_frames) } else { ShaderOpt::Full };
     match arg {
         Some(ShaderOptArg::Full) => Some(ShaderOpt::Full),
         Some(ShaderOptArg::None) => Some(ShaderOpt::None),
@@ -91,7 +91,7 @@ pub fn shader_opt(arg: Option<ShaderOptArg>, pixel_frames: u64, auto_none: bool)
     }
 }
 
-/// `--unresolved`: see `isotrace::render::Unresolved`.
+/// `--unresolved`: see `crate::render::Unresolved`.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum UnresolvedArg {
     #[default]
@@ -225,7 +225,7 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
             (n, n)
         }
     };
-    let max = isotrace::render::settings::MAX_SIZE;
+    let max = crate::render::settings::MAX_SIZE;
     if w == 0 || h == 0 || w > max || h > max {
         return Err(CliError::input(format!("invalid --size '{s}': each side must be between 1 and {max}")));
     }
@@ -308,12 +308,12 @@ pub fn flags_over_defaults(flags: &SettingsArgs, mut v: View) -> Result<View, Cl
 /// eye is derived from it, and its own check would name --eye, which the
 /// user never gave.
 fn check_framing(flags: &SettingsArgs, v: &View) -> Result<(), CliError> {
-    let fov = v.fov.unwrap_or(isotrace::render::view::DEFAULT_FOV);
+    let fov = v.fov.unwrap_or(crate::render::view::DEFAULT_FOV);
     // A bad --fov is its own error (Camera::frame checks it first).
     if v.eye.is_some() || !(fov > 0.0 && fov < 180.0) {
         return Ok(());
     }
-    let eye = isotrace::render::Camera::default_for(&v.bbox, fov, 1.0).eye;
+    let eye = crate::render::Camera::default_for(&v.bbox, fov, 1.0).eye;
     if eye.is_finite() && eye.abs().max_element() < 1e30 {
         return Ok(());
     }
@@ -321,7 +321,7 @@ fn check_framing(flags: &SettingsArgs, v: &View) -> Result<(), CliError> {
         Some(b) => format!("invalid --box '{b}'"),
         None => "invalid box in the .iso header".to_string(),
     };
-    let at = eye.to_array().map(isotrace::diag::show_number).join(",");
+    let at = eye.to_array().map(crate::diag::show_number).join(",");
     Err(CliError::input(format!("{what}: too large to frame, the default eye would be at {at} (coordinates must be below 1e30); give a smaller box, or --eye")))
 }
 
@@ -341,7 +341,7 @@ pub fn apply_budget_flags(flags: &SettingsArgs, mut s: Settings) -> Result<Setti
 
 /// Builds a formula's frame settings from flags, with an `.iso` header's
 /// values as defaults (flags override them); validated before any GPU work.
-pub fn settings(flags: &SettingsArgs, size: (u32, u32), f: &isotrace::Formula, header: Option<&Header>) -> Result<Settings, CliError> {
+pub fn settings(flags: &SettingsArgs, size: (u32, u32), f: &crate::Formula, header: Option<&Header>) -> Result<Settings, CliError> {
     let v = flags_over_defaults(flags, header.map_or_else(View::default, Header::view))?;
     let (s, warnings) = v.settings(f, size.0, size.1).map_err(super::error::settings_error)?;
     for w in warnings {
@@ -373,12 +373,12 @@ pub fn algebra_arg(a: catalog::Algebra) -> AlgebraArg {
 }
 
 /// The domain an `--algebra` value stands for with this formula.
-pub fn resolve_algebra(a: AlgebraArg, ir: &isotrace::ir::Ir) -> Domain {
+pub fn resolve_algebra(a: AlgebraArg, ir: &crate::ir::Ir) -> Domain {
     match a {
         AlgebraArg::Scalar => Domain::Scalar,
         AlgebraArg::Ia => Domain::Interval,
         AlgebraArg::Raa => Domain::Affine,
-        AlgebraArg::Auto => isotrace::choose_algebra(ir),
+        AlgebraArg::Auto => crate::choose_algebra(ir),
     }
 }
 
@@ -405,22 +405,22 @@ pub enum FieldArg {
 }
 
 /// The flag value of a field kind (a header's `field`).
-pub(crate) fn field_arg(k: isotrace::field::FieldKind) -> FieldArg {
+pub(crate) fn field_arg(k: crate::field::FieldKind) -> FieldArg {
     match k {
-        isotrace::field::FieldKind::Compiled => FieldArg::Compiled,
-        isotrace::field::FieldKind::Tape => FieldArg::Tape,
-        isotrace::field::FieldKind::Scene => FieldArg::Scene,
-        isotrace::field::FieldKind::Auto => FieldArg::Auto,
+        crate::field::FieldKind::Compiled => FieldArg::Compiled,
+        crate::field::FieldKind::Tape => FieldArg::Tape,
+        crate::field::FieldKind::Scene => FieldArg::Scene,
+        crate::field::FieldKind::Auto => FieldArg::Auto,
     }
 }
 
 /// The field kind of a flag value.
-pub(crate) fn field_kind(a: FieldArg) -> isotrace::field::FieldKind {
+pub(crate) fn field_kind(a: FieldArg) -> crate::field::FieldKind {
     match a {
-        FieldArg::Compiled => isotrace::field::FieldKind::Compiled,
-        FieldArg::Tape => isotrace::field::FieldKind::Tape,
-        FieldArg::Scene => isotrace::field::FieldKind::Scene,
-        FieldArg::Auto => isotrace::field::FieldKind::Auto,
+        FieldArg::Compiled => crate::field::FieldKind::Compiled,
+        FieldArg::Tape => crate::field::FieldKind::Tape,
+        FieldArg::Scene => crate::field::FieldKind::Scene,
+        FieldArg::Auto => crate::field::FieldKind::Auto,
     }
 }
 
@@ -430,13 +430,13 @@ pub(crate) fn field_kind(a: FieldArg) -> isotrace::field::FieldKind {
 /// takes at least that.
 /// `frames`: how many frames the job renders with the field (auto weighs
 /// the tape's sooner first frame against its slower later ones).
-pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32], t: &mut isotrace::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<isotrace::choice::PreparedField, CliError> {
-    use isotrace::choice::{self, FieldError, SceneFieldError};
-    use isotrace::field::{FieldKind, TapeError};
+pub fn prepare_field(arg: Option<FieldArg>, f: &crate::Formula, params: &[f32], t: &mut crate::render::Traversal, lipschitz_given: bool, frames: u64) -> Result<crate::choice::PreparedField, CliError> {
+    use crate::choice::{self, FieldError, SceneFieldError};
+    use crate::field::{FieldKind, TapeError};
     let kind = field_kind(arg.unwrap_or(FieldArg::Auto));
     if kind == FieldKind::Auto {
         if let Some((field, lipschitz)) = choice::auto_scene(f, params, t) {
-            if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
+            if let (crate::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
                 o.lipschitz = o.lipschitz.max(lipschitz);
             }
             return Ok(field);
@@ -445,14 +445,14 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32
     if kind == FieldKind::Scene {
         let (field, lipschitz) = choice::scene(f, params, t).map_err(|e| match e {
             SceneFieldError::NotBlobtree(n) => {
-                let d = isotrace::diag::Diagnostic::error(format!("--field scene: not a blobtree: {}", n.reason), n.span, "here")
+                let d = crate::diag::Diagnostic::error(format!("--field scene: not a blobtree: {}", n.reason), n.span, "here")
                     .with_note("a scene is built from distance forms (sphere, box, translate, union, smooth_union, ...) with constant arguments; render it with --field compiled (or auto)");
                 CliError::Rendered(d.render(&f.origin, &f.source, false))
             }
             SceneFieldError::NotSphere => CliError::Input(format!("--field scene: {e}; add --method sphere")),
             SceneFieldError::Layout(_) => CliError::Input(format!("--field scene: in the scene the formula lowers to (`isotrace scene lower` writes it), {e}")),
         })?;
-        if let (isotrace::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
+        if let (crate::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {
             o.lipschitz = o.lipschitz.max(lipschitz);
         }
         return Ok(field);
@@ -470,7 +470,7 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &isotrace::Formula, params: &[f32
 /// environment says), mapping "no adapter" to exit code 2.
 pub fn open_gpu(opt: Option<ShaderOpt>) -> Result<Gpu, CliError> {
     opt.map_or_else(Gpu::new, Gpu::with_shader_opt).map_err(|e| match e {
-        isotrace::gpu::GpuError::NoAdapter => CliError::NoDevice(e.to_string()),
+        crate::gpu::GpuError::NoAdapter => CliError::NoDevice(e.to_string()),
         other => CliError::NoDevice(other.to_string()),
     })
 }

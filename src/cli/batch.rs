@@ -5,9 +5,9 @@
 
 use super::CliError;
 use clap::{Args, Subcommand};
-use isotrace::batch::manifest::{self, FrameFile, Summarizer, Summary};
-use isotrace::batch::{frame_check, one_line, ranges, GivenCount, Shard, ShardError};
-use isotrace::bounded;
+use crate::batch::manifest::{self, FrameFile, Summarizer, Summary};
+use crate::batch::{frame_check, one_line, ranges, GivenCount, Shard, ShardError};
+use crate::bounded;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -149,14 +149,14 @@ struct MergeArgs {
 pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
     let ManifestCommand::Merge(m) = a.command;
     if let Some(p) = &m.json {
-        isotrace::output::check_writable(p).map_err(|e| CliError::input(e.to_string()))?;
+        crate::output::check_writable(p).map_err(|e| CliError::input(e.to_string()))?;
     }
     let summary = summarize(&part_files(&m.manifests)?)?;
     print!("{}", summary_text(&summary));
     warn_not_counted(&summary);
     if let Some(p) = &m.json {
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-        isotrace::output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::input(e.to_string()))?;
+        crate::output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::input(e.to_string()))?;
     }
     if summary.missing.is_empty() {
         return Ok(ExitCode::SUCCESS);
@@ -176,7 +176,7 @@ pub fn run(a: ManifestArgs) -> Result<ExitCode, CliError> {
 /// Reads the manifests one at a time (each is dropped once its complete
 /// frames are taken) and checks their frames on disk.
 fn summarize(files: &[PathBuf]) -> Result<Summary, CliError> {
-    let merge_error = |e: isotrace::batch::merge::MergeError| CliError::input(e.to_string());
+    let merge_error = |e: crate::batch::merge::MergeError| CliError::input(e.to_string());
     let mut summarizer = Summarizer::default();
     for f in files {
         let file = f.display().to_string();
@@ -212,7 +212,7 @@ impl FramesDir<'_> {
                 _ => return FrameFile::Unusable("a symbolic link to a file outside the manifest's directory".into()),
             }
         }
-        let Ok(format) = isotrace::output::format_of(&path) else { return FrameFile::Unusable("not a .png or .exr file".into()) };
+        let Ok(format) = crate::output::format_of(&path) else { return FrameFile::Unusable("not a .png or .exr file".into()) };
         match frame_check::check(&path, format, self.width, self.height) {
             Ok(()) => FrameFile::Present,
             Err(reason) => FrameFile::Unusable(reason),

@@ -6,16 +6,16 @@
 use super::args::{algebra_arg, algebra_name, open_gpu, resolve_algebra, sphere_options, AlgebraArg, SphereArgs};
 use super::CliError;
 use clap::Args;
-use isotrace::batch::merge::MergeError;
-use isotrace::batch::one_line;
-use isotrace::bench::report::{self, Merger, Report, ReportSettings};
-use isotrace::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
-use isotrace::catalog::{self, Entry};
-use isotrace::gpu::{Gpu, Renderer};
-use isotrace::render::record::PackedFrame;
-use isotrace::render::{BisectOptions, Settings, Traversal};
-use isotrace::output;
-use isotrace::render::Frame;
+use crate::batch::merge::MergeError;
+use crate::batch::one_line;
+use crate::bench::report::{self, Merger, Report, ReportSettings};
+use crate::bench::{self, JobResult, LowestEps, Measure, Outcome, Variant};
+use crate::catalog::{self, Entry};
+use crate::gpu::{Gpu, Renderer};
+use crate::render::record::PackedFrame;
+use crate::render::{BisectOptions, Settings, Traversal};
+use crate::output;
+use crate::render::Frame;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -160,7 +160,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, CliError> {
     let surfaces = entries(&a)?;
     let labelled = labelled_variants(&a)?;
     if let Some(n) = a.max_steps {
-        isotrace::render::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(|e| CliError::input(super::error::settings_message(&e)))?;
+        crate::render::SphereOptions { max_steps: n, ..Default::default() }.check().map_err(|e| CliError::input(super::error::settings_message(&e)))?;
     }
     let size = super::args::parse_size(&a.size)?;
     let rel_eps = catalog::parse_eps(&a.eps).map_err(|m| CliError::input(format!("invalid --eps '{}': {m}", a.eps)))?;
@@ -372,8 +372,8 @@ fn report(settings: ReportSettings, results: Vec<JobResult>, gpu: &Gpu) -> Repor
 /// 15.0.6)), shader opt full, 2 CPU threads": the Markdown report's machine
 /// line. A merged report's devices come from its files: shown on one line,
 /// controls visible.
-pub(super) fn machine(d: &isotrace::gpu::DeviceInfo, threads: usize) -> String {
-    format!("{}, {threads} CPU threads", isotrace::batch::one_line(&d.describe()))
+pub(super) fn machine(d: &crate::gpu::DeviceInfo, threads: usize) -> String {
+    format!("{}, {threads} CPU threads", crate::batch::one_line(&d.describe()))
 }
 
 /// The table on stdout and the --markdown and --json files of a report (a
@@ -429,7 +429,7 @@ fn merge(a: &BenchArgs) -> Result<ExitCode, CliError> {
 /// The timed runs of one renderer and settings, and the last frame. Timed
 /// as a viewer renders: the kernel's records kept packed (decoding 1024²
 /// pixels into `Frame` pixels would add ~3.5 ms a frame).
-fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace::render::Stats>, Frame, Instant), String> {
+fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<crate::render::Stats>, Frame, Instant), String> {
     let mut frame = PackedFrame::default();
     let (runs, warm) = timed(repeat, &mut || {
         r.render_packed(s, &mut frame).map_err(|e| e.to_string())?;
@@ -441,7 +441,7 @@ fn timed_packed(r: &Renderer, s: &Settings, repeat: u32) -> Result<(Vec<isotrace
 /// Warm-up (shader compile, caches), then `repeat` timed renders; `render`
 /// keeps its frame and returns the frame's statistics. Also returns when
 /// the warm-up ended, so the caller can report the setup time apart.
-fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<isotrace::render::Stats, String>) -> Result<(Vec<isotrace::render::Stats>, Instant), String> {
+fn timed(repeat: u32, render: &mut dyn FnMut() -> Result<crate::render::Stats, String>) -> Result<(Vec<crate::render::Stats>, Instant), String> {
     render()?;
     let warm = Instant::now();
     let runs = (0..repeat).map(|_| render()).collect::<Result<Vec<_>, _>>()?;
@@ -463,7 +463,7 @@ fn run_job(gpu: &Gpu, entry: &Entry, variant: &Variant, size: (u32, u32), rel_ep
     // --field, else the header's `field`, else the generated code.
     let field_arg = a.field.or(entry.header.field.map(super::args::field_arg)).unwrap_or(super::args::FieldArg::Compiled);
     let b = entry.header.bbox;
-    let diag = isotrace::render::box_diagonal(&b);
+    let diag = crate::render::box_diagonal(&b);
     let mut defaults = entry.header.view();
     defaults.eps = Some(rel_eps * diag);
     let s = defaults.settings(&f, size.0, size.1).map_err(|e| e.to_string())?.0;

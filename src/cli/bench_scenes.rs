@@ -13,10 +13,10 @@
 //! against primitive count from the JSON.
 
 use super::CliError;
-use isotrace::gpu::{Gpu, Renderer};
-use isotrace::render::{SphereOptions, Stats, Traversal};
-use isotrace::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
-use isotrace::scene::linear::Linear;
+use crate::gpu::{Gpu, Renderer};
+use crate::render::{SphereOptions, Stats, Traversal};
+use crate::scene::generate::{generate, Blending, Kind, MAX_LEVEL};
+use crate::scene::linear::Linear;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
@@ -85,7 +85,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// One path's timed frames.
-fn time_frames(r: &Renderer, s: &isotrace::render::Settings, repeat: u32) -> Result<Vec<Stats>, CliError> {
+fn time_frames(r: &Renderer, s: &crate::render::Settings, repeat: u32) -> Result<Vec<Stats>, CliError> {
     r.render(s).map_err(super::error::render_error)?; // warm-up
     (0..repeat).map(|_| r.render(s).map(|f| f.stats).map_err(super::error::render_error)).collect()
 }
@@ -116,10 +116,10 @@ fn row(scene: (Kind, Blending, u32, usize), path: &str, setup_ms: f64, runs: &[S
 
 /// The scene's formula compiled into the shader, when its tape has at most
 /// [`COMPILED_MAX_OPS`] instructions (it builds in about a minute).
-fn compiled_formula(scene: &isotrace::scene::Scene) -> Option<isotrace::Formula> {
+fn compiled_formula(scene: &crate::scene::Scene) -> Option<crate::Formula> {
     let text = scene.to_formula().ok()?;
-    let f = isotrace::Formula::compile("<scene>", &text).ok()?;
-    (isotrace::field::tape::TapeData::new(&f.ir).ok()?.size <= COMPILED_MAX_OPS).then_some(f)
+    let f = crate::Formula::compile("<scene>", &text).ok()?;
+    (crate::field::tape::TapeData::new(&f.ir).ok()?.size <= COMPILED_MAX_OPS).then_some(f)
 }
 
 /// Measures one scene: sparse, dense unless `dense_estimate` (ms) passes
@@ -180,7 +180,7 @@ pub fn table(rows: &[SceneRow]) -> String {
 /// Runs the series. `size`, `repeat`, `max_steps` and the outputs come from
 /// the bench flags; `max_level` from `--max-level`; the driver's
 /// optimisation from `--shader-opt`.
-pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32, json: Option<&Path>, markdown: Option<&Path>, opt: Option<isotrace::gpu::ShaderOpt>) -> Result<ExitCode, CliError> {
+pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32, json: Option<&Path>, markdown: Option<&Path>, opt: Option<crate::gpu::ShaderOpt>) -> Result<ExitCode, CliError> {
     if max_level > MAX_LEVEL {
         return Err(CliError::Input(format!("invalid --max-level {max_level}: the generated series go up to level {MAX_LEVEL}")));
     }
@@ -206,11 +206,11 @@ pub fn run(size: (u32, u32), repeat: u32, max_steps: Option<u32>, max_level: u32
     println!("{machine}, {}x{}, median of {repeat}\n\n{t}", size.0, size.1);
     if let Some(p) = json {
         let doc = serde_json::json!({ "machine": machine, "size": [size.0, size.1], "repeat": repeat, "rows": rows });
-        isotrace::output::write_atomic(p, serde_json::to_string_pretty(&doc).expect("serialisable").as_bytes()).map_err(|e| CliError::Input(e.to_string()))?;
+        crate::output::write_atomic(p, serde_json::to_string_pretty(&doc).expect("serialisable").as_bytes()).map_err(|e| CliError::Input(e.to_string()))?;
     }
     if let Some(p) = markdown {
         let text = format!("Machine: {machine}; {}x{}, median of {repeat} runs.\n\n{t}", size.0, size.1);
-        isotrace::output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::Input(e.to_string()))?;
+        crate::output::write_atomic(p, text.as_bytes()).map_err(|e| CliError::Input(e.to_string()))?;
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -2,7 +2,7 @@
 //! the library's errors onto it in the words of the command line (the
 //! flag that sets a value, what the user can do).
 
-use isotrace::{validate, FormulaError};
+use crate::{validate, FormulaError};
 use std::io::IsTerminal;
 
 /// Any failure of a command, rendered once.
@@ -28,14 +28,14 @@ impl CliError {
 
     /// The text for stderr. Messages quote user text (file names, header
     /// values, box lines), so control characters in them are made visible
-    /// ([`isotrace::diag::escape_controls`]): no input reaches the terminal raw.
+    /// ([`crate::diag::escape_controls`]): no input reaches the terminal raw.
     pub fn render(&self) -> String {
         self.text(std::io::stderr().is_terminal())
     }
 
     /// The message, with terminal colours or without (for the viewer's page).
     pub fn text(&self, color: bool) -> String {
-        use isotrace::diag::escape_controls as esc;
+        use crate::diag::escape_controls as esc;
         match self {
             CliError::Formula(e) => e.diagnostic.render(&e.origin, &e.text, color),
             CliError::Input(m) if color => format!("\x1b[1;31merror\x1b[0m: {}\n", esc(m)),
@@ -69,16 +69,16 @@ impl From<validate::ValidateError> for CliError {
 
 /// Why flags and header values cannot become settings: a value out of
 /// range names its flag, a parameter is a formula diagnostic.
-pub fn settings_error(e: isotrace::render::ViewError) -> CliError {
+pub fn settings_error(e: crate::render::ViewError) -> CliError {
     match e {
-        isotrace::render::ViewError::Settings(e) => CliError::input(settings_message(&e)),
-        isotrace::render::ViewError::Param(e) => CliError::Formula(e),
+        crate::render::ViewError::Settings(e) => CliError::input(settings_message(&e)),
+        crate::render::ViewError::Param(e) => CliError::Formula(e),
     }
 }
 
 /// Maps a render error to the CLI's error kinds.
-pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
-    use isotrace::gpu::RenderError as R;
+pub fn render_error(e: crate::gpu::RenderError) -> CliError {
+    use crate::gpu::RenderError as R;
     match e {
         R::Validate(v) => CliError::Internal(v.to_string()),
         R::Gpu(g) => CliError::Internal(g.to_string()),
@@ -92,15 +92,15 @@ pub fn render_error(e: isotrace::gpu::RenderError) -> CliError {
 }
 
 /// An output file's error; a refused allocation says what to do.
-pub fn output_error(e: isotrace::output::OutputError) -> CliError {
+pub fn output_error(e: crate::output::OutputError) -> CliError {
     match &e {
-        isotrace::output::OutputError::Memory { source, .. } => CliError::Input(memory_message(&e.to_string(), source)),
+        crate::output::OutputError::Memory { source, .. } => CliError::Input(memory_message(&e.to_string(), source)),
         _ => CliError::Input(e.to_string()),
     }
 }
 
 /// `message` about a refused frame allocation, with what the user can do.
-fn memory_message(message: &str, m: &isotrace::memory::MemoryError) -> String {
+fn memory_message(message: &str, m: &crate::memory::MemoryError) -> String {
     match m.budget {
         Some(_) => format!("{message}; render a smaller --size, or raise ISOTRACE_MEMORY_BUDGET"),
         None => format!("{message}; render a smaller --size"),
@@ -108,8 +108,8 @@ fn memory_message(message: &str, m: &isotrace::memory::MemoryError) -> String {
 }
 
 /// The flag a setting is given with on the command line.
-fn settings_flag(field: isotrace::render::SettingsField) -> &'static str {
-    use isotrace::render::SettingsField as F;
+fn settings_flag(field: crate::render::SettingsField) -> &'static str {
+    use crate::render::SettingsField as F;
     match field {
         F::Size => "--size",
         F::Box => "--box",
@@ -139,8 +139,8 @@ fn settings_flag(field: isotrace::render::SettingsField) -> &'static str {
 
 /// A settings error in the words of the command line: the flag that sets
 /// the value (flags and `.iso` header keys share their names).
-pub fn settings_message(e: &isotrace::render::SettingsError) -> String {
-    use isotrace::render::SettingsField as F;
+pub fn settings_message(e: &crate::render::SettingsError) -> String {
+    use crate::render::SettingsField as F;
     match (e.field, e.value.is_empty()) {
         (F::Up, true) => format!("{}: give another --up", e.reason),
         (F::Eye, true) => format!("{}: give another --eye or --target", e.reason),

@@ -4,9 +4,9 @@
 use super::args::{parse_params, resolve_algebra, AlgebraArg};
 use super::{input::FormulaArgs, CliError};
 use clap::Args;
-use isotrace::ir::Domain;
-use isotrace::gpu::eval::{eval_boxes_with, Box8};
-use isotrace::bounded;
+use crate::ir::Domain;
+use crate::gpu::eval::{eval_boxes_with, Box8};
+use crate::bounded;
 use std::io::{BufRead, Write};
 use std::process::ExitCode;
 
@@ -116,8 +116,8 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
         other => resolve_algebra(other, &f.ir),
     };
     let given = parse_params(&a.params)?;
-    let (params, warnings) = isotrace::sema::bind_params(&f.ir, &given)
-        .map_err(|d| CliError::Formula(isotrace::FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic: d }))?;
+    let (params, warnings) = crate::sema::bind_params(&f.ir, &given)
+        .map_err(|d| CliError::Formula(crate::FormulaError { origin: f.origin.clone(), text: f.source.clone(), diagnostic: d }))?;
     for w in warnings {
         eprint!("{}", w.render("", "", false));
     }
@@ -137,11 +137,11 @@ pub fn run(a: EvalArgs) -> Result<ExitCode, CliError> {
     } else {
         let gpu = super::args::open_gpu(super::args::shader_opt(a.shader_opt, boxes.len() as u64, true))?;
         let run = match &tape {
-            Some(t) => isotrace::gpu::eval::eval_boxes_tape(&gpu, t, domain, &boxes, &params),
+            Some(t) => crate::gpu::eval::eval_boxes_tape(&gpu, t, domain, &boxes, &params),
             None => eval_boxes_with(&gpu, &f.ir, domain, &boxes, &params, loaded.inline.as_ref()),
         };
         run.map_err(|e| match e {
-                isotrace::gpu::eval::EvalError::Inline(m) => CliError::Rendered(m),
+                crate::gpu::eval::EvalError::Inline(m) => CliError::Rendered(m),
                 other => CliError::Internal(other.to_string()),
             })?
             .into_iter()
@@ -188,10 +188,10 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
     let values: Vec<f64> = if a.cpu {
         boxes.iter().map(|b| scene.eval([b[0] as f64, b[2] as f64, b[4] as f64])).collect()
     } else {
-        let lin = isotrace::scene::linear::Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        let lin = crate::scene::linear::Linear::new(&scene).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
         let points: Vec<[f32; 3]> = boxes.iter().map(|b| [b[0], b[2], b[4]]).collect();
         let gpu = super::args::open_gpu(super::args::shader_opt(a.shader_opt, points.len() as u64, true))?;
-        let got = isotrace::gpu::eval::eval_points_scene(&gpu, &lin.field_data(), &points).map_err(|e| CliError::Internal(e.to_string()))?;
+        let got = crate::gpu::eval::eval_points_scene(&gpu, &lin.field_data(), &points).map_err(|e| CliError::Internal(e.to_string()))?;
         got.into_iter().map(f64::from).collect()
     };
     let mut out = std::io::stdout().lock();
@@ -204,9 +204,9 @@ fn run_scene(a: &EvalArgs, path: &std::path::Path) -> Result<ExitCode, CliError>
 /// The tape `--field` asks for (`None`: the generated evaluator). `auto`
 /// takes the tape where `render` would for the same algebra; a scene has no
 /// enclosures to evaluate on boxes.
-fn device_tape(arg: Option<super::args::FieldArg>, f: &isotrace::Formula, domain: Domain, params: &[f32]) -> Result<Option<isotrace::field::TapeData>, CliError> {
-    use isotrace::choice::{choose, FieldKind, PreparedField};
-    use isotrace::render::{BisectOptions, SphereOptions, Traversal};
+fn device_tape(arg: Option<super::args::FieldArg>, f: &crate::Formula, domain: Domain, params: &[f32]) -> Result<Option<crate::field::TapeData>, CliError> {
+    use crate::choice::{choose, FieldKind, PreparedField};
+    use crate::render::{BisectOptions, SphereOptions, Traversal};
     let kind = match arg {
         None | Some(super::args::FieldArg::Compiled) => return Ok(None),
         Some(super::args::FieldArg::Scene) => return Err(CliError::Input("--field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes".into())),
@@ -224,8 +224,8 @@ fn device_tape(arg: Option<super::args::FieldArg>, f: &isotrace::Formula, domain
     }
 }
 
-fn cpu_eval(ir: &isotrace::ir::Ir, domain: Domain, b: &Box8, params: &[f64]) -> [f64; 2] {
-    use isotrace::reference as r;
+fn cpu_eval(ir: &crate::ir::Ir, domain: Domain, b: &Box8, params: &[f64]) -> [f64; 2] {
+    use crate::reference as r;
     let iv = |k: usize| [b[2 * k] as f64, b[2 * k + 1] as f64];
     match domain {
         Domain::Scalar => {

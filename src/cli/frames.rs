@@ -17,9 +17,9 @@
 //! Anything else after a '%' is an error that names its column.
 
 use super::CliError;
-use isotrace::batch::{manifest, Shard};
-use isotrace::diag::escape_controls;
-use isotrace::output;
+use crate::batch::{manifest, Shard};
+use crate::diag::escape_controls;
+use crate::output;
 use std::path::{Path, PathBuf};
 
 /// Most frames one `render` writes (what a manifest may list): it bounds

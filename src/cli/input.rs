@@ -4,15 +4,15 @@
 
 use super::CliError;
 use clap::Args;
-use isotrace::catalog::{self, Header};
-use isotrace::Formula;
-use isotrace::bounded;
-use isotrace::inline::MAX_INLINE_BYTES;
+use crate::catalog::{self, Header};
+use crate::Formula;
+use crate::bounded;
+use crate::inline::MAX_INLINE_BYTES;
 use std::path::Path;
 
 /// Largest formula read from stdin or `-f FILE`: the front end's own limit,
 /// so reading stops one byte past what it would reject anyway.
-const MAX_FORMULA_BYTES: u64 = isotrace::syntax::parser::MAX_SOURCE_BYTES as u64;
+const MAX_FORMULA_BYTES: u64 = crate::syntax::parser::MAX_SOURCE_BYTES as u64;
 
 /// The formula arguments shared by every command.
 #[derive(Args, Debug, Clone)]
@@ -36,7 +36,7 @@ pub struct Loaded {
     /// The `.iso` header, if any.
     pub header: Option<Header>,
     /// The `--inline` file, if any.
-    pub inline: Option<isotrace::inline::InlineWgsl>,
+    pub inline: Option<crate::inline::InlineWgsl>,
 }
 
 impl FormulaArgs {
@@ -57,7 +57,7 @@ impl FormulaArgs {
             Some(p) => {
                 let text = bounded::read_file_text(p, MAX_INLINE_BYTES).map_err(|e| CliError::Input(format!("cannot read --inline file '{}': {e}", p.display())))?;
                 let path = p.display().to_string();
-                Some(isotrace::inline::parse_inline(&path, &text).map_err(|d| CliError::Rendered(d.render(&path, &text, false)))?)
+                Some(crate::inline::parse_inline(&path, &text).map_err(|d| CliError::Rendered(d.render(&path, &text, false)))?)
             }
         };
         let externs = inline.as_ref().map_or(vec![], |i| i.functions.clone());
@@ -107,5 +107,5 @@ fn read_file(p: &Path) -> Result<(String, String), CliError> {
 /// Writes `bytes` to `path` through a temporary file in the same directory
 /// and a rename, so a failure never leaves a partial file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    isotrace::output::write_atomic(path, bytes).map_err(|e| e.to_string())
+    crate::output::write_atomic(path, bytes).map_err(|e| e.to_string())
 }

@@ -95,6 +95,38 @@ struct CheckArgs {
     json: bool,
 }
 
+/// The command line: parses the arguments, runs the command, renders any
+/// error once and maps it to an exit code (1: bad input, 2: no usable GPU
+/// device, 3: internal error).
+pub fn main() -> ExitCode {
+    // Usage errors exit with 1 like every other bad input (clap's default
+    // is 2, which isotrace keeps for "no GPU device").
+    let args = match Cli::try_parse() {
+        Ok(a) => a,
+        Err(e) => {
+            // clap quotes the arguments it rejects, and on a terminal it
+            // passes escape sequences in them through. With a control
+            // character in any argument the message is printed plain
+            // (clap strips the sequences) with the rest made visible.
+            let control = std::env::args_os().any(|a| a.to_string_lossy().chars().any(|c| c.is_control() && c != '\t'));
+            if control && e.use_stderr() {
+                eprint!("{}", crate::diag::escape_controls(&e.render().to_string()));
+            } else {
+                let _ = e.print();
+            }
+            return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
+        }
+    };
+    signals::remove_temporaries_on_termination();
+    match run(args) {
+        Ok(code) => code,
+        Err(e) => {
+            eprint!("{}", e.render());
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     notice::begin(cli.quiet);
@@ -128,9 +160,9 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let vars: Vec<&str> = ir.variables().iter().map(|v| v.name()).collect();
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
     let (products, powers) = ir.nonconstant_products();
-    let algebra = args::algebra_name(isotrace::choose_algebra(ir));
+    let algebra = args::algebra_name(crate::choose_algebra(ir));
     // The runs of same-shaped terms the compiled field writes as loops.
-    let plan = isotrace::field::compiled::term_loops::plan(ir);
+    let plan = crate::field::compiled::term_loops::plan(ir);
     let looped: usize = plan.loops.iter().map(|l| l.unroll * l.iterations).sum();
     let mut out = std::io::stdout().lock();
     if a.json {
@@ -148,7 +180,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let _ = writeln!(out, "parameters: {}", if params.is_empty() { "(none)".into() } else { params.join(" ") });
     let degree = match ir.degree() {
         None => "not a polynomial".to_string(),
-        Some(isotrace::ir::Ir::DEGREE_MAX) => format!("{} or more (too large to count)", isotrace::ir::Ir::DEGREE_MAX),
+        Some(crate::ir::Ir::DEGREE_MAX) => format!("{} or more (too large to count)", crate::ir::Ir::DEGREE_MAX),
         Some(d) => d.to_string(),
     };
     let _ = writeln!(out, "degree:     {degree}");
@@ -172,21 +204,21 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
 fn memory_budget_from_env() -> Result<(), CliError> {
     let Some(v) = std::env::var_os("ISOTRACE_MEMORY_BUDGET") else { return Ok(()) };
     let v = v.to_string_lossy();
-    let bytes = isotrace::memory::parse_budget(&v)
+    let bytes = crate::memory::parse_budget(&v)
         .ok_or_else(|| CliError::Input(format!("invalid ISOTRACE_MEMORY_BUDGET '{v}': expected a number of bytes, optionally with a suffix k, M, G or T (e.g. 8G)")))?;
-    isotrace::memory::set_budget(Some(bytes));
+    crate::memory::set_budget(Some(bytes));
     Ok(())
 }
 fn list(a: ListArgs) -> Result<ExitCode, CliError> {
     let mut out = std::io::stdout().lock();
-    for e in isotrace::catalog::builtin() {
+    for e in crate::catalog::builtin() {
         let h = &e.header;
         let title = h.title.clone().unwrap_or_default();
         if a.long {
             let b = h.bbox;
             let status = match h.status {
-                Some(isotrace::catalog::Status::Published) => "published",
-                Some(isotrace::catalog::Status::Reconstruction) => "reconstruction",
+                Some(crate::catalog::Status::Published) => "published",
+                Some(crate::catalog::Status::Reconstruction) => "reconstruction",
                 None => "-",
             };
             let _ = writeln!(out, "{:<16} {title}", e.name);

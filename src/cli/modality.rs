@@ -5,9 +5,9 @@
 
 use super::CliError;
 use clap::Args;
-use isotrace::catalog;
-use isotrace::layout::KernelColor;
-use isotrace::render::{EnvImage, EnvSpec, ModalitySpec, Modalities};
+use crate::catalog;
+use crate::layout::KernelColor;
+use crate::render::{EnvImage, EnvSpec, ModalitySpec, Modalities};
 
 /// Modality flags.
 #[derive(Args, Debug, Clone, Default)]
@@ -44,7 +44,7 @@ pub struct ModalityArgs {
 
 /// Reads an environment PNG as rgba8 texels.
 fn load_env(path: &std::path::Path) -> Result<EnvImage, CliError> {
-    let img = isotrace::output::read_image(path).map_err(|e| CliError::input(format!("cannot read --env image '{}': {e}", path.display())))?;
+    let img = crate::output::read_image(path).map_err(|e| CliError::input(format!("cannot read --env image '{}': {e}", path.display())))?;
     let rgba = img.to_rgba8();
     let (width, height) = rgba.dimensions();
     let texels = rgba.pixels().map(|p| u32::from_le_bytes(p.0)).collect();

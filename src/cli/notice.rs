@@ -25,7 +25,7 @@ fn elapsed() -> f64 {
 
 /// How the line names an output: its path, or standard output for `-`.
 fn shown(path: &Path) -> String {
-    if isotrace::output::is_stdout(path) { "standard output".into() } else { isotrace::diag::user_text(&path.display().to_string(), 200) }
+    if crate::output::is_stdout(path) { "standard output".into() } else { crate::diag::user_text(&path.display().to_string(), 200) }
 }
 
 /// `wrote PATH (DETAIL, T s)` unless `--quiet`.

@@ -6,10 +6,10 @@ use super::args::{self, AlgebraArg, SettingsArgs, SphereArgs};
 use super::report::{report, report_sphere, warn_lipschitz, warn_unresolved};
 use super::{input::FormulaArgs, CliError};
 use clap::Args;
-use isotrace::gpu::{Gpu, Renderer};
-use isotrace::layout::KernelColor;
-use isotrace::output::{self, ColorMode};
-use isotrace::render::{BisectOptions, Frame, Method, Settings, Shading, Traversal};
+use crate::gpu::{Gpu, Renderer};
+use crate::layout::KernelColor;
+use crate::output::{self, ColorMode};
+use crate::render::{BisectOptions, Frame, Method, Settings, Shading, Traversal};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -73,7 +73,7 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
                 return Err(CliError::input("--color field applies to --method sphere only"));
             }
             let domain = args::resolve_algebra(a.settings.algebra.or(header.and_then(|h| h.algebra).map(args::algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
-            if domain == isotrace::ir::Domain::Scalar {
+            if domain == crate::ir::Domain::Scalar {
                 return Err(CliError::input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
             }
             let kernel_color = match color {
@@ -169,7 +169,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     // --field, else the .iso header's `field`, else auto.
     let field_given = a.settings.field.or(header.and_then(|h| h.field).map(args::field_arg));
     let field = args::prepare_field(field_given, f, &s.params, &mut traversal, a.sphere.lipschitz.is_some(), todo as u64)?;
-    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && field.kind() != isotrace::field::FieldKind::Scene {
+    if matches!(&traversal, Traversal::Sphere(o) if o.synchronized) && field.kind() != crate::field::FieldKind::Scene {
         return Err(CliError::input("--scene-walk applies to scenes: a .scene.json file, or a formula of distance forms traced with --field scene"));
     }
     // No device is opened when every frame of the run is already there.
@@ -178,7 +178,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
     let renderer = match &gpu {
         Some(g) => {
             let t = traversal.clone();
-            let size = || isotrace::kernel::assemble(field.source(&f.ir), &t).wgsl.len();
+            let size = || crate::kernel::assemble(field.source(&f.ir), &t).wgsl.len();
             Some(super::notice::with_compile_note(size, || Renderer::new(g, field.source(&f.ir), traversal)).map_err(super::error::render_error)?)
         }
         None => None,
@@ -199,7 +199,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, CliError> {
 
 /// An animation's time range: `--t0`/`--t1`, else the header's `animate`,
 /// else from the frame's time to one past it.
-fn time_range(a: &RenderArgs, header: Option<&isotrace::catalog::Header>, s: &Settings) -> Result<(f64, f64), CliError> {
+fn time_range(a: &RenderArgs, header: Option<&crate::catalog::Header>, s: &Settings) -> Result<(f64, f64), CliError> {
     let anim = header.and_then(|h| h.animate);
     let (t0, t1) = (a.t0.or(anim.map(|r| r[0])).unwrap_or(s.time), a.t1.or(anim.map(|r| r[1])).unwrap_or(s.time + 1.0));
     for (flag, v) in [("--t0", t0), ("--t1", t1)] {
@@ -212,7 +212,7 @@ fn time_range(a: &RenderArgs, header: Option<&isotrace::catalog::Header>, s: &Se
 
 /// Renders the one frame of a run without `--frames`, recolours it and
 /// writes it to `path`; the heat map's maximum for `--color steps`.
-fn render_one(r: &Renderer, gpu: &Gpu, source: &dyn isotrace::field::FieldSource, s: &Settings, color: ColorMode, path: &Path) -> Result<(Frame, Option<u32>), CliError> {
+fn render_one(r: &Renderer, gpu: &Gpu, source: &dyn crate::field::FieldSource, s: &Settings, color: ColorMode, path: &Path) -> Result<(Frame, Option<u32>), CliError> {
     let what = || {
         let field = source.describe();
         let device = gpu.info.name.clone();

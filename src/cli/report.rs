@@ -3,8 +3,8 @@
 //! field's Lipschitz bound.
 
 use super::render::RenderArgs;
-use isotrace::gpu::Gpu;
-use isotrace::render::{Bound, Frame, Settings, SphereOptions, Traversal, Unresolved};
+use crate::gpu::Gpu;
+use crate::render::{Bound, Frame, Settings, SphereOptions, Traversal, Unresolved};
 use std::io::Write;
 
 /// Pixels whose traversal ran out of budget hold a best guess, not a hit:
@@ -17,13 +17,13 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
         return;
     }
     let (what, guess) = match t {
-        Traversal::Bisect(_) if field == isotrace::field::FieldKind::Tape.name() => (
+        Traversal::Bisect(_) if field == crate::field::FieldKind::Tape.name() => (
             format!(
                 "exhausted the iteration budget (--max-iter {}) or the tape interpreter's work limit ({} loop iterations a pixel, \
                  or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; --field compiled has none)",
                 s.max_iter,
-                isotrace::field::limits::TAPE_WORK_LIMIT,
-                isotrace::field::limits::TAPE_BUNDLE_LIMIT
+                crate::field::limits::TAPE_WORK_LIMIT,
+                crate::field::limits::TAPE_BUNDLE_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),
@@ -32,8 +32,8 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
                 "exhausted the iteration budget (--max-iter {}) or the work limit of the formula's loops over its repeated terms \
                  ({} loop iterations a pixel, or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes)",
                 s.max_iter,
-                isotrace::field::compiled::term_loops::WORK_LIMIT,
-                isotrace::field::limits::TAPE_BUNDLE_LIMIT
+                crate::field::compiled::term_loops::WORK_LIMIT,
+                crate::field::limits::TAPE_BUNDLE_LIMIT
             ),
             "the nearest cell that may hold the surface",
         ),
@@ -43,11 +43,11 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
         ),
         // A scene's step runs its tile's whole view: a long one spends the
         // loop budget long before --max-steps.
-        Traversal::Sphere(o) if field == isotrace::field::FieldKind::Scene.name() => (
+        Traversal::Sphere(o) if field == crate::field::FieldKind::Scene.name() => (
             format!(
                 "did not converge within --max-steps {} or the loop budget of {} iterations a pixel (each step evaluates the nodes of the tile's view of the scene)",
                 o.max_steps,
-                isotrace::layout::LOOP_LIMIT
+                crate::layout::LOOP_LIMIT
             ),
             "their best candidate",
         ),
@@ -63,7 +63,7 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
 
 /// Evidence that a sphere traced formula is not a distance bound with the
 /// Lipschitz bound given: always say so (surfaces may be missed).
-pub(super) fn warn_lipschitz(frame: &Frame, o: &isotrace::render::SphereOptions) {
+pub(super) fn warn_lipschitz(frame: &Frame, o: &crate::render::SphereOptions) {
     let st = &frame.stats;
     if st.sphere.lipschitz_violations > 0 {
         let seen = format!("{:.3}", st.sphere.lipschitz_seen);
@@ -82,7 +82,7 @@ pub(super) fn lipschitz_warning(violations: &dyn std::fmt::Display, lipschitz: &
     )
 }
 
-pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: isotrace::ir::Domain, gpu: &Gpu, field: &str) {
+pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: crate::ir::Domain, gpu: &Gpu, field: &str) {
     let st = &frame.stats;
     let algebra = super::args::algebra_name(domain);
     if a.stats {

@@ -3,13 +3,13 @@
 
 use super::CliError;
 use clap::{Args, Subcommand, ValueEnum};
-use isotrace::bounded::ReadError;
-use isotrace::diag::short_number;
-use isotrace::scene::format::{self, FormatError, GridPaths};
-use isotrace::scene::generate::{self, Blending, Kind, MAX_LEVEL};
-use isotrace::scene::linear::{Linear, MAX_STACK};
-use isotrace::scene::roi::Aabb;
-use isotrace::scene::{roi, sparse, Scene};
+use crate::bounded::ReadError;
+use crate::diag::short_number;
+use crate::scene::format::{self, FormatError, GridPaths};
+use crate::scene::generate::{self, Blending, Kind, MAX_LEVEL};
+use crate::scene::linear::{Linear, MAX_STACK};
+use crate::scene::roi::Aabb;
+use crate::scene::{roi, sparse, Scene};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -130,12 +130,12 @@ fn lower(a: LowerArgs) -> Result<ExitCode, CliError> {
     let f = &loaded.formula;
     let mut given = loaded.header.as_ref().map_or(vec![], |h| h.params.clone());
     given.extend(super::args::parse_params(&a.params)?);
-    let (values, warnings) = isotrace::sema::bind_params(&f.ir, &given).map_err(|d| CliError::Rendered(d.render(&f.origin, &f.source, false)))?;
+    let (values, warnings) = crate::sema::bind_params(&f.ir, &given).map_err(|d| CliError::Rendered(d.render(&f.origin, &f.source, false)))?;
     for w in warnings {
         eprint!("{}", w.render(&f.origin, &f.source, false));
     }
-    let scene = isotrace::scene::from_formula(f, &values).map_err(|e| {
-        let d = isotrace::diag::Diagnostic::error(format!("not a blobtree: {}", e.reason), e.span, "here");
+    let scene = crate::scene::from_formula(f, &values).map_err(|e| {
+        let d = crate::diag::Diagnostic::error(format!("not a blobtree: {}", e.reason), e.span, "here");
         CliError::Rendered(d.render(&f.origin, &f.source, false))
     })?;
     let json = format::to_json(&scene);
@@ -150,7 +150,7 @@ fn formula(a: FormulaArgs) -> Result<ExitCode, CliError> {
     let scene = load(&a.file, a.allow_scene_paths)?;
     let text = scene.to_formula().map_err(|e| CliError::Input(format!("{}: {e}", a.file.display())))?;
     match a.output {
-        Some(path) => isotrace::output::write_atomic(&path, text.as_bytes()).map_err(|e| CliError::Input(e.to_string()))?,
+        Some(path) => crate::output::write_atomic(&path, text.as_bytes()).map_err(|e| CliError::Input(e.to_string()))?,
         None => {
             let _ = std::io::stdout().lock().write_all(text.as_bytes());
         }
@@ -231,9 +231,9 @@ pub const ALLOW_SCENE_PATHS_HELP: &str =
 /// Writes a scene to a `.scene.json` file, or to stdout for `-`; whether
 /// it went to a file.
 fn write_scene(output: &Path, json: &str) -> Result<bool, CliError> {
-    let written = isotrace::output::check_extension(output, format::EXTENSION).and_then(|_| isotrace::output::write_atomic(output, json.as_bytes()));
+    let written = crate::output::check_extension(output, format::EXTENSION).and_then(|_| crate::output::write_atomic(output, json.as_bytes()));
     written.map_err(|e| CliError::Input(e.to_string()))?;
-    Ok(!isotrace::output::is_stdout(output))
+    Ok(!crate::output::is_stdout(output))
 }
 
 /// `[x0, x1] x [y0, y1] x [z0, z1]`.
@@ -310,9 +310,9 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
 
 /// The names of the interpreter features in `bits` (`scene::linear::FEATURE_*`).
 fn feature_names(bits: u32) -> Vec<String> {
-    use isotrace::scene::linear::*;
+    use crate::scene::linear::*;
     // Primitives with a case of their own name their feature bit in the table.
-    let own = isotrace::sdf::primitive::TYPES.iter().filter_map(|t| t.wgsl.as_ref().filter(|c| c.feature != FEATURE_DENSITY).map(|c| (c.feature, format!("{}s", t.scene_name))));
+    let own = crate::sdf::primitive::TYPES.iter().filter_map(|t| t.wgsl.as_ref().filter(|c| c.feature != FEATURE_DENSITY).map(|c| (c.feature, format!("{}s", t.scene_name))));
     [
         (FEATURE_PROFILE, "profiles"),
         (FEATURE_POLYGON, "polygons"),

@@ -7,10 +7,10 @@ use super::error::settings_error;
 use super::render::RenderArgs;
 use super::report::{report_sphere, warn_lipschitz, warn_unresolved};
 use super::CliError;
-use isotrace::gpu::Renderer;
-use isotrace::output::{self, ColorMode};
-use isotrace::render::{Shading, Traversal, View};
-use isotrace::scene::linear::Linear;
+use crate::gpu::Renderer;
+use crate::output::{self, ColorMode};
+use crate::render::{Shading, Traversal, View};
+use crate::scene::linear::Linear;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -45,8 +45,8 @@ pub fn framing(lin: &Linear) -> Option<View> {
 /// shrunk by sampling the field (`roi::sampled_bounds`, a 32³ grid, scenes
 /// up to about 2,000 nodes), so a scene whose bounding volumes are loose
 /// (smooth blends, a bent bar) still fills the frame.
-pub fn default_framing(lin: &Linear, scene: &isotrace::scene::Scene) -> Option<View> {
-    let tight = isotrace::scene::roi::sampled_bounds(scene, &lin.bounds, lin.lipschitz(), 32, 64 << 20);
+pub fn default_framing(lin: &Linear, scene: &crate::scene::Scene) -> Option<View> {
+    let tight = crate::scene::roi::sampled_bounds(scene, &lin.bounds, lin.lipschitz(), 32, 64 << 20);
     tight.unwrap_or(lin.bounds).padded().map(|bbox| View { bbox, ..View::default() })
 }
 
@@ -56,15 +56,15 @@ pub struct ScenePlan {
     /// The scene laid out for the device.
     pub lin: Linear,
     /// The frame.
-    pub settings: isotrace::render::Settings,
+    pub settings: crate::render::Settings,
     /// Sphere tracing's options.
-    pub options: isotrace::render::SphereOptions,
+    pub options: crate::render::SphereOptions,
     /// The colouring.
     pub color: ColorMode,
 }
 
 /// Checks the flags against the scene `scene` (read from `path`).
-pub fn plan(a: &RenderArgs, scene: &isotrace::scene::Scene, path: &Path) -> Result<ScenePlan, CliError> {
+pub fn plan(a: &RenderArgs, scene: &crate::scene::Scene, path: &Path) -> Result<ScenePlan, CliError> {
     if let Some(m) = misplaced(a) {
         return Err(CliError::input(m));
     }
@@ -121,7 +121,7 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
         eprintln!(
             "note: {} tiles had more active primitives than a tile list holds ({}) and evaluated the whole tree",
             frame.stats.field.overflow_tiles,
-            isotrace::field::scene::SCENE_TILE_MAX
+            crate::field::scene::SCENE_TILE_MAX
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -1,5 +1,5 @@
 //! SIGINT, SIGTERM and SIGHUP: remove the temporary files of atomic writes
-//! in flight ([`isotrace::output::remove_temporaries`]), then end the way
+//! in flight ([`crate::output::remove_temporaries`]), then end the way
 //! the signal would have, so the shell still sees "killed by SIGINT".
 
 /// Starts a thread that waits for a termination signal. Signal handlers
@@ -15,7 +15,7 @@ pub fn remove_temporaries_on_termination() {
     };
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
-            isotrace::output::remove_temporaries();
+            crate::output::remove_temporaries();
             let _ = signal_hook::low_level::emulate_default_handler(sig);
             std::process::exit(128 + sig);
         }

@@ -9,9 +9,9 @@
 use super::render::RenderArgs;
 use super::CliError;
 use clap::Args;
-use isotrace::render::{Settings, Traversal};
-use isotrace::view::page::printable;
-use isotrace::view::{Api, ApiError, Reply, Route};
+use crate::render::{Settings, Traversal};
+use crate::view::page::printable;
+use crate::view::{Api, ApiError, Reply, Route};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -80,9 +80,9 @@ fn check_flag(arg: &str) -> Result<(), ApiError> {
 
 /// A render error as the viewer says it: the advice names no flag the
 /// viewer refuses.
-fn view_render_error(e: isotrace::gpu::RenderError) -> ApiError {
+fn view_render_error(e: crate::gpu::RenderError) -> ApiError {
     match e {
-        e @ isotrace::gpu::RenderError::ShaderTooLarge { .. } => ApiError::bad(format!(
+        e @ crate::gpu::RenderError::ShaderTooLarge { .. } => ApiError::bad(format!(
             "error: {e}; the viewer runs the formula as generated code: simplify the formula (a repeated subexpression written once as a definition 'name = ...;' is generated once), or render it on the command line with `isotrace render … --field tape` (or auto), which runs the formula from a buffer in a fixed interpreter\n"
         )),
         e => bad(super::error::render_error(e)),
@@ -92,7 +92,7 @@ fn view_render_error(e: isotrace::gpu::RenderError) -> ApiError {
 /// The page's requests, answered for the input of the command line.
 struct Backend {
     input: String,
-    gpu: Mutex<Option<isotrace::gpu::Gpu>>,
+    gpu: Mutex<Option<crate::gpu::Gpu>>,
     allow_scene_paths: bool,
 }
 
@@ -155,8 +155,8 @@ impl Backend {
     /// files as `--allow-scene-paths` allows), or the edited one in the
     /// body, which may name only the grid files that file names: their
     /// grids are taken from memory, so no file a request names is read.
-    fn scene(&self, body: &Value) -> Result<isotrace::scene::Scene, ApiError> {
-        use isotrace::scene::format::{self, GridPaths};
+    fn scene(&self, body: &Value) -> Result<crate::scene::Scene, ApiError> {
+        use crate::scene::format::{self, GridPaths};
         let file = std::path::Path::new(&self.input);
         let loaded = super::scene::load(file, self.allow_scene_paths).map_err(bad)?;
         match body.get("scene") {
@@ -177,14 +177,14 @@ impl Backend {
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
             let t = Traversal::Sphere(p.options.clone());
-            let program = isotrace::view::program(&data, &t, &p.settings).map_err(view_render_error)?;
-            let scene_json: Value = serde_json::from_str(&isotrace::scene::format::to_json(&scene)).unwrap_or(Value::Null);
+            let program = crate::view::program(&data, &t, &p.settings).map_err(view_render_error)?;
+            let scene_json: Value = serde_json::from_str(&crate::scene::format::to_json(&scene)).unwrap_or(Value::Null);
             (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "new_params": [], "scene_features": data.features }))
         } else {
             let loaded = r.formula.load_with_header().map_err(bad)?;
             let new_params = default_params(&loaded, &mut r, &mut args)?;
             let p = super::render::plan_loaded(&r, loaded).map_err(bad)?;
-            let program = isotrace::view::program(&p.loaded.formula.ir, &p.traversal, &p.settings).map_err(view_render_error)?;
+            let program = crate::view::program(&p.loaded.formula.ir, &p.traversal, &p.settings).map_err(view_render_error)?;
             let names = p.loaded.formula.ir.params.iter().map(|(n, _)| n.clone());
             let params: Vec<Value> = names.zip(&p.settings.params).map(|(n, v)| json!({ "name": n, "value": v })).collect();
             let f = &p.loaded.formula;
@@ -215,9 +215,9 @@ impl Backend {
         let t0 = std::time::Instant::now();
         let scene = self.scene(body)?;
         let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
-        let buffers = isotrace::view::field_buffers(&p.lin.field_data());
+        let buffers = crate::view::field_buffers(&p.lin.field_data());
         let t = Traversal::Sphere(p.options.clone());
-        let uniforms = isotrace::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::error::render_error(e)))?;
+        let uniforms = crate::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::error::render_error(e)))?;
         Ok(json!({
             "buffers": buffers,
             "features": p.lin.features,
@@ -246,15 +246,15 @@ impl Backend {
             let scene = self.scene(body)?;
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
-            let renderer = isotrace::gpu::Renderer::new(gpu, &data, Traversal::Sphere(p.options)).map_err(view_render_error)?;
+            let renderer = crate::gpu::Renderer::new(gpu, &data, Traversal::Sphere(p.options)).map_err(view_render_error)?;
             let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
-            isotrace::output::recolor(&mut f, p.color);
+            crate::output::recolor(&mut f, p.color);
             f
         } else {
             let p = super::render::plan(&r).map_err(bad)?;
-            let renderer = isotrace::gpu::Renderer::new(gpu, &p.loaded.formula.ir, p.traversal).map_err(view_render_error)?;
+            let renderer = crate::gpu::Renderer::new(gpu, &p.loaded.formula.ir, p.traversal).map_err(view_render_error)?;
             let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
-            isotrace::output::recolor(&mut f, p.color);
+            crate::output::recolor(&mut f, p.color);
             f
         };
         let bytes = encode(&mut frame, exr).map_err(ApiError::bad)?;
@@ -264,18 +264,18 @@ impl Backend {
 }
 
 /// The frame as PNG or EXR bytes, written as `render -o` writes them.
-fn encode(frame: &mut isotrace::render::Frame, exr: bool) -> Result<Vec<u8>, String> {
+fn encode(frame: &mut crate::render::Frame, exr: bool) -> Result<Vec<u8>, String> {
     if !exr {
-        let rgb = isotrace::output::try_frame_rgb8(frame).map_err(|e| e.to_string())?;
+        let rgb = crate::output::try_frame_rgb8(frame).map_err(|e| e.to_string())?;
         let mut out = Vec::new();
-        isotrace::output::encode_png(&mut out, frame.width, frame.height, &rgb)?;
+        crate::output::encode_png(&mut out, frame.width, frame.height, &rgb)?;
         return Ok(out);
     }
     // The EXR writer writes a file: a private one in the temporary folder.
     static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let path = std::env::temp_dir().join(format!("isotrace-view-{}-{n}.exr", std::process::id()));
-    let result = isotrace::output::write_exr(&path, frame).map_err(|e| e.to_string()).and_then(|_| std::fs::read(&path).map_err(|e| e.to_string()));
+    let result = crate::output::write_exr(&path, frame).map_err(|e| e.to_string()).and_then(|_| std::fs::read(&path).map_err(|e| e.to_string()));
     let _ = std::fs::remove_file(&path);
     result
 }
@@ -356,7 +356,7 @@ impl Api for Backend {
 }
 
 fn present() -> Result<String, ApiError> {
-    isotrace::view::present_shader().map_err(|e| ApiError { status: 500, message: e.to_string() })
+    crate::view::present_shader().map_err(|e| ApiError { status: 500, message: e.to_string() })
 }
 
 fn is_loopback(host: &str) -> bool {
@@ -379,7 +379,7 @@ pub fn run(a: ViewerArgs) -> Result<ExitCode, CliError> {
     let Reply::Json(mut start) = start else { unreachable!("start answers JSON") };
     if let Some(path) = &a.export {
         merge(&mut start, json!({ "server": false }));
-        let page = isotrace::view::page::export(&start).map_err(|e| CliError::Internal(e.to_string()))?;
+        let page = crate::view::page::export(&start).map_err(|e| CliError::Internal(e.to_string()))?;
         super::input::write_atomic(path, page.as_bytes()).map_err(CliError::Input)?;
         super::notice::wrote(path, "a page that needs no server: open it in a browser with WebGPU");
         return Ok(ExitCode::SUCCESS);
@@ -390,7 +390,7 @@ pub fn run(a: ViewerArgs) -> Result<ExitCode, CliError> {
             printable(&a.host)
         );
     }
-    let server = isotrace::view::Server::bind(&a.host, a.port).map_err(|e| CliError::Input(e.to_string()))?;
+    let server = crate::view::Server::bind(&a.host, a.port).map_err(|e| CliError::Input(e.to_string()))?;
     let url = server.url().to_string();
     println!("isotrace view: {url}");
     use std::io::Write;

@@ -4,8 +4,8 @@
 use super::args::{resolve_algebra, AlgebraArg};
 use super::{input, notice, CliError, FormulaArgs};
 use clap::{Args, ValueEnum};
-use isotrace::ir::Domain;
-use isotrace::{validate, Formula};
+use crate::ir::Domain;
+use crate::{validate, Formula};
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -51,7 +51,7 @@ pub(super) struct WgslArgs {
 
 pub(super) fn run(a: WgslArgs) -> Result<ExitCode, CliError> {
     if let Some(o) = &a.output {
-        let target = isotrace::output::check_extension(o, ".wgsl").and_then(|_| isotrace::output::check_target(o));
+        let target = crate::output::check_extension(o, ".wgsl").and_then(|_| crate::output::check_target(o));
         target.map_err(|e| CliError::Input(e.to_string()))?;
     }
     let loaded = a.formula.load_with_header()?;
@@ -64,16 +64,16 @@ pub(super) fn run(a: WgslArgs) -> Result<ExitCode, CliError> {
         return write_wgsl(src, a.output);
     }
     let src = match a.kernel {
-        KernelArg::Eval => isotrace::field::compiled::eval_shader_with(&f.ir, domain, inline),
+        KernelArg::Eval => crate::field::compiled::eval_shader_with(&f.ir, domain, inline),
         KernelArg::Sphere if inline.is_some() => return Err(CliError::Input("--inline applies to the render and eval kernels, not to --kernel sphere".into())),
-        KernelArg::Sphere => isotrace::kernel::sphere_shader(&f.ir, Default::default()),
+        KernelArg::Sphere => crate::kernel::sphere_shader(&f.ir, Default::default()),
         KernelArg::Render => {
             if domain == Domain::Scalar {
                 return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
             }
-            let m = isotrace::render::Modalities { inline: inline.cloned(), ..Default::default() };
-            let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-            isotrace::kernel::assemble(&f.ir, &isotrace::render::Traversal::Bisect(b)).wgsl
+            let m = crate::render::Modalities { inline: inline.cloned(), ..Default::default() };
+            let b = crate::render::BisectOptions { modalities: m, ..crate::render::BisectOptions::new(domain) };
+            crate::kernel::assemble(&f.ir, &crate::render::Traversal::Bisect(b)).wgsl
         }
     };
     match inline {
@@ -84,25 +84,25 @@ pub(super) fn run(a: WgslArgs) -> Result<ExitCode, CliError> {
 }
 
 /// The tape field's kernel of `kernel` for the tape of `f`.
-fn tape_wgsl(f: &isotrace::Formula, domain: Domain, kernel: KernelArg, inline: bool) -> Result<String, CliError> {
+fn tape_wgsl(f: &crate::Formula, domain: Domain, kernel: KernelArg, inline: bool) -> Result<String, CliError> {
     if inline {
         return Err(CliError::Input("--field tape: the functions and hooks of --inline need --field compiled".into()));
     }
-    let tape = isotrace::field::TapeData::new(&f.ir).map_err(|e| CliError::Input(format!("--field tape: {e}; print it with --field compiled")))?;
+    let tape = crate::field::TapeData::new(&f.ir).map_err(|e| CliError::Input(format!("--field tape: {e}; print it with --field compiled")))?;
     let traversal = match kernel {
-        KernelArg::Eval => return Ok(isotrace::field::tape::wgsl::eval_shader(domain, tape.features)),
-        KernelArg::Sphere => isotrace::render::Traversal::Sphere(Default::default()),
+        KernelArg::Eval => return Ok(crate::field::tape::wgsl::eval_shader(domain, tape.features)),
+        KernelArg::Sphere => crate::render::Traversal::Sphere(Default::default()),
         KernelArg::Render if domain == Domain::Scalar => {
             return Err(CliError::Input("--algebra scalar has no render kernel: the traversal needs an inclusion algebra (ia, raa or auto); use --kernel eval".into()));
         }
-        KernelArg::Render => isotrace::render::Traversal::Bisect(isotrace::render::BisectOptions::new(domain)),
+        KernelArg::Render => crate::render::Traversal::Bisect(crate::render::BisectOptions::new(domain)),
     };
-    Ok(isotrace::kernel::assemble(&tape, &traversal).wgsl)
+    Ok(crate::kernel::assemble(&tape, &traversal).wgsl)
 }
 
 /// Validates a generated shader without user WGSL: an invalid one is an
 /// isotrace bug.
-fn validate_generated(src: &str, f: &isotrace::Formula) -> Result<(), CliError> {
+fn validate_generated(src: &str, f: &crate::Formula) -> Result<(), CliError> {
     validate::validate(src).map(|_| ()).map_err(|e| CliError::Internal(format!("{e}\nformula ({}): {}", f.origin, f.source.trim())))
 }
 
@@ -122,7 +122,7 @@ fn write_wgsl(src: String, output: Option<std::path::PathBuf>) -> Result<ExitCod
 
 /// Validates a shader that holds the user's `--inline` WGSL: an error in the
 /// user's part is a user error (exit 1), anything else a bug.
-pub(super) fn validate_inline(src: &str, user: &isotrace::inline::InlineWgsl, f: &Formula) -> Result<(), CliError> {
+pub(super) fn validate_inline(src: &str, user: &crate::inline::InlineWgsl, f: &Formula) -> Result<(), CliError> {
     let start = src.find(&user.text).unwrap_or(0);
     validate::validate_with_inline(src, start..start + user.text.len(), &user.path, &user.text).map(|_| ()).map_err(|e| match e {
         validate::InlineError::User(m) => CliError::Rendered(m),
@@ -133,11 +133,11 @@ pub(super) fn validate_inline(src: &str, user: &isotrace::inline::InlineWgsl, f:
 /// `check --inline`: the user's WGSL spliced into the render kernel (with
 /// its hooks) and the eval kernel of the formula, both validated by naga, so
 /// `check` reports what `render` and `eval` would.
-pub(super) fn check_inline(f: &Formula, user: &isotrace::inline::InlineWgsl) -> Result<(), CliError> {
-    let domain = isotrace::choose_algebra(&f.ir);
-    let m = isotrace::render::Modalities { inline: Some(user.clone()), ..Default::default() };
-    let b = isotrace::render::BisectOptions { modalities: m, ..isotrace::render::BisectOptions::new(domain) };
-    let render = isotrace::kernel::assemble(&f.ir, &isotrace::render::Traversal::Bisect(b)).wgsl;
+pub(super) fn check_inline(f: &Formula, user: &crate::inline::InlineWgsl) -> Result<(), CliError> {
+    let domain = crate::choose_algebra(&f.ir);
+    let m = crate::render::Modalities { inline: Some(user.clone()), ..Default::default() };
+    let b = crate::render::BisectOptions { modalities: m, ..crate::render::BisectOptions::new(domain) };
+    let render = crate::kernel::assemble(&f.ir, &crate::render::Traversal::Bisect(b)).wgsl;
     validate_inline(&render, user, f)?;
-    validate_inline(&isotrace::field::compiled::eval_shader_with(&f.ir, domain, Some(user)), user, f)
+    validate_inline(&crate::field::compiled::eval_shader_with(&f.ir, domain, Some(user)), user, f)
 }

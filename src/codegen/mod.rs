@@ -2,7 +2,7 @@
 //! number domain (the same `op_*`-style names, `s_`, `ia_` and `ra_`
 //! prefixes), constants written as f32 enclosures, and the template splicer.
 
-pub mod template;
+pub(crate) mod template;
 
 use crate::ir::Domain;
 
@@ -17,7 +17,7 @@ pub fn library(domain: Domain) -> &'static str {
 
 /// The op libraries a shader using `domains` needs, each once, in
 /// dependency order (scalar helpers first; affine builds on interval).
-pub fn libraries(domains: &[Domain]) -> String {
+pub(crate) fn libraries(domains: &[Domain]) -> String {
     libraries_with(domains, true)
 }
 

@@ -1,20 +1,20 @@
 //! Field sources: what a render kernel evaluates, behind one trait,
 //! [`FieldSource`]. A compiled formula ([`compiled`]) is generated into the
-//! shader; a tape ([`tape`]) and a blobtree scene ([`scene`]) are data in
+//! shader; a tape (`tape`) and a blobtree scene (`scene`) are data in
 //! the field group (`@group(1)`) run by a fixed interpreter. A traversal
 //! calls nothing of a field but `field(p)` and, bisecting, the enclosures
 //! `cell_enclosure` and `slab_range`; everything a source adds to a kernel,
 //! the device or the browser page is asked of it through the trait.
 
 pub mod compiled;
-pub mod limits;
-pub mod scene;
-pub mod tape;
+pub(crate) mod limits;
+pub(crate) mod scene;
+pub(crate) mod tape;
 
 pub use scene::{SceneData, Texels};
+pub use crate::inline::InlineWgsl;
 pub use tape::{TapeData, TapeError};
 
-use crate::inline::InlineWgsl;
 use crate::ir::Domain;
 
 /// The field source asked for.

@@ -140,13 +140,6 @@ pub struct Timing {
 }
 
 impl Dispatch<'_> {
-    /// Records, submits and reads back; `unpack` gets the mapped outputs in
-    /// order, straight from the read-back buffers. Times with timestamp
-    /// queries when the device has them, else the submit-to-read-back wall
-    /// time.
-    pub fn run(&self, gpu: &Gpu, unpack: impl FnOnce(&[&[u8]])) -> Result<Timing, GpuError> {
-        Ok(self.run_keeping(gpu, false, unpack)?.0)
-    }
 
     /// [`Dispatch::run`], leaving the first output's read-back buffer
     /// mapped and returning its view when `keep_first`.

@@ -28,6 +28,7 @@ pub enum EvalError {
 
 /// Evaluates `ir` in `domain` on every box; returns `[lo, hi]` per box
 /// (empty: lo > hi; scalar: lo == hi, at the box's low corner).
+#[cfg(test)]
 pub fn eval_boxes(gpu: &Gpu, ir: &Ir, domain: Domain, boxes: &[Box8], params: &[f32]) -> Result<Vec<[f32; 2]>, EvalError> {
     eval_boxes_with(gpu, ir, domain, boxes, params, None)
 }
@@ -139,6 +140,7 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[
 /// `s_ref` and length `len` of its part in the domain (what bisection
 /// gives `field_begin_ray`), and the cell [s0, s1] inside it.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg(test)]
 pub struct RayCell {
     /// The ray's origin.
     pub o: [f32; 3],
@@ -156,6 +158,7 @@ pub struct RayCell {
 /// value's range over the cell, the slope's along dir, and the scalar
 /// field on the ray at the cell's ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg(test)]
 pub struct CellEnclosure {
     /// f's range over the cell.
     pub value: [f32; 2],
@@ -167,6 +170,7 @@ pub struct CellEnclosure {
 
 /// Runs bisection's interval cell enclosure of a compiled formula (with
 /// the nodes it takes from the ray, `field::compiled::ray_forms`) on every cell.
+#[cfg(test)]
 pub fn eval_ray_cells(gpu: &Gpu, ir: &Ir, cells: &[RayCell]) -> Result<Vec<CellEnclosure>, EvalError> {
     if cells.is_empty() {
         return Ok(vec![]);

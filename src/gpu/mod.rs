@@ -1,6 +1,6 @@
 //! Headless wgpu: getting a device, running validated compute shaders, and
 //! reading results back. [`Renderer`] runs a render kernel (a traversal
-//! over a field source) frame by frame; [`dispatch`] is its one tile loop. Getting a device ([`Gpu::new`]) is separate from the
+//! over a field source) frame by frame; `dispatch` is its one tile loop. Getting a device ([`Gpu::new`]) is separate from the
 //! work done with it, so tests and batch commands share one device.
 //!
 //! wgpu's default handler panics on uncaptured errors; every call that can
@@ -8,16 +8,16 @@
 
 pub(crate) mod bisect;
 mod binding;
-pub mod dispatch;
-pub mod driver;
-pub mod eval;
+pub(crate) mod dispatch;
+pub(crate) mod driver;
+pub(crate) mod eval;
 mod field;
-pub mod renderer;
+pub(crate) mod renderer;
 mod sphere;
 mod uniforms;
 
 pub use driver::ShaderOpt;
-pub use renderer::{RenderError, Renderer, TAPE_RESUME_ROUNDS};
+pub use renderer::{RenderError, Renderer};
 
 use std::time::Duration;
 
@@ -59,7 +59,7 @@ pub struct DeviceInfo {
     pub backend: String,
     /// Device type (Cpu, DiscreteGpu, …).
     pub device_type: String,
-    /// Whether a CPU driver optimises its kernels ([`driver`]); absent
+    /// Whether a CPU driver optimises its kernels (`driver`); absent
     /// where the setting does not apply.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shader_opt: Option<ShaderOpt>,
@@ -88,7 +88,7 @@ impl DeviceInfo {
 /// counter stops no runaway loop in any useful time (2^64 iterations), and
 /// lavapipe caps every invocation's loops at 65,535 iterations anyway.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Author {
+pub(crate) enum Author {
     /// Only isotrace's templates and generated code: every loop is bounded
     /// by a constant, a budget from the uniform block or a count of the
     /// field group's data, all checked on the host. Made without the counter.
@@ -143,7 +143,7 @@ impl Gpu {
         Self::open(None)
     }
 
-    /// [`Gpu::new`] asking a CPU driver for `opt` ([`driver`]): effective
+    /// [`Gpu::new`] asking a CPU driver for `opt` (`driver`): effective
     /// for the first device a process opens, which fixes it for the rest
     /// (`info.shader_opt` says what is in effect).
     pub fn with_shader_opt(opt: ShaderOpt) -> Result<Gpu, GpuError> {
@@ -215,7 +215,7 @@ impl Gpu {
     }
 
     /// Runs `f` inside a validation + out-of-memory error scope.
-    pub fn scoped<T>(&self, during: &'static str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+    pub(crate) fn scoped<T>(&self, during: &'static str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let val = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let r = f();
@@ -228,13 +228,13 @@ impl Gpu {
     }
 
     /// Creates a compute pipeline from WGSL that has passed naga validation.
-    pub fn pipeline(&self, label: &str, wgsl: &str, author: Author) -> Result<wgpu::ComputePipeline, GpuError> {
+    pub(crate) fn pipeline(&self, label: &str, wgsl: &str, author: Author) -> Result<wgpu::ComputePipeline, GpuError> {
         Ok(self.pipelines(label, wgsl, author, &["main"])?.remove(0))
     }
 
     /// One pipeline per entry point of one validated WGSL module, each with
     /// its own derived layout.
-    pub fn pipelines(&self, label: &str, wgsl: &str, author: Author, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
+    pub(crate) fn pipelines(&self, label: &str, wgsl: &str, author: Author, entries: &[&str]) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
         self.pipelines_then(label, (wgsl, author), entries, None, |_| ())
     }
 
@@ -247,7 +247,7 @@ impl Gpu {
     /// which it would otherwise do at the first frame's dispatch, after the
     /// per-pixel pass's creation. `author` decides naga's loop counter
     /// ([`Author`]).
-    pub fn pipelines_then(
+    pub(crate) fn pipelines_then(
         &self,
         label: &str,
         (wgsl, author): (&str, Author),
@@ -301,7 +301,7 @@ impl Gpu {
     }
 
     /// Blocks until the queue is idle.
-    pub fn wait(&self) -> Result<(), GpuError> {
+    pub(crate) fn wait(&self) -> Result<(), GpuError> {
         self.device
             .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(Duration::from_secs(600)) })
             .map(|_| ())
@@ -309,7 +309,7 @@ impl Gpu {
     }
 
     /// Copies `size` bytes of `src` into a mappable buffer and reads them.
-    pub fn read_buffer(&self, encoder: &mut wgpu::CommandEncoder, src: &wgpu::Buffer, size: u64) -> wgpu::Buffer {
+    pub(crate) fn read_buffer(&self, encoder: &mut wgpu::CommandEncoder, src: &wgpu::Buffer, size: u64) -> wgpu::Buffer {
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("read-back"),
             size,
@@ -322,7 +322,7 @@ impl Gpu {
 
     /// Maps several read-back buffers after submission and hands their bytes
     /// to `f` without copying them first.
-    pub fn map_many<T>(&self, staging: &[&wgpu::Buffer], f: impl FnOnce(&[&[u8]]) -> T) -> Result<T, GpuError> {
+    pub(crate) fn map_many<T>(&self, staging: &[&wgpu::Buffer], f: impl FnOnce(&[&[u8]]) -> T) -> Result<T, GpuError> {
         let (out, _) = self.map_keeping(staging, false, f)?;
         Ok(out)
     }
@@ -330,7 +330,7 @@ impl Gpu {
     /// [`Gpu::map_many`], leaving the first buffer mapped and returning its
     /// view when `keep_first` (a frame that keeps its records where the
     /// kernel wrote them); the others are unmapped.
-    pub fn map_keeping<T>(&self, staging: &[&wgpu::Buffer], keep_first: bool, f: impl FnOnce(&[&[u8]]) -> T) -> Result<(T, Option<wgpu::BufferView>), GpuError> {
+    pub(crate) fn map_keeping<T>(&self, staging: &[&wgpu::Buffer], keep_first: bool, f: impl FnOnce(&[&[u8]]) -> T) -> Result<(T, Option<wgpu::BufferView>), GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
         for b in staging {
             let tx = tx.clone();
@@ -356,13 +356,13 @@ impl Gpu {
     }
 
     /// Maps a read-back buffer made by [`Gpu::read_buffer`] after submission.
-    pub fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    pub(crate) fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         self.map_many(&[staging], |b| b[0].to_vec())
     }
 
     /// A read-only storage buffer holding `bytes` (at least 16 bytes: an
     /// empty binding is invalid).
-    pub fn storage(&self, label: &str, bytes: &[u8]) -> Result<wgpu::Buffer, GpuError> {
+    pub(crate) fn storage(&self, label: &str, bytes: &[u8]) -> Result<wgpu::Buffer, GpuError> {
         use wgpu::util::DeviceExt;
         let mut padded;
         let contents = if bytes.len() < 16 {
@@ -381,7 +381,7 @@ impl Gpu {
 impl Gpu {
     /// A sampled texture of 32-bit texels (`format` Rgba32Uint or
     /// Rgba32Float) holding `t`, and its view.
-    pub fn texture<T: bytemuck::Pod>(&self, label: &str, t: &crate::field::Texels<T>, format: wgpu::TextureFormat) -> Result<(wgpu::Texture, wgpu::TextureView), GpuError> {
+    pub(crate) fn texture<T: bytemuck::Pod>(&self, label: &str, t: &crate::field::Texels<T>, format: wgpu::TextureFormat) -> Result<(wgpu::Texture, wgpu::TextureView), GpuError> {
         use wgpu::util::DeviceExt;
         let max = self.device.limits().max_texture_dimension_2d;
         if t.width > max || t.height > max {

@@ -45,7 +45,7 @@ pub enum RenderError {
     /// allocator refused).
     #[error(transparent)]
     Memory(#[from] crate::memory::MemoryError),
-    /// The assembled kernel is larger than [`MAX_SHADER_BYTES`].
+    /// The assembled kernel is larger than `MAX_SHADER_BYTES`.
     #[error("the generated shader is {} KB of WGSL code, over the limit of {} KB: the driver would compile it for many minutes", bytes.div_ceil(1000), MAX_SHADER_BYTES / 1000)]
     ShaderTooLarge {
         /// Its size in bytes.
@@ -53,8 +53,8 @@ pub enum RenderError {
     },
 }
 
-pub use crate::kernel::MAX_SHADER_BYTES;
-pub use super::uniforms::uniform_bytes;
+pub(crate) use crate::kernel::MAX_SHADER_BYTES;
+pub(crate) use super::uniforms::uniform_bytes;
 
 /// Buffers of one dispatch's pass group besides the pixel records.
 pub(crate) struct PassBuffers {
@@ -507,7 +507,3 @@ impl<'g> Renderer<'g> {
     }
 
 }
-
-/// Rounds of the per-pixel pass after the first for short tapes (kept here
-/// for the renderer's users: `crate::field::tape::resume_rounds` has the rest).
-pub use crate::field::tape::TAPE_RESUME_ROUNDS;

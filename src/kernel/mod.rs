@@ -13,7 +13,6 @@ pub mod bindings;
 
 use crate::codegen::template;
 use crate::field::{CodeRequest, FieldSource};
-use crate::ir::Domain;
 use crate::inline::InlineWgsl;
 use crate::ir::Ir;
 use crate::layout::{self, BisectBlock, SphereBlock};
@@ -189,7 +188,8 @@ fn sphere(features: SphereFeatures, tiles: bool, sync: bool) -> String {
 
 /// The render kernel of a formula with bisection in `domain` and no
 /// modalities (what `isotrace wgsl` prints by default).
-pub fn render_shader(ir: &Ir, domain: Domain) -> String {
+#[cfg(any(test, feature = "internals"))]
+pub fn render_shader(ir: &Ir, domain: crate::ir::Domain) -> String {
     assemble(ir, &Traversal::Bisect(BisectOptions::new(domain))).wgsl
 }
 

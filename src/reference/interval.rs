@@ -9,7 +9,7 @@
 //!
 //! Unlike the WGSL library nothing is padded: f64 rounding is far below the
 //! f32 rounding the device has, and the tests compare against f64 samples
-//! with a margin (see `tests/conformance/oracle.rs`).
+//! with a margin (see `src/tests/conformance/oracle.rs`).
 
 use super::{evaluate, Value};
 use crate::ir::{Func1, Func2, Func3, Ir, Op};

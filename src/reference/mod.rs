@@ -20,8 +20,8 @@
 pub mod affine;
 pub mod interval;
 
-pub use affine::{affine_from_interval, affine_range, eval_affine, Form};
-pub use interval::{eval_interval, Interval};
+pub use affine::{affine_from_interval, affine_range, eval_affine};
+pub use interval::eval_interval;
 
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 

@@ -1,20 +1,26 @@
 //! What a render is, independent of the device: the camera model, the
-//! typed settings of a frame ([`settings`]) and of each traversal
-//! ([`traversal`]), the pixel record the kernels write and its decoding
-//! ([`record`]), the per-pixel result and the statistics ([`stats`]).
+//! typed settings of a frame (`settings`) and of each traversal
+//! (`traversal`), the pixel record the kernels write and its decoding
+//! (`record`), the per-pixel result and the statistics (`stats`).
 
 use glam::DVec3;
 
-pub mod record;
-pub mod settings;
-pub mod stats;
-pub mod traversal;
-pub mod view;
+pub(crate) mod record;
+pub(crate) mod settings;
+pub(crate) mod stats;
+pub(crate) mod traversal;
+pub(crate) mod view;
 
 pub use settings::{Settings, SettingsError, SettingsField, Unresolved};
-pub use stats::{BisectStats, FieldStats, LoopListStats, SphereStats, Stats, StatsAcc, TapeListStats};
+pub use stats::{BisectStats, FieldStats, LoopListStats, SphereStats, Stats, TapeListStats};
+pub(crate) use stats::StatsAcc;
+pub use record::PackedFrame;
+pub use crate::layout::KernelColor;
 pub use traversal::{BisectOptions, EnvSpec, Environment, EnvImage, ModalitySpec, Modalities, Optimizations, RootSearch, Shading, SphereFeatures, SphereOptions, Traversal};
+#[cfg(feature = "internals")]
 pub use view::{View, ViewError};
+#[cfg(not(feature = "internals"))]
+pub(crate) use view::{View, ViewError};
 
 /// A pinhole camera: eye, target, up, vertical field of view.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -100,11 +100,6 @@ impl<'a> Planes<'a> {
         self.heads.len()
     }
 
-    /// Whether there are none.
-    pub fn is_empty(&self) -> bool {
-        self.heads.is_empty()
-    }
-
     /// Record `i`.
     #[inline]
     pub fn get(&self, i: usize) -> Record {
@@ -231,7 +226,7 @@ fn octahedral(v: u32) -> [f32; 3] {
 /// 1024², a copy a frame saved); the next
 /// [`crate::gpu::Renderer::render_packed`] into the same frame unmaps that
 /// buffer and renders into it again. Otherwise they are copied out, a whole
-/// [`Record`] a pixel.
+/// `Record` a pixel.
 #[derive(Default)]
 pub struct PackedFrame {
     /// Width in pixels.

@@ -59,7 +59,7 @@ impl BisectOptions {
 /// How bisection closes in on the root of a bracket it found (a monotone
 /// cell whose ends differ in sign, or a leaf's sign change): structural,
 /// so a kernel has one of them. Both stop at the same eps width, so the
-/// hits agree to eps (tests/render.rs compares them).
+/// hits agree to eps (src/tests/render.rs compares them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RootSearch {
     /// Two points for a compiled formula of up to

@@ -72,32 +72,12 @@ pub const SMOOTH_UNION: u32 = 35;
 pub const SMOOTH_INTERSECTION: u32 = 36;
 /// Type code of a compact smooth difference.
 pub const SMOOTH_DIFFERENCE: u32 = 37;
-/// Type code of a chamfer union. The binary operators are three codes a
-/// style from 32 (union, intersection, difference), so (code − 32) mod 3
-/// tells the operation; a join's codes are its descriptor's
-/// ([`crate::sdf::join`]), those named here the ones the layout had before
-/// descriptors.
-pub const CHAMFER_UNION: u32 = crate::sdf::join::CHAMFER.code;
-/// Type code of a chamfer intersection.
-pub const CHAMFER_INTERSECTION: u32 = CHAMFER_UNION + 1;
-/// Type code of a chamfer difference.
-pub const CHAMFER_DIFFERENCE: u32 = CHAMFER_UNION + 2;
-/// Type code of a round union.
-pub const ROUND_UNION: u32 = crate::sdf::join::ROUND.code;
-/// Type code of a round intersection.
-pub const ROUND_INTERSECTION: u32 = ROUND_UNION + 1;
-/// Type code of a round difference.
-pub const ROUND_DIFFERENCE: u32 = ROUND_UNION + 2;
-/// Type code of the sum blend (a union).
-pub const SUM_UNION: u32 = crate::sdf::join::SUM.code;
+// A join's codes (three a join from 32: union, intersection, difference, so
+// (code − 32) mod 3 tells the operation) are its descriptor's (`crate::sdf::join`).
 /// Type code of an offset, the first unary node (codes 48-55 are unary;
 /// a unary type's code, like its feature, is its descriptor's,
 /// [`crate::sdf::unary`]).
 pub const OFFSET: u32 = crate::sdf::unary::OFFSET.code;
-/// Type code of a shell.
-pub const SHELL: u32 = crate::sdf::unary::SHELL.code;
-/// Type code of a gyroid infill.
-pub const INFILL: u32 = crate::sdf::unary::INFILL.code;
 /// Type code of a displacement.
 pub const DISPLACE: u32 = crate::sdf::unary::DISPLACE.code;
 

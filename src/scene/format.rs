@@ -68,7 +68,7 @@ pub enum FormatError {
 }
 
 /// The most grid samples one scene may load, over all its grid files (each
-/// file is also limited, [`grid::MAX_GRID_VOXELS`]): 2²⁶ samples are
+/// file is also limited, `grid::MAX_GRID_VOXELS`): 2²⁶ samples are
 /// 256 MiB as f32, and a quarter of the parameter texture's rows.
 pub const MAX_SCENE_GRID_VOXELS: u64 = 1 << 26;
 

@@ -34,7 +34,7 @@ pub enum NoFormula {
 }
 
 impl Scene {
-    /// The scene as a formula program ([`to_formula`]).
+    /// The scene as a formula program (`to_formula`).
     pub fn to_formula(&self) -> Result<String, NoFormula> {
         to_formula(self)
     }

@@ -1,7 +1,7 @@
 //! The linearised post-order blobtree the GPU reads (Zanni et al. 2024 §5
 //! and §7, after Grasberger et al. 2016). **The layout is fixed**: the WGSL
 //! interpreter and traversal are written against it, and
-//! [`wgsl_constants`] generates their constants from the ones here.
+//! `wgsl_constants` generates their constants from the ones here.
 //!
 //! `nodes: Vec<[u32; 4]>`, one per node in post-order (root last, index n − 1):
 //! - x: isLeaf (bit 31) | isLeft (bit 30) | type (bits 22..29) | parent
@@ -10,7 +10,7 @@
 //! - z: the fast ancestor (the brief §1.4; the root's is n);
 //! - w: a primitive's index in `primitives` (its ball's), 0 for other nodes.
 //!
-//! `params: Vec<[f32; 4]>`: a primitive has [`PRIM_ROWS`] = 3 rows. Its
+//! `params: Vec<[f32; 4]>`: a primitive has `PRIM_ROWS` = 3 rows. Its
 //! local point is q = A(p − c)/s (A the rotation to its frame, c its
 //! centre, s its scale): row 0 is Q, the unit quaternion of A divided by
 //! √s, so that q = (w² − |u|²)v + 2(u·v)u + 2w(u × v) for Q = (u, w) and
@@ -19,27 +19,27 @@
 //! The field is s · d(q) with one branch-free formula for every type (the
 //! interpreter runs on SIMD lanes that evaluate every branch, so a switch
 //! over eight types cost eight):
-//! - [`FORM_BOX`]: d = box(q, h) − r. A sphere is h = 0, r = radius; a
+//! - `FORM_BOX`: d = box(q, h) − r. A sphere is h = 0, r = radius; a
 //!   round box h = half − r; a capsule h = (0, 0, |b − a|/2) in a frame
 //!   centred on the segment with z along it (composed into A and c).
-//! - [`FORM_REVOLVED`]: the same in (|q.xy| − R, 0, q.z) with R = hy and
+//! - `FORM_REVOLVED`: the same in (|q.xy| − R, 0, q.z) with R = hy and
 //!   no bound along y: a torus is h = (0, R, 0), r = minor; a cylinder
 //!   h = (radius, 0, half height), r = 0.
-//! - [`FORM_OCTAHEDRON`]: (|q.x| + |q.y| + |q.z| − hx)/√3.
-//! - [`FORM_PLANE`]: n·q with n = (hx, hy, hz) of unit length (the offset
+//! - `FORM_OCTAHEDRON`: (|q.x| + |q.y| + |q.z| − hx)/√3.
+//! - `FORM_PLANE`: n·q with n = (hx, hy, hz) of unit length (the offset
 //!   moves c).
-//! - [`FORM_DENSITY`]: row 2 is (R, h, T, c) (`sdf::blend`'s density).
+//! - `FORM_DENSITY`: row 2 is (R, h, T, c) (`sdf::blend`'s density).
 //! - Other types with a case of their own: row 2 as their descriptor's
-//!   `rows` writes it ([`crate::sdf::primitive`]).
+//!   `rows` writes it (`crate::sdf::primitive`).
 //! - Profiles and voxel grids have rows of their own after these
 //!   (`rows::profile_rows`, `rows::grid_rows`).
 //!
 //! An operator has one row (β, r_o, 0, 0), zeros when sharp.
 //!
-//! `abv: Vec<[f32; 4]>`: [`ABV_STRIDE`] = 4 rows per primitive, primitives
+//! `abv: Vec<[f32; 4]>`: `ABV_STRIDE` = 4 rows per primitive, primitives
 //! in post-order (the k-th is node `primitives[k]`):
-//! - row 0: (x0, y0, z0, kind) with kind [`ABV_NONE`] 0 (always active),
-//!   [`ABV_SPHERE`] 1, [`ABV_BOX`] 2, [`ABV_CAPSULE`] 3, as a float;
+//! - row 0: (x0, y0, z0, kind) with kind `ABV_NONE` 0 (always active),
+//!   `ABV_SPHERE` 1, `ABV_BOX` 2, `ABV_CAPSULE` 3, as a float;
 //! - sphere: row 0 xyz the centre, row 1 (0, 0, 0, radius);
 //! - box: row 0 xyz the centre, rows 1-3 (unit axis, half extent along it);
 //! - capsule: row 0 xyz the end a, row 1 (b, radius);
@@ -51,14 +51,14 @@
 //! first, as Sethi-Ullman numbering), which changes no value: min, max and
 //! |a − b| are symmetric. A left comb then needs 2 values, a balanced tree
 //! log₂ n + 1; only differences nested on their right can exceed
-//! [`MAX_STACK`], and such scenes are refused.
+//! `MAX_STACK`, and such scenes are refused.
 
 use super::roi::{self, Aabb, Abv, Roi};
 use super::{Node, NodeId, OpKind, Profile, Scene, SceneError, Shape, Unary};
 pub use super::patch::ScenePatch;
-pub use super::rows::{abv_rows, primitive_rows, warp_rows};
+pub(crate) use super::rows::{abv_rows, primitive_rows, warp_rows};
 use super::rows::unary_row;
-pub use super::codes::*;
+pub(crate) use super::codes::*;
 
 /// A scene in post-order: the GPU buffers and the topology the CPU
 /// traversal uses. Vectors indexed "by node" use post-order indices.
@@ -68,13 +68,13 @@ pub struct Linear {
     pub nodes: Vec<[u32; 4]>,
     /// Parameter rows (module doc).
     pub params: Vec<[f32; 4]>,
-    /// ABV rows, [`ABV_STRIDE`] per primitive (module doc).
+    /// ABV rows, `ABV_STRIDE` per primitive (module doc).
     pub abv: Vec<[f32; 4]>,
     /// The post-order index of each primitive, ascending.
     pub primitives: Vec<u32>,
     /// The most values a post-order stack interpreter holds at once.
     pub stack_depth: u32,
-    /// A box holding the solid {f ≤ 0} ([`roi::bounds`]); infinite sides
+    /// A box holding the solid {f ≤ 0} (`roi::bounds`); infinite sides
     /// if a plane is not cut off.
     pub bounds: Aabb,
     /// The scene node at each post-order index.
@@ -104,11 +104,11 @@ pub struct Linear {
 
 impl Linear {
     /// Linearises `scene`, its chains of unary nodes folded
-    /// ([`fold`](super::fold)); refuses a scene whose evaluation would need
-    /// more than [`MAX_STACK`] values (the error names the lowest node that
-    /// does), one with more than [`MAX_UNPRUNED_DEPTH`](super::fold::MAX_UNPRUNED_DEPTH)
+    /// (`fold`); refuses a scene whose evaluation would need
+    /// more than `MAX_STACK` values (the error names the lowest node that
+    /// does), one with more than `MAX_UNPRUNED_DEPTH`
     /// unprunable nodes above a primitive, and one whose bounds reach
-    /// beyond [`MAX_EXTENT`](super::extent::MAX_EXTENT). Errors name the
+    /// beyond `MAX_EXTENT`. Errors name the
     /// scene's own nodes; [`Linear::order`] holds them too (a merged
     /// chain: its top node).
     pub fn new(scene: &Scene) -> Result<Linear, SceneError> {
@@ -264,13 +264,13 @@ impl Linear {
     }
 
     /// Whether leaf `k` has only sharp unions above it
-    /// ([`NODE_UNION_PATH_BIT`]).
+    /// (`NODE_UNION_PATH_BIT`).
     pub fn on_union_path(&self, k: u32) -> bool {
         self.nodes[k as usize][0] & NODE_UNION_PATH_BIT != 0
     }
 
     /// Whether leaf `k` hangs off the left spine of union-style operators
-    /// ([`NODE_COMB_BIT`]).
+    /// (`NODE_COMB_BIT`).
     pub fn on_comb(&self, k: u32) -> bool {
         self.nodes[k as usize][0] & NODE_COMB_BIT != 0
     }
@@ -296,9 +296,9 @@ impl Linear {
     }
 
     /// The Lipschitz bound to trace the scene with: 1, or
-    /// [`SMOOTH_LIPSCHITZ`] when it has a compact smooth operator, times
+    /// `SMOOTH_LIPSCHITZ` when it has a compact smooth operator, times
     /// the bound its displacements and voxel grids give
-    /// ([`roi::field_lipschitz`]; 1 without any).
+    /// (`roi::field_lipschitz`; 1 without any).
     pub fn lipschitz(&self) -> f64 {
         self.lipschitz
     }

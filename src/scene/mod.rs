@@ -6,21 +6,21 @@
 //! The CPU side, in pipeline order:
 //! - this module: the model ([`Scene`], [`Node`], [`Primitive`], [`Operator`],
 //!   [`Unary`]), validated on construction, with the node types in
-//!   [`primitive`], [`profile`] (2D cross-sections), [`grid`] (voxel grids
-//!   read from files), [`operator`] and [`unary`];
+//!   `primitive`, `profile` (2D cross-sections), `grid` (voxel grids
+//!   read from files), `operator` and `unary`;
 //! - [`mod@format`]: the `.scene.json` file (docs/scene-format.md);
-//! - [`eval`]: f64 reference evaluation, full and masked (inactive
+//! - `eval`: f64 reference evaluation, full and masked (inactive
 //!   primitives are a missing operand ∅);
-//! - [`roi`]: ranges of interest, augmented bounding volumes, Lipschitz
+//! - `roi`: ranges of interest, augmented bounding volumes, Lipschitz
 //!   bounds;
-//! - [`linear`], [`rows`], [`patch`]: the post-order buffers the GPU reads,
-//!   their parameter rows, edits in place; [`fold`]: chains of unary nodes
-//!   merged for them, and the depth the GPU evaluates; [`extent`]: how far
+//! - [`linear`], `rows`, `patch`: the post-order buffers the GPU reads,
+//!   their parameter rows, edits in place; `fold`: chains of unary nodes
+//!   merged for them, and the depth the GPU evaluates; `extent`: how far
 //!   out a scene may reach;
-//! - [`sparse`]: the sparse bottom-up traversal, the GPU's oracle;
-//! - [`generate`]: the paper's synthetic scenes (Fig. 16, Fig. 18);
-//! - [`formula`]: the same field as formula text, for the compiled path;
-//!   [`lower`] and [`frame`]: a formula of distance forms as a scene.
+//! - `sparse`: the sparse bottom-up traversal, the GPU's oracle;
+//! - `generate`: the paper's synthetic scenes (Fig. 16, Fig. 18);
+//! - `formula`: the same field as formula text, for the compiled path;
+//!   `lower` and `frame`: a formula of distance forms as a scene.
 //!
 //! ```
 //! use isotrace::scene::{Builder, Operator, Primitive, Shape};
@@ -32,28 +32,28 @@
 //! assert_eq!(scene.eval([0.0, 0.0, 0.0]), -1.0);
 //! ```
 
-pub mod blob;
-pub mod codes;
-pub mod eval;
-pub mod extent;
-pub mod fold;
+pub(crate) mod blob;
+pub(crate) mod codes;
+pub(crate) mod eval;
+pub(crate) mod extent;
+pub(crate) mod fold;
 pub mod format;
-pub mod placement;
-pub mod formula;
-pub mod generate;
-pub mod grid;
+pub(crate) mod placement;
+pub(crate) mod formula;
+internal_mod!(generate);
+pub(crate) mod grid;
 pub mod linear;
-pub mod lower;
-pub mod operator;
-pub mod patch;
-pub mod primitive;
-pub mod profile;
-pub mod reach;
-pub mod roi;
-pub mod rows;
-pub mod sparse;
-pub mod unary;
-pub mod warp;
+pub(crate) mod lower;
+internal_mod!(operator);
+pub(crate) mod patch;
+pub(crate) mod primitive;
+pub(crate) mod profile;
+pub(crate) mod reach;
+pub(crate) mod roi;
+pub(crate) mod rows;
+pub(crate) mod sparse;
+pub(crate) mod unary;
+pub(crate) mod warp;
 
 pub use lower::{from_formula, NotBlobtree};
 pub use operator::{Blend, Join, OpKind, Operator};
@@ -72,9 +72,9 @@ pub const MAX_NODES: usize = 4_000_000;
 /// The deepest tree accepted, in nodes from the root to a leaf. Every
 /// algorithm here is iterative (a left comb of 111,110 primitives is 111,110
 /// deep), so depth is limited only by the node count; what the GPU needs
-/// bounded is the evaluation stack ([`linear::MAX_STACK`]) and the nodes
+/// bounded is the evaluation stack (`linear::MAX_STACK`) and the nodes
 /// above a primitive that no pruned view leaves out, unary ones mostly
-/// ([`fold::MAX_UNPRUNED_DEPTH`], after merging chains of them).
+/// (`fold::MAX_UNPRUNED_DEPTH`, after merging chains of them).
 pub const MAX_DEPTH: usize = MAX_NODES;
 
 /// A node's index in [`Scene::nodes`].

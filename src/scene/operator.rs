@@ -20,10 +20,6 @@ pub struct Blend {
     pub range: f64,
 }
 
-/// The smallest operator range relative to β: below 7/6, G jumps at the
-/// edge of R_o (measured in the brief: 2.5e-3 at r_o = β).
-pub const MIN_RANGE_FACTOR: f64 = 7.0 / 6.0;
-
 /// The default operator range relative to β (the brief's choice; the
 /// Lipschitz factor 6r_o/(6r_o − β) is then 12/11).
 pub const DEFAULT_RANGE_FACTOR: f64 = 2.0;
@@ -64,7 +60,7 @@ impl Blend {
 /// A compact edge blend other than Zanni's G: each equals the sharp
 /// operator outside its operator range, so ranges of interest and bounding
 /// volumes treat it like G with that r_o. What each computes is its
-/// descriptor's ([`crate::sdf::join`], a file a join); this is the scene
+/// descriptor's (`crate::sdf::join`, a file a join); this is the scene
 /// model's data, a variant a join with its two conversions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Join {
@@ -242,7 +238,7 @@ impl Operator {
 
     /// The factor by which this operator can raise the Lipschitz bound.
     /// (Zanni's G; a join's bound is exact and carried by
-    /// [`super::roi::field_lipschitz`] instead.)
+    /// `super::roi::field_lipschitz` instead.)
     pub fn lipschitz_factor(&self) -> f64 {
         self.blend.map_or(1.0, |b| b.lipschitz_factor())
     }

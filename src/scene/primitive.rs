@@ -12,7 +12,7 @@
 //! Every local distance is the same function, written the same way, as the
 //! formula language's form of the same name, so a scene and the formula
 //! `translate(t, rotate(axis, angle, scale(s, form)))` give the same field
-//! up to rounding (tests/scene_model.rs checks it at random points with
+//! up to rounding (src/tests/scene_model.rs checks it at random points with
 //! `reference::eval_scalar`).
 //!
 //! **Transform.** A primitive's field is d(p) = s · f_local(Rᵀ(p − t) / s):
@@ -106,7 +106,7 @@ pub enum Shape {
         offset: f64,
     },
     /// A voxel grid of signed distances from a file, trilinearly
-    /// interpolated ([`super::grid`]), in the local frame.
+    /// interpolated (`super::grid`), in the local frame.
     Grid(GridRef),
     /// A normalized density field (`crate::sdf::density`): the kernel
     /// (1 − (d/R)²)³ of the distance d to a segment along the local z axis,
@@ -458,7 +458,7 @@ pub struct Primitive {
     pub shape: Shape,
     /// Where it is (in the warp's frame when it has a warp).
     pub transform: Transform,
-    /// A twist or a bend over it ([`super::warp`]).
+    /// A twist or a bend over it (`super::warp`).
     pub warp: Option<super::warp::Warp>,
 }
 
@@ -488,7 +488,7 @@ impl Primitive {
 
     /// The field s · f_local(Rᵀ(p − t)/s) at world point `p`.
     /// Warped: s_A · that field at w(A⁻¹p), clamped far from the warp's
-    /// axis ([`super::warp`]).
+    /// axis (`super::warp`).
     pub fn distance(&self, p: [f64; 3]) -> f64 {
         match &self.warp {
             None => self.unwarped(DVec3::from(p)),

@@ -50,7 +50,7 @@ pub enum Profile {
         /// r.
         radius: f64,
     },
-    /// A closed polygon of 3 to [`MAX_POLYGON`] vertices; the sign is the
+    /// A closed polygon of 3 to `MAX_POLYGON` vertices; the sign is the
     /// even-odd rule, so the inside of a simple polygon is negative.
     Polygon {
         /// Vertices used.
@@ -75,7 +75,7 @@ impl Profile {
     /// Every profile type name.
     pub const NAMES: [&'static str; 5] = ["circle", "rect", "round_rect", "capsule", "polygon"];
 
-    /// A polygon of the given vertices (at most [`MAX_POLYGON`]; checked by
+    /// A polygon of the given vertices (at most `MAX_POLYGON`; checked by
     /// [`Profile::check`], which also wants at least 3).
     pub fn polygon(vertices: &[[f64; 2]]) -> Profile {
         let mut points = [[0.0; 2]; MAX_POLYGON];

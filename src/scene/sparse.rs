@@ -6,7 +6,7 @@
 //!
 //! This is the CPU port the GPU traversal is checked against. It equals the
 //! masked evaluation ([`Scene::eval_masked`]) bit for bit, with parent or
-//! fast ancestors, directly or through the view (tests/scene_model.rs), and
+//! fast ancestors, directly or through the view (src/tests/scene_model.rs), and
 //! its stack is empty at the end; a chain of unary nodes the layout merged
 //! (`fold.rs`) runs as one node, so there only up to the rounding of the
 //! merged parameter.
@@ -22,7 +22,7 @@
 
 use super::linear::Linear;
 use super::operator::select_kind;
-use super::{Node, Operator, Scene, Unary};
+use super::{Node, Operator, Scene};
 
 /// Which ancestor index the traversal climbs by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,7 +86,8 @@ pub fn operator_at(lin: &Linear, scene: &Scene, m: u32) -> Operator {
 }
 
 /// The unary node at post-order index `m`.
-pub fn unary_at(lin: &Linear, scene: &Scene, m: u32) -> Unary {
+#[cfg(test)]
+pub fn unary_at(lin: &Linear, scene: &Scene, m: u32) -> super::Unary {
     if let Some(op) = lin.folded_unary(m) {
         return op;
     }
@@ -196,6 +197,7 @@ fn walk<V: Copy, P: FnMut(u32) -> V, O: FnMut(u32, V, V) -> V, U: FnMut(u32, V) 
 
 /// The field of the active primitives `active` (post-order indices,
 /// increasing) at `p`, by the sparse traversal.
+#[cfg(test)]
 pub fn traverse(lin: &Linear, scene: &Scene, p: [f64; 3], active: &[u32], anc: Ancestors) -> Result<Traversal<f64>, SparseError> {
     let ev = Eval {
         prim: |b| primitive_value(lin, scene, b, p),
@@ -213,6 +215,7 @@ pub fn build_view(lin: &Linear, scene: &Scene, active: &[u32], anc: Ancestors) -
 }
 
 /// The value of primitive `b` (a post-order index) at `p`.
+#[cfg(test)]
 pub fn primitive_value(lin: &Linear, scene: &Scene, b: u32, p: [f64; 3]) -> f64 {
     match &scene.nodes()[lin.order[b as usize]] {
         Node::Primitive(prim) => prim.distance(p),
@@ -221,6 +224,7 @@ pub fn primitive_value(lin: &Linear, scene: &Scene, b: u32, p: [f64; 3]) -> f64 
 }
 
 /// Algorithm 4: the view evaluated with a stack; `None` for an empty view.
+#[cfg(test)]
 pub fn eval_view(lin: &Linear, scene: &Scene, p: [f64; 3], view: &[u32]) -> Option<f64> {
     let mut stack: Vec<f64> = Vec::new();
     for &i in view {

@@ -10,8 +10,6 @@
 use crate::sdf::primitive::Params;
 use crate::sdf::unary::{self as types, UnaryType};
 
-pub use crate::sdf::unary::gyroid_sheet;
-
 /// A unary node's operation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Unary {

@@ -82,12 +82,7 @@ fn suggest_function(name: &str) -> Vec<String> {
 
 const VARIABLES: &[(&str, Var)] = &[("x", Var::X), ("y", Var::Y), ("z", Var::Z), ("t", Var::T), ("w", Var::T)];
 
-/// Lowers a parsed program to IR.
-pub fn analyze(program: &Program) -> Result<Ir, SemaError> {
-    analyze_with(program, &[])
-}
-
-/// [`analyze`] with user functions from `--inline` WGSL (name, arity):
+/// Lowers a parsed program to IR, with user functions from `--inline` WGSL (name, arity):
 /// they can be called like built-ins and become [`Op::User`] nodes.
 pub fn analyze_with(program: &Program, externs: &[(String, usize)]) -> Result<Ir, SemaError> {
     let mut b = Builder { externs: externs.to_vec(), ..Builder::default() };

@@ -311,7 +311,7 @@ mod tests {
     #[test]
     fn constants_a_collection_makes_are_collected_too() {
         // y - y collects to 0, the power to 1, and then 2 + 1 to 3: as if
-        // `x + 3` had been written (found by tests/frontend_fuzz.rs).
+        // `x + 3` had been written (found by src/tests/frontend_fuzz.rs).
         let a = ir("x + 2 + pow(x, y - y)");
         assert_eq!(a.live().len(), ir("x + 3").live().len(), "{:?}", a.nodes);
         same_values(&a, &ir("x + 3"));

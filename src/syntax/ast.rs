@@ -70,6 +70,7 @@ pub enum BinOp {
 
 impl BinOp {
     /// The operator as written.
+    #[cfg(test)]
     pub fn symbol(self) -> &'static str {
         match self {
             BinOp::Add => "+",

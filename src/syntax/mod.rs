@@ -5,8 +5,8 @@ pub mod ast;
 pub mod lexer;
 pub mod parser;
 
-pub use ast::{BinOp, Call, Definition, Expr, ExprKind, Program};
-pub use parser::{parse, SyntaxError};
+pub use ast::{BinOp, Expr, ExprKind, Program};
+pub use parser::parse;
 
 /// The names of the numeric functions, for suggestions and help (the
 /// distance-field forms are listed by [`crate::sdf::FORMS`]).

@@ -22,5 +22,5 @@ pub mod page;
 pub mod program;
 pub mod server;
 
-pub use program::{field_buffers, present_shader, program, Program};
+pub use program::{field_buffers, present_shader, program};
 pub use server::{Api, ApiError, Reply, Route, Server};

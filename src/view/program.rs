@@ -17,7 +17,7 @@ use crate::layout::{BisectBlock, FieldLayout, FrameBlock, GpuBlock, PresentBlock
 use crate::render::{Settings, Traversal};
 use serde::Serialize;
 
-pub use crate::bindings::{Binding, Copy, Groups, Size, Stage, TextureShape};
+pub use crate::bindings::{Binding, Groups, Size, Stage};
 
 /// The uniform blocks: the frame block at offset 0, the traversal's after it.
 #[derive(Debug, Clone, Serialize)]

@@ -7,7 +7,7 @@ use fidget::jit::JitShape;
 use fidget::raster::voxel::{self, RenderConfig};
 use fidget::render::{CancelToken, VoxelSize};
 use isotrace::gpu::Renderer;
-use isotrace::render::record::PackedFrame;
+use isotrace::render::PackedFrame;
 use isotrace::render::{Frame, Settings, Status};
 use nalgebra::Matrix4;
 use std::sync::mpsc::{self, RecvTimeoutError};

@@ -59,6 +59,7 @@ const AFFINE_SLOPES_MAX_DEGREE: u32 = 10;
 /// Emits `evald_<p>` for `domain` (not the scalar domain). Its slopes are
 /// in [`slope_domain`]; with interval slopes for affine values, a value
 /// enters a slope term as its range (`ra_range(v12)`).
+#[cfg(test)]
 pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let (vp, ty) = (domain.prefix(), domain.ty());
     let head = format!("fn evald_{vp}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{\n");

@@ -242,6 +242,7 @@ pub fn eval_call(domain: Domain) -> String {
 }
 
 /// The complete `isotrace eval` shader for `domain`.
+#[cfg(test)]
 pub fn eval_shader(ir: &Ir, domain: Domain) -> String {
     eval_shader_with(ir, domain, None)
 }

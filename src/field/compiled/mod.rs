@@ -7,25 +7,27 @@
 //! number domain produced them, and how several surfaces with `where`
 //! conditions were combined, is decided here.
 
-pub mod balance;
-pub mod derivative;
+pub(crate) mod balance;
+pub(crate) mod derivative;
 mod emit;
 mod ray_forms;
 mod ray_polys;
-pub mod source;
-pub mod term_loops;
+pub(crate) mod source;
+pub(crate) mod term_loops;
 
-pub use emit::{emit_evaluator, emit_evaluator_all, eval_call, eval_shader, eval_shader_with};
+pub(crate) use emit::{emit_evaluator_all, eval_shader_with};
+#[cfg(test)]
+pub(crate) use emit::{emit_evaluator, eval_shader};
 pub(crate) use emit::{emit_evaluator_on, value_rhs, Hook};
 pub(crate) use term_loops::emit::Tiles;
 
-use crate::codegen::{libraries, libraries_with, template};
+use crate::codegen::{libraries, libraries_with};
 use crate::ir::Domain;
 use ray_forms::RayForms;
 
 /// Whether an IA kernel bisecting `ir` compiled takes polynomial nodes of
 /// degree 3 to 6 from the ray (`ray_polys`): what `choose_algebra` asks.
-pub fn takes_ray_polynomials(ir: &Ir) -> bool {
+pub(crate) fn takes_ray_polynomials(ir: &Ir) -> bool {
     ray_forms::ray_nodes(ir).is_some_and(|r| r.has_polynomials())
 }
 use crate::inline::InlineWgsl;
@@ -118,13 +120,8 @@ fn scalar_fn(ir: &Ir) -> String {
 /// `field_begin_ray`: in the interval domain with the nodes of degree ≤ 2
 /// taken from the ray (`ray_forms`), elsewhere `field(o + dir s)`.
 /// `safe`: the kernel reads ranges without the NaN test and checks its
-/// inputs with `ra_safe` ([`safe_radius`]).
-pub fn inclusion(ir: &Ir, domain: Domain, safe: bool) -> String {
-    inclusion_tiled(ir, domain, safe, Tiles::Off)
-}
-
-/// [`inclusion`] whose per-pixel evaluations run a tile's term lists
-/// (`tiles`: [`Tiles::Listed`]) where the kernel has them.
+/// inputs with `ra_safe` ([`safe_radius`]). The per-pixel evaluations run a
+/// tile's term lists (`tiles`: [`Tiles::Listed`]) where the kernel has them.
 fn inclusion_tiled(ir: &Ir, domain: Domain, safe: bool, tiles: Tiles) -> String {
     let ray = if domain == Domain::Interval { ray_forms::ray_nodes(ir) } else { None };
     let on_ray = match &ray {
@@ -138,7 +135,7 @@ fn inclusion_tiled(ir: &Ir, domain: Domain, safe: bool, tiles: Tiles) -> String 
 /// ([`crate::analysis::magnitude`]), where the kernel reads ranges without the NaN
 /// test: affine values of a single surface with interval slopes (affine
 /// slopes, of polynomials of low degree, would need their own bound).
-pub fn safe_radius(ir: &Ir, domain: Domain) -> Option<f64> {
+pub(crate) fn safe_radius(ir: &Ir, domain: Domain) -> Option<f64> {
     let applies = domain == Domain::Affine && !ir.is_csg() && derivative::slope_domain(ir, domain) == Domain::Interval;
     applies.then(|| crate::analysis::magnitude::safe_radius(ir)).flatten()
 }
@@ -274,7 +271,7 @@ pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
 /// `lists`: a bisection kernel with the tile pass, where rerolled `min` and
 /// `max` loops run per-tile term lists ([`term_loops::lists`]; not with
 /// `inline` WGSL, whose hooks the kernel leaves to the user).
-pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool, lists: bool) -> String {
+pub(crate) fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, bundle: bool, lists: bool) -> String {
     let balanced = generated_ir(ir);
     let ir = balanced.as_ref().unwrap_or(ir);
     let lists = match (lists, domain, inline) {
@@ -330,7 +327,8 @@ pub fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&InlineWgsl>, 
 /// cell, 3k + 1 the slope's along dir, 3k + 2 the scalar field on the ray
 /// at s0 and at s1. The render kernel's frame block is replaced by the two
 /// fields the field code reads.
-pub fn ray_cell_eval_shader(ir: &Ir) -> String {
+#[cfg(test)]
+pub(crate) fn ray_cell_eval_shader(ir: &Ir) -> String {
     use crate::layout::GpuBlock;
     let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\n";
     let evaluator = format!("{frame}{}", field_code(ir, Some(Domain::Interval), None, false, false));
@@ -340,6 +338,6 @@ pub fn ray_cell_eval_shader(ir: &Ir) -> String {
                 field_begin_ray(o, dir, boxes[k + 6u], boxes[k + 7u]);\n    let s0 = boxes[k + 8u];\n    let s1 = boxes[k + 9u];\n    \
                 let c = cell_enclosure(o, dir, s0, s1, true);\n    \
                 return select(select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), c.zw, i % 3u == 1u), c.xy, i % 3u == 0u);";
-    template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
+    crate::codegen::template::eval(&[("uniforms", crate::layout::EvalBlock::wgsl().as_str()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
 }
 

@@ -233,8 +233,8 @@ pub enum TapeError {
 /// the header, then the value and derivative programs, one `vec4<u32>` per
 /// instruction: `[code | flags | out << 16, a | b << 16, c | d << 16,
 /// immediate]`; a constant carries its enclosing f32 interval in the last
-/// two words (the nearest f32 is one of its ends, [`TAPE_NEAR_HI`]), and so
-/// does an arithmetic instruction with a constant operand ([`TAPE_IMM_A`]).
+/// two words (the nearest f32 is one of its ends, `TAPE_NEAR_HI`), and so
+/// does an arithmetic instruction with a constant operand (`TAPE_IMM_A`).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct TapeData {
     /// Header and instructions.
@@ -245,14 +245,14 @@ pub struct TapeData {
     /// each use of an input, pinned or not, a constant instruction before
     /// each use of a constant, immediate or not, and a multiply-add counted
     /// as a product and a sum: the size `auto`'s crossover lines are drawn
-    /// in ([`crate::choice::crossover`]).
+    /// in (`crate::choice::crossover`).
     pub size: usize,
     /// Most registers either program uses.
     pub registers: u32,
     /// The operation groups and register file the interpreter needs
-    /// ([`features`]): part of the kernel, so a kernel built for one set
+    /// (`features`): part of the kernel, so a kernel built for one set
     /// draws every tape whose set is within it. Widen it (up to
-    /// [`features::ALL`]) to build a kernel for tapes still to come.
+    /// `features::ALL`) to build a kernel for tapes still to come.
     pub features: u32,
 }
 

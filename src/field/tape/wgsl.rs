@@ -124,19 +124,6 @@ pub const NOTE_BYTES_PER_TILE: u64 = 2 * (super::TAPE_CHOICE_SLOTS as u64 / 16 *
 /// surface).
 pub const TAPE_LISTS_MAX_BYTES: u64 = 32 << 20;
 
-/// Bytes of per-tile lists for `tiles` tiles of bisection over `tape`: a
-/// tile's or block's shortened programs are at most the whole tape and a
-/// header (none when the tape has no min or max), within
-/// [`TAPE_LISTS_MAX_BYTES`], after the blocks' entries (four words a block;
-/// a block has at least one tile).
-pub fn list_bytes(tape: &super::TapeData, tiles: u64) -> u64 {
-    if !shortens(tape.features) {
-        return 0;
-    }
-    let lists = 2 * tiles * (tape.words.len() as u64 + 4) * 4;
-    lists.min(TAPE_LISTS_MAX_BYTES) + tiles * 16
-}
-
 /// The work limit, counted per invocation: a lane cannot see what the
 /// other lanes of its SIMD bundle ran, so it gets an eighth of lavapipe's
 /// loop cap (`TAPE_WORK_LIMIT`).

@@ -23,7 +23,7 @@
 //! blend d(a, b, k) = max(k − |a − b|, 0)³/(6k²) changes by at most 1/6 of a
 //! change of k, so |G − x| ≤ k|x|/(6r_o − k) < |x|; outside R_o both
 //! operands are beyond 7k/6, where blend and sharp operator agree in sign.
-//! So the zero set (the picture) is the same; `tests/scene_lower.rs` checks
+//! So the zero set (the picture) is the same; `src/tests/scene_lower.rs` checks
 //! the signs by sampling.
 
 use super::placement::Placement;

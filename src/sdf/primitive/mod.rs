@@ -49,11 +49,6 @@ pub use torus::TORUS;
 /// voxel grids, which are not, are the scene's own: `scene::Shape`).
 pub static TYPES: [&PrimitiveType; 10] = [&SPHERE, &BOX, &ROUND_BOX, &CAPSULE, &TORUS, &CYLINDER, &OCTAHEDRON, &PLANE, &DENSITY, &CONE];
 
-/// The type named `name` in a scene file.
-pub fn by_scene_name(name: &str) -> Option<&'static PrimitiveType> {
-    TYPES.iter().copied().find(|t| t.scene_name == name)
-}
-
 /// Primitive form: a rounded box in local q (sphere, box, round box,
 /// capsule in its own frame): row 2 is (half extents, rounding).
 pub const FORM_BOX: u32 = 0;

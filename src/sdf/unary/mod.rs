@@ -31,8 +31,10 @@ mod infill;
 mod offset;
 mod shell;
 
-pub use displace::{noise, DISPLACE, FEATURE_DISPLACE, NOISE_GRADIENT, NOISE_WAVES};
-pub use infill::{gyroid_sheet, FEATURE_INFILL, INFILL};
+pub use displace::{DISPLACE, FEATURE_DISPLACE, NOISE_WAVES};
+pub use infill::{FEATURE_INFILL, INFILL};
+#[cfg(test)]
+pub use displace::{noise, NOISE_GRADIENT};
 pub use offset::OFFSET;
 pub use shell::SHELL;
 

@@ -49,8 +49,6 @@ pub struct Loop {
     pub op: Op,
     /// The first rerolled term's own nodes, in topological order: the body.
     pub body: Vec<NodeId>,
-    /// Its root (the term's value).
-    pub root: NodeId,
     /// Constants a term reads.
     pub slots: usize,
     /// Terms an iteration evaluates.
@@ -232,7 +230,7 @@ impl Plan {
         let end = chain[i + count - 1];
         let slots = shape.iter().flat_map(|(_, r)| r).filter(|r| **r == Ref::Slot).count();
         let op = with_operands(ir.nodes[end as usize], &[0; 4]);
-        let mut l = Loop { seed, end, op, root: terms.roots[first], body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
+        let mut l = Loop { seed, end, op, body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
         let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &terms.bodies[t])).collect();
         lay_out(&mut self.table, &mut l, &consts);
         for &c in &chain[i..i + count - 1] {

@@ -1,0 +1,44 @@
+//! The unit tests that need the library's internals, one file a subject
+//! (integration tests in `tests/` use only the public API and the binary).
+
+mod affine_bounds;
+mod batch;
+mod bench;
+mod catalog;
+mod cli_hardening_files;
+mod common;
+mod conformance;
+mod conformance_device;
+mod conformance_tape;
+mod frontend_diagnostics;
+mod frontend_fuzz;
+mod frontend_knoll;
+mod frontend_parser;
+mod frontend_snapshots;
+mod inline;
+mod loop_lists;
+mod modalities;
+mod pipeline;
+mod ray_forms;
+mod render;
+mod reroll;
+mod root_search;
+mod scene_common;
+mod scene_cone;
+mod scene_format;
+mod scene_gpu;
+mod scene_join_types;
+mod scene_lower;
+mod scene_model;
+mod scene_nodes;
+mod scene_pictures;
+mod scene_procedural;
+mod scene_sync;
+mod scene_unary_types;
+mod sdf_profiles;
+mod sdf_warps_blends;
+mod sphere;
+mod sphere_cli;
+mod sphere_sdf;
+mod tape;
+mod view_present;
