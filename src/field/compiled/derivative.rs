@@ -226,7 +226,6 @@ pub(crate) trait Terms {
 /// derivatives `d` (`None`: identically 0); `None` when it is identically 0.
 pub(crate) fn rule<B: Terms>(b: &mut B, id: NodeId, op: Op, d: &[Option<B::T>]) -> Option<B::T> {
     let dv = |n: NodeId| d[n as usize].clone();
-    let zero = |b: &mut B, x: Option<B::T>| x.unwrap_or_else(|| b.konst(0.0));
     Some(match op {
         Op::Const(_) | Op::Param(_) | Op::Var(Var::T) => return None,
         Op::Var(Var::X) => b.direction(0),
@@ -298,71 +297,87 @@ pub(crate) fn rule<B: Terms>(b: &mut B, id: NodeId, op: Op, d: &[Option<B::T>]) 
             if da.is_none() && dc.is_none() {
                 return None;
             }
-            let (va, vc) = (b.value(a), b.value(c));
-            match f {
-                Func2::Min | Func2::Max => {
-                    let (da, dc) = (zero(b, da), zero(b, dc));
-                    b.dminmax(f == Func2::Max, [va, vc, da, dc])
-                }
-                Func2::Pow => {
-                    // (a^b)' = a^b·(b'·log a + b·a'/a)
-                    let t1 = dc.map(|dc| {
-                        let l = b.un(D::Log, va.clone());
-                        b.bin(D::Mul, dc, l)
-                    });
-                    let t2 = da.map(|da| {
-                        let m = b.bin(D::Mul, vc.clone(), da);
-                        b.bin(D::Div, m, va.clone())
-                    });
-                    let inner = match (t1, t2) {
-                        (Some(x), Some(y)) => b.bin(D::Add, x, y),
-                        (Some(x), None) | (None, Some(x)) => x,
-                        (None, None) => return None,
-                    };
-                    let vid = b.value(id);
-                    b.bin(D::Mul, vid, inner)
-                }
-                Func2::Atan2 => {
-                    // (x·y' − y·x') / (x² + y²) for atan2(y, x)
-                    let (da, dc) = (zero(b, da), zero(b, dc));
-                    let l = b.bin(D::Mul, vc.clone(), da);
-                    let r = b.bin(D::Mul, va.clone(), dc);
-                    let num = b.bin(D::Sub, l, r);
-                    let (sa, sc) = (b.un(D::Sqr, va), b.un(D::Sqr, vc));
-                    let den = b.bin(D::Add, sa, sc);
-                    b.bin(D::Div, num, den)
-                }
-            }
+            call2(b, f, id, [a, c], [da, dc])?
         }
         Op::Call3(f, a, c, e) => {
             if dv(a).is_none() && dv(c).is_none() && dv(e).is_none() {
                 return None;
             }
             let (da, dc, de) = (zero(b, dv(a)), zero(b, dv(c)), zero(b, dv(e)));
-            let (va, vc, ve) = (b.value(a), b.value(c), b.value(e));
-            match f {
-                Func3::Clamp => {
-                    let mx = b.bin(D::Max, va.clone(), vc.clone());
-                    let m = b.bind(id, "m", mx);
-                    let inner = b.dminmax(true, [va, vc, da, dc]);
-                    b.dminmax(false, [m, ve, inner, de])
-                }
-                Func3::Mix => {
-                    // (a + (b − a)·s)' = a' + (b' − a')·s + (b − a)·s'
-                    let slope = b.bin(D::Sub, dc, da.clone());
-                    let t1 = b.bin(D::Mul, slope, ve);
-                    let s1 = b.bin(D::Add, da, t1);
-                    let w = b.bin(D::Sub, vc, va);
-                    let t2 = b.bin(D::Mul, w, de);
-                    b.bin(D::Add, s1, t2)
-                }
-            }
+            call3(b, f, id, [a, c, e], [da, dc, de])
         }
         // The slope of a user function is unknown: the whole line (so a
         // cell that depends on one is never taken for monotone).
         Op::User(_, args, n) if args[..n as usize].iter().all(|&a| dv(a).is_none()) => return None,
         Op::User(..) => b.whole(),
     })
+}
+
+/// A missing slope (the operand is constant along the ray) as zero.
+fn zero<B: Terms>(b: &mut B, x: Option<B::T>) -> B::T {
+    x.unwrap_or_else(|| b.konst(0.0))
+}
+
+/// The slope of a function of two arguments `a, c` with slopes `da, dc`
+/// (not both missing).
+fn call2<B: Terms>(b: &mut B, f: Func2, id: NodeId, [a, c]: [NodeId; 2], [da, dc]: [Option<B::T>; 2]) -> Option<B::T> {
+    let (va, vc) = (b.value(a), b.value(c));
+    Some(match f {
+        Func2::Min | Func2::Max => {
+            let (da, dc) = (zero(b, da), zero(b, dc));
+            b.dminmax(f == Func2::Max, [va, vc, da, dc])
+        }
+        Func2::Pow => {
+            // (a^b)' = a^b·(b'·log a + b·a'/a)
+            let t1 = dc.map(|dc| {
+                let l = b.un(D::Log, va.clone());
+                b.bin(D::Mul, dc, l)
+            });
+            let t2 = da.map(|da| {
+                let m = b.bin(D::Mul, vc.clone(), da);
+                b.bin(D::Div, m, va.clone())
+            });
+            let inner = match (t1, t2) {
+                (Some(x), Some(y)) => b.bin(D::Add, x, y),
+                (Some(x), None) | (None, Some(x)) => x,
+                (None, None) => return None,
+            };
+            let vid = b.value(id);
+            b.bin(D::Mul, vid, inner)
+        }
+        Func2::Atan2 => {
+            // (x·y' − y·x') / (x² + y²) for atan2(y, x)
+            let (da, dc) = (zero(b, da), zero(b, dc));
+            let l = b.bin(D::Mul, vc.clone(), da);
+            let r = b.bin(D::Mul, va.clone(), dc);
+            let num = b.bin(D::Sub, l, r);
+            let (sa, sc) = (b.un(D::Sqr, va), b.un(D::Sqr, vc));
+            let den = b.bin(D::Add, sa, sc);
+            b.bin(D::Div, num, den)
+        }
+    })
+}
+
+/// The slope of a function of three arguments with slopes `da, dc, de`.
+fn call3<B: Terms>(b: &mut B, f: Func3, id: NodeId, [a, c, e]: [NodeId; 3], [da, dc, de]: [B::T; 3]) -> B::T {
+    let (va, vc, ve) = (b.value(a), b.value(c), b.value(e));
+    match f {
+        Func3::Clamp => {
+            let mx = b.bin(D::Max, va.clone(), vc.clone());
+            let m = b.bind(id, "m", mx);
+            let inner = b.dminmax(true, [va, vc, da, dc]);
+            b.dminmax(false, [m, ve, inner, de])
+        }
+        Func3::Mix => {
+            // (a + (b − a)·s)' = a' + (b' − a')·s + (b − a)·s'
+            let slope = b.bin(D::Sub, dc, da.clone());
+            let t1 = b.bin(D::Mul, slope, ve);
+            let s1 = b.bin(D::Add, da, t1);
+            let w = b.bin(D::Sub, vc, va);
+            let t2 = b.bin(D::Mul, w, de);
+            b.bin(D::Add, s1, t2)
+        }
+    }
 }
 
 /// f(a)' for the one-argument functions (node `id` is f(a)), a' = `da`.
