@@ -4,6 +4,9 @@
 
 pub(crate) mod template;
 
+/// The `eval` kernel's bind group table, for the device that binds it.
+pub(crate) use template::{EVAL_BOXES, EVAL_RESULTS, EVAL_UNIFORMS};
+
 use crate::ir::Domain;
 
 /// Source of `domain`'s op library.

@@ -2,7 +2,7 @@
 //! a batch of boxes, one invocation per box, all in one dispatch.
 
 use super::{Author, Gpu, GpuError};
-use crate::codegen::template::{EVAL_BOXES, EVAL_RESULTS, EVAL_UNIFORMS};
+use crate::codegen::{EVAL_BOXES, EVAL_RESULTS, EVAL_UNIFORMS};
 use crate::layout::{EvalBlock, MAX_PARAMS};
 use crate::ir::Domain;
 use crate::ir::Ir;
