@@ -44,7 +44,7 @@ mod build;
 pub mod join;
 mod operator;
 pub mod primitive;
-mod profile;
+pub mod profile;
 pub mod unary;
 mod warp;
 
@@ -90,16 +90,8 @@ pub enum Form {
     CompactIntersect,
     /// `compact_subtract(a, b, beta[, r_o])`: G\, a minus b
     CompactSubtract,
-    /// `circle(r)`: a 2D profile of x and y (a prism along z)
-    Circle,
-    /// `rect(hx, hy)`, half extents
-    Rect,
-    /// `roundrect(hx, hy, r)`
-    RoundRect,
-    /// `capsule2d(ax, ay, bx, by, r)`
-    Capsule2d,
-    /// `polygon(x0, y0, x1, y1, ...)`, 3 to 16 vertices
-    Polygon,
+    /// A 2D profile: `circle(r)`, `rect(hx, hy)`, … ([`profile::TYPES`]).
+    Profile(&'static profile::ProfileType),
     /// `extrude(h, shape)`: a 2D shape extruded along z
     Extrude,
     /// `revolve(R, shape)`: a 2D shape revolved around the z axis
@@ -143,15 +135,10 @@ pub struct Info {
     pub doc: &'static str,
 }
 
-/// Every form but the primitives, the joins and the unary forms
-/// ([`primitive::TYPES`], [`join::TYPES`] and [`unary::TYPES`] describe
-/// those), in documentation order.
+/// Every form but the primitives, the profiles, the joins and the unary
+/// forms ([`primitive::TYPES`], [`profile::TYPES`], [`join::TYPES`] and
+/// [`unary::TYPES`] describe those), in documentation order.
 pub const FORMS: &[Info] = &[
-    Info { name: "circle", form: Form::Circle, arity: Arity::Exactly(1), signature: "circle(r)", doc: "2D profile: sqrt(x^2 + y^2) - r, r > 0 (independent of z: a prism along z); exact, L = 1" },
-    Info { name: "rect", form: Form::Rect, arity: Arity::Exactly(2), signature: "rect(hx, hy)", doc: "2D profile: length(max(d, 0)) + min(max(d.x, d.y), 0), d = (|x| - hx, |y| - hy); exact, L = 1" },
-    Info { name: "roundrect", form: Form::RoundRect, arity: Arity::Exactly(3), signature: "roundrect(hx, hy, r)", doc: "2D profile: rect(hx - r, hy - r) - r: same extents, corners rounded by r; exact, L = 1" },
-    Info { name: "capsule2d", form: Form::Capsule2d, arity: Arity::Exactly(5), signature: "capsule2d(ax, ay, bx, by, r)", doc: "2D profile: distance from (x, y) to the segment a-b, minus r; exact, L = 1" },
-    Info { name: "polygon", form: Form::Polygon, arity: Arity::Pairs(3, 16), signature: "polygon(x0, y0, x1, y1, ...)", doc: "2D profile: simple closed polygon of 3 to 16 vertices, s * sqrt(min over edges of the squared distance), s = -1 inside (Quilez's sdPolygon); exact except where y equals a vertex's y (there |f| <= the distance), L = 1" },
     Info { name: "extrude", form: Form::Extrude, arity: Arity::Exactly(2), signature: "extrude(h, shape)", doc: "min(max(w.x, w.y), 0) + length(max(w, 0)), w = (shape, |z| - h), h > 0: a 2D shape extruded along z; exact for an exact 2D distance, L = 1 (the shape's)" },
     Info { name: "revolve", form: Form::Revolve, arity: Arity::Exactly(2), signature: "revolve(R, shape)", doc: "shape(sqrt(x^2 + y^2) - R, z, 0), R >= 0: a 2D shape revolved around the z axis; exact for an exact 2D distance not crossing the axis, L = 1 (the shape's)" },
     Info { name: "translate", form: Form::Translate, arity: Arity::Exactly(4), signature: "translate(dx, dy, dz, shape)", doc: "shape(p - d); an isometry, keeps L" },
@@ -172,11 +159,12 @@ pub const FORMS: &[Info] = &[
     Info { name: "bend", form: Form::Bend, arity: Arity::Exactly(2), signature: "bend(k, shape)", doc: "shape(c x - s y, s x + c y, z), c = cos(k x), s = sin(k x): a bar along x curls into an arc of radius 1/k; L = the shape's times (1 + a), a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
 ];
 
-/// Every form: the primitives, then [`FORMS`], then the joins' and the
-/// unary forms.
+/// Every form: the primitives, the profiles, then [`FORMS`], then the
+/// joins' and the unary forms.
 pub fn forms() -> impl Iterator<Item = &'static Info> {
     let joins = join::TYPES.iter().flat_map(|t| t.forms);
-    primitive::TYPES.iter().map(|t| &t.info).chain(FORMS).chain(joins).chain(unary::TYPES.iter().map(|t| &t.info))
+    let profiles = profile::TYPES.iter().map(|t| &t.info);
+    primitive::TYPES.iter().map(|t| &t.info).chain(profiles).chain(FORMS).chain(joins).chain(unary::TYPES.iter().map(|t| &t.info))
 }
 
 /// The form called `name`, if any.
@@ -215,19 +203,18 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
         Form::Primitive(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
         Form::Unary(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
         Form::Join(t, kind) => return primitive::expand(sink, |b| (t.expand)(b, kind, v)),
+        Form::Profile(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
         _ => {}
     }
     let mut b = B(sink);
     let b = &mut b;
     match form {
-        Form::Primitive(_) | Form::Unary(_) | Form::Join(..) => unreachable!("expanded above"),
+        Form::Primitive(_) | Form::Unary(_) | Form::Join(..) | Form::Profile(_) => unreachable!("expanded above"),
         Form::Translate | Form::Rotate | Form::Scale => transform(b, form, v),
         Form::Union | Form::Intersect | Form::Subtract => operator::sharp(b, form, v),
         Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => operator::smooth(b, form, v),
         Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => operator::compact(b, form, v),
-        Form::Circle | Form::Rect | Form::RoundRect | Form::Capsule2d | Form::Polygon | Form::Extrude | Form::Revolve => {
-            profile::lower(b, form, v)
-        }
+        Form::Extrude | Form::Revolve => profile::lower_solid(b, form, v),
         Form::Repeat => repeat(b, v),
         Form::Mirror => mirror(b, v),
         Form::Twist | Form::Bend => warp::lower(b, form, v),

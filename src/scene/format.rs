@@ -15,6 +15,7 @@
 //! follows the scene, not a JSON tree of it. Every error names the JSON path
 //! of the bad value: `nodes[812].radius: must be > 0`.
 
+use crate::sdf::profile::{self as profile_types, FieldKind, ProfileType};
 use super::{Node, Operator, Primitive, Profile, Rotation, Scene, SceneError, Shape, ShapeKind, Transform, Unary, MAX_NODES};
 use crate::bounded::{self, ReadError};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
@@ -239,15 +240,14 @@ fn shape_fields(kind: ShapeKind) -> Vec<&'static str> {
     }
 }
 
-/// The fields of each profile type, after `type`.
-fn profile_fields(name: &str) -> &'static [&'static str] {
-    match name {
-        "circle" => &["radius"],
-        "rect" => &["half"],
-        "round_rect" => &["half", "radius"],
-        "capsule" => &["a", "b", "radius"],
-        _ => &["points"],
-    }
+/// The profile type a scene file calls `name`.
+fn profile_type(name: &str) -> Option<&'static ProfileType> {
+    profile_types::TYPES.iter().copied().find(|t| t.scene_name == name)
+}
+
+/// The JSON keys of a profile type's fields.
+fn profile_fields(t: &ProfileType) -> Vec<&'static str> {
+    t.fields.iter().map(|f| f.name).collect()
 }
 
 /// Converts node `i` from JSON (parameters are checked later, by [`Scene::new`]).
@@ -394,40 +394,43 @@ fn profile(f: &Fields) -> Result<Profile, SceneError> {
     let v = f.obj.get("profile").ok_or_else(|| f.err("profile", "missing"))?;
     let obj = v.as_object().ok_or_else(|| f.err("profile", format!("expected a profile object, found {}", describe(v))))?;
     let p = Fields { i: f.i, obj, prefix: "profile." };
-    let ty = match obj.get("type") {
-        Some(Value::String(s)) if Profile::NAMES.contains(&s.as_str()) => s.as_str(),
+    let names: Vec<&str> = profile_types::TYPES.iter().map(|t| t.scene_name).collect();
+    let t = match obj.get("type") {
+        Some(Value::String(s)) if profile_type(s).is_some() => profile_type(s).expect("found"),
         Some(Value::String(s)) => {
-            let hint = match crate::diag::closest(s, Profile::NAMES.iter().copied()).first() {
+            let hint = match crate::diag::closest(s, names.iter().copied()).first() {
                 Some(n) => format!("did you mean '{n}'?"),
-                None => format!("the profiles are {}", list(&Profile::NAMES)),
+                None => format!("the profiles are {}", list(&names)),
             };
             return Err(p.err("type", format!("unknown profile {}; {hint}", quote(s))));
         }
         Some(other) => return Err(p.err("type", format!("expected a profile name, found {}", describe(other)))),
         None => return Err(p.err("type", "missing")),
     };
-    p.only(ty, profile_fields(ty))?;
-    let two = |name: &str| p.numbers::<2>(name)?.ok_or_else(|| p.err(name, "missing"));
-    Ok(match ty {
-        "circle" => Profile::Circle { radius: p.number("radius")? },
-        "rect" => Profile::Rect { half: two("half")? },
-        "round_rect" => Profile::RoundRect { half: two("half")?, radius: p.number("radius")? },
-        "capsule" => Profile::Capsule { a: two("a")?, b: two("b")?, radius: p.number("radius")? },
-        _ => Profile::polygon(&points(&p)?),
-    })
+    p.only(t.scene_name, &profile_fields(t))?;
+    let mut v = Vec::new();
+    for f in t.fields {
+        match f.kind {
+            FieldKind::Number => v.push(p.number(f.name)?),
+            FieldKind::Pair { .. } => v.extend(p.numbers::<2>(f.name)?.ok_or_else(|| p.err(f.name, "missing"))?),
+            FieldKind::Points => v.extend(points(&p, f.name)?.as_flattened()),
+        }
+    }
+    Ok(Profile::from_params(t, &v))
 }
 
-/// A polygon's `points`: [[x, y], …], 3 to MAX_POLYGON of them.
-fn points(p: &Fields) -> Result<Vec<[f64; 2]>, SceneError> {
-    let v = p.obj.get("points").ok_or_else(|| p.err("points", "missing"))?;
-    let a = v.as_array().ok_or_else(|| p.err("points", format!("expected a list of [x, y] points, found {}", describe(v))))?;
+/// A list of points (a polygon's `points`): [[x, y], …], 3 to
+/// MAX_POLYGON of them.
+fn points(p: &Fields, name: &str) -> Result<Vec<[f64; 2]>, SceneError> {
+    let v = p.obj.get(name).ok_or_else(|| p.err(name, "missing"))?;
+    let a = v.as_array().ok_or_else(|| p.err(name, format!("expected a list of [x, y] points, found {}", describe(v))))?;
     let max = super::profile::MAX_POLYGON;
     if !(3..=max).contains(&a.len()) {
-        return Err(p.err("points", format!("a polygon has 3 to {max} vertices, found {}", a.len())));
+        return Err(p.err(name, format!("a polygon has 3 to {max} vertices, found {}", a.len())));
     }
     let mut out = Vec::with_capacity(a.len());
     for (k, item) in a.iter().enumerate() {
-        let field = format!("points[{k}]");
+        let field = format!("{name}[{k}]");
         let xy = item.as_array().filter(|xy| xy.len() == 2).ok_or_else(|| p.err(&field, format!("expected [x, y], found {}", describe(item))))?;
         out.push([p.number_of(&format!("{field}[0]"), &xy[0])?, p.number_of(&format!("{field}[1]"), &xy[1])?]);
     }

@@ -86,13 +86,8 @@ fn placed(mut s: String, t: &super::Transform) -> String {
 
 /// A profile as the formula language's 2D form of the same name.
 fn profile_formula(p: &Profile) -> String {
-    match *p {
-        Profile::Circle { radius } => format!("circle({})", num(radius)),
-        Profile::Rect { half } => format!("rect({})", args(&half)),
-        Profile::RoundRect { half, radius } => format!("roundrect({}, {})", args(&half), num(radius)),
-        Profile::Capsule { a, b, radius } => format!("capsule2d({}, {}, {})", args(&a), args(&b), num(radius)),
-        Profile::Polygon { .. } => format!("polygon({})", args(&p.vertices().concat())),
-    }
+    let (t, v) = p.typed();
+    format!("{}({})", t.info.name, args(&v))
 }
 
 /// The scene as a formula program; an error if it passes the formula

@@ -54,7 +54,7 @@
 //! `MAX_STACK`, and such scenes are refused.
 
 use super::roi::{self, Aabb, Abv, Roi};
-use super::{Node, NodeId, OpKind, Profile, Scene, SceneError, Shape, Unary};
+use super::{Node, NodeId, OpKind, Scene, SceneError, Shape, Unary};
 pub use super::patch::ScenePatch;
 pub(crate) use super::rows::{abv_rows, primitive_rows, warp_rows};
 use super::rows::unary_row;
@@ -417,7 +417,7 @@ fn features(scene: &Scene) -> u32 {
     scene.nodes().iter().fold(0, |acc, n| {
         acc | match n {
             Node::Primitive(p) => (match p.shape {
-                Shape::Extrude { profile: Profile::Polygon { .. }, .. } | Shape::Revolve { profile: Profile::Polygon { .. }, .. } => FEATURE_PROFILE | FEATURE_POLYGON,
+                Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } if profile.kind().has_points() => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
                 Shape::Grid(_) => FEATURE_GRID,
                 ref shape => shape.analytic().and_then(|(t, _)| t.wgsl).map_or(0, |c| c.feature),

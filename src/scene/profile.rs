@@ -9,17 +9,14 @@
 //! `extrude`, `revolve`, `circle`, `rect`, `roundrect`, `capsule2d` and
 //! `polygon` (`src/sdf.rs`) compute the same functions.
 //!
-//! On the GPU every profile but the polygon is one branch-free formula,
-//! box₂(u − a − (b − a)·h, e) − r with h the clamped projection of u − a
-//! on the segment a–b: a circle is e = 0, a rectangle r = 0, a capsule
-//! e = 0 with its segment; the polygon loops over its vertices
-//! (`scene_profile` in templates/fields/scene.wgsl).
+//! What each profile computes is its descriptor's (`crate::sdf::profile`,
+//! a file a profile); this is the scene model's data, a variant a profile
+//! with its two conversions to and from the descriptor's parameters.
 
+use crate::sdf::profile::{self as types, ProfileType};
 use glam::DVec2;
 
-/// The most vertices of a polygon profile: a GPU record holds two a row,
-/// so 16 vertices are 8 rows.
-pub const MAX_POLYGON: usize = 16;
+pub use crate::sdf::profile::MAX_POLYGON;
 
 /// A cross-section in the profile plane.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,19 +57,71 @@ pub enum Profile {
     },
 }
 
+/// A profile's parameters, in its descriptor's order (module doc of
+/// `crate::sdf::profile`), without an allocation.
+pub struct Params {
+    len: usize,
+    v: [f64; 2 * MAX_POLYGON],
+}
+
+impl Params {
+    fn new(given: &[f64]) -> Params {
+        let mut v = [0.0; 2 * MAX_POLYGON];
+        v[..given.len()].copy_from_slice(given);
+        Params { len: given.len(), v }
+    }
+}
+
+impl std::ops::Deref for Params {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.v[..self.len]
+    }
+}
+
 impl Profile {
-    /// The profile's `type` in a scene file.
-    pub fn name(&self) -> &'static str {
+    /// Its descriptor.
+    pub fn kind(&self) -> &'static ProfileType {
         match self {
-            Profile::Circle { .. } => "circle",
-            Profile::Rect { .. } => "rect",
-            Profile::RoundRect { .. } => "round_rect",
-            Profile::Capsule { .. } => "capsule",
-            Profile::Polygon { .. } => "polygon",
+            Profile::Circle { .. } => &types::CIRCLE,
+            Profile::Rect { .. } => &types::RECT,
+            Profile::RoundRect { .. } => &types::ROUND_RECT,
+            Profile::Capsule { .. } => &types::CAPSULE,
+            Profile::Polygon { .. } => &types::POLYGON,
         }
     }
 
-    /// Every profile type name.
+    /// Its descriptor and parameters.
+    pub fn typed(&self) -> (&'static ProfileType, Params) {
+        let p = match *self {
+            Profile::Circle { radius } => Params::new(&[radius]),
+            Profile::Rect { half } => Params::new(&half),
+            Profile::RoundRect { half, radius } => Params::new(&[half[0], half[1], radius]),
+            Profile::Capsule { a, b, radius } => Params::new(&[a[0], a[1], b[0], b[1], radius]),
+            Profile::Polygon { .. } => Params::new(self.vertices().as_flattened()),
+        };
+        (self.kind(), p)
+    }
+
+    /// The profile of type `t` with the parameters `v` (as many as it takes).
+    pub fn from_params(t: &ProfileType, v: &[f64]) -> Profile {
+        match t.scene_name {
+            "circle" => Profile::Circle { radius: v[0] },
+            "rect" => Profile::Rect { half: [v[0], v[1]] },
+            "round_rect" => Profile::RoundRect { half: [v[0], v[1]], radius: v[2] },
+            "capsule" => Profile::Capsule { a: [v[0], v[1]], b: [v[2], v[3]], radius: v[4] },
+            "polygon" => Profile::polygon(&v.chunks(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>()),
+            other => unreachable!("profile {other} has no variant"),
+        }
+    }
+
+    /// The profile's `type` in a scene file.
+    pub fn name(&self) -> &'static str {
+        self.kind().scene_name
+    }
+
+    /// Every profile type name (those of `crate::sdf::profile::TYPES`, as
+    /// a test checks).
     pub const NAMES: [&'static str; 5] = ["circle", "rect", "round_rect", "capsule", "polygon"];
 
     /// A polygon of the given vertices (at most `MAX_POLYGON`; checked by
@@ -94,53 +143,26 @@ impl Profile {
 
     /// The profile reflected across its u.y axis (u.x ↦ −u.x).
     pub fn mirror_x(&self) -> Profile {
-        let flip = |v: [f64; 2]| [-v[0], v[1]];
-        match *self {
-            Profile::Capsule { a, b, radius } => Profile::Capsule { a: flip(a), b: flip(b), radius },
-            Profile::Polygon { .. } => Profile::polygon(&self.vertices().iter().map(|&v| flip(v)).collect::<Vec<_>>()),
-            p => p,
-        }
+        let (t, v) = self.typed();
+        Profile::from_params(t, &t.mirror_x(&v))
     }
 
     /// The signed distance at `u`.
     pub fn distance(&self, u: DVec2) -> f64 {
-        match *self {
-            Profile::Circle { radius } => u.length() - radius,
-            Profile::Rect { half } => box2(u, DVec2::from(half)),
-            Profile::RoundRect { half, radius } => box2(u, DVec2::from(half) - DVec2::splat(radius)) - radius,
-            Profile::Capsule { a, b, radius } => segment(u, DVec2::from(a), DVec2::from(b)) - radius,
-            Profile::Polygon { .. } => polygon(u, self.vertices()),
-        }
+        let (t, v) = self.typed();
+        (t.distance)(&v, u)
     }
 
     /// The bounding rectangle (min, max) of the region {distance ≤ 0}.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
-        match *self {
-            Profile::Circle { radius } => ([-radius; 2], [radius; 2]),
-            Profile::Rect { half } | Profile::RoundRect { half, .. } => ([-half[0], -half[1]], half),
-            Profile::Capsule { a, b, radius } => ([a[0].min(b[0]) - radius, a[1].min(b[1]) - radius], [a[0].max(b[0]) + radius, a[1].max(b[1]) + radius]),
-            Profile::Polygon { .. } => {
-                let v = self.vertices();
-                let lo = v.iter().fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])]);
-                let hi = v.iter().fold([f64::NEG_INFINITY; 2], |m, p| [m[0].max(p[0]), m[1].max(p[1])]);
-                (lo, hi)
-            }
-        }
+        let (t, v) = self.typed();
+        (t.bounds)(&v)
     }
 
     /// Every number with its field name under `profile.` (`profile.half[1]`).
     pub fn fields(&self) -> Vec<(String, f64)> {
-        let one = |n: &str, v: f64| vec![(format!("profile.{n}"), v)];
-        let two = |n: &str, v: [f64; 2]| (0..2).map(|k| (format!("profile.{n}[{k}]"), v[k])).collect::<Vec<_>>();
-        match *self {
-            Profile::Circle { radius } => one("radius", radius),
-            Profile::Rect { half } => two("half", half),
-            Profile::RoundRect { half, radius } => [two("half", half), one("radius", radius)].concat(),
-            Profile::Capsule { a, b, radius } => [two("a", a), two("b", b), one("radius", radius)].concat(),
-            Profile::Polygon { .. } => {
-                self.vertices().iter().enumerate().flat_map(|(i, p)| (0..2).map(move |k| (format!("profile.points[{i}][{k}]"), p[k]))).collect()
-            }
-        }
+        let (t, v) = self.typed();
+        t.param_names(&v).into_iter().zip(v.iter()).map(|(n, &x)| (format!("profile.{n}"), x)).collect()
     }
 
     /// Checks the parameters; the error names the field under `profile.`.
@@ -150,79 +172,16 @@ impl Profile {
                 return Err((name, "must be finite".into()));
             }
         }
-        let positive = |name: &str, v: f64| if v > 0.0 { Ok(()) } else { Err((format!("profile.{name}"), "must be > 0".to_string())) };
-        match *self {
-            Profile::Circle { radius } => positive("radius", radius),
-            Profile::Rect { half } => positive("half[0]", half[0]).and(positive("half[1]", half[1])),
-            Profile::RoundRect { half, radius } => {
-                positive("half[0]", half[0])?;
-                positive("half[1]", half[1])?;
-                let smallest = half[0].min(half[1]);
-                if !(radius >= 0.0 && radius <= smallest) {
-                    return Err(("profile.radius".into(), format!("must be >= 0 and <= the smallest half extent ({smallest})")));
-                }
-                Ok(())
+        let prefixed = |(name, why): (String, String)| (format!("profile.{name}"), why);
+        if let Profile::Polygon { count, .. } = *self {
+            // A polygon built with more vertices than it keeps.
+            if count as usize > MAX_POLYGON {
+                return Err(prefixed(("points".into(), format!("a polygon has 3 to {MAX_POLYGON} vertices, found {count}"))));
             }
-            Profile::Capsule { radius, .. } => positive("radius", radius),
-            Profile::Polygon { count, .. } => check_polygon(count as usize, self.vertices()),
         }
+        let (t, v) = self.typed();
+        (t.check)(&v).map_err(prefixed)
     }
-}
-
-fn check_polygon(count: usize, v: &[[f64; 2]]) -> Result<(), (String, String)> {
-    if !(3..=MAX_POLYGON).contains(&count) {
-        return Err(("profile.points".into(), format!("a polygon has 3 to {MAX_POLYGON} vertices, found {count}")));
-    }
-    for i in 0..count {
-        let j = (i + count - 1) % count;
-        if v[i] == v[j] {
-            return Err((format!("profile.points[{i}]"), format!("repeats points[{j}]: an edge needs two distinct ends")));
-        }
-    }
-    let area: f64 = (0..count).map(|i| {
-        let (p, q) = (v[i], v[(i + 1) % count]);
-        p[0] * q[1] - q[0] * p[1]
-    }).sum();
-    if area == 0.0 {
-        return Err(("profile.points".into(), "the polygon has no area".into()));
-    }
-    Ok(())
-}
-
-/// The exact 2D box distance, half extents `h`.
-pub fn box2(u: DVec2, h: DVec2) -> f64 {
-    let q = u.abs() - h;
-    let qp = q.max(DVec2::ZERO);
-    (qp.x * qp.x + qp.y * qp.y).sqrt() + q.x.max(q.y).min(0.0)
-}
-
-/// Distance from `u` to the segment a–b (to a when a = b).
-pub fn segment(u: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let (pa, ba) = (u - a, b - a);
-    let bb = ba.dot(ba);
-    let h = if bb > 0.0 { (pa.dot(ba) / bb).clamp(0.0, 1.0) } else { 0.0 };
-    (pa - ba * h).length()
-}
-
-/// Signed distance to a closed polygon, even-odd sign (after Quilez's
-/// sdPolygon): the smallest distance to an edge, negated where a ray
-/// towards +x crosses the edges an odd number of times.
-pub fn polygon(u: DVec2, v: &[[f64; 2]]) -> f64 {
-    let n = v.len();
-    let v0 = DVec2::from(v[0]);
-    let mut d = (u - v0).dot(u - v0);
-    let mut s = 1.0;
-    for i in 0..n {
-        let (vi, vj) = (DVec2::from(v[i]), DVec2::from(v[(i + n - 1) % n]));
-        let (e, w) = (vj - vi, u - vi);
-        let b = w - e * (w.dot(e) / e.dot(e)).clamp(0.0, 1.0);
-        d = d.min(b.dot(b));
-        let c = [u.y >= vi.y, u.y < vj.y, e.x * w.y > e.y * w.x];
-        if c.iter().all(|&x| x) || c.iter().all(|&x| !x) {
-            s = -s;
-        }
-    }
-    s * d.sqrt()
 }
 
 /// The extrusion of a profile value `d2` along z with half height `h` at

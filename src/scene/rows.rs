@@ -6,6 +6,7 @@
 use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_REVOLVE, FORM_WARP_SHIFT};
 use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
+use crate::sdf::profile::SegmentBox;
 use glam::{DMat3, DQuat, DVec3};
 
 /// A unary node's parameter row, its type's (`crate::sdf::unary`; its
@@ -80,13 +81,8 @@ fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
 /// box₂(u − a − (b − a)·h, e) − r (profile.rs).
 fn profile_rows(p: &Primitive, profile: &Profile) -> Vec<[f32; 4]> {
     let f = |v: f64| v as f32;
-    let (e, r, a, b) = match *profile {
-        Profile::Circle { radius } => ([0.0; 2], radius, [0.0; 2], [0.0; 2]),
-        Profile::Rect { half } => (half, 0.0, [0.0; 2], [0.0; 2]),
-        Profile::RoundRect { half, radius } => (half.map(|h| h - radius), radius, [0.0; 2], [0.0; 2]),
-        Profile::Capsule { a, b, radius } => ([0.0; 2], radius, a, b),
-        Profile::Polygon { .. } => ([0.0; 2], 0.0, [0.0; 2], [0.0; 2]),
-    };
+    let (t, v) = profile.typed();
+    let SegmentBox { e, r, a, b } = (t.row)(&v);
     let (h, major, form) = match p.shape {
         Shape::Extrude { half_height, .. } => (half_height, 0.0, FORM_EXTRUDE),
         Shape::Revolve { offset, .. } => (0.0, offset, FORM_REVOLVE),

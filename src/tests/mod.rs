@@ -33,6 +33,7 @@ mod scene_model;
 mod scene_nodes;
 mod scene_pictures;
 mod scene_procedural;
+mod scene_profile_types;
 mod scene_sync;
 mod scene_unary_types;
 mod sdf_profiles;

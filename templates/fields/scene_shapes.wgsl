@@ -42,8 +42,8 @@ fn scene_polygon(u: vec2<f32>, row: u32, n: u32) -> f32 {
 // An extruded or revolved profile of form `form` at local point q (rows:
 // r2 = (e, half height, r), row o + 3 (R, polygon vertices), row o + 4 the
 // segment (a, b), vertices from row o + PROFILE_ROWS): box2(u - a - (b - a)
-// h, e) - r for every profile but the polygon (src/scene/rows.rs,
-// profile_rows).
+// h, e) - r for every profile but the polygon (each profile's row:
+// src/sdf/profile; src/scene/rows.rs, profile_rows).
 fn scene_profiled(q: vec3<f32>, r2: vec4<f32>, form: u32, o: u32) -> f32 {
     let revolve = form == FORM_REVOLVE;
     let rn = scene_param(o + 3u);

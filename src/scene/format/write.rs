@@ -3,7 +3,7 @@
 //! identity transforms left out, a warped primitive's warp as its `warp`
 //! object.
 
-use super::{profile_fields, shape_fields, VERSION};
+use super::{shape_fields, VERSION};
 use crate::scene::{Node, Profile, Scene, Shape, Transform};
 
 /// A number as JSON (shortest form that reads back the same f64).
@@ -88,17 +88,22 @@ pub(crate) fn node_json(n: &Node) -> String {
 
 /// A profile as a JSON object.
 fn profile_json(p: &Profile) -> String {
-    let two = |v: [f64; 2]| nums(&v);
-    let values: Vec<String> = match *p {
-        Profile::Circle { radius } => vec![num(radius)],
-        Profile::Rect { half } => vec![two(half)],
-        Profile::RoundRect { half, radius } => vec![two(half), num(radius)],
-        Profile::Capsule { a, b, radius } => vec![two(a), two(b), num(radius)],
-        Profile::Polygon { .. } => vec![format!("[{}]", p.vertices().iter().map(|&v| two(v)).collect::<Vec<_>>().join(", "))],
-    };
-    let mut s = format!("{{\"type\": \"{}\"", p.name());
-    for (k, v) in profile_fields(p.name()).iter().zip(values) {
-        s += &format!(", \"{k}\": {v}");
+    use crate::sdf::profile::FieldKind;
+    let (t, v) = p.typed();
+    let mut s = format!("{{\"type\": \"{}\"", t.scene_name);
+    let mut at = 0;
+    for f in t.fields {
+        let value = match f.kind {
+            FieldKind::Number => num(v[at]),
+            FieldKind::Pair { .. } => nums(&v[at..at + 2]),
+            FieldKind::Points => format!("[{}]", v[at..].chunks(2).map(nums).collect::<Vec<_>>().join(", ")),
+        };
+        at = match f.kind {
+            FieldKind::Number => at + 1,
+            FieldKind::Pair { .. } => at + 2,
+            FieldKind::Points => v.len(),
+        };
+        s += &format!(", \"{}\": {value}", f.name);
     }
     s + "}"
 }

@@ -239,23 +239,9 @@ impl Walker<'_> {
 
     /// A 2D form's profile; `None` for any other form.
     fn profile_form(&mut self, form: Form, a: &[Expr]) -> Result<Option<Profile>, NotBlobtree> {
-        Ok(Some(match form {
-            Form::Circle => Profile::Circle { radius: self.num(&a[0])? },
-            Form::Rect => Profile::Rect { half: self.nums(a)? },
-            Form::RoundRect => {
-                let [x, y, radius] = self.nums(a)?;
-                Profile::RoundRect { half: [x, y], radius }
-            }
-            Form::Capsule2d => {
-                let [ax, ay, bx, by, radius] = self.nums(a)?;
-                Profile::Capsule { a: [ax, ay], b: [bx, by], radius }
-            }
-            Form::Polygon => {
-                let v: Vec<f64> = a.iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
-                Profile::polygon(&v.chunks(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>())
-            }
-            _ => return Ok(None),
-        }))
+        let Form::Profile(t) = form else { return Ok(None) };
+        let v: Vec<f64> = a.iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+        Ok(Some(Profile::from_params(t, &v)))
     }
 
     /// One distance form (the front end has checked the arity).
