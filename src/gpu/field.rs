@@ -88,6 +88,9 @@ fn layout_entry(b: &Binding) -> wgpu::BindGroupLayoutEntry {
 
 /// Uploads what `source` binds for a kernel of `request`.
 pub(crate) fn bind(gpu: &Gpu, source: &dyn FieldSource, request: &BindingRequest) -> Result<FieldBinding, GpuError> {
+    if source.passes().iter().any(|p| matches!(p.groups, crate::bindings::Groups::Indirect { .. })) {
+        return Err(GpuError::Limits(format!("the {} field asks for a pass dispatched indirectly: a field's passes are dispatched directly", source.name())));
+    }
     let table = source.bindings(request);
     let layout = table.iter().map(layout_entry).collect();
     let (mut buffers, mut textures) = (vec![], vec![]);
@@ -247,7 +250,8 @@ impl FieldBinding {
             Groups::Tiles { per_group } => [(rect.tiles() as u32).div_ceil(per_group), 1, 1],
             Groups::Blocks { side, layers } => [rect.w.div_ceil(side), rect.h.div_ceil(side), layers],
             Groups::PixelTiles { tiles_per_group } => [rect.w.div_ceil(8), rect.h.div_ceil(8).div_ceil(tiles_per_group), 1],
-            Groups::Indirect { .. } => unreachable!("a field's pass is dispatched directly"),
+            // A field pass has no queue to read its counts from: `bind` refuses it.
+            Groups::Indirect { .. } => [0, 0, 0],
         }
     }
 

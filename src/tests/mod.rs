@@ -24,6 +24,7 @@ mod render;
 mod reroll;
 mod root_search;
 mod scene_common;
+mod sdf_common;
 mod scene_cone;
 mod scene_format;
 mod scene_gpu;

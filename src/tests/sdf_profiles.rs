@@ -9,29 +9,8 @@
 use super::common;
 
 use common::points;
-use crate::Formula;
 
-fn f(src: &str) -> Formula {
-    Formula::compile("<test>", src).unwrap_or_else(|e| panic!("{src}: {e}"))
-}
-
-fn at(formula: &Formula, p: [f64; 3]) -> f64 {
-    crate::reference::eval_scalar(&formula.ir, [p[0], p[1], p[2], 0.0], &[])
-}
-
-fn close(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-9 * (1.0 + b.abs())
-}
-
-#[track_caller]
-fn check(src: &str, cases: &[([f64; 3], f64)]) {
-    let g = f(src);
-    for &(p, want) in cases {
-        let got = at(&g, p);
-        assert!(close(got, want), "{src} at {p:?}: {got}, expected {want}");
-    }
-}
-
+use super::sdf_common::{at, check, close, f};
 
 /// `a` and `b` agree within `tol` at random points of [-s, s]³.
 #[track_caller]
