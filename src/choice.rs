@@ -169,7 +169,7 @@ fn too_large(ir: &Ir, traversal: &Traversal) -> bool {
 /// The field for formula `f` (parameter values `params`) traced by
 /// `traversal`. `Tape` fails when the formula cannot be a tape (level-set
 /// CSG, user WGSL, too many registers), `Scene` when it is not a blobtree
-/// or not sphere traced ([`scene`]); `Auto` takes the compiled field for
+/// or is bisected in RAA ([`scene`]); `Auto` takes the compiled field for
 /// those, and otherwise the tape where it pays ([`crossover`], [`CSG_RATIO`]), or when the
 /// compiled kernel would be too large to build. `Auto`'s scene is
 /// [`auto_scene`], tried first by the caller (it changes the traversal's
@@ -211,9 +211,9 @@ pub enum FieldError {
 /// Why a formula cannot be rendered as a scene.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneFieldError {
-    /// A scene has no interval enclosures.
-    #[error("a scene is sphere traced: it has no interval enclosures to bisect")]
-    NotSphere,
+    /// A scene's enclosures are intervals: it is not bisected in RAA.
+    #[error("a scene's nodes are enclosed in interval arithmetic only: it cannot be bisected in raa")]
+    NotInterval,
     /// The formula is not built from distance forms alone.
     #[error("not a blobtree: {}", .0.reason)]
     NotBlobtree(crate::scene::NotBlobtree),
@@ -245,13 +245,13 @@ pub fn auto_scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> 
 }
 
 /// The formula `f` (with parameter values `params`) as a blobtree scene
-/// for the sphere tracing `traversal`, and the Lipschitz bound its
-/// operators need (1, or Zanni's 1.45 with compact smooth operators).
+/// for `traversal` (sphere tracing, or bisection in IA), and the Lipschitz
+/// bound sphere tracing needs for its operators (1, or Zanni's 1.45 with compact smooth operators).
 /// `Auto` takes it only from [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives.
 pub fn scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Result<(PreparedField, f64), SceneFieldError> {
     let scene = crate::scene::from_formula(f, params).map_err(SceneFieldError::NotBlobtree)?;
-    if !matches!(traversal, Traversal::Sphere(_)) {
-        return Err(SceneFieldError::NotSphere);
+    if matches!(traversal, Traversal::Bisect(b) if b.algebra != crate::ir::Domain::Interval) {
+        return Err(SceneFieldError::NotInterval);
     }
     let lin = crate::scene::linear::Linear::new(&scene).map_err(SceneFieldError::Layout)?;
     Ok((PreparedField::Scene(lin.field_data()), lin.lipschitz()))

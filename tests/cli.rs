@@ -162,7 +162,7 @@ fn eval_on_the_device_and_on_the_cpu() {
     let o = run(&["--algebra", "scalar", "--field", "tape"], "1 1 1\n");
     assert_eq!(String::from_utf8_lossy(&o.stdout), "2\n");
     let o = run(&["--field", "scene"], "1 1 1\n");
-    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes\n"));
+    assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --field scene applies to render: a scene's enclosures are evaluated inside its render kernel, on its tiles' pruned trees\n"));
     let o = run(&["--field", "tape", "--cpu"], "-1 1 -1 1 -1 1\n");
     assert_eq!((o.status.code(), stderr(&o).as_str()), (Some(1), "error: --field chooses the device's evaluator; --cpu evaluates the f64 reference\n"));
 }

@@ -443,13 +443,18 @@ pub fn prepare_field(arg: Option<FieldArg>, f: &crate::Formula, params: &[f32], 
         }
     }
     if kind == FieldKind::Scene {
+        // A scene bisects in IA (an explicit `--algebra raa` is refused
+        // before: `render::traversal`).
+        if let crate::render::Traversal::Bisect(b) = t {
+            b.algebra = crate::ir::Domain::Interval;
+        }
         let (field, lipschitz) = choice::scene(f, params, t).map_err(|e| match e {
             SceneFieldError::NotBlobtree(n) => {
                 let d = crate::diag::Diagnostic::error(format!("--field scene: not a blobtree: {}", n.reason), n.span, "here")
                     .with_note("a scene is built from distance forms (sphere, box, translate, union, smooth_union, ...) with constant arguments; render it with --field compiled (or auto)");
                 CliError::Rendered(d.render(&f.origin, &f.source, false))
             }
-            SceneFieldError::NotSphere => CliError::Input(format!("--field scene: {e}; add --method sphere")),
+            SceneFieldError::NotInterval => CliError::Input(format!("--field scene: {e}; give --algebra ia")),
             SceneFieldError::Layout(_) => CliError::Input(format!("--field scene: in the scene the formula lowers to (`isotrace scene lower` writes it), {e}")),
         })?;
         if let (crate::render::Traversal::Sphere(o), false) = (t, lipschitz_given) {

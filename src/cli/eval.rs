@@ -209,7 +209,7 @@ fn device_tape(arg: Option<super::args::FieldArg>, f: &crate::Formula, domain: D
     use crate::render::{BisectOptions, SphereOptions, Traversal};
     let kind = match arg {
         None | Some(super::args::FieldArg::Compiled) => return Ok(None),
-        Some(super::args::FieldArg::Scene) => return Err(CliError::Input("--field scene applies to render: a scene is sphere traced and has no enclosures to evaluate on boxes".into())),
+        Some(super::args::FieldArg::Scene) => return Err(CliError::Input("--field scene applies to render: a scene's enclosures are evaluated inside its render kernel, on its tiles' pruned trees".into())),
         Some(super::args::FieldArg::Tape) => FieldKind::Tape,
         Some(super::args::FieldArg::Auto) => FieldKind::Auto,
     };

@@ -72,6 +72,9 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
             if color == ColorMode::Field {
                 return Err(CliError::input("--color field applies to --method sphere only"));
             }
+            if a.settings.field == Some(args::FieldArg::Scene) && a.settings.algebra == Some(AlgebraArg::Raa) {
+                return Err(CliError::input("--algebra raa: a scene's nodes are enclosed in interval arithmetic only (--field scene): give --algebra ia or leave it out"));
+            }
             let domain = args::resolve_algebra(a.settings.algebra.or(header.and_then(|h| h.algebra).map(args::algebra_arg)).unwrap_or(AlgebraArg::Auto), &f.ir);
             if domain == crate::ir::Domain::Scalar {
                 return Err(CliError::input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));

@@ -107,6 +107,7 @@ pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: crate:
             let whole = t.whole.checked_div(t.shortened).unwrap_or(0);
             eprintln!("tape: the block pass shortened it for {} of {} blocks of 2x2 tiles, keeping {:.1} %", t.blocks_shortened, t.blocks, 100.0 * t.block_kept_share(whole));
         }
+        tile_lists_text(st, None);
         if let Some(l) = &st.field.loop_lists {
             eprintln!(
                 "loops: {} of {} tiles with candidate slabs run their own terms of the min/max loops, {:.1} of {} on average",
@@ -133,6 +134,9 @@ pub(super) fn report(a: &RenderArgs, frame: &Frame, s: &Settings, domain: crate:
             v["tape_blocks"] = t.blocks.into();
             v["tape_shortened_blocks"] = t.blocks_shortened.into();
             v["tape_block_kept_share"] = t.block_kept_share(t.whole.checked_div(t.shortened).unwrap_or(0)).into();
+        }
+        if st.field.tiles > 0 {
+            tile_lists_json(st, &mut v);
         }
         if let Some(l) = &st.field.loop_lists {
             v["loop_tiles"] = l.tiles.into();
@@ -168,15 +172,7 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
             st.evals_mean, st.evals_p99, st.evals_max, st.evals_hit_mean, st.evals_miss_mean, st.sphere.sor_fallbacks, st.sphere.lipschitz_seen,
             gpu.info.describe()
         );
-        let f = &st.field;
-        if f.tiles > 0 {
-            eprintln!(
-                "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}\n\
-                 scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}; union or comb tiles (each ray its own primitives): {:.1} %; walk: {}",
-                st.field_ms, f.active_mean, f.active_max, f.overflow_tiles, f.slabs_mean, f.slab_view_mean, 100.0 * f.chain_share,
-                if o.synchronized { "tile (synchronised)" } else { "ray" }
-            );
-        }
+        tile_lists_text(st, Some(if o.synchronized { "tile (synchronised)" } else { "ray" }));
     }
     if a.json {
         let mut v = serde_json::json!({
@@ -192,15 +188,43 @@ pub(super) fn report_sphere(a: &RenderArgs, frame: &Frame, s: &Settings, o: &Sph
             "device": gpu.info,
         });
         if st.field.tiles > 0 {
-            v["field_ms"] = st.field_ms.into();
-            v["active_mean"] = st.field.active_mean.into();
-            v["active_max"] = st.field.active_max.into();
-            v["overflow_tiles"] = st.field.overflow_tiles.into();
-            v["slabs_mean"] = st.field.slabs_mean.into();
-            v["slab_view_mean"] = st.field.slab_view_mean.into();
-            v["chain_share"] = st.field.chain_share.into();
+            tile_lists_json(st, &mut v);
             v["scene_walk"] = (if o.synchronized { "tile" } else { "ray" }).into();
         }
         let _ = writeln!(std::io::stdout().lock(), "{v}");
     }
+}
+
+/// `--stats` of a field that lists each tile's primitives (a scene): its
+/// pre-passes, the active primitives per tile and the pruned trees; with
+/// `walk`, sphere tracing's depth slabs and how its rays walk them.
+fn tile_lists_text(st: &crate::render::Stats, walk: Option<&str>) {
+    let f = &st.field;
+    if f.tiles == 0 {
+        return;
+    }
+    eprintln!(
+        "scene: field pre-passes {:.1} ms; active primitives per 8x8 tile: mean {:.2}  max {}; tiles over the list limit (whole tree): {}",
+        st.field_ms, f.active_mean, f.active_max, f.overflow_tiles
+    );
+    match walk {
+        Some(walk) => eprintln!(
+            "scene: depth slabs per tile: mean {:.2}; nodes in a slab's view: mean {:.2}; union or comb tiles (each ray its own primitives): {:.1} %; walk: {walk}",
+            f.slabs_mean,
+            f.slab_view_mean,
+            100.0 * f.chain_share
+        ),
+        None => eprintln!("scene: nodes in a tile's pruned tree: mean {:.2}; union or comb tiles: {:.1} %", f.slab_view_mean, 100.0 * f.chain_share),
+    }
+}
+
+/// The JSON of [`tile_lists_text`].
+fn tile_lists_json(st: &crate::render::Stats, v: &mut serde_json::Value) {
+    v["field_ms"] = st.field_ms.into();
+    v["active_mean"] = st.field.active_mean.into();
+    v["active_max"] = st.field.active_max.into();
+    v["overflow_tiles"] = st.field.overflow_tiles.into();
+    v["slabs_mean"] = st.field.slabs_mean.into();
+    v["slab_view_mean"] = st.field.slab_view_mean.into();
+    v["chain_share"] = st.field.chain_share.into();
 }

@@ -1,15 +1,18 @@
 //! `isotrace render FILE.scene.json`: a blobtree scene through the scene
 //! field source (its nodes in buffers, one fixed interpreter, per-tile
-//! pruned trees) and the sphere tracing traversal.
+//! pruned trees), sphere traced or, with `--method bisect`, bisected on
+//! the interval enclosures of its nodes.
 
-use super::args::{self, apply_budget_flags, flags_over_defaults, open_gpu, sphere_options};
+use super::args::{self, apply_budget_flags, flags_over_defaults, open_gpu, sphere_options, AlgebraArg};
 use super::error::settings_error;
 use super::render::RenderArgs;
-use super::report::{report_sphere, warn_lipschitz, warn_unresolved};
+use super::report::{report, report_sphere, warn_lipschitz, warn_unresolved};
 use super::CliError;
 use crate::gpu::Renderer;
 use crate::output::{self, ColorMode};
-use crate::render::{Shading, Traversal, View};
+use crate::ir::Domain;
+use crate::layout::KernelColor;
+use crate::render::{BisectOptions, Method, Shading, Traversal, View};
 use crate::scene::linear::Linear;
 use std::path::Path;
 use std::process::ExitCode;
@@ -20,10 +23,6 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
     let checks = [
         (a.frames.is_some(), "--frames applies to formulas: a scene has no time to animate".to_string()),
         (a.formula.inline.is_some(), "--inline applies to formulas rendered with --method bisect".into()),
-        (a.sphere.method.as_deref().is_some_and(|m| m.trim() != "sphere"), "a scene is sphere traced: --method bisect needs interval enclosures, which a scene's interpreter does not give".into()),
-        (!a.modalities.given().is_empty(), format!("{} applies to formulas rendered with --method bisect", a.modalities.given().first().copied().unwrap_or(""))),
-        (a.settings.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
-        (a.settings.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
         (a.settings.time.is_some(), "--t applies to formulas: a scene has no time".into()),
         (
             matches!(a.settings.field, Some(args::FieldArg::Compiled | args::FieldArg::Tape)),
@@ -31,6 +30,54 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
         ),
     ];
     checks.into_iter().find(|(bad, _)| *bad).map(|(_, m)| m)
+}
+
+/// The traversal the flags ask for: sphere tracing with the scene's
+/// Lipschitz bound unless `--method bisect`, which encloses the scene's
+/// nodes in interval arithmetic and needs no bound.
+fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode) -> Result<Traversal, CliError> {
+    let method = a.sphere.method.as_deref().unwrap_or("sphere");
+    match args::method(Some(method), None)? {
+        Method::Bisect => {
+            if let Some(flag) = a.sphere.given().first() {
+                return Err(CliError::input(format!("{flag} applies to --method sphere only")));
+            }
+            if color == ColorMode::Field {
+                return Err(CliError::input("--color field applies to --method sphere only"));
+            }
+            match a.settings.algebra {
+                None | Some(AlgebraArg::Ia | AlgebraArg::Auto) => {}
+                Some(AlgebraArg::Raa) => return Err(CliError::input("--algebra raa: a scene's nodes are enclosed in interval arithmetic only: give --algebra ia or leave it out")),
+                Some(AlgebraArg::Scalar) => return Err(CliError::input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia)")),
+            }
+            let kernel_color = match color {
+                ColorMode::Gradient => KernelColor::Gradient,
+                ColorMode::Depth => KernelColor::Depth,
+                _ => KernelColor::Phong,
+            };
+            let m = super::modality::modalities(&a.modalities, a.sphere.shadows, kernel_color, None)?;
+            Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(Domain::Interval) }))
+        }
+        Method::Sphere => {
+            let misplaced = [
+                (!a.modalities.given().is_empty(), format!("{} applies to --method bisect only", a.modalities.given().first().copied().unwrap_or(""))),
+                (matches!(color, ColorMode::Gradient | ColorMode::Depth), format!("--color {} applies to --method bisect only", a.color)),
+                (a.settings.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
+                (a.settings.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
+            ];
+            if let Some((_, m)) = misplaced.into_iter().find(|(bad, _)| *bad) {
+                return Err(CliError::input(m));
+            }
+            let mut options = sphere_options(&a.sphere, None)?;
+            if a.sphere.lipschitz.is_none() {
+                options.lipschitz = lin.lipschitz();
+            }
+            if color == ColorMode::Field {
+                options.shading = Shading::Field;
+            }
+            Ok(Traversal::Sphere(options))
+        }
+    }
 }
 
 /// The defaults a scene is framed with: its solid's box with a margin, so
@@ -57,8 +104,8 @@ pub struct ScenePlan {
     pub lin: Linear,
     /// The frame.
     pub settings: crate::render::Settings,
-    /// Sphere tracing's options.
-    pub options: crate::render::SphereOptions,
+    /// The traversal and its options.
+    pub traversal: Traversal,
     /// The colouring.
     pub color: ColorMode,
 }
@@ -78,17 +125,8 @@ pub fn plan(a: &RenderArgs, scene: &crate::scene::Scene, path: &Path) -> Result<
     let v = flags_over_defaults(&a.settings, base)?;
     let settings = apply_budget_flags(&a.settings, v.settings_without_params(size.0, size.1).map_err(settings_error)?)?;
     let color = output::parse_color(&a.color).map_err(|m| CliError::input(format!("invalid --color '{}': {m}", a.color)))?;
-    if matches!(color, ColorMode::Gradient | ColorMode::Depth) {
-        return Err(CliError::input(format!("--color {} applies to --method bisect only", a.color)));
-    }
-    let mut options = sphere_options(&a.sphere, None)?;
-    if a.sphere.lipschitz.is_none() {
-        options.lipschitz = lin.lipschitz();
-    }
-    if color == ColorMode::Field {
-        options.shading = Shading::Field;
-    }
-    Ok(ScenePlan { lin, settings, options, color })
+    let traversal = traversal(a, &lin, color)?;
+    Ok(ScenePlan { lin, settings, traversal, color })
 }
 
 /// Renders the scene at `path`.
@@ -97,18 +135,21 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
         return Err(CliError::input(m));
     }
     let scene = super::scene::load(path, a.allow_scene_paths)?;
-    let ScenePlan { lin, settings: s, options: o, color } = plan(a, &scene, path)?;
+    let ScenePlan { lin, settings: s, traversal, color } = plan(a, &scene, path)?;
     let outputs = super::frames::Outputs::new(&a.output, None, None, false)?;
     outputs.check(a.force, false)?;
     let super::frames::Outputs::One(out) = &outputs else { unreachable!("no --frames") };
     let gpu = open_gpu(args::shader_opt(a.settings.shader_opt, u64::from(s.width) * u64::from(s.height), true))?;
     let data = lin.field_data();
-    let renderer = Renderer::new(&gpu, &data, Traversal::Sphere(o.clone())).map_err(super::error::render_error)?;
+    let renderer = Renderer::new(&gpu, &data, traversal.clone()).map_err(super::error::render_error)?;
     let mut frame = renderer.render(&s).map_err(super::error::render_error)?;
     let heat_max = output::recolor(&mut frame, color);
     output::write_frame(out, &frame).map_err(super::error::output_error)?;
     super::notice::wrote(out, &super::notice::size(frame.width, frame.height));
-    report_sphere(a, &frame, &s, &o, &gpu, "scene");
+    match &traversal {
+        Traversal::Bisect(b) => report(a, &frame, &s, b.algebra, &gpu, "scene"),
+        Traversal::Sphere(o) => report_sphere(a, &frame, &s, o, &gpu, "scene"),
+    }
     if a.stats {
         eprintln!("scene: {} nodes, {} primitives", lin.nodes.len(), lin.primitives.len());
         if let Some(m) = heat_max {
@@ -116,7 +157,9 @@ pub fn run(a: &RenderArgs, path: &Path) -> Result<ExitCode, CliError> {
         }
     }
     warn_unresolved(&frame, &renderer.traversal(), &s, renderer.field_name(), renderer.field_shares_loop_cap().is_some());
-    warn_lipschitz(&frame, &o);
+    if let Traversal::Sphere(o) = &traversal {
+        warn_lipschitz(&frame, o);
+    }
     if frame.stats.field.overflow_tiles > 0 {
         eprintln!(
             "note: {} tiles had more active primitives than a tile list holds ({}) and evaluated the whole tree",

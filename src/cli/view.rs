@@ -176,7 +176,7 @@ impl Backend {
             let scene = self.scene(body)?;
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
-            let t = Traversal::Sphere(p.options.clone());
+            let t = p.traversal.clone();
             let program = crate::view::program(&data, &t, &p.settings).map_err(view_render_error)?;
             let scene_json: Value = serde_json::from_str(&crate::scene::format::to_json(&scene)).unwrap_or(Value::Null);
             (program, p.settings, t, r.color.clone(), json!({ "scene": scene_json, "params": [], "new_params": [], "scene_features": data.features }))
@@ -216,7 +216,7 @@ impl Backend {
         let scene = self.scene(body)?;
         let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
         let buffers = crate::view::field_buffers(&p.lin.field_data());
-        let t = Traversal::Sphere(p.options.clone());
+        let t = p.traversal.clone();
         let uniforms = crate::view::program::uniforms(&t, &p.settings).map_err(|e| bad(super::error::render_error(e)))?;
         Ok(json!({
             "buffers": buffers,
@@ -246,7 +246,7 @@ impl Backend {
             let scene = self.scene(body)?;
             let p = super::scene_render::plan(&r, &scene, std::path::Path::new(&args[0])).map_err(bad)?;
             let data = p.lin.field_data();
-            let renderer = crate::gpu::Renderer::new(gpu, &data, Traversal::Sphere(p.options)).map_err(view_render_error)?;
+            let renderer = crate::gpu::Renderer::new(gpu, &data, p.traversal).map_err(view_render_error)?;
             let mut f = renderer.render(&p.settings).map_err(view_render_error)?;
             crate::output::recolor(&mut f, p.color);
             f

@@ -115,18 +115,7 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[
     let src = crate::field::scene::scene_eval_shader(scene.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (scene)", &src, Author::Isotrace)?;
-    let (_nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
-    let (_params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
-    let group = gpu.scoped("scene bind group", || {
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scene"),
-            layout: &pipeline.get_bind_group_layout(1),
-            entries: &[
-                wgpu::BindGroupEntry { binding: crate::field::scene::source::NODES.binding, resource: wgpu::BindingResource::TextureView(&node_view) },
-                wgpu::BindGroupEntry { binding: crate::field::scene::source::PARAMS.binding, resource: wgpu::BindingResource::TextureView(&param_view) },
-            ],
-        })
-    })?;
+    let (_nodes, _params, group) = scene_group(gpu, &pipeline, scene, &[])?;
     let boxes: Vec<Box8> = points.iter().map(|p| [p[0], p[0], p[1], p[1], p[2], p[2], 0.0, 0.0]).collect();
     let mut out = Vec::with_capacity(points.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
@@ -134,6 +123,52 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[
         out.extend(run_chunk_with(gpu, &pipeline, part, &[], Some(&group))?.into_iter().map(|v| v[0]));
     }
     Ok(out)
+}
+
+/// Encloses a scene's field over every box by the device's interval
+/// interpreter (bisection's `surf_ia`, whole tree): the checks of its
+/// enclosures against f64 sampling of the reference.
+#[cfg(test)]
+pub fn eval_boxes_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box8]) -> Result<Vec<[f32; 2]>, EvalError> {
+    if boxes.is_empty() {
+        return Ok(vec![]);
+    }
+    let src = crate::field::scene::scene_enclosure_shader(scene.features);
+    validate(&src)?;
+    let pipeline = gpu.pipeline("isotrace eval (scene enclosures)", &src, Author::Isotrace)?;
+    // The pruned trees the enclosure may read: none, the whole tree is evaluated.
+    let pruned = crate::field::Texels { width: 1, height: 1, texels: vec![0u32] };
+    let (_pruned, pruned_view) = gpu.texture("scene pruned trees", &pruned, wgpu::TextureFormat::R32Uint)?;
+    let extra = [wgpu::BindGroupEntry { binding: crate::field::scene::source::PRUNED_TEXELS.binding, resource: wgpu::BindingResource::TextureView(&pruned_view) }];
+    let (_nodes, _params, group) = scene_group(gpu, &pipeline, scene, &extra)?;
+    let mut out = Vec::with_capacity(boxes.len());
+    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
+    for part in boxes.chunks(chunk) {
+        out.extend(run_chunk_with(gpu, &pipeline, part, &[], Some(&group))?);
+    }
+    Ok(out)
+}
+
+/// The field group of an `eval` kernel over a scene: its node and
+/// parameter textures (kept alive with the group).
+fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field::SceneData, extra: &[wgpu::BindGroupEntry<'_>]) -> Result<(wgpu::Texture, wgpu::Texture, wgpu::BindGroup), EvalError> {
+    let (nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
+    let (params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
+    let group = gpu.scoped("scene bind group", || {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[
+                &[
+                    wgpu::BindGroupEntry { binding: crate::field::scene::source::NODES.binding, resource: wgpu::BindingResource::TextureView(&node_view) },
+                    wgpu::BindGroupEntry { binding: crate::field::scene::source::PARAMS.binding, resource: wgpu::BindingResource::TextureView(&param_view) },
+                ][..],
+                extra,
+            ]
+            .concat(),
+        })
+    })?;
+    Ok((nodes, params, group))
 }
 
 /// A cell of a ray for [`eval_ray_cells`]: the ray o + dir·s, the start

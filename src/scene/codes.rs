@@ -291,6 +291,20 @@ pub fn wgsl_primitive_cases() -> String {
     s
 }
 
+/// The enclosures of the primitive types whose field is not a distance
+/// (`primitive_enclosures` in `scene_shape_ia`,
+/// templates/fields/scene_enclosure.wgsl), each compiled where the scene
+/// has its feature; the others are enclosed by their centred form.
+pub fn wgsl_primitive_enclosures() -> String {
+    let mut s = String::new();
+    for t in crate::sdf::primitive::TYPES {
+        if let Some(code) = t.wgsl.and_then(|c| c.enclosure) {
+            s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{code}    }}\n", t.scene_name.to_uppercase());
+        }
+    }
+    s
+}
+
 /// The first and last type codes of the joins.
 fn join_codes() -> (u32, u32) {
     let codes = crate::sdf::join::TYPES.iter().flat_map(|t| (0..t.scene_names.len() as u32).map(|k| t.code + k));
@@ -315,6 +329,30 @@ pub fn wgsl_unary_cases() -> String {
         }
     }
     s
+}
+
+/// The enclosures of the unary types (`unary_enclosures` in
+/// `scene_unary_ia`, templates/fields/scene_enclosure.wgsl), as
+/// [`wgsl_unary_cases`] places their cases.
+pub fn wgsl_unary_enclosures() -> String {
+    let mut s = String::new();
+    for t in crate::sdf::unary::TYPES {
+        match t.wgsl.feature {
+            0 => s += t.wgsl.enclosure,
+            _ => s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.name().to_uppercase(), t.wgsl.enclosure),
+        }
+    }
+    s
+}
+
+/// `scene_noise_ia(b, f)`: [`wgsl_noise`] over a box, each wave's phase
+/// by `scene_dot_ia` and its sine by the IA library's.
+pub fn wgsl_noise_ia() -> String {
+    let terms: Vec<String> = crate::sdf::NOISE_WAVES
+        .iter()
+        .map(|&(a, m, w, phase)| format!("ia_scale(ia_sin(ia_scale(scene_dot_ia(vec3<f32>({:?}, {:?}, {:?}), b), f * {m:?}) + {phase:?}), {w:?})", a[0], a[1], a[2]))
+        .collect();
+    format!("fn scene_noise_ia(b: SceneBox, f: f32) -> vec2<f32> {{\n    return {};\n}}\n", terms.join("\n        + "))
 }
 
 /// `scene_noise(p, f)`, the displacement's pseudo-noise

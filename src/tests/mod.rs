@@ -26,6 +26,7 @@ mod root_search;
 mod scene_common;
 mod sdf_common;
 mod scene_cone;
+mod scene_enclosures;
 mod scene_format;
 mod scene_gpu;
 mod scene_join_types;

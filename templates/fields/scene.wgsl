@@ -327,7 +327,13 @@ fn scene_find_slab(z: f32) {
 
 fn field_enter_pixel(px: vec2<u32>) {
     let t = (px - F.tile_origin) / 8u;
-    g_scene_tile = t.y * ((F.tile_size.x + 7u) / 8u) + t.x;
+    scene_enter_tile(t.y * ((F.tile_size.x + 7u) / 8u) + t.x);
+}
+
+// Makes tile t's slab table and its first slab's pruned tree the ones
+// evaluated (the whole tree for a tile without a table).
+fn scene_enter_tile(t: u32) {
+    g_scene_tile = t;
     let tb = g_scene_tile * SCENE_PRUNED_MAX;
     let slabs = scene_pruned_node(tb);
     if (slabs == 0u) {
@@ -424,10 +430,6 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
 // SCENE_WHOLE_TREE) the whole tree.
 fn scene_pruned_len() -> u32 { return g_scene_len; }
 
-// The scene bounds its own work by the traversal's guard (field_cost):
-// it never gives up on an evaluation.
-fn field_exhausted() -> bool { return false; }
-
 // Loop iterations one evaluation costs: its nodes.
 fn field_cost() -> u32 {
     let len = scene_pruned_len();
@@ -501,7 +503,7 @@ fn field(p: vec3<f32>) -> f32 {
     // on SIMD lanes): a union tile's entries are leaves with a fused union.
     let own = g_ray_own;
     let fuse = select(0u, NODE_UNION << SCENE_ENTRY_ROW_BITS, scene_union());
-    let steps = select(n, g_ray_len, own);
+    let steps = scene_admit(select(n, g_ray_len, own));
     var sp = 0u;
     var top = F.inf;
     var j = 0u;

@@ -42,38 +42,122 @@ pub const SCENE_UNION_MAX: u32 = 64;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_prune"];
 
-/// The scene interpreter (templates/fields/scene.wgsl) with its constants,
-/// the code of the node types in `features` and, with `sync`, its side of
-/// the synchronised tile walk.
-pub(crate) fn scene_interpreter(features: u32, sync: bool) -> String {
+/// Rounds of bisection's per-pixel pass after the first over a scene: a
+/// pixel whose cells need more of the interpreter than the loop cap leaves
+/// one dispatch resumes in the next.
+pub const SCENE_RESUME_ROUNDS: u32 = 7;
+
+/// What the interpreter is assembled for: the traversal's side of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SceneKernel {
+    /// Sphere tracing (or the `eval` kernel): the scalar field, its work
+    /// bounded by the traversal's own guard; with `sync`, the synchronised
+    /// tile walk.
+    Sphere { sync: bool },
+    /// Bisection: the scalar field and its interval enclosures
+    /// (templates/fields/scene_enclosure.wgsl), one slab a tile, the work
+    /// counted per SIMD bundle with `bundle` (subgroup operations), else per
+    /// invocation.
+    Bisect { bundle: bool },
+}
+
+/// Sphere tracing stops before lavapipe's loop cap itself (field_cost):
+/// an evaluation never gives up.
+const UNCOUNTED_WORK: &str = "fn scene_admit(n: u32) -> u32 { return n; }\nfn field_exhausted() -> bool { return false; }\n";
+
+/// Bisection's budget: an evaluation past the work limit runs no node, its
+/// enclosure is the whole line and its pixel is suspended or reported
+/// (field_exhausted), as a tape's (`crate::field::limits`).
+fn counted_work(bundle: bool) -> String {
+    use crate::field::limits::*;
+    let count = if bundle {
+        format!(
+            "const TAPE_BUNDLE_LIMIT: u32 = {TAPE_BUNDLE_LIMIT}u;\n{BUNDLE_WORK_WGSL}\
+             fn scene_admits(n: u32) -> bool {{ return bundle_admits(n); }}\n\
+             fn scene_tile_pass_limit() {{ g_work_limit = {TAPE_TILE_PASS_BUNDLE_LIMIT}u; }}\n"
+        )
+    } else {
+        format!(
+            "fn field_entry(li: u32) {{}}\nvar<private> g_work_limit: u32 = {TAPE_WORK_LIMIT}u;\n\
+             fn scene_admits(n: u32) -> bool {{ return g_field_work + n <= g_work_limit; }}\n\
+             fn scene_tile_pass_limit() {{ g_work_limit = {TAPE_TILE_PASS_WORK_LIMIT}u; }}\n"
+        )
+    };
     format!(
+        "{count}// Set when an evaluation was refused for the work limit.\nvar<private> g_scene_exhausted: bool;\n\
+         fn scene_admit(n: u32) -> u32 {{\n    let ok = scene_admits(n);\n    g_scene_exhausted = g_scene_exhausted || !ok;\n    return select(0u, n, ok);\n}}\n\
+         fn field_exhausted() -> bool {{ return g_scene_exhausted; }}\n"
+    )
+}
+
+/// The scene interpreter (templates/fields/scene.wgsl) with its constants,
+/// the code of the node types in `features` and the traversal's side of it
+/// (`kernel`).
+pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
+    let (sync, slabs, work) = match kernel {
+        SceneKernel::Sphere { sync } => (sync, SCENE_SLABS_MAX, UNCOUNTED_WORK.to_string()),
+        // A cell may span the depths of several slabs: one pruned tree a tile.
+        SceneKernel::Bisect { bundle } => (false, 1, counted_work(bundle)),
+    };
+    let mut out = format!(
         "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_PRUNED_MAX: u32 = {SCENE_PRUNED_MAX}u;\n\
          const SCENE_PRUNED_TEX_WIDTH: u32 = {SCENE_PRUNED_TEX_WIDTH}u;\n\
-         const SCENE_WHOLE_TREE: u32 = {SCENE_WHOLE_TREE}u;\nconst SCENE_SLABS_MAX: u32 = {SCENE_SLABS_MAX}u;\n\
+         const SCENE_WHOLE_TREE: u32 = {SCENE_WHOLE_TREE}u;\nconst SCENE_SLABS_MAX: u32 = {slabs}u;\n\
          const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n\
-         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}{}\n{}\n{}",
+         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}{}{work}\n{}\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
         source::interpreter_declarations(),
         template::splice(template::SCENE, &[("primitive_cases", &crate::scene::linear::wgsl_primitive_cases()), ("unary_cases", &crate::scene::linear::wgsl_unary_cases()), ("join_cases", &crate::scene::linear::wgsl_join_cases())]).expect("the scene template has its marker"),
         template::SCENE_SHAPES,
         template::optional(template::SCENE_SYNC, sync),
-    )
+    );
+    if let SceneKernel::Bisect { .. } = kernel {
+        out.push_str(&scene_enclosures());
+    }
+    out
 }
+
+/// The interval interpreter (templates/fields/scene_enclosure.wgsl) with
+/// the IA library, the node types' enclosures, the noise on intervals and
+/// the ray segment and slab enclosures bisection calls.
+fn scene_enclosures() -> String {
+    use crate::ir::Domain;
+    let enclosure = template::splice(
+        template::SCENE_ENCLOSURE,
+        &[("primitive_enclosures", &crate::scene::linear::wgsl_primitive_enclosures()), ("unary_enclosures", &crate::scene::linear::wgsl_unary_enclosures())],
+    )
+    .expect("the enclosure template has its markers");
+    format!("{}\n{}{enclosure}\n{}", crate::codegen::libraries(&[Domain::Interval]), crate::scene::linear::wgsl_noise_ia(), crate::field::compiled::enclosures(Domain::Interval, false))
+}
+
+/// The render kernel's frame block in the `eval` kernels over a scene: the
+/// few fields the interpreter's unused tile functions name.
+const SCENE_EVAL_FRAME: &str = "struct SceneEvalFrame { eye: vec4<f32>, forward: vec4<f32>, inf: f32, time: f32, tile_origin: vec2<u32>, tile_size: vec2<u32> }\n\
+    var<private> F: SceneEvalFrame;\nvar<private> g_field_work: u32;\n";
 
 /// The `eval` kernel over a scene: the interpreter runs the whole tree at
 /// each point (the box's low corner), as secondary rays do. The hook the
 /// scene tests use to check the device's interpreter against the f64
-/// reference at random points. The render kernel's frame block is replaced
-/// by the few fields the interpreter's unused tile functions name.
+/// reference at random points.
 pub fn scene_eval_shader(features: u32) -> String {
     use crate::layout::GpuBlock;
-    let frame = "struct SceneEvalFrame { eye: vec4<f32>, forward: vec4<f32>, inf: f32, tile_origin: vec2<u32>, tile_size: vec2<u32> }\n\
-                 var<private> F: SceneEvalFrame;\nvar<private> g_field_work: u32;\n";
     let eval = "fn scene_eval_point(p: vec3<f32>) -> f32 {\n    var sp = 0u;\n    var top = iso_inf();\n    \
                 for (var j = 0u; j < scene_node_count(); j = j + 1u) { scene_step(scene_entry(j), p, &sp, &top); }\n    return top;\n}\n";
-    let evaluator = format!("{frame}{}\n{eval}", scene_interpreter(features, false));
+    let evaluator = format!("{SCENE_EVAL_FRAME}{}\n{eval}", scene_interpreter(features, SceneKernel::Sphere { sync: false }));
     let call = "    let v = scene_eval_point(vec3<f32>(x.x, y.x, z.x));\n    return vec2<f32>(v, v);";
     template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
 }
 
+
+/// The `eval` kernel of a scene's interval enclosures over boxes: bisection's
+/// `surf_ia` over the whole tree, with its work limit per invocation (an
+/// evaluation refused for it gives the whole line). The hook the scene
+/// tests use to check enclosures against f64 sampling of the reference.
+#[cfg(test)]
+pub fn scene_enclosure_shader(features: u32) -> String {
+    use crate::layout::GpuBlock;
+    let evaluator = format!("{SCENE_EVAL_FRAME}{}", scene_interpreter(features, SceneKernel::Bisect { bundle: false }));
+    let call = "    F.inf = iso_inf();\n    return surf_ia(x, y, z, t);";
+    template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
+}

@@ -2,7 +2,7 @@
 //! textures, primitives and bounding balls as buffers, and the per-tile
 //! lists and pruned node lists its two passes build every dispatch.
 
-use super::{SceneData, SCENE_PASSES, SCENE_TILE_MAX, SCENE_PRUNED_MAX, SCENE_PRUNED_TEX_WIDTH};
+use super::{SceneData, SceneKernel, SCENE_PASSES, SCENE_TILE_MAX, SCENE_PRUNED_MAX, SCENE_PRUNED_TEX_WIDTH};
 use crate::bindings::{Binding, Copy, Groups, Size, Slot, Stage, Statistics, TexelFormat, FIELD_GROUP};
 use crate::field::{BindingRequest, CodeRequest, FieldEdit, FieldSource, FieldWrite, Refusal};
 use crate::scene::linear::ScenePatch;
@@ -44,8 +44,15 @@ impl FieldSource for SceneData {
         "scene"
     }
 
+    /// Bisecting, the interpreter runs on intervals too, in IA whatever the
+    /// domain asked (a scene's nodes have no affine forms; the CLI refuses
+    /// `--algebra raa` for scenes).
     fn code(&self, r: &CodeRequest<'_>) -> String {
-        format!("{}\n{}{}", super::scene_interpreter(self.features, r.sync), tile_declarations(), crate::codegen::template::SCENE_TILES)
+        let kernel = match r.domain {
+            Some(_) => SceneKernel::Bisect { bundle: r.bundle },
+            None => SceneKernel::Sphere { sync: r.sync },
+        };
+        format!("{}\n{}{}", super::scene_interpreter(self.features, kernel), tile_declarations(), crate::codegen::template::SCENE_TILES)
     }
 
     fn bindings(&self, _: &BindingRequest) -> Vec<Binding> {
@@ -76,9 +83,24 @@ impl FieldSource for SceneData {
         ]
     }
 
-    /// None: a scene is sphere traced.
+    /// Interval enclosures of every node type
+    /// (templates/fields/scene_enclosure.wgsl).
     fn has_enclosures(&self) -> bool {
-        false
+        true
+    }
+
+    /// Bisecting, a cell's scalar work runs from one call site of the
+    /// interpreter, in rounds that resume pixels past the work limit.
+    fn cells_resume(&self) -> bool {
+        true
+    }
+
+    fn resume_rounds(&self) -> u32 {
+        super::SCENE_RESUME_ROUNDS
+    }
+
+    fn shares_loop_cap(&self) -> Option<&'static str> {
+        Some("a scene field (its interpreter shares")
     }
 
     fn features(&self) -> u32 {

@@ -54,6 +54,7 @@ pub static CONE: PrimitiveType = PrimitiveType {
         let dc = sign(outside) * sqrt(min(min(dot(bottom, bottom), dot(top, top)), dot(side, side)));
         d = select(d, dc, form == FORM_CONE);
 ",
+        enclosure: None,
     }),
     expand,
 };

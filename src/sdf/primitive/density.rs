@@ -57,6 +57,19 @@ pub static DENSITY: PrimitiveType = PrimitiveType {
         let k = max(1.0 - t * t, 0.0);
         d = select(d, r2.z * (1.0 - k * k * k / r2.w) + max(dd - r2.x, 0.0), form == FORM_DENSITY);
 ",
+        // The value is nondecreasing in the distance dd to the segment: it
+        // runs between its values at the box's nearest and farthest dd.
+        enclosure: Some("        let ql = scene_local_box(r0, r1, b);
+        let lo = scene_lo(ql);
+        let hi = scene_hi(ql);
+        let dz = vec2<f32>(lo.z - clamp(lo.z, -r2.y, r2.y), hi.z - clamp(hi.z, -r2.y, r2.y));
+        let dd2 = ia_sqr(vec2<f32>(lo.x, hi.x)) + ia_sqr(vec2<f32>(lo.y, hi.y)) + ia_sqr(dz);
+        let dd = sqrt(max(dd2, vec2<f32>(0.0))) * vec2<f32>(1.0 - 1e-6, 1.0 + 1e-6);
+        let tt = dd / r2.x;
+        let kk = max(1.0 - tt * tt, vec2<f32>(0.0));
+        let dv = r2.z * (1.0 - kk * kk * kk / r2.w) + max(dd - r2.x, vec2<f32>(0.0));
+        e = select(e, ia_pad(dv, 1e-6 * r2.z, 1e-6) / dot(r0, r0), form == FORM_DENSITY);
+"),
     }),
     expand,
 };

@@ -333,6 +333,14 @@ pub struct WgslCase {
     /// FORM_<NAME>`, reading the local point `q`, row 2 `r2`, the record's
     /// first row `o` and whether the node is a `leaf`.
     pub code: &'static str,
+    /// For a type whose local field is not 1-Lipschitz (the others are
+    /// enclosed by their value at a box's centre plus or minus its
+    /// half-diagonal), its interval enclosure for bisection
+    /// (templates/fields/scene_enclosure.wgsl, `scene_shape_ia`): statements,
+    /// indented by 8, that set the range `e` where `form == FORM_<NAME>`,
+    /// reading the box `b` (a `SceneBox` in the frame's input), the rows
+    /// `r0`, `r1`, `r2` and `o`; `scene_local_box(r0, r1, b)` is the local box.
+    pub enclosure: Option<&'static str>,
 }
 
 /// Where an expansion stopped: the semantic pass's error is kept aside

@@ -39,7 +39,12 @@ pub static DISPLACE: UnaryType = UnaryType {
     lipschitz_increase: |v| v[0] * v[1] * NOISE_GRADIENT,
     moved: None,
     row: |v| [v[0], v[1], 0.0, 0.0],
-    wgsl: UnaryCase { feature: FEATURE_DISPLACE, code: "        r = select(r, v + k.x * scene_noise(p, k.y), ty == NODE_DISPLACE);\n" },
+    wgsl: UnaryCase {
+        feature: FEATURE_DISPLACE,
+        code: "        r = select(r, v + k.x * scene_noise(p, k.y), ty == NODE_DISPLACE);\n",
+        // a >= 0: the noise's range scaled keeps its order.
+        enclosure: "        r = select(r, v + k.x * scene_noise_ia(b, k.y), ty == NODE_DISPLACE);\n",
+    },
     expand,
 };
 

@@ -49,6 +49,15 @@ pub static INFILL: UnaryType = UnaryType {
         let g = sin(q.x) * cos(q.y) + sin(q.y) * cos(q.z) + sin(q.z) * cos(q.x);
         r = select(r, max(v, abs(g) * k.z - k.y), ty == NODE_INFILL);
 ",
+        // The gyroid over the box by interval sines and cosines (k.x > 0).
+        enclosure: "        let lo = scene_lo(b) * k.x;
+        let hi = scene_hi(b) * k.x;
+        let gx = vec2<f32>(lo.x, hi.x);
+        let gy = vec2<f32>(lo.y, hi.y);
+        let gz = vec2<f32>(lo.z, hi.z);
+        let g = ia_mul(ia_sin(gx), ia_cos(gy)) + ia_mul(ia_sin(gy), ia_cos(gz)) + ia_mul(ia_sin(gz), ia_cos(gx));
+        r = select(r, max(v, ia_pad(ia_abs(g) * k.z - k.y, 1e-6, 1e-6)), ty == NODE_INFILL);
+",
     },
     expand,
 };

@@ -95,6 +95,11 @@ pub struct UnaryCase {
     /// where `ty == NODE_<NAME>`, reading the operand's value `v`, the
     /// point `p` and the row `k`.
     pub code: &'static str,
+    /// Its interval enclosure for bisection (`scene_unary_ia`,
+    /// templates/fields/scene_enclosure.wgsl): statements, indented as
+    /// `code`, that set the range `r` where `ty == NODE_<NAME>`, reading the
+    /// operand's range `v`, the box `b` (a `SceneBox`) and the row `k`.
+    pub enclosure: &'static str,
 }
 
 impl UnaryType {

@@ -25,7 +25,7 @@ pub static OFFSET: UnaryType = UnaryType {
     lipschitz_increase: |_| 0.0,
     moved: Some(scaled),
     row: |v| [v[0], 0.0, 0.0, 0.0],
-    wgsl: UnaryCase { feature: 0, code: "    r = select(r, v - k.x, ty == NODE_OFFSET);\n" },
+    wgsl: UnaryCase { feature: 0, code: "    r = select(r, v - k.x, ty == NODE_OFFSET);\n", enclosure: "    r = select(r, v - k.x, ty == NODE_OFFSET);\n" },
     expand,
 };
 

@@ -29,7 +29,7 @@ pub static SHELL: UnaryType = UnaryType {
     lipschitz_increase: |_| 0.0,
     moved: Some(scaled),
     row: |v| [0.5 * v[0], 0.0, 0.0, 0.0],
-    wgsl: UnaryCase { feature: 0, code: "    r = select(r, abs(v) - k.x, ty == NODE_SHELL);\n" },
+    wgsl: UnaryCase { feature: 0, code: "    r = select(r, abs(v) - k.x, ty == NODE_SHELL);\n", enclosure: "    r = select(r, ia_abs(v) - k.x, ty == NODE_SHELL);\n" },
     expand,
 };
 
