@@ -227,3 +227,119 @@ fn bisected_scenes_draw_what_the_compiled_formula_and_sphere_tracing_draw() {
         assert!(hits > 300 && differ * 20 <= hits, "{k}: {differ} pixels of {hits} hits differ from the compiled formula's");
     }
 }
+
+/// The scene of `nodes` (JSON array entries) with root `root`.
+fn scene_of(nodes: &[String], root: usize) -> Scene {
+    format::parse(&format!("{{\"isotrace_scene\": 1, \"root\": {root}, \"nodes\": [{}]}}", nodes.join(", "))).unwrap()
+}
+
+/// A shell 1e-4 thick around a unit sphere (far thinner than eps) and a
+/// grid of balls half a pixel across: every pixel whose ray meets one of
+/// them (analytically) is a hit, at the depth of its front, within eps.
+/// Bisection proves a cell empty before it skips it, so no feature of any
+/// thinness is lost between samples.
+#[test]
+fn thin_shells_and_half_pixel_balls_are_found() {
+    use crate::render::Status;
+    use glam::DVec3;
+    let (w, h) = (160, 120);
+    let s = super::common::settings(super::common::cube(2.0), w, h);
+    let cf = s.camera.frame().unwrap();
+    let eye = s.camera.eye;
+    let foot = |c: DVec3| 2.0 * cf.tan_half_fov * (c - eye).length() / f64::from(h);
+    let balls: Vec<(DVec3, f64)> = (0..40).map(|i| DVec3::new(-1.75 + 0.5 * f64::from(i % 8), -1.9 + 0.15 * f64::from(i / 8), 0.3)).map(|c| (c, 0.25 * foot(c))).collect();
+    let mut nodes = vec![r#"{"type": "sphere", "radius": 1.0}"#.to_string(), r#"{"type": "shell", "child": 0, "thickness": 0.0001}"#.to_string()];
+    for (k, (c, r)) in balls.iter().enumerate() {
+        nodes.push(format!(r#"{{"type": "sphere", "radius": {r}, "translate": [{}, {}, {}]}}"#, c.x, c.y, c.z));
+        let left = if k == 0 { 1 } else { nodes.len() - 2 };
+        nodes.push(format!(r#"{{"type": "union", "left": {left}, "right": {}}}"#, nodes.len() - 1));
+    }
+    let scene = scene_of(&nodes, nodes.len() - 1);
+    let data = Linear::new(&scene).unwrap().field_data();
+    let frame = crate::gpu::Renderer::new(gpu(), &data, bisect_ia()).unwrap().render(&s).unwrap();
+    let (mut shell, mut small) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let d = crate::render::Camera::ray(&cf, i, j, w, h);
+            let p = frame.pixels[(j * w + i) as usize];
+            let front = super::scene_pictures::ray_ball(eye, d, DVec3::ZERO, 1.0 + 1e-4).map(|t| t.0);
+            let past_rim = ((eye - d * eye.dot(d)).length() - 1.0) < -2.0 * foot(DVec3::ZERO);
+            if let (Some(t), true) = (front, past_rim) {
+                assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the shell at {t}");
+                assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps, "pixel ({i}, {j}): depth {} against the shell's {t}", p.depth);
+                shell += 1;
+            }
+            for &(c, r) in &balls {
+                if let Some((t, _)) = super::scene_pictures::ray_ball(eye, d, c, r) {
+                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the ball at {c} (radius {r:.2e})");
+                    assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps, "pixel ({i}, {j}): depth {} against the ball's {t}", p.depth);
+                    small += 1;
+                }
+            }
+        }
+    }
+    assert!(shell > 2000 && small >= 3, "{shell} shell pixels, {small} ball pixels checked");
+}
+
+/// Two density blobs whose sum's iso-surface narrows to a neck a few
+/// hundredths across (a field that is no distance: sphere tracing steps by
+/// a bound of its slope): every pixel whose ray crosses the neck's region
+/// and meets the reference's surface (dense f64 sampling) is a hit at its
+/// depth, and every other pixel of that region misses.
+#[test]
+fn a_thin_neck_between_density_blobs_is_found() {
+    use crate::render::Status;
+    use glam::DVec3;
+    let (w, h) = (160, 120);
+    // (1 - (a/R)^2)^3 = 0.2505 at the midpoint: the sum is just above the
+    // isovalue 0.5 there.
+    let (radius, a) = (0.6, 0.6 * (1.0 - 0.2505f64.cbrt()).sqrt());
+    let nodes = [
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "translate": [{}, 0, 0]}}"#, -a),
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "translate": [{a}, 0, 0]}}"#),
+        r#"{"type": "sum_union", "left": 0, "right": 1}"#.to_string(),
+    ];
+    let scene = scene_of(&nodes, 2);
+    let neck = [0.0, 0.0, 0.0];
+    assert!(scene.eval(neck) < 0.0 && scene.eval([0.0, 0.05, 0.0]) > 0.0, "the neck is thinner than 0.1");
+    let data = Linear::new(&scene).unwrap().field_data();
+    let s = super::common::settings(super::common::cube(1.0), w, h);
+    let frame = crate::gpu::Renderer::new(gpu(), &data, bisect_ia()).unwrap().render(&s).unwrap();
+    let cf = s.camera.frame().unwrap();
+    let eye = s.camera.eye;
+    let (mut hits, mut misses) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let d = crate::render::Camera::ray(&cf, i, j, w, h);
+            // The rays through the neck's region: within 0.08 of the y-z plane at the blobs.
+            let Some((t0, t1)) = super::scene_pictures::ray_ball(eye, d, DVec3::ZERO, 0.15) else { continue };
+            let p = frame.pixels[(j * w + i) as usize];
+            let mut prev = scene.eval((eye + d * (t0 - 1.0)).to_array()) <= 0.0;
+            let mut root = None;
+            let mut t = t0 - 1.0;
+            while t < t1 + 1.0 && root.is_none() {
+                t += 2e-4;
+                let inside = scene.eval((eye + d * t).to_array()) <= 0.0;
+                if inside != prev {
+                    root = Some(t);
+                }
+                prev = inside;
+            }
+            let foot = 2.0 * cf.tan_half_fov * t0 / f64::from(h);
+            match root {
+                Some(t) => {
+                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the surface at {t}");
+                    assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps + foot, "pixel ({i}, {j}): depth {} against {t}", p.depth);
+                    hits += 1;
+                }
+                // Grazing rays may go either way.
+                None if p.status == Status::Hit => {
+                    let v = scene.eval((eye + d * f64::from(p.depth)).to_array());
+                    assert!(v.abs() <= 2.0 * s.eps, "pixel ({i}, {j}): hit at {} where the reference is {v}", p.depth);
+                }
+                None => misses += 1,
+            }
+        }
+    }
+    assert!(hits > 100, "{hits} hits, {misses} misses checked");
+}

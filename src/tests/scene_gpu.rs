@@ -60,9 +60,18 @@ fn scene_edits_change_buffers_not_pipelines() {
     assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
     let changed = before.pixels.iter().zip(&moved.pixels).filter(|(a, b)| a.status != b.status).count();
     assert!(changed > 20, "{changed}");
-    // A scene is sphere traced: asking to bisect it is a typed error.
-    let err = Renderer::new(gpu(), &data, Traversal::Bisect(crate::render::BisectOptions::new(crate::ir::Domain::Interval)));
-    assert!(err.is_err());
+    // Bisected, an edit is a buffer update too, and draws what a new
+    // renderer of the edited scene draws.
+    let bisect = || Traversal::Bisect(crate::render::BisectOptions::new(crate::ir::Domain::Interval));
+    let mut b = Renderer::new(&own, &data, bisect()).unwrap();
+    b.render(&s).unwrap();
+    let created = own.pipelines_created.load(Ordering::Relaxed);
+    b.set_field(&sphere_and_box(-1.5)).unwrap();
+    let edited = b.render(&s).unwrap();
+    assert_eq!(own.pipelines_created.load(Ordering::Relaxed), created);
+    let fresh = Renderer::new(gpu(), &sphere_and_box(-1.5), bisect()).unwrap().render(&s).unwrap();
+    assert!(edited.pixels.iter().zip(&fresh.pixels).all(|(a, b)| a.status == b.status && a.depth == b.depth));
+    assert!(edited.pixels.iter().zip(&before.pixels).filter(|(a, b)| a.status != b.status).count() > 20);
 }
 
 /// The scene with primitive `j` (in post-order primitive order) replaced.
