@@ -28,7 +28,7 @@
 
 use super::placement::Placement;
 use super::warp::WarpKind;
-use super::{Blend, Builder, Join, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
+use super::{Builder, Join, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
 use crate::sdf::{self, Form};
@@ -262,8 +262,6 @@ impl Walker<'_> {
     /// Transforms and operators.
     fn composite(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
         let moved = |t: Transform, s: Rc<Tree>| Ok(Rc::new(Tree::Moved(t, s)));
-        let sharp = Operator::sharp;
-        let smooth = |kind, beta: f64, range: f64| Operator::smooth(kind, Blend { beta, range });
         match form {
             Form::Translate => {
                 let translate = self.nums(a)?;
@@ -278,27 +276,19 @@ impl Walker<'_> {
                 let scale = self.num(&a[0])?;
                 moved(Transform { scale, ..Transform::default() }, self.shape(&a[1])?)
             }
-            Form::Union | Form::Intersect | Form::Subtract => {
-                let kind = op_kind(form);
+            Form::Operator(style, kind) => {
+                let n = style.operand_count(a.len());
                 let mut acc = self.shape(&a[0])?;
-                for e in &a[1..] {
-                    acc = Rc::new(Tree::Op(sharp(kind), acc, self.shape(e)?, span));
+                let mut rest = vec![];
+                for e in &a[1..n] {
+                    rest.push(self.shape(e)?);
+                }
+                let given: Vec<f64> = a[n..].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+                let op = Operator::styled(kind, style, &style.with_defaults(&given));
+                for r in rest {
+                    acc = Rc::new(Tree::Op(op, acc, r, span));
                 }
                 Ok(acc)
-            }
-            Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => {
-                let kind = op_kind(form);
-                let (l, r, k) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                Ok(Rc::new(Tree::Op(smooth(kind, k, super::operator::DEFAULT_RANGE_FACTOR * k), l, r, span)))
-            }
-            Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => {
-                let kind = op_kind(form);
-                let (l, r, beta) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                let range = match a.get(3) {
-                    Some(e) => self.num(e)?,
-                    None => super::operator::DEFAULT_RANGE_FACTOR * beta,
-                };
-                Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
             }
             Form::Join(t, kind) => {
                 let (l, r, size) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
@@ -331,15 +321,6 @@ impl Walker<'_> {
                 Err(not(format!("'{name}' has no blobtree node"), span))
             }
         }
-    }
-}
-
-/// Whether an operator form is a union, an intersection or a difference.
-fn op_kind(form: Form) -> OpKind {
-    match form {
-        Form::Intersect | Form::SmoothIntersect | Form::CompactIntersect => OpKind::Intersection,
-        Form::Subtract | Form::SmoothSubtract | Form::CompactSubtract => OpKind::Difference,
-        _ => OpKind::Union,
     }
 }
 
