@@ -28,9 +28,10 @@
 
 use super::placement::Placement;
 use super::warp::WarpKind;
-use super::{Builder, Join, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
+use super::{Builder, Join, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
+use crate::sdf::operator::OperatorStyle;
 use crate::sdf::{self, Form};
 use crate::syntax::ast::{BinOp, Call, Expr, ExprKind, Program};
 use glam::{DQuat, DVec3};
@@ -259,37 +260,11 @@ impl Walker<'_> {
         Ok(Rc::new(Tree::Leaf(Primitive::new(shape), span)))
     }
 
-    /// Transforms and operators.
+    /// Transforms, operators, warps, copies and unary forms.
     fn composite(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
-        let moved = |t: Transform, s: Rc<Tree>| Ok(Rc::new(Tree::Moved(t, s)));
         match form {
-            Form::Translate => {
-                let translate = self.nums(a)?;
-                moved(Transform { translate, ..Transform::default() }, self.shape(&a[3])?)
-            }
-            Form::Rotate => {
-                let [x, y, z, angle] = self.nums(a)?;
-                let rotate = Some(Rotation { axis: [x, y, z], angle });
-                moved(Transform { rotate, ..Transform::default() }, self.shape(&a[4])?)
-            }
-            Form::Scale => {
-                let scale = self.num(&a[0])?;
-                moved(Transform { scale, ..Transform::default() }, self.shape(&a[1])?)
-            }
-            Form::Operator(style, kind) => {
-                let n = style.operand_count(a.len());
-                let mut acc = self.shape(&a[0])?;
-                let mut rest = vec![];
-                for e in &a[1..n] {
-                    rest.push(self.shape(e)?);
-                }
-                let given: Vec<f64> = a[n..].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
-                let op = Operator::styled(kind, style, &style.with_defaults(&given));
-                for r in rest {
-                    acc = Rc::new(Tree::Op(op, acc, r, span));
-                }
-                Ok(acc)
-            }
+            Form::Translate | Form::Rotate | Form::Scale => self.transformed(form, a),
+            Form::Operator(style, kind) => self.operator(style, kind, a, span),
             Form::Join(t, kind) => {
                 let (l, r, size) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::from_size(t, size)), l, r, span)))
@@ -298,19 +273,7 @@ impl Walker<'_> {
                 let kind = if form == Form::Twist { WarpKind::Twist } else { WarpKind::Bend };
                 Ok(Rc::new(Tree::Warped(kind, self.num(&a[0])?, self.shape(&a[1])?, span)))
             }
-            Form::Repeat => {
-                let spacing: [f64; 3] = self.nums(a)?;
-                let counts: Vec<f64> = a[3..6].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
-                let n = sdf::repeat_counts(|k| Some(counts[k - 3]), |k, m| not(m, a[k].span))?;
-                Ok(copies(&Copies::Repeat { spacing, count: n }, self.shape(&a[6])?, span))
-            }
-            Form::Mirror => {
-                let n: [f64; 3] = self.nums(a)?;
-                if n == [0.0; 3] {
-                    return Err(not("the mirror plane's normal must not be zero", a[0].span));
-                }
-                Ok(copies(&Copies::Mirror { normal: n }, self.shape(&a[3])?, span))
-            }
+            Form::Repeat | Form::Mirror => self.copied(form, a, span),
             Form::Unary(t) => {
                 let n = t.param_count();
                 let v: Vec<f64> = a[..n].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
@@ -321,6 +284,53 @@ impl Walker<'_> {
                 Err(not(format!("'{name}' has no blobtree node"), span))
             }
         }
+    }
+
+    /// `translate`, `rotate` and `scale`: the shape under a transform, not
+    /// yet pushed to its leaves.
+    fn transformed(&mut self, form: Form, a: &[Expr]) -> Result<Rc<Tree>, NotBlobtree> {
+        let (t, shape) = match form {
+            Form::Translate => (Transform { translate: self.nums(a)?, ..Transform::default() }, &a[3]),
+            Form::Rotate => {
+                let [x, y, z, angle] = self.nums(a)?;
+                (Transform { rotate: Some(Rotation { axis: [x, y, z], angle }), ..Transform::default() }, &a[4])
+            }
+            _ => (Transform { scale: self.num(&a[0])?, ..Transform::default() }, &a[1]),
+        };
+        Ok(Rc::new(Tree::Moved(t, self.shape(shape)?)))
+    }
+
+    /// An operator style's form: its operands joined left to right by the
+    /// operator the scene keeps the style as, for the parameters given
+    /// (defaults for those left out).
+    fn operator(&mut self, style: &'static OperatorStyle, kind: OpKind, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
+        let n = style.operand_count(a.len());
+        let mut acc = self.shape(&a[0])?;
+        let mut rest = vec![];
+        for e in &a[1..n] {
+            rest.push(self.shape(e)?);
+        }
+        let given: Vec<f64> = a[n..].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+        let op = Operator::styled(kind, style, &style.with_defaults(&given));
+        for r in rest {
+            acc = Rc::new(Tree::Op(op, acc, r, span));
+        }
+        Ok(acc)
+    }
+
+    /// `repeat` and `mirror`: copies of the shape, a union.
+    fn copied(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
+        if form == Form::Mirror {
+            let n: [f64; 3] = self.nums(a)?;
+            if n == [0.0; 3] {
+                return Err(not("the mirror plane's normal must not be zero", a[0].span));
+            }
+            return Ok(copies(&Copies::Mirror { normal: n }, self.shape(&a[3])?, span));
+        }
+        let spacing: [f64; 3] = self.nums(a)?;
+        let counts: Vec<f64> = a[3..6].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+        let n = sdf::repeat_counts(|k| Some(counts[k - 3]), |k, m| not(m, a[k].span))?;
+        Ok(copies(&Copies::Repeat { spacing, count: n }, self.shape(&a[6])?, span))
     }
 }
 
