@@ -163,8 +163,9 @@ fn op_code(op: &Operator) -> u32 {
 }
 
 /// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …,
-/// the operator styles' `NODE_<NAME>` among them), then the `FORM_<NAME>` and `FEATURE_<NAME>` of the primitive types with
-/// a case of their own that the list does not name, the `NODE_<NAME>` of
+/// the operator styles' `NODE_<NAME>` among them), then the `FORM_<NAME>`
+/// and `FEATURE_<NAME>` of the primitive types with a case of their own
+/// that the list does not name, the `NODE_<NAME>` of
 /// the joins' operations and the range of their codes (`NODE_JOIN_FIRST`,
 /// `NODE_JOIN_LAST`), then the `NODE_<NAME>` and (where they have one)
 /// `FEATURE_<NAME>` of the unary types.

@@ -17,7 +17,9 @@
 //! formula text, lowering) read [`STYLES`] instead of matching on styles.
 //! Adding one is a file here and its line in [`STYLES`]; a style with scene
 //! nodes of its own also needs its model in `scene::Operator` (its two
-//! conversions `Operator::style` and `Operator::styled`). The edge blends
+//! conversions `Operator::typed` and `Operator::styled`) and, unless the
+//! interpreter's formula computes it from (β, r_o), a case of
+//! `scene_operator`. The edge blends
 //! other than G (chamfer, round, sum) are joins ([`super::join`]).
 
 use super::primitive::{Field, Invalid, Ir, Params, Stopped};
