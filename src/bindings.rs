@@ -190,12 +190,21 @@ pub struct Slot {
     pub read_only: bool,
     /// A sampled texture of this format instead of a buffer.
     pub texture: Option<TexelFormat>,
+    /// A uniform buffer instead of storage: the viewer's present pass
+    /// reads its block so (kernels read theirs from storage, whose size
+    /// rule is [`Size::Uniforms`]).
+    pub uniform: bool,
 }
 
 impl Slot {
     /// A storage buffer.
     pub const fn storage(binding: u32, name: &'static str, var: &'static str, wgsl: &'static str, read_only: bool) -> Slot {
-        Slot { binding, name, var, wgsl, read_only, texture: None }
+        Slot { binding, name, var, wgsl, read_only, texture: None, uniform: false }
+    }
+
+    /// A uniform buffer holding the block `wgsl` (its WGSL struct).
+    pub const fn uniform(binding: u32, name: &'static str, var: &'static str, wgsl: &'static str) -> Slot {
+        Slot { binding, name, var, wgsl, read_only: true, texture: None, uniform: true }
     }
 
     /// A sampled 2D texture.
@@ -204,15 +213,16 @@ impl Slot {
             TexelFormat::Rgba32Float => "texture_2d<f32>",
             TexelFormat::Rgba32Uint | TexelFormat::R32Uint => "texture_2d<u32>",
         };
-        Slot { binding, name, var, wgsl, read_only: true, texture: Some(format) }
+        Slot { binding, name, var, wgsl, read_only: true, texture: Some(format), uniform: false }
     }
 
     /// Its WGSL declaration in `group`.
     pub fn declaration(&self, group: u32) -> String {
-        let access = match (self.texture, self.read_only) {
-            (Some(_), _) => "",
-            (None, true) => "<storage, read>",
-            (None, false) => "<storage, read_write>",
+        let access = match (self.texture, self.uniform, self.read_only) {
+            (Some(_), _, _) => "",
+            (None, true, _) => "<uniform>",
+            (None, false, true) => "<storage, read>",
+            (None, false, false) => "<storage, read_write>",
         };
         format!("@group({group}) @binding({}) var{access} {}: {};\n", self.binding, self.var, self.wgsl)
     }

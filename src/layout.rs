@@ -208,7 +208,7 @@ gpu_block! {
         /// Full scale of the work heat map (`--color steps:MAX`).
         steps_max: u32 = "u32",
         /// 1: tint the pixels whose visible surface is the selected
-        /// primitive's (the selection's records at binding 2); 0: none.
+        /// primitive's (the selection's records); 0: none.
         highlight: u32 = "u32",
         /// Padding to 16 bytes.
         pad0: u32 = "u32",

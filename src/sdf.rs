@@ -35,14 +35,15 @@
 //! implements the same definitions, so each is stated once, in the
 //! [`FORMS`] table and the doc comment of its expansion; a primitive in
 //! its descriptor ([`primitive::TYPES`], a file each), which scenes read
-//! too, and so is a unary form ([`unary::TYPES`]).
+//! too, and so is a unary form ([`unary::TYPES`]) and an operator style
+//! ([`operator::STYLES`]).
 
 use crate::ir::{Func1, NodeId, Op};
 
 mod blend;
 mod build;
 pub mod join;
-mod operator;
+pub mod operator;
 pub mod primitive;
 pub mod profile;
 pub mod unary;
@@ -64,6 +65,9 @@ pub enum Form {
     Primitive(&'static primitive::PrimitiveType),
     /// A unary form: `offset(d, shape)`, `shell(t, shape)`, … ([`unary::TYPES`]).
     Unary(&'static unary::UnaryType),
+    /// An operator style's operation: `union(a, b, ...)`,
+    /// `smooth_union(a, b, k)`, … ([`operator::STYLES`]).
+    Operator(&'static operator::OperatorStyle, join::OpKind),
     /// A join of an operation: `chamfer_union(a, b, r)`, … ([`join::TYPES`]).
     Join(&'static join::JoinType, join::OpKind),
     /// `translate(dx, dy, dz, shape)`
@@ -72,24 +76,6 @@ pub enum Form {
     Rotate,
     /// `scale(s, shape)`, uniform, s > 0
     Scale,
-    /// `union(a, b, ...)`
-    Union,
-    /// `intersect(a, b, ...)`
-    Intersect,
-    /// `subtract(a, b, ...)`: a minus the others
-    Subtract,
-    /// `smooth_union(a, b, k)`
-    SmoothUnion,
-    /// `smooth_intersect(a, b, k)`
-    SmoothIntersect,
-    /// `smooth_subtract(a, b, k)`: a minus b
-    SmoothSubtract,
-    /// `compact_union(a, b, beta[, r_o])`: Zanni's compact G∪ (eq. 12, 17, 18)
-    CompactUnion,
-    /// `compact_intersect(a, b, beta[, r_o])`: G∩
-    CompactIntersect,
-    /// `compact_subtract(a, b, beta[, r_o])`: G\, a minus b
-    CompactSubtract,
     /// A 2D profile: `circle(r)`, `rect(hx, hy)`, … ([`profile::TYPES`]).
     Profile(&'static profile::ProfileType),
     /// `extrude(h, shape)`: a 2D shape extruded along z
@@ -135,24 +121,16 @@ pub struct Info {
     pub doc: &'static str,
 }
 
-/// Every form but the primitives, the profiles, the joins and the unary
-/// forms ([`primitive::TYPES`], [`profile::TYPES`], [`join::TYPES`] and
-/// [`unary::TYPES`] describe those), in documentation order.
+/// Every form but the primitives, the profiles, the operators, the joins
+/// and the unary forms ([`primitive::TYPES`], [`profile::TYPES`],
+/// [`operator::STYLES`], [`join::TYPES`] and [`unary::TYPES`] describe
+/// those), in documentation order.
 pub const FORMS: &[Info] = &[
     Info { name: "extrude", form: Form::Extrude, arity: Arity::Exactly(2), signature: "extrude(h, shape)", doc: "min(max(w.x, w.y), 0) + length(max(w, 0)), w = (shape, |z| - h), h > 0: a 2D shape extruded along z; exact for an exact 2D distance, L = 1 (the shape's)" },
     Info { name: "revolve", form: Form::Revolve, arity: Arity::Exactly(2), signature: "revolve(R, shape)", doc: "shape(sqrt(x^2 + y^2) - R, z, 0), R >= 0: a 2D shape revolved around the z axis; exact for an exact 2D distance not crossing the axis, L = 1 (the shape's)" },
     Info { name: "translate", form: Form::Translate, arity: Arity::Exactly(4), signature: "translate(dx, dy, dz, shape)", doc: "shape(p - d); an isometry, keeps L" },
     Info { name: "rotate", form: Form::Rotate, arity: Arity::Exactly(5), signature: "rotate(ax, ay, az, angle, shape)", doc: "shape rotated by angle (radians, right-handed) about the axis a through the origin; keeps L" },
     Info { name: "scale", form: Form::Scale, arity: Arity::Exactly(2), signature: "scale(s, shape)", doc: "s * shape(p / s), s > 0; keeps L" },
-    Info { name: "union", form: Form::Union, arity: Arity::AtLeast(2), signature: "union(a, b, ...)", doc: "min; L = max of the operands'" },
-    Info { name: "intersect", form: Form::Intersect, arity: Arity::AtLeast(2), signature: "intersect(a, b, ...)", doc: "max; L = max of the operands'" },
-    Info { name: "subtract", form: Form::Subtract, arity: Arity::AtLeast(2), signature: "subtract(a, b, ...)", doc: "max(a, -b, ...): a minus the others; L = max of the operands'" },
-    Info { name: "smooth_union", form: Form::SmoothUnion, arity: Arity::Exactly(3), signature: "smooth_union(a, b, k)", doc: "min(a, b) - d(a, b, k), d = k/6 max(1 - |a - b|/k, 0)^3 (Zanni eq. 8-9), k > 0; L = max of the operands'" },
-    Info { name: "smooth_intersect", form: Form::SmoothIntersect, arity: Arity::Exactly(3), signature: "smooth_intersect(a, b, k)", doc: "max(a, b) + d(a, b, k) (eq. 10); L = max of the operands'" },
-    Info { name: "smooth_subtract", form: Form::SmoothSubtract, arity: Arity::Exactly(3), signature: "smooth_subtract(a, b, k)", doc: "max(a, -b) + d(a, -b, k) (eq. 11); L = max of the operands'" },
-    Info { name: "compact_union", form: Form::CompactUnion, arity: Arity::Between(3, 4), signature: "compact_union(a, b, beta[, r_o])", doc: "Zanni's compact G (eq. 12, 17, 18): the blend of smooth_union, closed beyond r_o (default 2 beta, at least 7/6 beta); the same field as a scene's smooth_union; L = the operands' times 6 r_o/(6 r_o - beta)" },
-    Info { name: "compact_intersect", form: Form::CompactIntersect, arity: Arity::Between(3, 4), signature: "compact_intersect(a, b, beta[, r_o])", doc: "compact G of smooth_intersect, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
-    Info { name: "compact_subtract", form: Form::CompactSubtract, arity: Arity::Between(3, 4), signature: "compact_subtract(a, b, beta[, r_o])", doc: "compact G of smooth_subtract, sharp unless |a|, |b| <= r_o; L = the operands' times 6 r_o/(6 r_o - beta)" },
     Info { name: "repeat", form: Form::Repeat, arity: Arity::Exactly(7), signature: "repeat(sx, sy, sz, nx, ny, nz, shape)", doc: "the union of nx ny nz copies of shape translated by s (i - (n - 1)/2), a centred grid; n constant whole numbers >= 1, at most 4096 copies; keeps L" },
     Info { name: "mirror", form: Form::Mirror, arity: Arity::Exactly(4), signature: "mirror(nx, ny, nz, shape)", doc: "the union of shape and its reflection across the plane through the origin with normal n (n not zero); keeps L" },
     Info { name: "twist", form: Form::Twist, arity: Arity::Exactly(2), signature: "twist(k, shape)", doc: "shape(c x + s y, c y - s x, z), c = cos(k z), s = sin(k z): turned by k z radians about the z axis; L = the shape's times (a + sqrt(a^2 + 4))/2, a = |k| rho, rho the distance from the z axis: unbounded far from the axis, give --lipschitz" },
@@ -160,11 +138,12 @@ pub const FORMS: &[Info] = &[
 ];
 
 /// Every form: the primitives, the profiles, then [`FORMS`], then the
-/// joins' and the unary forms.
+/// operators', the joins' and the unary forms.
 pub fn forms() -> impl Iterator<Item = &'static Info> {
+    let operators = operator::STYLES.iter().flat_map(|t| &t.forms);
     let joins = join::TYPES.iter().flat_map(|t| t.forms);
     let profiles = profile::TYPES.iter().map(|t| &t.info);
-    primitive::TYPES.iter().map(|t| &t.info).chain(profiles).chain(FORMS).chain(joins).chain(unary::TYPES.iter().map(|t| &t.info))
+    primitive::TYPES.iter().map(|t| &t.info).chain(profiles).chain(FORMS).chain(operators).chain(joins).chain(unary::TYPES.iter().map(|t| &t.info))
 }
 
 /// The form called `name`, if any.
@@ -202,6 +181,7 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
     match form {
         Form::Primitive(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
         Form::Unary(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
+        Form::Operator(t, kind) => return primitive::expand(sink, |b| (t.expand)(b, kind, v)),
         Form::Join(t, kind) => return primitive::expand(sink, |b| (t.expand)(b, kind, v)),
         Form::Profile(t) => return primitive::expand(sink, |b| (t.expand)(b, v)),
         _ => {}
@@ -209,11 +189,8 @@ pub fn lower<S: Sink>(sink: &mut S, form: Form, v: &[NodeId]) -> Result<NodeId, 
     let mut b = B(sink);
     let b = &mut b;
     match form {
-        Form::Primitive(_) | Form::Unary(_) | Form::Join(..) | Form::Profile(_) => unreachable!("expanded above"),
+        Form::Primitive(_) | Form::Unary(_) | Form::Operator(..) | Form::Join(..) | Form::Profile(_) => unreachable!("expanded above"),
         Form::Translate | Form::Rotate | Form::Scale => transform(b, form, v),
-        Form::Union | Form::Intersect | Form::Subtract => operator::sharp(b, form, v),
-        Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => operator::smooth(b, form, v),
-        Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => operator::compact(b, form, v),
         Form::Extrude | Form::Revolve => profile::lower_solid(b, form, v),
         Form::Repeat => repeat(b, v),
         Form::Mirror => mirror(b, v),

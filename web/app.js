@@ -177,8 +177,9 @@ function uniformWords(w, h) {
 }
 
 function presentWords(w, h) {
-  const P = S.program, words = new Uint32Array(8);
-  const at = Object.fromEntries(P.blocks.present.map((x) => [x.name, x.offset / 4]));
+  const P = S.program, fields = P.blocks.present;
+  const words = new Uint32Array(Math.max(...fields.map((x) => x.offset + x.size)) / 4);
+  const at = Object.fromEntries(fields.map((x) => [x.name, x.offset / 4]));
   words.set([w, h], at.size);
   words.set([U.width, U.height], at.canvas);
   words[at.mode] = { normal: 1, steps: 2 }[U.color] ?? 0;

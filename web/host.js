@@ -23,7 +23,7 @@ export class Host {
     this.present = device.createRenderPipeline({
       layout: 'auto', vertex: { module, entryPoint: 'vs' }, fragment: { module, entryPoint: 'fs', targets: [{ format: 'rgba8unorm' }] },
     });
-    this.presentUniforms = device.createBuffer({ size: 32, usage: B.UNIFORM | B.COPY_DST });
+    this.presentUniforms = null;
     this.lock = Promise.resolve();
   }
 
@@ -118,7 +118,7 @@ export class Host {
       entries: g.filter((b) => s.used(gi, b)).map((b) => ({ binding: b.binding, resource: b.texture ? r.buffers[gi].get(b.binding) : { buffer: r.buffers[gi].get(b.binding) } })),
     })));
     r.args = d.createBuffer({ size: 16, usage: B.INDIRECT | B.COPY_DST });
-    r.records = r.buffers[2].get(0);
+    r.records = r.buffers[2].get(this.P.records);
     r.data = data[1];
     if (sel) this.sizedSel = r; else this.sized = r;
     return r;
@@ -167,19 +167,23 @@ export class Host {
     const run = async () => {
       const d = this.device, r = this.resources(w, h);
       d.queue.writeBuffer(this.uniforms, 0, uniformWords);
+      if (this.presentUniforms?.size !== present.byteLength) this.presentUniforms = d.createBuffer({ size: present.byteLength, usage: B.UNIFORM | B.COPY_DST });
       d.queue.writeBuffer(this.presentUniforms, 0, present);
       const enc = d.createCommandEncoder();
       const sets = [r];
       if (this.selData) sets.push(this.resources(w, h, true));
       for (const set of sets) this.encodeStages(enc, set);
+      // The present pass's bindings as the program lists them (src/view/present.rs).
+      const sources = { records: r.records, uniforms: this.presentUniforms, selection: sets[sets.length - 1].records };
+      const { group, bindings } = this.P.present;
       const presentGroup = d.createBindGroup({
-        layout: this.present.getBindGroupLayout(0),
-        entries: [r.records, this.presentUniforms, sets[sets.length - 1].records].map((buffer, binding) => ({ binding, resource: { buffer } })),
+        layout: this.present.getBindGroupLayout(group),
+        entries: bindings.map(({ binding, source }) => ({ binding, resource: { buffer: sources[source] } })),
       });
       const texture = this.context.getCurrentTexture();
       const rp = enc.beginRenderPass({ colorAttachments: [{ view: texture.createView(), loadOp: 'clear', storeOp: 'store', clearValue: [0, 0, 0, 1] }] });
       rp.setPipeline(this.present);
-      rp.setBindGroup(0, presentGroup);
+      rp.setBindGroup(group, presentGroup);
       rp.draw(3);
       rp.end();
       let stats = null, pixels = null, rays = null;

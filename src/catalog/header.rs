@@ -160,10 +160,39 @@ pub enum Clip {
 
 /// Stores one `key: value` in the header; the error says why the value is bad.
 pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value: &str) -> Result<(), String> {
+    let known = describe(h, name, key, value)? || view_key(h, key, value)? || render_key(h, key, value)? || modality_key(&mut h.modalities, key, value)?;
+    if !known {
+        unreachable!("key {key} checked against KEYS");
+    }
+    Ok(())
+}
+
+/// The keys that say what the surface is (`name`, `title`, `degree`,
+/// `status`, `source`, `notes`); `Ok(false)` for another key.
+fn describe(h: &mut Header, name: &mut Option<String>, key: &str, value: &str) -> Result<bool, String> {
     let text = || Some(value.to_string());
     match key {
         "name" => *name = Some(parse_name(value)?),
         "title" => h.title = text(),
+        "degree" => h.degree = text(),
+        "status" => {
+            h.status = Some(match value {
+                "published" => Status::Published,
+                "reconstruction" => Status::Reconstruction,
+                _ => return Err("expected 'published' or 'reconstruction'".into()),
+            })
+        }
+        "source" => h.source = text(),
+        "notes" => h.notes = text(),
+        _ => return Ok(false),
+    }
+    Ok(true)
+}
+
+/// The keys of the view: box, camera, eps, time, parameters, animation and
+/// clip; `Ok(false)` for another key.
+fn view_key(h: &mut Header, key: &str, value: &str) -> Result<bool, String> {
+    match key {
         "box" => h.bbox = parse_box(value)?,
         "t" => h.t = Some(number(value).ok_or("expected a number")?),
         "eye" => h.eye = Some(parse_vec3(value)?),
@@ -180,6 +209,24 @@ pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value:
             _ => return Err("expected an angle in degrees between 0 and 180 (exclusive)".into()),
         },
         "eps" => h.eps = Some(parse_eps(value)?),
+        "param" => h.params.push(parse_param(value)?),
+        "animate" => match numbers(value).as_deref() {
+            Some(&[t0, t1]) if t0 < t1 => h.animate = Some([t0, t1]),
+            _ => return Err("expected 't0,t1' with t0 < t1".into()),
+        },
+        "clip" => match value.strip_prefix("sphere:").and_then(number) {
+            Some(r) if r > 0.0 => h.clip = Some(Clip::Sphere(r)),
+            _ => return Err("expected 'sphere:R' with a radius R > 0".into()),
+        },
+        _ => return Ok(false),
+    }
+    Ok(true)
+}
+
+/// The keys of how to render: algebra, method, field source, Lipschitz
+/// bound, bounding volume and colouring; `Ok(false)` for another key.
+fn render_key(h: &mut Header, key: &str, value: &str) -> Result<bool, String> {
+    match key {
         "algebra" => {
             h.algebra = Some(match value {
                 "ia" => Algebra::Ia,
@@ -187,28 +234,6 @@ pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value:
                 "auto" => Algebra::Auto,
                 _ => return Err("expected 'ia', 'raa' or 'auto'".into()),
             })
-        }
-        "param" => h.params.push(parse_param(value)?),
-        "degree" => h.degree = text(),
-        "status" => {
-            h.status = Some(match value {
-                "published" => Status::Published,
-                "reconstruction" => Status::Reconstruction,
-                _ => return Err("expected 'published' or 'reconstruction'".into()),
-            })
-        }
-        "source" => h.source = text(),
-        "notes" => h.notes = text(),
-        "animate" => match numbers(value).as_deref() {
-            Some(&[t0, t1]) if t0 < t1 => h.animate = Some([t0, t1]),
-            _ => return Err("expected 't0,t1' with t0 < t1".into()),
-        },
-        "clip" => {
-            let r = value.strip_prefix("sphere:").and_then(number);
-            match r {
-                Some(r) if r > 0.0 => h.clip = Some(Clip::Sphere(r)),
-                _ => return Err("expected 'sphere:R' with a radius R > 0".into()),
-            }
         }
         "method" => h.method = Some(Method::parse(value)?),
         "field" => match crate::field::FieldKind::parse(value) {
@@ -220,34 +245,43 @@ pub(super) fn apply(h: &mut Header, name: &mut Option<String>, key: &str, value:
             _ => return Err("expected a Lipschitz bound L >= 1".into()),
         },
         "bound" => h.bound = Some(Bound::parse(value)?),
-        "shadows" => match value {
-            "true" | "false" => h.modalities.shadows = Some(value == "true"),
-            _ => return Err("expected true or false".into()),
-        },
-        "light" => h.modalities.light = Some(glam::DVec3::from_array(parse_vec3(value)?)),
-        "shadow-eps" => h.modalities.shadow_eps = Some(parse_eps(value)?),
-        "opacity" | "reflectivity" => match number(value) {
-            Some(v) if v > 0.0 && v <= 1.0 && key == "opacity" => h.modalities.opacity = Some(v),
-            Some(v) if v > 0.0 && v <= 1.0 => h.modalities.reflectivity = Some(v),
-            _ => return Err("expected a number in (0, 1]".into()),
-        },
-        "layers" | "reflect" => match value.parse::<u32>() {
-            Ok(n) if n <= 8 && key == "layers" => h.modalities.layers = Some(n),
-            Ok(n) if n <= 8 => h.modalities.reflect = Some(n),
-            _ => return Err("expected a whole number from 0 to 8".into()),
-        },
-        "iso" => match numbers(value) {
-            Some(v) if !v.is_empty() && v.len() <= 8 => h.modalities.iso = Some(v),
-            _ => return Err("expected 1 to 8 comma-separated numbers".into()),
-        },
-        "env" => h.modalities.env = Some(crate::render::EnvSpec::parse(value)),
         "color" => {
             crate::output::parse_color(value)?;
             h.color = Some(value.to_string());
         }
-        _ => unreachable!("key checked against KEYS"),
+        _ => return Ok(false),
     }
-    Ok(())
+    Ok(true)
+}
+
+/// The modality keys, the defaults of the `render` flags of the same
+/// names; `Ok(false)` for another key.
+fn modality_key(m: &mut crate::render::ModalitySpec, key: &str, value: &str) -> Result<bool, String> {
+    match key {
+        "shadows" => match value {
+            "true" | "false" => m.shadows = Some(value == "true"),
+            _ => return Err("expected true or false".into()),
+        },
+        "light" => m.light = Some(glam::DVec3::from_array(parse_vec3(value)?)),
+        "shadow-eps" => m.shadow_eps = Some(parse_eps(value)?),
+        "opacity" | "reflectivity" => match number(value) {
+            Some(v) if v > 0.0 && v <= 1.0 && key == "opacity" => m.opacity = Some(v),
+            Some(v) if v > 0.0 && v <= 1.0 => m.reflectivity = Some(v),
+            _ => return Err("expected a number in (0, 1]".into()),
+        },
+        "layers" | "reflect" => match value.parse::<u32>() {
+            Ok(n) if n <= 8 && key == "layers" => m.layers = Some(n),
+            Ok(n) if n <= 8 => m.reflect = Some(n),
+            _ => return Err("expected a whole number from 0 to 8".into()),
+        },
+        "iso" => match numbers(value) {
+            Some(v) if !v.is_empty() && v.len() <= 8 => m.iso = Some(v),
+            _ => return Err("expected 1 to 8 comma-separated numbers".into()),
+        },
+        "env" => m.env = Some(crate::render::EnvSpec::parse(value)),
+        _ => return Ok(false),
+    }
+    Ok(true)
 }
 
 fn parse_name(s: &str) -> Result<String, String> {

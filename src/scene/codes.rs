@@ -6,7 +6,8 @@
 //! descriptor's ([`crate::sdf::primitive`]); those of the types before
 //! descriptors existed are named here too.
 
-use super::{Node, OpKind, Operator};
+use super::operator::Typed;
+use super::{Node, Operator};
 
 /// isLeaf bit of a node word.
 pub const NODE_LEAF_BIT: u32 = 1 << 31;
@@ -60,20 +61,12 @@ pub const REVOLVE: u32 = 10;
 pub const GRID: u32 = 11;
 /// Type code of a normalized density.
 pub const DENSITY: u32 = crate::sdf::primitive::DENSITY.code;
-/// Type code of a sharp union.
-pub const UNION: u32 = 32;
-/// Type code of a sharp intersection.
-pub const INTERSECTION: u32 = 33;
-/// Type code of a sharp difference.
-pub const DIFFERENCE: u32 = 34;
-/// Type code of a compact smooth union.
-pub const SMOOTH_UNION: u32 = 35;
-/// Type code of a compact smooth intersection.
-pub const SMOOTH_INTERSECTION: u32 = 36;
-/// Type code of a compact smooth difference.
-pub const SMOOTH_DIFFERENCE: u32 = 37;
-// A join's codes (three a join from 32: union, intersection, difference, so
-// (code − 32) mod 3 tells the operation) are its descriptor's (`crate::sdf::join`).
+/// Type code of a sharp union, the first operator code. An operator
+/// style's codes (three a style from here: union, intersection,
+/// difference, so (code − UNION) mod 3 tells the operation) are its
+/// descriptor's (`crate::sdf::operator`), and so are a join's
+/// (`crate::sdf::join`), after the styles'.
+pub const UNION: u32 = crate::sdf::operator::SHARP.first_code().expect("sharp CSG has scene nodes");
 /// Type code of an offset, the first unary node (codes 48-55 are unary;
 /// a unary type's code, like its feature, is its descriptor's,
 /// [`crate::sdf::unary`]).
@@ -162,26 +155,22 @@ pub fn is_unary_code(t: u32) -> bool {
 }
 
 fn op_code(op: &Operator) -> u32 {
-    let base = match op.kind {
-        OpKind::Union => UNION,
-        OpKind::Intersection => INTERSECTION,
-        OpKind::Difference => DIFFERENCE,
+    let first = match op.typed() {
+        Typed::Style(s, _) => s.first_code().expect("a style of the model has nodes"),
+        Typed::Join(t, _) => t.code,
     };
-    match (op.blend, op.join) {
-        (Some(_), _) => base + 3,
-        (None, Some(j)) => j.typed().0.code + op.kind as u32,
-        (None, None) => base,
-    }
+    first + op.kind as u32
 }
 
-/// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …),
-/// then the `FORM_<NAME>` and `FEATURE_<NAME>` of the primitive types with
-/// a case of their own that the list does not name, the `NODE_<NAME>` of
+/// The constants of this layout as WGSL (`const NODE_SPHERE: u32 = 1u;` …,
+/// the operator styles' `NODE_<NAME>` among them), then the `FORM_<NAME>`
+/// and `FEATURE_<NAME>` of the primitive types with a case of their own
+/// that the list does not name, the `NODE_<NAME>` of
 /// the joins' operations and the range of their codes (`NODE_JOIN_FIRST`,
 /// `NODE_JOIN_LAST`), then the `NODE_<NAME>` and (where they have one)
 /// `FEATURE_<NAME>` of the unary types.
 pub fn wgsl_constants() -> String {
-    let consts: [(&str, u32); 57] = [
+    let head: [(&str, u32); 15] = [
         ("NODE_LEAF_BIT", NODE_LEAF_BIT),
         ("NODE_COMB_BIT", NODE_COMB_BIT),
         ("NODE_UNION_PATH_BIT", NODE_UNION_PATH_BIT),
@@ -197,12 +186,8 @@ pub fn wgsl_constants() -> String {
         ("NODE_CYLINDER", CYLINDER),
         ("NODE_OCTAHEDRON", OCTAHEDRON),
         ("NODE_PLANE", PLANE),
-        ("NODE_UNION", UNION),
-        ("NODE_INTERSECTION", INTERSECTION),
-        ("NODE_DIFFERENCE", DIFFERENCE),
-        ("NODE_SMOOTH_UNION", SMOOTH_UNION),
-        ("NODE_SMOOTH_INTERSECTION", SMOOTH_INTERSECTION),
-        ("NODE_SMOOTH_DIFFERENCE", SMOOTH_DIFFERENCE),
+    ];
+    let tail: [(&str, u32); 36] = [
         ("PRIM_FRAME_ROWS", PRIM_FRAME_ROWS),
         ("SCENE_MAX_STACK", MAX_STACK),
         ("ABV_STRIDE", ABV_STRIDE),
@@ -240,16 +225,29 @@ pub fn wgsl_constants() -> String {
         ("NODE_DENSITY", DENSITY),
         ("GRID_ROWS", GRID_ROWS),
     ];
+    let named = |list: &[(&str, u32)]| list.iter().map(|&(n, v)| (n.to_string(), v)).collect::<Vec<_>>();
+    let consts: Vec<(String, u32)> = named(&head).into_iter().chain(style_constants()).chain(named(&tail)).collect();
     let mut s = String::new();
-    for (name, v) in consts {
+    for (name, v) in &consts {
         s.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }
     s + &descriptor_constants(&consts)
 }
 
+/// `NODE_<NAME>` of every operation of the operator styles with nodes of
+/// their own, NAME the scene type in capitals (`NODE_SMOOTH_UNION`).
+fn style_constants() -> Vec<(String, u32)> {
+    let mut out = vec![];
+    for s in crate::sdf::operator::STYLES {
+        let (Some(names), Some(first)) = (s.scene_names(), s.first_code()) else { continue };
+        out.extend(names.iter().zip(first..).map(|(name, code)| (format!("NODE_{}", name.to_uppercase()), code)));
+    }
+    out
+}
+
 /// The constants the descriptors name (`wgsl_constants`' doc) that the
 /// list `consts` does not.
-fn descriptor_constants(consts: &[(&str, u32)]) -> String {
+fn descriptor_constants(consts: &[(String, u32)]) -> String {
     let mut s = String::new();
     for t in crate::sdf::primitive::TYPES {
         let Some(case) = t.wgsl else { continue };
@@ -409,7 +407,8 @@ mod tests {
         let w = wgsl_constants();
         let cases = wgsl_join_cases();
         for t in crate::sdf::join::TYPES {
-            assert!(t.code >= SMOOTH_DIFFERENCE + 1 && t.code + t.scene_names.len() as u32 <= OFFSET && (t.code - UNION) % 3 == 0, "{t:?}");
+            let styles_end = style_constants().iter().map(|(_, c)| c + 1).max().expect("styles");
+            assert!(t.code >= styles_end && t.code + t.scene_names.len() as u32 <= OFFSET && (t.code - UNION) % 3 == 0, "{t:?}");
             for (k, name) in t.scene_names.iter().enumerate() {
                 let name = name.to_uppercase();
                 assert!(w.contains(&format!("const NODE_{name}: u32 = {}u;\n", t.code + k as u32)), "{t:?}");

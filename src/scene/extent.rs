@@ -123,7 +123,7 @@ fn widest_ancestor(scene: &Scene, i: NodeId) -> NodeId {
 /// rather than the r_o it implies when r_o was left at its default.
 fn blamed_field(node: &Node) -> (String, f64) {
     if let Node::Operator { op, .. } = node {
-        if let Some(b) = op.blend.filter(|b| b.range == super::operator::DEFAULT_RANGE_FACTOR * b.beta) {
+        if let Some(b) = op.blend.filter(|b| b.range == crate::sdf::operator::DEFAULT_RANGE_FACTOR * b.beta) {
             return ("beta".into(), b.beta);
         }
     }

@@ -277,24 +277,7 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         let values = t.fields.iter().map(|k| f.number(k)).collect::<Result<Vec<f64>, _>>()?;
         return Ok(Node::Unary { op: Unary::from_values(t, &values), child: f.index("child")? });
     }
-    if let Some(op) = Operator::parse(ty, 0.0) {
-        let size = match (op.blend, op.join) {
-            (Some(_), _) => Some("beta"),
-            (None, Some(j)) => Some(j.size().0),
-            (None, None) => None,
-        };
-        let fields: &[&str] = match size {
-            None => &["left", "right"],
-            Some("beta") => &["left", "right", "beta", "r_o"],
-            Some(name) => &["left", "right", name],
-        };
-        f.only(ty, fields)?;
-        let mut op = Operator::parse(ty, size.map(|n| f.number(n)).transpose()?.unwrap_or(0.0)).expect("a listed name");
-        if let Some(b) = &mut op.blend {
-            if let Some(v) = obj.get("r_o") {
-                b.range = f.number_of("r_o", v)?;
-            }
-        }
+    if let Some(op) = operator(&f, ty)? {
         return Ok(Node::Operator { op, left: f.index("left")?, right: f.index("right")? });
     }
     let names: Vec<&str> =
@@ -305,6 +288,29 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
         None => format!("the types are {}", list(&names)),
     };
     Err(f.err("type", format!("unknown type {}; {hint}", quote(ty))))
+}
+
+/// The operation of an operator node of type `ty` (a style's or a
+/// join's), its parameters read from the fields the type names; `None` for
+/// another type.
+fn operator(f: &Fields, ty: &str) -> Result<Option<Operator>, SceneError> {
+    if let Some((style, kind)) = Operator::style_named(ty) {
+        let fields: Vec<&str> = ["left", "right"].into_iter().chain(style.params.iter().map(|p| p.name)).collect();
+        f.only(ty, &fields)?;
+        let mut v = vec![];
+        for p in style.params {
+            v.push(match (f.obj.get(p.name), p.default) {
+                (None, Some(d)) => d.value(&v),
+                _ => f.number(p.name)?,
+            });
+        }
+        return Ok(Some(Operator::styled(kind, style, &v)));
+    }
+    let Some(op) = Operator::parse(ty, 0.0) else { return Ok(None) };
+    let Some(j) = op.join else { return Ok(Some(op)) };
+    let name = j.size().0;
+    f.only(ty, &["left", "right", name])?;
+    Ok(Operator::parse(ty, f.number(name)?))
 }
 
 fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {

@@ -9,6 +9,7 @@
 //! Only small scenes fit: the formula language reads at most 64 KiB of text
 //! (about 500 primitives) and compiles at most 50,000 operations.
 
+use super::operator::Typed;
 use super::{Node, Primitive, Profile, Scene, Shape};
 use crate::syntax::parser::MAX_SOURCE_BYTES;
 
@@ -99,16 +100,12 @@ pub fn to_formula(scene: &Scene) -> Result<String, NoFormula> {
         let rhs = match &scene.nodes()[i] {
             Node::Primitive(p) => primitive_formula(p).ok_or(NoFormula::NoForm { node: i, kind: p.shape.kind().name() })?,
             Node::Operator { op, left, right } => {
-                let (l, r) = (name(*left), name(*right));
-                let verb = ["union", "intersect", "subtract"][op.kind as usize];
-                match (op.blend, op.join) {
-                    (Some(b), _) => format!("compact_{verb}({l}, {r}, {}, {})", num(b.beta), num(b.range)),
-                    (None, Some(j)) => {
-                        let (t, size) = j.typed();
-                        format!("{}({l}, {r}, {})", t.forms[op.kind as usize].name, num(size))
-                    }
-                    (None, None) => format!("{verb}({l}, {r})"),
-                }
+                let form = match op.typed() {
+                    Typed::Style(s, _) => &s.forms[op.kind as usize],
+                    Typed::Join(t, _) => &t.forms[op.kind as usize],
+                };
+                let params: String = op.fields().iter().map(|&(_, v)| format!(", {}", num(v))).collect();
+                format!("{}({}, {}{params})", form.name, name(*left), name(*right))
             }
             Node::Unary { op, child } => format!("{}({}, {})", op.kind().name(), args(&op.values()), name(*child)),
         };

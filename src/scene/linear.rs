@@ -55,6 +55,7 @@
 
 use super::roi::{self, Aabb, Abv, Roi};
 use super::{Node, NodeId, OpKind, Scene, SceneError, Shape, Unary};
+use super::operator::Typed;
 pub use super::patch::ScenePatch;
 pub(crate) use super::rows::{abv_rows, primitive_rows, warp_rows};
 use super::rows::unary_row;
@@ -226,9 +227,7 @@ impl Linear {
                     self.primitives.push(k as u32);
                 }
                 Node::Operator { op, .. } => {
-                    let b = op.blend.map_or(0.0, |b| b.beta as f32);
-                    let size = op.join.map_or(0.0, |j| j.size().1 as f32);
-                    self.params.push([b, op.range() as f32, size, 0.0]);
+                    self.params.push(op.row().map(|v| v as f32));
                 }
                 Node::Unary { op, .. } => self.params.push(unary_row(op)),
             }
@@ -454,7 +453,8 @@ fn unbounded_slope(scene: &Scene, name: &dyn Fn(NodeId) -> NodeId) -> SceneError
 
 /// The bound [`Linear::lipschitz`] returns for `scene`.
 fn lipschitz_bound(scene: &Scene) -> f64 {
-    let smooth = scene.nodes().iter().any(|n| matches!(n, Node::Operator { op, .. } if op.blend.is_some()));
+    // A style that blends (β > 0: Zanni's G), not a join, whose bound is exact.
+    let smooth = scene.nodes().iter().any(|n| matches!(n, Node::Operator { op, .. } if matches!(op.typed(), Typed::Style(s, v) if (s.blend)(&v) > 0.0)));
     let base = if smooth { SMOOTH_LIPSCHITZ } else { 1.0 };
     base * roi::field_lipschitz(scene)
 }

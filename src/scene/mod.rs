@@ -292,12 +292,7 @@ fn check_node(i: usize, node: &Node, n: usize) -> Result<(), SceneError> {
     match node {
         Node::Primitive(p) => p.check().map_err(|(field, reason)| SceneError::at(i, &field, reason)),
         Node::Operator { op, left, right } => {
-            if let Some(b) = &op.blend {
-                b.check().map_err(|(field, reason)| SceneError::at(i, &field, reason))?;
-            }
-            if let Some(j) = &op.join {
-                j.check().map_err(|(field, reason)| SceneError::at(i, &field, reason))?;
-            }
+            op.check().map_err(|(field, reason)| SceneError::at(i, &field, reason))?;
             for (field, c) in [("left", *left), ("right", *right)] {
                 if c >= n {
                     return Err(SceneError::at(i, field, format!("refers to nodes[{c}], but the scene has {n} nodes")));

@@ -1,17 +1,20 @@
-//! Binary operators: sharp CSG (min / max) and Zanni's *compact* smooth
-//! versions G (eq. 8-18 of Zanni et al. 2024; `../shared/guide/blobtree-brief.md` §1.1).
+//! Binary operators: the scene model's data of an operator node. What
+//! each computes is its style's descriptor (`crate::sdf::operator`: sharp
+//! CSG and Zanni's compact smooth operators G, eq. 8-18 of Zanni et al.
+//! 2024) or its join's (`crate::sdf::join`); this module holds the model's
+//! data, each with its two conversions to and from its descriptor and
+//! parameters.
 //!
 //! A compact operator blends only while both operands lie in its range
 //! R_o, and is plain CSG outside it, so a primitive can influence the field
 //! only up to a value fixed by the tree (its range of interest, `roi.rs`).
-//! Everything is written NaN-free: the blend d uses h³/(6·max(β², 1e-30))
-//! with h = max(β − |a − b|, 0), and the host refuses r_o < 7β/6, where G
-//! would be discontinuous (so 6r_o − β > 0 in b_r).
 
 pub use crate::sdf::join::OpKind;
 use crate::sdf::join::{self as joins, JoinType};
+use crate::sdf::operator::{self as styles, OperatorStyle, DEFAULT_RANGE_FACTOR, KINDS};
+use crate::sdf::primitive::Params;
 
-/// The blend of a smooth operator.
+/// The blend of a compact smooth operator (`crate::sdf::operator::COMPACT`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Blend {
     /// β > 0: the blend range.
@@ -20,40 +23,10 @@ pub struct Blend {
     pub range: f64,
 }
 
-/// The default operator range relative to β (the brief's choice; the
-/// Lipschitz factor 6r_o/(6r_o − β) is then 12/11).
-pub const DEFAULT_RANGE_FACTOR: f64 = 2.0;
-
 impl Blend {
     /// A blend with the default range 2β.
     pub fn new(beta: f64) -> Blend {
         Blend { beta, range: DEFAULT_RANGE_FACTOR * beta }
-    }
-
-    /// Checks β and r_o; the error names the field (`beta`, `r_o`).
-    ///
-    /// r_o is compared with 7β/6 with a relative slack of 1e-12, so a range
-    /// written as 7/6 of β in decimal is not refused for its rounding.
-    pub fn check(&self) -> Result<(), (String, String)> {
-        for (name, v) in [("beta", self.beta), ("r_o", self.range)] {
-            if !v.is_finite() {
-                return Err((name.into(), "must be finite".into()));
-            }
-        }
-        if !(self.beta > 0.0) {
-            return Err(("beta".into(), "must be > 0".into()));
-        }
-        let min = 7.0 * self.beta / 6.0;
-        if !(self.range >= min * (1.0 - 1e-12)) {
-            return Err(("r_o".into(), format!("must be >= 7/6 of beta ({}): below it the compact blend is discontinuous", crate::diag::short_number(min))));
-        }
-        Ok(())
-    }
-
-    /// The factor 6r_o/(6r_o − β) by which this operator can raise the
-    /// Lipschitz bound of its operands (measured in the brief, §1.1).
-    pub fn lipschitz_factor(&self) -> f64 {
-        6.0 * self.range / (6.0 * self.range - self.beta)
     }
 }
 
@@ -162,39 +135,78 @@ impl Operator {
         Operator { kind, blend: None, join: Some(join) }
     }
 
-    /// The operator of scene file type `name`, with its size (β for the
-    /// smooth ones, else the join's size) when it has one.
-    pub fn parse(name: &str, size: f64) -> Option<Operator> {
-        const KINDS: [OpKind; 3] = [OpKind::Union, OpKind::Intersection, OpKind::Difference];
-        if let Some(k) = Self::SHARP.iter().position(|n| *n == name) {
-            return Some(Operator::sharp(KINDS[k]));
+    /// The operator of style `style` for operation `kind` with the style's
+    /// parameters `v` (defaults included), as the scene keeps that style
+    /// ([`OperatorStyle::in_scene`]).
+    pub fn styled(kind: OpKind, style: &'static OperatorStyle, v: &[f64]) -> Operator {
+        let (style, v) = style.in_scene(v);
+        match style.forms[0].name {
+            "union" => Operator::sharp(kind),
+            "compact_union" => Operator::smooth(kind, Blend { beta: v[0], range: v[1] }),
+            other => unreachable!("style {other} has no variant"),
         }
-        if let Some(k) = Self::SMOOTH.iter().position(|n| *n == name) {
-            return Some(Operator::smooth(KINDS[k], Blend::new(size)));
+    }
+
+    /// Its descriptor with its parameters.
+    pub fn typed(&self) -> Typed {
+        match (self.blend, self.join) {
+            (_, Some(j)) => {
+                let (t, size) = j.typed();
+                Typed::Join(t, size)
+            }
+            (None, None) => Typed::Style(&styles::SHARP, Params::new(&[])),
+            (Some(b), None) => Typed::Style(&styles::COMPACT, Params::new(&[b.beta, b.range])),
+        }
+    }
+
+    /// The operator of scene file type `name`, with its first parameter (β
+    /// for the smooth ones, else the join's size) when it has one and the
+    /// defaults of the others.
+    pub fn parse(name: &str, size: f64) -> Option<Operator> {
+        if let Some((style, kind)) = Self::style_named(name) {
+            let given = if style.params.is_empty() { &[][..] } else { &[size][..] };
+            return Some(Operator::styled(kind, style, &style.with_defaults(given)));
         }
         let (t, k) = joins::TYPES.iter().find_map(|t| Some((*t, t.scene_names.iter().position(|n| *n == name)?)))?;
         Some(Operator::joined(KINDS[k], Join::from_size(t, size)))
     }
 
+    /// The style with scene nodes of type `name` and that node's operation.
+    pub fn style_named(name: &str) -> Option<(&'static OperatorStyle, OpKind)> {
+        styles::STYLES.iter().find_map(|s| Some((*s, KINDS[s.scene_names()?.iter().position(|n| *n == name)?])))
+    }
+
     /// The `type` of a scene file node.
     pub fn name(&self) -> &'static str {
-        match (self.blend, self.join) {
-            (Some(_), _) => Self::SMOOTH[self.kind as usize],
-            (None, Some(j)) => j.typed().0.scene_names[self.kind as usize],
-            (None, None) => Self::SHARP[self.kind as usize],
+        match self.typed() {
+            Typed::Style(s, _) => s.scene_names().expect("a style of the model has nodes")[self.kind as usize],
+            Typed::Join(t, _) => t.scene_names[self.kind as usize],
         }
     }
 
-    /// The sharp operators' type names, in [`OpKind`] order.
-    pub const SHARP: [&'static str; 3] = ["union", "intersection", "difference"];
-
-    /// The compact smooth operators' type names, in [`OpKind`] order.
-    pub const SMOOTH: [&'static str; 3] = ["smooth_union", "smooth_intersection", "smooth_difference"];
-
-    /// Every operator type name, in type-code order: sharp, smooth, then
-    /// the joins' ([`crate::sdf::join::TYPES`]).
+    /// Every operator type name, in type-code order: the styles' with
+    /// nodes of their own ([`crate::sdf::operator::STYLES`]), then the
+    /// joins' ([`crate::sdf::join::TYPES`]).
     pub fn names() -> impl Iterator<Item = &'static str> {
-        Self::SHARP.into_iter().chain(Self::SMOOTH).chain(joins::TYPES.iter().flat_map(|t| t.scene_names.iter().copied()))
+        let styles = styles::STYLES.iter().filter_map(|s| s.scene_names()).flatten();
+        styles.chain(joins::TYPES.iter().flat_map(|t| t.scene_names.iter().copied()))
+    }
+
+    /// Its parameters as a scene file names them, in order: a style's
+    /// (`beta`, `r_o`), or a join's size.
+    pub fn fields(&self) -> Vec<(&'static str, f64)> {
+        match self.typed() {
+            Typed::Style(s, v) => s.params.iter().map(|f| f.name).zip(v.iter().copied()).collect(),
+            Typed::Join(t, size) => vec![(t.field, size)],
+        }
+    }
+
+    /// Checks its parameters; the error names the field.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        match self.typed() {
+            Typed::Style(s, v) => (s.check)(&v),
+            Typed::Join(t, size) => Join::from_size(t, size).check(),
+        }
     }
 
     /// Whether swapping the operands leaves the value unchanged, bit for
@@ -206,22 +218,38 @@ impl Operator {
 
     /// r_o, or 0 for a sharp operator (its range of interest is {0}).
     pub fn range(&self) -> f64 {
-        match (self.blend, self.join) {
-            (Some(b), _) => b.range,
-            (None, Some(j)) => j.range(),
-            (None, None) => 0.0,
+        match self.typed() {
+            Typed::Style(s, v) => (s.range)(&v),
+            Typed::Join(t, size) => (t.range)(size),
+        }
+    }
+
+    /// How far the blend may move its value from the sharp operator's: a
+    /// style's β, a join's whole operator range (its other operand can be
+    /// anywhere in it).
+    pub fn blend_range(&self) -> f64 {
+        match self.typed() {
+            Typed::Style(s, v) => (s.blend)(&v),
+            Typed::Join(t, size) => (t.range)(size),
+        }
+    }
+
+    /// The interpreter's record (β, r_o, join size, 0).
+    pub fn row(&self) -> [f64; 4] {
+        match self.typed() {
+            Typed::Style(s, v) => {
+                let [beta, range] = s.row(&v);
+                [beta, range, 0.0, 0.0]
+            }
+            Typed::Join(t, size) => [0.0, (t.range)(size), size, 0.0],
         }
     }
 
     /// The value for two present operands.
     pub fn apply(&self, a: f64, b: f64) -> f64 {
-        if let Some(j) = self.join {
-            let (t, size) = j.typed();
-            return t.apply(self.kind, a, b, size);
-        }
-        match self.blend {
-            None => g(self.kind, a, b, 0.0),
-            Some(bl) => compact(self.kind, a, b, bl.beta, bl.range),
+        match self.typed() {
+            Typed::Style(s, v) => (s.apply)(self.kind, a, b, &v),
+            Typed::Join(t, size) => t.apply(self.kind, a, b, size),
         }
     }
 
@@ -237,21 +265,33 @@ impl Operator {
     }
 
     /// The factor by which this operator can raise the Lipschitz bound.
-    /// (Zanni's G; a join's bound is exact and carried by
+    /// (A style's; a join's bound is exact and carried by
     /// `super::roi::field_lipschitz` instead.)
     pub fn lipschitz_factor(&self) -> f64 {
-        self.blend.map_or(1.0, |b| b.lipschitz_factor())
+        match self.typed() {
+            Typed::Style(s, v) => (s.lipschitz)(&v),
+            Typed::Join(..) => 1.0,
+        }
     }
 
     /// The bound of this operator's value from its operands' bounds
     /// `la`, `lb`: the larger for sharp operators and G (whose own factor
     /// the renderer's 1.45 covers), a join's own rule for a join.
     pub fn combine_lipschitz(&self, la: f64, lb: f64) -> f64 {
-        match self.join {
-            None => la.max(lb),
-            Some(j) => (j.typed().0.lipschitz)(la, lb),
+        match self.typed() {
+            Typed::Style(..) => la.max(lb),
+            Typed::Join(t, _) => (t.lipschitz)(la, lb),
         }
     }
+}
+
+/// What an operator node computes: its descriptor with its parameters.
+#[derive(Debug, Clone, Copy)]
+pub enum Typed {
+    /// An operator style ([`crate::sdf::operator`]) with its parameters.
+    Style(&'static OperatorStyle, Params),
+    /// A join ([`crate::sdf::join`]) with its size.
+    Join(&'static JoinType, f64),
 }
 
 /// Which operand an operator with a missing operand passes on:
@@ -264,44 +304,6 @@ pub fn select_kind(kind: OpKind, left: bool, right: bool) -> Option<bool> {
         OpKind::Difference if left => Some(true),
         _ => None,
     }
-}
-
-/// d(a, b, β) = β/6 · max(1 − |a − b|/β, 0)³ (eq. 9), NaN-free:
-/// h³ / (6 · max(β², 1e-30)) with h = max(β − |a − b|, 0).
-pub fn blend_d(a: f64, b: f64, beta: f64) -> f64 {
-    let h = (beta - (a - b).abs()).max(0.0);
-    h * h * h / (6.0 * (beta * beta).max(1e-30))
-}
-
-/// The bounded operators g (eq. 8, 10, 11); β = 0 is sharp CSG.
-pub fn g(kind: OpKind, a: f64, b: f64, beta: f64) -> f64 {
-    match kind {
-        OpKind::Union => a.min(b) - blend_d(a, b, beta),
-        OpKind::Intersection => a.max(b) + blend_d(a, b, beta),
-        OpKind::Difference => a.max(-b) + blend_d(a, -b, beta),
-    }
-}
-
-/// The transition b_r(x, β, r_o) = β · max(1 − 6x/(6r_o − β), 0) (eq. 18).
-/// The host guarantees 6r_o − β > 0.
-pub fn b_r(x: f64, beta: f64, range: f64) -> f64 {
-    beta * (1.0 - 6.0 * x / (6.0 * range - beta)).max(0.0)
-}
-
-/// The compact operator G (eq. 12 and 17): g with the blend range b_r of
-/// the plain blend's value while both operands are in R_o (∪: (−∞, r_o];
-/// ∩ and \: [−r_o, r_o]), sharp CSG otherwise.
-pub fn compact(kind: OpKind, a: f64, b: f64, beta: f64, range: f64) -> f64 {
-    let inside = match kind {
-        OpKind::Union => a <= range && b <= range,
-        _ => a.abs() <= range && b.abs() <= range,
-    };
-    if !inside {
-        return g(kind, a, b, 0.0);
-    }
-    let x = g(kind, a, b, beta);
-    let x = if kind == OpKind::Union { x } else { x.abs() };
-    g(kind, a, b, b_r(x, beta, range))
 }
 
 #[cfg(test)]
@@ -320,15 +322,5 @@ mod tests {
         assert_eq!(i.select(Some(1.0), None), None);
         assert_eq!(u.select(None, None), None);
         assert_eq!(d.select(Some(1.0), Some(2.0)), Some(1.0));
-    }
-
-    #[test]
-    fn blends_are_nan_free_and_ranges_are_checked() {
-        assert_eq!(blend_d(1.0, 1.0, 0.0), 0.0);
-        assert!((g(OpKind::Union, 0.0, 0.0, 0.6) + 0.1).abs() < 1e-15);
-        assert_eq!(Blend { beta: 0.6, range: 0.7 }.check(), Ok(()));
-        assert_eq!(Blend { beta: 1.0, range: 1.0 }.check().unwrap_err().0, "r_o");
-        assert_eq!(Blend { beta: 0.0, range: 1.0 }.check().unwrap_err(), ("beta".into(), "must be > 0".into()));
-        assert!((Blend::new(1.0).lipschitz_factor() - 12.0 / 11.0).abs() < 1e-15);
     }
 }

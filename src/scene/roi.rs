@@ -247,8 +247,7 @@ pub fn trace_levels(scene: &Scene) -> Vec<Option<f64>> {
         let l = level[i];
         match nodes[i] {
             Node::Operator { op, left, right } => {
-                // A join's other operand can be anywhere in its range.
-                let beta = op.blend.map_or(op.range(), |b| b.beta);
+                let beta = op.blend_range();
                 let (a, b) = match op.kind {
                     super::OpKind::Union => (l, l),
                     super::OpKind::Intersection => (l.map(|v| v - 2.0 * beta), l.map(|v| v - 2.0 * beta)),

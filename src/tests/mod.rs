@@ -33,6 +33,7 @@ mod scene_join_types;
 mod scene_lower;
 mod scene_model;
 mod scene_nodes;
+mod scene_operator_styles;
 mod scene_pictures;
 mod scene_procedural;
 mod scene_profile_types;

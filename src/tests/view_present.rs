@@ -6,6 +6,7 @@
 use crate::gpu::Gpu;
 use crate::layout::{PRESENT_COLOR, PRESENT_NORMAL, PRESENT_STEPS};
 use crate::render::record::{convert, Head, Record, Tail};
+use crate::view::present::RECORDS;
 
 /// Records with every status, random colours, normals, work.
 fn records(n: usize) -> Vec<[u32; 4]> {
@@ -26,9 +27,13 @@ fn present_decodes_records_like_the_cli() {
         Err(e) => panic!("no device: {e}"),
     };
     let present = crate::view::present_shader().expect("the present shader validates");
+    // The test's own buffers after the present pass's bindings, in its group.
+    let table = crate::view::present::group();
+    let last = table.bindings.iter().map(|b| b.binding).max().expect("bindings");
+    let (g, input_at, decoded_at, mode_at) = (table.group, RECORDS.binding, last + 1, last + 2);
     let wgsl = format!(
-        "{present}\n@group(0) @binding(2) var<storage, read_write> decoded: array<u32>;\n\
-         @group(0) @binding(3) var<storage, read> mode: array<u32>;\n\
+        "{present}\n@group({g}) @binding({decoded_at}) var<storage, read_write> decoded: array<u32>;\n\
+         @group({g}) @binding({mode_at}) var<storage, read> mode: array<u32>;\n\
          @compute @workgroup_size(64) fn decode_test(@builtin(global_invocation_id) id: vec3<u32>) {{\n\
              if (id.x >= arrayLength(&decoded)) {{ return; }}\n\
              let c = vec3<u32>(srgb8(present_linear(record_at(id.x, arrayLength(&decoded)), mode[0], mode[1])));\n\
@@ -50,14 +55,14 @@ fn present_decodes_records_like_the_cli() {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let layout = pipeline.get_bind_group_layout(0);
-        let entries = [(0, &input), (2, &out), (3, &modes)].map(|(b, buf)| wgpu::BindGroupEntry { binding: b, resource: buf.as_entire_binding() });
+        let layout = pipeline.get_bind_group_layout(g);
+        let entries = [(input_at, &input), (decoded_at, &out), (mode_at, &modes)].map(|(b, buf)| wgpu::BindGroupEntry { binding: b, resource: buf.as_entire_binding() });
         let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &layout, entries: &entries });
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_bind_group(g, &group, &[]);
             pass.dispatch_workgroups(recs.len().div_ceil(64) as u32, 1, 1);
         }
         let staging = gpu.read_buffer(&mut enc, &out, recs.len() as u64 * 4);

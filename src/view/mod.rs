@@ -11,6 +11,7 @@
 //! camera and a scene's buffers change no pipeline.
 //!
 //! - [`program`](mod@program): the kernel and its description;
+//! - [`present`]: the present pass's shader and bind group;
 //! - [`server`]: the HTTP server and its JSON API;
 //! - [`http`]: its wire layer (limits and deadlines);
 //! - [`access`]: who may call it (Host, Origin, the session token);
@@ -19,8 +20,10 @@
 pub mod access;
 pub mod http;
 pub mod page;
+pub mod present;
 pub mod program;
 pub mod server;
 
-pub use program::{field_buffers, present_shader, program};
+pub use present::present_shader;
+pub use program::{field_buffers, program};
 pub use server::{Api, ApiError, Reply, Route, Server};

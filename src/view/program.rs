@@ -15,6 +15,7 @@ use crate::kernel;
 use crate::gpu::renderer::{uniform_bytes, RenderError, MAX_SHADER_BYTES};
 use crate::layout::{BisectBlock, FieldLayout, FrameBlock, GpuBlock, PresentBlock, SphereBlock};
 use crate::render::{Settings, Traversal};
+use super::present::PresentGroup;
 use serde::Serialize;
 
 pub use crate::bindings::{Binding, Groups, Size, Stage};
@@ -66,6 +67,11 @@ pub struct Program {
     /// tracing's `record::RayStats`), which the page reads for the CLI's
     /// Lipschitz warning.
     pub ray_stats: Option<u32>,
+    /// The pass-group binding of the pixel records, which the present
+    /// pass draws and the page reads for the frame statistics.
+    pub records: u32,
+    /// The present pass's bind group (`templates/view/present.wgsl`).
+    pub present: PresentGroup,
 }
 
 
@@ -136,7 +142,8 @@ pub fn program(field: &dyn FieldSource, traversal: &Traversal, s: &Settings) -> 
     let used = |b: &Binding| uses.iter().any(|(_, u)| u.contains(&[crate::bindings::FIELD_GROUP, b.binding]));
     let field_group = field_group.into_iter().filter(used).collect();
     let ray_stats = matches!(traversal, Traversal::Sphere(_)).then_some(RAY_STATS.binding);
-    Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms, groups: [frame, field_group, pass], stages, follow, ray_stats })
+    let present = super::present::group();
+    Ok(Program { method, wgsl: kernel.wgsl, blocks, uniforms, groups: [frame, field_group, pass], stages, follow, ray_stats, records: PIXEL_RECORDS.binding, present })
 }
 
 /// The uniform words of the first frame of `traversal` with settings `s`
@@ -189,15 +196,3 @@ fn blocks<T: GpuBlock>() -> Blocks {
 pub fn field_buffers(field: &dyn FieldSource) -> Vec<Binding> {
     field.bindings(&BindingRequest { kernel_features: field.features(), ..Default::default() }).into_iter().filter(|b| b.is_static()).collect()
 }
-
-/// The present shader with its generated uniform block and constants,
-/// validated by naga like every shader isotrace hands to a driver.
-pub fn present_shader() -> Result<String, crate::validate::ValidateError> {
-    let header = format!("{}\n{}", PresentBlock::wgsl(), crate::layout::wgsl_constants());
-    let wgsl = crate::codegen::template::splice(PRESENT, &[("uniforms", &header)]).expect("the present template has its marker");
-    crate::validate::validate(&wgsl)?;
-    Ok(wgsl)
-}
-
-/// `templates/view/present.wgsl`.
-const PRESENT: &str = include_str!("../../templates/view/present.wgsl");

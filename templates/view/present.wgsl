@@ -7,13 +7,10 @@
 // ---- The Present block and the shared constants, generated from src/layout.rs.
 //!splice:uniforms
 
-// The records in their two planes (pixels.wgsl): heads, then tails.
-@group(0) @binding(0) var<storage, read> records: array<vec2<u32>>;
-@group(0) @binding(1) var<uniform> P: Present;
-// A scene's selected node traced alone with the same kernel (its own field
-// buffers, no new pipeline): where its depth equals the scene's, the
-// visible surface is the selection's.
-@group(0) @binding(2) var<storage, read> selection: array<vec2<u32>>;
+// ---- The bindings, generated from src/view/present.rs: the frame's records
+// (heads, then tails), the Present block P, and the records of a scene's
+// selected node traced alone.
+//!splice:bindings
 
 // Record i of n as the four words (colour, normal, depth, work) of the
 // functions below. A miss's tail is whatever an earlier frame left there:

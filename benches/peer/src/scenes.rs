@@ -161,7 +161,7 @@ pub fn scene_expr(ctx: &mut Context, scene: &Scene) -> Result<Node, BadNode> {
 
 /// A sharp operator, or the polynomial (non-compact) smooth one g with the
 /// operator's β: g∪ = min(a, b) − d, g∩ = max(a, b) + d, g\ = max(a, −b) +
-/// d(a, −b), d = h³/(6β²), h = max(β − |a − b|, 0) (operator.rs's `g`).
+/// d(a, −b), d = h³/(6β²), h = max(β − |a − b|, 0) (`isotrace::sdf::operator::g`).
 fn operator(ctx: &mut Context, op: Operator, a: Node, b: Node) -> Result<Node, BadNode> {
     assert!(op.join.is_none(), "the peer harness has no chamfer, round or sum joins");
     let b = if op.kind == OpKind::Difference { ctx.neg(b)? } else { b };
@@ -311,7 +311,7 @@ fn capsule(ctx: &mut Context, q: [Node; 3], a: [f64; 3], b: [f64; 3], radius: f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use isotrace::scene::operator::g;
+    use isotrace::sdf::operator::g;
 
     /// The scene with every operator as the polynomial g (what the
     /// expression is meant to be), in f64.

@@ -148,13 +148,31 @@ const REMAT_MAX_GROWTH: usize = 8;
 
 /// [`encode`] with every shared value in one register.
 fn encode_shared(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, TapeError> {
-    let nodes = &b.nodes;
-    let leaf = |i: usize| arity(nodes[i].code) == 0 && !outputs.contains(&(i as u32));
+    let regs = Registers { free: vec![], count: if pinned { TAPE_INPUTS } else { 0 } };
+    let mut e = Emitter { b, outputs, pinned, last: vec![], regs, reg: vec![0; b.nodes.len()], words: vec![], immediates: 0, fused: 0, iterations: 0 };
     // Constants, parameters and (not `pinned`) inputs are emitted again
     // right before each use (one instruction) rather than held in a
     // register from their first use to their last; `pinned` inputs are read
     // from their own registers (TAPE_INPUTS).
-    let order: Vec<usize> = schedule(nodes, outputs, &b.partner).into_iter().filter(|&i| !leaf(i)).collect();
+    let order: Vec<usize> = schedule(&b.nodes, outputs, &b.partner).into_iter().filter(|&i| !e.leaf(i)).collect();
+    e.last = last_uses(&b.nodes, &order, outputs);
+    e.words.reserve(order.len());
+    for (k, &i) in order.iter().enumerate() {
+        e.emit(k, i);
+    }
+    if e.regs.count > TAPE_SLOTS {
+        return Err(TapeError::Registers(e.regs.count));
+    }
+    let ops = e.words.len();
+    let outputs = outputs.iter().map(|&o| e.reg[o as usize]).collect();
+    let mut program = Program { words: e.words, outputs, ops, immediates: e.immediates, fused: e.fused, registers: e.regs.count, iterations: e.iterations };
+    program.pad(TAPE_UNROLL);
+    Ok(program)
+}
+
+/// The position in `order` of each node's last use as an operand (the
+/// outputs': never).
+fn last_uses(nodes: &[Node], order: &[usize], outputs: &[u32]) -> Vec<usize> {
     let mut last = vec![0usize; nodes.len()];
     for (k, &i) in order.iter().enumerate() {
         for &a in &nodes[i].args[..arity(nodes[i].code)] {
@@ -164,74 +182,111 @@ fn encode_shared(b: &Builder, outputs: &[u32], pinned: bool) -> Result<Program, 
     for &o in outputs {
         last[o as usize] = usize::MAX;
     }
-    let pin = |i: usize| pinned && nodes[i].code == Code::Input;
-    let (mut immediates, mut fused) = (0, 0);
-    let mut regs = Registers { free: vec![], count: if pinned { TAPE_INPUTS } else { 0 } };
-    let mut reg = vec![0u32; nodes.len()];
-    let mut words = Vec::with_capacity(order.len());
-    let mut iterations = 0;
-    for (k, &i) in order.iter().enumerate() {
-        let n = nodes[i];
-        if pin(i) {
+    last
+}
+
+/// The state of [`encode_shared`]: registers by a linear scan and the
+/// instructions written so far, with the program's counts.
+struct Emitter<'b> {
+    b: &'b Builder,
+    outputs: &'b [u32],
+    pinned: bool,
+    /// Each node's last use ([`last_uses`]).
+    last: Vec<usize>,
+    regs: Registers,
+    /// Each node's register.
+    reg: Vec<u32>,
+    words: Vec<[u32; 4]>,
+    immediates: usize,
+    fused: usize,
+    iterations: u32,
+}
+
+impl Emitter<'_> {
+    /// A constant, parameter or input that is not an output: emitted again
+    /// before each use.
+    fn leaf(&self, i: usize) -> bool {
+        arity(self.b.nodes[i].code) == 0 && !self.outputs.contains(&(i as u32))
+    }
+
+    /// An input read from its own register.
+    fn pin(&self, i: usize) -> bool {
+        self.pinned && self.b.nodes[i].code == Code::Input
+    }
+
+    /// Node `i`, the `k`-th of the order: its leaf operands loaded, the
+    /// registers of operands used for the last time freed, then its own
+    /// register and instruction.
+    fn emit(&mut self, k: usize, i: usize) {
+        let n = self.b.nodes[i];
+        if self.pin(i) {
             // An output that is an input (f = x) is its register.
-            reg[i] = n.imm as u32;
-            continue;
+            self.reg[i] = n.imm as u32;
+            return;
         }
         let args = &n.args[..arity(n.code)];
         // One constant operand is read from the instruction.
-        let imm = immediate_operands(n.code).iter().map(|&j| args[j]).find(|&a| nodes[a as usize].code == Code::Const && leaf(a as usize));
-        immediates += usize::from(imm.is_some());
-        fused += usize::from(matches!(n.code, Code::Mad | Code::Msub));
+        let imm = immediate_operands(n.code).iter().map(|&j| args[j]).find(|&a| self.b.nodes[a as usize].code == Code::Const && self.leaf(a as usize));
+        self.immediates += usize::from(imm.is_some());
+        self.fused += usize::from(matches!(n.code, Code::Mad | Code::Msub));
+        self.load_operands(k, args, imm);
+        self.reg[i] = self.regs.take();
+        let w = self.instruction(i, args, imm);
+        self.words.push(w);
+        if n.code == Code::PowChain {
+            self.iterations += 31 - (n.imm as u32).leading_zeros();
+        }
+    }
+
+    /// Gives the operands of the `k`-th instruction (but the immediate
+    /// `imm`) their registers, each leaf loaded by an instruction of its
+    /// own, and frees those read for the last time.
+    fn load_operands(&mut self, k: usize, args: &[u32], imm: Option<u32>) {
         let mut dying = vec![];
         for (j, &a) in args.iter().enumerate() {
             if args[..j].contains(&a) || imm == Some(a) {
                 continue;
             }
-            if pin(a as usize) {
-                reg[a as usize] = nodes[a as usize].imm as u32;
-            } else if leaf(a as usize) {
-                reg[a as usize] = regs.take();
-                words.push(word(b, a as usize, reg[a as usize], [0; 4]));
-                dying.push(reg[a as usize]);
-            } else if last[a as usize] == k {
-                dying.push(reg[a as usize]);
+            let a = a as usize;
+            if self.pin(a) {
+                self.reg[a] = self.b.nodes[a].imm as u32;
+            } else if self.leaf(a) {
+                self.reg[a] = self.regs.take();
+                self.words.push(word(self.b, a, self.reg[a], [0; 4]));
+                dying.push(self.reg[a]);
+            } else if self.last[a] == k {
+                dying.push(self.reg[a]);
             }
         }
-        regs.free.extend(dying);
-        reg[i] = regs.take();
+        self.regs.free.extend(dying);
+    }
+
+    /// Node `i`'s instruction on operands `args`, the constant `imm` (if
+    /// any) in its last two words.
+    fn instruction(&self, i: usize, args: &[u32], imm: Option<u32>) -> [u32; 4] {
         let mut ra = [0u32; 4];
         let mut flags = 0;
         for (j, &a) in args.iter().enumerate() {
             if imm == Some(a) {
                 flags |= if j == 0 { TAPE_IMM_A } else { TAPE_IMM_B };
             } else {
-                ra[j] = reg[a as usize];
+                ra[j] = self.reg[a as usize];
             }
         }
-        let mut w = word(b, i, reg[i], ra);
+        let mut w = word(self.b, i, self.reg[i], ra);
         w[0] |= flags;
         if let Some(c) = imm {
             if args.len() == 3 {
                 // A multiply-add's addend moves to the immediate's place.
                 w[1] = ra[0] | ra[2] << 16;
             }
-            let k = word(b, c as usize, 0, [0; 4]);
+            let k = word(self.b, c as usize, 0, [0; 4]);
             w[0] |= k[0] & TAPE_NEAR_HI;
             w[2] = k[2];
             w[3] = k[3];
         }
-        words.push(w);
-        if n.code == Code::PowChain {
-            iterations += 31 - (n.imm as u32).leading_zeros();
-        }
+        w
     }
-    if regs.count > TAPE_SLOTS {
-        return Err(TapeError::Registers(regs.count));
-    }
-    let ops = words.len();
-    let mut program = Program { words, outputs: outputs.iter().map(|&o| reg[o as usize]).collect(), ops, immediates, fused, registers: regs.count, iterations };
-    program.pad(TAPE_UNROLL);
-    Ok(program)
 }
 
 /// The register file during allocation: freed registers are reused first.

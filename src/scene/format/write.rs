@@ -68,11 +68,7 @@ pub(crate) fn node_json(n: &Node) -> String {
         }
         Node::Operator { op, left, right } => {
             s += &format!("\"type\": \"{}\", \"left\": {left}, \"right\": {right}", op.name());
-            if let Some(b) = &op.blend {
-                s += &format!(", \"beta\": {}, \"r_o\": {}", num(b.beta), num(b.range));
-            }
-            if let Some(j) = &op.join {
-                let (name, v) = j.size();
+            for (name, v) in op.fields() {
                 s += &format!(", \"{name}\": {}", num(v));
             }
         }

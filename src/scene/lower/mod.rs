@@ -28,9 +28,10 @@
 
 use super::placement::Placement;
 use super::warp::WarpKind;
-use super::{Blend, Builder, Join, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
+use super::{Builder, Join, OpKind, Operator, Primitive, Profile, Rotation, Scene, Shape, Transform, Unary};
 use crate::diag::Span;
 use crate::ir::{Func1, Func2, Func3, NodeId as IrNode, Op};
+use crate::sdf::operator::OperatorStyle;
 use crate::sdf::{self, Form};
 use crate::syntax::ast::{BinOp, Call, Expr, ExprKind, Program};
 use glam::{DQuat, DVec3};
@@ -259,47 +260,11 @@ impl Walker<'_> {
         Ok(Rc::new(Tree::Leaf(Primitive::new(shape), span)))
     }
 
-    /// Transforms and operators.
+    /// Transforms, operators, warps, copies and unary forms.
     fn composite(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
-        let moved = |t: Transform, s: Rc<Tree>| Ok(Rc::new(Tree::Moved(t, s)));
-        let sharp = Operator::sharp;
-        let smooth = |kind, beta: f64, range: f64| Operator::smooth(kind, Blend { beta, range });
         match form {
-            Form::Translate => {
-                let translate = self.nums(a)?;
-                moved(Transform { translate, ..Transform::default() }, self.shape(&a[3])?)
-            }
-            Form::Rotate => {
-                let [x, y, z, angle] = self.nums(a)?;
-                let rotate = Some(Rotation { axis: [x, y, z], angle });
-                moved(Transform { rotate, ..Transform::default() }, self.shape(&a[4])?)
-            }
-            Form::Scale => {
-                let scale = self.num(&a[0])?;
-                moved(Transform { scale, ..Transform::default() }, self.shape(&a[1])?)
-            }
-            Form::Union | Form::Intersect | Form::Subtract => {
-                let kind = op_kind(form);
-                let mut acc = self.shape(&a[0])?;
-                for e in &a[1..] {
-                    acc = Rc::new(Tree::Op(sharp(kind), acc, self.shape(e)?, span));
-                }
-                Ok(acc)
-            }
-            Form::SmoothUnion | Form::SmoothIntersect | Form::SmoothSubtract => {
-                let kind = op_kind(form);
-                let (l, r, k) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                Ok(Rc::new(Tree::Op(smooth(kind, k, super::operator::DEFAULT_RANGE_FACTOR * k), l, r, span)))
-            }
-            Form::CompactUnion | Form::CompactIntersect | Form::CompactSubtract => {
-                let kind = op_kind(form);
-                let (l, r, beta) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
-                let range = match a.get(3) {
-                    Some(e) => self.num(e)?,
-                    None => super::operator::DEFAULT_RANGE_FACTOR * beta,
-                };
-                Ok(Rc::new(Tree::Op(smooth(kind, beta, range), l, r, span)))
-            }
+            Form::Translate | Form::Rotate | Form::Scale => self.transformed(form, a),
+            Form::Operator(style, kind) => self.operator(style, kind, a, span),
             Form::Join(t, kind) => {
                 let (l, r, size) = (self.shape(&a[0])?, self.shape(&a[1])?, self.num(&a[2])?);
                 Ok(Rc::new(Tree::Op(Operator::joined(kind, Join::from_size(t, size)), l, r, span)))
@@ -308,19 +273,7 @@ impl Walker<'_> {
                 let kind = if form == Form::Twist { WarpKind::Twist } else { WarpKind::Bend };
                 Ok(Rc::new(Tree::Warped(kind, self.num(&a[0])?, self.shape(&a[1])?, span)))
             }
-            Form::Repeat => {
-                let spacing: [f64; 3] = self.nums(a)?;
-                let counts: Vec<f64> = a[3..6].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
-                let n = sdf::repeat_counts(|k| Some(counts[k - 3]), |k, m| not(m, a[k].span))?;
-                Ok(copies(&Copies::Repeat { spacing, count: n }, self.shape(&a[6])?, span))
-            }
-            Form::Mirror => {
-                let n: [f64; 3] = self.nums(a)?;
-                if n == [0.0; 3] {
-                    return Err(not("the mirror plane's normal must not be zero", a[0].span));
-                }
-                Ok(copies(&Copies::Mirror { normal: n }, self.shape(&a[3])?, span))
-            }
+            Form::Repeat | Form::Mirror => self.copied(form, a, span),
             Form::Unary(t) => {
                 let n = t.param_count();
                 let v: Vec<f64> = a[..n].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
@@ -332,14 +285,52 @@ impl Walker<'_> {
             }
         }
     }
-}
 
-/// Whether an operator form is a union, an intersection or a difference.
-fn op_kind(form: Form) -> OpKind {
-    match form {
-        Form::Intersect | Form::SmoothIntersect | Form::CompactIntersect => OpKind::Intersection,
-        Form::Subtract | Form::SmoothSubtract | Form::CompactSubtract => OpKind::Difference,
-        _ => OpKind::Union,
+    /// `translate`, `rotate` and `scale`: the shape under a transform, not
+    /// yet pushed to its leaves.
+    fn transformed(&mut self, form: Form, a: &[Expr]) -> Result<Rc<Tree>, NotBlobtree> {
+        let (t, shape) = match form {
+            Form::Translate => (Transform { translate: self.nums(a)?, ..Transform::default() }, &a[3]),
+            Form::Rotate => {
+                let [x, y, z, angle] = self.nums(a)?;
+                (Transform { rotate: Some(Rotation { axis: [x, y, z], angle }), ..Transform::default() }, &a[4])
+            }
+            _ => (Transform { scale: self.num(&a[0])?, ..Transform::default() }, &a[1]),
+        };
+        Ok(Rc::new(Tree::Moved(t, self.shape(shape)?)))
+    }
+
+    /// An operator style's form: its operands joined left to right by the
+    /// operator the scene keeps the style as, for the parameters given
+    /// (defaults for those left out).
+    fn operator(&mut self, style: &'static OperatorStyle, kind: OpKind, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
+        let n = style.operand_count(a.len());
+        let mut acc = self.shape(&a[0])?;
+        let mut rest = vec![];
+        for e in &a[1..n] {
+            rest.push(self.shape(e)?);
+        }
+        let given: Vec<f64> = a[n..].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+        let op = Operator::styled(kind, style, &style.with_defaults(&given));
+        for r in rest {
+            acc = Rc::new(Tree::Op(op, acc, r, span));
+        }
+        Ok(acc)
+    }
+
+    /// `repeat` and `mirror`: copies of the shape, a union.
+    fn copied(&mut self, form: Form, a: &[Expr], span: Span) -> Result<Rc<Tree>, NotBlobtree> {
+        if form == Form::Mirror {
+            let n: [f64; 3] = self.nums(a)?;
+            if n == [0.0; 3] {
+                return Err(not("the mirror plane's normal must not be zero", a[0].span));
+            }
+            return Ok(copies(&Copies::Mirror { normal: n }, self.shape(&a[3])?, span));
+        }
+        let spacing: [f64; 3] = self.nums(a)?;
+        let counts: Vec<f64> = a[3..6].iter().map(|e| self.num(e)).collect::<Result<_, _>>()?;
+        let n = sdf::repeat_counts(|k| Some(counts[k - 3]), |k, m| not(m, a[k].span))?;
+        Ok(copies(&Copies::Repeat { spacing, count: n }, self.shape(&a[6])?, span))
     }
 }
 
