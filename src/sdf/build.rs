@@ -187,6 +187,29 @@ impl<S: Sink> B<'_, S> {
         self.div(h3, den)
     }
 
+    /// [`Self::blend_nan_free`] for a blend range k that may be 0 (the
+    /// compact operator's gated range), written k/6 · u³ with
+    /// u = max(1 − |a − b| / max(k, 1e-30), 0): the same number, but an
+    /// enclosure stays within [0, k/6] where k's range reaches 0, where
+    /// h³ / (6 max(k², 1e-30)) divides a bounded h³ by a divisor as small as
+    /// 1e-30 (interval arithmetic then could not exclude 0 on the edge of
+    /// the operator's range, and drew a surface there).
+    pub(super) fn blend_gated(&mut self, a: NodeId, b: NodeId, k: NodeId) -> Result<NodeId, S::Error> {
+        let diff = self.sub(a, b)?;
+        let ad = self.f1(Func1::Abs, diff)?;
+        let tiny = self.c(1e-30)?;
+        let kk = self.max(k, tiny)?;
+        let r = self.div(ad, kk)?;
+        let one = self.c(1.0)?;
+        let u = self.sub(one, r)?;
+        let zero = self.c(0.0)?;
+        let u = self.max(u, zero)?;
+        let u3 = self.0.push(Op::PowI(u, 3))?;
+        let six = self.c(6.0)?;
+        let k6 = self.div(k, six)?;
+        self.mul(k6, u3)
+    }
+
     /// Zanni's blend d(a, b, k) = k/6 · max(1 - |a - b|/k, 0)^3 (eq. 9).
     pub(super) fn blend(&mut self, a: NodeId, b: NodeId, k: NodeId) -> Result<NodeId, S::Error> {
         let diff = self.sub(a, b)?;

@@ -219,10 +219,9 @@ fn bisected_scenes_draw_what_the_compiled_formula_and_sphere_tracing_draw() {
             continue;
         }
         let f = crate::Formula::compile("<scene>", &scene.to_formula().unwrap()).unwrap();
-        // In RAA: the compact operators' formula form encloses the gated
-        // blend loosely in IA (its divisor may reach 0 on the edge of R_o).
-        let raa = crate::render::Traversal::Bisect(crate::render::BisectOptions::new(crate::ir::Domain::Affine));
-        let compiled = crate::gpu::Renderer::new(gpu, &f.ir, raa).unwrap().render(&s).unwrap();
+        // In IA, as the scene: the compact operators' formula form keeps
+        // its enclosures bounded on the edge of R_o (`blend_gated`).
+        let compiled = crate::gpu::Renderer::new(gpu, &f.ir, bisect_ia()).unwrap().render(&s).unwrap();
         let (hits, differ) = check_bisected(&scene, &s, &sparse, &compiled, 1.0);
         assert!(hits > 300 && differ * 20 <= hits, "{k}: {differ} pixels of {hits} hits differ from the compiled formula's");
     }
@@ -264,21 +263,20 @@ fn thin_shells_and_half_pixel_balls_are_found() {
             let p = frame.pixels[(j * w + i) as usize];
             let front = super::scene_pictures::ray_ball(eye, d, DVec3::ZERO, 1.0 + 1e-4).map(|t| t.0);
             let past_rim = ((eye - d * eye.dot(d)).length() - 1.0) < -2.0 * foot(DVec3::ZERO);
-            if let (Some(t), true) = (front, past_rim) {
-                assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the shell at {t}");
-                assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps, "pixel ({i}, {j}): depth {} against the shell's {t}", p.depth);
-                shell += 1;
-            }
-            for &(c, r) in &balls {
-                if let Some((t, _)) = super::scene_pictures::ray_ball(eye, d, c, r) {
-                    assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the ball at {c} (radius {r:.2e})");
-                    assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps, "pixel ({i}, {j}): depth {} against the ball's {t}", p.depth);
-                    small += 1;
-                }
-            }
+            let ball = balls.iter().filter_map(|&(c, r)| super::scene_pictures::ray_ball(eye, d, c, r)).map(|t| t.0).fold(f64::INFINITY, f64::min);
+            let expected = match front {
+                Some(t) if t < ball && past_rim => Some(t),
+                // A ray grazing the shell may go either way.
+                Some(t) if t < ball => None,
+                _ => ball.is_finite().then_some(ball),
+            };
+            let Some(t) = expected else { continue };
+            assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the surface at {t}");
+            assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps, "pixel ({i}, {j}): depth {} against {t}", p.depth);
+            if t == ball { small += 1 } else { shell += 1 }
         }
     }
-    assert!(shell > 2000 && small >= 3, "{shell} shell pixels, {small} ball pixels checked");
+    assert!(shell > 500 && small >= 3, "{shell} shell pixels, {small} ball pixels checked");
 }
 
 /// Two density blobs whose sum's iso-surface narrows to a neck a few
@@ -295,9 +293,9 @@ fn a_thin_neck_between_density_blobs_is_found() {
     // isovalue 0.5 there.
     let (radius, a) = (0.6, 0.6 * (1.0 - 0.2505f64.cbrt()).sqrt());
     let nodes = [
-        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "translate": [{}, 0, 0]}}"#, -a),
-        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "translate": [{a}, 0, 0]}}"#),
-        r#"{"type": "sum_union", "left": 0, "right": 1}"#.to_string(),
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{}, 0, 0]}}"#, -a),
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{a}, 0, 0]}}"#),
+        r#"{"type": "sum_union", "left": 0, "right": 1, "range": 0.2}"#.to_string(),
     ];
     let scene = scene_of(&nodes, 2);
     let neck = [0.0, 0.0, 0.0];
@@ -329,7 +327,10 @@ fn a_thin_neck_between_density_blobs_is_found() {
             match root {
                 Some(t) => {
                     assert_eq!(p.status, Status::Hit, "pixel ({i}, {j}) misses the surface at {t}");
-                    assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps + foot, "pixel ({i}, {j}): depth {} against {t}", p.depth);
+                    // At the root, or at a near miss in front of it.
+                    let v = scene.eval((eye + d * f64::from(p.depth)).to_array());
+                    let near = v.abs() <= 2.0 * s.eps && f64::from(p.depth) < t;
+                    assert!((f64::from(p.depth) - t).abs() <= 2.0 * s.eps + foot || near, "pixel ({i}, {j}): depth {} against {t} (the reference there: {v}, eps {})", p.depth, s.eps);
                     hits += 1;
                 }
                 // Grazing rays may go either way.
@@ -341,5 +342,5 @@ fn a_thin_neck_between_density_blobs_is_found() {
             }
         }
     }
-    assert!(hits > 100, "{hits} hits, {misses} misses checked");
+    assert!(hits > 50, "{hits} hits, {misses} misses checked");
 }

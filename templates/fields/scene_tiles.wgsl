@@ -442,7 +442,7 @@ fn scene_prune(@builtin(global_invocation_id) gid: vec3<u32>) {
                 scene_sift(base, select(0u, i, heapify), select(e, count, heapify));
             }
         }
-        if (scene_chain_tile(t, base, count, tb, round == 1u)) { return; }
+        if (SCENE_CHAIN_TILES && scene_chain_tile(t, base, count, tb, round == 1u)) { return; }
     }
     let margin = scene_margin(zlo, zhi);
     var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);

@@ -88,7 +88,9 @@ pub fn compact(kind: OpKind, a: f64, b: f64, beta: f64, range: f64) -> f64 {
 /// β'' = min(b_r(x), 1e30 · max(r_o − m, 0)) with m = max(a, b) for ∪ and
 /// max(|a|, |b|) for ∩ and \. That is eq. 12 everywhere but on the edge of
 /// R_o itself, where G is continuous (r_o ≥ 7β/6) so both sides are sharp.
-/// The blend d is the NaN-free h³ / (6 max(k², 1e-30)), h = max(k − |a − b|, 0).
+/// The first blend d is the NaN-free h³ / (6 max(k², 1e-30)), h = max(k − |a − b|, 0);
+/// the gated one, whose k may be 0, is k/6 · max(1 − |a − b| / max(k, 1e-30), 0)³
+/// (`blend_gated`: its enclosures stay bounded).
 fn expand(b: &mut Ir<'_, '_>, kind: OpKind, v: &[NodeId]) -> Result<NodeId, Stopped> {
     let beta = v[2];
     b.positive(v, 2, "the blend range beta")?;
@@ -123,7 +125,7 @@ fn expand(b: &mut Ir<'_, '_>, kind: OpKind, v: &[NodeId]) -> Result<NodeId, Stop
     let big = b.c(1e30)?;
     let gate = b.mul(big, room)?;
     let k = b.min(br, gate)?;
-    let d = b.blend_nan_free(a, o, k)?;
+    let d = b.blend_gated(a, o, k)?;
     if union { b.sub(sharp, d) } else { b.add(sharp, d) }
 }
 
