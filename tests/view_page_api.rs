@@ -59,6 +59,20 @@ fn a_scene_edit_answers_the_framing_and_uniforms_of_the_edited_scene() {
 }
 
 #[test]
+fn a_scene_is_bisected_when_the_page_asks() {
+    let file = "examples/blobs.scene.json";
+    let s = start(file);
+    let v = post(&s, "program", json!({ "args": [file, "--size", "64", "--method", "bisect"] }));
+    assert_eq!(v["program"]["method"], json!("bisect"), "{}", v["program"]["method"]);
+    assert_eq!(v["options"]["algebra"], json!("ia"), "{}", v["options"]);
+    assert!(v["program"]["wgsl"].as_str().unwrap().contains("fn surf_ia("), "the page's kernel has the scene's enclosures");
+    // RAA is refused by name.
+    let (status, e) = call(&s, "POST", "/api/program", &json!({ "args": [file, "--method", "bisect", "--algebra", "raa"] }));
+    assert_eq!(status, 400, "{e}");
+    assert!(e.to_string().contains("--algebra raa: a scene's nodes are enclosed in interval arithmetic only"), "{e}");
+}
+
+#[test]
 fn parameters_that_nothing_sets_get_the_value_one_and_are_named() {
     let s = start("@sphere");
     let v = post(&s, "program", json!({ "args": ["x^2+y^2+z^2-r^2"] }));

@@ -439,8 +439,9 @@ function buildGui() {
     });
   }
   const m = gui.addFolder('method and colour');
-  structural(m.add(U, 'method', isScene() ? ['sphere'] : ['bisect', 'sphere']));
-  if (U.method === 'bisect') structural(m.add(U, 'algebra', ['auto', 'ia', 'raa']));
+  structural(m.add(U, 'method', isScene() ? ['sphere', 'bisect'] : ['bisect', 'sphere']));
+  // A scene's nodes have interval enclosures only.
+  if (U.method === 'bisect') structural(m.add(U, 'algebra', isScene() ? ['auto', 'ia'] : ['auto', 'ia', 'raa']));
   const kernelColors = U.method === 'bisect' ? ['gradient', 'depth'] : ['field'];
   m.add(U, 'color', ['shade', 'normal', 'steps', ...kernelColors]).name('colour').onChange((c) => {
     U.colorSet = true;

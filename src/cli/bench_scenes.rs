@@ -3,7 +3,8 @@
 //! pairs; sharp and smooth) through the scene field: sparse (every 8×8 tile
 //! evaluates its pruned views, each ray walking the tile's depth slabs on
 //! its own), sync (the same with the tile's rays walking them together,
-//! Algorithm 3: a kernel of its own), dense (the sparse kernel with every
+//! Algorithm 3: a kernel of its own), bisect (the sparse pruned trees
+//! bisected on interval enclosures, one a tile), dense (the sparse kernel with every
 //! tile evaluating the whole tree, a uniform flag), and, where
 //! its formula is small enough to compile in about a minute, through the
 //! compiled field (the scene's formula generated into the shader). Dense
@@ -32,14 +33,15 @@ pub struct SceneRow {
     pub level: u32,
     /// Primitives.
     pub primitives: usize,
-    /// `sparse`, `sync`, `dense` or `compiled`.
+    /// `sparse`, `bisect`, `sync`, `dense` or `compiled`.
     pub path: String,
     /// Building the renderer (for `compiled`: generating and compiling the
     /// scene's shader, cold or from Mesa's cache), ms.
     pub setup_ms: f64,
     /// Median GPU ms of the timed runs.
     pub gpu_ms: f64,
-    /// Marching steps per pixel (each evaluates the field once).
+    /// Marching steps per pixel (each evaluates the field once); for
+    /// `bisect`, interval evaluations per pixel.
     pub steps_per_ray: f64,
     /// Field evaluations per ray: the steps plus the six of the normal on a hit.
     pub evals_per_ray: f64,
@@ -141,6 +143,12 @@ fn measure(gpu: &Gpu, job: (Kind, Blending, u32), size: (u32, u32), repeat: u32,
     let mut r = Renderer::new(gpu, &data, Traversal::Sphere(o.clone())).map_err(super::error::render_error)?;
     let setup = t0.elapsed().as_secs_f64() * 1e3;
     let mut rows = vec![row(id, "sparse", setup, &time_frames(&r, &s, repeat)?)];
+    // The same scene bisected on its interval enclosures (no Lipschitz
+    // bound): a kernel of its own.
+    let t0 = std::time::Instant::now();
+    let bisect = Traversal::Bisect(crate::render::BisectOptions::new(crate::ir::Domain::Interval));
+    let rb = Renderer::new(gpu, &data, bisect).map_err(super::error::render_error)?;
+    rows.push(row(id, "bisect", t0.elapsed().as_secs_f64() * 1e3, &time_frames(&rb, &s, repeat)?));
     // The same sparse path with the tile's rays walking its slabs together
     // (Algorithm 3): a kernel of its own.
     let t0 = std::time::Instant::now();
