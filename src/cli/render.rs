@@ -89,16 +89,10 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
             Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(domain) }))
         }
         Method::Sphere => {
-            let misplaced = [
-                (loaded.inline.is_some(), "--inline applies to --method bisect only".to_string()),
-                (!a.modalities.given().is_empty(), format!("{} applies to --method bisect only", a.modalities.given().first().copied().unwrap_or(""))),
-                (matches!(color, ColorMode::Gradient | ColorMode::Depth), format!("--color {} applies to --method bisect only", a.color)),
-                (a.settings.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
-                (a.settings.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
-            ];
-            if let Some((_, m)) = misplaced.into_iter().find(|(bad, _)| *bad) {
-                return Err(CliError::input(m));
+            if loaded.inline.is_some() {
+                return Err(CliError::input("--inline applies to --method bisect only"));
             }
+            refuse_bisect_flags(a, color)?;
             let mut o = args::sphere_options(&a.sphere, header)?;
             if color == ColorMode::Field {
                 o.shading = Shading::Field;
@@ -107,6 +101,20 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
         }
     }
 }
+/// Refuses the flags of bisection when sphere tracing (formulas and scenes alike).
+pub(super) fn refuse_bisect_flags(a: &RenderArgs, color: ColorMode) -> Result<(), CliError> {
+    let misplaced = [
+        (!a.modalities.given().is_empty(), format!("{} applies to --method bisect only", a.modalities.given().first().copied().unwrap_or(""))),
+        (matches!(color, ColorMode::Gradient | ColorMode::Depth), format!("--color {} applies to --method bisect only", a.color)),
+        (a.settings.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
+        (a.settings.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
+    ];
+    match misplaced.into_iter().find(|(bad, _)| *bad) {
+        Some((_, m)) => Err(CliError::input(m)),
+        None => Ok(()),
+    }
+}
+
 /// A render of a formula as the flags and the header ask for it, before
 /// any device work: what `render` runs, and what `the viewer sends to the page
 /// and renders for "save PNG".

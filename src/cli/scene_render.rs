@@ -59,15 +59,7 @@ fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode) -> Result<Traversal
             Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(Domain::Interval) }))
         }
         Method::Sphere => {
-            let misplaced = [
-                (!a.modalities.given().is_empty(), format!("{} applies to --method bisect only", a.modalities.given().first().copied().unwrap_or(""))),
-                (matches!(color, ColorMode::Gradient | ColorMode::Depth), format!("--color {} applies to --method bisect only", a.color)),
-                (a.settings.algebra.is_some(), "--algebra applies to --method bisect only (sphere tracing evaluates the scalar field)".into()),
-                (a.settings.max_iter.is_some(), "--max-iter applies to --method bisect only; sphere tracing's budget is --max-steps".into()),
-            ];
-            if let Some((_, m)) = misplaced.into_iter().find(|(bad, _)| *bad) {
-                return Err(CliError::input(m));
-            }
+            super::render::refuse_bisect_flags(a, color)?;
             let mut options = sphere_options(&a.sphere, None)?;
             if a.sphere.lipschitz.is_none() {
                 options.lipschitz = lin.lipschitz();

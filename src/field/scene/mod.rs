@@ -42,11 +42,6 @@ pub const SCENE_UNION_MAX: u32 = 64;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_prune"];
 
-/// Rounds of bisection's per-pixel pass after the first over a scene: a
-/// pixel whose cells need more of the interpreter than the loop cap leaves
-/// one dispatch resumes in the next.
-pub const SCENE_RESUME_ROUNDS: u32 = 7;
-
 /// What the interpreter is assembled for: the traversal's side of it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum SceneKernel {

@@ -89,16 +89,6 @@ impl FieldSource for SceneData {
         true
     }
 
-    /// Bisecting, a cell's scalar work runs from one call site of the
-    /// interpreter, in rounds that resume pixels past the work limit.
-    fn cells_resume(&self) -> bool {
-        true
-    }
-
-    fn resume_rounds(&self) -> u32 {
-        super::SCENE_RESUME_ROUNDS
-    }
-
     fn shares_loop_cap(&self) -> Option<&'static str> {
         Some("a scene field (its interpreter shares")
     }
