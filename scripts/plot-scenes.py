@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plots `isotrace bench --suite scenes --json FILE` as an SVG: ms per frame
 against primitive count (both axes logarithmic), one panel per series
-(aggregate, boxes, sphere pairs), one line per path: the sparse scene path,
+(aggregate, boxes, sphere pairs), one line per path: the sparse scene path, the same bisected,
 the same with the tile's rays walking its slabs together (sync), the dense baseline (the whole tree in every tile), the compiled formula
 where it was measured, and, with --peer, fidget's ms from the table that
 `benches/peer --scenes` prints (its stdout saved to a file). Sharp blends
@@ -13,7 +13,7 @@ import argparse
 import json
 import math
 
-PATHS = {"sparse": "#1f77b4", "sync": "#9467bd", "dense": "#d62728", "compiled": "#7f7f7f", "fidget": "#2ca02c"}
+PATHS = {"sparse": "#1f77b4", "bisect": "#ff7f0e", "sync": "#9467bd", "dense": "#d62728", "compiled": "#7f7f7f", "fidget": "#2ca02c"}
 KINDS = ["aggregate", "boxes", "sphere-pairs"]
 
 
