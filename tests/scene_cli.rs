@@ -160,30 +160,32 @@ fn formula_prints_the_scene_as_distance_forms() {
 }
 
 #[test]
-fn bench_suite_scenes_measures_each_series_sparse_sync_and_dense() {
+fn bench_suite_scenes_measures_each_series_sparse_bisect_sync_and_dense() {
     let json = tmp("scenes.json");
     let md = tmp("scenes.md");
     let o = isotrace(&["bench", "--suite", "scenes", "--max-level", "0", "--size", "32", "--repeat", "1", "--json", json.to_str().unwrap(), "--markdown", md.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| scene")).collect();
-    // 3 kinds × sharp/smooth × level 0 × sparse/sync/dense/compiled (level
-    // 0 scenes are small enough to compile).
-    assert_eq!(rows.len(), 24, "{out}");
-    for (k, path) in ["sparse", "sync", "dense", "compiled"].iter().enumerate() {
+    // 3 kinds × sharp/smooth × level 0 × sparse/bisect/sync/dense/compiled
+    // (level 0 scenes are small enough to compile).
+    assert_eq!(rows.len(), 30, "{out}");
+    for (k, path) in ["sparse", "bisect", "sync", "dense", "compiled"].iter().enumerate() {
         assert!(rows[k].starts_with(&format!("| aggregate | sharp | 0 | 10 | {path} | ")), "{}", rows[k]);
     }
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let rows = doc["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 24);
+    assert_eq!(rows.len(), 30);
     for r in rows {
         assert_eq!(r["overflow_tiles"], 0, "{r}");
+        assert_eq!(r["unconverged"], 0, "{r}");
         assert!(r["gpu_ms"].as_f64().unwrap() > 0.0 && r["evals_per_ray"].as_f64().unwrap() > 0.0 && r["setup_ms"].as_f64().unwrap() > 0.0, "{r}");
     }
-    // Sparse, sync and dense see the same active primitives per tile.
-    assert_eq!(rows[0]["active_mean"], rows[1]["active_mean"]);
-    assert_eq!(rows[0]["active_mean"], rows[2]["active_mean"]);
-    assert_eq!(rows[3]["path"], "compiled");
+    // Sparse, bisect, sync and dense see the same active primitives per tile.
+    for k in 1..4 {
+        assert_eq!(rows[0]["active_mean"], rows[k]["active_mean"], "{}", rows[k]);
+    }
+    assert_eq!(rows[4]["path"], "compiled");
     assert!(std::fs::read_to_string(&md).unwrap().starts_with("Machine: llvmpipe"));
 
     let o = isotrace(&["bench", "--suite", "scenes", "--find-eps"]);
@@ -282,4 +284,20 @@ fn scene_walk_applies_to_scenes_only() {
     let o = isotrace(&["render", "sphere(1)", "--scene-walk", "tile", "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(stderr(&o), "error: --scene-walk applies to --method sphere only\n");
+}
+
+#[test]
+fn a_scene_file_is_bisected_with_method_bisect() {
+    let png = tmp("blobs-bisect.png");
+    let p = png.to_str().unwrap();
+    let o = isotrace(&["render", "examples/blobs.scene.json", "--method", "bisect", "--size", "64", "--json", "-o", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!((v["method"].as_str(), v["algebra"].as_str(), v["field"].as_str()), (Some("bisect"), Some("ia"), Some("scene")), "{v}");
+    assert_eq!(v["unresolved"], 0, "{v}");
+    assert!(v["hits"].as_u64().unwrap() > 100 && v["active_mean"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--algebra", "raa", "-o", p], "error: --algebra raa: a scene's nodes are enclosed in interval arithmetic only: give --algebra ia or leave it out\n");
+    fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--lipschitz", "2", "-o", p], "error: --lipschitz applies to --method sphere only\n");
+    fails(&["render", "examples/blobs.scene.json", "--max-iter", "100", "-o", p], "error: --max-iter applies to --method bisect only; sphere tracing's budget is --max-steps\n");
 }

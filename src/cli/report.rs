@@ -9,8 +9,8 @@ use std::io::Write;
 
 /// Pixels whose traversal ran out of budget hold a best guess, not a hit:
 /// always say so (with or without `--stats`), and how they are drawn. A
-/// tape field also stops at its interpreter's work limit, and a compiled
-/// field at its loops': say which way out there is.
+/// tape or scene field also stops at its interpreter's work limit, and a
+/// compiled field at its loops': say which way out there is.
 pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field: &str, loops: bool) {
     let n = frame.stats.unresolved;
     if n == 0 {
@@ -21,6 +21,16 @@ pub(super) fn warn_unresolved(frame: &Frame, t: &Traversal, s: &Settings, field:
             format!(
                 "exhausted the iteration budget (--max-iter {}) or the tape interpreter's work limit ({} loop iterations a pixel, \
                  or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; --field compiled has none)",
+                s.max_iter,
+                crate::field::limits::TAPE_WORK_LIMIT,
+                crate::field::limits::TAPE_BUNDLE_LIMIT
+            ),
+            "the nearest cell that may hold the surface",
+        ),
+        Traversal::Bisect(_) if field == crate::field::FieldKind::Scene.name() => (
+            format!(
+                "exhausted the iteration budget (--max-iter {}) or the scene interpreter's work limit ({} node evaluations a pixel, \
+                 or {} per SIMD bundle on a device with subgroups, which lavapipe's loop cap imposes; each enclosure runs the tile's pruned tree)",
                 s.max_iter,
                 crate::field::limits::TAPE_WORK_LIMIT,
                 crate::field::limits::TAPE_BUNDLE_LIMIT

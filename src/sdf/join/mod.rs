@@ -121,8 +121,9 @@ impl std::fmt::Debug for JoinType {
     }
 }
 
-/// (a, b), or (a, −b) for a difference: a minus b is a ∩ not-b.
-fn operands(b: &mut Ir<'_, '_>, kind: OpKind, v: &[NodeId]) -> Result<(NodeId, NodeId), Stopped> {
+/// (a, b), or (a, −b) for a difference: a minus b is a ∩ not-b (the
+/// operator styles' expansions share it).
+pub(in crate::sdf) fn operands(b: &mut Ir<'_, '_>, kind: OpKind, v: &[NodeId]) -> Result<(NodeId, NodeId), Stopped> {
     Ok((v[0], if kind == OpKind::Difference { b.neg(v[1])? } else { v[1] }))
 }
 

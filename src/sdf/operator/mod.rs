@@ -25,6 +25,7 @@
 use super::primitive::{Field, Invalid, Ir, Params, Stopped};
 use super::Info;
 use crate::ir::NodeId;
+use super::join::operands;
 
 mod compact;
 mod sharp;
@@ -169,11 +170,6 @@ impl std::fmt::Debug for OperatorStyle {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}", self.forms[0].name)
     }
-}
-
-/// (a, b), or (a, −b) for a difference: a minus b is a ∩ not-b.
-fn operands(b: &mut Ir<'_, '_>, kind: OpKind, v: &[NodeId]) -> Result<(NodeId, NodeId), Stopped> {
-    Ok((v[0], if kind == OpKind::Difference { b.neg(v[1])? } else { v[1] }))
 }
 
 #[cfg(test)]
