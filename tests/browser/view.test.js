@@ -220,6 +220,20 @@ async function sceneCase(browser) {
   } finally { proc.kill(); }
 }
 
+// A scene bisected on its interval enclosures: the page's kernel with the
+// scene's interval interpreter, compiled by Chromium's WGSL compiler, draws
+// what lavapipe draws.
+async function sceneBisectCase(browser) {
+  const { url, proc } = await startServer('examples/blobs.scene.json');
+  try {
+    const page = await openPage(browser, url, 'scene-bisect');
+    await page.evaluate(async () => { __view.U.method = 'bisect'; await __view.recompile(); });
+    check('scene bisect: the page compiles the bisection kernel', !(await page.evaluate(() => __view.error)) && (await cliArgs(page)).includes('bisect'));
+    await matchesCli(page, 'scene-blobs-bisect');
+    await page.close();
+  } finally { proc.kill(); }
+}
+
 // The procedural nodes (twists, a bend, chamfer and round joins, density
 // fields summed): the page's kernel with those features, compiled by
 // Chromium's WGSL compiler, draws what lavapipe draws.
@@ -376,7 +390,7 @@ async function exportCase(browser) {
   try {
     // CASES=scene,export runs only those (for debugging).
     const only = (process.env.CASES || '').split(',').filter(Boolean);
-    for (const c of [sphereCase, torusCase, sceneCase, proceduralCase, growCase, lipschitzCase, newParamCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+    for (const c of [sphereCase, torusCase, sceneCase, sceneBisectCase, proceduralCase, growCase, lipschitzCase, newParamCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
       try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
     }
   } finally { await browser.close(); }
