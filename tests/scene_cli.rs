@@ -300,4 +300,13 @@ fn a_scene_file_is_bisected_with_method_bisect() {
     fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--algebra", "raa", "-o", p], "error: --algebra raa: a scene's nodes are enclosed in interval arithmetic only: give --algebra ia or leave it out\n");
     fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--lipschitz", "2", "-o", p], "error: --lipschitz applies to --method sphere only\n");
     fails(&["render", "examples/blobs.scene.json", "--max-iter", "100", "-o", p], "error: --max-iter applies to --method bisect only; sphere tracing's budget is --max-steps\n");
+    // A formula of distance forms through the scene field, bisected in IA.
+    let o = isotrace(&["render", "union(sphere(1), translate(1.5, 0, 0, box(0.5, 0.5, 0.5)))", "--field", "scene", "--size", "64", "--json", "-o", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!((v["method"].as_str(), v["algebra"].as_str(), v["field"].as_str()), (Some("bisect"), Some("ia"), Some("scene")), "{v}");
+    fails(
+        &["render", "sphere(1)", "--field", "scene", "--algebra", "raa", "-o", p],
+        "error: --algebra raa: a scene's nodes are enclosed in interval arithmetic only (--field scene): give --algebra ia or leave it out\n",
+    );
 }

@@ -66,12 +66,7 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
     let shadows = a.sphere.shadows || header.and_then(|h| h.modalities.shadows).unwrap_or(false);
     match args::method(a.sphere.method.as_deref(), header)? {
         Method::Bisect => {
-            if let Some(flag) = a.sphere.given().first() {
-                return Err(CliError::input(format!("{flag} applies to --method sphere only")));
-            }
-            if color == ColorMode::Field {
-                return Err(CliError::input("--color field applies to --method sphere only"));
-            }
+            let kernel_color = bisect_color(a, color)?;
             if a.settings.field == Some(args::FieldArg::Scene) && a.settings.algebra == Some(AlgebraArg::Raa) {
                 return Err(CliError::input("--algebra raa: a scene's nodes are enclosed in interval arithmetic only (--field scene): give --algebra ia or leave it out"));
             }
@@ -79,11 +74,6 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
             if domain == crate::ir::Domain::Scalar {
                 return Err(CliError::input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia, raa or auto)"));
             }
-            let kernel_color = match color {
-                ColorMode::Gradient => KernelColor::Gradient,
-                ColorMode::Depth => KernelColor::Depth,
-                _ => KernelColor::Phong,
-            };
             let mut m = super::modality::modalities(&a.modalities, shadows, kernel_color, header)?;
             m.inline = loaded.inline.clone();
             Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(domain) }))
@@ -101,6 +91,20 @@ fn traversal(a: &RenderArgs, loaded: &super::input::Loaded, color: ColorMode) ->
         }
     }
 }
+/// Refuses the flags of sphere tracing when bisecting, and gives the
+/// kernel's colouring (formulas and scenes alike).
+pub(super) fn bisect_color(a: &RenderArgs, color: ColorMode) -> Result<KernelColor, CliError> {
+    if let Some(flag) = a.sphere.given().first() {
+        return Err(CliError::input(format!("{flag} applies to --method sphere only")));
+    }
+    Ok(match color {
+        ColorMode::Field => return Err(CliError::input("--color field applies to --method sphere only")),
+        ColorMode::Gradient => KernelColor::Gradient,
+        ColorMode::Depth => KernelColor::Depth,
+        _ => KernelColor::Phong,
+    })
+}
+
 /// Refuses the flags of bisection when sphere tracing (formulas and scenes alike).
 pub(super) fn refuse_bisect_flags(a: &RenderArgs, color: ColorMode) -> Result<(), CliError> {
     let misplaced = [

@@ -11,7 +11,6 @@ use super::CliError;
 use crate::gpu::Renderer;
 use crate::output::{self, ColorMode};
 use crate::ir::Domain;
-use crate::layout::KernelColor;
 use crate::render::{BisectOptions, Method, Shading, Traversal, View};
 use crate::scene::linear::Linear;
 use std::path::Path;
@@ -39,22 +38,12 @@ fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode) -> Result<Traversal
     let method = a.sphere.method.as_deref().unwrap_or("sphere");
     match args::method(Some(method), None)? {
         Method::Bisect => {
-            if let Some(flag) = a.sphere.given().first() {
-                return Err(CliError::input(format!("{flag} applies to --method sphere only")));
-            }
-            if color == ColorMode::Field {
-                return Err(CliError::input("--color field applies to --method sphere only"));
-            }
+            let kernel_color = super::render::bisect_color(a, color)?;
             match a.settings.algebra {
                 None | Some(AlgebraArg::Ia | AlgebraArg::Auto) => {}
                 Some(AlgebraArg::Raa) => return Err(CliError::input("--algebra raa: a scene's nodes are enclosed in interval arithmetic only: give --algebra ia or leave it out")),
                 Some(AlgebraArg::Scalar) => return Err(CliError::input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia)")),
             }
-            let kernel_color = match color {
-                ColorMode::Gradient => KernelColor::Gradient,
-                ColorMode::Depth => KernelColor::Depth,
-                _ => KernelColor::Phong,
-            };
             let m = super::modality::modalities(&a.modalities, a.sphere.shadows, kernel_color, None)?;
             Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(Domain::Interval) }))
         }

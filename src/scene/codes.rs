@@ -280,13 +280,13 @@ fn descriptor_constants(consts: &[(String, u32)]) -> String {
 /// `scene_shape`, templates/fields/scene.wgsl), in type-code order, each
 /// compiled where the scene has its feature.
 pub fn wgsl_primitive_cases() -> String {
-    let mut s = String::new();
-    for t in crate::sdf::primitive::TYPES {
-        if let Some(case) = t.wgsl {
-            s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.scene_name.to_uppercase(), case.code);
-        }
-    }
-    s
+    crate::sdf::primitive::TYPES.iter().filter_map(|t| t.wgsl.map(|c| feature_gated(t.scene_name, c.code))).collect()
+}
+
+/// `code` compiled where the scene has the feature of type `name`
+/// (`FEATURE_<NAME>`).
+fn feature_gated(name: &str, code: &str) -> String {
+    format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{code}    }}\n", name.to_uppercase())
 }
 
 /// The enclosures of the primitive types whose field is not a distance
@@ -294,13 +294,7 @@ pub fn wgsl_primitive_cases() -> String {
 /// templates/fields/scene_enclosure.wgsl), each compiled where the scene
 /// has its feature; the others are enclosed by their centred form.
 pub fn wgsl_primitive_enclosures() -> String {
-    let mut s = String::new();
-    for t in crate::sdf::primitive::TYPES {
-        if let Some(code) = t.wgsl.and_then(|c| c.enclosure) {
-            s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{code}    }}\n", t.scene_name.to_uppercase());
-        }
-    }
-    s
+    crate::sdf::primitive::TYPES.iter().filter_map(|t| t.wgsl.and_then(|c| c.enclosure).map(|code| feature_gated(t.scene_name, code))).collect()
 }
 
 /// The first and last type codes of the joins.
@@ -319,28 +313,24 @@ pub fn wgsl_join_cases() -> String {
 /// templates/fields/scene.wgsl), in type-code order, those with a feature
 /// of their own compiled where the scene has it.
 pub fn wgsl_unary_cases() -> String {
-    let mut s = String::new();
-    for t in crate::sdf::unary::TYPES {
-        match t.wgsl.feature {
-            0 => s += t.wgsl.code,
-            _ => s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.name().to_uppercase(), t.wgsl.code),
-        }
-    }
-    s
+    unary_snippets(|c| c.code)
+}
+
+/// A snippet of every unary type (`pick`s of its case), gated by its
+/// feature where it has one of its own.
+fn unary_snippets(pick: fn(&crate::sdf::unary::UnaryCase) -> &'static str) -> String {
+    let snippet = |t: &crate::sdf::unary::UnaryType| match t.wgsl.feature {
+        0 => pick(&t.wgsl).to_string(),
+        _ => feature_gated(t.name(), pick(&t.wgsl)),
+    };
+    crate::sdf::unary::TYPES.iter().map(|t| snippet(t)).collect()
 }
 
 /// The enclosures of the unary types (`unary_enclosures` in
 /// `scene_unary_ia`, templates/fields/scene_enclosure.wgsl), as
 /// [`wgsl_unary_cases`] places their cases.
 pub fn wgsl_unary_enclosures() -> String {
-    let mut s = String::new();
-    for t in crate::sdf::unary::TYPES {
-        match t.wgsl.feature {
-            0 => s += t.wgsl.enclosure,
-            _ => s += &format!("    if ((SCENE_FEATURES & FEATURE_{}) != 0u) {{\n{}    }}\n", t.name().to_uppercase(), t.wgsl.enclosure),
-        }
-    }
-    s
+    unary_snippets(|c| c.enclosure)
 }
 
 /// `scene_noise_ia(b, f)`: [`wgsl_noise`] over a box, each wave's phase

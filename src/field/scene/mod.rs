@@ -61,8 +61,8 @@ pub(crate) enum SceneKernel {
 const UNCOUNTED_WORK: &str = "fn scene_admit(n: u32) -> u32 { return n; }\nfn field_exhausted() -> bool { return false; }\n";
 
 /// Bisection's budget: an evaluation past the work limit runs no node, its
-/// enclosure is the whole line and its pixel is suspended or reported
-/// (field_exhausted), as a tape's (`crate::field::limits`).
+/// enclosure is the whole line and its pixel is reported (field_exhausted),
+/// as a tape's (`crate::field::limits`).
 fn counted_work(bundle: bool) -> String {
     use crate::field::limits::*;
     let count = if bundle {
