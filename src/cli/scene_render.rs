@@ -34,8 +34,10 @@ fn misplaced(a: &RenderArgs) -> Option<String> {
 /// The traversal the flags ask for: sphere tracing with the scene's
 /// Lipschitz bound unless `--method bisect`, which encloses the scene's
 /// nodes in interval arithmetic and needs no bound.
-fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode) -> Result<Traversal, CliError> {
-    let method = a.sphere.method.as_deref().unwrap_or("sphere");
+fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode, path: &Path) -> Result<Traversal, CliError> {
+    // A scene is sphere traced unless a formula leaf has no Lipschitz bound.
+    let untraceable = lin.untraceable_leaf();
+    let method = a.sphere.method.as_deref().unwrap_or(if untraceable.is_some() { "bisect" } else { "sphere" });
     match args::method(Some(method), None)? {
         Method::Bisect => {
             let kernel_color = super::render::bisect_color(a, color)?;
@@ -48,6 +50,9 @@ fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode) -> Result<Traversal
             Ok(Traversal::Bisect(BisectOptions { modalities: m, ..BisectOptions::new(Domain::Interval) }))
         }
         Method::Sphere => {
+            if let Some(e) = untraceable {
+                return Err(CliError::input(format!("{}: {e}", path.display())));
+            }
             super::render::refuse_bisect_flags(a, color)?;
             let mut options = sphere_options(&a.sphere, None)?;
             if a.sphere.lipschitz.is_none() {
@@ -97,6 +102,7 @@ pub fn plan(a: &RenderArgs, scene: &crate::scene::Scene, path: &Path) -> Result<
         return Err(CliError::input(m));
     }
     let lin = Linear::new(scene).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
+    crate::field::scene::leaves::check(&lin.leaves).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
     let base = match default_framing(&lin, scene) {
         Some(v) => v,
         None if a.settings.bbox.is_some() => View::default(),
@@ -106,7 +112,7 @@ pub fn plan(a: &RenderArgs, scene: &crate::scene::Scene, path: &Path) -> Result<
     let v = flags_over_defaults(&a.settings, base)?;
     let settings = apply_budget_flags(&a.settings, v.settings_without_params(size.0, size.1).map_err(settings_error)?)?;
     let color = output::parse_color(&a.color).map_err(|m| CliError::input(format!("invalid --color '{}': {m}", a.color)))?;
-    let traversal = traversal(a, &lin, color)?;
+    let traversal = traversal(a, &lin, color, path)?;
     Ok(ScenePlan { lin, settings, traversal, color })
 }
 

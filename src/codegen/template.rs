@@ -41,6 +41,8 @@ pub const SHADING: &str = include_str!("../../templates/shared/shading.wgsl");
 pub const SCENE: &str = include_str!("../../templates/fields/scene.wgsl");
 /// Its distance functions that need more than a line (boxes, profiles, grids).
 pub const SCENE_SHAPES: &str = include_str!("../../templates/fields/scene_shapes.wgsl");
+/// The scene interpreter's formula leaves (the tape interpreter's caller).
+pub const SCENE_FORMULA: &str = include_str!("../../templates/fields/scene_formula.wgsl");
 /// The scene interpreter on intervals, for bisection.
 pub const SCENE_ENCLOSURE: &str = include_str!("../../templates/fields/scene_enclosure.wgsl");
 /// The scene field source's pre-passes: per-tile active primitives and views.

@@ -59,6 +59,8 @@ pub const EXTRUDE: u32 = 9;
 pub const REVOLVE: u32 = 10;
 /// Type code of a voxel grid.
 pub const GRID: u32 = 11;
+/// Type code of a formula leaf (`super::leaf`).
+pub const FORMULA: u32 = 14;
 /// Type code of a normalized density.
 pub const DENSITY: u32 = crate::sdf::primitive::DENSITY.code;
 /// Type code of a sharp union, the first operator code. An operator
@@ -88,6 +90,8 @@ pub const FEATURE_GRID: u32 = 32;
 pub const FEATURE_JOIN: u32 = 64;
 /// Feature bit: twisted or bent primitives.
 pub const FEATURE_WARP: u32 = 128;
+/// Feature bit: formula leaves (the tape interpreter inside the scene's).
+pub const FEATURE_FORMULA: u32 = 1 << 11;
 /// Feature bit: primitives other than plain spheres (a frame and extents:
 /// three rows). A scene of plain spheres (unwarped; laid out with the
 /// identity frame, `rows::shape_rows`) runs a kernel that reads two rows a
@@ -111,6 +115,9 @@ pub const FORM_EXTRUDE: u32 = 4;
 pub const FORM_REVOLVE: u32 = 5;
 /// Primitive form: a voxel grid's samples, trilinearly interpolated.
 pub const FORM_GRID: u32 = 6;
+/// Primitive form: a formula leaf; its rows are the frame, (box centre,
+/// leaf index), (box half extents, 1/L).
+pub const FORM_FORMULA: u32 = 9;
 /// The bit of a primitive's form where its warp kind (1 twist, 2 bend)
 /// starts: the form proper is the low 4 bits.
 pub const FORM_WARP_SHIFT: u32 = 4;
@@ -147,6 +154,12 @@ pub fn type_code(node: &Node) -> u32 {
         Node::Operator { op, .. } => op_code(op),
         Node::Unary { op, .. } => op.kind().code,
     }
+}
+
+/// The type code of node word `x` (its first word), without the leaf,
+/// left, union-path and comb bits.
+pub fn word_type(x: u32) -> u32 {
+    (x & !(NODE_LEAF_BIT | NODE_LEFT_BIT | NODE_UNION_PATH_BIT | NODE_COMB_BIT)) >> NODE_TYPE_SHIFT & NODE_TYPE_MASK
 }
 
 /// Whether type code `t` is a unary node's.
@@ -187,7 +200,7 @@ pub fn wgsl_constants() -> String {
         ("NODE_OCTAHEDRON", OCTAHEDRON),
         ("NODE_PLANE", PLANE),
     ];
-    let tail: [(&str, u32); 36] = [
+    let tail: [(&str, u32); 39] = [
         ("PRIM_FRAME_ROWS", PRIM_FRAME_ROWS),
         ("SCENE_MAX_STACK", MAX_STACK),
         ("ABV_STRIDE", ABV_STRIDE),
@@ -224,6 +237,9 @@ pub fn wgsl_constants() -> String {
         ("FORM_DENSITY", FORM_DENSITY),
         ("NODE_DENSITY", DENSITY),
         ("GRID_ROWS", GRID_ROWS),
+        ("NODE_FORMULA", FORMULA),
+        ("FORM_FORMULA", FORM_FORMULA),
+        ("FEATURE_FORMULA", FEATURE_FORMULA),
     ];
     let named = |list: &[(&str, u32)]| list.iter().map(|&(n, v)| (n.to_string(), v)).collect::<Vec<_>>();
     let consts: Vec<(String, u32)> = named(&head).into_iter().chain(style_constants()).chain(named(&tail)).collect();

@@ -101,6 +101,8 @@ struct Ctx {
     copies: RefCell<HashMap<usize, super::lower::Copies>>,
     grids: RefCell<HashMap<(PathBuf, Option<[u64; 4]>), Arc<Grid>>>,
     voxels: std::cell::Cell<u64>,
+    /// Operations of the formula leaves read so far.
+    leaf_ops: std::cell::Cell<usize>,
     paths: GridPaths,
     /// The grid file `paths` refused, reported as such.
     refused: RefCell<Option<GridPathError>>,
@@ -115,7 +117,7 @@ pub fn parse_in(text: &str, base: &Path) -> Result<Scene, FormatError> {
 /// [`parse_in`] with the grid files `paths` allows.
 pub fn parse_with(text: &str, base: &Path, paths: &GridPaths) -> Result<Scene, FormatError> {
     let failure = RefCell::new(None);
-    let ctx = Ctx { base: base.to_path_buf(), copies: RefCell::default(), grids: RefCell::default(), voxels: Default::default(), paths: paths.clone(), refused: RefCell::default() };
+    let ctx = Ctx { base: base.to_path_buf(), copies: RefCell::default(), grids: RefCell::default(), voxels: Default::default(), leaf_ops: Default::default(), paths: paths.clone(), refused: RefCell::default() };
     let mut de = serde_json::Deserializer::from_str(text);
     let parsed = de::Deserializer::deserialize_any(&mut de, FileVisitor { failure: &failure, ctx: &ctx }).and_then(|v| de.end().map(|_| v));
     let (nodes, root) = match parsed {
@@ -237,6 +239,7 @@ fn shape_fields(kind: ShapeKind) -> Vec<&'static str> {
         ShapeKind::Extrude => vec!["profile", "half_height"],
         ShapeKind::Revolve => vec!["profile", "offset"],
         ShapeKind::Grid => vec!["file", "spacing", "origin"],
+        ShapeKind::Formula => vec!["formula", "bounds", "lipschitz"],
     }
 }
 
@@ -262,7 +265,11 @@ fn node(i: usize, v: &Value, ctx: &Ctx) -> Result<Node, SceneError> {
     if let Some(kind) = ShapeKind::parse(ty) {
         let fields: Vec<&str> = shape_fields(kind).into_iter().chain(TRANSFORM_FIELDS).chain(["warp"]).collect();
         f.only(ty, &fields)?;
-        let shape = if kind == ShapeKind::Grid { Shape::Grid(grid_ref(&f, ctx)?) } else { shape(&f, kind)? };
+        let shape = match kind {
+            ShapeKind::Grid => Shape::Grid(grid_ref(&f, ctx)?),
+            ShapeKind::Formula => Shape::Formula(formula_leaf(&f, ctx)?),
+            _ => shape(&f, kind)?,
+        };
         return Ok(Node::Primitive(Primitive { shape, transform: transform(&f)?, warp: warp(&f)? }));
     }
     if ty == "repeat" || ty == "mirror" {
@@ -329,7 +336,7 @@ fn shape(f: &Fields, kind: ShapeKind) -> Result<Shape, SceneError> {
         }
         ShapeKind::Extrude => Shape::Extrude { profile: profile(f)?, half_height: f.number("half_height")? },
         ShapeKind::Revolve => Shape::Revolve { profile: profile(f)?, offset: f.number("offset")? },
-        ShapeKind::Grid => unreachable!("grids are read by grid_ref"),
+        ShapeKind::Grid | ShapeKind::Formula => unreachable!("grids and formula leaves are read by grid_ref and formula_leaf"),
     })
 }
 
@@ -370,6 +377,32 @@ fn grid_ref(f: &Fields, ctx: &Ctx) -> Result<GridRef, SceneError> {
     ctx.grids.borrow_mut().insert(key, g.clone());
     Ok(GridRef { file, placement, grid: g })
 }
+
+/// A formula leaf: `formula` (text), `bounds` ([x0, x1, y0, y1, z0, z1]),
+/// and optionally `lipschitz`.
+fn formula_leaf(f: &Fields, ctx: &Ctx) -> Result<Arc<super::leaf::FormulaLeaf>, SceneError> {
+    let source = match f.obj.get("formula") {
+        Some(Value::String(s)) => s.as_str(),
+        Some(v) => return Err(f.err("formula", format!("expected formula text, found {}", describe(v)))),
+        None => return Err(f.err("formula", "missing")),
+    };
+    if source.len() > crate::syntax::parser::MAX_SOURCE_BYTES {
+        return Err(f.err("formula", format!("{} bytes, above the formula language's limit of {}", source.len(), crate::syntax::parser::MAX_SOURCE_BYTES)));
+    }
+    let bounds = f.numbers::<6>("bounds")?.ok_or_else(|| f.err("bounds", "missing: a formula leaf is held in a box [x0, x1, y0, y1, z0, z1]"))?;
+    let lipschitz = f.obj.get("lipschitz").map(|v| f.number_of("lipschitz", v)).transpose()?;
+    let leaf = super::leaf::FormulaLeaf::new(source, bounds, lipschitz).map_err(|(field, reason)| f.err(&field, reason))?;
+    let total = ctx.leaf_ops.get() + leaf.ir.live().len();
+    if total > MAX_SCENE_LEAF_OPS {
+        return Err(f.err("formula", format!("the scene's formula leaves compile to {total} operations with this one, above the limit of {MAX_SCENE_LEAF_OPS}")));
+    }
+    ctx.leaf_ops.set(total);
+    Ok(Arc::new(leaf))
+}
+
+/// Most operations of all a scene file's formula leaves together: their
+/// tapes are one texture the device holds.
+pub const MAX_SCENE_LEAF_OPS: usize = 200_000;
 
 /// A `repeat` (`child`, `spacing`: [x, y, z], `count`: [nx, ny, nz]) or
 /// `mirror` (`child`, `normal`) node: recorded for expansion, held as a

@@ -55,6 +55,7 @@ fn args(v: &[f64]) -> String {
 pub fn primitive_formula(p: &Primitive) -> Option<String> {
     let mut s = match p.shape {
         Shape::Grid(_) => return None,
+        Shape::Formula(ref f) => f.formula(&num, MAX_SOURCE_BYTES)?,
         Shape::Extrude { profile, half_height } => format!("extrude({}, {})", num(half_height), profile_formula(&profile)),
         Shape::Revolve { profile, offset } => format!("revolve({}, {})", num(offset), profile_formula(&profile)),
         ref shape => {

@@ -58,6 +58,7 @@ use super::{Node, NodeId, OpKind, Scene, SceneError, Shape, Unary};
 use super::operator::Typed;
 pub use super::patch::ScenePatch;
 pub(crate) use super::rows::{abv_rows, primitive_rows, warp_rows};
+pub use super::rows::LEAF_INDEX_ROW;
 use super::rows::unary_row;
 pub(crate) use super::codes::*;
 
@@ -98,6 +99,8 @@ pub struct Linear {
     pub features: u32,
     /// The Lipschitz bound the field is traced with ([`Linear::lipschitz`]).
     lipschitz: f64,
+    /// The distinct formula leaves, by leaf index (a leaf's rows name it).
+    pub leaves: Vec<std::sync::Arc<super::leaf::FormulaLeaf>>,
     /// The unary nodes that stand for a merged chain, by post-order index
     /// (ascending), with the operation of the whole chain.
     folded: Vec<(u32, Unary)>,
@@ -160,6 +163,7 @@ impl Linear {
             abvs: Vec::new(),
             features: features(scene),
             lipschitz: lipschitz_bound(scene),
+            leaves: Vec::new(),
             order,
             folded: Vec::new(),
         };
@@ -220,6 +224,9 @@ impl Linear {
                     self.params.extend(warp_rows(p));
                     y = self.params.len() as u32;
                     self.params.extend(primitive_rows(p));
+                    if let Shape::Formula(f) = &p.shape {
+                        self.params[y as usize + super::rows::LEAF_INDEX_ROW][3] = self.leaf_index(f) as f32;
+                    }
                     let a = roi::abv(p, self.roi[k].hi);
                     self.abv.extend(abv_rows(&a));
                     self.abvs.push(a);
@@ -300,6 +307,29 @@ impl Linear {
     /// (`roi::field_lipschitz`; 1 without any).
     pub fn lipschitz(&self) -> f64 {
         self.lipschitz
+    }
+
+    /// The leaf index of formula leaf `f`: a leaf with the same formula and
+    /// bound shares its index and tape.
+    fn leaf_index(&mut self, f: &std::sync::Arc<super::leaf::FormulaLeaf>) -> usize {
+        if let Some(k) = self.leaves.iter().position(|l| std::sync::Arc::ptr_eq(l, f) || (l.source == f.source && l.lipschitz == f.lipschitz)) {
+            return k;
+        }
+        self.leaves.push(f.clone());
+        self.leaves.len() - 1
+    }
+
+    /// The first formula leaf that declares no Lipschitz bound, as the
+    /// error sphere tracing gives for it (bisection needs none).
+    pub fn untraceable_leaf(&self) -> Option<SceneError> {
+        self.order.iter().zip(&self.nodes).find_map(|(&i, w)| {
+            let leaf = w[0] & NODE_LEAF_BIT != 0 && word_type(w[0]) == FORMULA;
+            let y = w[1] as usize + super::rows::LEAF_INDEX_ROW;
+            let k = self.params.get(y).map_or(0, |r| r[3] as usize);
+            (leaf && self.leaves.get(k).is_some_and(|l| l.lipschitz.is_none())).then(|| {
+                SceneError::at(i, "lipschitz", "a formula leaf without a Lipschitz bound cannot be sphere traced: declare one, or render with --method bisect")
+            })
+        })
     }
 
     /// The operation of unary node `k` when it stands for a merged chain
@@ -419,6 +449,7 @@ fn features(scene: &Scene) -> u32 {
                 Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } if profile.kind().has_points() => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
                 Shape::Grid(_) => FEATURE_GRID,
+                Shape::Formula(_) => FEATURE_FORMULA,
                 ref shape => shape.analytic().and_then(|(t, _)| t.wgsl).map_or(0, |c| c.feature),
             }) | if p.warp.is_some() { FEATURE_WARP } else { 0 }
                 | if matches!(p.shape, Shape::Sphere { .. }) && p.warp.is_none() { 0 } else { FEATURE_SHAPES },
@@ -476,6 +507,9 @@ pub struct SceneData {
     /// bits): part of the kernel, so a renderer built for one set draws
     /// any scene whose set is within it.
     pub features: u32,
+    /// The formulas of its formula leaves, by leaf index (the field source
+    /// makes their tapes).
+    pub leaves: Vec<std::sync::Arc<super::FormulaLeaf>>,
 }
 
 impl SceneData {

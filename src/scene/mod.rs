@@ -42,6 +42,7 @@ pub(crate) mod placement;
 pub(crate) mod formula;
 internal_mod!(generate);
 pub(crate) mod grid;
+pub(crate) mod leaf;
 pub mod linear;
 pub(crate) mod lower;
 internal_mod!(operator);
@@ -55,6 +56,7 @@ pub(crate) mod sparse;
 pub(crate) mod unary;
 pub(crate) mod warp;
 
+pub use leaf::FormulaLeaf;
 pub use lower::{from_formula, NotBlobtree};
 pub use operator::{Blend, Join, OpKind, Operator};
 pub use primitive::{Primitive, Rotation, Shape, ShapeKind, Transform};

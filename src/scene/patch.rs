@@ -2,7 +2,7 @@
 //! source binds: what changes between frames without a new layout, shader
 //! or pipeline (`gpu::Renderer::edit_field` uploads a [`ScenePatch`]).
 
-use super::linear::{Linear, ABV_STRIDE, FORM_WARP_SHIFT, NODE_COMB_BIT, NODE_TYPE_SHIFT, NODE_UNION_PATH_BIT, WARP_ROWS};
+use super::linear::{Linear, ABV_STRIDE, FORM_WARP_SHIFT, WARP_ROWS};
 use super::roi;
 use super::rows::{abv_rows, ball, primitive_rows, warp_rows};
 use super::{Node, SceneError};
@@ -13,7 +13,7 @@ impl Linear {
     /// and its limit ball (`reach`; the tile pre-pass tests both against
     /// tile frusta; an infinite radius bounds nothing).
     pub fn field_data(&self) -> super::linear::SceneData {
-        super::linear::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls: self.balls(), features: self.features }
+        super::linear::SceneData { nodes: self.nodes.clone(), params: self.params.clone(), prims: self.primitives.clone(), balls: self.balls(), features: self.features, leaves: self.leaves.clone() }
     }
 
     /// The balls of [`Linear::field_data`]: two a primitive.
@@ -37,7 +37,7 @@ impl Linear {
         if let Err((field, reason)) = p.check() {
             return Err(SceneError::at(self.order[k], &field, reason));
         }
-        let old_type = (self.nodes[k][0] & !(NODE_UNION_PATH_BIT | NODE_COMB_BIT)) >> NODE_TYPE_SHIFT & 0xff;
+        let old_type = super::codes::word_type(self.nodes[k][0]);
         let row = self.first_row(k);
         // Other primitives' limits change only if this one bounds an
         // intersection's or a difference's other operand (a walk to the
@@ -51,7 +51,20 @@ impl Linear {
             return Err(SceneError::at(self.order[k], "warp", "the edit raises the scene's Lipschitz bound: build a new scene"));
         }
         let mut rows = warp_rows(p);
+        let own = rows.len();
         rows.extend(primitive_rows(p));
+        if let super::Shape::Formula(f) = &p.shape {
+            // The leaf keeps its tape: the same formula, the same leaf index.
+            let at = self.nodes[k][1] as usize + super::rows::LEAF_INDEX_ROW;
+            let index = self.params.get(at).map_or(0.0, |r| r[3]);
+            if self.leaves.get(index as usize).is_none_or(|l| l.source != f.source) {
+                return Err(SceneError::at(self.order[k], "formula", "an edit in place keeps a formula leaf's formula (its tape): build a new scene to change it"));
+            }
+            if self.leaves[index as usize].lipschitz != f.lipschitz {
+                return Err(SceneError::at(self.order[k], "lipschitz", "an edit in place keeps a formula leaf's Lipschitz bound: build a new scene to change it"));
+            }
+            rows[own + super::rows::LEAF_INDEX_ROW][3] = index;
+        }
         let new_type = super::linear::type_code(&Node::Primitive(p.clone()));
         let old_rows = self.row_count(k);
         if new_type != old_type || rows.len() != old_rows {

@@ -25,6 +25,7 @@
 //! 1-Lipschitz bound stays 1-Lipschitz.
 
 use super::grid::{Grid, Placement};
+use super::leaf::FormulaLeaf;
 use super::profile::{self, Profile};
 use crate::sdf::primitive::{self as types, Params, PrimitiveType};
 use glam::{DVec2, DVec3};
@@ -122,6 +123,9 @@ pub enum Shape {
         /// T > 0: the value at the support's edge (the sum's range).
         range: f64,
     },
+    /// A formula of the language within a box of the local frame
+    /// (`super::leaf`): max(f/L, box distance).
+    Formula(Arc<FormulaLeaf>),
     /// `cone(r, h, rt)`: the capped cone along the local z axis, radius r
     /// at z = −h and rt at z = h.
     Cone {
@@ -150,7 +154,7 @@ impl Shape {
             Shape::Plane { normal: [x, y, z], offset } => of(&types::PLANE, &[x, y, z, offset]),
             Shape::Density { radius, half_length, iso, range } => of(&types::DENSITY, &[radius, half_length, iso, range]),
             Shape::Cone { radius, half_height, top_radius } => of(&types::CONE, &[radius, half_height, top_radius]),
-            Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) => None,
+            Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Formula(_) => None,
         }
     }
 
@@ -210,12 +214,14 @@ pub enum ShapeKind {
     Revolve,
     /// `grid`
     Grid,
+    /// `formula`
+    Formula,
 }
 
 impl ShapeKind {
     /// Every kind, in type-code order.
     pub fn all() -> Vec<ShapeKind> {
-        let mut all: Vec<ShapeKind> = types::TYPES.iter().map(|&t| ShapeKind::Analytic(t)).chain([ShapeKind::Extrude, ShapeKind::Revolve, ShapeKind::Grid]).collect();
+        let mut all: Vec<ShapeKind> = types::TYPES.iter().map(|&t| ShapeKind::Analytic(t)).chain([ShapeKind::Extrude, ShapeKind::Revolve, ShapeKind::Grid, ShapeKind::Formula]).collect();
         all.sort_by_key(|k| k.code());
         all
     }
@@ -227,6 +233,7 @@ impl ShapeKind {
             ShapeKind::Extrude => super::codes::EXTRUDE,
             ShapeKind::Revolve => super::codes::REVOLVE,
             ShapeKind::Grid => super::codes::GRID,
+            ShapeKind::Formula => super::codes::FORMULA,
         }
     }
 
@@ -237,6 +244,7 @@ impl ShapeKind {
             ShapeKind::Extrude => "extrude",
             ShapeKind::Revolve => "revolve",
             ShapeKind::Grid => "grid",
+            ShapeKind::Formula => "formula",
         }
     }
 
@@ -253,6 +261,7 @@ impl Shape {
             Shape::Extrude { .. } => ShapeKind::Extrude,
             Shape::Revolve { .. } => ShapeKind::Revolve,
             Shape::Grid(_) => ShapeKind::Grid,
+            Shape::Formula(_) => ShapeKind::Formula,
             shape => ShapeKind::Analytic(shape.analytic().expect("a shape given by numbers").0),
         }
     }
@@ -262,6 +271,7 @@ impl Shape {
     pub fn local_distance(&self, q: DVec3) -> f64 {
         match self {
             Shape::Grid(g) => g.grid.eval(q.to_array()),
+            Shape::Formula(f) => f.local_value(q),
             Shape::Extrude { profile, half_height } => profile::extrude(profile.distance(DVec2::new(q.x, q.y)), q.z, *half_height),
             Shape::Revolve { profile, offset } => profile.distance(DVec2::new((q.x * q.x + q.y * q.y).sqrt() - offset, q.z)),
             shape => {
@@ -280,8 +290,8 @@ impl Shape {
             }
         }
         match *self {
-            // Checked when its file was read.
-            Shape::Grid(_) => Ok(()),
+            // Checked when its file was read, or when it was compiled.
+            Shape::Grid(_) | Shape::Formula(_) => Ok(()),
             Shape::Extrude { profile, half_height } => {
                 profile.check()?;
                 if half_height > 0.0 { Ok(()) } else { Err(("half_height".into(), "must be > 0".into())) }
@@ -310,7 +320,7 @@ impl Shape {
     pub fn mirror_x(&self) -> Option<Shape> {
         Some(match *self {
             Shape::Extrude { profile, half_height } => Shape::Extrude { profile: profile.mirror_x(), half_height },
-            Shape::Grid(_) => return None,
+            Shape::Grid(_) | Shape::Formula(_) => return None,
             Shape::Revolve { .. } => self.clone(),
             ref shape => {
                 let (t, mut v) = shape.analytic().expect("a shape given by numbers");
@@ -333,6 +343,7 @@ impl Shape {
             Shape::Extrude { profile, half_height } => [profile.fields(), one("half_height", half_height)].concat(),
             Shape::Revolve { profile, offset } => [profile.fields(), one("offset", offset)].concat(),
             Shape::Grid(_) => Vec::new(),
+            Shape::Formula(ref f) => f.bounds().iter().enumerate().map(|(k, &v)| (format!("bounds[{k}]"), v)).collect(),
             ref shape => {
                 let (t, v) = shape.analytic().expect("a shape given by numbers");
                 t.param_names().into_iter().zip(v.iter().copied()).collect()

@@ -324,6 +324,8 @@ pub fn abv(p: &Primitive, r_plus: f64) -> Abv {
             }
             None => Abv::Sphere { centre, radius: 0.0 },
         },
+        // Outside its box a leaf is at least the distance to the box.
+        Shape::Formula(ref f) => profile_box(p, f.centre(), f.half(), r_plus),
         Shape::Extrude { profile, half_height } => {
             let (lo, hi) = profile.bounds();
             let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.0];

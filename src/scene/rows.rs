@@ -3,7 +3,7 @@
 //! bounding volumes the tile passes test. Written here, read by
 //! templates/fields/scene.wgsl and scene_tiles.wgsl.
 
-use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_GRID, FORM_REVOLVE, FORM_WARP_SHIFT};
+use super::linear::{ABV_BOX, ABV_CAPSULE, ABV_SPHERE, FORM_BOX, FORM_EXTRUDE, FORM_FORMULA, FORM_GRID, FORM_REVOLVE, FORM_WARP_SHIFT};
 use super::roi::Abv;
 use super::{Primitive, Profile, Shape, Unary};
 use crate::sdf::profile::SegmentBox;
@@ -60,6 +60,9 @@ fn shape_rows(p: &Primitive) -> Vec<[f32; 4]> {
     if let Shape::Grid(g) = &p.shape {
         return grid_rows(p, &g.grid);
     }
+    if let Shape::Formula(f) = &p.shape {
+        return formula_rows(p, f);
+    }
     let mut m = p.transform.matrix();
     let s = p.transform.scale;
     let f = |v: f64| v as f32;
@@ -112,6 +115,20 @@ fn grid_rows(p: &Primitive, g: &super::grid::Grid) -> Vec<[f32; 4]> {
     rows.extend(g.values().chunks(4).map(|c| [0, 1, 2, 3].map(|k| c.get(k).copied().unwrap_or(0.0))));
     rows
 }
+
+/// A formula leaf's rows: the frame, (box centre, leaf index), (box half
+/// extents, 1/L). The leaf index, the leaf's tape in the scene's tape
+/// texture, is written by the layout ([`LEAF_INDEX_ROW`]).
+fn formula_rows(p: &Primitive, f: &super::leaf::FormulaLeaf) -> Vec<[f32; 4]> {
+    let [c, h] = [f.centre(), f.half()].map(|v| v.map(|x| x as f32));
+    let mut rows = frame_rows(p.transform.matrix(), p.transform.scale, FORM_FORMULA).to_vec();
+    rows.push([c[0], c[1], c[2], 0.0]);
+    rows.push([h[0], h[1], h[2], f.scale() as f32]);
+    rows
+}
+
+/// The row of a formula leaf's rows whose w holds its leaf index.
+pub const LEAF_INDEX_ROW: usize = 2;
 
 /// `v` as an f32 no smaller than `v`.
 fn up(v: f64) -> f32 {

@@ -28,7 +28,7 @@ fn sphere_and_box(dx: f32) -> SceneData {
     // Each primitive's ball, then its limit (none: a union).
     let none = [0.0, 0.0, 0.0, f32::INFINITY];
     let balls = vec![[0.0, 0.0, 0.0, 1.0], none, [dx, 0.0, 0.0, 0.75f32.sqrt()], none];
-    SceneData { nodes, params, prims: vec![0, 1], balls, features: crate::scene::linear::FEATURE_SHAPES }
+    SceneData { nodes, params, prims: vec![0, 1], balls, features: crate::scene::linear::FEATURE_SHAPES, leaves: Vec::new() }
 }
 
 #[test]

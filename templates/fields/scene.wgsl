@@ -33,7 +33,8 @@ fn scene_param(i: u32) -> vec4<f32> { return textureLoad(scene_params, scene_tex
 
 fn node_type(w: u32) -> u32 { return (w >> 22u) & 0xffu; }
 
-// The box, profile and grid distances are in scene_shapes.wgsl (appended).
+// The box, profile and grid distances are in scene_shapes.wgsl, the formula
+// leaves in scene_formula.wgsl (appended).
 
 // The local point A(p - c)/s of a primitive's frame rows: r0 = Q, its
 // quaternion divided by sqrt(s) (an unnormalised quaternion scales as it
@@ -69,6 +70,10 @@ fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         // A branch: the eight sample fetches only on a grid's lanes.
         if (leaf && form == FORM_GRID) { d = scene_grid(q, r2, o); }
+    }
+    if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u) {
+        // A branch: the tape's run only on a formula leaf's lanes.
+        if (leaf && form == FORM_FORMULA) { d = scene_formula(q, r2, o); }
     }
     // s = 1/|Q|^2.
     return d / dot(r0, r0);
@@ -430,10 +435,11 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
 // SCENE_WHOLE_TREE) the whole tree.
 fn scene_pruned_len() -> u32 { return g_scene_len; }
 
-// Loop iterations one evaluation costs: its nodes.
+// Loop iterations one evaluation costs: its nodes, and at most the runs of
+// every formula leaf of the tree (scene_leaves_cost; 0 without leaves).
 fn field_cost() -> u32 {
     let len = scene_pruned_len();
-    return select(len, scene_node_count(), len == SCENE_WHOLE_TREE);
+    return select(len, scene_node_count(), len == SCENE_WHOLE_TREE) + scene_leaves_cost();
 }
 
 // The interpreter's value stack below its top (kept in a register): module

@@ -130,12 +130,18 @@ fn scene_grid_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> {
 // (primitive_enclosures: src/sdf/primitive, spliced in by
 // src/field/scene/mod.rs; the voxel grid).
 fn scene_shape_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32, leaf: bool) -> vec2<f32> {
-    let v = scene_shape(r0, r1, r2, b.c, o, leaf);
-    var e = scene_centred(v, length(b.r), abs(v) + length(b.c) + length(r1.xyz));
     let form = u32(r1.w) & 15u;
+    // A formula leaf's value at the centre is no part of its enclosure:
+    // its tape is not run for it.
+    let formula = (SCENE_FEATURES & FEATURE_FORMULA) != 0u && leaf && form == FORM_FORMULA;
+    let v = scene_shape(r0, r1, r2, b.c, o, leaf && !formula);
+    var e = scene_centred(v, length(b.r), abs(v) + length(b.c) + length(r1.xyz));
     //!splice:primitive_enclosures
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         if (leaf && form == FORM_GRID) { e = scene_grid_ia(scene_local_box(r0, r1, b), r2, o) / dot(r0, r0); }
+    }
+    if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u) {
+        if (formula) { e = scene_formula_ia(scene_local_box(r0, r1, b), r2, o) / dot(r0, r0); }
     }
     return e;
 }

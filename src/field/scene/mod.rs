@@ -8,6 +8,7 @@ use crate::codegen::template;
 pub use crate::layout::Texels;
 pub use crate::scene::linear::SceneData;
 
+pub mod leaves;
 pub mod source;
 
 
@@ -63,11 +64,13 @@ const UNCOUNTED_WORK: &str = "fn scene_admit(n: u32) -> u32 { return n; }\nfn fi
 /// Bisection's budget: an evaluation past the work limit runs no node, its
 /// enclosure is the whole line and its pixel is reported (field_exhausted),
 /// as a tape's (`crate::field::limits`).
-fn counted_work(bundle: bool) -> String {
+fn counted_work(bundle: bool, formula: bool) -> String {
     use crate::field::limits::*;
+    // A kernel with formula leaves has the tape's constants, this one among them.
+    let limit = if formula { String::new() } else { format!("const TAPE_BUNDLE_LIMIT: u32 = {TAPE_BUNDLE_LIMIT}u;\n") };
     let count = if bundle {
         format!(
-            "const TAPE_BUNDLE_LIMIT: u32 = {TAPE_BUNDLE_LIMIT}u;\n{BUNDLE_WORK_WGSL}\
+            "{limit}{BUNDLE_WORK_WGSL}\
              fn scene_admits(n: u32) -> bool {{ return bundle_admits(n); }}\n\
              fn scene_tile_pass_limit() {{ g_work_limit = {TAPE_TILE_PASS_BUNDLE_LIMIT}u; }}\n"
         )
@@ -92,7 +95,7 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
     let (sync, slabs, work) = match kernel {
         SceneKernel::Sphere { sync } => (sync, SCENE_SLABS_MAX, UNCOUNTED_WORK.to_string()),
         // A cell may span the depths of several slabs: one pruned tree a tile.
-        SceneKernel::Bisect { bundle } => (false, 1, counted_work(bundle)),
+        SceneKernel::Bisect { bundle } => (false, 1, counted_work(bundle, features & crate::scene::linear::FEATURE_FORMULA != 0)),
     };
     // Union and comb tiles give each ray its own members (sphere tracing's
     // per-ray ranges); a bisected ray takes the tile's pruned tree.
@@ -110,7 +113,24 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
         template::SCENE_SHAPES,
         template::optional(template::SCENE_SYNC, sync),
     );
-    if let SceneKernel::Bisect { .. } = kernel {
+    let bisect = matches!(kernel, SceneKernel::Bisect { .. });
+    let formula = features & crate::scene::linear::FEATURE_FORMULA != 0;
+    // One copy of each op library the kernel's interpreters use.
+    use crate::ir::Domain;
+    if bisect {
+        out.push_str(&crate::codegen::libraries(&[Domain::Scalar, Domain::Interval]));
+    } else if formula {
+        out.push_str(&crate::codegen::libraries(&[Domain::Scalar]));
+    }
+    if formula {
+        if bisect {
+            out.push_str(&crate::field::compiled::derivative::library(Domain::Interval));
+        }
+        out.push_str(&leaves::code(bisect, bisect));
+    } else {
+        out.push_str("fn scene_leaves_cost() -> u32 { return 0u; }\n");
+    }
+    if bisect {
         out.push_str(&scene_enclosures());
     }
     out
@@ -126,7 +146,7 @@ fn scene_enclosures() -> String {
         &[("primitive_enclosures", &crate::scene::linear::wgsl_primitive_enclosures()), ("unary_enclosures", &crate::scene::linear::wgsl_unary_enclosures())],
     )
     .expect("the enclosure template has its markers");
-    format!("{}\n{}{enclosure}\n{}", crate::codegen::libraries(&[Domain::Interval]), crate::scene::linear::wgsl_noise_ia(), crate::field::compiled::enclosures(Domain::Interval, false))
+    format!("{}{enclosure}\n{}", crate::scene::linear::wgsl_noise_ia(), crate::field::compiled::enclosures(Domain::Interval, false))
 }
 
 /// The render kernel's frame block in the `eval` kernels over a scene: the

@@ -29,6 +29,9 @@ pub(crate) const TILE_DEPTHS: Slot = Slot::storage(9, "scene tile depths", "scen
 /// time (lavapipe loads storage at a per-lane address lane by lane).
 pub(crate) const PRUNED_TEXELS: Slot = Slot::texture(10, "scene tile pruned texels", "scene_pruned_tex", TexelFormat::R32Uint);
 
+/// The formula leaves' tapes (`leaves::texels`; a token texel without leaves).
+pub(crate) const TAPES: Slot = Slot::texture(11, "scene formula tapes", "scene_tapes", TexelFormat::Rgba32Uint);
+
 /// The declarations the interpreter uses.
 pub(crate) fn interpreter_declarations() -> String {
     crate::bindings::declarations(&[&NODES, &PARAMS, &PRIMS, &BALLS, &PRUNED_TEXELS])
@@ -70,6 +73,7 @@ impl FieldSource for SceneData {
             TILE_STATS.kept(Size::PerTile { bytes: 8 }).reported(Statistics::TileLists),
             TILE_DEPTHS.kept(Size::PerTile { bytes: SCENE_TILE_MAX as u64 * 8 }),
             PRUNED_TEXELS.copied(SCENE_PRUNED_TEX_WIDTH, pruned),
+            TAPES.texels(crate::layout::Texels::from_rows(None, &super::leaves::texels(self))),
         ]
     }
 
@@ -110,7 +114,7 @@ impl FieldSource for SceneData {
             return Err(Refusal::new("field", "a field of another kind than the kernel was built for: build a new renderer"));
         }
         if self.features & !kernel_features != 0 {
-            return Err(Refusal::new("scene", "the scene uses node types the kernel was built without (profiles, unary nodes, infill or displacement): build a new renderer"));
+            return Err(Refusal::new("scene", "the scene uses node types the kernel was built without (profiles, unary nodes, infill, displacement or formula leaves): build a new renderer"));
         }
         Ok(())
     }

@@ -266,6 +266,13 @@ impl TapeData {
 
     /// Flattens `ir` (one surface, no user functions).
     pub fn new(ir: &Ir) -> Result<TapeData, TapeError> {
+        Self::padded(ir, 1)
+    }
+
+    /// [`TapeData::new`] with both programs padded to a multiple of at
+    /// least `step` instructions, for an interpreter that runs `step` an
+    /// iteration whatever the tape (a scene's formula leaves).
+    pub fn padded(ir: &Ir, step: u32) -> Result<TapeData, TapeError> {
         if let Some((name, _)) = ir.externs.first() {
             return Err(TapeError::UserFunction(name.clone()));
         }
@@ -309,8 +316,9 @@ impl TapeData {
         } else {
             0
         };
-        value.pad(features::unroll(unroll));
-        deriv.pad(features::unroll(unroll));
+        let step = features::unroll(unroll).max(step);
+        value.pad(step);
+        deriv.pad(step);
         let mut words = vec![[0u32; 4]; TAPE_HEADER as usize];
         let start = TAPE_HEADER;
         let dstart = start + value.words.len() as u32;

@@ -195,6 +195,35 @@ fn prelude(features: u32, lists: bool) -> String {
     )
 }
 
+/// The interpreter for another interpreter to run tapes with (a scene's
+/// formula leaves): every tape in `texture` (a texture of
+/// [`crate::scene::linear::TEXTURE_WIDTH`] texels a row), the one being run
+/// starting at texel `g_tape_base`, its words relative to it; in each of
+/// `domains`, for tapes within `features`, padded to the kernel's step.
+/// The host provides `tape_admits(iters) -> bool` (its work limit) and the
+/// op libraries; no per-tile lists, no choice notes.
+pub fn embedded(domains: &[Domain], features: u32, texture: &str) -> String {
+    let mut out = format!(
+        "{}\n// The tape being run starts at texel g_tape_base of {texture}.\nvar<private> g_tape_base: u32;\n\
+         fn tape_word(i: u32) -> vec4<u32> {{ let j = g_tape_base + i; return textureLoad({texture}, vec2<u32>(j & {mask}u, j >> {shift}u), 0); }}\n\
+         var<private> g_tape_exhausted: bool;\nvar<private> g_tape_record: bool;\n\
+         const TAPE_LIST_NOP: u32 = 0xffffffffu;\nconst TAPE_PC_MASK: u32 = 0x3fffffffu;\n{WHOLE_TAPE}",
+        super::wgsl_constants(features),
+        mask = crate::scene::linear::TEXTURE_WIDTH - 1,
+        shift = crate::scene::linear::TEXTURE_SHIFT,
+    );
+    for &d in domains {
+        // Without the field's entry points (surf_*, evald_*): the host has its own.
+        let code = instantiate(d, features);
+        let cut = code.find(FIELD_ENTRIES).unwrap_or(code.len());
+        out.push_str(&code[..cut]);
+    }
+    out
+}
+
+/// Where the template's field entry points (`surf_T`, `evald_T`) begin.
+const FIELD_ENTRIES: &str = "// The enclosure of f over the box: what `surf_*` is";
+
 /// The scalar field and the hooks every field source provides.
 const SCALAR_FIELD: &str = "
 // The scalar field: the value program in f32. Past the work limit it is NaN

@@ -47,6 +47,11 @@ pub(crate) fn node_json(n: &Node) -> String {
                         None => vec![file],
                     }
                 }
+                Shape::Formula(ref f) => {
+                    let mut v = vec![serde_json::to_string(&f.source).unwrap_or_else(|_| "\"\"".into()), nums(&f.bounds())];
+                    v.extend(f.lipschitz.map(num));
+                    v
+                }
                 ref shape => {
                     let (t, v) = shape.analytic().expect("a shape given by numbers");
                     let mut at = 0;

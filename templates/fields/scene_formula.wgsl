@@ -1,0 +1,49 @@
+// Formula leaves (src/scene/leaf.rs): a formula run from its tape by the
+// tape interpreter (templates/fields/tape.wgsl, instantiated for the scene
+// by src/field/scene/mod.rs), within a box of the leaf's frame:
+// max(f / L, distance to the box). The tapes texture (src/field/scene/
+// leaves.rs) holds (leaf count, 0, 0, 0), then each leaf's first texel,
+// then the tapes. A leaf's rows: frame, (box centre, leaf index), (box
+// half extents, 1 / L).
+
+// Makes leaf k's tape the one tape_word reads.
+fn scene_use_tape(k: u32) {
+    g_tape_base = 0u;
+    g_tape_base = tape_word(1u + k).x;
+}
+
+// The leaf's value at local point q (r2: its third row, o: its first).
+// Where f is undefined or its run was refused, +inf: the leaf is absent
+// there (and a refused run's pixel is reported by the work limit).
+fn scene_formula(q: vec3<f32>, r2: vec4<f32>, o: u32) -> f32 {
+    scene_use_tape(u32(r2.w));
+    tape_point_s(q.x, q.y, q.z, F.time);
+    let st = tape_run_s(0u);
+    let r3 = scene_param(o + 3u);
+    let f = tape_reg_s(tape_word(1u).x) * r3.w;
+    let v = select(f, iso_inf(), st != TAPE_DONE || iso_is_nan(f));
+    return max(v, sd_box(q - r2.xyz, r3.xyz));
+}
+
+// The leaf over the local box q: the tape's enclosure (scaled by 1/L and
+// widened by f32's rounding of the product) and the box distance's
+// centred form, joined by max (monotone in both). An empty enclosure (f
+// undefined over the whole box) is the leaf's absence; a refused run is
+// the whole line.
+fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> {
+    scene_use_tape(u32(r2.w));
+    let lo = scene_lo(q);
+    let hi = scene_hi(q);
+    let e = tape_enclosure_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), vec2<f32>(F.time), ia_whole(), ia_whole(), ia_whole(), false).xy;
+    let r3 = scene_param(o + 3u);
+    // An end that is NaN (never from the interpreter's ops, but not
+    // assumed) widens to the line.
+    var f = e * r3.w;
+    f = f + vec2<f32>(-1.0, 1.0) * 2.4e-7 * abs(f);
+    f = select(f, vec2<f32>(-iso_inf(), f.y), iso_is_nan(f.x));
+    f = select(f, vec2<f32>(f.x, iso_inf()), iso_is_nan(f.y));
+    f = select(f, vec2<f32>(iso_inf()), e.x > e.y);
+    let c = q.c - r2.xyz;
+    let b = scene_centred(sd_box(c, r3.xyz), length(q.r), length(c) + length(r3.xyz));
+    return max(f, b);
+}
