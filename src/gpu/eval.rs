@@ -115,7 +115,7 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[
     let src = crate::field::scene::scene_eval_shader(scene.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (scene)", &src, Author::Isotrace)?;
-    let (_nodes, _params, group) = scene_group(gpu, &pipeline, scene, &[])?;
+    let (_textures, group) = scene_group(gpu, &pipeline, scene, &[])?;
     let boxes: Vec<Box8> = points.iter().map(|p| [p[0], p[0], p[1], p[1], p[2], p[2], 0.0, 0.0]).collect();
     let mut out = Vec::with_capacity(points.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
@@ -140,7 +140,7 @@ pub fn eval_boxes_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box
     let pruned = crate::field::Texels { width: 1, height: 1, texels: vec![0u32] };
     let (_pruned, pruned_view) = gpu.texture("scene pruned trees", &pruned, wgpu::TextureFormat::R32Uint)?;
     let extra = [wgpu::BindGroupEntry { binding: crate::field::scene::source::PRUNED_TEXELS.binding, resource: wgpu::BindingResource::TextureView(&pruned_view) }];
-    let (_nodes, _params, group) = scene_group(gpu, &pipeline, scene, &extra)?;
+    let (_textures, group) = scene_group(gpu, &pipeline, scene, &extra)?;
     let mut out = Vec::with_capacity(boxes.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
     for part in boxes.chunks(chunk) {
@@ -151,9 +151,15 @@ pub fn eval_boxes_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box
 
 /// The field group of an `eval` kernel over a scene: its node and
 /// parameter textures (kept alive with the group).
-fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field::SceneData, extra: &[wgpu::BindGroupEntry<'_>]) -> Result<(wgpu::Texture, wgpu::Texture, wgpu::BindGroup), EvalError> {
+fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field::SceneData, extra: &[wgpu::BindGroupEntry<'_>]) -> Result<(Vec<wgpu::Texture>, wgpu::BindGroup), EvalError> {
     let (nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
     let (params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
+    // The formula leaves' tapes, where the kernel runs them.
+    let tapes = match scene.features & crate::scene::linear::FEATURE_FORMULA {
+        0 => None,
+        _ => Some(gpu.texture("scene formula tapes", &crate::field::Texels::from_rows(None, &crate::field::scene::leaves::texels(scene)), wgpu::TextureFormat::Rgba32Uint)?),
+    };
+    let tape_entry = tapes.as_ref().map(|(_, view)| wgpu::BindGroupEntry { binding: crate::field::scene::source::TAPES.binding, resource: wgpu::BindingResource::TextureView(view) });
     let group = gpu.scoped("scene bind group", || {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
@@ -164,11 +170,12 @@ fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field
                     wgpu::BindGroupEntry { binding: crate::field::scene::source::PARAMS.binding, resource: wgpu::BindingResource::TextureView(&param_view) },
                 ][..],
                 extra,
+                tape_entry.as_slice(),
             ]
             .concat(),
         })
     })?;
-    Ok((nodes, params, group))
+    Ok((vec![nodes, params].into_iter().chain(tapes.map(|t| t.0)).collect(), group))
 }
 
 /// A cell of a ray for [`eval_ray_cells`]: the ray o + dir·s, the start

@@ -27,6 +27,7 @@ mod scene_common;
 mod sdf_common;
 mod scene_cone;
 mod scene_enclosures;
+mod scene_leaves;
 mod scene_format;
 mod scene_gpu;
 mod scene_join_types;

@@ -128,7 +128,11 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
         }
         out.push_str(&leaves::code(bisect, bisect));
     } else {
-        out.push_str("fn scene_leaves_cost() -> u32 { return 0u; }\n");
+        // The leaf cases are compiled out (SCENE_FEATURES), but named.
+        out.push_str("fn scene_leaves_cost() -> u32 { return 0u; }\nfn scene_formula(q: vec3<f32>, r2: vec4<f32>, o: u32) -> f32 { return 0.0; }\n");
+        if bisect {
+            out.push_str("fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> { return vec2<f32>(0.0); }\n");
+        }
     }
     if bisect {
         out.push_str(&scene_enclosures());
