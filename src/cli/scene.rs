@@ -324,6 +324,8 @@ fn feature_names(bits: u32) -> Vec<String> {
         (FEATURE_WARP, "twists and bends"),
         (FEATURE_DENSITY, "density fields"),
         (FEATURE_SHAPES, "primitives other than spheres"),
+        (FEATURE_FORMULA, "formula leaves (the tape interpreter)"),
+        (FEATURE_FORMULA_POWERS, "integer powers from 8 on in formula leaves"),
     ]
         .into_iter()
         .map(|(b, n)| (b, n.to_string()))

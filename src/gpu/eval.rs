@@ -155,9 +155,9 @@ fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field
     let (nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
     let (params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
     // The formula leaves' tapes, where the kernel runs them.
-    let tapes = match scene.features & crate::scene::linear::FEATURE_FORMULA {
-        0 => None,
-        _ => Some(gpu.texture("scene formula tapes", &crate::field::Texels::from_rows(None, &crate::field::scene::leaves::texels(scene)), wgpu::TextureFormat::Rgba32Uint)?),
+    let tapes = match crate::field::scene::leaves::texture(scene) {
+        None => None,
+        Some(t) => Some(gpu.texture("scene formula tapes", &t, wgpu::TextureFormat::Rgba32Uint)?),
     };
     let tape_entry = tapes.as_ref().map(|(_, view)| wgpu::BindGroupEntry { binding: crate::field::scene::source::TAPES.binding, resource: wgpu::BindingResource::TextureView(view) });
     let group = gpu.scoped("scene bind group", || {

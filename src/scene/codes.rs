@@ -92,6 +92,10 @@ pub const FEATURE_JOIN: u32 = 64;
 pub const FEATURE_WARP: u32 = 128;
 /// Feature bit: formula leaves (the tape interpreter inside the scene's).
 pub const FEATURE_FORMULA: u32 = 1 << 11;
+/// Feature bit: formula leaves with integer powers from 8 on (the tape
+/// interpreter's square-and-multiply loop, whose masked pass every
+/// instruction of every leaf then pays).
+pub const FEATURE_FORMULA_POWERS: u32 = 1 << 12;
 /// Feature bit: primitives other than plain spheres (a frame and extents:
 /// three rows). A scene of plain spheres (unwarped; laid out with the
 /// identity frame, `rows::shape_rows`) runs a kernel that reads two rows a
@@ -200,7 +204,7 @@ pub fn wgsl_constants() -> String {
         ("NODE_OCTAHEDRON", OCTAHEDRON),
         ("NODE_PLANE", PLANE),
     ];
-    let tail: [(&str, u32); 39] = [
+    let tail: [(&str, u32); 40] = [
         ("PRIM_FRAME_ROWS", PRIM_FRAME_ROWS),
         ("SCENE_MAX_STACK", MAX_STACK),
         ("ABV_STRIDE", ABV_STRIDE),
@@ -240,6 +244,7 @@ pub fn wgsl_constants() -> String {
         ("NODE_FORMULA", FORMULA),
         ("FORM_FORMULA", FORM_FORMULA),
         ("FEATURE_FORMULA", FEATURE_FORMULA),
+        ("FEATURE_FORMULA_POWERS", FEATURE_FORMULA_POWERS),
     ];
     let named = |list: &[(&str, u32)]| list.iter().map(|&(n, v)| (n.to_string(), v)).collect::<Vec<_>>();
     let consts: Vec<(String, u32)> = named(&head).into_iter().chain(style_constants()).chain(named(&tail)).collect();

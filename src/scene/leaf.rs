@@ -116,6 +116,12 @@ impl FormulaLeaf {
         f.max(box_distance(q - DVec3::from(self.centre()), DVec3::from(self.half())))
     }
 
+    /// Whether the formula has an integer power from 8 on, which its tape
+    /// (or its derivative's) runs as a square-and-multiply loop.
+    pub fn has_power_loops(&self) -> bool {
+        self.ir.live().iter().any(|&n| matches!(self.ir.nodes[n as usize], Op::PowI(_, k) if k >= 8))
+    }
+
     /// Whether the formula reads the time `t`.
     pub fn uses_time(&self) -> bool {
         self.ir.live().iter().any(|&n| matches!(self.ir.nodes[n as usize], Op::Var(Var::T)))

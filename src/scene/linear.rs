@@ -449,6 +449,7 @@ fn features(scene: &Scene) -> u32 {
                 Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } if profile.kind().has_points() => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
                 Shape::Grid(_) => FEATURE_GRID,
+                Shape::Formula(ref f) if f.has_power_loops() => FEATURE_FORMULA | FEATURE_FORMULA_POWERS,
                 Shape::Formula(_) => FEATURE_FORMULA,
                 ref shape => shape.analytic().and_then(|(t, _)| t.wgsl).map_or(0, |c| c.feature),
             }) | if p.warp.is_some() { FEATURE_WARP } else { 0 }

@@ -12,8 +12,12 @@ use crate::scene::SceneError;
 
 /// The tape interpreter's features in a scene kernel: every operation
 /// group and the largest register file, 4 instructions an iteration
-/// (leaves' programs are padded for it); no parameters (a scene has none).
-pub const LEAF_TAPE_FEATURES: u32 = features::ALL & !features::PARAMS;
+/// (leaves' programs are padded for it); no parameters (a scene has none);
+/// the power loop only for scenes with `FEATURE_FORMULA_POWERS`.
+pub fn leaf_tape_features(scene_features: u32) -> u32 {
+    let powers = if scene_features & crate::scene::linear::FEATURE_FORMULA_POWERS != 0 { features::POWERS } else { 0 };
+    (features::ALL & !features::PARAMS & !features::POWERS) | powers
+}
 
 /// Instructions the scene's tape interpreter runs an iteration.
 const LEAF_TAPE_STEP: u32 = 4;
@@ -29,14 +33,15 @@ pub fn texels(data: &SceneData) -> Vec<[u32; 4]> {
     let mut words = vec![[0u32; 4]; 1 + n.max(1)];
     words[0][0] = n as u32;
     let mut runs = Vec::with_capacity(n);
+    let pow_passes = u32::from(leaf_tape_features(data.features) & features::POWERS != 0);
     for (k, leaf) in data.leaves.iter().enumerate() {
         let base = words.len() as u32;
         words[1 + k][0] = base;
         match TapeData::padded(&leaf.ir, LEAF_TAPE_STEP) {
             Ok(t) => {
-                // As tape_run counts it: the kernel has the power chains'
-                // masked pass (TAPE_POW_PASSES = 1).
-                runs.push(t.value_iterations(LEAF_TAPE_STEP) + t.words[0][1]);
+                // As tape_run counts it, with the power loop's masked pass
+                // per instruction where the kernel has it (TAPE_POW_PASSES).
+                runs.push(t.value_iterations(LEAF_TAPE_STEP) + t.words[0][1] * pow_passes);
                 words.extend(t.words);
             }
             Err(_) => {
@@ -50,6 +55,12 @@ pub fn texels(data: &SceneData) -> Vec<[u32; 4]> {
     }
     words[0][1] = leaf_nodes(data).map(|k| runs.get(k).copied().unwrap_or(0)).fold(0u32, |a, r| a.saturating_add(r));
     words
+}
+
+/// The tapes texture of a scene whose kernel runs formula leaves; `None`
+/// for another (its kernel reads no tapes).
+pub fn texture(data: &SceneData) -> Option<crate::layout::Texels<[u32; 4]>> {
+    (data.features & crate::scene::linear::FEATURE_FORMULA != 0).then(|| crate::layout::Texels::from_rows(None, &texels(data)))
 }
 
 /// The leaf index of every formula leaf node of the tree.
@@ -81,7 +92,7 @@ fn short(s: &str) -> String {
 /// The WGSL of formula leaves in a scene kernel: the tape interpreter in
 /// the scalar domain (and on intervals, `bisect`), the leaf functions, and
 /// the interpreter's work limit, `counted` by the scene's budget.
-pub fn code(bisect: bool, counted: bool) -> String {
+pub fn code(scene_features: u32, bisect: bool, counted: bool) -> String {
     let domains: &[Domain] = if bisect { &[Domain::Scalar, Domain::Interval] } else { &[Domain::Scalar] };
     let admits = if counted {
         // A refused run marks the evaluation exhausted (scene_admit), as a
@@ -95,7 +106,7 @@ pub fn code(bisect: bool, counted: bool) -> String {
     format!(
         "{}{admits}{}fn scene_leaves_cost() -> u32 {{ g_tape_base = 0u; return tape_word(0u).y; }}\n{}",
         crate::bindings::declarations(&[&super::source::TAPES]),
-        crate::field::tape::wgsl::embedded(domains, LEAF_TAPE_FEATURES, super::source::TAPES.var),
+        crate::field::tape::wgsl::embedded(domains, leaf_tape_features(scene_features), super::source::TAPES.var),
         if bisect { crate::codegen::template::SCENE_FORMULA.to_string() } else { scalar_only() },
     )
 }
