@@ -310,3 +310,24 @@ fn a_scene_file_is_bisected_with_method_bisect() {
         "error: --algebra raa: a scene's nodes are enclosed in interval arithmetic only (--field scene): give --algebra ia or leave it out\n",
     );
 }
+
+#[test]
+fn a_scene_with_formula_leaves_is_bisected_and_sphere_tracing_is_refused() {
+    let png = tmp("leaves.png");
+    let p = png.to_str().unwrap();
+    // A leaf without a Lipschitz bound: bisected unless told otherwise.
+    let o = isotrace(&["render", "examples/knoll-leaves.scene.json", "--size", "64", "--json", "-o", p]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!((v["method"].as_str(), v["algebra"].as_str(), v["field"].as_str()), (Some("bisect"), Some("ia"), Some("scene")), "{v}");
+    fails(
+        &["render", "examples/knoll-leaves.scene.json", "--method", "sphere", "-o", p],
+        "error: examples/knoll-leaves.scene.json: nodes[0].lipschitz: a formula leaf without a Lipschitz bound cannot be sphere traced: declare one, or render with --method bisect\n",
+    );
+    let o = isotrace(&["scene", "check", "examples/knoll-leaves.scene.json"]);
+    assert!(stdout(&o).contains("primitives:    formula 4, round_box 1\n"), "{}", stdout(&o));
+    let bad = tmp("bad-leaf.scene.json");
+    std::fs::write(&bad, r#"{"isotrace_scene": 1, "root": 0, "nodes": [{"type": "formula", "formula": "x^2 + y^2 + z^2 - 1 +", "bounds": [-1, 1, -1, 1, -1, 1]}]}"#).unwrap();
+    let b = bad.to_str().unwrap();
+    fails(&["render", b, "-o", p], &format!("error: {b}: nodes[0].formula: expected an expression, found end of formula at byte 21\n"));
+}

@@ -146,8 +146,10 @@ fn diagnostic(source: &str, d: &crate::diag::Diagnostic) -> String {
     match d.labels.first() {
         Some((span, _)) => {
             let (a, b) = (span.start as usize, (span.end as usize).max(span.start as usize));
-            let text = source.get(a..b.min(source.len())).unwrap_or("");
-            format!("{} at bytes {a}..{b} ({text:?})", d.message)
+            match source.get(a..b.min(source.len())) {
+                Some(text) if !text.is_empty() => format!("{} at bytes {a}..{b} ({text:?})", d.message),
+                _ => format!("{} at byte {a}", d.message),
+            }
         }
         None => d.message.clone(),
     }
