@@ -146,9 +146,9 @@ fn first_root(scene: &Scene, eye: glam::DVec3, d: glam::DVec3, far: f64, step: f
     None
 }
 
-/// How far `p` is from the reference's surface, to first order: |f|/|∇f|
-/// (|f| itself for a distance field; a formula's value says nothing of
-/// distance until divided by its slope).
+/// How near `p` is to the reference's surface: |f| (a distance field's
+/// value), or |f|/|∇f| where f is steeper (a formula's value says nothing
+/// of distance until divided by its slope).
 fn distance_estimate(scene: &Scene, p: glam::DVec3) -> f64 {
     let h = 1e-6 * (1.0 + p.length());
     let v = scene.eval(p.to_array());
@@ -157,7 +157,7 @@ fn distance_estimate(scene: &Scene, p: glam::DVec3) -> f64 {
         scene.eval((p + glam::DVec3::Y * h).to_array()) - scene.eval((p - glam::DVec3::Y * h).to_array()),
         scene.eval((p + glam::DVec3::Z * h).to_array()) - scene.eval((p - glam::DVec3::Z * h).to_array()),
     ) / (2.0 * h);
-    v.abs() / g.length().max(1e-3)
+    v.abs() / g.length().max(1.0)
 }
 
 /// Checks a bisected scene frame against another path's frame (`other`,
