@@ -234,6 +234,19 @@ async function sceneBisectCase(browser) {
   } finally { proc.kill(); }
 }
 
+// Formula leaves: the page's kernel runs the tape interpreter inside the
+// scene interpreter (Chromium's WGSL compile of both), bisects by default (a
+// leaf without a Lipschitz bound) and draws what isotrace render draws.
+async function sceneLeavesCase(browser) {
+  const { url, proc } = await startServer('examples/knoll-leaves.scene.json');
+  try {
+    const page = await openPage(browser, url, 'scene-leaves');
+    check('scene leaves: the page starts bisecting', !(await page.evaluate(() => __view.error)) && (await page.evaluate(() => __view.U.method)) === 'bisect');
+    await matchesCli(page, 'scene-knoll-leaves');
+    await page.close();
+  } finally { proc.kill(); }
+}
+
 // The procedural nodes (twists, a bend, chamfer and round joins, density
 // fields summed): the page's kernel with those features, compiled by
 // Chromium's WGSL compiler, draws what lavapipe draws.
@@ -390,7 +403,7 @@ async function exportCase(browser) {
   try {
     // CASES=scene,export runs only those (for debugging).
     const only = (process.env.CASES || '').split(',').filter(Boolean);
-    for (const c of [sphereCase, torusCase, sceneCase, sceneBisectCase, proceduralCase, growCase, lipschitzCase, newParamCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
+    for (const c of [sphereCase, torusCase, sceneCase, sceneBisectCase, sceneLeavesCase, proceduralCase, growCase, lipschitzCase, newParamCase, rerollCase, tapeCase, exportCase].filter((c) => !only.length || only.some((o) => c.name.startsWith(o)))) {
       try { await c(browser); } catch (e) { check(c.name, false, e.stack || String(e)); }
     }
   } finally { await browser.close(); }
