@@ -149,6 +149,21 @@ pub fn eval_boxes_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box
     Ok(out)
 }
 
+/// Bisection's cell enclosures over a scene's whole tree, of the ray cells
+/// `boxes` encode (`field::scene::scene_cell_shader`): the values' ranges,
+/// or with `slope` the slopes'.
+#[cfg(test)]
+pub fn eval_cells_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box8], slope: bool) -> Result<Vec<[f32; 2]>, EvalError> {
+    let src = crate::field::scene::scene_cell_shader(scene.features, slope);
+    validate(&src)?;
+    let pipeline = gpu.pipeline("isotrace eval (scene cells)", &src, Author::Isotrace)?;
+    let pruned = crate::field::Texels { width: 1, height: 1, texels: vec![0u32] };
+    let (_pruned, pruned_view) = gpu.texture("scene pruned trees", &pruned, wgpu::TextureFormat::R32Uint)?;
+    let extra = [wgpu::BindGroupEntry { binding: crate::field::scene::source::PRUNED_TEXELS.binding, resource: wgpu::BindingResource::TextureView(&pruned_view) }];
+    let (_textures, group) = scene_group(gpu, &pipeline, scene, &extra)?;
+    run_chunk_with(gpu, &pipeline, boxes, &[], Some(&group))
+}
+
 /// The field group of an `eval` kernel over a scene: its node and
 /// parameter textures (kept alive with the group).
 fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field::SceneData, extra: &[wgpu::BindGroupEntry<'_>]) -> Result<(Vec<wgpu::Texture>, wgpu::BindGroup), EvalError> {

@@ -335,10 +335,15 @@ fn surf_ia(X: vec2<f32>, Y: vec2<f32>, Z: vec2<f32>, T: vec2<f32>) -> vec2<f32> 
     return select(padded, top, abs(top) >= vec2<f32>(F.inf));
 }
 
-// Bisection's cells: the range over the segment's box, no slope (a scene's
-// cells are never taken as monotone; the mean-value form has no slope to
-// use either).
+// Bisection's cells: the range over the segment's box, with no slope (a
+// tree's cells are not taken as monotone; the mean-value form has no slope
+// to use either), but for a tree that is one formula leaf, whose tape has
+// a derivative program (scene_leaf_cell).
 fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {
+    if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u && slope) {
+        let r = scene_leaf_cell(o, dir, s0, s1);
+        if (r.x <= r.y) { return r; }
+    }
     return vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf);
 }
 fn field_ray(o: vec3<f32>, dir: vec3<f32>, s: f32) -> f32 { return field(o + dir * s); }

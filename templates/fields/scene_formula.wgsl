@@ -47,3 +47,55 @@ fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> {
     let b = scene_centred(sd_box(c, r3.xyz), length(q.r), length(c) + length(r3.xyz));
     return max(f, b);
 }
+
+// A cell of the ray o + dir·[s0, s1] where the tree being evaluated is one
+// unwarped formula leaf (a tile's pruned tree, or the whole tree): the
+// leaf's value and its slope along the ray from one run of its tape's
+// derivative program (f and f' along the local direction), so that the
+// traversal's monotonicity test applies as it does to a formula. The
+// value is s·max(f/L, B), B the box distance, whose slope lies in
+// [-|dl|, |dl|] (dl the ray's local direction); max's slope is ia_dmax's.
+// (1, 0, 0, 0), an empty value, where the tree is anything else.
+fn scene_leaf_cell(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> {
+    let len = scene_pruned_len();
+    let full = len == SCENE_WHOLE_TREE;
+    let n = select(len, scene_node_count(), full);
+    if (n != 1u) { return vec4<f32>(1.0, 0.0, 0.0, 0.0); }
+    var e: u32;
+    if (full) { e = scene_entry(0u); } else { e = scene_slab_entry(0u); }
+    let row = entry_row(e);
+    let r0 = scene_param(row);
+    let r1 = scene_param(row + 1u);
+    // The whole form word: a warp's bits make it another form.
+    if ((e >> 31u) == 0u || u32(r1.w) != FORM_FORMULA) { return vec4<f32>(1.0, 0.0, 0.0, 0.0); }
+    let r2 = scene_param(row + 2u);
+    let r3 = scene_param(row + 3u);
+    let a = o + dir * s0;
+    let b = o + dir * s1;
+    let q = scene_local_box(r0, r1, scene_box(min(a, b), max(a, b)));
+    let dl = scene_local(r0, vec4<f32>(0.0), dir);
+    scene_use_tape(u32(r2.w));
+    let lo = scene_lo(q);
+    let hi = scene_hi(q);
+    let t = tape_enclosure_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), vec2<f32>(F.time), vec2<f32>(dl.x), vec2<f32>(dl.y), vec2<f32>(dl.z), true);
+    // f/L and f'/L, widened by the product's rounding; an empty value (f
+    // undefined over the box) is the leaf's absence, with no slope.
+    var f = t.xy * r3.w;
+    f = f + vec2<f32>(-1.0, 1.0) * 2.4e-7 * abs(f);
+    var df = t.zw * r3.w;
+    df = df + vec2<f32>(-1.0, 1.0) * 2.4e-7 * abs(df);
+    let c = q.c - r2.xyz;
+    let bv = scene_centred(sd_box(c, r3.xyz), length(q.r), length(c) + length(r3.xyz));
+    let m = length(dl) * (1.0 + 1e-6);
+    var v = max(f, bv);
+    var dv = ia_dmax(f, bv, df, vec2<f32>(-m, m));
+    let s = 1.0 / dot(r0, r0);
+    v = v * s + vec2<f32>(-1.0, 1.0) * 2.4e-7 * abs(v * s);
+    dv = dv * s + vec2<f32>(-1.0, 1.0) * 2.4e-7 * abs(dv * s);
+    let absent = t.x > t.y;
+    v = select(v, vec2<f32>(F.inf), absent);
+    dv = select(dv, ia_whole(), absent || iso_is_nan(dv.x) || iso_is_nan(dv.y));
+    // The scene's pad of a tree's enclosure (surf_ia).
+    let padded = ia_pad(v, 1e-6 * (1.0 + length(0.5 * (a + b)) + length(0.5 * abs(b - a))), 1e-6);
+    return vec4<f32>(select(padded, v, abs(v) >= vec2<f32>(F.inf)), dv);
+}

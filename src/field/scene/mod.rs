@@ -131,7 +131,8 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
         // The leaf cases are compiled out (SCENE_FEATURES), but named.
         out.push_str("fn scene_leaves_cost() -> u32 { return 0u; }\nfn scene_formula(q: vec3<f32>, r2: vec4<f32>, o: u32) -> f32 { return 0.0; }\n");
         if bisect {
-            out.push_str("fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> { return vec2<f32>(0.0); }\n");
+            out.push_str("fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> { return vec2<f32>(0.0); }\n\
+                fn scene_leaf_cell(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> { return vec4<f32>(1.0, 0.0, 0.0, 0.0); }\n");
         }
     }
     if bisect {
@@ -183,3 +184,20 @@ pub fn scene_enclosure_shader(features: u32) -> String {
     let call = "    F.inf = iso_inf();\n    return surf_ia(x, y, z, t);";
     template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
 }
+
+/// The `eval` kernel of bisection's cell enclosure over a scene's whole
+/// tree, for ray cells given as boxes: (x0, y0, z0) the ray's origin, (x1,
+/// y1, z1) its direction, [t0, t1] the cell. It returns the value's range,
+/// or with `slope` the slope's (the tests of a formula leaf's slopes
+/// against f64 differences).
+#[cfg(test)]
+pub fn scene_cell_shader(features: u32, slope: bool) -> String {
+    use crate::layout::GpuBlock;
+    let evaluator = format!("{SCENE_EVAL_FRAME}{}", scene_interpreter(features, SceneKernel::Bisect { bundle: false }));
+    let call = format!(
+        "    F.inf = iso_inf();\n    let r = cell_enclosure(vec3<f32>(x.x, y.x, z.x), vec3<f32>(x.y, y.y, z.y), t.x, t.y, true);\n    return {};",
+        if slope { "r.zw" } else { "r.xy" }
+    );
+    template::eval(&[("uniforms", &crate::layout::EvalBlock::wgsl()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", &call)])
+}
+
