@@ -50,8 +50,13 @@ fn cells(a: f64, n: usize, seed: u64) -> Vec<RayCell> {
 /// scalar ends are f's. Returns the mean ratio of the value enclosure's
 /// width to the sampled range's.
 fn check(src: &str, a: f64, seed: u64) -> f64 {
+    check_at(src, a, seed, [0.0; 3])
+}
+
+/// [`check`] with the cells' rays moved by `at` (the cube about it).
+fn check_at(src: &str, a: f64, seed: u64, at: [f32; 3]) -> f64 {
     let f = Formula::compile("<test>", src).unwrap();
-    let cs = cells(a, 400, seed);
+    let cs: Vec<RayCell> = cells(a, 400, seed).into_iter().map(|c| RayCell { o: [0, 1, 2].map(|k| c.o[k] + at[k]), ..c }).collect();
     let got: Vec<CellEnclosure> = eval_ray_cells(gpu(), &f.ir, &cs).unwrap();
     let eval = |c: &RayCell, s: f64| {
         let p = [0, 1, 2].map(|k| c.o[k] as f64 + c.dir[k] as f64 * s);
@@ -142,6 +147,22 @@ fn cell_enclosures_on_rays_hold_f64_samples() {
     assert!(box_widening("x^2 + y^2 + z^2 - 1", 1.5, 7) > 1.3, "the sphere over the boxes");
     let w = box_widening("(x^2 + y^2)^3 - 4*x^2*y^2", 1.2, 20);
     assert!(w > 2.0, "the 4-bretzel's sextic over the boxes: {w}");
+}
+
+/// A polynomial moved away from the origin and scaled is enclosed on the
+/// ray as tightly as where it is: its degree-2 nodes are taken in powers of
+/// p − their centre (`Quad::centred`). In powers of p, ((x − 2.6)/0.22)²
+/// has terms of some 300 where it is 3; their roundings' pads made a scaled
+/// tanglecube's enclosures over its last cells include 0 a hundredth from
+/// its surface (with its slope lost to a max, false hits).
+#[test]
+fn moved_polynomials_are_enclosed_as_tightly_on_the_ray() {
+    let tangle = "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8";
+    let here = check(&format!("scale(0.22, {tangle})"), 0.7, 31);
+    let moved = check_at(&format!("translate(2.6, 0, 0, scale(0.22, {tangle}))"), 0.7, 31, [2.6, 0.0, 0.0]);
+    assert!(moved < 1.2 * here && moved < 1.6, "enclosures {moved} times the sampled ranges moved, {here} in place");
+    let far = check_at("translate(30, -20, 5, (x^2 + y^2 - 0.64)^2 + (z^2 - 1)^2 - 0.1)", 1.2, 32, [30.0, -20.0, 5.0]);
+    assert!(far < 1.6, "the decocube's factor moved far: {far}");
 }
 
 /// How many times wider, on average, the interval enclosures of `src` over

@@ -120,12 +120,10 @@ fn knoll_surfaces_among_generated_primitives_draw_what_the_compiled_formula_draw
         let compiled = crate::gpu::Renderer::new(gpu, &f.ir, bisect_ia()).unwrap().render(&s).unwrap();
         // The Barth sextic's 65 double points are roots without a sign
         // change: rays passing within a cell of one hit in both paths.
-        // Every pixel that differs is ours as the reference has it. Most
-        // are the compiled formula's: it draws hits on the scaled tangle
-        // where the reference's value is 0.3 to 1.4 (its own fault, left for
-        // the compiled path), and grazing hits at other depths.
+        // Every pixel that differs is checked against the reference: rays
+        // grazing a surface, which the two paths end at other depths.
         let (hits, differ) = check_bisected_grazing(&scene, &s, &sparse, &compiled, 1.0, 4.0, 4.0);
-        assert!(hits > 500 && differ * 4 <= hits, "{blending:?}: {differ} pixels of {hits} hits differ from the compiled formula's");
+        assert!(hits > 500 && differ * 10 <= hits, "{blending:?}: {differ} pixels of {hits} hits differ from the compiled formula's");
         // Not vacuous: many hits are on the leaves.
         let cf = s.camera.frame().unwrap();
         let on_leaves = (0..s.width * s.height)

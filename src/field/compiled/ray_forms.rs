@@ -26,7 +26,13 @@
 //! values are of one polynomial, which differs from the formula's by a few
 //! f32 roundings of its largest terms over the ray's extent in the domain.
 //! Each enclosure is widened by 32 such roundings (`RAY_PAD` in
-//! templates/fields/ray_forms.wgsl).
+//! templates/fields/ray_forms.wgsl). A form is written in powers of p − c
+//! about its centre c ([`Quad::centred`]): a translated and scaled square,
+//! ((x − 2.6)/0.22)², has terms in powers of p of some 300 where its value
+//! is 3, and pads of their roundings wide enough to keep a scaled
+//! tanglecube's cells from excluding 0 a hundredth of a unit from its
+//! surface. (p − c rounds as p0 does: the ray the forms describe moves by
+//! an f32 rounding of |p| + |c|.)
 
 use super::ray_polys;
 use crate::codegen::{f32_enclosure, lit};
@@ -112,11 +118,72 @@ impl Quad {
         self.terms() >= 2 || (self.terms() == 1 && self.0[7..] != [0.0; MONOMIALS - 7])
     }
 
+    /// The form's value and gradient at `c`.
+    fn at(self, c: [f64; 3]) -> (f64, [f64; 3]) {
+        let [k, bx, by, bz, xx, yy, zz, xy, xz, yz] = self.0;
+        let [x, y, z] = c;
+        let value = k + bx * x + by * y + bz * z + xx * x * x + yy * y * y + zz * z * z + xy * x * y + xz * x * z + yz * y * z;
+        let grad = [bx + 2.0 * xx * x + xy * y + xz * z, by + 2.0 * yy * y + xy * x + yz * z, bz + 2.0 * zz * z + xz * x + yz * y];
+        (value, grad)
+    }
+
+    /// The form in powers of p − c with c its centre (an f32 point): where
+    /// a translated form is small, its terms in powers of p are large and
+    /// cancel, ((x − 2.6)/0.22)² is 20.7x² − 107x + 140, and the pads,
+    /// which count roundings of the terms' magnitudes, grow with them. The
+    /// centre: along each axis with a square, where the square's part of
+    /// the form is least; a form of degree 1, the point of its zero plane
+    /// nearest the origin. None where that leaves a larger constant term.
+    fn centred(self) -> Option<([f32; 3], Quad)> {
+        let c: [f64; 3] = if self.linear() {
+            let b = [self.0[1], self.0[2], self.0[3]];
+            let n = b.iter().map(|v| v * v).sum::<f64>();
+            if n == 0.0 {
+                return None;
+            }
+            b.map(|v| -self.0[0] * v / n)
+        } else {
+            std::array::from_fn(|i| if self.0[4 + i] != 0.0 { -self.0[1 + i] / (2.0 * self.0[4 + i]) } else { 0.0 })
+        };
+        let c32 = c.map(|v| v as f32);
+        if c32 == [0.0; 3] || !c32.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let (k, g) = self.at(c32.map(f64::from));
+        if !(k.abs() < self.0[0].abs()) {
+            return None;
+        }
+        let mut q = self.0;
+        q[0] = k;
+        q[1..4].copy_from_slice(&g);
+        let q = Quad(q);
+        q.0.iter().all(|v| (*v as f32).is_finite()).then_some((c32, q))
+    }
+
     /// The WGSL call that works out (a, b, c) of the form along the line
     /// `p0 + d t` (`ray_lin` or `ray_quad` of templates/fields/ray_forms.wgsl),
-    /// with the coefficients made absolute when `abs` (their magnitudes:
-    /// then `p0` and `d` are too).
-    pub(crate) fn along(&self, p0: &str, d: &str, abs: bool) -> String {
+    /// in powers of p − its centre where it has one ([`Quad::centred`]).
+    pub(crate) fn along(&self, p0: &str, d: &str) -> String {
+        match self.centred() {
+            Some((c, q)) => q.call(&format!("({p0} - {})", vec3(c)), d, false),
+            None => self.call(p0, d, false),
+        }
+    }
+
+    /// [`Quad::along`] with the coefficients made absolute, at the largest
+    /// |p − centre| over `points` (with `d` absolute too): the magnitudes of
+    /// the terms [`Quad::along`] computes, from which its pads come.
+    pub(crate) fn magnitude_along(&self, points: &[&str], d: &str) -> String {
+        let (c, q) = self.centred().map_or((None, *self), |(c, q)| (Some(c), q));
+        let at = |p: &str| match c {
+            Some(c) => format!("abs({p} - {})", vec3(c)),
+            None => format!("abs({p})"),
+        };
+        let p = points.iter().map(|p| at(p)).reduce(|a, b| format!("max({a}, {b})")).unwrap_or_default();
+        q.call(&p, d, true)
+    }
+
+    fn call(&self, p0: &str, d: &str, abs: bool) -> String {
         let c = |i: usize| lit(if abs { self.0[i].abs() as f32 } else { self.0[i] as f32 });
         let v = |i: usize| format!("vec3<f32>({}, {}, {})", c(i), c(i + 1), c(i + 2));
         match self.linear() {
@@ -124,6 +191,11 @@ impl Quad {
             false => format!("ray_quad({}, {}, {}, {}, {p0}, {d})", c(0), v(1), v(4), v(7)),
         }
     }
+}
+
+/// An f32 point as a WGSL vector.
+fn vec3(c: [f32; 3]) -> String {
+    format!("vec3<f32>({}, {}, {})", lit(c[0]), lit(c[1]), lit(c[2]))
 }
 
 /// The form of each node (None where it is not a polynomial of degree ≤ 2
@@ -331,7 +403,7 @@ impl RayForms {
         });
         for (id, q) in quads {
             let _ = writeln!(out, "var<private> g_q{id}: vec4<f32>;\nvar<private> g_qv{id}: vec3<f32>;");
-            let _ = writeln!(body, "    let q{id} = {};\n    let m{id} = {};", q.along("p0", "dir", false), q.along("P", "ad", true));
+            let _ = writeln!(body, "    let q{id} = {};\n    let m{id} = {};", q.along("p0", "dir"), q.magnitude_along(&["p0", "p1"], "ad"));
             let _ = writeln!(body, "    g_q{id} = vec4<f32>(q{id}, RAY_PAD * (m{id}.x + len * (m{id}.y + len * m{id}.z)));");
             // The vertex, or for a node of degree 1 its slope (b ± pad).
             let _ = writeln!(body, "    let e{id} = RAY_PAD * (m{id}.y + 2.0 * len * m{id}.z);");
@@ -341,7 +413,7 @@ impl RayForms {
         let (decls, polys) = &self.polys;
         let mid = match polys.is_empty() {
             true => "",
-            false => "    g_poly_mid = 0.5 * len;\n    let pm = p0 + dir * g_poly_mid;\n    let apm = abs(pm);\n",
+            false => "    g_poly_mid = 0.5 * len;\n    let pm = p0 + dir * g_poly_mid;\n",
         };
         let template = match polys.is_empty() {
             true => include_str!("../../../templates/fields/ray_forms.wgsl").to_string(),
@@ -350,7 +422,7 @@ impl RayForms {
         let _ = write!(
             out,
             "{decls}{template}\nfn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {{\n    \
-             let p0 = o + dir * s_ref;\n    let P = max(abs(p0), abs(p0 + dir * len));\n    let ad = abs(dir);\n    g_ray_ref = s_ref;\n{body}{mid}{polys}}}\n"
+             let p0 = o + dir * s_ref;\n    let p1 = p0 + dir * len;\n    let ad = abs(dir);\n    g_ray_ref = s_ref;\n{body}{mid}{polys}}}\n"
         );
         out
     }

@@ -84,8 +84,8 @@ struct Coeffs {
 
 /// Writes the coefficients of nodes along the ray into `field_begin_ray`'s
 /// body: polynomials in t − `g_poly_mid`, about the middle `pm` of the
-/// ray's extent in the domain (`dir`, and `apm` = |pm|, `ad` = |dir| for
-/// the magnitudes, as `Quad::along` needs). A magnitude polynomial (the
+/// ray's extent in the domain (`dir`, and `ad` = |dir| for the magnitudes,
+/// as `Quad::magnitude_along` needs). A magnitude polynomial (the
 /// same composition of the operands' terms' absolute values) bounds the
 /// terms at |t − g_poly_mid| ≤ τ by its value at τ; about the middle τ is
 /// at most half the extent, where about one end it is the whole (the
@@ -129,7 +129,7 @@ impl<'a> Writer<'a> {
         let c = match (self.forms[id as usize], self.ir.nodes[id as usize]) {
             (Some(q), _) => {
                 let n = self.deg[id as usize].expect("a form has a degree") as usize;
-                let _ = writeln!(body, "    let u{id} = {};\n    let w{id} = {};", q.along("pm", "dir", false), q.along("apm", "ad", true));
+                let _ = writeln!(body, "    let u{id} = {};\n    let w{id} = {};", q.along("pm", "dir"), q.magnitude_along(&["pm"], "ad"));
                 let comp = ["x", "y", "z"];
                 Coeffs { value: (0..=n).map(|k| format!("u{id}.{}", comp[k])).collect(), magnitude: (0..=n).map(|k| format!("w{id}.{}", comp[k])).collect(), roundings: 8 }
             }
