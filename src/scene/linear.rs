@@ -514,10 +514,13 @@ pub struct SceneData {
 }
 
 impl SceneData {
-    /// The node texture: texel 0 holds the node count, node i is texel
-    /// i + 1 (`scene_node` in templates/fields/scene.wgsl).
+    /// The node texture: texel 0 holds the node and primitive counts, node
+    /// i is texel i + 1 (`scene_node` in templates/fields/scene.wgsl). The
+    /// primitive count is the scatter pass's, not its buffer's length: a
+    /// buffer is at least 16 bytes, and the padding of a scene of fewer than
+    /// four primitives read as more copies of its first.
     pub fn node_texels(&self) -> crate::layout::Texels<[u32; 4]> {
-        crate::layout::Texels::from_rows(Some([self.nodes.len() as u32, 0, 0, 0]), &self.nodes)
+        crate::layout::Texels::from_rows(Some([self.nodes.len() as u32, self.prims.len() as u32, 0, 0]), &self.nodes)
     }
 
     /// The parameter texture: row i of `params` is texel i.

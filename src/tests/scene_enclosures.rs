@@ -369,3 +369,44 @@ fn a_thin_neck_between_density_blobs_is_found() {
     }
     assert!(hits > 50, "{hits} hits, {misses} misses checked");
 }
+
+/// A scene of fewer than four primitives lists each of them once in a tile:
+/// its primitive buffer is padded to 16 bytes, and the scatter pass took
+/// the padding for more copies of the first primitive (a comb tile then
+/// summed a density twice: a surface drawn 4 footprints in front of the
+/// neck below, by sphere tracing and by bisection alike). The density neck
+/// sphere traced with its tiles' lists draws what the whole tree draws.
+#[test]
+fn small_scenes_list_each_primitive_once_and_a_neck_traces_as_the_whole_tree() {
+    let gpu = gpu();
+    let s = super::common::settings(super::common::cube(1.0), 160, 120);
+    let sphere = |lin: &Linear| crate::render::Traversal::Sphere(crate::render::SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() });
+    for n in 1..=3usize {
+        let mut nodes: Vec<String> = (0..n).map(|k| format!(r#"{{"type": "sphere", "radius": 0.5, "translate": [{}, 0, 0]}}"#, 0.3 * k as f64)).collect();
+        for k in 1..n {
+            nodes.push(format!(r#"{{"type": "union", "left": {}, "right": {k}}}"#, if k == 1 { 0 } else { nodes.len() - 1 }));
+        }
+        let scene = scene_of(&nodes, nodes.len() - 1);
+        let lin = Linear::new(&scene).unwrap();
+        let frame = crate::gpu::Renderer::new(gpu, &lin.field_data(), sphere(&lin)).unwrap().render(&s).unwrap();
+        assert_eq!(frame.stats.field.active_max as usize, n, "{n} primitives");
+    }
+    let (radius, a) = (0.6, 0.6 * (1.0 - 0.2505f64.cbrt()).sqrt());
+    let nodes = [
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{}, 0, 0]}}"#, -a),
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{a}, 0, 0]}}"#),
+        r#"{"type": "sum_union", "left": 0, "right": 1, "range": 0.2}"#.to_string(),
+    ];
+    let scene = scene_of(&nodes, 2);
+    let lin = Linear::new(&scene).unwrap();
+    let mut r = crate::gpu::Renderer::new(gpu, &lin.field_data(), sphere(&lin)).unwrap();
+    let sparse = r.render(&s).unwrap();
+    assert!(sparse.stats.field.chain_share > 0.0, "the neck's tiles are comb tiles");
+    r.set_dense(true);
+    let dense = r.render(&s).unwrap();
+    let cf = s.camera.frame().unwrap();
+    for (i, (p, q)) in sparse.pixels.iter().zip(&dense.pixels).enumerate() {
+        let foot = 2.0 * cf.tan_half_fov * f64::from(p.depth.min(q.depth)).max(1.0) / f64::from(s.height);
+        assert!(p.status == q.status && (p.status != crate::render::Status::Hit || (f64::from(p.depth) - f64::from(q.depth)).abs() <= foot), "pixel {i}: tile lists {p:?}, whole tree {q:?}");
+    }
+}

@@ -29,6 +29,7 @@ fn scene_texel(i: u32) -> vec2<u32> { return vec2<u32>(i & (SCENE_TEX_WIDTH - 1u
 // Node i (texel 0 holds the node count).
 fn scene_node(i: u32) -> vec4<u32> { return textureLoad(scene_nodes, scene_texel(i + 1u), 0); }
 fn scene_node_count() -> u32 { return textureLoad(scene_nodes, vec2<u32>(0u, 0u), 0).x; }
+fn scene_prim_count() -> u32 { return textureLoad(scene_nodes, vec2<u32>(0u, 0u), 0).y; }
 fn scene_param(i: u32) -> vec4<f32> { return textureLoad(scene_params, scene_texel(i), 0); }
 
 fn node_type(w: u32) -> u32 { return (w >> 22u) & 0xffu; }

@@ -109,7 +109,8 @@ fn scene_tight_ball(k: u32) -> vec4<f32> {
 fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     load_uniforms();
     let k = gid.x + gid.y * 65535u * 64u;
-    if (k >= arrayLength(&scene_prims)) { return; }
+    // The primitive count, not the buffer's length (its padding).
+    if (k >= scene_prim_count()) { return; }
     let ball = scene_tight_ball(k);
     if (ball.w < 0.0) { return; }
     let node = scene_prims[k];
@@ -442,7 +443,7 @@ fn scene_prune(@builtin(global_invocation_id) gid: vec3<u32>) {
                 scene_sift(base, select(0u, i, heapify), select(e, count, heapify));
             }
         }
-        if (SCENE_CHAIN_TILES && scene_chain_tile(t, base, count, tb, round == 1u)) { return; }
+        if (scene_chain_tile(t, base, count, tb, round == 1u)) { return; }
     }
     let margin = scene_margin(zlo, zhi);
     var slabs = select(1u, SCENE_SLABS_MAX, count > SCENE_SLAB_MIN_LIST && zhi > zlo);

@@ -97,15 +97,12 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
         // A cell may span the depths of several slabs: one pruned tree a tile.
         SceneKernel::Bisect { bundle } => (false, 1, counted_work(bundle, features & crate::scene::linear::FEATURE_FORMULA != 0)),
     };
-    // Union and comb tiles give each ray its own members (sphere tracing's
-    // per-ray ranges); a bisected ray takes the tile's pruned tree.
-    let chains = matches!(kernel, SceneKernel::Sphere { .. });
     let mut out = format!(
         "{}const SCENE_FEATURES: u32 = {features}u;\n{}const SCENE_TILE_MAX: u32 = {SCENE_TILE_MAX}u;\nconst SCENE_PRUNED_MAX: u32 = {SCENE_PRUNED_MAX}u;\n\
          const SCENE_PRUNED_TEX_WIDTH: u32 = {SCENE_PRUNED_TEX_WIDTH}u;\n\
          const SCENE_WHOLE_TREE: u32 = {SCENE_WHOLE_TREE}u;\nconst SCENE_SLABS_MAX: u32 = {slabs}u;\n\
          const SCENE_SLAB_MIN_LIST: u32 = {SCENE_SLAB_MIN_LIST}u;\nconst SCENE_RAY_BALLS: u32 = {SCENE_RAY_BALLS}u;\n\
-         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_CHAIN_TILES: bool = {chains};\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}{}{work}\n{}\n{}",
+         const SCENE_UNION_MAX: u32 = {SCENE_UNION_MAX}u;\nconst SCENE_UNION_TILE: u32 = 0x80000000u;\nconst SCENE_COMB_TILE: u32 = 0x40000000u;\n{}{}{work}\n{}\n{}",
         crate::scene::linear::wgsl_constants(),
         crate::scene::linear::wgsl_noise(),
         source::interpreter_declarations(),
