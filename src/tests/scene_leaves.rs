@@ -41,7 +41,7 @@ fn knoll_leaves(level: u32, blending: Blending) -> Scene {
 
 /// Leaves of every operation group the interpreter has (trigonometric,
 /// exponential, square roots, min and max, division, high powers), turned,
-/// scaled and blended with primitives, one with a declared bound.
+/// scaled, twisted and blended with primitives, one with a declared bound.
 const MIXED: &str = r#"{"isotrace_scene": 1, "root": 10,
  "nodes": [
   {"type": "formula", "formula": "sin(3*x)*cos(3*y) + z - 0.3*exp(-x^2) + sqrt(x^2 + y^2 + 1) - 1", "bounds": [-1, 1, -1, 1, -1, 1], "rotate": [1, 1, 0, 0.7]},
@@ -51,7 +51,7 @@ const MIXED: &str = r#"{"isotrace_scene": 1, "root": 10,
   {"type": "formula", "formula": "x^2 + y^2 + z^2 - 1", "bounds": [-1.5, 1.5, -1.5, 1.5, -1.5, 1.5], "lipschitz": 5.2, "scale": 0.5, "translate": [0.0, -1.5, 0.3]},
   {"type": "smooth_union", "left": 3, "right": 4, "beta": 0.2, "r_o": 0.4},
   {"type": "box", "half": [0.4, 0.4, 0.4], "translate": [-1.2, 0.0, 0.0]},
-  {"type": "formula", "formula": "atan2(y, x) * 0.2 + x^2 + y^2 - 0.3 + tanh(z)", "bounds": [-0.8, 0.8, -0.8, 0.8, -0.6, 0.6], "translate": [-1.2, 0.0, 0.5]},
+  {"type": "formula", "formula": "atan2(y, x) * 0.2 + x^2 + y^2 - 0.3 + tanh(z)", "bounds": [-0.8, 0.8, -0.8, 0.8, -0.6, 0.6], "translate": [-1.2, 0.0, 0.5], "warp": {"type": "twist", "rate": 1.5, "translate": [-1.2, 0.0, 0.0]}},
   {"type": "difference", "left": 6, "right": 7},
   {"type": "union", "left": 2, "right": 5},
   {"type": "union", "left": 9, "right": 8}
