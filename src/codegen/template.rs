@@ -43,6 +43,8 @@ pub const SCENE: &str = include_str!("../../templates/fields/scene.wgsl");
 pub const SCENE_SHAPES: &str = include_str!("../../templates/fields/scene_shapes.wgsl");
 /// The scene interpreter's formula leaves (the tape interpreter's caller).
 pub const SCENE_FORMULA: &str = include_str!("../../templates/fields/scene_formula.wgsl");
+/// Its interval twin, for bisection.
+pub const SCENE_FORMULA_IA: &str = include_str!("../../templates/fields/scene_formula_ia.wgsl");
 /// The scene interpreter on intervals, for bisection.
 pub const SCENE_ENCLOSURE: &str = include_str!("../../templates/fields/scene_enclosure.wgsl");
 /// The scene field source's pre-passes: per-tile active primitives and views.

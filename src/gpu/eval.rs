@@ -115,7 +115,7 @@ pub fn eval_points_scene(gpu: &Gpu, scene: &crate::field::SceneData, points: &[[
     let src = crate::field::scene::scene_eval_shader(scene.features);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (scene)", &src, Author::Isotrace)?;
-    let (_textures, group) = scene_group(gpu, &pipeline, scene, &[])?;
+    let (_textures, group) = scene_group(gpu, &pipeline, scene, false)?;
     let boxes: Vec<Box8> = points.iter().map(|p| [p[0], p[0], p[1], p[1], p[2], p[2], 0.0, 0.0]).collect();
     let mut out = Vec::with_capacity(points.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
@@ -137,10 +137,7 @@ pub fn eval_boxes_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (scene enclosures)", &src, Author::Isotrace)?;
     // The pruned trees the enclosure may read: none, the whole tree is evaluated.
-    let pruned = crate::field::Texels { width: 1, height: 1, texels: vec![0u32] };
-    let (_pruned, pruned_view) = gpu.texture("scene pruned trees", &pruned, wgpu::TextureFormat::R32Uint)?;
-    let extra = [wgpu::BindGroupEntry { binding: crate::field::scene::source::PRUNED_TEXELS.binding, resource: wgpu::BindingResource::TextureView(&pruned_view) }];
-    let (_textures, group) = scene_group(gpu, &pipeline, scene, &extra)?;
+    let (_textures, group) = scene_group(gpu, &pipeline, scene, true)?;
     let mut out = Vec::with_capacity(boxes.len());
     let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(1, 1 << 22);
     for part in boxes.chunks(chunk) {
@@ -157,40 +154,36 @@ pub fn eval_cells_scene(gpu: &Gpu, scene: &crate::field::SceneData, boxes: &[Box
     let src = crate::field::scene::scene_cell_shader(scene.features, slope);
     validate(&src)?;
     let pipeline = gpu.pipeline("isotrace eval (scene cells)", &src, Author::Isotrace)?;
-    let pruned = crate::field::Texels { width: 1, height: 1, texels: vec![0u32] };
-    let (_pruned, pruned_view) = gpu.texture("scene pruned trees", &pruned, wgpu::TextureFormat::R32Uint)?;
-    let extra = [wgpu::BindGroupEntry { binding: crate::field::scene::source::PRUNED_TEXELS.binding, resource: wgpu::BindingResource::TextureView(&pruned_view) }];
-    let (_textures, group) = scene_group(gpu, &pipeline, scene, &extra)?;
+    let (_textures, group) = scene_group(gpu, &pipeline, scene, true)?;
     run_chunk_with(gpu, &pipeline, boxes, &[], Some(&group))
 }
 
 /// The field group of an `eval` kernel over a scene: its node and
-/// parameter textures (kept alive with the group).
-fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field::SceneData, extra: &[wgpu::BindGroupEntry<'_>]) -> Result<(Vec<wgpu::Texture>, wgpu::BindGroup), EvalError> {
-    let (nodes, node_view) = gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?;
-    let (params, param_view) = gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?;
-    // The formula leaves' tapes, where the kernel runs them.
-    let tapes = match crate::field::scene::leaves::texture(scene) {
-        None => None,
-        Some(t) => Some(gpu.texture("scene formula tapes", &t, wgpu::TextureFormat::Rgba32Uint)?),
-    };
-    let tape_entry = tapes.as_ref().map(|(_, view)| wgpu::BindGroupEntry { binding: crate::field::scene::source::TAPES.binding, resource: wgpu::BindingResource::TextureView(view) });
+/// parameter textures, its formula leaves' tapes where the kernel runs them
+/// and, for a bisection kernel (`pruned`), an empty pruned-tree texture (it
+/// evaluates the whole tree); the textures are kept alive with the group.
+fn scene_group(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, scene: &crate::field::SceneData, pruned: bool) -> Result<(Vec<wgpu::Texture>, wgpu::BindGroup), EvalError> {
+    use crate::field::scene::source::{NODES, PARAMS, PRUNED_TEXELS, TAPES};
+    let mut textures = vec![
+        (NODES.binding, gpu.texture("scene nodes", &scene.node_texels(), wgpu::TextureFormat::Rgba32Uint)?),
+        (PARAMS.binding, gpu.texture("scene parameters", &scene.param_texels(), wgpu::TextureFormat::Rgba32Float)?),
+    ];
+    if let Some(t) = crate::field::scene::leaves::texture(scene) {
+        textures.push((TAPES.binding, gpu.texture("scene formula tapes", &t, wgpu::TextureFormat::Rgba32Uint)?));
+    }
+    if pruned {
+        let none = crate::field::Texels { width: 1, height: 1, texels: vec![0u32] };
+        textures.push((PRUNED_TEXELS.binding, gpu.texture("scene pruned trees", &none, wgpu::TextureFormat::R32Uint)?));
+    }
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = textures.iter().map(|(binding, (_, view))| wgpu::BindGroupEntry { binding: *binding, resource: wgpu::BindingResource::TextureView(view) }).collect();
     let group = gpu.scoped("scene bind group", || {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
             layout: &pipeline.get_bind_group_layout(1),
-            entries: &[
-                &[
-                    wgpu::BindGroupEntry { binding: crate::field::scene::source::NODES.binding, resource: wgpu::BindingResource::TextureView(&node_view) },
-                    wgpu::BindGroupEntry { binding: crate::field::scene::source::PARAMS.binding, resource: wgpu::BindingResource::TextureView(&param_view) },
-                ][..],
-                extra,
-                tape_entry.as_slice(),
-            ]
-            .concat(),
+            entries: &entries,
         })
     })?;
-    Ok((vec![nodes, params].into_iter().chain(tapes.map(|t| t.0)).collect(), group))
+    Ok((textures.into_iter().map(|(_, (texture, _))| texture).collect(), group))
 }
 
 /// A cell of a ray for [`eval_ray_cells`]: the ray o + dir·s, the start

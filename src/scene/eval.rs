@@ -15,6 +15,19 @@ impl Scene {
         self.eval_nodes(p)[self.root()]
     }
 
+    /// What one [`Scene::eval`] costs, in node evaluations: a formula
+    /// leaf's operations count as nodes each.
+    pub fn eval_cost(&self) -> usize {
+        let leaf_ops = |n: &Node| match n {
+            Node::Primitive(p) => match &p.shape {
+                super::Shape::Formula(f) => f.ir.live().len(),
+                _ => 0,
+            },
+            _ => 0,
+        };
+        self.nodes().iter().map(|n| 1 + leaf_ops(n)).sum()
+    }
+
     /// Every node's value at `p`, indexed by node.
     pub fn eval_nodes(&self, p: [f64; 3]) -> Vec<f64> {
         let nodes = self.nodes();

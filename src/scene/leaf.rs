@@ -14,7 +14,7 @@
 //! Sphere tracing needs L: a leaf without one is bisected only
 //! ([`super::linear::Linear::untraceable_leaf`]).
 
-use crate::ir::{Ir, Op, Var};
+use crate::ir::{Ir, Op};
 use glam::DVec3;
 use std::sync::Arc;
 
@@ -120,11 +120,6 @@ impl FormulaLeaf {
     /// (or its derivative's) runs as a square-and-multiply loop.
     pub fn has_power_loops(&self) -> bool {
         self.ir.live().iter().any(|&n| matches!(self.ir.nodes[n as usize], Op::PowI(_, k) if k >= 8))
-    }
-
-    /// Whether the formula reads the time `t`.
-    pub fn uses_time(&self) -> bool {
-        self.ir.live().iter().any(|&n| matches!(self.ir.nodes[n as usize], Op::Var(Var::T)))
     }
 
     /// The local field as formula text (`max((f) * s, translate(c, box(h)))`),

@@ -459,9 +459,10 @@ impl Aabb {
 /// since a sphere-tracing step of f/L from the centre is safe. For framing:
 /// the ABVs' box is loose around smooth blends and warps (a bent bar's box
 /// is its disc's). `None` when the scene is too large to sample (more than
-/// `max_evals` node evaluations) or `bounds` is not finite.
+/// `max_evals` node evaluations, a formula leaf's operations counted as
+/// nodes) or `bounds` is not finite.
 pub fn sampled_bounds(scene: &Scene, bounds: &Aabb, lipschitz: f64, n: usize, max_evals: usize) -> Option<Aabb> {
-    if !bounds.is_bounded() || bounds.is_empty() || n.pow(3).saturating_mul(scene.len()) > max_evals {
+    if !bounds.is_bounded() || bounds.is_empty() || n.pow(3).saturating_mul(scene.eval_cost()) > max_evals {
         return None;
     }
     let size: [f64; 3] = [0, 1, 2].map(|k| (bounds.max[k] - bounds.min[k]) / n as f64);

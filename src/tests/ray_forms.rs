@@ -152,9 +152,9 @@ fn cell_enclosures_on_rays_hold_f64_samples() {
 /// A polynomial moved away from the origin and scaled is enclosed on the
 /// ray as tightly as where it is: its degree-2 nodes are taken in powers of
 /// p − their centre (`Quad::centred`). In powers of p, ((x − 2.6)/0.22)²
-/// has terms of some 300 where it is 3; their roundings' pads made a scaled
-/// tanglecube's enclosures over its last cells include 0 a hundredth from
-/// its surface (with its slope lost to a max, false hits).
+/// has terms of some 300 where it is 3, and the pads of their roundings
+/// would let a scaled tanglecube's last cells include 0 a hundredth from
+/// its surface (false hits, where a max takes its slope away).
 #[test]
 fn moved_polynomials_are_enclosed_as_tightly_on_the_ray() {
     let tangle = "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8";

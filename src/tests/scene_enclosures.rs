@@ -314,15 +314,7 @@ fn a_thin_neck_between_density_blobs_is_found() {
     use crate::render::Status;
     use glam::DVec3;
     let (w, h) = (160, 120);
-    // (1 - (a/R)^2)^3 = 0.2505 at the midpoint: the sum is just above the
-    // isovalue 0.5 there.
-    let (radius, a) = (0.6, 0.6 * (1.0 - 0.2505f64.cbrt()).sqrt());
-    let nodes = [
-        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{}, 0, 0]}}"#, -a),
-        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{a}, 0, 0]}}"#),
-        r#"{"type": "sum_union", "left": 0, "right": 1, "range": 0.2}"#.to_string(),
-    ];
-    let scene = scene_of(&nodes, 2);
+    let scene = density_neck();
     let neck = [0.0, 0.0, 0.0];
     assert!(scene.eval(neck) < 0.0 && scene.eval([0.0, 0.05, 0.0]) > 0.0, "the neck is thinner than 0.1");
     let data = Linear::new(&scene).unwrap().field_data();
@@ -370,12 +362,25 @@ fn a_thin_neck_between_density_blobs_is_found() {
     assert!(hits > 50, "{hits} hits, {misses} misses checked");
 }
 
+/// Two density blobs summed whose iso-surface narrows to a neck a few
+/// hundredths across at the origin: (1 - (a/R)^2)^3 = 0.2505 at the
+/// midpoint, so the sum is just above the isovalue 0.5 there.
+fn density_neck() -> Scene {
+    let (radius, a) = (0.6, 0.6 * (1.0 - 0.2505f64.cbrt()).sqrt());
+    let nodes = [
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{}, 0, 0]}}"#, -a),
+        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{a}, 0, 0]}}"#),
+        r#"{"type": "sum_union", "left": 0, "right": 1, "range": 0.2}"#.to_string(),
+    ];
+    scene_of(&nodes, 2)
+}
+
 /// A scene of fewer than four primitives lists each of them once in a tile:
-/// its primitive buffer is padded to 16 bytes, and the scatter pass took
-/// the padding for more copies of the first primitive (a comb tile then
-/// summed a density twice: a surface drawn 4 footprints in front of the
-/// neck below, by sphere tracing and by bisection alike). The density neck
-/// sphere traced with its tiles' lists draws what the whole tree draws.
+/// its primitive buffer is padded to 16 bytes, which the scatter pass must
+/// not take for more copies of the first primitive (a comb tile would sum
+/// a density twice and draw a surface in front of the neck, sphere traced
+/// or bisected). The density neck sphere traced with its tiles' lists draws
+/// what the whole tree draws.
 #[test]
 fn small_scenes_list_each_primitive_once_and_a_neck_traces_as_the_whole_tree() {
     let gpu = gpu();
@@ -391,13 +396,7 @@ fn small_scenes_list_each_primitive_once_and_a_neck_traces_as_the_whole_tree() {
         let frame = crate::gpu::Renderer::new(gpu, &lin.field_data(), sphere(&lin)).unwrap().render(&s).unwrap();
         assert_eq!(frame.stats.field.active_max as usize, n, "{n} primitives");
     }
-    let (radius, a) = (0.6, 0.6 * (1.0 - 0.2505f64.cbrt()).sqrt());
-    let nodes = [
-        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{}, 0, 0]}}"#, -a),
-        format!(r#"{{"type": "density", "radius": {radius}, "iso": 0.5, "range": 0.2, "translate": [{a}, 0, 0]}}"#),
-        r#"{"type": "sum_union", "left": 0, "right": 1, "range": 0.2}"#.to_string(),
-    ];
-    let scene = scene_of(&nodes, 2);
+    let scene = density_neck();
     let lin = Linear::new(&scene).unwrap();
     let mut r = crate::gpu::Renderer::new(gpu, &lin.field_data(), sphere(&lin)).unwrap();
     let sparse = r.render(&s).unwrap();

@@ -90,11 +90,11 @@ fn short(s: &str) -> String {
 }
 
 /// The WGSL of formula leaves in a scene kernel: the tape interpreter in
-/// the scalar domain (and on intervals, `bisect`), the leaf functions, and
-/// the interpreter's work limit, `counted` by the scene's budget.
-pub fn code(scene_features: u32, bisect: bool, counted: bool) -> String {
+/// the scalar domain (and, `bisect`, on intervals), the leaf functions, and
+/// the interpreter's work limit (bisecting, the scene's budget).
+pub fn code(scene_features: u32, bisect: bool) -> String {
     let domains: &[Domain] = if bisect { &[Domain::Scalar, Domain::Interval] } else { &[Domain::Scalar] };
-    let admits = if counted {
+    let admits = if bisect {
         // A refused run marks the evaluation exhausted (scene_admit), as a
         // refused tree does.
         "fn tape_admits(iters: u32) -> bool {\n    let ok = scene_admit(iters) == iters;\n    g_field_work = g_field_work + select(0u, iters, ok);\n    return ok;\n}\n"
@@ -104,17 +104,10 @@ pub fn code(scene_features: u32, bisect: bool, counted: bool) -> String {
         "fn tape_admits(iters: u32) -> bool { return true; }\n"
     };
     format!(
-        "{}{admits}{}fn scene_leaves_cost() -> u32 {{ g_tape_base = 0u; return tape_word(0u).y; }}\n{}",
+        "{}{admits}{}fn scene_leaves_cost() -> u32 {{ g_tape_base = 0u; return tape_word(0u).y; }}\n{}{}",
         crate::bindings::declarations(&[&super::source::TAPES]),
         crate::field::tape::wgsl::embedded(domains, leaf_tape_features(scene_features), super::source::TAPES.var),
-        if bisect { crate::codegen::template::SCENE_FORMULA.to_string() } else { scalar_only() },
+        crate::codegen::template::SCENE_FORMULA,
+        if bisect { crate::codegen::template::SCENE_FORMULA_IA } else { "" },
     )
-}
-
-/// scene_formula.wgsl without its interval function (a kernel that only
-/// sphere traces has no interval library).
-fn scalar_only() -> String {
-    let t = crate::codegen::template::SCENE_FORMULA;
-    let cut = t.find("// The leaf over the local box q").unwrap_or(t.len());
-    t[..cut].to_string()
 }

@@ -123,7 +123,7 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
         if bisect {
             out.push_str(&crate::field::compiled::derivative::library(Domain::Interval));
         }
-        out.push_str(&leaves::code(features, bisect, bisect));
+        out.push_str(&leaves::code(features, bisect));
     } else {
         // The leaf cases are compiled out (SCENE_FEATURES), but named.
         out.push_str("fn scene_leaves_cost() -> u32 { return 0u; }\nfn scene_formula(q: vec3<f32>, r2: vec4<f32>, o: u32) -> f32 { return 0.0; }\n");

@@ -176,23 +176,30 @@ fn prelude(features: u32, lists: bool) -> String {
     format!(
         "{}{}{}\n// The tape (src/field/tape): header, value program, derivative program,\n\
          // a texture of {w} texels a row (TapeData::texels).\n\
-         {}\
-         fn tape_word(i: u32) -> vec4<u32> {{ return textureLoad(tape_code, vec2<u32>(i & {mask}u, i >> {shift}u), 0); }}\n\
-         // Set when an evaluation was refused for the work limit: the pixel is reported.\n\
-         var<private> g_tape_exhausted: bool;\n\
-         // Set while bisection's tile pass records min/max choices (tape_tiles.wgsl).\n\
-         var<private> g_tape_record: bool;\n\
-         const TAPE_LIST_NOP: u32 = 0xffffffffu;\n\
-         const TAPE_PC_MASK: u32 = 0x3fffffffu;\n{}",
+         {}{}{TAPE_STATE}{}",
         super::wgsl_constants(features),
         if features::bundle_work(features) { format!("{}{TAPE_PER_BUNDLE}", crate::field::limits::BUNDLE_WORK_WGSL) } else { WORK_PER_LANE.to_string() },
         if lists { tape_tiles() } else { String::new() },
         crate::bindings::declarations(&[&super::source::TAPE_CODE]),
+        tape_word(super::source::TAPE_CODE.var, "0u"),
         if lists { LISTED_TAPE } else { WHOLE_TAPE },
         w = crate::scene::linear::TEXTURE_WIDTH,
-        mask = crate::scene::linear::TEXTURE_WIDTH - 1,
-        shift = crate::scene::linear::TEXTURE_SHIFT,
     )
+}
+
+/// The flags and list constants every tape interpreter shares.
+const TAPE_STATE: &str = "// Set when an evaluation was refused for the work limit: the pixel is reported.
+var<private> g_tape_exhausted: bool;
+// Set while bisection's tile pass records min/max choices (tape_tiles.wgsl).
+var<private> g_tape_record: bool;
+const TAPE_LIST_NOP: u32 = 0xffffffffu;
+const TAPE_PC_MASK: u32 = 0x3fffffffu;
+";
+
+/// `tape_word(i)`: texel `base + i` of `texture`, TEXTURE_WIDTH texels a row.
+fn tape_word(texture: &str, base: &str) -> String {
+    let (mask, shift) = (crate::scene::linear::TEXTURE_WIDTH - 1, crate::scene::linear::TEXTURE_SHIFT);
+    format!("fn tape_word(i: u32) -> vec4<u32> {{ let j = {base} + i; return textureLoad({texture}, vec2<u32>(j & {mask}u, j >> {shift}u), 0); }}\n")
 }
 
 /// The interpreter for another interpreter to run tapes with (a scene's
@@ -204,24 +211,21 @@ fn prelude(features: u32, lists: bool) -> String {
 /// op libraries; no per-tile lists, no choice notes.
 pub fn embedded(domains: &[Domain], features: u32, texture: &str) -> String {
     let mut out = format!(
-        "{}\n// The tape being run starts at texel g_tape_base of {texture}.\nvar<private> g_tape_base: u32;\n\
-         fn tape_word(i: u32) -> vec4<u32> {{ let j = g_tape_base + i; return textureLoad({texture}, vec2<u32>(j & {mask}u, j >> {shift}u), 0); }}\n\
-         var<private> g_tape_exhausted: bool;\nvar<private> g_tape_record: bool;\n\
-         const TAPE_LIST_NOP: u32 = 0xffffffffu;\nconst TAPE_PC_MASK: u32 = 0x3fffffffu;\n{WHOLE_TAPE}",
+        "{}\n// The tape being run starts at texel g_tape_base of {texture}.\nvar<private> g_tape_base: u32;\n{}{TAPE_STATE}{WHOLE_TAPE}",
         super::wgsl_constants(features),
-        mask = crate::scene::linear::TEXTURE_WIDTH - 1,
-        shift = crate::scene::linear::TEXTURE_SHIFT,
+        tape_word(texture, "g_tape_base"),
     );
     for &d in domains {
         // Without the field's entry points (surf_*, evald_*): the host has its own.
         let code = instantiate(d, features);
-        let cut = code.find(FIELD_ENTRIES).unwrap_or(code.len());
+        let cut = code.find(FIELD_ENTRIES).expect("the tape template marks its field entry points");
         out.push_str(&code[..cut]);
     }
     out
 }
 
-/// Where the template's field entry points (`surf_T`, `evald_T`) begin.
+/// Where the template's field entry points (`surf_T`, `evald_T`) begin
+/// (tests: `embedded_interpreters_leave_the_entry_points_out`).
 const FIELD_ENTRIES: &str = "// The enclosure of f over the box: what `surf_*` is";
 
 /// The scalar field and the hooks every field source provides.
@@ -363,6 +367,14 @@ mod tests {
             let code: String = instantiate(d, features::ALL).lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
             assert!(!code.contains("op_") && !code.contains("_T(") && !code.contains(": T"), "{d:?}");
         }
+    }
+
+    #[test]
+    fn embedded_interpreters_leave_the_entry_points_out() {
+        let code = embedded(&[Domain::Scalar, Domain::Interval], features::ALL, "t");
+        assert!(code.contains("fn tape_enclosure_ia(") && code.contains("fn tape_run_s("));
+        assert!(!code.contains("fn surf_") && !code.contains("fn evald_"));
+        assert_eq!(code.matches("fn tape_word(").count(), 1);
     }
 
     #[test]
