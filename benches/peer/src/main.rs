@@ -67,7 +67,10 @@ const USAGE: &str = "usage: isotrace-peer-bench [--size N] [--repeat N] [--view 
                   series kinds: aggregate, boxes, sphere-pairs (default: all)
   --scenes        instead of catalog surfaces, the generated scene series of `isotrace bench
                   --suite scenes` (aggregate, boxes, sphere-pairs; sharp and smooth; levels 0..L)
-  --max-level L   the highest level of the series (2; at most 4)";
+  --max-level L   the highest level of the series (2; at most 4)
+  --method M      with --scenes: how isotrace renders the scenes: sphere (sphere tracing, the
+                  default, as `isotrace render` does) or bisect (interval bisection on the
+                  scene's enclosures, `render --method bisect`)";
 
 /// The command line.
 pub struct Args {
@@ -81,6 +84,8 @@ pub struct Args {
     scenes: Option<u32>,
     /// Seconds.
     guard: f64,
+    /// `--method bisect` with `--scenes`: interval bisection instead of sphere tracing.
+    bisect: bool,
 }
 
 /// `--sign`.
@@ -92,8 +97,8 @@ pub enum SignMode {
 }
 
 fn parse_args() -> Result<Args, String> {
-    let mut a = Args { size: 1024, repeat: 5, images: None, sign: SignMode::Auto, names: vec![], views: vec![ViewKind::Perspective], scenes: None, guard: 120.0 };
-    let (mut scenes, mut max_level, mut sign_given) = (false, None, false);
+    let mut a = Args { size: 1024, repeat: 5, images: None, sign: SignMode::Auto, names: vec![], views: vec![ViewKind::Perspective], scenes: None, guard: 120.0, bisect: false };
+    let (mut scenes, mut max_level, mut sign_given, mut method_given) = (false, None, false, false);
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
         let mut value = |name: &str| it.next().ok_or_else(|| format!("{name} needs a value"));
@@ -103,6 +108,14 @@ fn parse_args() -> Result<Args, String> {
             "--images" => a.images = Some(PathBuf::from(value("--images")?)),
             "--guard" => a.guard = value("--guard")?.parse().map_err(|e| format!("--guard: {e}"))?,
             "--scenes" => scenes = true,
+            "--method" => {
+                method_given = true;
+                a.bisect = match value("--method")?.as_str() {
+                    "sphere" => false,
+                    "bisect" => true,
+                    s => return Err(format!("--method: expected sphere or bisect, got '{s}'")),
+                }
+            }
             "--max-level" => max_level = Some(value("--max-level")?.parse::<u32>().map_err(|e| format!("--max-level: {e}"))?),
             "--view" => {
                 a.views = match value("--view")?.as_str() {
@@ -150,6 +163,8 @@ fn parse_args() -> Result<Args, String> {
         a.scenes = Some(l);
     } else if max_level.is_some() {
         return Err("--max-level applies to --scenes".into());
+    } else if method_given {
+        return Err("--method applies to --scenes (the Knoll surfaces are bisected)".into());
     }
     if a.names.is_empty() && !scenes {
         a.names = catalog::suite("knoll").map_err(|e| e.to_string())?.into_iter().map(String::from).collect();
@@ -165,7 +180,11 @@ fn print_header(gpu: &Gpu, args: &Args) {
     println!("# isotrace vs fidget 0.5.1 (JIT), {size}x{size}, median of {} alternating runs after a warm-up", args.repeat);
     println!("# CPU: {} ({cores} cores); isotrace on {} ({}); fidget on {threads} rayon threads", measure::cpu_model(), gpu.info.name, gpu.info.driver);
     if args.scenes.is_some() {
-        println!("# isotrace: the scene field (SceneData as the FieldSource), sphere tracing with default options, Lipschitz 1 (sharp) or 1.45 (smooth), compact G for smooth operators");
+        if args.bisect {
+            println!("# isotrace: the scene field (SceneData as the FieldSource), interval bisection (render --method bisect), IA, eps 2^-11 x box diagonal, compact G for smooth operators");
+        } else {
+            println!("# isotrace: the scene field (SceneData as the FieldSource), sphere tracing with default options, Lipschitz 1 (sharp) or 1.45 (smooth), compact G for smooth operators");
+        }
         println!("# fidget: the scene as one expression (min / max / max(a,-b); smooth: polynomial g = min(a,b) - h^3/(6 beta^2)), intersected with the box");
         println!("# nodes: fidget expression nodes; build s: building the expression and JitShape::new (not timed in the ms columns)");
     } else {

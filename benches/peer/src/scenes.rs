@@ -1,8 +1,9 @@
-//! `--scenes` (issue 13): Zanni et al.'s generated scene series (Fig. 16's
+//! `--scenes`: Zanni et al.'s generated scene series (Fig. 16's
 //! recursive aggregates, Fig. 18's instanced boxes and sphere pairs), sharp
 //! and smooth, rendered by isotrace's scene field (sphere tracing, as
-//! `isotrace bench --suite scenes` renders them) and by fidget from the same
-//! camera, the scene written out as one fidget expression.
+//! `isotrace bench --suite scenes` renders them, or with `--method bisect`
+//! interval bisection) and by fidget from the same camera, the scene
+//! written out as one fidget expression.
 //!
 //! The expression follows `isotrace::scene::primitive` formula by formula
 //! (local point q = M·(p, 1), the local distance, times the scale) and the
@@ -20,7 +21,8 @@ use crate::view::{self, View, ViewKind};
 use crate::Args;
 use fidget::context::{BadNode, Context, Node};
 use isotrace::gpu::{Gpu, Renderer};
-use isotrace::render::{SphereOptions, Traversal};
+use isotrace::ir::Domain;
+use isotrace::render::{BisectOptions, SphereOptions, Traversal};
 use isotrace::scene::generate::{generate, Blending, Kind};
 use isotrace::scene::linear::Linear;
 use isotrace::scene::{self as sc, OpKind, Operator, Primitive, Scene, Shape};
@@ -96,9 +98,13 @@ fn bench(gpu: &Gpu, args: &Args, kind: ViewKind, k: Kind, b: Blending, level: u3
     s.camera = kind.camera(&s.camera, &s.bbox, None, 1.0);
     let bbox = s.bbox;
     let diag = isotrace::render::box_diagonal(&bbox);
-    let o = SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() };
+    let traversal = if args.bisect {
+        Traversal::Bisect(BisectOptions::new(Domain::Interval))
+    } else {
+        Traversal::Sphere(SphereOptions { lipschitz: lin.lipschitz(), ..Default::default() })
+    };
     let data = lin.field_data();
-    let r = Renderer::new(gpu, &data, Traversal::Sphere(o)).map_err(|e| e.to_string())?;
+    let r = Renderer::new(gpu, &data, traversal).map_err(|e| e.to_string())?;
     let view = View::new(&s.camera, &bbox, None, size, size, size);
     let cfg = measure::render_config(&view, size)?;
     let guard = Duration::from_secs_f64(args.guard);
@@ -247,7 +253,9 @@ fn local(ctx: &mut Context, shape: &Shape, q: [Node; 3]) -> Result<Node, BadNode
             ctx.sub(d, radius as f32)
         }
         Shape::Capsule { a, b, radius } => capsule(ctx, q, a, b, radius),
-        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Density { .. } => unimplemented!("the peer harness has no profile, grid or density primitives"),
+        Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Density { .. } | Shape::Cone { .. } | Shape::Formula(_) => {
+            unimplemented!("the generated series have no profile, grid, density, cone or formula primitives")
+        }
         Shape::Torus { major, minor } => {
             let l = length(ctx, &q[..2])?;
             let ring = ctx.sub(l, major as f32)?;

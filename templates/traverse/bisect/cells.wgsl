@@ -169,8 +169,12 @@ fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32, q: vec4<f32>) 
     let slope = d >= U.mono_depth;
     var r = q.xy;
     var monotone = slope && (q.z > 0.0 || q.w < 0.0);
-    let mv = slope && !monotone;
-    let f_a = field_ray(ray.o, ray.dir, select(c.x, 0.5 * (c.x + c.y), mv));
+    // The mean-value form needs a finite slope (an interpreted tree may give
+    // none), and f is evaluated only where it is used: a branch no lane of
+    // a SIMD group takes is skipped, so a cell costs its enclosure alone.
+    let mv = slope && !monotone && is_finite_range(q.zw);
+    var f_a = 0.0;
+    if (mv || monotone) { f_a = field_ray(ray.o, ray.dir, select(c.x, 0.5 * (c.x + c.y), mv)); }
     if (mv) { r = mean_value(c, r, q.zw, f_a, 0.5 * (c.x + c.y)); }
     if (!keep_cell(r)) { return v; }
     let deeper = d < d_max || (!is_finite_range(r) && d < d_last);

@@ -153,7 +153,8 @@ fn probe_cell(p: ptr<function, Probe>, ray: Ray, s_lo: f32, len: f32, d: u32, k:
     let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
     (*p).monotone = slope && (q.z > 0.0 || q.w < 0.0);
     (*p).phase = PH_DECIDE;
-    if (slope && !(*p).monotone) {
+    // The mean-value form needs a finite slope.
+    if (slope && !(*p).monotone && is_finite_range(q.zw)) {
         (*p).phase = PH_MEAN;
         // The midpoint as its children's shared end is computed, so a
         // monotone child takes f there from this evaluation.
