@@ -28,6 +28,15 @@ def run(cmd, stream="stdout"):
     return getattr(r, stream)
 
 
+def cpu():
+    try:
+        with open("/proc/cpuinfo") as f:
+            model = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "an unknown CPU")
+    except OSError:
+        model = "an unknown CPU"
+    return f"{model} ({os.cpu_count()} threads)"
+
+
 def frame(exe, scene, method, size, out):
     cmd = [exe, "render", scene, "--method", method, "--size", str(size), "--json", "-q", "-o", out]
     run(cmd)
@@ -43,7 +52,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "frame.png")
         head = run([a.isotrace, "--version"]).strip()
-        print(f"{head}, {a.size}x{a.size}, GPU ms of a frame (the second of two runs)\n")
+        print(f"{head} on {cpu()}, {a.size}x{a.size}, GPU ms of a frame (the second of two runs)\n")
         print("| series | level | primitives | sphere traced ms | bisected ms | bisected / sphere traced "
               "| evaluations a pixel, bisected | active primitives a tile | unresolved, bisected |")
         print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")

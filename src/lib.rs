@@ -156,11 +156,16 @@ impl Formula {
 /// [`RAY_POLY_AUTO_NODES`] live nodes) may run as a tape, which has no ray
 /// forms, and keeps RAA.
 pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
+    if affine_pays(ir) && !(ir.live().len() <= RAY_POLY_AUTO_NODES && field::compiled::takes_ray_polynomials(ir)) { ir::Domain::Affine } else { ir::Domain::Interval }
+}
+
+/// Whether RAA beats IA on `ir` where nothing takes its polynomials along
+/// the ray (a tape, a scene's formula leaf): a polynomial of degree 4 to
+/// 10 with powers below 16, no min, max or CSG ([`choose_algebra`] says
+/// why).
+pub fn affine_pays(ir: &ir::Ir) -> bool {
     let (minmax, max_power) = ir.shape();
-    let degree = ir.degree();
-    let polynomial_mid = matches!(degree, Some(4..=10));
-    let raa = polynomial_mid && max_power < 16 && minmax == 0 && !ir.is_csg();
-    if raa && !(ir.live().len() <= RAY_POLY_AUTO_NODES && field::compiled::takes_ray_polynomials(ir)) { ir::Domain::Affine } else { ir::Domain::Interval }
+    matches!(ir.degree(), Some(4..=10)) && max_power < 16 && minmax == 0 && !ir.is_csg()
 }
 
 /// The most live nodes of a formula for which `choose_algebra` weighs ray

@@ -326,6 +326,7 @@ fn feature_names(bits: u32) -> Vec<String> {
         (FEATURE_SHAPES, "primitives other than spheres"),
         (FEATURE_FORMULA, "formula leaves (the tape interpreter)"),
         (FEATURE_FORMULA_POWERS, "integer powers from 8 on in formula leaves"),
+        (FEATURE_FORMULA_AFFINE, "formula leaves in affine arithmetic"),
     ]
         .into_iter()
         .map(|(b, n)| (b, n.to_string()))

@@ -45,6 +45,8 @@ pub const SCENE_SHAPES: &str = include_str!("../../templates/fields/scene_shapes
 pub const SCENE_FORMULA: &str = include_str!("../../templates/fields/scene_formula.wgsl");
 /// Its interval twin, for bisection.
 pub const SCENE_FORMULA_IA: &str = include_str!("../../templates/fields/scene_formula_ia.wgsl");
+/// Its RAA run along a cell's segment.
+pub const SCENE_FORMULA_RA: &str = include_str!("../../templates/fields/scene_formula_ra.wgsl");
 /// The scene interpreter on intervals, for bisection.
 pub const SCENE_ENCLOSURE: &str = include_str!("../../templates/fields/scene_enclosure.wgsl");
 /// The scene field source's pre-passes: per-tile active primitives and views.

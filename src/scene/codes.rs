@@ -96,6 +96,9 @@ pub const FEATURE_FORMULA: u32 = 1 << 11;
 /// interpreter's square-and-multiply loop, whose masked pass every
 /// instruction of every leaf then pays).
 pub const FEATURE_FORMULA_POWERS: u32 = 1 << 12;
+/// Feature: a formula leaf enclosed in reduced affine arithmetic
+/// (`FormulaLeaf::affine`): the kernel embeds the tape's RAA interpreter.
+pub const FEATURE_FORMULA_AFFINE: u32 = 1 << 13;
 /// Feature bit: primitives other than plain spheres (a frame and extents:
 /// three rows). A scene of plain spheres (unwarped; laid out with the
 /// identity frame, `rows::shape_rows`) runs a kernel that reads two rows a
@@ -204,7 +207,7 @@ pub fn wgsl_constants() -> String {
         ("NODE_OCTAHEDRON", OCTAHEDRON),
         ("NODE_PLANE", PLANE),
     ];
-    let tail: [(&str, u32); 40] = [
+    let tail: [(&str, u32); 41] = [
         ("PRIM_FRAME_ROWS", PRIM_FRAME_ROWS),
         ("SCENE_MAX_STACK", MAX_STACK),
         ("ABV_STRIDE", ABV_STRIDE),
@@ -245,6 +248,7 @@ pub fn wgsl_constants() -> String {
         ("FORM_FORMULA", FORM_FORMULA),
         ("FEATURE_FORMULA", FEATURE_FORMULA),
         ("FEATURE_FORMULA_POWERS", FEATURE_FORMULA_POWERS),
+        ("FEATURE_FORMULA_AFFINE", FEATURE_FORMULA_AFFINE),
     ];
     let named = |list: &[(&str, u32)]| list.iter().map(|&(n, v)| (n.to_string(), v)).collect::<Vec<_>>();
     let consts: Vec<(String, u32)> = named(&head).into_iter().chain(style_constants()).chain(named(&tail)).collect();

@@ -116,6 +116,13 @@ impl FormulaLeaf {
         f.max(box_distance(q - DVec3::from(self.centre()), DVec3::from(self.half())))
     }
 
+    /// Whether the leaf's cells are enclosed in reduced affine arithmetic
+    /// (its tape's RAA run along the cell's segment) rather than IA: where
+    /// RAA pays for a tape ([`crate::affine_pays`]).
+    pub fn affine(&self) -> bool {
+        crate::affine_pays(&self.ir)
+    }
+
     /// Whether the formula has an integer power from 8 on, which its tape
     /// (or its derivative's) runs as a square-and-multiply loop.
     pub fn has_power_loops(&self) -> bool {

@@ -449,8 +449,9 @@ fn features(scene: &Scene) -> u32 {
                 Shape::Extrude { profile, .. } | Shape::Revolve { profile, .. } if profile.kind().has_points() => FEATURE_PROFILE | FEATURE_POLYGON,
                 Shape::Extrude { .. } | Shape::Revolve { .. } => FEATURE_PROFILE,
                 Shape::Grid(_) => FEATURE_GRID,
-                Shape::Formula(ref f) if f.has_power_loops() => FEATURE_FORMULA | FEATURE_FORMULA_POWERS,
-                Shape::Formula(_) => FEATURE_FORMULA,
+                Shape::Formula(ref f) => {
+                    FEATURE_FORMULA | if f.has_power_loops() { FEATURE_FORMULA_POWERS } else { 0 } | if f.affine() { FEATURE_FORMULA_AFFINE } else { 0 }
+                }
                 ref shape => shape.analytic().and_then(|(t, _)| t.wgsl).map_or(0, |c| c.feature),
             }) | if p.warp.is_some() { FEATURE_WARP } else { 0 }
                 | if matches!(p.shape, Shape::Sphere { .. }) && p.warp.is_none() { 0 } else { FEATURE_SHAPES },

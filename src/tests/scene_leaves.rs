@@ -276,3 +276,74 @@ fn a_single_leafs_cell_slopes_hold_the_references() {
     assert_eq!(checked, 12_000);
 }
 
+
+/// Leaves of degree 4 to 10 take their cells in RAA along the cell's
+/// segment (`FormulaLeaf::affine`), inside trees of several nodes too, and a
+/// twisted one on intervals: over random cells of random rays the device's
+/// cell enclosures hold the f64 reference's values along the segment, and
+/// an RAA leaf's are narrower than the interval enclosure of the segment's
+/// box (the path is taken).
+#[test]
+fn affine_leaves_cells_hold_the_references_and_are_narrower_than_intervals() {
+    let gpu = gpu();
+    let mut rng = Rng::new(0xaff1);
+    let tangle = r#""formula": "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8", "bounds": [-3, 3, -3, 3, -3, 3]"#;
+    let scenes = [
+        (format!(r#""root": 0, "nodes": [{{"type": "formula", {tangle}, "scale": 0.3, "translate": [0.2, 0, 0], "rotate": [1, 2, 3, 0.4]}}]"#), true),
+        (
+            format!(
+                r#""root": 4, "nodes": [{{"type": "formula", {tangle}, "scale": 0.3}},
+                {{"type": "box", "half": [0.9, 0.2, 0.9], "translate": [0, -0.8, 0]}},
+                {{"type": "smooth_union", "left": 0, "right": 1, "beta": 0.2}},
+                {{"type": "formula", "formula": "x^4 - x^3 + y^2 + z^2", "bounds": [-0.25, 1.25, -0.5, 0.5, -0.5, 0.5], "translate": [-0.4, 0.7, 0]}},
+                {{"type": "union", "left": 2, "right": 3}}]"#
+            ),
+            true,
+        ),
+        (format!(r#""root": 0, "nodes": [{{"type": "formula", {tangle}, "scale": 0.3, "warp": {{"type": "twist", "rate": 0.8}}}}]"#), false),
+    ];
+    for (nodes, narrower) in scenes {
+        let scene = format::parse(&format!(r#"{{"isotrace_scene": 1, {nodes}}}"#)).unwrap();
+        let lin = Linear::new(&scene).unwrap();
+        assert!(lin.features & crate::scene::linear::FEATURE_FORMULA_AFFINE != 0, "{nodes}");
+        let data = lin.field_data();
+        let mut cells = Vec::new();
+        for _ in 0..3000 {
+            let o = rng.direction() * 4.0;
+            let target = glam::DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+            let d = (target - o).normalize();
+            let s0 = (target - o).length() + rng.range(-0.3, 0.3);
+            let s1 = s0 + 10f64.powf(rng.range(-3.0, -0.7));
+            cells.push([o.x, d.x, o.y, d.y, o.z, d.z, s0, s1].map(|v| v as f32));
+        }
+        let along = eval_cells_scene(gpu, &data, &cells, false).unwrap();
+        // The same segments' boxes, enclosed on intervals.
+        let boxes: Vec<Box8> = cells
+            .iter()
+            .map(|b| {
+                let end = |s: f32| [b[0] + b[1] * s, b[2] + b[3] * s, b[4] + b[5] * s];
+                let (p, q) = (end(b[6]), end(b[7]));
+                [p[0].min(q[0]), p[0].max(q[0]), p[1].min(q[1]), p[1].max(q[1]), p[2].min(q[2]), p[2].max(q[2]), 0.0, 0.0]
+            })
+            .collect();
+        let boxed = eval_boxes_scene(gpu, &data, &boxes).unwrap();
+        let (mut width_along, mut width_boxed) = (0.0, 0.0);
+        for (k, b) in cells.iter().enumerate() {
+            let [o, d] = [[b[0], b[2], b[4]], [b[1], b[3], b[5]]].map(|v| glam::DVec3::from(v.map(f64::from)));
+            let (s0, s1) = (f64::from(b[6]), f64::from(b[7]));
+            let v = along[k];
+            for j in 0..=32 {
+                let x = scene.eval((o + d * (s0 + (s1 - s0) * j as f64 / 32.0)).to_array());
+                let slack = 1e-4 * (1.0 + x.abs());
+                assert!(f64::from(v[0]) <= x + slack && f64::from(v[1]) >= x - slack, "{nodes}: cell {k}: {v:?} misses {x} at sample {j}");
+            }
+            if v[1] < 1e3 && boxed[k][1] < 1e3 && v[0] > -1e3 && boxed[k][0] > -1e3 {
+                width_along += f64::from(v[1] - v[0]);
+                width_boxed += f64::from(boxed[k][1] - boxed[k][0]);
+            }
+        }
+        if narrower {
+            assert!(width_along < 0.8 * width_boxed, "{nodes}: RAA cells {width_along} wide in all, their boxes on intervals {width_boxed}");
+        }
+    }
+}

@@ -24,6 +24,12 @@
 // A box as centre and half-extents.
 struct SceneBox { c: vec3<f32>, r: vec3<f32> }
 
+// The segment of the cell being enclosed: its world half-vector in xyz, w
+// = 1 (w = 0: not a cell's segment, as the tile pass's slabs). A formula
+// leaf whose cells are enclosed in RAA runs along it
+// (scene_formula_ra.wgsl).
+var<private> g_cell_half: vec4<f32>;
+
 // The box lo..hi, its extents rounded up so that c +- r holds it.
 fn scene_box(lo: vec3<f32>, hi: vec3<f32>) -> SceneBox {
     let c = 0.5 * lo + 0.5 * hi;
@@ -129,7 +135,7 @@ fn scene_grid_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> {
 // form of its distance, or the enclosure of a type whose field is not one
 // (primitive_enclosures: src/sdf/primitive, spliced in by
 // src/field/scene/mod.rs; the voxel grid).
-fn scene_shape_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32, leaf: bool) -> vec2<f32> {
+fn scene_shape_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32, leaf: bool, along: bool) -> vec2<f32> {
     let form = u32(r1.w) & 15u;
     // A formula leaf's value at the centre is no part of its enclosure:
     // its tape is not run for it.
@@ -141,7 +147,7 @@ fn scene_shape_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u
         if (leaf && form == FORM_GRID) { e = scene_grid_ia(scene_local_box(r0, r1, b), r2, o) / dot(r0, r0); }
     }
     if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u) {
-        if (formula) { e = scene_formula_ia(scene_local_box(r0, r1, b), r2, o) / dot(r0, r0); }
+        if (formula) { e = scene_formula_ia(r0, r1, b, r2, o, along) / dot(r0, r0); }
     }
     return e;
 }
@@ -208,7 +214,7 @@ fn scene_primitive_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, 
             at = wb.b;
         }
     }
-    var e = scene_shape_ia(r0, r1, r2, at, o, leaf);
+    var e = scene_shape_ia(r0, r1, r2, at, o, leaf, !warped);
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         if (warped) { e = scene_warp_value_ia(wb, (u32(r1.w) >> FORM_WARP_SHIFT) == 2u, e); }
     }
@@ -340,11 +346,13 @@ fn surf_ia(X: vec2<f32>, Y: vec2<f32>, Z: vec2<f32>, T: vec2<f32>) -> vec2<f32> 
 // to use either), but for a tree that is one formula leaf, whose tape has
 // a derivative program (scene_leaf_cell).
 fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {
-    if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u && slope) {
-        let r = scene_leaf_cell(o, dir, s0, s1);
-        if (r.x <= r.y) { return r; }
-    }
-    return vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf);
+    // Leaves in RAA run along the segment (scene_formula_ia.wgsl).
+    g_cell_half = vec4<f32>(dir * (0.5 * (s1 - s0)), 1.0);
+    var r = vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u && slope) { r = scene_leaf_cell(o, dir, s0, s1); }
+    if (!(r.x <= r.y)) { r = vec4<f32>(cell_range(o, dir, s0, s1), -F.inf, F.inf); }
+    g_cell_half = vec4<f32>(0.0);
+    return r;
 }
 fn field_ray(o: vec3<f32>, dir: vec3<f32>, s: f32) -> f32 { return field(o + dir * s); }
 fn field_begin_ray(o: vec3<f32>, dir: vec3<f32>, s_ref: f32, len: f32) {}

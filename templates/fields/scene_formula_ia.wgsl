@@ -6,19 +6,34 @@ fn scene_no_nan(r: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(select(r.x, -iso_inf(), iso_is_nan(r.x)), select(r.y, iso_inf(), iso_is_nan(r.y)));
 }
 
+// Whether leaf k's cells are enclosed in RAA (its directory word).
+fn scene_leaf_affine(k: u32) -> bool {
+    g_tape_base = 0u;
+    return tape_word(1u + k).y != 0u;
+}
+
 // The leaf over the local box q (r2, r3: its third and fourth rows), before
 // its frame's scale: the value of max(f/L, B), B the box distance, and with
 // `slope` its slope along the local direction dl (else the whole line).
 // f/L and f'/L come from one run of the tape's value or derivative program,
-// rounded outward; B by its centred form, its slope within [-|dl|, |dl|];
-// max is monotone in both, its slope ia_dmax's. An empty enclosure (f
-// undefined over the whole box) is the leaf's absence, with no slope; a
-// refused run is the whole line.
-fn scene_leaf_ia(q: SceneBox, r2: vec4<f32>, r3: vec4<f32>, dl: vec3<f32>, slope: bool) -> vec4<f32> {
-    scene_use_tape(u32(r2.w));
-    let lo = scene_lo(q);
-    let hi = scene_hi(q);
-    let t = tape_enclosure_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), vec2<f32>(F.time), vec2<f32>(dl.x), vec2<f32>(dl.y), vec2<f32>(dl.z), slope);
+// in RAA along the cell's segment for a leaf that takes it (seg: the
+// segment's local half-vector and f32 error, w < 0 for none), else on
+// intervals over q; rounded outward. B by its centred form, its slope
+// within [-|dl|, |dl|]; max is monotone in both, its slope ia_dmax's. An
+// empty enclosure (f undefined over the whole box) is the leaf's absence,
+// with no slope; a refused run is the whole line.
+fn scene_leaf_ia(q: SceneBox, seg: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, dl: vec3<f32>, slope: bool) -> vec4<f32> {
+    let k = u32(r2.w);
+    var t: vec4<f32>;
+    if ((SCENE_FEATURES & FEATURE_FORMULA_AFFINE) != 0u && seg.w >= 0.0 && scene_leaf_affine(k)) {
+        scene_use_tape(k);
+        t = scene_leaf_tape_ra(q, seg.xyz, seg.w, dl, slope);
+    } else {
+        scene_use_tape(k);
+        let lo = scene_lo(q);
+        let hi = scene_hi(q);
+        t = tape_enclosure_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), vec2<f32>(F.time), vec2<f32>(dl.x), vec2<f32>(dl.y), vec2<f32>(dl.z), slope);
+    }
     let f = scene_no_nan(ia_pad(t.xy * r3.w, 0.0, 2.4e-7));
     let df = scene_no_nan(ia_pad(t.zw * r3.w, 0.0, 2.4e-7));
     let c = q.c - r2.xyz;
@@ -30,9 +45,21 @@ fn scene_leaf_ia(q: SceneBox, r2: vec4<f32>, r3: vec4<f32>, dl: vec3<f32>, slope
     return vec4<f32>(v, dv);
 }
 
-// The leaf over the local box q (o: its first row): scene_leaf_ia's value.
-fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> {
-    return scene_leaf_ia(q, r2, scene_param(o + 3u), vec3<f32>(0.0), false).xy;
+// The segment argument of scene_leaf_ia for a leaf with frame rows r0, r1
+// over the world box b: the cell's half-vector in the local frame and its
+// f32 error (scene_local_box's, and the segment's ends'), or w = -1 where
+// b is not a cell's segment (`along` false: a warp's box of it).
+fn scene_leaf_segment(r0: vec4<f32>, r1: vec4<f32>, b: SceneBox, q: SceneBox, along: bool) -> vec4<f32> {
+    let v = scene_local(r0, vec4<f32>(0.0), g_cell_half.xyz);
+    let e = 2e-6 * (length(q.c) + length(v) + dot(r0, r0) * (length(b.c) + length(r1.xyz) + length(g_cell_half.xyz)));
+    return select(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(v, e), along && g_cell_half.w > 0.0);
+}
+
+// The leaf with frame rows r0, r1 over the world box b (o: its first row;
+// `along`: b is the box of the cell being enclosed): scene_leaf_ia's value.
+fn scene_formula_ia(r0: vec4<f32>, r1: vec4<f32>, b: SceneBox, r2: vec4<f32>, o: u32, along: bool) -> vec2<f32> {
+    let q = scene_local_box(r0, r1, b);
+    return scene_leaf_ia(q, scene_leaf_segment(r0, r1, b, q, along), r2, scene_param(o + 3u), vec3<f32>(0.0), false).xy;
 }
 
 // A cell of the ray o + dir·[s0, s1] where the tree being evaluated is one
@@ -55,8 +82,9 @@ fn scene_leaf_cell(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> 
     if ((e >> 31u) == 0u || u32(r1.w) != FORM_FORMULA) { return vec4<f32>(1.0, 0.0, 0.0, 0.0); }
     let a = o + dir * s0;
     let b = o + dir * s1;
-    let q = scene_local_box(r0, r1, scene_box(min(a, b), max(a, b)));
-    let r = scene_leaf_ia(q, scene_param(row + 2u), scene_param(row + 3u), scene_local(r0, vec4<f32>(0.0), dir), true);
+    let wb = scene_box(min(a, b), max(a, b));
+    let q = scene_local_box(r0, r1, wb);
+    let r = scene_leaf_ia(q, scene_leaf_segment(r0, r1, wb, q, true), scene_param(row + 2u), scene_param(row + 3u), scene_local(r0, vec4<f32>(0.0), dir), true);
     let s = 1.0 / dot(r0, r0);
     let v = ia_pad(r.xy * s, 0.0, 2.4e-7);
     let dv = ia_pad(r.zw * s, 0.0, 2.4e-7);

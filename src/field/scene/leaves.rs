@@ -24,8 +24,8 @@ const LEAF_TAPE_STEP: u32 = 4;
 
 /// The tapes texture's words: (leaf count, loop iterations of one value run
 /// of every leaf node of the tree, summed: what the whole tree's
-/// evaluation may add to its node count), then each leaf's first texel,
-/// then the tapes. A leaf whose tape cannot be made gets a header whose run
+/// evaluation may add to its node count), then each leaf's (first texel,
+/// 1 where its cells are enclosed in RAA), then the tapes. A leaf whose tape cannot be made gets a header whose run
 /// the work limit refuses, so its pixels are reported, never drawn; the
 /// CLI refuses such a scene first ([`check`]).
 pub fn texels(data: &SceneData) -> Vec<[u32; 4]> {
@@ -36,7 +36,7 @@ pub fn texels(data: &SceneData) -> Vec<[u32; 4]> {
     let pow_passes = u32::from(leaf_tape_features(data.features) & features::POWERS != 0);
     for (k, leaf) in data.leaves.iter().enumerate() {
         let base = words.len() as u32;
-        words[1 + k][0] = base;
+        words[1 + k] = [base, u32::from(leaf.affine()), 0, 0];
         match TapeData::padded(&leaf.ir, LEAF_TAPE_STEP) {
             Ok(t) => {
                 // As tape_run counts it, with the power loop's masked pass
@@ -90,10 +90,16 @@ fn short(s: &str) -> String {
 }
 
 /// The WGSL of formula leaves in a scene kernel: the tape interpreter in
-/// the scalar domain (and, `bisect`, on intervals), the leaf functions, and
+/// the scalar domain (and, `bisect`, on intervals, and in RAA for a scene
+/// with `FEATURE_FORMULA_AFFINE`), the leaf functions, and
 /// the interpreter's work limit (bisecting, the scene's budget).
 pub fn code(scene_features: u32, bisect: bool) -> String {
-    let domains: &[Domain] = if bisect { &[Domain::Scalar, Domain::Interval] } else { &[Domain::Scalar] };
+    let affine = scene_features & crate::scene::linear::FEATURE_FORMULA_AFFINE != 0;
+    let domains: &[Domain] = match (bisect, affine) {
+        (true, true) => &[Domain::Scalar, Domain::Interval, Domain::Affine],
+        (true, false) => &[Domain::Scalar, Domain::Interval],
+        _ => &[Domain::Scalar],
+    };
     let admits = if bisect {
         // A refused run marks the evaluation exhausted (scene_admit), as a
         // refused tree does.
@@ -104,10 +110,16 @@ pub fn code(scene_features: u32, bisect: bool) -> String {
         "fn tape_admits(iters: u32) -> bool { return true; }\n"
     };
     format!(
-        "{}{admits}{}fn scene_leaves_cost() -> u32 {{ g_tape_base = 0u; return tape_word(0u).y; }}\n{}{}",
+        "{}{admits}{}fn scene_leaves_cost() -> u32 {{ g_tape_base = 0u; return tape_word(0u).y; }}\n{}{}{}",
         crate::bindings::declarations(&[&super::source::TAPES]),
         crate::field::tape::wgsl::embedded(domains, leaf_tape_features(scene_features), super::source::TAPES.var),
         crate::codegen::template::SCENE_FORMULA,
         if bisect { crate::codegen::template::SCENE_FORMULA_IA } else { "" },
+        match (bisect, affine) {
+            (true, true) => crate::codegen::template::SCENE_FORMULA_RA,
+            // Named by the interval leaf, compiled out (SCENE_FEATURES).
+            (true, false) => "fn scene_leaf_tape_ra(q: SceneBox, v: vec3<f32>, err: f32, dl: vec3<f32>, slope: bool) -> vec4<f32> { return vec4<f32>(0.0); }\n",
+            _ => "",
+        },
     )
 }

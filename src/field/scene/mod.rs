@@ -114,21 +114,24 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
     let formula = features & crate::scene::linear::FEATURE_FORMULA != 0;
     // One copy of each op library the kernel's interpreters use.
     use crate::ir::Domain;
-    if bisect {
+    let affine = formula && features & crate::scene::linear::FEATURE_FORMULA_AFFINE != 0;
+    if bisect && affine {
+        out.push_str(&crate::codegen::libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]));
+    } else if bisect {
         out.push_str(&crate::codegen::libraries(&[Domain::Scalar, Domain::Interval]));
     } else if formula {
         out.push_str(&crate::codegen::libraries(&[Domain::Scalar]));
     }
     if formula {
         if bisect {
-            out.push_str(&crate::field::compiled::derivative::library(Domain::Interval));
+            out.push_str(&crate::field::compiled::derivative::library(if affine { Domain::Affine } else { Domain::Interval }));
         }
         out.push_str(&leaves::code(features, bisect));
     } else {
         // The leaf cases are compiled out (SCENE_FEATURES), but named.
         out.push_str("fn scene_leaves_cost() -> u32 { return 0u; }\nfn scene_formula(q: vec3<f32>, r2: vec4<f32>, o: u32) -> f32 { return 0.0; }\n");
         if bisect {
-            out.push_str("fn scene_formula_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> { return vec2<f32>(0.0); }\n\
+            out.push_str("fn scene_formula_ia(r0: vec4<f32>, r1: vec4<f32>, b: SceneBox, r2: vec4<f32>, o: u32, along: bool) -> vec2<f32> { return vec2<f32>(0.0); }\n\
                 fn scene_leaf_cell(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32) -> vec4<f32> { return vec4<f32>(1.0, 0.0, 0.0, 0.0); }\n");
         }
     }
