@@ -297,7 +297,7 @@ fn a_scene_file_is_bisected_with_method_bisect() {
     assert_eq!(v["unresolved"], 0, "{v}");
     assert!(v["hits"].as_u64().unwrap() > 100 && v["active_mean"].as_f64().unwrap() > 0.0, "{v}");
     assert!(std::fs::metadata(&png).unwrap().len() > 0);
-    fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--algebra", "raa", "-o", p], "error: --algebra raa: a scene's nodes are enclosed in interval arithmetic only: give --algebra ia or leave it out\n");
+    fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--algebra", "raa", "-o", p], "error: --algebra raa: a scene's nodes are enclosed in interval arithmetic, and formula leaves of degree 4 to 10 in RAA, node by node: give --algebra ia (every node on intervals) or leave it out\n");
     fails(&["render", "examples/blobs.scene.json", "--method", "bisect", "--lipschitz", "2", "-o", p], "error: --lipschitz applies to --method sphere only\n");
     fails(&["render", "examples/blobs.scene.json", "--max-iter", "100", "-o", p], "error: --max-iter applies to --method bisect only; sphere tracing's budget is --max-steps\n");
     // A formula of distance forms through the scene field, bisected in IA.
@@ -330,4 +330,23 @@ fn a_scene_with_formula_leaves_is_bisected_and_sphere_tracing_is_refused() {
     std::fs::write(&bad, r#"{"isotrace_scene": 1, "root": 0, "nodes": [{"type": "formula", "formula": "x^2 + y^2 + z^2 - 1 +", "bounds": [-1, 1, -1, 1, -1, 1]}]}"#).unwrap();
     let b = bad.to_str().unwrap();
     fails(&["render", b, "-o", p], &format!("error: {b}: nodes[0].formula: expected an expression, found end of formula at byte 21\n"));
+}
+
+/// A polynomial formula leaf's cells are enclosed in RAA unless `--algebra
+/// ia` asks for intervals everywhere: the same picture with more
+/// evaluations a pixel on intervals.
+#[test]
+fn algebra_ia_puts_affine_leaves_on_intervals() {
+    let evals = |alg: &str| {
+        let out = tmp(&format!("leaf-{alg}.png"));
+        let o = isotrace(&["render", "examples/tangle-leaf.scene.json", "--box=-3,3", "--size", "96", "--algebra", alg, "--json", "-q", "-o", out.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["unresolved"], 0, "{v}");
+        (v["evals_mean"].as_f64().unwrap(), v["hits"].as_u64().unwrap())
+    };
+    let auto = evals("auto");
+    let ia = evals("ia");
+    assert!(auto.1 > 1000 && ia.1.abs_diff(auto.1) * 50 <= auto.1, "hits: {auto:?} in RAA, {ia:?} on intervals");
+    assert!(ia.0 > 1.3 * auto.0, "evaluations a pixel: {} in RAA, {} on intervals", auto.0, ia.0);
 }

@@ -69,7 +69,7 @@ fn a_scene_is_bisected_when_the_page_asks() {
     // RAA is refused by name.
     let (status, e) = call(&s, "POST", "/api/program", &json!({ "args": [file, "--method", "bisect", "--algebra", "raa"] }));
     assert_eq!(status, 400, "{e}");
-    assert!(e.to_string().contains("--algebra raa: a scene's nodes are enclosed in interval arithmetic only"), "{e}");
+    assert!(e.to_string().contains("--algebra raa: a scene's nodes are enclosed in interval arithmetic, and formula leaves of degree 4 to 10 in RAA, node by node"), "{e}");
 }
 
 #[test]

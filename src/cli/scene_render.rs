@@ -43,7 +43,11 @@ fn traversal(a: &RenderArgs, lin: &Linear, color: ColorMode, path: &Path) -> Res
             let kernel_color = super::render::bisect_color(a, color)?;
             match a.settings.algebra {
                 None | Some(AlgebraArg::Ia | AlgebraArg::Auto) => {}
-                Some(AlgebraArg::Raa) => return Err(CliError::input("--algebra raa: a scene's nodes are enclosed in interval arithmetic only: give --algebra ia or leave it out")),
+                Some(AlgebraArg::Raa) => {
+                    return Err(CliError::input(
+                        "--algebra raa: a scene's nodes are enclosed in interval arithmetic, and formula leaves of degree 4 to 10 in RAA, node by node: give --algebra ia (every node on intervals) or leave it out",
+                    ))
+                }
                 Some(AlgebraArg::Scalar) => return Err(CliError::input("--algebra scalar cannot render: the traversal needs an inclusion algebra (ia)")),
             }
             let m = super::modality::modalities(&a.modalities, a.sphere.shadows, kernel_color, None)?;
@@ -101,7 +105,11 @@ pub fn plan(a: &RenderArgs, scene: &crate::scene::Scene, path: &Path) -> Result<
     if let Some(m) = misplaced(a) {
         return Err(CliError::input(m));
     }
-    let lin = Linear::new(scene).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
+    let mut lin = Linear::new(scene).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
+    if a.settings.algebra == Some(AlgebraArg::Ia) {
+        // Formula leaves on intervals too (their RAA run is compiled out).
+        lin.features &= !crate::scene::linear::FEATURE_FORMULA_AFFINE;
+    }
     crate::field::scene::leaves::check(&lin.leaves).map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
     let base = match default_framing(&lin, scene) {
         Some(v) => v,
