@@ -136,6 +136,12 @@ pub enum Shape {
         /// rt ≥ 0: the radius at the top, z = h (0: pointed).
         top_radius: f64,
     },
+    /// `maxbox(bx, by, bz)`: max(|x| − bx, |y| − by, |z| − bz), half
+    /// extents b > 0.
+    MaxBox {
+        /// Half extents.
+        half: [f64; 3],
+    },
 }
 
 impl Shape {
@@ -154,6 +160,7 @@ impl Shape {
             Shape::Plane { normal: [x, y, z], offset } => of(&types::PLANE, &[x, y, z, offset]),
             Shape::Density { radius, half_length, iso, range } => of(&types::DENSITY, &[radius, half_length, iso, range]),
             Shape::Cone { radius, half_height, top_radius } => of(&types::CONE, &[radius, half_height, top_radius]),
+            Shape::MaxBox { half } => of(&types::MAX_BOX, &half),
             Shape::Extrude { .. } | Shape::Revolve { .. } | Shape::Grid(_) | Shape::Formula(_) => None,
         }
     }
@@ -173,6 +180,7 @@ impl Shape {
             "plane" => Shape::Plane { normal: v3(0), offset: v[3] },
             "density" => Shape::Density { radius: v[0], half_length: v[1], iso: v[2], range: v[3] },
             "cone" => Shape::Cone { radius: v[0], half_height: v[1], top_radius: v[2] },
+            "max_box" => Shape::MaxBox { half: v3(0) },
             other => unreachable!("every primitive type has a variant of Shape; {other} has none"),
         }
     }

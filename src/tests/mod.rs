@@ -26,6 +26,7 @@ mod root_search;
 mod scene_common;
 mod sdf_common;
 mod scene_cone;
+mod scene_max_box;
 mod scene_enclosures;
 mod scene_leaves;
 mod scene_format;

@@ -248,6 +248,18 @@ fn local(ctx: &mut Context, shape: &Shape, q: [Node; 3]) -> Result<Node, BadNode
             ctx.sub(l, radius as f32)
         }
         Shape::Box { half } => box_distance(ctx, q, half),
+        Shape::MaxBox { half } => {
+            let mut m = None;
+            for k in 0..3 {
+                let a = ctx.abs(q[k])?;
+                let d = ctx.sub(a, half[k] as f32)?;
+                m = Some(match m {
+                    None => d,
+                    Some(prev) => ctx.max(prev, d)?,
+                });
+            }
+            Ok(m.expect("three axes"))
+        }
         Shape::RoundBox { half, radius } => {
             let d = box_distance(ctx, q, half.map(|h| h - radius))?;
             ctx.sub(d, radius as f32)

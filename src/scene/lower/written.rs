@@ -1,8 +1,10 @@
 //! Distances written out, as a program writes a point cloud or a union of
-//! balls: `sqrt((x - a)^2 + (y - b)^2 + (z - c)^2) - r` is a ball, and a
-//! `min` or `max` of shapes is their union or intersection (the same
-//! fields: a ball's distance is that formula, and a sharp union is the min
-//! of its operands). Anything else stays refused as before.
+//! balls: `sqrt((x - a)^2 + (y - b)^2 + (z - c)^2) - r` is a ball,
+//! `max(abs(x - a) - bx, abs(y - b) - by, abs(z - c) - bz)` a box in the
+//! max norm (`maxbox`), and a `min` or `max` of shapes is their union or
+//! intersection (the same fields: a ball's distance is that formula, and a
+//! sharp union is the min of its operands). Anything else stays refused as
+//! before.
 
 use super::{not, NotBlobtree, Tree, Val, Walker};
 use crate::diag::Span;
@@ -73,9 +75,40 @@ impl Walker<'_> {
         }
     }
 
+    /// `max(abs(X - a) - bx, abs(Y - b) - by, abs(Z - c) - bz)`, the axes in
+    /// any order, each once (b > 0): a `maxbox` moved to (a, b, c); `None`
+    /// where the call is not one.
+    fn max_box(&mut self, c: &Call, span: Span) -> Option<Val> {
+        if c.name != "max" || c.args.len() != 3 {
+            return None;
+        }
+        let (mut center, mut half): ([Option<f64>; 3], [f64; 3]) = ([None; 3], [0.0; 3]);
+        for arg in &c.args {
+            let ExprKind::Binary(BinOp::Sub, abs, h) = &arg.kind else { return None };
+            let ExprKind::Call(abs) = &abs.kind else { return None };
+            if abs.name != "abs" || abs.args.len() != 1 {
+                return None;
+            }
+            let (axis, at) = self.offset(&abs.args[0])?;
+            if center[axis].replace(at).is_some() {
+                return None;
+            }
+            half[axis] = self.value(h)?;
+        }
+        let center = [center[0]?, center[1]?, center[2]?];
+        if !(half.iter().all(|h| *h > 0.0 && h.is_finite()) && center.iter().all(|c| c.is_finite())) {
+            return None;
+        }
+        let leaf = Rc::new(Tree::Leaf(Primitive::new(Shape::MaxBox { half }), span));
+        Some(Val::Shape(Rc::new(Tree::Moved(Transform { translate: center, ..Transform::default() }, leaf))))
+    }
+
     /// `min(…)` / `max(…)`: of numbers a number, of shapes a union or an
-    /// intersection.
+    /// intersection; a box written in the max norm ([`Walker::max_box`]).
     pub(super) fn min_max(&mut self, c: &Call, span: Span) -> Result<Val, NotBlobtree> {
+        if let Some(b) = self.max_box(c, span) {
+            return Ok(b);
+        }
         let vals: Vec<Val> = c.args.iter().map(|e| self.eval(e)).collect::<Result<_, _>>()?;
         if let Some((Val::Profile(_, span), _)) = vals.iter().zip(&c.args).find(|(v, _)| matches!(v, Val::Profile(..))) {
             return Err(not("a 2D profile is a blobtree node only inside extrude or revolve", *span));

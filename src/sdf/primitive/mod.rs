@@ -28,6 +28,7 @@ mod cone;
 mod cuboid;
 mod cylinder;
 pub mod density;
+mod max_box;
 mod octahedron;
 mod plane;
 mod round_box;
@@ -39,6 +40,7 @@ pub use cone::CONE;
 pub use cuboid::BOX;
 pub use cylinder::CYLINDER;
 pub use density::DENSITY;
+pub use max_box::MAX_BOX;
 pub use octahedron::OCTAHEDRON;
 pub use plane::PLANE;
 pub use round_box::ROUND_BOX;
@@ -47,7 +49,7 @@ pub use torus::TORUS;
 
 /// Every primitive type given by numbers, in type-code order (profiles and
 /// voxel grids, which are not, are the scene's own: `scene::Shape`).
-pub static TYPES: [&PrimitiveType; 10] = [&SPHERE, &BOX, &ROUND_BOX, &CAPSULE, &TORUS, &CYLINDER, &OCTAHEDRON, &PLANE, &DENSITY, &CONE];
+pub static TYPES: [&PrimitiveType; 11] = [&SPHERE, &BOX, &ROUND_BOX, &CAPSULE, &TORUS, &CYLINDER, &OCTAHEDRON, &PLANE, &DENSITY, &CONE, &MAX_BOX];
 
 /// Primitive form: a rounded box in local q (sphere, box, round box,
 /// capsule in its own frame): row 2 is (half extents, rounding).
