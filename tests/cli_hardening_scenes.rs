@@ -185,7 +185,7 @@ fn a_huge_type_or_key_is_quoted_short_and_escaped() {
         &o,
         &format!(
             "error: {}: nodes[0].type: unknown type 'a\u{241b}[2J{}…' (50000005 bytes); the types are sphere, box, round_box, capsule, torus, cylinder, octahedron, \
-             plane, extrude, revolve, grid, density, cone, formula, union, intersection, difference, smooth_union, smooth_intersection, smooth_difference, chamfer_union, \
+             plane, extrude, revolve, grid, density, cone, formula, max_box, union, intersection, difference, smooth_union, smooth_intersection, smooth_difference, chamfer_union, \
              chamfer_intersection, chamfer_difference, round_union, round_intersection, round_difference, sum_union, offset, shell, infill, displace, repeat, \
              mirror, twist or bend\n",
             s(&file),
