@@ -6,7 +6,8 @@ fn scene_no_nan(r: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(select(r.x, -iso_inf(), iso_is_nan(r.x)), select(r.y, iso_inf(), iso_is_nan(r.y)));
 }
 
-// Whether leaf k's cells are enclosed in RAA (its directory word).
+// Whether leaf k's cells are enclosed in RAA (its directory word; the
+// tape read is then the directory's: scene_use_tape comes after).
 fn scene_leaf_affine(k: u32) -> bool {
     g_tape_base = 0u;
     return tape_word(1u + k).y != 0u;
@@ -24,12 +25,12 @@ fn scene_leaf_affine(k: u32) -> bool {
 // with no slope; a refused run is the whole line.
 fn scene_leaf_ia(q: SceneBox, seg: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, dl: vec3<f32>, slope: bool) -> vec4<f32> {
     let k = u32(r2.w);
+    let affine = (SCENE_FEATURES & FEATURE_FORMULA_AFFINE) != 0u && seg.w >= 0.0 && scene_leaf_affine(k);
+    scene_use_tape(k);
     var t: vec4<f32>;
-    if ((SCENE_FEATURES & FEATURE_FORMULA_AFFINE) != 0u && seg.w >= 0.0 && scene_leaf_affine(k)) {
-        scene_use_tape(k);
+    if (affine) {
         t = scene_leaf_tape_ra(q, seg.xyz, seg.w, dl, slope);
     } else {
-        scene_use_tape(k);
         let lo = scene_lo(q);
         let hi = scene_hi(q);
         t = tape_enclosure_ia(vec2<f32>(lo.x, hi.x), vec2<f32>(lo.y, hi.y), vec2<f32>(lo.z, hi.z), vec2<f32>(F.time), vec2<f32>(dl.x), vec2<f32>(dl.y), vec2<f32>(dl.z), slope);
