@@ -106,7 +106,9 @@ async function openPage(browser, url, name) {
   const t0 = Date.now();
   // The server's URL carries the session token in its query.
   await page.goto(`${url}${url.includes('?') ? '&' : '?'}size=${SIZE}`);
-  await page.waitForFunction(() => window.__view && (window.__view.ready || window.__view.error), null, { timeout: 90000 });
+  // SwiftShader compiles the page's kernel on the CPU: the formula leaves'
+  // (three tape interpreters inside the scene's) takes minutes.
+  await page.waitForFunction(() => window.__view && (window.__view.ready || window.__view.error), null, { timeout: 240000 });
   const state = await page.evaluate(() => ({ error: __view.error, adapter: __view.adapter, frame: __view.lastFrame, pipelines: __view.pipelines }));
   check(`${name}: page loads, finds an adapter and renders`, !state.error && !!state.frame, state.error || `${Date.now() - t0} ms, adapter ${JSON.stringify(state.adapter)}`);
   return page;
