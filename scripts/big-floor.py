@@ -49,7 +49,10 @@ def cold_frame(exe, path, name, size, timeout, out):
 def eval_seconds(exe, path, stats, boxes_path, timeout):
     cmd = [exe, "eval", "-f", path, "--algebra", stats["algebra"], "--field", stats["field"], "--boxes", boxes_path, "-q"]
     t0 = time.monotonic()
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(os.environ, NODEVICE_SELECT="1"))
+    try:
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(os.environ, NODEVICE_SELECT="1"))
+    except subprocess.TimeoutExpired:
+        sys.exit(f"eval of {path} took over {timeout:.0f} s")
     if r.returncode != 0:
         sys.exit(f"eval failed: {r.stderr}")
     return time.monotonic() - t0

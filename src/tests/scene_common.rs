@@ -379,3 +379,53 @@ pub fn scene_and_compiled(f: &crate::Formula, s: &crate::render::Settings) -> (c
     let b = crate::gpu::Renderer::sphere(&own, &f.ir, o).unwrap().render(s).unwrap();
     (a, b)
 }
+
+/// For 200 primitives from `make`: each is 1-Lipschitz (difference
+/// quotients over short random steps), and its bounding volume at a random
+/// level r⁺ holds every sampled point with f ≤ r⁺. Returns how many sampled
+/// points fell in such a set (for the caller's not-vacuous bound).
+pub fn check_lipschitz_and_bounding_volume(rng: &mut Rng, mut make: impl FnMut(&mut Rng) -> Primitive) -> usize {
+    use glam::DVec3;
+    let mut inside = 0;
+    for _ in 0..200 {
+        let prim = make(rng);
+        for _ in 0..300 {
+            let a = DVec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+            let b = a + rng.direction() * rng.range(1e-4, 0.05);
+            let slope = (prim.distance(a.to_array()) - prim.distance(b.to_array())).abs() / (a - b).length();
+            assert!(slope <= 1.0 + 1e-6, "{prim:?}: {slope}");
+        }
+        let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
+        let abv = crate::scene::roi::abv(&prim, r_plus);
+        let bb = abv.aabb();
+        for _ in 0..300 {
+            let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
+            if prim.distance(p) <= r_plus {
+                inside += 1;
+                assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
+            }
+        }
+    }
+    inside
+}
+
+/// Ten primitives, every other one from `special(rng, centre, scale)` and
+/// the rest basic ones, and one more `special` twisted: the first six under
+/// sharp unions, the rest under a smooth one.
+pub fn mixed_scene(rng: &mut Rng, special: impl Fn(&mut Rng, [f64; 3], f64) -> Primitive) -> Scene {
+    let mut b = Builder::default();
+    let mut items = Vec::new();
+    for k in 0..10 {
+        let centre = [rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-1.0, 1.0)];
+        let p = if k % 2 == 0 { special(rng, centre, 1.0) } else { random_primitive(rng, centre, 0.6, false) };
+        items.push(b.primitive(p));
+    }
+    let mut twisted = special(rng, [0.0, 0.0, 1.5], 0.8);
+    twisted.warp = Some(crate::scene::warp::Warp { kind: crate::scene::warp::WarpKind::Twist, rate: 0.8, frame: Default::default(), clamp: None });
+    items.push(b.primitive(twisted));
+    let smooth = Operator::smooth(OpKind::Union, Blend::new(0.2));
+    let left = b.fold(Operator::UNION, &items[..6]);
+    let right = b.fold(smooth, &items[6..]);
+    let root = b.operator(Operator::UNION, left, right);
+    b.finish(root).unwrap()
+}

@@ -10,7 +10,7 @@ use super::scene_common;
 use glam::DVec3;
 use crate::scene::generate::Rng;
 use crate::scene::linear::{self, Linear};
-use crate::scene::{format, roi, Builder, Operator, Primitive, Scene, Shape};
+use crate::scene::{format, Primitive, Scene, Shape};
 use crate::Formula;
 
 fn cone(radius: f64, half_height: f64, top_radius: f64) -> Shape {
@@ -88,48 +88,17 @@ fn the_scene_cone_is_the_formula_cone() {
 #[test]
 fn the_cone_is_1_lipschitz_and_within_its_bounding_volume() {
     let mut rng = Rng::new(12);
-    let mut inside = 0;
-    for _ in 0..200 {
+    let inside = scene_common::check_lipschitz_and_bounding_volume(&mut rng, |rng| {
         let (centre, size) = ([0, 1, 2].map(|_| rng.range(-1.0, 1.0)), rng.range(0.5, 1.5));
-        let prim = random_cone(&mut rng, centre, size);
-        for _ in 0..300 {
-            let a = DVec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
-            let b = a + rng.direction() * rng.range(1e-4, 0.05);
-            let slope = (prim.distance(a.to_array()) - prim.distance(b.to_array())).abs() / (a - b).length();
-            assert!(slope <= 1.0 + 1e-6, "{prim:?}: {slope}");
-        }
-        let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
-        let abv = roi::abv(&prim, r_plus);
-        let bb = abv.aabb();
-        for _ in 0..300 {
-            let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
-            if prim.distance(p) <= r_plus {
-                inside += 1;
-                assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
-            }
-        }
-    }
+        random_cone(rng, centre, size)
+    });
     assert!(inside > 1_500, "{inside}");
 }
 
 /// Cones among the basic primitives, under sharp and smooth operators, one
 /// of them twisted.
 fn cone_scene(rng: &mut Rng) -> Scene {
-    let mut b = Builder::default();
-    let mut items = Vec::new();
-    for k in 0..10 {
-        let centre = [rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-1.0, 1.0)];
-        let p = if k % 2 == 0 { random_cone(rng, centre, 1.0) } else { scene_common::random_primitive(rng, centre, 0.6, false) };
-        items.push(b.primitive(p));
-    }
-    let mut twisted = random_cone(rng, [0.0, 0.0, 1.5], 0.8);
-    twisted.warp = Some(crate::scene::warp::Warp { kind: crate::scene::warp::WarpKind::Twist, rate: 0.8, frame: Default::default(), clamp: None });
-    items.push(b.primitive(twisted));
-    let smooth = Operator::smooth(crate::scene::OpKind::Union, crate::scene::Blend::new(0.2));
-    let left = b.fold(Operator::UNION, &items[..6]);
-    let right = b.fold(smooth, &items[6..]);
-    let root = b.operator(Operator::UNION, left, right);
-    b.finish(root).unwrap()
+    scene_common::mixed_scene(rng, random_cone)
 }
 
 #[test]

@@ -9,9 +9,8 @@
 use super::scene_common;
 use crate::scene::generate::Rng;
 use crate::scene::linear::Linear;
-use crate::scene::{format, roi, Node, Primitive, Scene, Shape};
+use crate::scene::{format, Node, Primitive, Scene, Shape};
 use crate::Formula;
-use glam::DVec3;
 
 fn formula_value(f: &Formula, p: [f64; 3]) -> f64 {
     crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[])
@@ -58,27 +57,10 @@ fn a_box_written_in_the_max_norm_lowers_to_a_max_box_with_the_same_field() {
 #[test]
 fn the_max_box_is_1_lipschitz_exact_inside_and_within_its_bounding_volume() {
     let mut rng = Rng::new(22);
-    let mut inside = 0;
-    for _ in 0..200 {
+    let inside = scene_common::check_lipschitz_and_bounding_volume(&mut rng, |rng| {
         let centre = [0, 1, 2].map(|_| rng.range(-1.0, 1.0));
-        let prim = random_max_box(&mut rng, centre);
-        for _ in 0..300 {
-            let a = DVec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
-            let b = a + rng.direction() * rng.range(1e-4, 0.05);
-            let slope = (prim.distance(a.to_array()) - prim.distance(b.to_array())).abs() / (a - b).length();
-            assert!(slope <= 1.0 + 1e-6, "{prim:?}: {slope}");
-        }
-        let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
-        let abv = roi::abv(&prim, r_plus);
-        let bb = abv.aabb();
-        for _ in 0..300 {
-            let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
-            if prim.distance(p) <= r_plus {
-                inside += 1;
-                assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
-            }
-        }
-    }
+        random_max_box(rng, centre)
+    });
     assert!(inside > 1_500, "{inside}");
     // Inside, the box's exact distance.
     let b = Primitive::new(Shape::MaxBox { half: [1.0, 2.0, 3.0] });
@@ -91,21 +73,7 @@ fn the_max_box_is_1_lipschitz_exact_inside_and_within_its_bounding_volume() {
 
 /// Max boxes among other primitives, one twisted.
 fn max_box_scene(rng: &mut Rng) -> Scene {
-    let mut b = crate::scene::Builder::default();
-    let mut items = Vec::new();
-    for k in 0..10 {
-        let centre = [rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-1.0, 1.0)];
-        let p = if k % 2 == 0 { random_max_box(rng, centre) } else { scene_common::random_primitive(rng, centre, 0.6, false) };
-        items.push(b.primitive(p));
-    }
-    let mut twisted = random_max_box(rng, [0.0, 0.0, 1.5]);
-    twisted.warp = Some(crate::scene::warp::Warp { kind: crate::scene::warp::WarpKind::Twist, rate: 0.8, frame: Default::default(), clamp: None });
-    items.push(b.primitive(twisted));
-    let smooth = crate::scene::Operator::smooth(crate::scene::OpKind::Union, crate::scene::Blend::new(0.2));
-    let left = b.fold(crate::scene::Operator::UNION, &items[..6]);
-    let right = b.fold(smooth, &items[6..]);
-    let root = b.operator(crate::scene::Operator::UNION, left, right);
-    b.finish(root).unwrap()
+    scene_common::mixed_scene(rng, |rng, centre, _| random_max_box(rng, centre))
 }
 
 #[test]

@@ -6,13 +6,6 @@ fn scene_no_nan(r: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(select(r.x, -iso_inf(), iso_is_nan(r.x)), select(r.y, iso_inf(), iso_is_nan(r.y)));
 }
 
-// Whether leaf k's cells are enclosed in RAA (its directory word; the
-// tape read is then the directory's: scene_use_tape comes after).
-fn scene_leaf_affine(k: u32) -> bool {
-    g_tape_base = 0u;
-    return tape_word(1u + k).y != 0u;
-}
-
 // The leaf over the local box q (r2, r3: its third and fourth rows), before
 // its frame's scale: the value of max(f/L, B), B the box distance, and with
 // `slope` its slope along the local direction dl (else the whole line).
@@ -24,9 +17,8 @@ fn scene_leaf_affine(k: u32) -> bool {
 // empty enclosure (f undefined over the whole box) is the leaf's absence,
 // with no slope; a refused run is the whole line.
 fn scene_leaf_ia(q: SceneBox, seg: vec4<f32>, r2: vec4<f32>, r3: vec4<f32>, dl: vec3<f32>, slope: bool) -> vec4<f32> {
-    let k = u32(r2.w);
-    let affine = (SCENE_FEATURES & FEATURE_FORMULA_AFFINE) != 0u && seg.w >= 0.0 && scene_leaf_affine(k);
-    scene_use_tape(k);
+    let directory = scene_use_tape(u32(r2.w));
+    let affine = (SCENE_FEATURES & FEATURE_FORMULA_AFFINE) != 0u && seg.w >= 0.0 && directory.y != 0u;
     var t: vec4<f32>;
     if (affine) {
         t = scene_leaf_tape_ra(q, seg.xyz, seg.w, dl, slope);

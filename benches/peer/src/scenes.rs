@@ -249,16 +249,13 @@ fn local(ctx: &mut Context, shape: &Shape, q: [Node; 3]) -> Result<Node, BadNode
         }
         Shape::Box { half } => box_distance(ctx, q, half),
         Shape::MaxBox { half } => {
-            let mut m = None;
+            let mut d = q;
             for k in 0..3 {
                 let a = ctx.abs(q[k])?;
-                let d = ctx.sub(a, half[k] as f32)?;
-                m = Some(match m {
-                    None => d,
-                    Some(prev) => ctx.max(prev, d)?,
-                });
+                d[k] = ctx.sub(a, half[k] as f32)?;
             }
-            Ok(m.expect("three axes"))
+            let m = ctx.max(d[0], d[1])?;
+            ctx.max(m, d[2])
         }
         Shape::RoundBox { half, radius } => {
             let d = box_distance(ctx, q, half.map(|h| h - radius))?;

@@ -25,9 +25,10 @@ const LEAF_TAPE_STEP: u32 = 4;
 /// The tapes texture's words: (leaf count, loop iterations of one value run
 /// of every leaf node of the tree, summed: what the whole tree's
 /// evaluation may add to its node count), then each leaf's (first texel,
-/// 1 where its cells are enclosed in RAA), then the tapes. A leaf whose tape cannot be made gets a header whose run
-/// the work limit refuses, so its pixels are reported, never drawn; the
-/// CLI refuses such a scene first ([`check`]).
+/// 1 where its cells are enclosed in RAA), then the tapes. A leaf whose
+/// tape cannot be made gets a header whose run the work limit refuses, so
+/// its pixels are reported, never drawn; the CLI refuses such a scene
+/// first ([`check`]).
 pub fn texels(data: &SceneData) -> Vec<[u32; 4]> {
     let n = data.leaves.len();
     let mut words = vec![[0u32; 4]; 1 + n.max(1)];

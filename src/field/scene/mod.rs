@@ -115,12 +115,14 @@ pub(crate) fn scene_interpreter(features: u32, kernel: SceneKernel) -> String {
     // One copy of each op library the kernel's interpreters use.
     use crate::ir::Domain;
     let affine = formula && features & crate::scene::linear::FEATURE_FORMULA_AFFINE != 0;
-    if bisect && affine {
-        out.push_str(&crate::codegen::libraries(&[Domain::Scalar, Domain::Interval, Domain::Affine]));
-    } else if bisect {
-        out.push_str(&crate::codegen::libraries(&[Domain::Scalar, Domain::Interval]));
-    } else if formula {
-        out.push_str(&crate::codegen::libraries(&[Domain::Scalar]));
+    let domains: &[Domain] = match (bisect, affine) {
+        (true, true) => &[Domain::Scalar, Domain::Interval, Domain::Affine],
+        (true, false) => &[Domain::Scalar, Domain::Interval],
+        (false, _) if formula => &[Domain::Scalar],
+        _ => &[],
+    };
+    if !domains.is_empty() {
+        out.push_str(&crate::codegen::libraries(domains));
     }
     if formula {
         if bisect {

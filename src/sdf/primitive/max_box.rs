@@ -43,15 +43,12 @@ pub static MAX_BOX: PrimitiveType = PrimitiveType {
     }),
     expand: |b, v| {
         let p = b.xyz()?;
-        let mut m = None;
+        let mut d = p;
         for k in 0..3 {
             let a = b.f1(Func1::Abs, p[k])?;
-            let d = b.sub(a, v[k])?;
-            m = Some(match m {
-                None => d,
-                Some(prev) => b.max(prev, d)?,
-            });
+            d[k] = b.sub(a, v[k])?;
         }
-        Ok(m.expect("three axes"))
+        let m = b.max(d[0], d[1])?;
+        b.max(m, d[2])
     },
 };
