@@ -223,19 +223,30 @@ pub enum SceneFieldError {
 }
 
 /// Bounded primitives (a plane is not) from which `Auto` traces a formula
-/// of distance forms through the scene field rather than compiled. Chosen
-/// by measurement of warm frames on lavapipe (docs/benchmarks.md): with
-/// fewer (`@creature`, 21 bounded; the generated level-0 scenes) the
-/// compiled kernel's frames are several times faster; from 32 on (`@city`,
-/// 36; the level-1 scenes) the scene's are mostly faster and at worst a
-/// little slower, and an edit or a new formula compiles nothing.
+/// of distance forms through the scene field rather than compiled, sphere
+/// traced or bisected. Chosen by measurement on lavapipe
+/// (docs/benchmarks.md). Sphere traced, warm frames: with fewer
+/// (`@creature`, 21 bounded; the generated level-0 scenes) the compiled
+/// kernel's frames are several times faster; from 32 on (`@city`, 36; the
+/// level-1 scenes) the scene's are mostly faster and at worst a little
+/// slower. Bisected: from `@city` on the whole process takes less time
+/// through the scene, warm (the scene kernel does not depend on the
+/// formula, so Mesa's cache holds it after any scene) and cold for the big
+/// CSG families, where the compiled kernel's build grows with the formula
+/// and the scene's does not. An edit or a new formula compiles nothing.
 pub const SCENE_AUTO_MIN_BOUNDED: usize = 32;
 
-/// `Auto`'s scene for sphere tracing: the formula's blobtree when it is one
-/// with at least [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives, with the
-/// Lipschitz bound its operators need; `None` leaves the choice to [`choose`].
+/// `Auto`'s scene: the formula's blobtree when it is one with at least
+/// [`SCENE_AUTO_MIN_BOUNDED`] bounded primitives, with the Lipschitz bound
+/// its operators need, for sphere tracing or bisection in IA without
+/// `--inline` hooks (a scene's enclosures are intervals, and it runs no
+/// user WGSL); `None` leaves the choice to [`choose`].
 pub fn auto_scene(f: &crate::Formula, params: &[f32], traversal: &Traversal) -> Option<(PreparedField, f64)> {
-    if !matches!(traversal, Traversal::Sphere(_)) {
+    let takes = match traversal {
+        Traversal::Sphere(_) => true,
+        Traversal::Bisect(b) => b.algebra == crate::ir::Domain::Interval && b.modalities.inline.is_none(),
+    };
+    if !takes {
         return None;
     }
     let (field, lipschitz) = scene(f, params, traversal).ok()?;

@@ -221,6 +221,13 @@ fn bench_field_chooses_the_source_per_job() {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     let fields: Vec<&str> = v["results"].as_array().unwrap().iter().map(|r| r["field"].as_str().unwrap()).collect();
     assert_eq!(fields, ["scene", "compiled"]);
+    // Bisected too, in IA; with --algebra raa @city stays compiled.
+    for (algebra, want) in [("ia", "scene"), ("raa", "compiled")] {
+        let o = isotrace(&["bench", "city", "--method", "bisect", "--algebra", algebra, "--size", "16", "--repeat", "1", "--field", "auto", "--json", json.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        assert_eq!(v["results"][0]["field"].as_str(), Some(want), "{algebra}");
+    }
     // A source that cannot render the surface fails that job, named.
     let o = isotrace(&["bench", "tangle", "--method", "sphere", "--size", "16", "--repeat", "1", "--field", "scene"]);
     assert_eq!(o.status.code(), Some(1));

@@ -171,7 +171,7 @@ fn written_out_distances_lower_to_balls() {
 }
 
 #[test]
-fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
+fn auto_takes_the_scene_from_32_bounded_primitives() {
     use crate::choice::{auto_scene, FieldKind, SCENE_AUTO_MIN_BOUNDED};
     use crate::render::{BisectOptions, SphereOptions, Traversal};
     let sphere = Traversal::Sphere(SphereOptions::default());
@@ -185,8 +185,13 @@ fn auto_takes_the_scene_from_32_bounded_primitives_when_sphere_traced() {
     for name in ["creature", "jewel", "tangle"] {
         assert_eq!(kind(name, &sphere), None, "{name}");
     }
-    // Bisection needs enclosures, which a scene has not.
-    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(crate::ir::Domain::Interval))), None);
+    // Bisected in IA too; not in RAA (a scene's enclosures are intervals),
+    // nor with --inline hooks (a scene runs no user WGSL).
+    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(crate::ir::Domain::Interval))), Some((FieldKind::Scene, 1.0)));
+    assert_eq!(kind("city", &Traversal::Bisect(BisectOptions::new(crate::ir::Domain::Affine))), None);
+    let mut hooked = BisectOptions::new(crate::ir::Domain::Interval);
+    hooked.modalities.inline = Some(crate::inline::parse_inline("hooks.wgsl", "fn hook_hit(q: vec3f) -> bool { return true; }\n").unwrap());
+    assert_eq!(kind("city", &Traversal::Bisect(hooked)), None);
     // The threshold itself: 31 spheres in a row stay compiled, 32 do not.
     let row = |n: usize| (0..n).map(|i| format!("translate({}, 0, 0, sphere(0.4))", i)).reduce(|a, b| format!("union({a}, {b})")).unwrap();
     for (n, want) in [(SCENE_AUTO_MIN_BOUNDED - 1, None), (SCENE_AUTO_MIN_BOUNDED, Some(FieldKind::Scene))] {

@@ -554,6 +554,41 @@ fn a_long_csg_tape_is_shortened_per_block_then_per_tile() {
 }
 
 #[test]
+fn a_tape_too_long_for_a_backward_pass_an_entry_is_still_shortened() {
+    // 1,000 boxes under a balanced tree of mins: a value program of about
+    // 12,000 instructions (8 an iteration) whose backward passes over both
+    // programs, one entry an iteration, would alone go past the tile pass's
+    // work limit, so that no block and no tile was shortened and every ray
+    // ran the whole tape.
+    let boxes: Vec<String> = (0..1000u32)
+        .map(|i| {
+            let (cx, cy, cz) = (f64::from(i * 37 % 41) / 10.0 - 2.0, f64::from(i * 53 % 43) / 10.0 - 2.1, f64::from(i * 7 % 5) / 10.0 - 0.2);
+            format!("max(abs(x-({cx:.1}))-.1,abs(y-({cy:.1}))-.1,abs(z-({cz:.1}))-.1)")
+        })
+        .collect();
+    fn union(b: &[String]) -> String {
+        if b.len() == 1 { b[0].clone() } else { format!("min({}, {})", union(&b[..b.len() / 2]), union(&b[b.len() / 2..])) }
+    }
+    let f = Formula::compile("<boxes>", &union(&boxes)).unwrap();
+    let data = TapeData::new(&f.ir).unwrap();
+    let [_, value, _, deriv] = data.words[0];
+    assert!(features::unroll(data.features) >= 8, "{value} value instructions");
+    assert!(2 * (value + deriv) > crate::field::limits::TAPE_TILE_PASS_BUNDLE_LIMIT, "{value} + {deriv} instructions");
+    let s = common::settings(common::cube(2.5), 64, 64);
+    let short = bisect_tape(&data, Domain::Interval, &s, true);
+    let t = short.stats.field.tape_lists.unwrap();
+    // At 64² a tile's candidate slabs pass within reach of most boxes of
+    // the plate: each keeps about nine tenths of the tape (the 60 KB
+    // `random` family keeps a third at 512²).
+    assert!(t.blocks_shortened > 0 && t.block_kept_share(data.words[1][3].into()) < 0.97, "{t:?}");
+    assert!(t.tiles > 0 && t.shortened == t.tiles && t.kept_share() < 0.95, "{t:?}");
+    assert!(short.stats.hits > 300 && short.stats.unresolved == 0, "{:?}", short.stats);
+    let whole = bisect_tape(&data, Domain::Interval, &s, false);
+    let bad = differences(&whole, &short, 2.0 * s.eps);
+    assert!(bad.len() <= 1, "{} pixels differ: {:?}", bad.len(), &bad[..bad.len().min(6)]);
+}
+
+#[test]
 fn the_power_loops_pass_counts_against_the_loop_cap() {
     // lavapipe runs one masked pass of the power-chain case's loop for every
     // instruction of a kernel that has the case; uncounted, those passes

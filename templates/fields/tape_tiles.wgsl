@@ -174,13 +174,18 @@ fn tape_reads(w: vec4<u32>, pick: u32) -> vec2<u32> {
 // One backward pass over program `prog` as the interpreter would run it now
 // (the whole tape, or the block's list: tape_span, tape_entry) from the
 // output registers `live`: how many instructions the tile needs, written
-// (with `to` > 0) as entries ending just before word `to`. (One entry an
-// iteration: four, written out, cost lavapipe markedly more compile.)
+// (with `to` > 0) as entries ending just before word `to`. TAPE_KEEP_STEP
+// entries an iteration (lines marked `each backward step K` are written
+// once for each K from 1 to TAPE_KEEP_STEP - 1 by src/field/tape/wgsl.rs;
+// programs and lists are padded to a multiple of it): one for most tapes,
+// where more, written out, cost lavapipe markedly more compile; four for
+// the longest, whose passes would not fit the work limit one at a time.
 fn tape_keep(prog: u32, live0: vec2<u32>, to: u32) -> u32 {
     let span = tape_span(prog);
     var k = vec3<u32>(live0, 0u);
-    for (var i = span.y; i > 0u; i = i - 1u) {
+    for (var i = span.y; i > 0u; i = i - TAPE_KEEP_STEP) {
         k = tape_keep_entry(tape_entry(span.x + i - 1u), k, to);
+        k = tape_keep_entry(tape_entry(span.x + i - 1u - Ku), k, to); // each backward step K
     }
     return k.z;
 }
@@ -211,7 +216,7 @@ fn tape_shorten() -> vec2<u32> {
     // A slab enclosure refused at the work limit noted no choices.
     if (!field_records() || g_tape_exhausted) { return vec2<u32>(0u); }
     let o = tape_word(1u);
-    if (!tape_admits(2u * (tape_span(0u).y + tape_span(1u).y))) { return vec2<u32>(0u); }
+    if (!tape_admits(2u * (tape_span(0u).y + tape_span(1u).y) / TAPE_KEEP_STEP)) { return vec2<u32>(0u); }
     // Four backward passes from one call site (lavapipe compiles each
     // inlined copy): k = 0, 1 count the value and the derivative program's
     // instructions, the list is allocated, k = 2, 3 write them.

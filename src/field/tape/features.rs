@@ -100,6 +100,21 @@ pub fn bundle_work(features: u32) -> bool {
     features & BUNDLE_WORK != 0
 }
 
+/// Entries a tile's backward pass (`tape_keep`, templates/fields/tape_tiles.wgsl)
+/// takes per loop iteration: 4 for the long tapes that run 8 or 16
+/// instructions an iteration, whose backward passes over both programs
+/// (counting, then writing) would otherwise go past the tile pass's work
+/// limit by themselves and leave every tile the whole tape; 1 otherwise,
+/// where each written-out entry would lengthen the tile pass's compile
+/// for nothing.
+pub fn keep_step(features: u32) -> u32 {
+    if unroll(features) >= 8 {
+        4
+    } else {
+        1
+    }
+}
+
 /// Instructions a kernel with `features` runs per loop iteration.
 pub fn unroll(features: u32) -> u32 {
     if features & UNROLL_16 != 0 {

@@ -395,6 +395,7 @@ pub fn wgsl_constants(features: u32) -> String {
         ("TAPE_SLOTS", slots),
         ("TAPE_SLOT_MASK", slots - 1),
         ("TAPE_UNROLL", features::unroll(features)),
+        ("TAPE_KEEP_STEP", features::keep_step(features)),
         ("TAPE_WORK_LIMIT", TAPE_WORK_LIMIT),
         ("TAPE_BUNDLE_LIMIT", TAPE_BUNDLE_LIMIT),
         ("TAPE_TILE_PASS_WORK_LIMIT", TAPE_TILE_PASS_WORK_LIMIT),

@@ -17,11 +17,24 @@ pub const TAPE: &str = include_str!("../../../templates/fields/tape.wgsl");
 /// Bisection's per-tile shortening of a tape with min or max.
 pub const TAPE_TILES: &str = include_str!("../../../templates/fields/tape_tiles.wgsl");
 
-/// Bisection's per-tile lists: their bindings and `TAPE_TILES`.
-fn tape_tiles() -> String {
+/// Bisection's per-tile lists: their bindings and `TAPE_TILES`, its
+/// backward pass taking [`features::keep_step`] entries an iteration.
+fn tape_tiles(features: u32) -> String {
     use super::source::{TAPE_LISTS, TAPE_LIST_COUNTS, TAPE_NOTES};
-    format!("{}{TAPE_TILES}", crate::bindings::declarations(&[&TAPE_LISTS, &TAPE_LIST_COUNTS, &TAPE_NOTES]))
+    let step = features::keep_step(features);
+    let body: String = TAPE_TILES
+        .lines()
+        .flat_map(|line| match line.strip_suffix(EACH_KEEP_STEP) {
+            Some(code) => (1..step).map(|k| format!("{}\n", code.trim_end().replace("Ku", &format!("{k}u")))).collect::<Vec<_>>(),
+            None => vec![format!("{line}\n")],
+        })
+        .collect();
+    format!("{}{body}", crate::bindings::declarations(&[&TAPE_LISTS, &TAPE_LIST_COUNTS, &TAPE_NOTES]))
 }
+
+/// The marker of the backward pass's lines written once for each entry K
+/// of an iteration after the first.
+const EACH_KEEP_STEP: &str = "// each backward step K";
 
 /// The interpreter for `domain`: `T` becomes the domain's type, `op_x` its
 /// operation `<p>_x`, and a name ending in `_T` ends in `_<p>` instead, so
@@ -179,7 +192,7 @@ fn prelude(features: u32, lists: bool) -> String {
          {}{}{TAPE_STATE}{}",
         super::wgsl_constants(features),
         if features::bundle_work(features) { format!("{}{TAPE_PER_BUNDLE}", crate::field::limits::BUNDLE_WORK_WGSL) } else { WORK_PER_LANE.to_string() },
-        if lists { tape_tiles() } else { String::new() },
+        if lists { tape_tiles(features) } else { String::new() },
         crate::bindings::declarations(&[&super::source::TAPE_CODE]),
         tape_word(super::source::TAPE_CODE.var, "0u"),
         if lists { LISTED_TAPE } else { WHOLE_TAPE },
@@ -313,6 +326,12 @@ mod tests {
             assert!(super::super::wgsl_constants(f).contains(&format!("const TAPE_UNROLL: u32 = {n}u;")));
         }
         assert_eq!(features::unroll(features::ALL), super::super::TAPE_UNROLL);
+        // The tile pass's backward pass: one entry an iteration, four for
+        // the longest tapes.
+        for (f, n) in [(features::MINMAX, 1), (features::MINMAX | features::UNROLL_4, 1), (features::MINMAX | features::UNROLL_8, 4), (features::MINMAX | features::UNROLL_16, 4)] {
+            assert_eq!(prelude(f, true).matches("k = tape_keep_entry(").count(), n, "{f:#x}");
+            assert!(super::super::wgsl_constants(f).contains(&format!("const TAPE_KEEP_STEP: u32 = {n}u;")));
+        }
     }
 
     #[test]
