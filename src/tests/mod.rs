@@ -47,4 +47,5 @@ mod sphere;
 mod sphere_cli;
 mod sphere_sdf;
 mod tape;
+mod tape_lists;
 mod view_present;
