@@ -398,9 +398,9 @@ pub enum FieldArg {
     Compiled,
     /// The formula as a tape run by a fixed interpreter.
     Tape,
-    /// A formula of distance forms lowered to its blobtree scene (sphere tracing).
+    /// A formula of distance forms lowered to its blobtree scene (sphere tracing, or bisection in IA).
     Scene,
-    /// Chosen by formula size, algebra and method.
+    /// Chosen by formula size, algebra and method; a formula of 32 or more bounded distance forms as a scene.
     Auto,
 }
 
