@@ -25,7 +25,7 @@ pub enum FieldKind {
     /// The formula as a tape run by the fixed interpreter.
     Tape,
     /// The formula lowered to its blobtree (only a formula of distance
-    /// forms, only sphere traced): [`crate::choice::scene`]; `Auto` takes it from
+    /// forms; sphere traced, or bisected in IA): [`crate::choice::scene`]; `Auto` takes it from
     /// [`crate::choice::SCENE_AUTO_MIN_BOUNDED`] bounded primitives on ([`crate::choice::auto_scene`]).
     Scene,
     /// Chosen per formula and traversal by [`crate::choice::choose`].
