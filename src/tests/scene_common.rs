@@ -395,18 +395,24 @@ pub fn check_lipschitz_and_bounding_volume(rng: &mut Rng, mut make: impl FnMut(&
             let slope = (prim.distance(a.to_array()) - prim.distance(b.to_array())).abs() / (a - b).length();
             assert!(slope <= 1.0 + 1e-6, "{prim:?}: {slope}");
         }
-        let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
-        let abv = crate::scene::roi::abv(&prim, r_plus);
-        let bb = abv.aabb();
-        for _ in 0..300 {
-            let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
-            if prim.distance(p) <= r_plus {
-                inside += 1;
-                assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
-            }
+        let (r_plus, abv, points) = region_of_interest(rng, &prim);
+        inside += points.len();
+        for p in points {
+            assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
         }
     }
     inside
+}
+
+/// A random level r⁺ of `prim` (0 or up to 0.8), its bounding volume at
+/// that level, and the points among 300 samples of the volume's box (grown
+/// by 0.5) where f ≤ r⁺: what the volume must hold.
+pub fn region_of_interest(rng: &mut Rng, prim: &Primitive) -> (f64, crate::scene::roi::Abv, Vec<[f64; 3]>) {
+    let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
+    let abv = crate::scene::roi::abv(prim, r_plus);
+    let bb = abv.aabb();
+    let points = (0..300).map(|_| [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5))).filter(|&p| prim.distance(p) <= r_plus).collect();
+    (r_plus, abv, points)
 }
 
 /// Ten primitives, every other one from `special(rng, centre, scale)` and

@@ -16,7 +16,7 @@ use crate::scene::roi::{self, Abv};
 use crate::scene::sparse::{self, Ancestors};
 use crate::scene::{Builder, Node, Operator, Primitive, Scene, Shape};
 use crate::Formula;
-use scene_common::{assert_sparse_is_masked, random_primitive, random_tree, surface_points, TreeShape};
+use scene_common::{assert_sparse_is_masked, random_primitive, random_tree, region_of_interest, surface_points, TreeShape};
 
 const KINDS: [OpKind; 3] = [OpKind::Union, OpKind::Intersection, OpKind::Difference];
 
@@ -190,17 +190,12 @@ fn abvs_contain_the_primitives_region_of_interest() {
         let centre = [0, 1, 2].map(|_| rng.range(-2.0, 2.0));
         let size = rng.range(0.3, 1.5);
         let prim = random_primitive(&mut rng, centre, size, false);
-        let r_plus = [0.0, rng.range(0.0, 0.8)][rng.below(2) as usize];
-        let abv = roi::abv(&prim, r_plus);
+        let (r_plus, abv, points) = region_of_interest(&mut rng, &prim);
         let rows = crate::scene::linear::abv_rows(&abv);
-        let bb = abv.aabb();
-        for _ in 0..300 {
-            let p = [0, 1, 2].map(|k| rng.range(bb.min[k] - 0.5, bb.max[k] + 0.5));
-            if prim.distance(p) <= r_plus {
-                inside += 1;
-                assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
-                assert!(decode_abv(&rows).contains(p), "f32 rows of {abv:?} miss {p:?}");
-            }
+        inside += points.len();
+        for p in points {
+            assert!(abv.contains(p), "{prim:?} r+ {r_plus}: {p:?} outside {abv:?}");
+            assert!(decode_abv(&rows).contains(p), "f32 rows of {abv:?} miss {p:?}");
         }
     }
     assert!(inside > 5_000, "{inside}");

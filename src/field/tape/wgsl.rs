@@ -21,14 +21,7 @@ pub const TAPE_TILES: &str = include_str!("../../../templates/fields/tape_tiles.
 /// backward pass taking [`features::keep_step`] entries an iteration.
 fn tape_tiles(features: u32) -> String {
     use super::source::{TAPE_LISTS, TAPE_LIST_COUNTS, TAPE_NOTES};
-    let step = features::keep_step(features);
-    let body: String = TAPE_TILES
-        .lines()
-        .flat_map(|line| match line.strip_suffix(EACH_KEEP_STEP) {
-            Some(code) => (1..step).map(|k| format!("{}\n", code.trim_end().replace("Ku", &format!("{k}u")))).collect::<Vec<_>>(),
-            None => vec![format!("{line}\n")],
-        })
-        .collect();
+    let body: String = written_out(TAPE_TILES, EACH_KEEP_STEP, features::keep_step(features)).map(|line| line + "\n").collect();
     format!("{}{body}", crate::bindings::declarations(&[&TAPE_LISTS, &TAPE_LIST_COUNTS, &TAPE_NOTES]))
 }
 
@@ -85,8 +78,13 @@ const EACH_STEP: &str = "// each unrolled step K";
 /// The template's lines with the unrolled steps of a kernel with
 /// `features` written out.
 fn unrolled(features: u32) -> impl Iterator<Item = String> {
-    let step = features::unroll(features);
-    TAPE.lines().flat_map(move |line| match line.strip_suffix(EACH_STEP) {
+    written_out(TAPE, EACH_STEP, features::unroll(features))
+}
+
+/// The lines of `template`, each line ending in `marker` written once for
+/// every K from 1 to `step` - 1 (`eK` becoming `e1`, `Ku` becoming `1u`, …).
+fn written_out<'a>(template: &'a str, marker: &'a str, step: u32) -> impl Iterator<Item = String> + 'a {
+    template.lines().flat_map(move |line| match line.strip_suffix(marker) {
         Some(code) => (1..step).map(|k| code.trim_end().replace("eK", &format!("e{k}")).replace("Ku", &format!("{k}u"))).collect(),
         None => vec![line.to_string()],
     })
