@@ -39,6 +39,7 @@ mod scene_operator_styles;
 mod scene_pictures;
 mod scene_procedural;
 mod scene_profile_types;
+mod scene_stack;
 mod scene_sync;
 mod scene_unary_types;
 mod sdf_profiles;

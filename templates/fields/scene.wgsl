@@ -443,49 +443,77 @@ fn field_cost() -> u32 {
     return select(len, scene_node_count(), len == SCENE_WHOLE_TREE) + scene_leaves_cost();
 }
 
-// The interpreter's value stack below its top (kept in a register): module
-// scope, so it is zero-initialised once per invocation, not on every call (a
-// function-scope array is, and that cost more than the whole traversal of a
-// small scene on lavapipe).
+// The interpreter's value stack below its top (kept in a register): its
+// four upper values in a vector register (g_scene_near.x the one below the
+// top), the rest in a module-scope array, which is zero-initialised once per
+// invocation, not on every call (a function-scope array is, and that cost
+// more than the whole traversal of a small scene on lavapipe). The array
+// is reached only by a stack deeper than four values: lavapipe reads and
+// writes a private array at a per-lane index one lane at a time, where the
+// vector's shifts are a few register moves, and the generated scenes need
+// two or three values.
+var<private> g_scene_near: vec4<f32>;
 var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 
-// One node of an evaluation: the primitive's or the operator's value with
-// the stack below the top (a leaf pushes, an operator pops into the top, a
-// leaf with a fused sharp operator combines into the top). Every node
-// reads the same three rows and runs both formulas: SIMD lanes would run
-// both branches anyway.
+// Pushes v under the top, with `sp` values below the top before.
+fn scene_push(v: f32, sp: u32) {
+    if (sp >= 4u) { g_scene_stack[min(sp - 4u, SCENE_MAX_STACK - 1u)] = g_scene_near.w; }
+    g_scene_near = vec4<f32>(v, g_scene_near.xyz);
+}
+// Pops the value below the top, with `sp` values below the top before.
+fn scene_pop(sp: u32) -> f32 {
+    let v = g_scene_near.x;
+    var deep = 0.0;
+    if (sp > 4u) { deep = g_scene_stack[min(sp - 5u, SCENE_MAX_STACK - 1u)]; }
+    g_scene_near = vec4<f32>(g_scene_near.yzw, deep);
+    return v;
+}
+
+// A sharp union, intersection or difference fused into its right operand's
+// leaf (type `ty`): the top as its left operand, the leaf's value v as its
+// right one.
+fn scene_fused(ty: u32, top: f32, v: f32) -> f32 {
+    let cls = (ty - NODE_UNION) % 3u;
+    let c = select(v, -v, cls == 2u);
+    return select(max(top, c), min(top, c), cls == 0u);
+}
+
+// One node of an evaluation: a leaf pushes its primitive's value, or
+// combines it into the top through its fused sharp operator; an operator
+// pops its left operand into the top; a unary node changes the top. The
+// lanes of a SIMD group mostly take the same node (a tile's rays walk its
+// pruned tree in step), so the primitive's and the operator's code sit
+// behind branches that lavapipe skips when no lane takes them.
 fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f32>) {
     let o = entry_row(e);
     let leaf = (e >> 31u) != 0u;
     let ty = entry_type(e);
-    var r0: vec4<f32>;
-    var leaf_value: f32;
-    if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
-        r0 = scene_param(o);
-        leaf_value = scene_primitive(r0, scene_param(o + 1u), scene_param(o + 2u), p, o, leaf);
-    } else {
-        // Plain spheres only: a leaf's centre row in place of its frame
-        // (an operator's record is its first row), then its radius.
-        r0 = scene_param(o + select(0u, 1u, leaf));
-        leaf_value = length(p - r0.xyz) - scene_param(o + 2u).w;
+    if (leaf) {
+        var v: f32;
+        if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
+            v = scene_primitive(scene_param(o), scene_param(o + 1u), scene_param(o + 2u), p, o, true);
+        } else {
+            // Plain spheres only: the centre row (after the frame's
+            // first), then the radius.
+            v = length(p - scene_param(o + 1u).xyz) - scene_param(o + 2u).w;
+        }
+        if (ty != 0u) {
+            *top = scene_fused(ty, *top, v);
+        } else {
+            scene_push(*top, *sp);
+            *sp = *sp + 1u;
+            *top = v;
+        }
+        return;
     }
-    let below = g_scene_stack[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
-    // A fused operator is sharp (no record) and takes the top as its left
-    // operand, the leaf as its right one.
-    let op_value = scene_operator(ty, select(r0, vec4<f32>(0.0), leaf), select(below, *top, leaf), select(*top, leaf_value, leaf));
-    if (leaf && ty != 0u) {
-        *top = op_value;
-    } else if (leaf) {
-        g_scene_stack[min(*sp, SCENE_MAX_STACK - 1u)] = *top;
-        *sp = *sp + 1u;
-        *top = leaf_value;
-    } else if ((SCENE_FEATURES & FEATURE_UNARY) != 0u && ty >= NODE_OFFSET) {
-        // A unary node changes the top in place.
-        *top = scene_unary(ty, r0, *top, p);
-    } else {
-        *sp = *sp - 1u;
-        *top = op_value;
+    let k = scene_param(o);
+    if ((SCENE_FEATURES & FEATURE_UNARY) != 0u && ty >= NODE_OFFSET) {
+        *top = scene_unary(ty, k, *top, p);
+        return;
     }
+    let below = scene_pop(*sp);
+    *sp = *sp - 1u;
+    *top = scene_operator(ty, k, below, *top);
 }
 
 // The field: the nodes of the pruned tree (or of the whole tree), in post-order,

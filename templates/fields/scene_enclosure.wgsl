@@ -276,38 +276,67 @@ fn scene_operator_ia(ty: u32, k: vec4<f32>, a: vec2<f32>, b: vec2<f32>) -> vec2<
     return r;
 }
 
-// The interval value stack below its top (g_scene_stack's).
+// The interval value stack below its top, as the scalar one
+// (scene.wgsl): its four upper intervals in two vector registers
+// (g_scene_near_ia[0].xy the one below the top), the rest in an array.
+var<private> g_scene_near_ia: array<vec4<f32>, 2>;
 var<private> g_scene_stack_ia: array<vec2<f32>, SCENE_MAX_STACK>;
 
-// One node of an enclosure (scene_step on intervals).
+fn scene_push_ia(v: vec2<f32>, sp: u32) {
+    let n0 = g_scene_near_ia[0];
+    let n1 = g_scene_near_ia[1];
+    if (sp >= 4u) { g_scene_stack_ia[min(sp - 4u, SCENE_MAX_STACK - 1u)] = n1.zw; }
+    g_scene_near_ia[0] = vec4<f32>(v, n0.xy);
+    g_scene_near_ia[1] = vec4<f32>(n0.zw, n1.xy);
+}
+fn scene_pop_ia(sp: u32) -> vec2<f32> {
+    let n0 = g_scene_near_ia[0];
+    let n1 = g_scene_near_ia[1];
+    var deep = vec2<f32>(0.0);
+    if (sp > 4u) { deep = g_scene_stack_ia[min(sp - 5u, SCENE_MAX_STACK - 1u)]; }
+    g_scene_near_ia[0] = vec4<f32>(n0.zw, n1.xy);
+    g_scene_near_ia[1] = vec4<f32>(n1.zw, deep);
+    return n0.xy;
+}
+
+// A fused sharp operator on intervals (scene_fused's).
+fn scene_fused_ia(ty: u32, top: vec2<f32>, v: vec2<f32>) -> vec2<f32> {
+    let cls = (ty - NODE_UNION) % 3u;
+    let c = select(v, ia_neg(v), cls == 2u);
+    return select(max(top, c), min(top, c), cls == 0u);
+}
+
+// One node of an enclosure (scene_step on intervals, with its branches).
 fn scene_step_ia(e: u32, b: SceneBox, sp: ptr<function, u32>, top: ptr<function, vec2<f32>>) {
     let o = entry_row(e);
     let leaf = (e >> 31u) != 0u;
     let ty = entry_type(e);
-    var r0: vec4<f32>;
-    var leaf_value: vec2<f32>;
-    if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
-        r0 = scene_param(o);
-        leaf_value = scene_primitive_ia(r0, scene_param(o + 1u), scene_param(o + 2u), b, o, leaf);
-    } else {
-        r0 = scene_param(o + select(0u, 1u, leaf));
-        let v = length(b.c - r0.xyz) - scene_param(o + 2u).w;
-        leaf_value = scene_centred(v, length(b.r), abs(v) + length(b.c) + length(r0.xyz));
+    if (leaf) {
+        var v: vec2<f32>;
+        if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
+            v = scene_primitive_ia(scene_param(o), scene_param(o + 1u), scene_param(o + 2u), b, o, true);
+        } else {
+            let c = scene_param(o + 1u);
+            let d = length(b.c - c.xyz) - scene_param(o + 2u).w;
+            v = scene_centred(d, length(b.r), abs(d) + length(b.c) + length(c.xyz));
+        }
+        if (ty != 0u) {
+            *top = scene_fused_ia(ty, *top, v);
+        } else {
+            scene_push_ia(*top, *sp);
+            *sp = *sp + 1u;
+            *top = v;
+        }
+        return;
     }
-    let below = g_scene_stack_ia[min(*sp - 1u, SCENE_MAX_STACK - 1u)];
-    let op_value = scene_operator_ia(ty, select(r0, vec4<f32>(0.0), leaf), select(below, *top, leaf), select(*top, leaf_value, leaf));
-    if (leaf && ty != 0u) {
-        *top = op_value;
-    } else if (leaf) {
-        g_scene_stack_ia[min(*sp, SCENE_MAX_STACK - 1u)] = *top;
-        *sp = *sp + 1u;
-        *top = leaf_value;
-    } else if ((SCENE_FEATURES & FEATURE_UNARY) != 0u && ty >= NODE_OFFSET) {
-        *top = scene_unary_ia(ty, r0, *top, b);
-    } else {
-        *sp = *sp - 1u;
-        *top = op_value;
+    let k = scene_param(o);
+    if ((SCENE_FEATURES & FEATURE_UNARY) != 0u && ty >= NODE_OFFSET) {
+        *top = scene_unary_ia(ty, k, *top, b);
+        return;
     }
+    let below = scene_pop_ia(*sp);
+    *sp = *sp - 1u;
+    *top = scene_operator_ia(ty, k, below, *top);
 }
 
 // The enclosure of the field over the box X x Y x Z: the nodes of the
