@@ -288,10 +288,10 @@ fn slab_changes_are_not_lipschitz_violations() {
     let lin = crate::scene::linear::Linear::new(&scene).unwrap();
     let data = lin.field_data();
     let own = crate::gpu::Gpu::new().unwrap();
-    // At 256² a tile's frustum holds more primitives than a union tile
-    // takes (64) in a third of the tiles, so those have slabs (at 512²
+    // At 128² a tile's frustum holds more primitives than a union tile
+    // takes (SCENE_UNION_MAX) in many tiles, so those have slabs (at 512²
     // nearly every tile is a union tile, with no slab change at all).
-    let s = crate::render::Settings::for_box(lin.bounds.padded().unwrap(), 256, 256);
+    let s = crate::render::Settings::for_box(lin.bounds.padded().unwrap(), 128, 128);
     let render = |lipschitz: f64| {
         let o = SphereOptions { lipschitz, ..SphereOptions::default() };
         Renderer::new(&own, &data, Traversal::Sphere(o)).unwrap().render(&s).unwrap()

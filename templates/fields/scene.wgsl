@@ -276,33 +276,19 @@ var<private> g_scene_balls: u32 = 0u;
 // whose balls the ray meets, a comb tile's the same with each one's
 // operator after it but the first's (the chain of the members present).
 // Set for all members on entering a pixel, then by field_ray_range for the
-// ray. A list read per entry costs the loop less than working out the next
-// member from a mask at every step, which every pruned tree's loop would pay.
+// ray, a member at a time (scene_ray_add) in the members' order.
 var<private> g_ray_list: array<u32, 2 * SCENE_UNION_MAX>;
 var<private> g_ray_len: u32 = 0u;
 var<private> g_ray_own: bool = false;
-// Fills the list from the members in `mask` (bits by member, the first 32
-// in x).
-fn scene_ray_list(mask: vec2<u32>) {
+// Appends member i's entries to the list.
+fn scene_ray_add(i: u32) {
     let comb = scene_comb();
-    var len = 0u;
-    for (var i = 0u; i < 64u; i = i + 1u) {
-        let w = select(mask.x, mask.y, i >= 32u);
-        if (((w >> (i & 31u)) & 1u) == 0u) { continue; }
-        g_ray_list[min(len, 2u * SCENE_UNION_MAX - 1u)] = select(i, 2u * i, comb);
-        len = len + 1u;
-        if (comb && len > 1u) {
-            g_ray_list[min(len, 2u * SCENE_UNION_MAX - 1u)] = 2u * i + 1u;
-            len = len + 1u;
-        }
+    g_ray_list[min(g_ray_len, 2u * SCENE_UNION_MAX - 1u)] = select(i, 2u * i, comb);
+    g_ray_len = g_ray_len + 1u;
+    if (comb && g_ray_len > 1u) {
+        g_ray_list[min(g_ray_len, 2u * SCENE_UNION_MAX - 1u)] = 2u * i + 1u;
+        g_ray_len = g_ray_len + 1u;
     }
-    g_ray_len = len;
-}
-// The mask of the first n members.
-fn scene_first_bits(n: u32) -> vec2<u32> {
-    let lo = select((1u << n) - 1u, 0xffffffffu, n >= 32u);
-    let hi = select(select((1u << (n - 32u)) - 1u, 0xffffffffu, n >= 64u), 0u, n <= 32u);
-    return vec2<u32>(lo, hi);
 }
 fn scene_union() -> bool { return (g_scene_balls & SCENE_UNION_TILE) != 0u; }
 fn scene_comb() -> bool { return (g_scene_balls & SCENE_COMB_TILE) != 0u; }
@@ -350,7 +336,10 @@ fn scene_enter_tile(t: u32) {
     g_scene_depths = vec2<f32>(bitcast<f32>(scene_pruned_node(tb + 2u)), bitcast<f32>(scene_pruned_node(tb + 3u)));
     g_scene_balls = scene_pruned_node(tb + 7u);
     g_ray_own = scene_union() || scene_comb();
-    if (g_ray_own) { scene_ray_list(scene_first_bits((g_scene_balls >> 16u) & 0xffu)); }
+    if (g_ray_own) {
+        g_ray_len = 0u;
+        for (var i = 0u; i < ((g_scene_balls >> 16u) & 0xffu); i = i + 1u) { scene_ray_add(i); }
+    }
     g_slab_count = slabs;
     g_slab_start = vec4<f32>(F.inf);
     for (var k = 0u; k < slabs; k = k + 1u) {
@@ -400,13 +389,13 @@ fn field_ray_range(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 // one's exit (empty when it meets none): the surface in the tile's frustum
 // lies in their union, as the tile's depths say of the whole tile. In a
 // union or comb tile the balls met within `range` are the ray's members
-// (scene_ray_list).
+// (scene_ray_add).
 fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> {
     let at = g_scene_tile * SCENE_PRUNED_MAX + (g_scene_balls & 0xffffu);
     let n = (g_scene_balls >> 16u) & 0xffu;
     var lo = F.inf;
     var hi = -F.inf;
-    var mask = vec2<u32>(0u);
+    if (g_ray_own) { g_ray_len = 0u; }
     for (var i = 0u; i < n; i = i + 1u) {
         let w = at + 4u * i;
         let c = bitcast<vec3<f32>>(vec3<u32>(scene_pruned_node(w), scene_pruned_node(w + 1u), scene_pruned_node(w + 2u)));
@@ -423,12 +412,9 @@ fn scene_balls_range(o: vec3<f32>, d: vec3<f32>, range: vec2<f32>) -> vec2<f32> 
             let s = sqrt(disc);
             lo = min(lo, b - s);
             hi = max(hi, b + s);
-            if (b + s >= range.x && b - s <= range.y) {
-                mask = mask | select(vec2<u32>(1u << i, 0u), vec2<u32>(0u, 1u << (i - 32u)), i >= 32u);
-            }
+            if (g_ray_own && b + s >= range.x && b - s <= range.y) { scene_ray_add(i); }
         }
     }
-    if (g_ray_own) { scene_ray_list(mask); }
     return vec2<f32>(max(range.x, lo), min(range.y, hi));
 }
 

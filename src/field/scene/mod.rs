@@ -38,8 +38,10 @@ pub const SCENE_SLAB_MIN_LIST: u32 = 4;
 pub const SCENE_RAY_BALLS: u32 = 16;
 /// Longest list of a union or comb tile (scene_tiles.wgsl): each ray
 /// lists the pruned-tree entries of the members whose balls it meets (scene.wgsl,
-/// `g_ray_list`), from a 64-bit mask.
-pub const SCENE_UNION_MAX: u32 = 64;
+/// `g_ray_list`). 128: the denser tiles of the 11,110-primitive
+/// aggregate hold over 64 at 512², and a tile past the limit
+/// runs its whole pruned tree on every ray.
+pub const SCENE_UNION_MAX: u32 = 128;
 /// The scene field's pre-passes, in order (`templates/fields/scene_tiles.wgsl`).
 pub const SCENE_PASSES: [&str; 2] = ["scene_scatter", "scene_prune"];
 
