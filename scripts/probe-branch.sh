@@ -20,14 +20,12 @@
 # Usage: scripts/probe-branch.sh [ISOTRACE] [SIZE]   (defaults:
 # target/release/isotrace, 512). Prints the median GPU ms of 5 runs each.
 #
-# Measured on lavapipe (Mesa 22.3.6, LLVM 15.0.6, AMD EPYC, 2 cores) at
-# 512², 2026-12-03, three runs: plain 7.3-10.8 ms, loop under a never-true
-# condition 11.3-19.8 ms (uniform or per lane alike), straight-line code
-# under a never-true condition 45-59 ms, always 45-55 ms. The body of an `if` runs
-# under a lane mask whether or not a lane enters it, uniform condition or
-# not; a loop stops after its first pass once no lane is left. Pruning
-# therefore pays on lavapipe only where it shortens a loop (an interpreter's
-# tape), not as branches around generated code.
+# What it shows (figures in docs/notes/2026-12-07-fixed-costs.md): with
+# Mesa 22.3 the body of an `if` runs under a lane mask whether or not a lane
+# enters it, so pruning paid only where it shortened a loop (an
+# interpreter's tape); with Mesa 25 a body no lane of the bundle enters is
+# skipped, so code behind a branch the bundle's lanes agree on costs only
+# where it runs.
 set -euo pipefail
 bin=${1:-target/release/isotrace}
 size=${2:-512}

@@ -34,17 +34,26 @@ fn right_nested(rng: &mut Rng, n: usize) -> Scene {
     b.finish(top).unwrap()
 }
 
-fn deep_scenes(rng: &mut Rng) -> Vec<Scene> {
-    vec![right_nested(rng, 12), random_tree(rng, 64, TreeShape::Balanced, 0.5, false), random_tree(rng, 128, TreeShape::Balanced, 1.0, true)]
+/// Scenes whose evaluation needs more values than the registers hold, laid
+/// out.
+fn deep_scenes(rng: &mut Rng) -> Vec<(Scene, Linear)> {
+    let scenes = [right_nested(rng, 12), random_tree(rng, 64, TreeShape::Balanced, 0.5, false), random_tree(rng, 128, TreeShape::Balanced, 1.0, true)];
+    scenes
+        .into_iter()
+        .enumerate()
+        .map(|(k, scene)| {
+            let lin = Linear::new(&scene).unwrap();
+            assert!(lin.stack_depth > IN_REGISTERS + 1, "scene {k}: a stack of {} stays in the registers", lin.stack_depth);
+            (scene, lin)
+        })
+        .collect()
 }
 
 #[test]
 fn deep_stacks_evaluate_as_the_reference_on_the_device() {
     let gpu = gpu();
     let mut rng = Rng::new(0xdee9_57ac);
-    for (k, scene) in deep_scenes(&mut rng).into_iter().enumerate() {
-        let lin = Linear::new(&scene).unwrap();
-        assert!(lin.stack_depth > IN_REGISTERS + 1, "scene {k}: a stack of {} stays in the registers", lin.stack_depth);
+    for (k, (scene, lin)) in deep_scenes(&mut rng).into_iter().enumerate() {
         let bb = lin.bounds;
         let points: Vec<[f32; 3]> = (0..4000).map(|_| [0, 1, 2].map(|a| rng.range(bb.min[a] - 0.3, bb.max[a] + 0.3) as f32)).collect();
         let got = eval_points_scene(gpu, &lin.field_data(), &points).unwrap();
@@ -57,8 +66,7 @@ fn deep_stacks_evaluate_as_the_reference_on_the_device() {
 fn deep_stacks_enclose_the_references_values_on_the_device() {
     let gpu = gpu();
     let mut rng = Rng::new(0x57ac_b0c5);
-    for (k, scene) in deep_scenes(&mut rng).into_iter().enumerate() {
-        let lin = Linear::new(&scene).unwrap();
+    for (k, (scene, lin)) in deep_scenes(&mut rng).into_iter().enumerate() {
         let bbox = lin.bounds.padded().unwrap();
         let boxes: Vec<Box8> = (0..8000)
             .map(|_| {

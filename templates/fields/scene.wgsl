@@ -49,12 +49,14 @@ fn scene_local(r0: vec4<f32>, r1: vec4<f32>, p: vec3<f32>) -> vec3<f32> {
 
 // The distance of the primitive whose record starts at row o with rows
 // r0..r2 (the layout of src/scene/linear.rs), at p. One branch-free formula
-// for every basic type: lavapipe runs the branches of a switch on SIMD
-// lanes one after another under masks, so a switch over eight types cost
-// all eight every node. Profiles, grids and the types with a case of their
-// own (primitive_cases: src/sdf/primitive, spliced in by
+// for every basic type: the lanes of a SIMD bundle may hold primitives of
+// different types (a union tile's rays take their own members), and
+// lavapipe runs every arm of a switch that some lane takes, one after
+// another under masks. Profiles, grids and formula leaves (with `cases`;
+// the interval side runs a formula leaf itself) and the types with a case
+// of their own (primitive_cases: src/sdf/primitive, spliced in by
 // src/field/scene/mod.rs) only where the scene has them.
-fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32, cases: bool) -> f32 {
     let q = scene_local(r0, r1, p);
     let form = u32(r1.w) & 15u;
     let revolved = form == FORM_REVOLVED;
@@ -65,16 +67,16 @@ fn scene_shape(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32
     d = select(d, dot(r2.xyz, q), form == FORM_PLANE);
     if ((SCENE_FEATURES & FEATURE_PROFILE) != 0u) {
         // A branch: SIMD groups without a profile's lane skip it.
-        if (leaf && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r2, form, o); }
+        if (cases && (form == FORM_EXTRUDE || form == FORM_REVOLVE)) { d = scene_profiled(q, r2, form, o); }
     }
     //!splice:primitive_cases
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
         // A branch: the eight sample fetches only on a grid's lanes.
-        if (leaf && form == FORM_GRID) { d = scene_grid(q, r2, o); }
+        if (cases && form == FORM_GRID) { d = scene_grid(q, r2, o); }
     }
     if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u) {
         // A branch: the tape's run only on a formula leaf's lanes.
-        if (leaf && form == FORM_FORMULA) { d = scene_formula(q, r2, o); }
+        if (cases && form == FORM_FORMULA) { d = scene_formula(q, r2, o); }
     }
     // s = 1/|Q|^2.
     return d / dot(r0, r0);
@@ -122,19 +124,19 @@ fn scene_warp_value(sw: SceneWarp, d: f32) -> f32 {
 
 // A primitive: warped or not. The shape's code is inlined once: a warp only
 // moves the point it is evaluated at and changes the value after.
-fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32, leaf: bool) -> f32 {
+fn scene_primitive(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, p: vec3<f32>, o: u32) -> f32 {
     var at = p;
     var warped = false;
     var sw: SceneWarp;
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         // A branch: the warp's rows are fetched only on its lanes.
-        warped = leaf && u32(r1.w) >= (1u << FORM_WARP_SHIFT);
+        warped = u32(r1.w) >= (1u << FORM_WARP_SHIFT);
         if (warped) {
             sw = scene_warp(r1, p, o);
             at = sw.point;
         }
     }
-    var d = scene_shape(r0, r1, r2, at, o, leaf);
+    var d = scene_shape(r0, r1, r2, at, o, true);
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         if (warped) { d = scene_warp_value(sw, d); }
     }
@@ -429,15 +431,15 @@ fn field_cost() -> u32 {
     return select(len, scene_node_count(), len == SCENE_WHOLE_TREE) + scene_leaves_cost();
 }
 
-// The interpreter's value stack below its top (kept in a register): its
-// four upper values in a vector register (g_scene_near.x the one below the
-// top), the rest in a module-scope array, which is zero-initialised once per
-// invocation, not on every call (a function-scope array is, and that cost
-// more than the whole traversal of a small scene on lavapipe). The array
-// is reached only by a stack deeper than four values: lavapipe reads and
+// The interpreter's value stack below its top (the top is the step's
+// `top`): its four upper values in a vector register (g_scene_near.x the
+// one below the top), the rest in a module-scope array. lavapipe reads and
 // writes a private array at a per-lane index one lane at a time, where the
 // vector's shifts are a few register moves, and the generated scenes need
-// two or three values.
+// two or three values; the array is reached only by deeper stacks. It is
+// at module scope so that it is zero-initialised once per invocation, not
+// on every call (a function-scope array is, and that cost more than the
+// whole traversal of a small scene).
 var<private> g_scene_near: vec4<f32>;
 var<private> g_scene_stack: array<f32, SCENE_MAX_STACK>;
 
@@ -477,7 +479,7 @@ fn scene_step(e: u32, p: vec3<f32>, sp: ptr<function, u32>, top: ptr<function, f
     if (leaf) {
         var v: f32;
         if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
-            v = scene_primitive(scene_param(o), scene_param(o + 1u), scene_param(o + 2u), p, o, true);
+            v = scene_primitive(scene_param(o), scene_param(o + 1u), scene_param(o + 2u), p, o);
         } else {
             // Plain spheres only: the centre row (after the frame's
             // first), then the radius.
@@ -520,8 +522,9 @@ fn field(p: vec3<f32>) -> f32 {
     let full = len == SCENE_WHOLE_TREE;
     let n = select(len, scene_node_count(), full);
     // A union or comb tile's ray takes its own entries from its list, in
-    // one loop with the others (a branch would run both loops under masks
-    // on SIMD lanes): a union tile's entries are leaves with a fused union.
+    // one loop with the others (a second loop would be a second inlined
+    // copy of the interpreter): a union tile's entries are leaves with a
+    // fused union.
     let own = g_ray_own;
     let fuse = select(0u, NODE_UNION << SCENE_ENTRY_ROW_BITS, scene_union());
     let steps = scene_admit(select(n, g_ray_len, own));

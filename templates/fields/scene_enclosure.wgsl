@@ -135,16 +135,16 @@ fn scene_grid_ia(q: SceneBox, r2: vec4<f32>, o: u32) -> vec2<f32> {
 // form of its distance, or the enclosure of a type whose field is not one
 // (primitive_enclosures: src/sdf/primitive, spliced in by
 // src/field/scene/mod.rs; the voxel grid).
-fn scene_shape_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32, leaf: bool, along: bool) -> vec2<f32> {
+fn scene_shape_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32, along: bool) -> vec2<f32> {
     let form = u32(r1.w) & 15u;
     // A formula leaf's value at the centre is no part of its enclosure:
     // its tape is not run for it.
-    let formula = (SCENE_FEATURES & FEATURE_FORMULA) != 0u && leaf && form == FORM_FORMULA;
-    let v = scene_shape(r0, r1, r2, b.c, o, leaf && !formula);
+    let formula = (SCENE_FEATURES & FEATURE_FORMULA) != 0u && form == FORM_FORMULA;
+    let v = scene_shape(r0, r1, r2, b.c, o, !formula);
     var e = scene_centred(v, length(b.r), abs(v) + length(b.c) + length(r1.xyz));
     //!splice:primitive_enclosures
     if ((SCENE_FEATURES & FEATURE_GRID) != 0u) {
-        if (leaf && form == FORM_GRID) { e = scene_grid_ia(scene_local_box(r0, r1, b), r2, o) / dot(r0, r0); }
+        if (form == FORM_GRID) { e = scene_grid_ia(scene_local_box(r0, r1, b), r2, o) / dot(r0, r0); }
     }
     if ((SCENE_FEATURES & FEATURE_FORMULA) != 0u) {
         if (formula) { e = scene_formula_ia(r0, r1, b, r2, o, along) / dot(r0, r0); }
@@ -203,18 +203,18 @@ fn scene_warp_value_ia(wb: SceneWarpBox, bend: bool, d: vec2<f32>) -> vec2<f32> 
 
 // A primitive over box b: warped or not, the shape's code inlined once
 // (scene_primitive).
-fn scene_primitive_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32, leaf: bool) -> vec2<f32> {
+fn scene_primitive_ia(r0: vec4<f32>, r1: vec4<f32>, r2: vec4<f32>, b: SceneBox, o: u32) -> vec2<f32> {
     var at = b;
     var warped = false;
     var wb: SceneWarpBox;
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
-        warped = leaf && u32(r1.w) >= (1u << FORM_WARP_SHIFT);
+        warped = u32(r1.w) >= (1u << FORM_WARP_SHIFT);
         if (warped) {
             wb = scene_warp_box(r1, b, o);
             at = wb.b;
         }
     }
-    var e = scene_shape_ia(r0, r1, r2, at, o, leaf, !warped);
+    var e = scene_shape_ia(r0, r1, r2, at, o, !warped);
     if ((SCENE_FEATURES & FEATURE_WARP) != 0u) {
         if (warped) { e = scene_warp_value_ia(wb, (u32(r1.w) >> FORM_WARP_SHIFT) == 2u, e); }
     }
@@ -314,7 +314,7 @@ fn scene_step_ia(e: u32, b: SceneBox, sp: ptr<function, u32>, top: ptr<function,
     if (leaf) {
         var v: vec2<f32>;
         if ((SCENE_FEATURES & FEATURE_SHAPES) != 0u) {
-            v = scene_primitive_ia(scene_param(o), scene_param(o + 1u), scene_param(o + 2u), b, o, true);
+            v = scene_primitive_ia(scene_param(o), scene_param(o + 1u), scene_param(o + 2u), b, o);
         } else {
             let c = scene_param(o + 1u);
             let d = length(b.c - c.xyz) - scene_param(o + 2u).w;
