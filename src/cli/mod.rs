@@ -162,14 +162,16 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let (products, powers) = ir.nonconstant_products();
     let algebra = args::algebra_name(crate::choose_algebra(ir));
     // The runs of same-shaped terms the compiled field writes as loops.
-    let plan = crate::field::compiled::term_loops::plan(ir);
+    let monomials = crate::field::compiled::term_loops::monomials::monomial_sums(ir);
+    let code = monomials.as_ref().unwrap_or(ir);
+    let plan = crate::field::compiled::term_loops::plan(code);
     let looped: usize = plan.loops.iter().map(|l| l.unroll * l.iterations).sum();
     let mut out = std::io::stdout().lock();
     if a.json {
         let v = serde_json::json!({
             "formula": f.normalized(), "variables": vars, "parameters": params, "degree": ir.degree(),
             "operations": { "total": ir.live().len(), "products": products, "integer_powers": powers },
-            "loops": { "runs": plan.loops.len(), "terms": looped, "written_nodes": plan.emitted_nodes(ir) },
+            "loops": { "runs": plan.loops.len(), "terms": looped, "written_nodes": plan.emitted_nodes(code) },
             "algebra": algebra,
         });
         let _ = writeln!(out, "{v}");
@@ -191,7 +193,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
         }
         n => {
             let runs = if n == 1 { "run" } else { "runs" };
-            let _ = writeln!(out, "loops:      {n} {runs} of same-shaped terms compiled as loops ({looped} terms; {} nodes written out)", plan.emitted_nodes(ir));
+            let _ = writeln!(out, "loops:      {n} {runs} of same-shaped terms compiled as loops ({looped} terms; {} nodes written out)", plan.emitted_nodes(code));
         }
     }
     let _ = writeln!(out, "algebra:    {algebra} (auto)");

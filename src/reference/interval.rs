@@ -258,6 +258,10 @@ fn call2(f: Func2, a: Interval, b: Interval) -> Interval {
         Func2::Max => [a[0].max(b[0]), a[1].max(b[1])],
         Func2::Atan2 => atan2(a, b),
         Func2::Pow => pow(a, b),
+        Func2::PowN => match b[0] {
+            n if n >= 1.0 => powi(a, n as u32),
+            _ => [1.0, 1.0],
+        },
     }
 }
 

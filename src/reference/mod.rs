@@ -61,6 +61,7 @@ pub fn scalar_op(op: &Op, a: &[f64]) -> f64 {
             let (x, y) = (a[0], a[1]);
             match f {
                 Func2::Pow => pow_pos(x, y),
+                Func2::PowN => x.powi(y as i32),
                 Func2::Atan2 => x.atan2(y),
                 Func2::Min => x.min(y),
                 Func2::Max => x.max(y),

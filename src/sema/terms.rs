@@ -13,6 +13,7 @@
 
 use super::{Builder, SemaError};
 use crate::diag::Span;
+use crate::analysis::monomials::{monomials, Monomial};
 use crate::ir::{Func2, Ir, NodeId, Op, SurfaceIr, Var};
 use std::collections::HashMap;
 
@@ -22,13 +23,6 @@ use std::collections::HashMap;
 /// it the remaining sums are left as written (2,200 such partial sums, 62
 /// KB of formula: `isotrace wgsl` in 0.16 s here).
 const VISIT_BUDGET: usize = 1 << 20;
-
-/// c · x^e[0] · y^e[1] · z^e[2].
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Monomial {
-    coef: f64,
-    exps: [u32; 3],
-}
 
 /// Passes of [`collect_once`] at most: each can make constants that an
 /// enclosing sum collects in the next (`x + 2 + pow(x, y - y)`: the power
@@ -55,7 +49,7 @@ pub(super) fn collect(mut ir: Ir) -> Result<Ir, SemaError> {
 /// to 0 is 1).
 fn collect_once(ir: &Ir) -> Result<Option<Ir>, SemaError> {
     let live = ir.live();
-    let monos = monomials(ir, &live);
+    let monos = monomials(ir, &live, super::MAX_EXPONENT);
     let roots = sum_roots(ir, &live);
     let mut budget = VISIT_BUDGET;
     let plans: HashMap<NodeId, Vec<Term>> = roots.iter().filter_map(|&r| plan(ir, &monos, r, &mut budget).map(|p| (r, p))).collect();
@@ -80,29 +74,6 @@ fn collect_once(ir: &Ir) -> Result<Option<Ir>, SemaError> {
         .map(|s| SurfaceIr { f: new_id[s.f as usize], conditions: s.conditions.iter().map(|&(g, less)| (new_id[g as usize], less)).collect() })
         .collect();
     Ok(Some(Ir { nodes: b.nodes, spans: b.spans, root: new_id[ir.root as usize], surfaces, params: b.params, externs: b.externs }))
-}
-
-/// Each live node's monomial form, where it is one.
-fn monomials(ir: &Ir, live: &[NodeId]) -> Vec<Option<Monomial>> {
-    let mut m: Vec<Option<Monomial>> = vec![None; ir.nodes.len()];
-    for &n in live {
-        let g = |a: NodeId| m[a as usize];
-        let mono = match ir.nodes[n as usize] {
-            Op::Const(c) => Some(Monomial { coef: c, exps: [0; 3] }),
-            Op::Var(v @ (Var::X | Var::Y | Var::Z)) => {
-                let mut exps = [0; 3];
-                exps[v as usize] = 1;
-                Some(Monomial { coef: 1.0, exps })
-            }
-            Op::Neg(a) => g(a).map(|a| Monomial { coef: -a.coef, ..a }),
-            Op::Mul(a, b) => g(a).zip(g(b)).map(|(a, b)| Monomial { coef: a.coef * b.coef, exps: [0, 1, 2].map(|i| a.exps[i] + b.exps[i]) }),
-            Op::PowI(a, k) => g(a).map(|a| Monomial { coef: a.coef.powi(k.min(i32::MAX as u32) as i32), exps: a.exps.map(|e| e.saturating_mul(k)) }),
-            Op::Div(a, b) => g(a).zip(g(b)).filter(|(_, b)| b.exps == [0; 3] && b.coef != 0.0).map(|(a, b)| Monomial { coef: a.coef / b.coef, ..a }),
-            _ => None,
-        };
-        m[n as usize] = mono.filter(|x| x.coef.is_finite() && (x.coef as f32).is_finite() && x.exps.iter().all(|&e| e <= super::MAX_EXPONENT));
-    }
-    m
 }
 
 /// Sums that are not themselves a term of a sum: `+` and `−` nodes used

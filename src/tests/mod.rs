@@ -22,6 +22,7 @@ mod pipeline;
 mod ray_forms;
 mod render;
 mod reroll;
+mod monomial_runs;
 mod root_search;
 mod scene_common;
 mod sdf_common;

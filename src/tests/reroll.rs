@@ -49,7 +49,7 @@ fn only_the_uniform_sum_is_rerolled() {
 }
 
 /// Boxes around the sphere, some thin, some points.
-fn boxes(n: usize) -> Vec<Box8> {
+pub(super) fn boxes(n: usize) -> Vec<Box8> {
     common::points(1.3, n, 7)
         .iter()
         .enumerate()
@@ -64,7 +64,7 @@ fn boxes(n: usize) -> Vec<Box8> {
 /// Every enclosure in `r` holds f's f64 values at `samples` points along
 /// its box's diagonal (within f32 rounding: the conformance suite checks
 /// the op libraries' own rounding).
-fn assert_encloses(f: &Formula, r: &[[f32; 2]], bx: &[Box8], samples: usize, what: &str) {
+pub(super) fn assert_encloses(f: &Formula, r: &[[f32; 2]], bx: &[Box8], samples: usize, what: &str) {
     for (k, (e, b8)) in r.iter().zip(bx).enumerate() {
         for s in 0..samples {
             let w = s as f64 / (samples - 1) as f64;

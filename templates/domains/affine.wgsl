@@ -98,6 +98,31 @@ fn ra_pw_lift(a: vec3<f32>) -> RaPow { return RaPow(a, ra_range(a)); }
 fn ra_pw_sq(w: RaPow) -> RaPow { return RaPow(ra_sqr_affine(w.a), w.e * w.e); }
 fn ra_pw_mul(u: RaPow, v: RaPow) -> RaPow { return RaPow(ra_mul(u.a, v.a), u.e * v.e); }
 fn ra_pw_odd(a: vec3<f32>, w: RaPow) -> vec3<f32> { return ra_narrower(w.a, w.e); }
+// a^n for an integer n in [0, 31] known only at run time (s_pown): the odd
+// power's chain of a, or of a's square for an even n (to n/2), as the
+// written-out powers do; the chain multiplies the powers 2^i that the
+// exponent's bits select.
+fn ra_pw_times(r: RaPow, w: RaPow, on: bool) -> RaPow {
+    let p = ra_pw_mul(r, w);
+    return RaPow(select(r.a, p.a, on), select(r.e, p.e, on));
+}
+fn ra_pown(a: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let k = u32(n.x);
+    let even = (k & 1u) == 0u;
+    let b = select(a, ra_sqr(a), even);
+    let m = select(k, k >> 1u, even);
+    let w1 = ra_pw_lift(b);
+    let w2 = ra_pw_sq(w1);
+    let w4 = ra_pw_sq(w2);
+    let w8 = ra_pw_sq(w4);
+    var r = RaPow(ra_const(1.0), vec2<f32>(1.0));
+    r = ra_pw_times(r, w1, (m & 1u) != 0u);
+    r = ra_pw_times(r, w2, (m & 2u) != 0u);
+    r = ra_pw_times(r, w4, (m & 4u) != 0u);
+    r = ra_pw_times(r, w8, (m & 8u) != 0u);
+    r = ra_pw_times(r, ra_pw_sq(w8), (m & 16u) != 0u);
+    return ra_pw_odd(b, r);
+}
 
 fn ra_div(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let bi = ra_range(b);

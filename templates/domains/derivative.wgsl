@@ -29,6 +29,10 @@ fn ia_dabs(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
 fn ia_dsign(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
     return select(ia_whole(), vec2<f32>(0.0), a.x > 0.0 || a.y < 0.0);
 }
+// pown(a, n)' / a' = n·a^(n−1) (0 for n = 0).
+fn ia_dpown(a: vec2<f32>, n: vec2<f32>) -> vec2<f32> {
+    return ia_scale(ia_pown(a, vec2<f32>(max(n.x - 1.0, 0.0))), n.x);
+}
 fn ia_dfloor(a: vec2<f32>, da: vec2<f32>) -> vec2<f32> {
     return select(ia_whole(), vec2<f32>(0.0), floor(a.x) == floor(a.y));
 }

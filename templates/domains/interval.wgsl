@@ -119,6 +119,24 @@ fn ia_pw_lift(a: vec2<f32>) -> vec2<f32> { return a; }
 fn ia_pw_sq(w: vec2<f32>) -> vec2<f32> { return w * w; }
 fn ia_pw_mul(u: vec2<f32>, v: vec2<f32>) -> vec2<f32> { return u * v; }
 fn ia_pw_odd(a: vec2<f32>, w: vec2<f32>) -> vec2<f32> { return w; }
+// a^n for an integer n in [0, 31] known only at run time (s_pown): an odd
+// power raises both ends (monotone), an even one raises the ends of the
+// square's range to n/2, as the written-out powers do. Each end is the
+// product of the powers 2^i that the exponent's bits select.
+fn ia_pown(a: vec2<f32>, n: vec2<f32>) -> vec2<f32> {
+    let k = u32(n.x);
+    let even = (k & 1u) == 0u;
+    let b = select(a, ia_sqr(a), even);
+    let m = select(k, k >> 1u, even);
+    let b2 = b * b;
+    let b4 = b2 * b2;
+    let b8 = b4 * b4;
+    let b16 = b8 * b8;
+    let one = vec2<f32>(1.0);
+    let lo = select(one, b, (m & 1u) != 0u) * select(one, b2, (m & 2u) != 0u);
+    let hi = select(one, b4, (m & 4u) != 0u) * select(one, b8, (m & 8u) != 0u);
+    return lo * hi * select(one, b16, (m & 16u) != 0u);
+}
 
 fn ia_sqrt(a: vec2<f32>) -> vec2<f32> {
     return select(ia_pad(sqrt(vec2<f32>(max(a.x, 0.0), a.y)), 0.0, 3e-7), ia_empty(), a.y < 0.0);

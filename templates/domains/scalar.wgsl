@@ -16,6 +16,20 @@ fn s_pw_lift(a: f32) -> f32 { return a; }
 fn s_pw_sq(w: f32) -> f32 { return w * w; }
 fn s_pw_mul(u: f32, v: f32) -> f32 { return u * v; }
 fn s_pw_odd(a: f32, w: f32) -> f32 { return w; }
+// a^n for an integer n in [0, 31] known only at run time (an exponent a
+// rerolled sum of monomials reads from its table, as an exact float): the
+// product of the powers a^(2^i) that n's bits select. Written out, not a
+// loop, so it adds nothing to the invocation's loop count.
+fn s_pown(a: f32, n: f32) -> f32 {
+    let k = u32(n);
+    let a2 = a * a;
+    let a4 = a2 * a2;
+    let a8 = a4 * a4;
+    let a16 = a8 * a8;
+    let lo = select(1.0, a, (k & 1u) != 0u) * select(1.0, a2, (k & 2u) != 0u);
+    let hi = select(1.0, a4, (k & 4u) != 0u) * select(1.0, a8, (k & 8u) != 0u);
+    return lo * hi * select(1.0, a16, (k & 16u) != 0u);
+}
 fn s_sqrt(a: f32) -> f32 { return sqrt(a); }
 fn s_exp(a: f32) -> f32 { return exp(a); }
 fn s_log(a: f32) -> f32 { return log(a); }

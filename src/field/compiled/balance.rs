@@ -88,7 +88,7 @@ fn is_sum(op: &Op) -> bool {
 
 /// Sums used once, by another sum: the inside of a chain, which its head
 /// computes.
-fn interior_nodes(ir: &Ir, live: &[NodeId]) -> Vec<bool> {
+pub(super) fn interior_nodes(ir: &Ir, live: &[NodeId]) -> Vec<bool> {
     let mut uses = vec![0u32; ir.nodes.len()];
     let mut by_sum = vec![false; ir.nodes.len()];
     for &n in live {
@@ -110,7 +110,7 @@ fn interior_nodes(ir: &Ir, live: &[NodeId]) -> Vec<bool> {
 
 /// The terms of the chain headed by `n`, in order, each with its sign
 /// (true: added), and the sums inside it.
-fn chain(ir: &Ir, interior: &[bool], n: NodeId) -> (Vec<(NodeId, bool)>, Vec<NodeId>) {
+pub(super) fn chain(ir: &Ir, interior: &[bool], n: NodeId) -> (Vec<(NodeId, bool)>, Vec<NodeId>) {
     let (mut terms, mut inside) = (vec![], vec![]);
     // Depth-first, right operand pushed first so terms come out in order.
     let mut stack = vec![(n, true)];

@@ -195,6 +195,8 @@ pub(crate) trait Terms {
     fn bind(&mut self, id: NodeId, tag: &str, x: Self::T) -> Self::T;
     /// The whole line (the slope of a user function is unknown).
     fn whole(&mut self) -> Self::T;
+    /// n·a^(n−1) for a [`Func2::PowN`] of `a` and the constant `n`.
+    fn pown_slope(&mut self, a: Self::T, n: Self::T) -> Self::T;
     /// `a` divided by the value of node `c`, which does not depend on the ray.
     fn divide(&mut self, a: Self::T, c: NodeId) -> Self::T {
         let vc = self.value(c);
@@ -345,6 +347,14 @@ fn call2<B: Terms>(b: &mut B, f: Func2, id: NodeId, [a, c]: [NodeId; 2], [da, dc
             let vid = b.value(id);
             b.bin(D::Mul, vid, inner)
         }
+        // (a^n)' = n·a^(n−1)·a', n a constant (its slope is 0).
+        Func2::PowN => match (da, dc) {
+            (Some(da), None) => {
+                let slope = b.pown_slope(va, vc);
+                b.bin(D::Mul, slope, da)
+            }
+            _ => b.whole(),
+        },
         Func2::Atan2 => {
             // (x·y' − y·x') / (x² + y²) for atan2(y, x)
             let (da, dc) = (zero(b, da), zero(b, dc));
@@ -552,6 +562,10 @@ impl Terms for Wgsl<'_> {
     }
     fn whole(&mut self) -> Term {
         Term::Form(format!("{}_whole()", self.p))
+    }
+    fn pown_slope(&mut self, a: Term, n: Term) -> Term {
+        let p = self.p;
+        Term::Form(format!("{p}_dpown({}, {})", a.lift(p), n.lift(p)))
     }
     /// In interval slopes, a slope times a value that is never negative
     /// takes two products (`ia_mul_by_nonneg`).

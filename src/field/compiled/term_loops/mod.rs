@@ -22,6 +22,7 @@
 
 pub(crate) mod emit;
 pub mod lists;
+pub(crate) mod monomials;
 mod runs;
 
 use crate::codegen::f32_enclosure;
@@ -358,9 +359,11 @@ pub fn slot_expr_at(p: &str, q: &str, at: &str) -> String {
     }
 }
 
-/// The table texture of a formula's loops (`None` without loops).
+/// The table texture of a formula's loops as the compiled field generates
+/// it (`None` without loops).
 pub fn table_texels(ir: &Ir) -> Option<crate::field::Texels<[u32; 4]>> {
-    let plan = plan(ir);
+    let generated = crate::field::compiled::generated_ir(ir);
+    let plan = plan(generated.as_ref().unwrap_or(ir));
     (!plan.loops.is_empty()).then(|| crate::field::Texels::from_rows(None, &plan.table))
 }
 
