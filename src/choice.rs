@@ -125,7 +125,7 @@ fn heavy(op: &crate::ir::Op) -> bool {
 /// build then grows about linearly with them and beats the tape's first
 /// frame in both algebras.
 fn heavy_weight(ir: &Ir, plan: &crate::field::compiled::term_loops::Plan, traversal: &Traversal) -> usize {
-    if plan.loops.is_empty() && crate::field::compiled::balance::balanced(ir, |_| false).is_some() {
+    if plan.is_empty() && crate::field::compiled::balance::balanced(ir, |_| false).is_some() {
         return 0;
     }
     let weight = match traversal {
@@ -151,12 +151,16 @@ fn heavy_weight(ir: &Ir, plan: &crate::field::compiled::term_loops::Plan, traver
 /// ([`crate::field::compiled::term_loops`]) is weighed by what its generated code holds (the
 /// loop bodies, not every term): the 2,503-operation sum of products is
 /// then 81 nodes, and its compiled first frame comes sooner than its
-/// tape's.
+/// tape's; so is a polynomial of many monomials, one Horner loop
+/// ([`crate::field::compiled::term_loops::horner`]).
 fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool {
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
     let line = crossover(traversal) as f64 * (frames.clamp(1, 16) as f64).sqrt();
+    // The code is weighed as it is generated: a sum of many monomials as a loop.
+    let monomials = crate::field::compiled::term_loops::monomials::monomial_sums(ir);
+    let ir = monomials.as_ref().unwrap_or(ir);
     let plan = crate::field::compiled::term_loops::plan(ir);
-    let size = if plan.loops.is_empty() { t.size } else { plan.emitted_nodes(ir) } + heavy_weight(ir, &plan, traversal);
+    let size = if plan.is_empty() { t.size } else { plan.emitted_nodes(ir) } + heavy_weight(ir, &plan, traversal);
     !csg && size as f64 >= line
 }
 

@@ -286,6 +286,13 @@ fn check_names_the_runs_compiled_as_loops() {
     assert_eq!((v["loops"]["runs"].as_u64(), v["loops"]["terms"].as_u64()), (Some(1), Some(36)), "{v}");
     let o = isotrace(&["check", "x^2 + y^2 + z^2 - 1"]);
     assert!(String::from_utf8(o.stdout).unwrap().contains("\nloops:      none\n"));
+    // A polynomial of 1,330 monomials (x^a y^b z^c, every power below 11 but the constant's) is one Horner loop.
+    let poly = (1..1331).map(|i| format!("0.01*x^{}*y^{}*z^{}", i % 11, i / 11 % 11, i / 121)).collect::<Vec<_>>().join(" + ");
+    let o = isotrace(&["check", &format!("sin(x) + {poly}")]);
+    assert!(String::from_utf8(o.stdout).unwrap().contains("\npolynomial: 1330 monomials compiled as one Horner loop\n"));
+    let o = isotrace(&["check", &poly, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["loops"]["polynomials"], serde_json::json!([1330]), "{v}");
 }
 
 #[test]

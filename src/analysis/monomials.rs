@@ -14,13 +14,6 @@ pub struct Monomial {
     pub exps: [u32; 3],
 }
 
-impl Monomial {
-    /// The total degree.
-    pub fn degree(&self) -> u32 {
-        self.exps.iter().sum()
-    }
-}
-
 /// Each live node's monomial form, where it is one with a finite f32
 /// coefficient and every power at most `max_exponent`.
 pub fn monomials(ir: &Ir, live: &[NodeId], max_exponent: u32) -> Vec<Option<Monomial>> {

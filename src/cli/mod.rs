@@ -161,7 +161,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let params: Vec<&str> = ir.params.iter().map(|(n, _)| n.as_str()).collect();
     let (products, powers) = ir.nonconstant_products();
     let algebra = args::algebra_name(crate::choose_algebra(ir));
-    // The runs of same-shaped terms the compiled field writes as loops.
+    // The runs of same-shaped terms and the polynomials the compiled field writes as loops.
     let monomials = crate::field::compiled::term_loops::monomials::monomial_sums(ir);
     let code = monomials.as_ref().unwrap_or(ir);
     let plan = crate::field::compiled::term_loops::plan(code);
@@ -171,7 +171,7 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
         let v = serde_json::json!({
             "formula": f.normalized(), "variables": vars, "parameters": params, "degree": ir.degree(),
             "operations": { "total": ir.live().len(), "products": products, "integer_powers": powers },
-            "loops": { "runs": plan.loops.len(), "terms": looped, "written_nodes": plan.emitted_nodes(code) },
+            "loops": { "runs": plan.loops.len(), "terms": looped, "written_nodes": plan.emitted_nodes(code), "polynomials": plan.horners.iter().map(|h| h.monomials).collect::<Vec<_>>() },
             "algebra": algebra,
         });
         let _ = writeln!(out, "{v}");
@@ -195,6 +195,9 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
             let runs = if n == 1 { "run" } else { "runs" };
             let _ = writeln!(out, "loops:      {n} {runs} of same-shaped terms compiled as loops ({looped} terms; {} nodes written out)", plan.emitted_nodes(code));
         }
+    }
+    for h in &plan.horners {
+        let _ = writeln!(out, "polynomial: {} monomials compiled as one Horner loop", h.monomials);
     }
     let _ = writeln!(out, "algebra:    {algebra} (auto)");
     Ok(ExitCode::SUCCESS)

@@ -124,7 +124,7 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ti
         }
         // A rerolled loop's accumulator carries its derivative as a value of the domain.
         Hook::Begin { acc, seed } => {
-            let init = d[seed as usize].as_ref().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
+            let init = seed.and_then(|s| d[s as usize].as_ref()).map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
             let _ = writeln!(out, "    var d{acc} = {init};");
             let i = at(&mut d, acc);
             d[i] = Some(Term::Form(format!("d{acc}")));

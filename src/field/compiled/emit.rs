@@ -83,7 +83,7 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
 /// stepped to `v{next}`, and its final value named `v{end}`.
 pub(crate) enum Hook {
     Node(NodeId, Op),
-    Begin { acc: NodeId, seed: NodeId },
+    Begin { acc: NodeId, seed: Option<NodeId> },
     Step { acc: NodeId, next: NodeId },
     End { acc: NodeId, end: NodeId },
 }
@@ -119,7 +119,7 @@ pub(crate) fn emit_body_on(out: &mut String, ir: &Ir, domain: Domain, ray: Optio
 pub(crate) fn emit_body_tiled(out: &mut String, ir: &Ir, domain: Domain, ray: Option<(&ray_forms::RayForms, &str)>, tiles: Tiles, mut hook: impl FnMut(&mut String, Hook)) -> Body {
     let p = domain.prefix();
     let plan = term_loops::plan(ir);
-    let looped = !plan.loops.is_empty();
+    let looped = !plan.is_empty();
     let lists = match tiles {
         Tiles::Off => None,
         _ => term_loops::lists::lists(ir, &plan),
@@ -138,6 +138,10 @@ pub(crate) fn emit_body_tiled(out: &mut String, ir: &Ir, domain: Domain, ray: Op
     let mut restricted: Vec<String> = Vec::new();
     for id in ir.live() {
         if plan.skips(id) {
+            continue;
+        }
+        if let Some(h) = plan.horner_at(id) {
+            loops.emit_horner(out, h, &mut hook);
             continue;
         }
         if let Some(l) = plan.loop_at(id) {
@@ -258,7 +262,7 @@ pub fn eval_shader_with(ir: &Ir, domain: Domain, inline: Option<&crate::inline::
         None => libraries(&[domain]),
     };
     let mut eval = emit_evaluator(ir, domain);
-    if !term_loops::plan(ir).loops.is_empty() {
+    if !term_loops::plan(ir).is_empty() {
         eval = format!("var<private> g_field_work: u32;\n{}{eval}", term_loops::support(false));
     }
     let user = inline.map_or(String::new(), |i| i.text.clone());

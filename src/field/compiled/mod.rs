@@ -245,7 +245,7 @@ const SCALAR_FIELD: &str = "fn field(p: vec3<f32>) -> f32 { return eval_s(p.x, p
 /// `bundle`: the loops' work is counted per SIMD bundle ([`term_loops::support`]).
 fn field_cost(ir: &Ir, bundle: bool) -> String {
     let plan = term_loops::plan(ir);
-    let (support, iters, exhausted) = match plan.loops.is_empty() {
+    let (support, iters, exhausted) = match plan.is_empty() {
         true => ("fn field_entry(li: u32) {}\n".to_string(), 0, "false"),
         false => (term_loops::support(bundle), plan.iterations(), "g_field_exhausted"),
     };

@@ -33,7 +33,7 @@ pub(crate) struct LoopEmitter<'a> {
 }
 
 impl LoopEmitter<'_> {
-    fn next_id(&mut self) -> NodeId {
+    pub(super) fn fresh_id(&mut self) -> NodeId {
         self.fresh += 1;
         self.fresh - 1
     }
@@ -48,13 +48,13 @@ impl LoopEmitter<'_> {
     /// the rays of a tile run its list instead; with [`Tiles::Record`]
     /// each term is noted where it may be the result.
     pub fn emit(&mut self, out: &mut String, l: &Loop, listed: Option<&Listed>, tiles: Tiles, hook: &mut impl FnMut(&mut String, Hook)) -> Option<String> {
-        let acc = self.next_id();
+        let acc = self.fresh_id();
         let strict = l.body.iter().any(|&b| self.ir.nodes[b as usize].restricts_domain());
         if strict {
             let _ = writeln!(out, "    var e{acc} = false;");
         }
         let _ = writeln!(out, "    var v{acc} = v{};", l.seed);
-        hook(out, Hook::Begin { acc, seed: l.seed });
+        hook(out, Hook::Begin { acc, seed: Some(l.seed) });
         let Some(at) = listed.filter(|_| tiles != Tiles::Off) else {
             self.emit_whole(out, l, acc, l.unroll, None, hook);
             return self.end(out, l, acc, strict, hook);
@@ -174,7 +174,7 @@ impl LoopEmitter<'_> {
                 if let Some(&(_, f)) = map.iter().find(|(n, _)| *n == o) {
                     ops.push(f);
                 } else if let Op::Const(c) = self.ir.nodes[o as usize] {
-                    let f = self.next_id();
+                    let f = self.fresh_id();
                     let _ = writeln!(out, "    let v{f} = {};", slot_of(slot));
                     hook(out, Hook::Node(f, Op::Const(c)));
                     slot += 1;
@@ -183,7 +183,7 @@ impl LoopEmitter<'_> {
                     ops.push(o);
                 }
             }
-            let f = self.next_id();
+            let f = self.fresh_id();
             let renamed = reroll::with_operands(op, &ops);
             let rhs = value_rhs(out, self.domain, f, renamed, self.ir, self.nn);
             let _ = writeln!(out, "    let v{f} = {rhs};");
@@ -210,7 +210,7 @@ impl LoopEmitter<'_> {
 
     /// The chain's operation on the accumulator and `term`.
     fn emit_step(&mut self, out: &mut String, l: &Loop, acc: NodeId, term: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
-        let next = self.next_id();
+        let next = self.fresh_id();
         let step = l.step(acc, term);
         let rhs = value_rhs(out, self.domain, next, step, self.ir, self.nn);
         let _ = writeln!(out, "    let v{next} = {rhs};");

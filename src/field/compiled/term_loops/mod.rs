@@ -21,6 +21,7 @@
 //! is reported unresolved (`field_exhausted`), as with the tape.
 
 pub(crate) mod emit;
+pub mod horner;
 pub mod lists;
 pub(crate) mod monomials;
 mod runs;
@@ -121,6 +122,8 @@ pub struct Plan {
     rerolled: Vec<bool>,
     /// The table: every loop's constants, `[f32; 4]` texels as bits.
     pub table: Vec<[u32; 4]>,
+    /// The polynomials computed as Horner loops ([`horner`]).
+    pub horners: Vec<horner::Horner>,
 }
 
 impl Plan {
@@ -132,9 +135,17 @@ impl Plan {
     pub fn loop_at(&self, id: NodeId) -> Option<&Loop> {
         self.loops.iter().find(|l| l.end == id)
     }
+    /// The Horner loop that computes node `id`.
+    pub fn horner_at(&self, id: NodeId) -> Option<&horner::Horner> {
+        self.horners.iter().find(|h| h.end == id)
+    }
+    /// Whether the formula has no loop of either kind.
+    pub fn is_empty(&self) -> bool {
+        self.loops.is_empty() && self.horners.is_empty()
+    }
     /// Loop iterations of one evaluation.
     pub fn iterations(&self) -> u32 {
-        self.loops.iter().map(|l| l.iterations as u32).sum()
+        self.loops.iter().map(|l| l.iterations as u32).chain(self.horners.iter().map(|h| h.iterations as u32)).sum()
     }
     /// Nodes the generated code holds: the formula's less the rerolled
     /// ones, plus each loop's unrolled body (what `Auto` weighs against
@@ -148,7 +159,7 @@ impl Plan {
     pub fn emitted_weight(&self, ir: &Ir, weigh: impl Fn(&Op) -> usize) -> usize {
         let kept: usize = ir.live().iter().filter(|&&n| !self.skips(n)).map(|&n| weigh(&ir.nodes[n as usize])).sum();
         let body = |l: &Loop| weigh(&l.op) + l.body.iter().map(|&n| weigh(&ir.nodes[n as usize])).sum::<usize>();
-        kept + self.loops.iter().map(|l| l.unroll * body(l)).sum::<usize>()
+        kept + self.loops.iter().map(|l| l.unroll * body(l)).sum::<usize>() + self.horners.iter().map(horner::Horner::weight).sum::<usize>()
     }
 }
 
@@ -162,8 +173,9 @@ pub(crate) fn with_operands(op: Op, ops: &[NodeId]) -> Op {
 /// constants.
 pub fn plan(ir: &Ir) -> Plan {
     let u = Uses::new(ir);
-    let chains = chains(ir, &u);
     let mut plan = Plan { skip: vec![false; ir.nodes.len()], rerolled: vec![false; ir.nodes.len()], ..Plan::default() };
+    let inside = plan.add_horners(ir, &u);
+    let chains: Vec<Vec<NodeId>> = chains(ir, &u).into_iter().filter(|c| !c.iter().any(|&n| inside[n as usize])).collect();
     if chains.is_empty() {
         return plan;
     }
@@ -216,6 +228,38 @@ pub fn plan(ir: &Ir) -> Plan {
 }
 
 impl Plan {
+    /// Makes every polynomial of [`horner::MIN_MONOMIALS`] monomials or more
+    /// that no polynomial uses a Horner loop, outermost first, and leaves
+    /// its nodes to it (but the variables, and nodes something else reads);
+    /// returns which nodes lie inside one.
+    fn add_horners(&mut self, ir: &Ir, u: &Uses) -> Vec<bool> {
+        let mut inside = vec![false; ir.nodes.len()];
+        let polys = crate::analysis::monomials::polynomials(ir, &u.live, horner::EXPANSION_BUDGET);
+        let vars = horner::variables(ir, &u.live);
+        for &n in u.live.iter().rev() {
+            let Some(poly) = polys[n as usize].as_ref().filter(|q| q.terms.len() >= horner::MIN_MONOMIALS) else { continue };
+            let top = u.output[n as usize] || u.users[n as usize].iter().any(|&x| polys[x as usize].is_none());
+            if inside[n as usize] || !top {
+                continue;
+            }
+            let mut stack = ir.nodes[n as usize].operands();
+            while let Some(m) = stack.pop() {
+                if !std::mem::replace(&mut inside[m as usize], true) {
+                    stack.extend(ir.nodes[m as usize].operands());
+                }
+            }
+            let used: [Option<NodeId>; 3] = [0, 1, 2].map(|i| vars[i].filter(|_| poly.monomials().any(|m| m.exps[i] > 0)));
+            self.horners.push(horner::lay_out(&mut self.table, n, used, poly));
+        }
+        for id in (0..ir.nodes.len()).rev() {
+            let kept = matches!(ir.nodes[id], Op::Var(_)) || u.output[id];
+            if inside[id] && !kept && u.users[id].iter().all(|&x| self.skip[x as usize] || self.horner_at(x).is_some()) {
+                self.skip[id] = true;
+            }
+        }
+        inside
+    }
+
     /// Makes terms `run` (indices into the chain's terms, which start at
     /// `first_term`) a loop: the run's first term stays written out and
     /// seeds the accumulator, whole iterations of the rest are rerolled,
@@ -249,7 +293,7 @@ impl Plan {
 /// Terms an iteration evaluates: more for long runs (fewer iterations
 /// against lavapipe's loop cap), within [`BODY_MAX`] nodes, a power of two
 /// (so terms pack evenly into texels).
-fn unroll_for(terms: usize, body: usize) -> usize {
+pub(super) fn unroll_for(terms: usize, body: usize) -> usize {
     let want = match terms {
         0..128 => 4,
         128..512 => 8,
@@ -364,7 +408,7 @@ pub fn slot_expr_at(p: &str, q: &str, at: &str) -> String {
 pub fn table_texels(ir: &Ir) -> Option<crate::field::Texels<[u32; 4]>> {
     let generated = crate::field::compiled::generated_ir(ir);
     let plan = plan(generated.as_ref().unwrap_or(ir));
-    (!plan.loops.is_empty()).then(|| crate::field::Texels::from_rows(None, &plan.table))
+    (!plan.is_empty()).then(|| crate::field::Texels::from_rows(None, &plan.table))
 }
 
 #[cfg(test)]

@@ -1,0 +1,262 @@
+//! A polynomial of many monomials as one loop over its Horner form. The
+//! semantic pass writes a long collected sum nested in x, then y, then z
+//! (`sema::terms`), and a program may write one term by term; either way
+//! no two terms have one shape, so no run forms, and written out such a
+//! polynomial is a kernel lavapipe builds for minutes. Here its monomials,
+//! sorted by powers, become steps of a three-register machine over a
+//! table, each step one texel:
+//!
+//! - `Z k c`: r ← r · z^k + c (the innermost level);
+//! - `Y k`: q ← q · y^k + r, r ← 0 (a z-polynomial folded into the y level);
+//! - `X k`: p ← p · x^k + q, q ← 0.
+//!
+//! which is the Horner form x^a(… y^b(… z^e(… + c) …) …) step by step: the
+//! nested form's enclosures, one power and one product a step. A step's
+//! kind is the same for every lane (all read one texel), so lavapipe runs
+//! one of the three arms. The slope along the ray follows the same steps,
+//! through the derivative hooks of their operations.
+
+use super::emit::LoopEmitter;
+use crate::field::compiled::{value_rhs, Hook};
+use super::unroll_for;
+use crate::analysis::monomials::{Monomial, Polynomial};
+use crate::codegen::f32_enclosure;
+use crate::ir::{Func2, NodeId, Op, Var};
+use std::fmt::Write;
+
+/// Fewest monomials of a polynomial made a Horner loop. A step costs
+/// several times what the written-out form's multiply-add does (a texel, a
+/// power by squaring, a product of intervals): the collected 339 monomials
+/// of `mono3000` (scripts/big-formulas.py) took a 512² frame from 0.17 s
+/// written out to over 2 s as a loop. Written out, a polynomial of this many
+/// monomials is past what `auto` compiles rather than runs as a tape
+/// (`choice::CROSSOVER_BISECT_IA` instructions), where the loop is several
+/// times faster than the tape.
+pub const MIN_MONOMIALS: usize = 1024;
+
+/// Most monomials the expansions of all nodes hold together (a Horner
+/// form's nodes each hold the monomials below them).
+pub const EXPANSION_BUDGET: usize = 1 << 21;
+
+/// Nodes a step's arms hold (the weight `auto` gives an unrolled step).
+const STEP_NODES: usize = 12;
+
+/// One polynomial computed by a Horner loop.
+#[derive(Debug, Clone)]
+pub struct Horner {
+    /// The node whose value the loop computes.
+    pub end: NodeId,
+    /// Its monomials.
+    pub monomials: usize,
+    /// The nodes of x, y and z (`None` for a variable the polynomial lacks).
+    pub vars: [Option<NodeId>; 3],
+    /// Steps an iteration runs.
+    pub unroll: usize,
+    /// Iterations.
+    pub iterations: usize,
+    /// First texel of the steps.
+    pub base: u32,
+}
+
+impl Horner {
+    /// What the generated code holds, in nodes.
+    pub fn weight(&self) -> usize {
+        self.unroll * STEP_NODES
+    }
+}
+
+/// A step of the machine.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Step {
+    Z(u32, f64),
+    Y(u32),
+    X(u32),
+}
+
+/// The steps that compute `poly`: its monomials by decreasing powers of x,
+/// then y, then z; each z-polynomial shifted to z^0 and folded into the y
+/// level, each y-polynomial shifted and folded into the x level, the last
+/// shifted to x^0.
+fn steps(poly: &Polynomial) -> Vec<Step> {
+    let mut monos: Vec<Monomial> = poly.monomials().collect();
+    monos.sort_by(|a, b| b.exps.cmp(&a.exps));
+    let mut out = Vec::with_capacity(monos.len() * 5 / 4 + 8);
+    // The powers of the monomial before, and of the groups last folded.
+    let (mut prev, mut folded_b, mut folded_a): (Option<[u32; 3]>, Option<u32>, Option<u32>) = (None, None, None);
+    let close_z = |out: &mut Vec<Step>, p: [u32; 3], folded_b: &mut Option<u32>| {
+        if p[2] > 0 {
+            out.push(Step::Z(p[2], 0.0));
+        }
+        out.push(Step::Y(folded_b.map_or(0, |b| b - p[1])));
+        *folded_b = Some(p[1]);
+    };
+    let close_y = |out: &mut Vec<Step>, p: [u32; 3], folded_b: &mut Option<u32>, folded_a: &mut Option<u32>| {
+        if p[1] > 0 {
+            out.push(Step::Y(p[1]));
+        }
+        out.push(Step::X(folded_a.map_or(0, |a| a - p[0])));
+        *folded_a = Some(p[0]);
+        *folded_b = None;
+    };
+    for m in &monos {
+        let [a, b, e] = m.exps;
+        match prev {
+            Some(p) if p[0] == a && p[1] == b => out.push(Step::Z(p[2] - e, m.coef)),
+            Some(p) => {
+                close_z(&mut out, p, &mut folded_b);
+                if p[0] != a {
+                    close_y(&mut out, p, &mut folded_b, &mut folded_a);
+                }
+                out.push(Step::Z(0, m.coef));
+            }
+            None => out.push(Step::Z(0, m.coef)),
+        }
+        prev = Some(m.exps);
+    }
+    if let Some(p) = prev {
+        close_z(&mut out, p, &mut folded_b);
+        close_y(&mut out, p, &mut folded_b, &mut folded_a);
+        if p[0] > 0 {
+            out.push(Step::X(p[0]));
+        }
+    }
+    out
+}
+
+/// Lays out the steps of `poly` (node `end`) at the end of `table` and
+/// returns the loop. A step's texel: the coefficient's enclosure (lo, hi),
+/// its nearest f32, and the power and kind as one exact float.
+pub(super) fn lay_out(table: &mut Vec<[u32; 4]>, end: NodeId, vars: [Option<NodeId>; 3], poly: &Polynomial) -> Horner {
+    let mut s = steps(poly);
+    let unroll = unroll_for(s.len(), STEP_NODES);
+    // Padded with steps that change nothing (r · z^0 + 0).
+    s.resize(s.len().div_ceil(unroll) * unroll, Step::Z(0, 0.0));
+    let base = table.len() as u32;
+    for step in &s {
+        let (kind, k, c) = match *step {
+            Step::Z(k, c) => (0, k, c),
+            Step::Y(k) => (1, k, 0.0),
+            Step::X(k) => (2, k, 0.0),
+        };
+        let (near, lo, hi) = f32_enclosure(c);
+        table.push([lo.to_bits(), hi.to_bits(), near.to_bits(), ((k | kind << 8) as f32).to_bits()]);
+    }
+    Horner { end, monomials: poly.terms.len(), vars, unroll, iterations: s.len() / unroll, base }
+}
+
+impl LoopEmitter<'_> {
+    /// The Horner loop `h`: three accumulators, each step's arm by its
+    /// kind, the polynomial's value into `v{end}`.
+    pub fn emit_horner(&mut self, out: &mut String, h: &Horner, hook: &mut impl FnMut(&mut String, Hook)) {
+        let p = self.domain.prefix();
+        let regs = [self.fresh_id(), self.fresh_id(), self.fresh_id()];
+        for &r in &regs {
+            let _ = writeln!(out, "    var v{r} = {p}_const(0.0);");
+            hook(out, Hook::Begin { acc: r, seed: None });
+        }
+        let [r, q, x_level] = regs;
+        let _ = writeln!(out, "    for (var i{r} = 0u; i{r} < select(0u, {}u, admitted); i{r} = i{r} + 1u) {{", h.iterations);
+        for k in 0..h.unroll {
+            let _ = writeln!(out, "    let t{r}_{k} = field_table({}u + i{r} * {}u + {k}u);", h.base, h.unroll);
+            let _ = writeln!(out, "    let w{r}_{k} = u32(t{r}_{k}.w);");
+            let power = format!("f32(w{r}_{k} & 255u)");
+            let _ = writeln!(out, "    if ((w{r}_{k} >> 8u) == 0u) {{");
+            let c = match p {
+                "s" => format!("s_const(t{r}_{k}.z)"),
+                "ia" => format!("t{r}_{k}.xy"),
+                _ => format!("ra_from_ia(t{r}_{k}.xy)"),
+            };
+            let added = self.emit_constant(out, &c, hook);
+            self.emit_fold(out, r, h.vars[2], &power, added, hook);
+            let _ = writeln!(out, "    }} else if ((w{r}_{k} >> 8u) == 1u) {{");
+            self.emit_fold(out, q, h.vars[1], &power, r, hook);
+            self.emit_reset(out, r, hook);
+            out.push_str("    } else {\n");
+            self.emit_fold(out, x_level, h.vars[0], &power, q, hook);
+            self.emit_reset(out, q, hook);
+            out.push_str("    }\n");
+        }
+        out.push_str("    }\n");
+        let _ = writeln!(out, "    let v{} = v{x_level};", h.end);
+        hook(out, Hook::End { acc: x_level, end: h.end });
+    }
+
+    /// `acc ← acc · var^power + v{added}`.
+    fn emit_fold(&mut self, out: &mut String, acc: NodeId, var: Option<NodeId>, power: &str, added: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
+        let p = self.domain.prefix();
+        let raised = match var {
+            Some(v) => {
+                let k = self.emit_constant(out, &format!("{p}_const({power})"), hook);
+                self.emit_op(out, Op::Call2(Func2::PowN, v, k), hook)
+            }
+            // A variable the polynomial lacks is raised to 0 only.
+            None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
+        };
+        let product = self.emit_op(out, Op::Mul(acc, raised), hook);
+        let sum = self.emit_op(out, Op::Add(product, added), hook);
+        let _ = writeln!(out, "    v{acc} = v{sum};");
+        hook(out, Hook::Step { acc, next: sum });
+    }
+
+    /// `acc ← 0`.
+    fn emit_reset(&mut self, out: &mut String, acc: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
+        let zero = self.emit_constant(out, &format!("{}_const(0.0)", self.domain.prefix()), hook);
+        let _ = writeln!(out, "    v{acc} = v{zero};");
+        hook(out, Hook::Step { acc, next: zero });
+    }
+
+    /// A value the loop reads (its slope is 0) under a fresh name.
+    fn emit_constant(&mut self, out: &mut String, expr: &str, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
+        let f = self.fresh_id();
+        let _ = writeln!(out, "    let v{f} = {expr};");
+        hook(out, Hook::Node(f, Op::Const(0.0)));
+        f
+    }
+
+    /// An operation on named values under a fresh name.
+    fn emit_op(&mut self, out: &mut String, op: Op, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
+        let f = self.fresh_id();
+        let rhs = value_rhs(out, self.domain, f, op, self.ir, self.nn);
+        let _ = writeln!(out, "    let v{f} = {rhs};");
+        hook(out, Hook::Node(f, op));
+        f
+    }
+}
+
+/// The nodes of x, y and z among `ir`'s live nodes.
+pub(super) fn variables(ir: &crate::ir::Ir, live: &[NodeId]) -> [Option<NodeId>; 3] {
+    let mut vars = [None; 3];
+    for &n in live {
+        if let Op::Var(v @ (Var::X | Var::Y | Var::Z)) = ir.nodes[n as usize] {
+            vars[v as usize].get_or_insert(n);
+        }
+    }
+    vars
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The steps run on f64 numbers give the polynomial's value.
+    #[test]
+    fn the_steps_compute_the_polynomial() {
+        let f = crate::Formula::compile("<t>", "0.5*x^3*y^2*z + 2*x^3*z^4 - x*y^5 + 3*y^2 + 7*z^3 - 1.25 + 0.1*x^2*y^2*z^2").unwrap();
+        let live = f.ir.live();
+        let poly = crate::analysis::monomials::polynomials(&f.ir, &live, 1 << 16)[f.ir.root as usize].clone().expect("a polynomial");
+        let s = steps(&poly);
+        for pt in [[0.3f64, -1.2, 0.7], [1.5, 0.25, 2.0], [-0.8, 0.9, -1.1]] {
+            let (mut r, mut q, mut p) = (0.0f64, 0.0f64, 0.0f64);
+            for step in &s {
+                match *step {
+                    Step::Z(k, c) => r = r * pt[2].powi(k as i32) + c,
+                    Step::Y(k) => (q, r) = (q * pt[1].powi(k as i32) + r, 0.0),
+                    Step::X(k) => (p, q) = (p * pt[0].powi(k as i32) + q, 0.0),
+                }
+            }
+            let want = crate::reference::eval_scalar(&f.ir, [pt[0], pt[1], pt[2], 0.0], &[]);
+            assert!((p - want).abs() < 1e-12 * (1.0 + want.abs()), "{p} against {want} at {pt:?}");
+            assert_eq!((r, q), (0.0, 0.0));
+        }
+    }
+}
