@@ -159,7 +159,7 @@ impl LoopEmitter<'_> {
         for k in 0..h.unroll {
             let _ = writeln!(out, "    let t{r}_{k} = field_table({}u + i{r} * {}u + {k}u);", h.base, h.unroll);
             let _ = writeln!(out, "    let w{r}_{k} = u32(t{r}_{k}.w);");
-            let power = format!("f32(w{r}_{k} & 255u)");
+            let power = format!("(w{r}_{k} & 255u)");
             let _ = writeln!(out, "    if ((w{r}_{k} >> 8u) == 0u) {{");
             let c = match p {
                 "s" => format!("s_const(t{r}_{k}.z)"),
@@ -181,17 +181,31 @@ impl LoopEmitter<'_> {
         hook(out, Hook::End { acc: x_level, end: h.end });
     }
 
-    /// `acc ← acc · var^power + v{added}`.
+    /// `acc ← acc · var^power + v{added}` (`power` a WGSL `u32`). The
+    /// power 1, a step to the next power down, is most of a polynomial's
+    /// steps: it multiplies by the variable itself, without a power by
+    /// squaring (and its slope without the power's slope).
     fn emit_fold(&mut self, out: &mut String, acc: NodeId, var: Option<NodeId>, power: &str, added: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
         let p = self.domain.prefix();
         let raised = match var {
             Some(v) => {
-                let k = self.emit_constant(out, &format!("{p}_const({power})"), hook);
-                self.emit_op(out, Op::Call2(Func2::PowN, v, k), hook)
+                let _ = writeln!(out, "    if ({power} == 1u) {{");
+                self.emit_horner_step(out, acc, v, added, hook);
+                out.push_str("    } else {\n");
+                let k = self.emit_constant(out, &format!("{p}_const(f32({power}))"), hook);
+                let raised = self.emit_op(out, Op::Call2(Func2::PowN, v, k), hook);
+                self.emit_horner_step(out, acc, raised, added, hook);
+                out.push_str("    }\n");
+                return;
             }
             // A variable the polynomial lacks is raised to 0 only.
             None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
         };
+        self.emit_horner_step(out, acc, raised, added, hook);
+    }
+
+    /// `acc ← acc · v{raised} + v{added}`.
+    fn emit_horner_step(&mut self, out: &mut String, acc: NodeId, raised: NodeId, added: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
         let product = self.emit_op(out, Op::Mul(acc, raised), hook);
         let sum = self.emit_op(out, Op::Add(product, added), hook);
         let _ = writeln!(out, "    v{acc} = v{sum};");
