@@ -4,17 +4,21 @@
 //! no two terms have one shape, so no run forms, and written out such a
 //! polynomial is a kernel lavapipe builds for minutes. Here its monomials,
 //! sorted by powers, become steps of a three-register machine over a
-//! table, each step one texel:
+//! table:
 //!
-//! - `Z k c`: r ← r · z^k + c (the innermost level);
+//! - `C c`: r ← r · z + c (the innermost level, one power down);
+//! - `Z k`: r ← r · z^k;
 //! - `Y k`: q ← q · y^k + r, r ← 0 (a z-polynomial folded into the y level);
 //! - `X k`: p ← p · x^k + q, q ← 0.
 //!
 //! which is the Horner form x^a(… y^b(… z^e(… + c) …) …) step by step: the
-//! nested form's enclosures, one power and one product a step. A step's
-//! kind is the same for every lane (all read one texel), so lavapipe runs
-//! one of the three arms. The slope along the ray follows the same steps,
-//! through the derivative hooks of their operations.
+//! nested form's enclosures, one product a step. Most steps are `C`, whose
+//! slot of a texel is the coefficient's enclosure, so a texel holds two
+//! steps; the others are marked by a NaN in the slot's first word, its
+//! payload the kind and the power. A step's kind is the same for every lane
+//! (all read one texel), so lavapipe runs one arm. The slope along the ray
+//! follows the same steps, through the derivative hooks of their
+//! operations.
 
 use super::emit::LoopEmitter;
 use crate::field::compiled::{value_rhs, Hook};
@@ -65,13 +69,44 @@ impl Horner {
     }
 }
 
-/// A step of the machine.
+/// A step of the nested form: r ← r · z^k + c, and the folds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Step {
     Z(u32, f64),
     Y(u32),
     X(u32),
 }
+
+/// A step of the machine ([`Step`]s as the table holds them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Instr {
+    C(f64),
+    Z(u32),
+    Y(u32),
+    X(u32),
+}
+
+/// The machine's steps for `steps`. `Z k c` is `C c` where k is 1, and
+/// also where k is 0: r is 0 there (a group's first monomial), so r · z is
+/// too. A larger k takes a `Z` to k − 1 first.
+fn instructions(steps: &[Step]) -> Vec<Instr> {
+    let mut out = Vec::with_capacity(steps.len() + steps.len() / 8);
+    for &s in steps {
+        match s {
+            Step::Z(k, c) if k <= 1 => out.push(Instr::C(c)),
+            Step::Z(k, c) if c == 0.0 => out.push(Instr::Z(k)),
+            Step::Z(2, c) => out.extend([Instr::C(0.0), Instr::C(c)]),
+            Step::Z(k, c) => out.extend([Instr::Z(k - 1), Instr::C(c)]),
+            Step::Y(k) => out.push(Instr::Y(k)),
+            Step::X(k) => out.push(Instr::X(k)),
+        }
+    }
+    out
+}
+
+/// The first word of a step that is not `C`: a quiet NaN, its payload the
+/// kind and the power.
+const MARK: u32 = 0x7fc0_0000;
 
 /// The steps that compute `poly`: its monomials by decreasing powers of x,
 /// then y, then z; each z-polynomial shifted to z^0 and folded into the y
@@ -124,22 +159,31 @@ fn steps(poly: &Polynomial) -> Vec<Step> {
 }
 
 /// Lays out the steps of `poly` (node `end`) at the end of `table` and
-/// returns the loop. A step's texel: the coefficient's enclosure (lo, hi),
-/// its nearest f32, and the power and kind as one exact float.
+/// returns the loop: two steps a texel, a `C` step as its coefficient's
+/// enclosure with the nearest f32 first (the scalar domain's), the others
+/// as their mark.
 pub(super) fn lay_out(table: &mut Vec<[u32; 4]>, end: NodeId, vars: [Option<NodeId>; 3], poly: &Polynomial) -> Horner {
-    let mut s = steps(poly);
-    let unroll = unroll_for(s.len(), STEP_NODES);
-    // Padded with steps that change nothing (r · z^0 + 0).
-    s.resize(s.len().div_ceil(unroll) * unroll, Step::Z(0, 0.0));
+    let mut s = instructions(&steps(poly));
+    let unroll = unroll_for(s.len(), STEP_NODES).max(2);
+    // Padded with steps that change nothing: r is 0 at the end.
+    s.resize(s.len().div_ceil(unroll) * unroll, Instr::C(0.0));
     let base = table.len() as u32;
-    for step in &s {
-        let (kind, k, c) = match *step {
-            Step::Z(k, c) => (0, k, c),
-            Step::Y(k) => (1, k, 0.0),
-            Step::X(k) => (2, k, 0.0),
-        };
-        let (near, lo, hi) = f32_enclosure(c);
-        table.push([lo.to_bits(), hi.to_bits(), near.to_bits(), ((k | kind << 8) as f32).to_bits()]);
+    let slot = |i: &Instr| -> [u32; 2] {
+        let mark = |kind: u32, k: u32| [MARK | kind << 8 | k, 0];
+        match *i {
+            Instr::C(c) => {
+                let (near, lo, hi) = f32_enclosure(c);
+                let other = if near == lo { hi } else { lo };
+                [near.to_bits(), other.to_bits()]
+            }
+            Instr::Z(k) => mark(0, k),
+            Instr::Y(k) => mark(1, k),
+            Instr::X(k) => mark(2, k),
+        }
+    };
+    for pair in s.chunks(2) {
+        let (a, b) = (slot(&pair[0]), slot(&pair[1]));
+        table.push([a[0], a[1], b[0], b[1]]);
     }
     Horner { end, monomials: poly.terms.len(), vars, unroll, iterations: s.len() / unroll, base }
 }
@@ -157,18 +201,30 @@ impl LoopEmitter<'_> {
         let [r, q, x_level] = regs;
         let _ = writeln!(out, "    for (var i{r} = 0u; i{r} < select(0u, {}u, admitted); i{r} = i{r} + 1u) {{", h.iterations);
         for k in 0..h.unroll {
-            let _ = writeln!(out, "    let t{r}_{k} = field_table({}u + i{r} * {}u + {k}u);", h.base, h.unroll);
-            let _ = writeln!(out, "    let w{r}_{k} = u32(t{r}_{k}.w);");
-            let power = format!("(w{r}_{k} & 255u)");
-            let _ = writeln!(out, "    if ((w{r}_{k} >> 8u) == 0u) {{");
+            let (t, first, second) = (format!("t{r}_{}", k / 2), ["x", "z"][k % 2], ["y", "w"][k % 2]);
+            if k % 2 == 0 {
+                let _ = writeln!(out, "    let {t} = field_table({}u + i{r} * {}u + {}u);", h.base, h.unroll / 2, k / 2);
+            }
+            let _ = writeln!(out, "    let u{r}_{k} = bitcast<u32>({t}.{first});");
+            let _ = writeln!(out, "    if ((u{r}_{k} & {MARK}u) != {MARK}u) {{");
             let c = match p {
-                "s" => format!("s_const(t{r}_{k}.z)"),
-                "ia" => format!("t{r}_{k}.xy"),
-                _ => format!("ra_from_ia(t{r}_{k}.xy)"),
+                "s" => format!("s_const({t}.{first})"),
+                "ia" => format!("vec2<f32>(min({t}.{first}, {t}.{second}), max({t}.{first}, {t}.{second}))"),
+                _ => format!("ra_from_ia(vec2<f32>(min({t}.{first}, {t}.{second}), max({t}.{first}, {t}.{second})))"),
             };
             let added = self.emit_constant(out, &c, hook);
-            self.emit_fold(out, r, h.vars[2], &power, added, hook);
-            let _ = writeln!(out, "    }} else if ((w{r}_{k} >> 8u) == 1u) {{");
+            let z = match h.vars[2] {
+                Some(v) => v,
+                None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
+            };
+            self.emit_horner_step(out, r, z, added, hook);
+            let power = format!("(u{r}_{k} & 255u)");
+            let _ = writeln!(out, "    }} else if ((u{r}_{k} & 0xff00u) == 0u) {{");
+            let raised = self.emit_power(out, h.vars[2], &power, hook);
+            let product = self.emit_op(out, Op::Mul(r, raised), hook);
+            let _ = writeln!(out, "    v{r} = v{product};");
+            hook(out, Hook::Step { acc: r, next: product });
+            let _ = writeln!(out, "    }} else if ((u{r}_{k} & 0xff00u) == 0x100u) {{");
             self.emit_fold(out, q, h.vars[1], &power, r, hook);
             self.emit_reset(out, r, hook);
             out.push_str("    } else {\n");
@@ -186,22 +242,16 @@ impl LoopEmitter<'_> {
     /// steps: it multiplies by the variable itself, without a power by
     /// squaring (and its slope without the power's slope).
     fn emit_fold(&mut self, out: &mut String, acc: NodeId, var: Option<NodeId>, power: &str, added: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
-        let p = self.domain.prefix();
-        let raised = match var {
-            Some(v) => {
-                let _ = writeln!(out, "    if ({power} == 1u) {{");
-                self.emit_horner_step(out, acc, v, added, hook);
-                out.push_str("    } else {\n");
-                let k = self.emit_constant(out, &format!("{p}_const(f32({power}))"), hook);
-                let raised = self.emit_op(out, Op::Call2(Func2::PowN, v, k), hook);
-                self.emit_horner_step(out, acc, raised, added, hook);
-                out.push_str("    }\n");
-                return;
-            }
-            // A variable the polynomial lacks is raised to 0 only.
-            None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
-        };
+        if let Some(v) = var {
+            let _ = writeln!(out, "    if ({power} == 1u) {{");
+            self.emit_horner_step(out, acc, v, added, hook);
+            out.push_str("    } else {\n");
+        }
+        let raised = self.emit_power(out, var, power, hook);
         self.emit_horner_step(out, acc, raised, added, hook);
+        if var.is_some() {
+            out.push_str("    }\n");
+        }
     }
 
     /// `acc ← acc · v{raised} + v{added}`.
@@ -210,6 +260,19 @@ impl LoopEmitter<'_> {
         let sum = self.emit_op(out, Op::Add(product, added), hook);
         let _ = writeln!(out, "    v{acc} = v{sum};");
         hook(out, Hook::Step { acc, next: sum });
+    }
+
+    /// `var^power` by squaring (`power` a WGSL `u32`); 1 for a variable the
+    /// polynomial lacks.
+    fn emit_power(&mut self, out: &mut String, var: Option<NodeId>, power: &str, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
+        let p = self.domain.prefix();
+        match var {
+            Some(v) => {
+                let k = self.emit_constant(out, &format!("{p}_const(f32({power}))"), hook);
+                self.emit_op(out, Op::Call2(Func2::PowN, v, k), hook)
+            }
+            None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
+        }
     }
 
     /// `acc ← 0`.
@@ -252,20 +315,22 @@ pub(super) fn variables(ir: &crate::ir::Ir, live: &[NodeId]) -> [Option<NodeId>;
 mod tests {
     use super::*;
 
-    /// The steps run on f64 numbers give the polynomial's value.
+    /// The machine's steps run on f64 numbers give the polynomial's value.
     #[test]
     fn the_steps_compute_the_polynomial() {
         let f = crate::Formula::compile("<t>", "0.5*x^3*y^2*z + 2*x^3*z^4 - x*y^5 + 3*y^2 + 7*z^3 - 1.25 + 0.1*x^2*y^2*z^2").unwrap();
         let live = f.ir.live();
         let poly = crate::analysis::monomials::polynomials(&f.ir, &live, 1 << 16)[f.ir.root as usize].clone().expect("a polynomial");
-        let s = steps(&poly);
+        let s = instructions(&steps(&poly));
+        assert!(s.iter().filter(|i| matches!(i, Instr::C(_))).count() >= poly.terms.len());
         for pt in [[0.3f64, -1.2, 0.7], [1.5, 0.25, 2.0], [-0.8, 0.9, -1.1]] {
             let (mut r, mut q, mut p) = (0.0f64, 0.0f64, 0.0f64);
             for step in &s {
                 match *step {
-                    Step::Z(k, c) => r = r * pt[2].powi(k as i32) + c,
-                    Step::Y(k) => (q, r) = (q * pt[1].powi(k as i32) + r, 0.0),
-                    Step::X(k) => (p, q) = (p * pt[0].powi(k as i32) + q, 0.0),
+                    Instr::C(c) => r = r * pt[2] + c,
+                    Instr::Z(k) => r *= pt[2].powi(k as i32),
+                    Instr::Y(k) => (q, r) = (q * pt[1].powi(k as i32) + r, 0.0),
+                    Instr::X(k) => (p, q) = (p * pt[0].powi(k as i32) + q, 0.0),
                 }
             }
             let want = crate::reference::eval_scalar(&f.ir, [pt[0], pt[1], pt[2], 0.0], &[]);
