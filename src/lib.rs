@@ -155,7 +155,13 @@ impl Formula {
 /// teardrop is a little slower). A large formula (more than
 /// [`RAY_POLY_AUTO_NODES`] live nodes) may run as a tape, which has no ray
 /// forms, and keeps RAA.
+///
+/// A polynomial of thousands of monomials, whatever its degree, is faster
+/// in RAA ([`horner_pays`]).
 pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
+    if horner_pays(ir) {
+        return ir::Domain::Affine;
+    }
     if affine_pays(ir) && !(ir.live().len() <= RAY_POLY_AUTO_NODES && field::compiled::takes_ray_polynomials(ir)) { ir::Domain::Affine } else { ir::Domain::Interval }
 }
 
@@ -166,6 +172,19 @@ pub fn choose_algebra(ir: &ir::Ir) -> ir::Domain {
 pub fn affine_pays(ir: &ir::Ir) -> bool {
     let (minmax, max_power) = ir.shape();
     matches!(ir.degree(), Some(4..=10)) && max_power < 16 && minmax == 0 && !ir.is_csg()
+}
+
+/// Whether the compiled field computes a polynomial as one loop over its
+/// Horner form (`field::compiled::term_loops::horner`) in a formula without
+/// min, max or CSG. Each step multiplies by x, y or z, which are exact
+/// affine forms along the ray, so RAA keeps what the nested form's
+/// cancellations need where IA loses it: the 2,646 monomials of
+/// `distinct` (scripts/big-formulas.py, degree 42) take about half the
+/// evaluations a pixel, and a first frame about two thirds of IA's
+/// (docs/benchmarks.md).
+pub fn horner_pays(ir: &ir::Ir) -> bool {
+    let (minmax, _) = ir.shape();
+    minmax == 0 && !ir.is_csg() && !field::compiled::term_loops::plan(ir).horners.is_empty()
 }
 
 /// The most live nodes of a formula for which `choose_algebra` weighs ray

@@ -120,3 +120,14 @@ fn a_horner_loop_draws_the_reference_roots() {
         assert!(wrong.is_empty(), "{domain:?}: {wrong:?}");
     }
 }
+
+/// `--algebra auto` takes RAA for a Horner polynomial (its steps multiply
+/// by x, y, z, exact affine forms along the ray), whatever its degree, but
+/// not in a formula with min or max, nor for a polynomial written out.
+#[test]
+fn auto_takes_raa_for_a_horner_polynomial() {
+    let poly = monomials(1100, false);
+    assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &poly).unwrap().ir), Domain::Affine);
+    assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &format!("min({poly}, x - 0.5)")).unwrap().ir), Domain::Interval);
+    assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &monomials(1000, false)).unwrap().ir), Domain::Interval);
+}

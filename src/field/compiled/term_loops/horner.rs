@@ -22,25 +22,29 @@
 
 use super::emit::LoopEmitter;
 use crate::field::compiled::{value_rhs, Hook};
-use super::unroll_for;
 use crate::analysis::monomials::{Monomial, Polynomial};
 use crate::codegen::f32_enclosure;
 use crate::ir::{Func2, NodeId, Op, Var};
 use std::fmt::Write;
 
 /// Fewest monomials of a polynomial made a Horner loop. A step costs
-/// several times what the written-out form's multiply-add does (a texel, a
-/// power by squaring, a product of intervals): the collected 339 monomials
-/// of `mono3000` (scripts/big-formulas.py) took a 512² frame from 0.17 s
-/// written out to over 2 s as a loop. Written out, a polynomial of this many
-/// monomials is past what `auto` compiles rather than runs as a tape
-/// (`choice::CROSSOVER_BISECT_IA` instructions), where the loop is several
-/// times faster than the tape.
+/// several times what the written-out form's multiply-add does (a texel
+/// read, a product of intervals, the step's branches), so a polynomial that
+/// compiles quickly written out (`mono3000`'s collected 339 monomials,
+/// scripts/big-formulas.py) renders much faster so. From this many, the
+/// written-out form is past what `auto` compiles rather than runs as a tape
+/// (`choice::CROSSOVER_BISECT_IA` instructions), and the loop is several
+/// times faster than the tape (docs/notes/2026-12-07-fixed-costs.md).
 pub const MIN_MONOMIALS: usize = 1024;
 
 /// Most monomials the expansions of all nodes hold together (a Horner
 /// form's nodes each hold the monomials below them).
 pub const EXPANSION_BUDGET: usize = 1 << 21;
+
+/// Steps an iteration runs: fewer made the loop faster down to 8 (a
+/// smaller body for the core to run), and 4 would double the iterations
+/// the work limit counts for no gain (docs/notes/2026-12-07-fixed-costs.md).
+const UNROLL: usize = 8;
 
 /// Nodes a step's arms hold (the weight `auto` gives an unrolled step).
 const STEP_NODES: usize = 12;
@@ -164,7 +168,7 @@ fn steps(poly: &Polynomial) -> Vec<Step> {
 /// as their mark.
 pub(super) fn lay_out(table: &mut Vec<[u32; 4]>, end: NodeId, vars: [Option<NodeId>; 3], poly: &Polynomial) -> Horner {
     let mut s = instructions(&steps(poly));
-    let unroll = unroll_for(s.len(), STEP_NODES).max(2);
+    let unroll = UNROLL;
     // Padded with steps that change nothing: r is 0 at the end.
     s.resize(s.len().div_ceil(unroll) * unroll, Instr::C(0.0));
     let base = table.len() as u32;

@@ -293,7 +293,7 @@ impl Plan {
 /// Terms an iteration evaluates: more for long runs (fewer iterations
 /// against lavapipe's loop cap), within [`BODY_MAX`] nodes, a power of two
 /// (so terms pack evenly into texels).
-pub(super) fn unroll_for(terms: usize, body: usize) -> usize {
+fn unroll_for(terms: usize, body: usize) -> usize {
     let want = match terms {
         0..128 => 4,
         128..512 => 8,
