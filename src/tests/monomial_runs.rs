@@ -79,13 +79,19 @@ fn a_polynomial_of_many_monomials_is_one_horner_loop() {
 #[test]
 fn a_horner_loop_encloses_f64_samples() {
     let bx = boxes(2000);
-    for like in [false, true] {
-        let f = Formula::compile("<t>", &monomials(1100, like)).unwrap();
-        assert_eq!(term_loops::plan(&f.ir).horners.len(), 1);
+    // The collected form after 40 other terms: a chain long enough to be
+    // balanced, which must leave the loop's polynomial whole.
+    let sines: Vec<String> = (0..40).map(|i| format!("0.01*sin({:.2}*x + {:.2})", 1.0 + 0.05 * f64::from(i), 0.1 * f64::from(i))).collect();
+    let mixed = format!("{} + {}", sines.join(" + "), monomials(1100, true));
+    for src in [monomials(1100, false), monomials(1100, true), mixed] {
+        let f = Formula::compile("<t>", &src).unwrap();
+        let g = generated_ir(&f.ir);
+        assert_eq!(term_loops::plan(g.as_ref().unwrap_or(&f.ir)).horners.len(), 1);
+        let bytes = src.len();
         for domain in [Domain::Scalar, Domain::Interval, Domain::Affine] {
             let r = eval_boxes(gpu(), &f.ir, domain, &bx, &[]).unwrap();
             if domain != Domain::Scalar {
-                assert_encloses(&f, &r, &bx, 5, &format!("{domain:?}, like terms {like}"));
+                assert_encloses(&f, &r, &bx, 5, &format!("{domain:?}, formula of {bytes} bytes"));
                 continue;
             }
             // The scalar field at the boxes' first corners, against f64.

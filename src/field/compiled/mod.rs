@@ -256,14 +256,15 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
 }
 
 /// `ir` as the compiled field and the `eval` kernel generate it, where it
-/// differs: long sums of monomials with their powers as table slots
-/// ([`term_loops::monomials`]), long sums as balanced trees
-/// ([`super::balance`]) unless a loop computes part of them in order.
+/// differs: the monomials of a sum that mixes many of them with other
+/// terms gathered into one polynomial node ([`term_loops::monomials`]), long
+/// sums as balanced trees ([`super::balance`]) unless a loop computes part
+/// of them.
 pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
     let monomials = term_loops::monomials::monomial_sums(ir);
     let written = monomials.as_ref().unwrap_or(ir);
     let plan = term_loops::plan(written);
-    balance::balanced(written, |n| plan.skips(n) || plan.loop_at(n).is_some()).or(monomials)
+    balance::balanced(written, |n| plan.skips(n) || plan.loop_at(n).is_some() || plan.horner_at(n).is_some()).or(monomials)
 }
 
 /// The compiled field for a traversal that needs enclosures in `domain`
