@@ -48,11 +48,11 @@ pub enum Func2 {
     /// `pow(a, b)` with a non-constant or non-integer exponent: defined for a ≥ 0.
     Pow,
     Atan2, Min, Max,
-    /// a^n for an integer n in `0..=POWN_MAX_EXPONENT` whose operand is a
-    /// constant node: not written by users, only by the compiled field's
-    /// monomial runs (`field::compiled::term_loops::monomials`), where the
-    /// constant becomes a table slot, so that terms of different powers
-    /// share one loop body.
+    /// a^n for an integer n in `0..=POWN_MAX_EXPONENT` known only at run
+    /// time: never in an [`Ir`], only in the code of the compiled field's
+    /// Horner loops (`field::compiled::term_loops::horner`), whose steps read
+    /// their powers from a table; an operation so that the code and its
+    /// slope come from the same emitter and derivative rules as the rest.
     PowN,
 }
 
@@ -178,16 +178,6 @@ impl Ir {
     /// or more reports exactly this.
     pub const DEGREE_MAX: u32 = u32::MAX;
 
-    /// The exponent of a [`Func2::PowN`] whose exponent operand is node `k`
-    /// (a constant the monomial runs write; anything else reads as the
-    /// largest exponent, so that degree bounds stay bounds).
-    pub fn pown_exponent(&self, k: NodeId) -> u32 {
-        match self.nodes[k as usize] {
-            Op::Const(c) if c >= 0.0 && c <= POWN_MAX_EXPONENT as f64 && c.fract() == 0.0 => c as u32,
-            _ => POWN_MAX_EXPONENT,
-        }
-    }
-
     /// True when the formula has several surfaces or level-set conditions.
     pub fn is_csg(&self) -> bool {
         self.surfaces.len() > 1 || self.surfaces.iter().any(|s| !s.conditions.is_empty())
@@ -241,7 +231,6 @@ impl Ir {
                 Op::Mul(a, b) => d(a).zip(d(b)).map(|(a, b)| a.saturating_add(b)),
                 Op::Div(a, b) => if d(b) == Some(0) { d(a) } else { None },
                 Op::PowI(a, n) => d(a).map(|a| a.saturating_mul(n)),
-                Op::Call2(Func2::PowN, a, k) => d(a).map(|a| a.saturating_mul(self.pown_exponent(k))),
                 Op::User(..) => None,
                 Op::Call1(..) | Op::Call2(..) | Op::Call3(..) => {
                     if op.operands().iter().all(|&o| d(o) == Some(0)) { Some(0) } else { None }
@@ -262,10 +251,6 @@ impl Ir {
             match self.nodes[i as usize] {
                 Op::PowI(a, n) => {
                     power[i as usize] = power[a as usize].saturating_mul(n);
-                    max_power = max_power.max(power[i as usize]);
-                }
-                Op::Call2(Func2::PowN, a, k) => {
-                    power[i as usize] = power[a as usize].saturating_mul(self.pown_exponent(k));
                     max_power = max_power.max(power[i as usize]);
                 }
                 Op::Call2(Func2::Min | Func2::Max, ..) | Op::Call1(Func1::Abs, _) | Op::Call3(Func3::Clamp, ..) => minmax += 1,

@@ -179,9 +179,8 @@ pub fn affine_pays(ir: &ir::Ir) -> bool {
 /// min, max or CSG. Each step multiplies by x, y or z, which are exact
 /// affine forms along the ray, so RAA keeps what the nested form's
 /// cancellations need where IA loses it: the 2,646 monomials of
-/// `distinct` (scripts/big-formulas.py, degree 42) take about half the
-/// evaluations a pixel, and a first frame about two thirds of IA's
-/// (docs/benchmarks.md).
+/// `distinct` (scripts/big-formulas.py, degree 42) take fewer evaluations
+/// a pixel and come sooner in RAA (docs/notes/2026-12-07-fixed-costs.md).
 pub fn horner_pays(ir: &ir::Ir) -> bool {
     let (minmax, _) = ir.shape();
     minmax == 0 && !ir.is_csg() && !field::compiled::term_loops::plan(ir).horners.is_empty()

@@ -46,8 +46,9 @@ pub struct Polynomial {
     pub terms: Vec<(u16, f64)>,
 }
 
-/// The largest power [`Polynomial`] packs.
-pub const POLYNOMIAL_MAX_EXPONENT: u32 = 31;
+/// The largest power [`Polynomial`] packs (five bits): the largest the
+/// Horner loops' run-time power takes.
+pub const POLYNOMIAL_MAX_EXPONENT: u32 = crate::ir::POWN_MAX_EXPONENT;
 
 impl Polynomial {
     fn monomial(m: Monomial) -> Option<Polynomial> {

@@ -63,11 +63,8 @@ impl Terms for Tape<'_> {
     fn whole(&mut self) -> u32 {
         unreachable!("user functions are refused before flattening")
     }
-    /// The tape's formulas are the user's, which never hold a `pown` (the
-    /// compiled field's monomial runs write it); were one there, its slope
-    /// would be the whole line: never a proof of monotonicity, never wrong.
     fn pown_slope(&mut self, _a: u32, _n: u32) -> u32 {
-        self.b.push(Code::Whole, [0; 4], 0.0)
+        unreachable!("pown is never in an IR, only in the compiled field's generated code")
     }
 }
 

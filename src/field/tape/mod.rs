@@ -59,7 +59,7 @@ impl Code {
     fn of2(f: Func2) -> Code {
         match f {
             Func2::Pow => Code::Pow, Func2::Atan2 => Code::Atan2, Func2::Min => Code::Min, Func2::Max => Code::Max,
-            Func2::PowN => unreachable!("flatten writes pown as the power of its constant exponent"),
+            Func2::PowN => unreachable!("pown is never in an IR, only in the compiled field's generated code"),
         }
     }
 }
@@ -369,11 +369,6 @@ fn flatten(ir: &Ir, b: &mut Builder) -> Vec<u32> {
             Op::Mul(a, c) => b.bin(Code::Mul, m(a), m(c)),
             Op::Div(a, c) => b.bin(Code::Div, m(a), m(c)),
             Op::PowI(a, n) => b.powi(m(a), n),
-            Op::Call2(Func2::PowN, a, k) => match ir.pown_exponent(k) {
-                0 => b.konst(1.0),
-                1 => m(a),
-                n => b.powi(m(a), n),
-            },
             Op::Call1(f, a) => b.un(Code::of1(f), m(a)),
             Op::Call2(f, a, c) => b.bin(Code::of2(f), m(a), m(c)),
             Op::Call3(f, a, c, e) => {
