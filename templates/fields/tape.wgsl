@@ -147,12 +147,14 @@ fn tape_step_T(e: u32) -> bool {
     let c = tape_reg_T(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); // if MINMAX MISC MAD
     let d = tape_reg_T(w.z >> 16u); // if MINMAX
     // The cases, each behind an `if` on its code (src/field/tape/wgsl.rs
-    // keeps those of the kernel's groups). A bundle's lanes step through
-    // the same instruction, and lavapipe skips an `if` that none of them
-    // takes, so a step pays for its own case, not for every case of its
-    // groups as a chain of selects would (long transcendental tapes and
-    // CSG tapes come sooner; small ones are unchanged). A `switch` runs
-    // every case. A code without a case gives the whole line.
+    // keeps those of the kernel's groups and nests them in a binary search
+    // on the code, so a step tests a few codes, not every one). A bundle's
+    // lanes step through the same instruction, and lavapipe skips an `if`
+    // that none of them takes, so a step pays for its own case, not for
+    // every case of its groups as a chain of selects would (long
+    // transcendental tapes and CSG tapes come sooner; small ones are
+    // unchanged). A `switch` runs every case. A code without a case gives
+    // the whole line.
     var r = op_whole();
     if (code == TAPE_INPUT) { r = tape_input_T(w.w); }
     if (code == TAPE_CONST) { r = k; }

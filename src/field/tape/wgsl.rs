@@ -49,11 +49,9 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
         }
         word.clear();
     };
-    for line in unrolled(features) {
+    let kept: Vec<String> = unrolled(features).filter(|l| keeps_line(l, features)).collect();
+    for line in case_tree(kept) {
         let line = line.as_str();
-        if !keeps_line(line, features) {
-            continue;
-        }
         // Comments pass through untouched.
         let (code, comment) = line.find("//").map_or((line, ""), |i| line.split_at(i));
         for ch in code.chars() {
@@ -69,6 +67,42 @@ pub fn instantiate(domain: Domain, features: u32) -> String {
         out.push('\n');
     }
     out
+}
+
+/// The step's cases (`if (code == TAPE_X) { … }` lines, with the comments
+/// among them) as a binary search on the code: a lane's step tests about
+/// log2 of the cases' count instead of every case. The cases stay behind
+/// `if`s, so a bundle whose lanes run one instruction runs one case.
+fn case_tree(lines: Vec<String>) -> Vec<String> {
+    let is_case = |l: &String| case_name(l).is_some();
+    let (Some(first), Some(last)) = (lines.iter().position(is_case), lines.iter().rposition(is_case)) else { return lines };
+    let mut cases: Vec<(u32, String)> = lines[first..=last]
+        .iter()
+        .filter_map(|l| case_name(l).map(|n| (Code::from_wgsl_name(n).expect("the template's cases are codes") as u32, l.trim().to_string())))
+        .collect();
+    cases.sort_by_key(|c| c.0);
+    let mut tree = Vec::new();
+    search(&cases, 1, &mut tree);
+    let mut out = lines[..first].to_vec();
+    out.extend(tree);
+    out.extend_from_slice(&lines[last + 1..]);
+    out
+}
+
+/// Writes the cases (sorted by code) as nested `if`s at indent `depth`.
+fn search(cases: &[(u32, String)], depth: usize, out: &mut Vec<String>) {
+    let pad = "    ".repeat(depth);
+    if cases.len() <= 2 {
+        out.extend(cases.iter().map(|(_, l)| format!("{pad}{l}")));
+        return;
+    }
+    let (low, high) = cases.split_at(cases.len() / 2);
+    let name = case_name(&high[0].1).expect("a case");
+    out.push(format!("{pad}if (code < {name}) {{"));
+    search(low, depth + 1, out);
+    out.push(format!("{pad}}} else {{"));
+    search(high, depth + 1, out);
+    out.push(format!("{pad}}}"));
 }
 
 /// The marker of the interpreter loop's lines written once for each step K
@@ -329,6 +363,55 @@ mod tests {
         for (f, n) in [(features::MINMAX, 1), (features::MINMAX | features::UNROLL_4, 1), (features::MINMAX | features::UNROLL_8, 4), (features::MINMAX | features::UNROLL_16, 4)] {
             assert_eq!(prelude(f, true).matches("k = tape_keep_entry(").count(), n, "{f:#x}");
             assert!(super::super::wgsl_constants(f).contains(&format!("const TAPE_KEEP_STEP: u32 = {n}u;")));
+        }
+    }
+
+    /// Following the step's search with each code's value reaches that
+    /// code's case and no other, for every set of groups.
+    #[test]
+    fn the_cases_search_finds_each_code() {
+        // The case a code reaches in `lines` from line `at`, and the line after the block.
+        fn walk(lines: &[&str], mut at: usize, code: u32, found: &mut Vec<String>) -> usize {
+            while at < lines.len() {
+                let l = lines[at].trim();
+                if let Some(name) = l.strip_prefix("if (code < ").and_then(|r| r.strip_suffix(") {")) {
+                    let bound = Code::from_wgsl_name(name).expect("a code") as u32;
+                    // Both branches are walked; only the taken one collects.
+                    let mut low = Vec::new();
+                    let mut high = Vec::new();
+                    let after_low = walk(lines, at + 1, code, &mut low);
+                    assert_eq!(lines[after_low].trim(), "} else {");
+                    let after_high = walk(lines, after_low + 1, code, &mut high);
+                    assert_eq!(lines[after_high].trim(), "}");
+                    found.extend(if code < bound { low } else { high });
+                    at = after_high + 1;
+                } else if l.starts_with('}') {
+                    return at;
+                } else {
+                    if let Some(name) = case_name(l) {
+                        if Code::from_wgsl_name(name).expect("a code") as u32 == code {
+                            found.push(name.to_string());
+                        }
+                    }
+                    at += 1;
+                }
+            }
+            at
+        }
+        for f in [0, features::MINMAX, features::TRIG | features::DIV, features::ALL] {
+            let code = instantiate(Domain::Interval, f);
+            let step = &code[code.find("var r = ia_whole();").expect("the step")..code.find("if (g_tape_record && live)").expect("the step's end")];
+            let lines: Vec<&str> = step.lines().skip(1).collect();
+            let cases: Vec<&str> = lines.iter().filter_map(|l| case_name(l)).collect();
+            for c in Code::ALL {
+                let mut found = Vec::new();
+                walk(&lines, 0, c as u32, &mut found);
+                let expected: Vec<String> = cases.iter().filter(|n| **n == c.wgsl_name()).map(|n| n.to_string()).collect();
+                assert_eq!(found, expected, "{f:#x}: {}", c.wgsl_name());
+            }
+            // About log2(cases) tests a step, not one a case.
+            let depth = lines.iter().map(|l| l.len() - l.trim_start().len()).max().unwrap_or(0) / 4;
+            assert!(cases.len() < 8 || depth <= 2 + cases.len().ilog2() as usize, "{f:#x}: depth {depth} for {} cases", cases.len());
         }
     }
 

@@ -93,11 +93,14 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
             loop {
                 // Looking ahead can pass the run's end, where the field's
                 // program for the tile does not hold (fields/tape_tiles.wgsl),
-                // and so can the gradient's points, which leave the ray.
+                // and so can the root it finds. The gradient's points leave
+                // the ray: most stay in the run's slabs of the tile's frustum
+                // (those of a pixel on the tile's edge may not).
                 let on_ray = p.phase != PH_GRAD;
                 let s = p.s;
-                field_in_tile(s <= s_hi && on_ray);
-                let f = field(probe_point(p, ray));
+                let q = probe_point(p, ray);
+                field_in_tile(select(s <= s_hi, in_frustum(q, g_tile_frustum, vec2<f32>(s_lo, s_hi)), !on_ray));
+                let f = field(q);
                 if (p.phase == PH_MEAN) {
                     r = mean_value(c, r, D, f, s);
                     p.phase = PH_DECIDE;

@@ -76,6 +76,8 @@ fn no_hit() -> Hit { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u, vec3<f32>(0.0)); }
 
 // The stencil of a hit's gradient: half the termination width.
 fn gradient_step_size() -> f32 { return 0.5 * F.eps; }
+// The frustum of the pixel's tile (tile_frustum), for cells_resumable.wgsl.
+var<private> g_tile_frustum: vec4<f32>;
 // The gradient at hit h (at p) for shading and the normal: the cells' own
 // (CELLS_GRADIENT: an interpreted field's, found by its cell work's one call
 // of f), else central differences here, six evaluations of f.
@@ -308,6 +310,7 @@ fn main(@builtin(local_invocation_id) lid: vec3<u32>,
     }
     let tile = vec2<u32>(t % tiles_x(), t / tiles_x());
     let gid = tile * 8u + tile_pixel(lid.xy);
+    g_tile_frustum = tile_frustum(tile, 1u);
 
     // ---- Per-pixel traversal of the candidate slabs, nearest first; with
     // transparency, continued after each hit for up to LAYERS surfaces.

@@ -59,6 +59,29 @@ fn slab_meets_domain(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
     return all(lo <= F.box_max.xyz + pad) && all(hi >= F.box_min.xyz - pad) && in_ball;
 }
 
+// The frustum through the pixel centres of the `side` x `side` tiles from
+// `tile` on: its pixel directions' ranges (su, sv), which the tile pass
+// encloses.
+fn tile_frustum(tile: vec2<u32>, side: u32) -> vec4<f32> {
+    let t_lo = F.tile_origin + tile * 8u;
+    let t_hi = min(t_lo + vec2<u32>(8u * side - 1u), F.tile_origin + F.tile_size - vec2<u32>(1u));
+    let a = pixel_dir(t_lo);
+    let b = pixel_dir(t_hi);
+    return vec4<f32>(a.x, b.x, b.y, a.y);
+}
+
+// Whether point q lies inside the tile's frustum `frustum` (tile_frustum)
+// between depths s.x and s.y, with a margin against rounding: there the
+// tile's candidate slabs hold it, if those depths bound a run of them.
+fn in_frustum(q: vec3<f32>, frustum: vec4<f32>, s: vec2<f32>) -> bool {
+    let d = q - F.eye.xyz;
+    let depth = dot(d, F.forward.xyz);
+    let uv = vec2<f32>(dot(d, F.right.xyz), dot(d, F.up.xyz)) / depth;
+    let m = 1e-5 * vec2<f32>(frustum.y - frustum.x, frustum.w - frustum.z);
+    return depth >= s.x * (1.0 + 1e-5) && depth <= s.y * (1.0 - 1e-5)
+        && all(uv >= frustum.xz + m) && all(uv <= frustum.yw - m);
+}
+
 // Pixel `li` (0..63) of a tile's share of the tile pass's `n` enclosures.
 fn tile_share(n: u32, li: u32) -> u32 { return n / 64u + select(0u, 1u, li < n % 64u); }
 
@@ -78,12 +101,9 @@ fn tiles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     if (tile.x >= tiles_x() || tile.y >= tiles_y()) { return; }
     let t = tile.y * tiles_x() + tile.x;
     let dr = depth_range();
-    let t_lo = F.tile_origin + tile * 8u;
-    let t_hi = min(t_lo + vec2<u32>(8u * side - 1u), F.tile_origin + F.tile_size - vec2<u32>(1u));
-    let a = pixel_dir(t_lo);
-    let b = pixel_dir(t_hi);
-    let su = vec2<f32>(a.x, b.x);
-    let sv = vec2<f32>(b.y, a.y);
+    let frustum = tile_frustum(tile, side);
+    let su = frustum.xy;
+    let sv = frustum.zw;
     let fine = SLABS / COARSE;
     var mask = vec2<u32>(0u);
     // The slabs the field's block pass left to this tile (all of them
