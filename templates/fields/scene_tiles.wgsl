@@ -55,16 +55,6 @@ fn scene_sx(i: f32) -> f32 { return ((i + 0.5) / f32(F.size.x) * 2.0 - 1.0) * F.
 fn scene_col(sx: f32) -> f32 { return (sx / (F.tan_half_fov * f32(F.size.x) / f32(F.size.y)) + 1.0) * 0.5 * f32(F.size.x) - 0.5; }
 fn scene_row(sy: f32) -> f32 { return (1.0 - sy / F.tan_half_fov) * 0.5 * f32(F.size.y) - 0.5; }
 
-// The tile frustum of tile (tx, ty) of this dispatch: its pixel centres'
-// screen coordinates.
-fn tile_frustum(tile: vec2<u32>) -> vec4<f32> {
-    let lo = F.tile_origin + tile * 8u;
-    let hi = min(lo + vec2<u32>(7u), F.tile_origin + F.tile_size - vec2<u32>(1u));
-    let a = pixel_dir(lo);
-    let b = pixel_dir(hi);
-    return vec4<f32>(a.x, b.x, b.y, a.y);
-}
-
 // The radius of a primitive's ball as the tiles see it. A traversal may
 // stop where f is below its termination width, not only at f = 0 (sphere
 // tracing's screen-space criterion: half a pixel at the depth): the ball
@@ -141,7 +131,7 @@ fn scene_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     for (var ty = t0.y; ty <= t1.y; ty = ty + 1u) {
         for (var tx = t0.x; tx <= t1.x; tx = tx + 1u) {
-            let fr = tile_frustum(vec2<u32>(tx, ty));
+            let fr = tile_frustum(vec2<u32>(tx, ty), 1u);
             if (abs(r) < F.inf && !ball_meets_frustum(ball.xyz, r, fr.xy, fr.zw)) { continue; }
             let t = ty * nx + tx;
             let slot = atomicAdd(&scene_tile_count[t], 1u);

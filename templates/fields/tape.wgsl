@@ -95,6 +95,11 @@ fn tape_pow_small_T(a: T, n: u32) -> T {
 }
 
 fn tape_reg_T(i: u32) -> T { return g_regs_T[i & TAPE_SLOT_MASK]; }
+// The third operand of instruction w (a multiply-add with an immediate
+// factor has its addend where the factor's register would be) and the
+// fourth.
+fn tape_c_T(w: vec4<u32>) -> T { return tape_reg_T(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); }
+fn tape_d_T(w: vec4<u32>) -> T { return tape_reg_T(w.z >> 16u); }
 
 // Notes in choice slot `slot` what instruction `code` with operands a and b
 // can do over the slab being enclosed (only while the tile pass records,
@@ -130,22 +135,20 @@ fn tape_step_T(e: u32) -> bool {
     // A list's padding or a program's no-op runs like any instruction and
     // writes nothing (an early return is a branch around the whole step).
     let live = e != TAPE_LIST_NOP && code != TAPE_NOP;
-    // Every operand is read once, before the cases: when the step ran every
-    // case for every instruction (a `switch`, then selects), a read inside a
-    // case (clamp's and mix's third operand, the slopes' of Dmin and Dmax, a
-    // list's pick) cost a dynamically indexed register read each, every
-    // step. Lines marked `if GROUP…` stay only in kernels with one of those
-    // groups.
+    // A register read is a per-lane load from lavapipe's scratch memory, so
+    // an operand is read only where the instruction has it: behind an `if`
+    // that every lane of a bundle takes or none does (they run the same
+    // instruction), and the third and fourth operands inside the cases that
+    // read them. Lines marked `if GROUP…` stay only in kernels with one of
+    // those groups.
     // A constant, or an arithmetic instruction's constant operand (its flags
     // TAPE_IMM_A, TAPE_IMM_B): the enclosure in z, w, the nearest f32 one
     // of its ends.
     let k = op_lit(bitcast<f32>(select(w.z, w.w, (w.x & TAPE_NEAR_HI) != 0u)), bitcast<f32>(w.z), bitcast<f32>(w.w));
-    let a = select(tape_reg_T(w.y), k, (w.x & TAPE_IMM_A) != 0u);
-    let b = select(tape_reg_T(w.y >> 16u), k, (w.x & TAPE_IMM_B) != 0u);
-    // A multiply-add with an immediate factor has its addend where the
-    // factor's register would be.
-    let c = tape_reg_T(select(w.z, w.y >> 16u, (w.x & TAPE_IMM_B) != 0u)); // if MINMAX MISC MAD
-    let d = tape_reg_T(w.z >> 16u); // if MINMAX
+    var a = k;
+    if ((w.x & TAPE_IMM_A) == 0u) { a = tape_reg_T(w.y); }
+    var b = k;
+    if ((w.x & (TAPE_IMM_B | TAPE_UNARY)) == 0u) { b = tape_reg_T(w.y >> 16u); }
     // The cases, each behind an `if` on its code (src/field/tape/wgsl.rs
     // keeps those of the kernel's groups and nests them in a binary search
     // on the code, so a step tests a few codes, not every one). A bundle's
@@ -163,8 +166,8 @@ fn tape_step_T(e: u32) -> bool {
     if (code == TAPE_ADD) { r = op_add(a, b); }
     if (code == TAPE_SUB) { r = op_sub(a, b); }
     if (code == TAPE_MUL) { r = op_mul(a, b); }
-    if (code == TAPE_MAD) { r = op_add(op_mul(a, b), c); }
-    if (code == TAPE_MSUB) { r = op_sub(op_mul(a, b), c); }
+    if (code == TAPE_MAD) { r = op_add(op_mul(a, b), tape_c_T(w)); }
+    if (code == TAPE_MSUB) { r = op_sub(op_mul(a, b), tape_c_T(w)); }
     if (code == TAPE_DIV) { r = op_div(a, b); }
     if (code == TAPE_SQR) { r = op_sqr(a); }
     // (Its loop runs no pass for another code's immediate.)
@@ -187,17 +190,18 @@ fn tape_step_T(e: u32) -> bool {
     if (code == TAPE_ATAN2) { r = op_atan2(a, b); }
     if (code == TAPE_MIN) { r = op_min(a, b); }
     if (code == TAPE_MAX) { r = op_max(a, b); }
-    if (code == TAPE_CLAMP) { r = op_clamp(a, b, c); }
-    if (code == TAPE_MIX) { r = op_mix(a, b, c); }
-    if (code == TAPE_DMIN) { r = op_dmin(a, b, c, d); }
-    if (code == TAPE_DMAX) { r = op_dmax(a, b, c, d); }
+    if (code == TAPE_CLAMP) { r = op_clamp(a, b, tape_c_T(w)); }
+    if (code == TAPE_MIX) { r = op_mix(a, b, tape_c_T(w)); }
+    if (code == TAPE_DMIN) { r = op_dmin(a, b, tape_c_T(w), tape_d_T(w)); }
+    if (code == TAPE_DMAX) { r = op_dmax(a, b, tape_c_T(w), tape_d_T(w)); }
     if (code == TAPE_DSIGN) { r = op_dsign(a, b); }
     if (code == TAPE_DFLOOR) { r = op_dfloor(a, b); }
     if (g_tape_record && live) { tape_note_T(code, w.w, a, b); }
+    // A list's pick makes a min or max a copy of one operand (a slope's
+    // min or max: of that operand's slope).
     let pick = e >> 30u; // if MINMAX
-    let dual = code >= TAPE_DMIN; // if MINMAX
-    r = select(r, select(a, c, dual), pick == 1u); // if MINMAX
-    r = select(r, select(b, d, dual), pick == 2u); // if MINMAX
+    if (pick == 1u) { r = select(a, tape_c_T(w), code >= TAPE_DMIN); } // if MINMAX
+    if (pick == 2u) { r = select(b, tape_d_T(w), code >= TAPE_DMIN); } // if MINMAX
     if (live) { g_regs_T[(w.x >> 16u) & TAPE_SLOT_MASK] = r; }
     return live && (w.x & TAPE_RESTRICTS) != 0u && op_is_empty(r);
 }

@@ -9,6 +9,17 @@ fn pixel_dir(px: vec2<u32>) -> vec2<f32> {
                      (1.0 - (f32(px.y) + 0.5) / H * 2.0) * F.tan_half_fov);
 }
 
+// The frustum through the pixel centres of the `side` x `side` 8x8 tiles
+// from `tile` on (in this dispatch): the ranges of their pixel_dir
+// coordinates, x then y.
+fn tile_frustum(tile: vec2<u32>, side: u32) -> vec4<f32> {
+    let t_lo = F.tile_origin + tile * 8u;
+    let t_hi = min(t_lo + vec2<u32>(8u * side - 1u), F.tile_origin + F.tile_size - vec2<u32>(1u));
+    let a = pixel_dir(t_lo);
+    let b = pixel_dir(t_hi);
+    return vec4<f32>(a.x, b.x, b.y, a.y);
+}
+
 // The primary ray direction through pixel px, unnormalised (its forward
 // component is 1, so the ray parameter is the depth).
 fn primary_dir(px: vec2<u32>) -> vec3<f32> {

@@ -307,7 +307,8 @@ impl Registers {
 /// The instruction of node `i` writing register `r` with operand registers `ra`.
 fn word(b: &Builder, i: usize, r: u32, ra: [u32; 4]) -> [u32; 4] {
     let n = b.nodes[i];
-    let flags = if b.strict.contains(&(i as u32)) { TAPE_RESTRICTS } else { 0 };
+    let strict = if b.strict.contains(&(i as u32)) { TAPE_RESTRICTS } else { 0 };
+    let flags = strict | if arity(n.code) < 2 { TAPE_UNARY } else { 0 };
     let head = n.code as u32 | flags | r << 16;
     match n.code {
         Code::Const => {

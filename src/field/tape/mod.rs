@@ -88,6 +88,9 @@ pub const TAPE_IMM_B: u32 = 1 << 10;
 /// Flag bit of a constant's (or an immediate's) first word: the f32 nearest
 /// to it is the enclosure's upper end (otherwise its lower end).
 pub const TAPE_NEAR_HI: u32 = 1 << 11;
+/// Flag bit of an instruction's first word: it reads no second operand (the
+/// interpreter then loads none: a register read is a per-lane load).
+pub const TAPE_UNARY: u32 = 1 << 12;
 
 /// One tape node before register allocation: operands are node indices.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -405,6 +408,7 @@ pub fn wgsl_constants(features: u32) -> String {
         ("TAPE_IMM_A", TAPE_IMM_A),
         ("TAPE_IMM_B", TAPE_IMM_B),
         ("TAPE_NEAR_HI", TAPE_NEAR_HI),
+        ("TAPE_UNARY", TAPE_UNARY),
         ("TAPE_CHOICE_SLOTS", TAPE_CHOICE_SLOTS),
         // A kernel with the power-chain case runs a pass of its loop for
         // every instruction (lavapipe enters a loop once even when no lane

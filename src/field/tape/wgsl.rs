@@ -428,18 +428,22 @@ mod tests {
         assert_eq!(cases(features::POWERS | features::PARAMS), 8);
         assert_eq!(cases(features::SMALL_POWERS), 7);
         assert_eq!(cases(features::TRIG), 11);
-        // Register reads only where a case uses them: the third operand for
-        // clamp and mix, the fourth for the slopes of min and max (each read
-        // runs for every instruction, masked), and a list's picks with min
-        // and max only.
+        // The third and fourth operands are read inside the cases that have
+        // them (clamp, mix, the multiply-adds; the slopes of min and max)
+        // and by a list's picks (min and max only), never before the cases,
+        // where every instruction would load them.
         let reads = |f: u32| {
             let k = instantiate(Domain::Interval, f);
-            (k.matches("let c = tape_reg_ia").count(), k.matches("let d = tape_reg_ia").count(), k.matches(", pick == ").count())
+            let step = &k[k.find("fn tape_step_ia(").expect("the step")..];
+            let cases = step.lines().filter(|l| case_name(l).is_some());
+            let in_cases = cases.map(|l| (l.matches("tape_c_ia(w)").count(), l.matches("tape_d_ia(w)").count())).fold((0, 0), |s, c| (s.0 + c.0, s.1 + c.1));
+            let outside = step.lines().filter(|l| case_name(l).is_none() && !l.contains("(pick == ")).filter(|l| l.contains("tape_c_ia(w)") || l.contains("tape_d_ia(w)")).count();
+            (in_cases, outside, step.matches("(pick == ").count())
         };
-        assert_eq!(reads(features::TRIG | features::DIV), (0, 0, 0));
-        assert_eq!(reads(features::MISC), (1, 0, 0));
-        assert_eq!(reads(features::MINMAX), (1, 1, 2));
-        assert_eq!(reads(features::MAD), (1, 0, 0));
+        assert_eq!(reads(features::TRIG | features::DIV), ((0, 0), 0, 0));
+        assert_eq!(reads(features::MISC), ((1, 0), 0, 0));
+        assert_eq!(reads(features::MINMAX), ((3, 2), 0, 2));
+        assert_eq!(reads(features::MAD), ((2, 0), 0, 0));
         // Every group named by an `// if` line is one.
         for line in TAPE.lines().filter_map(|l| l.rsplit_once("// if ")) {
             assert!(line.1.split(' ').all(|g| features::by_name(g) != 0), "{}", line.1);

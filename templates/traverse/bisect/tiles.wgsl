@@ -59,17 +59,6 @@ fn slab_meets_domain(s: vec2<f32>, su: vec2<f32>, sv: vec2<f32>) -> bool {
     return all(lo <= F.box_max.xyz + pad) && all(hi >= F.box_min.xyz - pad) && in_ball;
 }
 
-// The frustum through the pixel centres of the `side` x `side` tiles from
-// `tile` on: its pixel directions' ranges (su, sv), which the tile pass
-// encloses.
-fn tile_frustum(tile: vec2<u32>, side: u32) -> vec4<f32> {
-    let t_lo = F.tile_origin + tile * 8u;
-    let t_hi = min(t_lo + vec2<u32>(8u * side - 1u), F.tile_origin + F.tile_size - vec2<u32>(1u));
-    let a = pixel_dir(t_lo);
-    let b = pixel_dir(t_hi);
-    return vec4<f32>(a.x, b.x, b.y, a.y);
-}
-
 // Whether point q lies inside the tile's frustum `frustum` (tile_frustum)
 // between depths s.x and s.y, with a margin against rounding: there the
 // tile's candidate slabs hold it, if those depths bound a run of them.
