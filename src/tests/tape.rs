@@ -574,8 +574,9 @@ fn auto_weighs_the_frames_of_the_job() {
 /// normals agree on every pixel both hit at the same depth, away from
 /// creases (where the compiled field's own normal jumps between neighbours
 /// the two stencils straddle different faces), also where the tile's
-/// shortened tape runs (the gradient's points leave the tile's rays, but
-/// not the candidate slabs, whose boxes were padded for them).
+/// shortened tape runs (the gradient's points leave the tile's rays, and
+/// run the tile's list where they stay inside its frustum and the ray's run
+/// of candidate slabs).
 #[test]
 fn a_tapes_normals_agree_with_the_compiled_fields() {
     let e = crate::catalog::lookup("icos.csg").unwrap();
