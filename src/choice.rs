@@ -157,9 +157,8 @@ fn tape_pays(t: &TapeData, ir: &Ir, traversal: &Traversal, frames: u64) -> bool 
     let csg = matches!(traversal, Traversal::Bisect(_)) && minmax_ops(t) * CSG_RATIO >= t.ops;
     let line = crossover(traversal) as f64 * (frames.clamp(1, 16) as f64).sqrt();
     // The code is weighed as it is generated: a sum of many monomials as a loop.
-    let monomials = crate::field::compiled::term_loops::monomials::monomial_sums(ir);
-    let ir = monomials.as_ref().unwrap_or(ir);
-    let plan = crate::field::compiled::term_loops::plan(ir);
+    let (gathered, plan) = crate::field::compiled::term_loops::written_plan(ir);
+    let ir = gathered.as_ref().unwrap_or(ir);
     let size = if plan.is_empty() { t.size } else { plan.emitted_nodes(ir) } + heavy_weight(ir, &plan, traversal);
     !csg && size as f64 >= line
 }

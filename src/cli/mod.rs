@@ -162,9 +162,8 @@ fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
     let (products, powers) = ir.nonconstant_products();
     let algebra = args::algebra_name(crate::choose_algebra(ir));
     // The runs of same-shaped terms and the polynomials the compiled field writes as loops.
-    let monomials = crate::field::compiled::term_loops::monomials::monomial_sums(ir);
-    let code = monomials.as_ref().unwrap_or(ir);
-    let plan = crate::field::compiled::term_loops::plan(code);
+    let (gathered, plan) = crate::field::compiled::term_loops::written_plan(ir);
+    let code = gathered.as_ref().unwrap_or(ir);
     let looped: usize = plan.loops.iter().map(|l| l.unroll * l.iterations).sum();
     let mut out = std::io::stdout().lock();
     if a.json {

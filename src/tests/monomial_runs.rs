@@ -134,6 +134,8 @@ fn a_horner_loop_draws_the_reference_roots() {
 fn auto_takes_raa_for_a_horner_polynomial() {
     let poly = monomials(1100, false);
     assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &poly).unwrap().ir), Domain::Affine);
+    // Among other terms, as the compiled field gathers it.
+    assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &format!("sin(x) + {poly}")).unwrap().ir), Domain::Affine);
     assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &format!("min({poly}, x - 0.5)")).unwrap().ir), Domain::Interval);
     assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &monomials(1000, false)).unwrap().ir), Domain::Interval);
 }

@@ -261,10 +261,9 @@ fn field_cost(ir: &Ir, bundle: bool) -> String {
 /// sums as balanced trees ([`super::balance`]) unless a loop computes part
 /// of them.
 pub(crate) fn generated_ir(ir: &Ir) -> Option<Ir> {
-    let monomials = term_loops::monomials::monomial_sums(ir);
-    let written = monomials.as_ref().unwrap_or(ir);
-    let plan = term_loops::plan(written);
-    balance::balanced(written, |n| plan.skips(n) || plan.loop_at(n).is_some() || plan.horner_at(n).is_some()).or(monomials)
+    let (gathered, plan) = term_loops::written_plan(ir);
+    let written = gathered.as_ref().unwrap_or(ir);
+    balance::balanced(written, |n| plan.skips(n) || plan.loop_at(n).is_some() || plan.horner_at(n).is_some()).or(gathered)
 }
 
 /// The compiled field for a traversal that needs enclosures in `domain`

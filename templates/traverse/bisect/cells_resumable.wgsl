@@ -99,7 +99,9 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
                 let on_ray = p.phase != PH_GRAD;
                 let s = p.s;
                 let q = probe_point(p, ray);
-                field_in_tile(select(s <= s_hi, in_frustum(q, g_tile_frustum, vec2<f32>(s_lo, s_hi)), !on_ray));
+                var inside = s <= s_hi;
+                if (!on_ray) { inside = in_frustum(q, g_tile_frustum, vec2<f32>(s_lo, s_hi)); }
+                field_in_tile(inside);
                 let f = field(q);
                 if (p.phase == PH_MEAN) {
                     r = mean_value(c, r, D, f, s);

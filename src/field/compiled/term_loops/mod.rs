@@ -169,6 +169,16 @@ pub(crate) fn with_operands(op: Op, ops: &[NodeId]) -> Op {
     op.with_operands(|_| next.next().expect("an operand for each of the op's"))
 }
 
+/// [`plan`] of `ir` as the compiled field writes it: the monomials of a sum
+/// that mixes many of them with other terms gathered into one polynomial
+/// first ([`monomials::monomial_sums`]); that IR too, where it differs from
+/// `ir`.
+pub fn written_plan(ir: &Ir) -> (Option<Ir>, Plan) {
+    let gathered = monomials::monomial_sums(ir);
+    let plan = plan(gathered.as_ref().unwrap_or(ir));
+    (gathered, plan)
+}
+
 /// Finds the runs of same-shaped terms worth a loop and lays out their
 /// constants.
 pub fn plan(ir: &Ir) -> Plan {
