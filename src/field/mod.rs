@@ -153,6 +153,15 @@ pub trait FieldSource: Sync {
         0
     }
 
+    /// Whether bisection's `cell_enclosure` also sets `g_cell_f_mid` to f
+    /// at `g_cell_s_mid`, the point of the cell the traversal sets before
+    /// the call (the mean-value form's midpoint), so that the traversal
+    /// does not evaluate f there: a source whose evaluation is mostly a
+    /// loop's overhead computes the point in the same pass for little.
+    fn cell_midpoint(&self) -> bool {
+        false
+    }
+
     /// Whether bisection runs a cell's scalar work from one call site of f
     /// (`cells_resumable.wgsl`), in rounds that resume the pixels the
     /// field's work limit stopped.

@@ -216,6 +216,9 @@ pub struct CellEnclosure {
     pub slope: [f32; 2],
     /// f on the ray at s0 and s1.
     pub ends: [f32; 2],
+    /// f at the cell's midpoint from the enclosure's own pass (0 where the
+    /// field does not compute it there), and from the scalar field.
+    pub mid: [f32; 2],
 }
 
 /// Runs bisection's interval cell enclosure of a compiled formula (with
@@ -234,13 +237,13 @@ pub fn eval_ray_cells(gpu: &Gpu, ir: &Ir, cells: &[RayCell]) -> Result<Vec<CellE
     };
     let boxes: Vec<Box8> = cells
         .iter()
-        .flat_map(|c| [[c.o[0], c.o[1], c.o[2], c.dir[0], c.dir[1], c.dir[2], c.s_ref, c.len], [c.cell[0], c.cell[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0; 8]])
+        .flat_map(|c| [[c.o[0], c.o[1], c.o[2], c.dir[0], c.dir[1], c.dir[2], c.s_ref, c.len], [c.cell[0], c.cell[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0; 8], [0.0; 8]])
         .collect();
-    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(3, 1 << 22) / 3 * 3;
+    let chunk = ((gpu.max_storage_binding / 32) as usize).clamp(4, 1 << 22) / 4 * 4;
     let mut out = Vec::with_capacity(cells.len());
     for part in boxes.chunks(chunk) {
         let r = run_chunk_with(gpu, &pipeline, part, &[], table.as_ref().map(|(g, _)| g))?;
-        out.extend(r.chunks(3).map(|q| CellEnclosure { value: q[0], slope: q[1], ends: q[2] }));
+        out.extend(r.chunks(4).map(|q| CellEnclosure { value: q[0], slope: q[1], ends: q[2], mid: q[3] }));
     }
     Ok(out)
 }

@@ -77,7 +77,7 @@ pub fn assemble_for(field: &dyn FieldSource, traversal: &Traversal, subgroups: b
             (
                 format!("{}\nalias Traversal = Bisect;\n{}", layout::wgsl_uniforms::<BisectBlock>(), layout::wgsl_constants()),
                 field.code(&CodeRequest { domain: Some(b.algebra), inline: user, sync: false, bundle: subgroups }),
-                format!("{}{}", bindings::bisect(), bisect(b, field.surfaces(), field.cells_resume(), paired_root_search(field, b.root_search))),
+                format!("{}{}", bindings::bisect(), bisect(b, field, paired_root_search(field, b.root_search))),
                 &["main", "tiles"][..],
                 user.cloned(),
             )
@@ -117,13 +117,14 @@ fn paired_root_search(field: &dyn FieldSource, choice: RootSearch) -> bool {
     }
 }
 
-/// The bisection traversal with its modalities' code and configuration;
-/// `one_call` runs a cell's scalar work from one call site of f (an
-/// interpreted field, whose every call site is a whole interpreter), else
-/// `pair` picks the compiled cells' root search.
-fn bisect(b: &BisectOptions, surfaces: usize, one_call: bool, pair: bool) -> String {
+/// The bisection traversal of `field` with its modalities' code and
+/// configuration; a field whose cells resume runs a cell's scalar work from
+/// one call site of f (an interpreted field, whose every call site is a
+/// whole interpreter), else `pair` picks the compiled cells' root search.
+fn bisect(b: &BisectOptions, field: &dyn FieldSource, pair: bool) -> String {
     let m = &b.modalities;
-    let config = format!("{}{}", bisect_config(m, surfaces), hooks(m.inline.as_ref()));
+    let one_call = field.cells_resume();
+    let config = format!("{}{}", bisect_config(m, field), hooks(m.inline.as_ref()));
     let modalities = format!("{}{}", template::optional(template::BISECT_SHADOWS, m.shadows), template::optional(template::BISECT_REFLECTIONS, m.reflect > 0));
     let cells = if one_call {
         template::BISECT_CELLS[1].to_string()
@@ -139,8 +140,10 @@ fn bisect(b: &BisectOptions, surfaces: usize, one_call: bool, pair: bool) -> Str
 
 /// Compile-time constants of the modalities: code for one exists only when
 /// it is asked for.
-fn bisect_config(m: &Modalities, surfaces: usize) -> String {
+fn bisect_config(m: &Modalities, field: &dyn FieldSource) -> String {
+    let surfaces = field.surfaces();
     let mut s = String::new();
+    let _ = writeln!(s, "const CELL_F_MID: bool = {};", field.cell_midpoint());
     let _ = writeln!(s, "const SHADOWS: bool = {};", m.shadows);
     let _ = writeln!(s, "const LAYERS: u32 = {}u;", m.layers.max(1));
     let _ = writeln!(s, "const REFLECT: u32 = {}u;", m.reflect);

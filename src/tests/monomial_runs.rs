@@ -10,7 +10,7 @@ use super::reroll::{assert_encloses, boxes};
 
 use common::gpu;
 use crate::field::compiled::{generated_ir, term_loops};
-use crate::gpu::eval::eval_boxes;
+use crate::gpu::eval::{eval_boxes, eval_ray_cells, RayCell};
 use crate::gpu::Renderer;
 use crate::ir::Domain;
 use crate::render::{BisectOptions, Status, Traversal};
@@ -138,4 +138,45 @@ fn auto_takes_raa_for_a_horner_polynomial() {
     assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &format!("sin(x) + {poly}")).unwrap().ir), Domain::Affine);
     assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &format!("min({poly}, x - 0.5)")).unwrap().ir), Domain::Interval);
     assert_eq!(crate::choose_algebra(&Formula::compile("<t>", &monomials(1000, false)).unwrap().ir), Domain::Interval);
+}
+
+/// The cell enclosure of a formula with term loops (a Horner loop, a run of
+/// terms) computes f at the cell's midpoint in its own pass
+/// (`field::compiled::midpoint`), so a non-monotone cell's mean-value form
+/// costs no scalar evaluation: the number is f's there, and the scalar
+/// field's at that point. A formula written out, or one with a run of
+/// terms that call sin, cos or tan, leaves the midpoint to the scalar
+/// field.
+#[test]
+fn cells_with_term_loops_give_f_at_their_midpoints() {
+    let cells: Vec<RayCell> = (0..64u8)
+        .map(|k| {
+            let a = f32::from(k) * 0.37;
+            let o = [3.0 * a.cos(), 3.0 * a.sin(), 0.4 * (a * 1.7).sin()];
+            let dir = [-o[0] / 3.0, -o[1] / 3.0, 0.1 * (a * 2.3).cos()];
+            let s0 = 1.0 + 0.05 * f32::from(k % 29);
+            RayCell { o, dir, s_ref: 0.5, len: 5.0, cell: [s0, s0 + 0.01 + 0.002 * f32::from(k % 7)] }
+        })
+        .collect();
+    // Runs of 40 same-shaped terms, whose constants are not all floats.
+    let run = |term: &dyn Fn(f64) -> String| format!("x^2 + y^2 + z^2 - 1 + {}", (0..40).map(|i| term(f64::from(i))).collect::<Vec<_>>().join(" + "));
+    let gauss = run(&|i| format!("0.01*exp(-{:.2}*((x - {:.3})^2 + y^2))", 3.0 + 0.1 * i, 0.013 * i));
+    let sines = run(&|i| format!("0.01*sin({:.2}*x + {:.2})*cos(y - {:.3})", 1.0 + 0.05 * i, 0.1 * i, 0.013 * i));
+    let cases = [(monomials(1100, false), true, true), (gauss, true, true), (sines, true, false), ("x^2 + y^2 + z^2 - 1".to_string(), false, false)];
+    for (src, looped, fused) in cases {
+        let f = Formula::compile("<t>", &src).unwrap();
+        let g = generated_ir(&f.ir);
+        assert_eq!(term_loops::plan(g.as_ref().unwrap_or(&f.ir)).is_empty(), !looped, "{src}");
+        let got = eval_ray_cells(gpu(), &f.ir, &cells).unwrap();
+        for (c, e) in cells.iter().zip(&got) {
+            let s = 0.5 * (f64::from(c.cell[0]) + f64::from(c.cell[1]));
+            let p = [0, 1, 2].map(|k| f64::from(c.o[k]) + f64::from(c.dir[k]) * s);
+            let v = crate::reference::eval_scalar(&f.ir, [p[0], p[1], p[2], 0.0], &[]);
+            assert!((f64::from(e.mid[1]) - v).abs() <= 1e-5 * (1.0 + v.abs()), "field_ray: {} against {v} on {c:?}", e.mid[1]);
+            match fused {
+                true => assert_eq!(e.mid[0], e.mid[1], "the enclosure's midpoint on {c:?}"),
+                false => assert_eq!(e.mid[0], 0.0, "{src}"),
+            }
+        }
+    }
 }

@@ -147,7 +147,9 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     assert!(one.stats.unresolved > 0 && one.stats.hits > 200, "{:?}", one.stats);
     r.set_resume_rounds(3);
     let lane = r.render(&s).unwrap();
-    assert!(lane.stats.unresolved == 0 && lane.stats.hits > one.stats.hits, "{:?} {:?}", lane.stats, one.stats);
+    // (The stopped pixels may all be misses: a cell's midpoint costs the
+    // loops no evaluation of their own, `field::compiled::midpoint`.)
+    assert!(lane.stats.unresolved == 0 && lane.stats.hits >= one.stats.hits, "{:?} {:?}", lane.stats, one.stats);
     let mut frames = vec![("one round, per lane", one), ("per lane", lane)];
     // Counted per SIMD bundle, as lavapipe's cap counts: the same pixels resolve.
     if gpu().subgroups {
@@ -341,3 +343,4 @@ fn random_term_shapes(seed: u64, scale: u64) -> (usize, usize, usize) {
     }
     (rerolled, roots, shared)
 }
+

@@ -7,7 +7,7 @@
 use super::ray_forms;
 use super::term_loops::{self, emit::LoopEmitter, emit::Tiles};
 use crate::codegen::{affine_literal, divide_by_literal, f32_enclosure, libraries, lit, template};
-use crate::ir::{display_limited, Domain, Ir, NodeId, Op, Var};
+use crate::ir::{display_limited, Domain, Ir, NodeId, Op};
 use crate::layout::GpuBlock;
 use std::fmt::Write;
 
@@ -83,6 +83,10 @@ pub fn emit_evaluator_all(ir: &Ir, domain: Domain, outputs: &[NodeId]) -> String
 /// stepped to `v{next}`, and its final value named `v{end}`.
 pub(crate) enum Hook {
     Node(NodeId, Op),
+    /// A value a loop reads from its table (`let v{id}`), whose slope is 0;
+    /// `point` is its f32 value (what the scalar domain reads) where the
+    /// table gives it ([`super::term_loops::Loop::point_first`]).
+    Slot { id: NodeId, point: Option<String> },
     Begin { acc: NodeId, seed: Option<NodeId> },
     Step { acc: NodeId, next: NodeId },
     End { acc: NodeId, end: NodeId },
@@ -168,9 +172,29 @@ pub(crate) fn emit_body_tiled(out: &mut String, ir: &Ir, domain: Domain, ray: Op
 /// write their square-and-multiply chain into `out`); `nn` says which
 /// nodes are never negative ([`nonneg`]; ids past it are not known to be).
 pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir: &Ir, nn: &[bool]) -> String {
+    named_rhs(out, domain, id, op, ir, nn, &Names::VALUES)
+}
+
+/// The names a node's right-hand side reads and writes: `{node}{id}` for
+/// node `id`, `{temp}{id}_…` for its power chain's steps, and the
+/// variables x, y, z and t.
+pub(crate) struct Names {
+    pub node: &'static str,
+    pub temp: &'static str,
+    pub vars: [&'static str; 4],
+}
+
+impl Names {
+    /// The evaluator's own values, `v{id}`.
+    pub const VALUES: Names = Names { node: "v", temp: "w", vars: ["x", "y", "z", "t"] };
+}
+
+/// [`value_rhs`] under other names.
+pub(crate) fn named_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir: &Ir, nn: &[bool], names_of: &Names) -> String {
     let names = &ir.externs;
     let p = domain.prefix();
-    let v = |n: NodeId| format!("v{n}");
+    let v = |n: NodeId| format!("{}{n}", names_of.node);
+    let w = names_of.temp;
     match op {
         Op::Const(c) => {
             let (n, lo, hi) = f32_enclosure(c);
@@ -180,12 +204,7 @@ pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir
                 _ => format!("{p}_const({})", lit(n)),
             }
         }
-        Op::Var(var) => match var {
-            Var::X => "x".into(),
-            Var::Y => "y".into(),
-            Var::Z => "z".into(),
-            Var::T => "t".into(),
-        },
+        Op::Var(var) => names_of.vars[var as usize].into(),
         Op::Param(i) => format!("{p}_const(iso_param({i}u))"),
         Op::Neg(a) => format!("{p}_neg({})", v(a)),
         Op::Add(a, b) => format!("{p}_add({}, {})", v(a), v(b)),
@@ -202,10 +221,10 @@ pub(crate) fn value_rhs(out: &mut String, domain: Domain, id: NodeId, op: Op, ir
         // reaching here is still handled exactly: (a^2)^(n/2) of a
         // non-negative base.
         Op::PowI(a, n) if n % 2 == 0 => {
-            let _ = writeln!(out, "    let w{id}_q = {p}_sqr({});", v(a));
-            if n == 4 { format!("{p}_sqr(w{id}_q)") } else { emit_odd_power(out, p, &format!("w{id}"), &format!("w{id}_q"), n / 2) }
+            let _ = writeln!(out, "    let {w}{id}_q = {p}_sqr({});", v(a));
+            if n == 4 { format!("{p}_sqr({w}{id}_q)") } else { emit_odd_power(out, p, &format!("{w}{id}"), &format!("{w}{id}_q"), n / 2) }
         }
-        Op::PowI(a, n) => emit_odd_power(out, p, &format!("w{id}"), &v(a), n),
+        Op::PowI(a, n) => emit_odd_power(out, p, &format!("{w}{id}"), &v(a), n),
         Op::Call1(f, a) => format!("{p}_{}({})", f.name(), v(a)),
         Op::Call2(f, a, b) => format!("{p}_{}({}, {})", f.name(), v(a), v(b)),
         Op::Call3(f, a, b, c) => format!("{p}_{}({}, {}, {})", f.name(), v(a), v(b), v(c)),

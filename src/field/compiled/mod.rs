@@ -10,6 +10,7 @@
 pub(crate) mod balance;
 pub(crate) mod derivative;
 mod emit;
+mod midpoint;
 mod ray_forms;
 mod ray_polys;
 pub(crate) mod source;
@@ -324,23 +325,28 @@ pub(crate) fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&Inline
 
 /// The `eval` kernel over bisection's interval cells on rays (the hook the
 /// tests use to check the cell enclosure, with the nodes it takes from the
-/// ray, against f64 samples on the device). Three boxes a query, 24
+/// ray, against f64 samples on the device). Four boxes a query, 32
 /// floats: o, dir, s_ref, len (the ray and what `field_begin_ray` gets),
-/// then the cell's s0, s1. Results: box 3k the value's range over the
-/// cell, 3k + 1 the slope's along dir, 3k + 2 the scalar field on the ray
-/// at s0 and at s1. The render kernel's frame block is replaced by the two
-/// fields the field code reads.
+/// then the cell's s0, s1. Results: box 4k the value's range over the
+/// cell, 4k + 1 the slope's along dir, 4k + 2 the scalar field on the ray
+/// at s0 and at s1, 4k + 3 f at the midpoint from the enclosure's pass
+/// (`g_cell_f_mid`, where [`midpoint::fused`]; else 0) and from the scalar
+/// field `field` there. The
+/// render kernel's frame block is replaced by the fields the field code
+/// reads and writes.
 #[cfg(test)]
 pub(crate) fn ray_cell_eval_shader(ir: &Ir) -> String {
     use crate::layout::GpuBlock;
-    let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\n";
+    let frame = "struct CellEvalFrame { time: f32, inf: f32 }\nvar<private> F: CellEvalFrame;\nvar<private> g_field_work: u32;\nvar<private> g_cell_s_mid: f32;\nvar<private> g_cell_f_mid: f32;\n";
     let evaluator = format!("{frame}{}", field_code(ir, Some(Domain::Interval), None, false, false));
-    let call = "    F = CellEvalFrame(0.0, iso_inf());\n    let k = (i / 3u) * 24u;\n    \
+    let call = "    F = CellEvalFrame(0.0, iso_inf());\n    let k = (i / 4u) * 32u;\n    \
                 let o = vec3<f32>(boxes[k], boxes[k + 1u], boxes[k + 2u]);\n    \
                 let dir = vec3<f32>(boxes[k + 3u], boxes[k + 4u], boxes[k + 5u]);\n    \
                 field_begin_ray(o, dir, boxes[k + 6u], boxes[k + 7u]);\n    let s0 = boxes[k + 8u];\n    let s1 = boxes[k + 9u];\n    \
-                let c = cell_enclosure(o, dir, s0, s1, true);\n    \
-                return select(select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), c.zw, i % 3u == 1u), c.xy, i % 3u == 0u);";
+                let m = 0.5 * (s0 + s1);\n    g_cell_s_mid = m;\n    g_cell_f_mid = 0.0;\n    let c = cell_enclosure(o, dir, s0, s1, true);\n    \
+                let mid = vec2<f32>(g_cell_f_mid, field(o + dir * m));\n    \
+                let ends = select(vec2<f32>(field_ray(o, dir, s0), field_ray(o, dir, s1)), mid, i % 4u == 3u);\n    \
+                return select(select(ends, c.zw, i % 4u == 1u), c.xy, i % 4u == 0u);";
     crate::codegen::template::eval(&[("uniforms", crate::layout::EvalBlock::wgsl().as_str()), ("library", ""), ("inline", ""), ("evaluator", &evaluator), ("call", call)])
 }
 

@@ -88,6 +88,7 @@ fn bisect_runs(ray: Ray, first: vec2<f32>, d_max0: u32, budget: u32, runs: Runs)
                 // The enclosure is asked for here, not in visit(): lavapipe
                 // inlines the field's whole code into every function on the
                 // path from the entry point, one copy per function.
+                if (CELL_F_MID) { g_cell_s_mid = 0.5 * (c.x + c.y); }
                 let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, d >= U.mono_depth);
                 let v = visit(ray, c, d, d_max, d_last, q);
                 descend = v.kind == VISIT_DESCEND;
@@ -173,8 +174,11 @@ fn visit(ray: Ray, c: vec2<f32>, d: u32, d_max: u32, d_last: u32, q: vec4<f32>) 
     // none), and f is evaluated only where it is used: a branch no lane of
     // a SIMD group takes is skipped, so a cell costs its enclosure alone.
     let mv = slope && !monotone && is_finite_range(q.zw);
+    // f at the midpoint comes from the enclosure's pass where the field
+    // computes it there (CELL_F_MID).
     var f_a = 0.0;
-    if (mv || monotone) { f_a = field_ray(ray.o, ray.dir, select(c.x, 0.5 * (c.x + c.y), mv)); }
+    if (CELL_F_MID) { f_a = g_cell_f_mid; }
+    if ((mv && !CELL_F_MID) || monotone) { f_a = field_ray(ray.o, ray.dir, select(c.x, 0.5 * (c.x + c.y), mv)); }
     if (mv) { r = mean_value(c, r, q.zw, f_a, 0.5 * (c.x + c.y)); }
     if (!keep_cell(r)) { return v; }
     let deeper = d < d_max || (!is_finite_range(r) && d < d_last);

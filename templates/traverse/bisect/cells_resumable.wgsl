@@ -155,15 +155,25 @@ fn traverse(ray: Ray, s_lo: f32, s_hi: f32, d_max: u32, budget: u32, grad: bool)
 fn probe_cell(p: ptr<function, Probe>, ray: Ray, s_lo: f32, len: f32, d: u32, k: u32) -> vec4<f32> {
     let c = cell_s(s_lo, len, d, k);
     let slope = d >= U.mono_depth;
-    let q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
+    // The midpoint as its children's shared end is computed, so a monotone
+    // child takes f there from this evaluation. (Only a field that computes
+    // f there in the enclosure's pass, CELL_F_MID, needs it before: it
+    // would be one more value held across the enclosure.)
+    if (CELL_F_MID) { g_cell_s_mid = cell_s(s_lo, len, d + 1u, 2u * k).y; }
+    var q = cell_enclosure(ray.o, ray.dir, c.x, c.y, slope);
     (*p).monotone = slope && (q.z > 0.0 || q.w < 0.0);
     (*p).phase = PH_DECIDE;
-    // The mean-value form needs a finite slope.
+    // The mean-value form needs a finite slope, and f at the midpoint: the
+    // field's from the enclosure's pass, else evaluated next.
     if (slope && !(*p).monotone && is_finite_range(q.zw)) {
-        (*p).phase = PH_MEAN;
-        // The midpoint as its children's shared end is computed, so a
-        // monotone child takes f there from this evaluation.
-        (*p).s = cell_s(s_lo, len, d + 1u, 2u * k).y;
+        if (CELL_F_MID) {
+            q = vec4<f32>(mean_value(c, q.xy, q.zw, g_cell_f_mid, g_cell_s_mid), q.zw);
+            (*p).s_last = g_cell_s_mid;
+            (*p).f_last = g_cell_f_mid;
+        } else {
+            (*p).phase = PH_MEAN;
+            (*p).s = cell_s(s_lo, len, d + 1u, 2u * k).y;
+        }
     }
     return q;
 }

@@ -78,6 +78,11 @@ fn no_hit() -> Hit { return Hit(0.0, STATUS_MISS, 0u, 0u, 0u, vec3<f32>(0.0)); }
 fn gradient_step_size() -> f32 { return 0.5 * F.eps; }
 // The frustum of the pixel's tile (tile_frustum), for cells_resumable.wgsl.
 var<private> g_tile_frustum: vec4<f32>;
+// A point of the cell the traversal sets before cell_enclosure (the
+// mean-value form's midpoint), and f there where the field source computes
+// it in the enclosure's pass (CELL_F_MID: FieldSource::cell_midpoint).
+var<private> g_cell_s_mid: f32;
+var<private> g_cell_f_mid: f32;
 // The gradient at hit h (at p) for shading and the normal: the cells' own
 // (CELLS_GRADIENT: an interpreted field's, found by its cell work's one call
 // of f), else central differences here, six evaluations of f.

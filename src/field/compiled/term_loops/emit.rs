@@ -125,7 +125,7 @@ impl LoopEmitter<'_> {
                     let _ = writeln!(out, "    let q{acc}_{group}_{q} = field_table(j{acc}_{group} + {q}u);");
                 }
             }
-            let term = self.emit_term(out, l, acc, |slot| reroll::slot_expr(p, |t| format!("q{acc}_{group}_{t}"), lay.offset(l.slots, within, slot)), hook);
+            let term = self.emit_term(out, l, acc, |slot| reroll::slot_expr(p, |t| format!("q{acc}_{group}_{t}"), lay.offset(l.slots, within, slot), l.point_first), hook);
             self.note_or_step(out, l, acc, term, notes.map(|n| (n, format!("i{acc} * {u}u + {k}u"))), hook);
         }
         out.push_str("    }\n");
@@ -154,8 +154,8 @@ impl LoopEmitter<'_> {
             let _ = writeln!(out, "    let o{acc} = k{acc} % {}u * {}u;", lay.group, l.slots * lay.width);
         }
         let slot = |slot: usize| match lay.group {
-            1 => reroll::slot_expr(p, |t| format!("q{acc}_{t}"), lay.offset(l.slots, 0, slot)),
-            _ => reroll::slot_expr_at(p, &format!("q{acc}_0"), &format!("o{acc} + {}u", slot * lay.width)),
+            1 => reroll::slot_expr(p, |t| format!("q{acc}_{t}"), lay.offset(l.slots, 0, slot), l.point_first),
+            _ => reroll::slot_expr_at(p, &format!("q{acc}_0"), &format!("o{acc} + {}u", slot * lay.width), l.point_first),
         };
         let term = self.emit_term(out, l, acc, slot, hook);
         self.note_or_step(out, l, acc, term, notes.map(|n| (n, format!("k{acc}"))), hook);
@@ -163,7 +163,7 @@ impl LoopEmitter<'_> {
     }
 
     /// A term's nodes, its constants from `slot`; returns the term's node.
-    fn emit_term(&mut self, out: &mut String, l: &Loop, acc: NodeId, slot_of: impl Fn(usize) -> String, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
+    fn emit_term(&mut self, out: &mut String, l: &Loop, acc: NodeId, slot_of: impl Fn(usize) -> reroll::SlotRead, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
         let p = self.domain.prefix();
         let mut map: Vec<(NodeId, NodeId)> = Vec::new();
         let mut slot = 0;
@@ -173,10 +173,11 @@ impl LoopEmitter<'_> {
             for o in op.operands() {
                 if let Some(&(_, f)) = map.iter().find(|(n, _)| *n == o) {
                     ops.push(f);
-                } else if let Op::Const(c) = self.ir.nodes[o as usize] {
+                } else if let Op::Const(_) = self.ir.nodes[o as usize] {
                     let f = self.fresh_id();
-                    let _ = writeln!(out, "    let v{f} = {};", slot_of(slot));
-                    hook(out, Hook::Node(f, Op::Const(c)));
+                    let reroll::SlotRead { expr, point } = slot_of(slot);
+                    let _ = writeln!(out, "    let v{f} = {expr};");
+                    hook(out, Hook::Slot { id: f, point });
                     slot += 1;
                     ops.push(f);
                 } else {

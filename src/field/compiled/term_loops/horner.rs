@@ -216,10 +216,10 @@ impl LoopEmitter<'_> {
                 "ia" => format!("vec2<f32>(min({t}.{first}, {t}.{second}), max({t}.{first}, {t}.{second}))"),
                 _ => format!("ra_from_ia(vec2<f32>(min({t}.{first}, {t}.{second}), max({t}.{first}, {t}.{second})))"),
             };
-            let added = self.emit_constant(out, &c, hook);
+            let added = self.emit_constant(out, &c, &format!("{t}.{first}"), hook);
             let z = match h.vars[2] {
                 Some(v) => v,
-                None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
+                None => self.emit_constant(out, &format!("{p}_const(1.0)"), "1.0", hook),
             };
             self.emit_horner_step(out, r, z, added, hook);
             let power = format!("(u{r}_{k} & 255u)");
@@ -272,25 +272,26 @@ impl LoopEmitter<'_> {
         let p = self.domain.prefix();
         match var {
             Some(v) => {
-                let k = self.emit_constant(out, &format!("{p}_const(f32({power}))"), hook);
+                let k = self.emit_constant(out, &format!("{p}_const(f32({power}))"), &format!("f32({power})"), hook);
                 self.emit_op(out, Op::Call2(Func2::PowN, v, k), hook)
             }
-            None => self.emit_constant(out, &format!("{p}_const(1.0)"), hook),
+            None => self.emit_constant(out, &format!("{p}_const(1.0)"), "1.0", hook),
         }
     }
 
     /// `acc ← 0`.
     fn emit_reset(&mut self, out: &mut String, acc: NodeId, hook: &mut impl FnMut(&mut String, Hook)) {
-        let zero = self.emit_constant(out, &format!("{}_const(0.0)", self.domain.prefix()), hook);
+        let zero = self.emit_constant(out, &format!("{}_const(0.0)", self.domain.prefix()), "0.0", hook);
         let _ = writeln!(out, "    v{acc} = v{zero};");
         hook(out, Hook::Step { acc, next: zero });
     }
 
-    /// A value the loop reads (its slope is 0) under a fresh name.
-    fn emit_constant(&mut self, out: &mut String, expr: &str, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
+    /// A value the loop reads (its slope is 0) under a fresh name; `point`
+    /// is its f32 value.
+    fn emit_constant(&mut self, out: &mut String, expr: &str, point: &str, hook: &mut impl FnMut(&mut String, Hook)) -> NodeId {
         let f = self.fresh_id();
         let _ = writeln!(out, "    let v{f} = {expr};");
-        hook(out, Hook::Node(f, Op::Const(0.0)));
+        hook(out, Hook::Slot { id: f, point: Some(point.to_string()) });
         f
     }
 

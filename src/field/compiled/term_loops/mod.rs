@@ -27,7 +27,7 @@ pub(crate) mod monomials;
 mod runs;
 
 use crate::codegen::f32_enclosure;
-use crate::ir::{Ir, NodeId, Op};
+use crate::ir::{Func1, Ir, NodeId, Op};
 use runs::{chains, Ref, Shape, Terms, Uses};
 
 /// Shortest run of same-shaped terms made a loop: below it the loop's own
@@ -59,8 +59,13 @@ pub struct Loop {
     pub iterations: usize,
     /// First texel of the terms' rounded constants (scalar domain).
     pub scalar_base: u32,
-    /// First texel of the terms' constant enclosures (lo, hi pairs).
+    /// First texel of the terms' constant enclosures: pairs (lo, hi), or
+    /// with `point_first` the end nearest the constant first.
     pub interval_base: u32,
+    /// Whether the interval layout also gives each constant's f32 value
+    /// (its first float), for f at a cell's midpoint in the cell
+    /// enclosure's pass ([`crate::field::compiled::midpoint`]).
+    pub point_first: bool,
 }
 
 /// Where a loop's constants lie in the table for one domain: terms are
@@ -285,7 +290,8 @@ impl Plan {
         let end = chain[i + count - 1];
         let slots = shape.iter().flat_map(|(_, r)| r).filter(|r| **r == Ref::Slot).count();
         let op = with_operands(ir.nodes[end as usize], &[0; 4]);
-        let mut l = Loop { seed, end, op, body, slots, unroll, iterations, scalar_base: 0, interval_base: 0 };
+        let point_first = !body.iter().any(|&b| costly_at_a_point(ir.nodes[b as usize]));
+        let mut l = Loop { seed, end, op, body, slots, unroll, iterations, scalar_base: 0, interval_base: 0, point_first };
         let consts: Vec<Vec<f64>> = (first..first + count).map(|t| slot_values(ir, &terms.bodies[t])).collect();
         lay_out(&mut self.table, &mut l, &consts);
         for &c in &chain[i..i + count - 1] {
@@ -328,15 +334,31 @@ fn slot_values(ir: &Ir, body: &[NodeId]) -> Vec<f64> {
     out
 }
 
+/// Whether a term operation costs about as much at a point as in the
+/// loop's overhead: sin, cos and tan. The cell enclosure's point would pay
+/// it on every cell, where a separate evaluation is paid only by the cells
+/// that are not monotone; few, where such terms perturb a smooth surface
+/// slightly, which is what a long sum of them tends to do
+/// (docs/notes/2026-12-08-cell-midpoints.md).
+fn costly_at_a_point(op: Op) -> bool {
+    matches!(op, Op::Call1(Func1::Sin | Func1::Cos | Func1::Tan, _))
+}
+
 /// Appends a loop's constants to the table: every term's rounded values,
-/// then every term's enclosures, each packed by its [`Layout`].
+/// then every term's enclosures, each packed by its [`Layout`]. With
+/// [`Loop::point_first`], an enclosure is its end nearest the constant
+/// (the rounded value) first, then the other.
 fn lay_out(table: &mut Vec<[u32; 4]>, l: &mut Loop, consts: &[Vec<f64>]) {
     l.scalar_base = table.len() as u32;
     region(table, l.slots, l.scalar(), consts, |c| vec![f32_enclosure(c).0]);
     l.interval_base = table.len() as u32;
+    let point_first = l.point_first;
     region(table, l.slots, l.interval(), consts, |c| {
-        let (_, lo, hi) = f32_enclosure(c);
-        vec![lo, hi]
+        let (near, lo, hi) = f32_enclosure(c);
+        match point_first {
+            true => vec![near, if near == lo { hi } else { lo }],
+            false => vec![lo, hi],
+        }
     });
 }
 
@@ -391,26 +413,45 @@ pub fn support(bundle: bool) -> String {
     )
 }
 
-/// The expression of the constant at float offset `at` of a group whose
-/// texels are named by `q`, in the domain with prefix `p`.
-pub fn slot_expr(p: &str, q: impl Fn(usize) -> String, at: usize) -> String {
+/// A loop's constant in a kernel: its expression in the kernel's domain,
+/// and its f32 value where the table gives it there (the scalar domain's
+/// layout, or [`Loop::point_first`]).
+pub struct SlotRead {
+    pub expr: String,
+    pub point: Option<String>,
+}
+
+/// The constant at float offset `at` of a group whose texels are named by
+/// `q`, in the domain with prefix `p`, of a loop whose enclosures are
+/// `point_first` ([`lay_out`]).
+pub fn slot_expr(p: &str, q: impl Fn(usize) -> String, at: usize, point_first: bool) -> SlotRead {
     const C: [&str; 4] = ["x", "y", "z", "w"];
-    match p {
-        "s" => format!("s_const({}.{})", q(at / 4), C[at % 4]),
-        "ia" => format!("{}.{}", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" }),
-        _ => format!("ra_from_ia({}.{})", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" }),
-    }
+    let word = |k: usize| format!("{}.{}", q((at + k) / 4), C[(at + k) % 4]);
+    let pair = format!("{}.{}", q(at / 4), if at % 4 == 0 { "xy" } else { "zw" });
+    slot_read(p, &word(0), &word(1), (!point_first).then_some(pair))
 }
 
 /// [`slot_expr`] at a float offset known only at run time (`at`, a WGSL
 /// `u32` expression) within the one texel `q`: a tile's list reads any
 /// term of a group that shares a texel.
-pub fn slot_expr_at(p: &str, q: &str, at: &str) -> String {
-    match p {
-        "s" => format!("s_const({q}[{at}])"),
-        "ia" => format!("vec2<f32>({q}[{at}], {q}[{at} + 1u])"),
-        _ => format!("ra_from_ia(vec2<f32>({q}[{at}], {q}[{at} + 1u]))"),
-    }
+pub fn slot_expr_at(p: &str, q: &str, at: &str, point_first: bool) -> SlotRead {
+    let (first, second) = (format!("{q}[{at}]"), format!("{q}[{at} + 1u]"));
+    let pair = format!("vec2<f32>({first}, {second})");
+    slot_read(p, &first, &second, (!point_first).then_some(pair))
+}
+
+/// A constant from its rounded value `first` (the scalar domain's layout)
+/// or from its enclosure's two ends: `ordered`, the enclosure as a
+/// `vec2<f32>`, where they are (lo, hi); else `first` is the nearer.
+fn slot_read(p: &str, first: &str, second: &str, ordered: Option<String>) -> SlotRead {
+    let point = (p == "s" || ordered.is_none()).then(|| first.to_string());
+    let pair = ordered.unwrap_or_else(|| format!("vec2<f32>(min({first}, {second}), max({first}, {second}))"));
+    let expr = match p {
+        "s" => format!("s_const({first})"),
+        "ia" => pair,
+        _ => format!("ra_from_ia({pair})"),
+    };
+    SlotRead { expr, point }
 }
 
 /// The table texture of a formula's loops as the compiled field generates
@@ -541,10 +582,12 @@ mod tests {
         for t in 0..16 {
             let n = f32::from_bits(p.table[l.scalar_base as usize + t / 4][t % 4]);
             let i = p.table[l.interval_base as usize + t / 2];
-            let [lo, hi] = [i[2 * (t % 2)], i[2 * (t % 2) + 1]].map(f32::from_bits);
-            // Each term's rounded constant lies in its enclosure, one ulp wide
-            // where 0.1·k is not a float.
-            assert!(lo <= n && n <= hi && (lo == hi || lo.next_up() == hi), "term {t}: {n} [{lo}, {hi}]");
+            assert!(l.point_first);
+            let [near, other] = [i[2 * (t % 2)], i[2 * (t % 2) + 1]].map(f32::from_bits);
+            let (lo, hi) = (near.min(other), near.max(other));
+            // Each term's rounded constant is its enclosure's first end, one
+            // ulp wide where 0.1·k is not a float.
+            assert!(near == n && (lo == hi || lo.next_up() == hi), "term {t}: {n} [{near}, {other}]");
             assert!(n > last);
             last = n;
         }

@@ -11,22 +11,25 @@
 //! are tracked so their terms are not emitted.
 //!
 //! The rules are written once (`rule`) against `Terms`, which the
-//! generated code implements with WGSL expressions (here) and the tape with
+//! generated code implements with WGSL expressions (`wgsl_terms`) and the tape with
 //! tape nodes (`tape_derivative.rs`), so both prove the same monotonicity.
 
 use super::ray_forms::RayForms;
-use super::emit::{emit_body_tiled, emit_odd_power};
-use super::Hook;
+use super::emit::emit_body_tiled;
+use super::{midpoint, Hook};
 use crate::ir::Domain;
 use crate::ir::{Func1, Func2, Func3, Ir, NodeId, Op, Var};
 use std::fmt::Write;
+use wgsl_terms::{Term, Wgsl};
+
+mod wgsl_terms;
 
 /// The derivative helper library for `domain` (interval or affine: the
 /// affine helpers build on the interval ones).
 pub fn library(domain: Domain) -> String {
-    let base = include_str!("../../../templates/domains/derivative.wgsl");
+    let base = include_str!("../../../../templates/domains/derivative.wgsl");
     match domain {
-        Domain::Affine => format!("{base}\n{}", include_str!("../../../templates/domains/derivative_affine.wgsl")),
+        Domain::Affine => format!("{base}\n{}", include_str!("../../../../templates/domains/derivative_affine.wgsl")),
         _ => base.to_string(),
     }
 }
@@ -63,22 +66,25 @@ const AFFINE_SLOPES_MAX_DEGREE: u32 = 10;
 pub fn emit_evaluator_d(ir: &Ir, domain: Domain) -> String {
     let (vp, ty) = (domain.prefix(), domain.ty());
     let head = format!("fn evald_{vp}(x: {ty}, y: {ty}, z: {ty}, t: {ty}, dx: f32, dy: f32, dz: f32) -> vec4<f32> {{\n");
-    emit_slopes(ir, domain, head, None, super::Tiles::Off, |result| format!("    return {result};\n}}\n"))
+    emit_slopes(ir, domain, head, None, super::Tiles::Off, false, |result| format!("    return {result};\n}}\n"))
 }
 
 /// Emits the bisection's `cell_enclosure(o, dir, s0, s1, slope)` with
 /// `evald_<p>`'s code as its own body: `forms` lifts the ray segment into
 /// `X`, `Y`, `Z` ([`super::compiled::segment_forms`]), and `ray`'s nodes
 /// come from their polynomials along the ray over the cell's `t0, t1`
-/// (value and slope); the slope is the whole line without `slope`.
+/// (value and slope); the slope is the whole line without `slope`. Where
+/// [`midpoint::fused`], it also sets `g_cell_f_mid` to f at `g_cell_s_mid`.
 /// lavapipe inlines the field into every function on the path from the
 /// entry point, so an `evald_<p>` called from here was one more copy of it
 /// to clone (150,000 NIR instructions for `@city` in RAA).
 pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Option<&RayForms>, safe: bool, tiles: super::Tiles) -> String {
     let p = domain.prefix();
     let cell = if ray.is_some() { "    let t0 = s0 - g_ray_ref;\n    let t1 = s1 - g_ray_ref;\n" } else { "" };
+    let mid = midpoint::fused(ir);
+    let point = if mid { midpoint::HEAD } else { "" };
     let head = format!(
-        "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n{cell}    \
+        "fn cell_enclosure(o: vec3<f32>, dir: vec3<f32>, s0: f32, s1: f32, slope: bool) -> vec4<f32> {{\n{forms}\n{cell}{point}    \
          let x = X;\n    let y = Y;\n    let z = Z;\n    let t = {p}_const(F.time);\n    let dx = dir.x;\n    let dy = dir.y;\n    let dz = dir.z;\n"
     );
     // Inputs past the bound of a kernel without the NaN test (`ra_safe`): the whole line.
@@ -86,14 +92,15 @@ pub(crate) fn emit_cell_enclosure(ir: &Ir, domain: Domain, forms: &str, ray: Opt
         true => "select(vec4<f32>(-F.inf, F.inf, -F.inf, F.inf), q0, ra_safe(x, y, z, t))",
         false => "q0",
     };
-    emit_slopes(ir, domain, head, ray, tiles, |q0| format!("    let q0 = {q0};\n    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
+    emit_slopes(ir, domain, head, ray, tiles, mid, |q0| format!("    let q0 = {q0};\n    let q = {q};\n    return select(vec4<f32>(q.xy, -F.inf, F.inf), q, slope);\n}}\n"))
 }
 
 /// A function whose body computes f and its slope along the ray in
 /// `domain`, from `x y z t` (values) and `dx dy dz` (the ray direction)
 /// that `head` declares, and ends with `tail` of the result (the value's
-/// range and the slope's, a `vec4<f32>`).
-fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, tiles: super::Tiles, tail: impl FnOnce(&str) -> String) -> String {
+/// range and the slope's, a `vec4<f32>`); with `mid`, also f at the
+/// point `pm` ([`midpoint`]).
+fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, tiles: super::Tiles, mid: bool, tail: impl FnOnce(&str) -> String) -> String {
     let vp = domain.prefix();
     let slopes = slope_domain(ir, domain);
     let p = slopes.prefix();
@@ -107,35 +114,43 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ti
         }
         id as usize
     };
-    let body = emit_body_tiled(&mut out, ir, domain, ray.map(|r| (r, "t0, t1")), tiles, |out, hook| match hook {
-        // A node taken from the ray has its slope from there (an interval:
-        // ray forms are for interval values, whose slopes are intervals).
-        Hook::Node(id, _) if ray.is_some_and(|r| r.has(id)) => {
-            let i = at(&mut d, id);
-            let _ = writeln!(out, "    let d{id} = {};", ray.expect("tested").slope(id));
-            d[i] = Some(Term::Form(format!("d{id}")));
+    let body = emit_body_tiled(&mut out, ir, domain, ray.map(|r| (r, "t0, t1")), tiles, |out, hook| {
+        if mid {
+            midpoint::emit(out, ir, &nn, &hook);
         }
-        Hook::Node(id, op) => {
-            let i = at(&mut d, id);
-            if let Some(e) = rule(&mut Wgsl { out, p, domain: slopes, ir, ranged, nn: &nn }, id, op, &d) {
-                let _ = writeln!(out, "    let d{id} = {};", e.text());
-                d[i] = Some(e.renamed(format!("d{id}")));
+        match hook {
+            // A node taken from the ray has its slope from there (an interval:
+            // ray forms are for interval values, whose slopes are intervals).
+            Hook::Node(id, _) if ray.is_some_and(|r| r.has(id)) => {
+                let i = at(&mut d, id);
+                let _ = writeln!(out, "    let d{id} = {};", ray.expect("tested").slope(id));
+                d[i] = Some(Term::Form(format!("d{id}")));
             }
-        }
-        // A rerolled loop's accumulator carries its derivative as a value of the domain.
-        Hook::Begin { acc, seed } => {
-            let init = seed.and_then(|s| d[s as usize].as_ref()).map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
-            let _ = writeln!(out, "    var d{acc} = {init};");
-            let i = at(&mut d, acc);
-            d[i] = Some(Term::Form(format!("d{acc}")));
-        }
-        Hook::Step { acc, next } => {
-            let v = d[next as usize].as_ref().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
-            let _ = writeln!(out, "    d{acc} = {v};");
-        }
-        Hook::End { acc, end } => {
-            let _ = writeln!(out, "    let d{end} = d{acc};");
-            d[end as usize] = Some(Term::Form(format!("d{end}")));
+            Hook::Node(id, op) => {
+                let i = at(&mut d, id);
+                if let Some(e) = rule(&mut Wgsl { out, p, domain: slopes, ir, ranged, nn: &nn }, id, op, &d) {
+                    let _ = writeln!(out, "    let d{id} = {};", e.text());
+                    d[i] = Some(e.renamed(format!("d{id}")));
+                }
+            }
+            // A rerolled loop's accumulator carries its derivative as a value of the domain.
+            Hook::Begin { acc, seed } => {
+                let init = seed.and_then(|s| d[s as usize].as_ref()).map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
+                let _ = writeln!(out, "    var d{acc} = {init};");
+                let i = at(&mut d, acc);
+                d[i] = Some(Term::Form(format!("d{acc}")));
+            }
+            Hook::Step { acc, next } => {
+                let v = d[next as usize].as_ref().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
+                let _ = writeln!(out, "    d{acc} = {v};");
+            }
+            Hook::End { acc, end } => {
+                let _ = writeln!(out, "    let d{end} = d{acc};");
+                d[end as usize] = Some(Term::Form(format!("d{end}")));
+            }
+            Hook::Slot { id, .. } => {
+                at(&mut d, id);
+            }
         }
     });
     let root = d[ir.root as usize].clone().map_or_else(|| format!("{p}_const(0.0)"), |t| t.lift(p));
@@ -145,6 +160,9 @@ fn emit_slopes(ir: &Ir, domain: Domain, head: String, ray: Option<&RayForms>, ti
     }
     if body.looped {
         result = format!("select({result}, vec4<f32>(-iso_inf(), iso_inf(), -iso_inf(), iso_inf()), !admitted)");
+    }
+    if mid {
+        out.push_str(&midpoint::tail(ir.root));
     }
     out.push_str(&tail(&result));
     out
@@ -438,179 +456,5 @@ fn call1<B: Terms>(b: &mut B, f: Func1, a: NodeId, id: NodeId, da: B::T) -> B::T
         Func1::Abs => b.dabs(va, da),
         Func1::Sign => b.bin(D::Dsign, va, da),
         Func1::Floor => b.bin(D::Dfloor, va, da),
-    }
-}
-
-/// The `op_*`-library name (after the domain prefix) of a term's operation.
-fn wgsl_name(op: D) -> &'static str {
-    match op {
-        D::Neg => "neg",
-        D::Sqr => "sqr",
-        D::Sin => "sin",
-        D::Cos => "cos",
-        D::Log => "log",
-        D::Sinh => "sinh",
-        D::Cosh => "cosh",
-        D::Sign => "sign",
-        D::Add => "add",
-        D::Sub => "sub",
-        D::Mul => "mul",
-        D::Div => "div",
-        D::Max => "max",
-        D::Dsign => "dsign",
-        D::Dfloor => "dfloor",
-    }
-}
-
-/// A term of the generated code: a WGSL expression, either a plain f32
-/// (`Point`: the ray direction, constants, and what is computed from them
-/// alone; points in every domain, rounded as the domain's own product of
-/// two points would be) or a value of the domain (`Form`).
-/// A cell's derivative enclosure starts from the ray direction, a point, so
-/// the first terms of every chain (2·x·dx of x², say) are a domain value
-/// times an f32: `{p}_scale`, a few instructions where a product of two
-/// intervals is about twenty (lavapipe runs every one of them on every cell).
-#[derive(Debug, Clone)]
-enum Term {
-    Point(String),
-    Form(String),
-}
-
-impl Term {
-    fn text(&self) -> &str {
-        match self {
-            Term::Point(s) | Term::Form(s) => s,
-        }
-    }
-    /// The same kind of term under another name (its `let` binding).
-    fn renamed(&self, name: String) -> Term {
-        match self {
-            Term::Point(_) => Term::Point(name),
-            Term::Form(_) => Term::Form(name),
-        }
-    }
-    /// The term as a value of the domain with prefix `p`.
-    fn lift(&self, p: &str) -> String {
-        match self {
-            Term::Point(s) => format!("{p}_const({s})"),
-            Term::Form(s) => s.clone(),
-        }
-    }
-}
-
-/// The generated code's terms: WGSL expressions in the slopes' domain (prefix `p`), with
-/// bound subterms written to `out` as `let` statements.
-struct Wgsl<'a> {
-    out: &'a mut String,
-    p: &'static str,
-    domain: Domain,
-    ir: &'a Ir,
-    /// The values' domain prefix when the slopes are in another domain
-    /// (values then enter slope terms as their ranges).
-    ranged: Option<&'static str>,
-    /// The nodes that are never negative ([`super::nonneg`]).
-    nn: &'a [bool],
-}
-
-impl Terms for Wgsl<'_> {
-    type T = Term;
-    fn value(&mut self, n: NodeId) -> Term {
-        match self.ranged {
-            Some(vp) => Term::Form(format!("{vp}_range(v{n})")),
-            None => Term::Form(format!("v{n}")),
-        }
-    }
-    fn konst(&mut self, c: f32) -> Term {
-        Term::Point(format!("{c:?}"))
-    }
-    fn direction(&mut self, axis: u32) -> Term {
-        Term::Point(["dx", "dy", "dz"][axis as usize].into())
-    }
-    fn un(&mut self, op: D, a: Term) -> Term {
-        match (op, &a) {
-            (D::Neg, Term::Point(x)) => Term::Point(format!("(-({x}))")),
-            (D::Sqr, Term::Point(x)) => Term::Point(format!("({x} * {x})")),
-            _ => Term::Form(format!("{}_{}({})", self.p, wgsl_name(op), a.lift(self.p))),
-        }
-    }
-    fn bin(&mut self, op: D, a: Term, b: Term) -> Term {
-        let p = self.p;
-        match (op, &a, &b) {
-            (D::Add | D::Sub | D::Mul, Term::Point(x), Term::Point(y)) => {
-                let sym = match op {
-                    D::Add => "+",
-                    D::Sub => "-",
-                    _ => "*",
-                };
-                Term::Point(format!("({x} {sym} {y})"))
-            }
-            (D::Mul, Term::Point(x), Term::Form(v)) | (D::Mul, Term::Form(v), Term::Point(x)) => Term::Form(format!("{p}_scale({v}, {x})")),
-            _ => Term::Form(format!("{p}_{}({}, {})", wgsl_name(op), a.lift(p), b.lift(p))),
-        }
-    }
-    fn dminmax(&mut self, max: bool, [a, b, da, db]: [Term; 4]) -> Term {
-        let p = self.p;
-        Term::Form(format!("{p}_{}({}, {}, {}, {})", if max { "dmax" } else { "dmin" }, a.lift(p), b.lift(p), da.lift(p), db.lift(p)))
-    }
-    fn odd_power(&mut self, id: NodeId, q: Term, m: u32) -> Term {
-        let q = q.lift(self.p);
-        Term::Form(emit_odd_power(self.out, self.p, &format!("dw{id}"), &q, m))
-    }
-    fn bind(&mut self, id: NodeId, tag: &str, x: Term) -> Term {
-        let _ = writeln!(self.out, "    let {tag}{id} = {};", x.text());
-        x.renamed(format!("{tag}{id}"))
-    }
-    fn whole(&mut self) -> Term {
-        Term::Form(format!("{}_whole()", self.p))
-    }
-    fn pown_slope(&mut self, a: Term, n: Term) -> Term {
-        let p = self.p;
-        Term::Form(format!("{p}_dpown({}, {})", a.lift(p), n.lift(p)))
-    }
-    /// In interval slopes, a slope times a value that is never negative
-    /// takes two products (`ia_mul_by_nonneg`).
-    fn times(&mut self, d: Term, c: NodeId) -> Term {
-        let vc = self.value(c);
-        match d {
-            Term::Form(_) if self.p == "ia" && self.nn.get(c as usize) == Some(&true) => Term::Form(format!("ia_mul_by_nonneg({}, {})", d.lift("ia"), vc.lift("ia"))),
-            _ => self.bin(D::Mul, d, vc),
-        }
-    }
-    /// In interval slopes, the square's slope of a never-negative a takes
-    /// `ia_mul_by_nonneg`'s two products (the distance forms' max(q, 0)²).
-    fn twice_times(&mut self, d: Term, a: NodeId) -> Term {
-        let (two, va) = (self.konst(2.0), self.value(a));
-        let m = self.bin(D::Mul, two, va);
-        match d {
-            Term::Form(_) if self.p == "ia" && self.nn.get(a as usize) == Some(&true) => Term::Form(format!("ia_mul_by_nonneg({}, {})", d.lift("ia"), m.lift("ia"))),
-            _ => self.bin(D::Mul, m, d),
-        }
-    }
-    /// In interval slopes, `ia_div_by_nonneg`: no general product on the
-    /// side that is not taken (lavapipe compiles both sides of a select).
-    fn over_nonneg(&mut self, d: Term, m: Term) -> Term {
-        match (&d, &m) {
-            (Term::Form(_), Term::Form(_)) if self.p == "ia" => Term::Form(format!("ia_div_by_nonneg({}, {})", d.lift("ia"), m.lift("ia"))),
-            _ => self.bin(D::Div, d, m),
-        }
-    }
-    /// In interval slopes, `ia_dabs`: a's slope or its negative where a
-    /// keeps its sign, their hull where it does not. The product
-    /// sign(a)·a' gives that too (and the hull of 0 and a' where a's range
-    /// ends at 0), but `ia_mul`'s general case cost icos.csg's ten |n·p|
-    /// about a tenth of its frame.
-    fn dabs(&mut self, a: Term, da: Term) -> Term {
-        if self.p != "ia" {
-            let s = self.un(D::Sign, a);
-            return self.bin(D::Mul, s, da);
-        }
-        Term::Form(format!("ia_dabs({}, {})", a.lift("ia"), da.lift("ia")))
-    }
-    fn divide(&mut self, a: Term, c: NodeId) -> Term {
-        let by_literal = match self.ir.nodes.get(c as usize) {
-            Some(&Op::Const(k)) => crate::codegen::divide_by_literal(self.domain, &a.lift(self.p), k),
-            _ => None,
-        };
-        by_literal.map_or_else(|| self.bin(D::Div, a, Term::Form(format!("v{c}"))), Term::Form)
     }
 }
