@@ -65,6 +65,12 @@ impl FieldSource for Ir {
         true
     }
 
+    /// A formula with term loops ([`super::midpoint::fused`]).
+    fn cell_midpoint(&self) -> bool {
+        let generated = super::generated_ir(self);
+        super::midpoint::fused(generated.as_ref().unwrap_or(self))
+    }
+
     /// A formula with rerolled loops and no per-tile term lists (sums),
     /// whose loops count against the interpreters' work limit. Each call
     /// site of f is a copy of its loops for lavapipe to compile, so one
@@ -73,11 +79,6 @@ impl FieldSource for Ir {
     /// the ray, where its squares come from their polynomials along it
     /// (`ray_forms`), and from one call site they are not (a union of a
     /// thousand ball distances renders markedly slower from one site).
-    fn cell_midpoint(&self) -> bool {
-        let generated = super::generated_ir(self);
-        super::midpoint::fused(generated.as_ref().unwrap_or(self))
-    }
-
     fn cells_resume(&self) -> bool {
         term_loops::table_texels(self).is_some() && term_loops::lists::for_formula(self).is_none()
     }
