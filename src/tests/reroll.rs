@@ -122,7 +122,7 @@ fn a_rerolled_sum_draws_the_written_out_sums_picture() {
 }
 
 /// A sum long enough that hard pixels' evaluations pass the work limit
-/// (4,600 terms `c·t` on the tangle cube at t = 0, 71 iterations an
+/// (4,600 terms `c·t` on the tangle cube at t = 0, 143 iterations an
 /// evaluation; terms `c·x` would be like terms, collected into one by the
 /// semantic pass, which leaves t alone):
 /// in one round of the per-pixel pass, those pixels are reported
@@ -135,7 +135,7 @@ fn pixels_past_the_loops_work_limit_are_reported_not_cut_short() {
     let terms: Vec<String> = (1..=4600).map(|i| format!("{:.9}*t", i as f64 * 1e-9)).collect();
     let long = Formula::compile("<test>", &format!("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8+({})", terms.join("+"))).unwrap();
     let plan = term_loops::plan(&long.ir);
-    assert_eq!((plan.loops[0].unroll, plan.iterations()), (64, 71));
+    assert_eq!((plan.loops[0].unroll, plan.iterations()), (32, 143));
     let t = || Traversal::Bisect(BisectOptions::new(Domain::Interval));
     // Counted per invocation (a device without subgroups): in one round
     // some pixels stop; the next rounds resume them.

@@ -37,8 +37,13 @@ pub const MIN_RUN: usize = 16;
 /// tape's per-invocation share of lavapipe's cap (the same reasoning:
 /// `field::limits::TAPE_WORK_LIMIT`).
 pub const WORK_LIMIT: u32 = crate::field::limits::TAPE_WORK_LIMIT;
-/// Most nodes an unrolled loop body holds (terms × their nodes).
-const BODY_MAX: usize = 256;
+/// Most nodes an unrolled loop body holds (terms × their nodes). A
+/// smaller body runs faster on lavapipe (a long sum of sines, of
+/// Gaussians, of bilinear products: several to fifteen percent from 256
+/// nodes to 64), and compiles sooner; but each iteration counts against
+/// the work limit, and at 32 a `min` of a thousand ball distances passed
+/// it in thousands of pixels (docs/notes/2026-12-08-cell-midpoints.md).
+const BODY_MAX: usize = 64;
 
 /// One run of terms emitted as a loop.
 #[derive(Debug, Clone)]
