@@ -176,8 +176,9 @@ pub fn affine_pays(ir: &ir::Ir) -> bool {
 
 /// Whether the compiled field computes a polynomial as one loop over its
 /// Horner form (`field::compiled::term_loops::horner`; also one gathered
-/// from a sum with other terms) in a formula without min, max or CSG. Each step multiplies by x, y or z, which are exact
-/// affine forms along the ray, so RAA keeps what the nested form's
+/// from a sum with other terms) in a formula without min, max or CSG.
+/// Each step multiplies by x, y or z, which are exact affine forms along
+/// the ray, so RAA keeps what the nested form's
 /// cancellations need where IA loses it: the 2,646 monomials of
 /// `distinct` (scripts/big-formulas.py, degree 42) take fewer evaluations
 /// a pixel and come sooner in RAA (docs/notes/2026-12-07-fixed-costs.md).

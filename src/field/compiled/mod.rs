@@ -331,9 +331,8 @@ pub(crate) fn field_code(ir: &Ir, domain: Option<Domain>, inline: Option<&Inline
 /// cell, 4k + 1 the slope's along dir, 4k + 2 the scalar field on the ray
 /// at s0 and at s1, 4k + 3 f at the midpoint from the enclosure's pass
 /// (`g_cell_f_mid`, where [`midpoint::fused`]; else 0) and from the scalar
-/// field `field` there. The
-/// render kernel's frame block is replaced by the fields the field code
-/// reads and writes.
+/// field `field` there. The render kernel's frame block is replaced by the
+/// fields the field code reads and writes.
 #[cfg(test)]
 pub(crate) fn ray_cell_eval_shader(ir: &Ir) -> String {
     use crate::layout::GpuBlock;

@@ -211,12 +211,9 @@ impl LoopEmitter<'_> {
             }
             let _ = writeln!(out, "    let u{r}_{k} = bitcast<u32>({t}.{first});");
             let _ = writeln!(out, "    if ((u{r}_{k} & {MARK}u) != {MARK}u) {{");
-            let c = match p {
-                "s" => format!("s_const({t}.{first})"),
-                "ia" => format!("vec2<f32>(min({t}.{first}, {t}.{second}), max({t}.{first}, {t}.{second}))"),
-                _ => format!("ra_from_ia(vec2<f32>(min({t}.{first}, {t}.{second}), max({t}.{first}, {t}.{second})))"),
-            };
-            let added = self.emit_constant(out, &c, &format!("{t}.{first}"), hook);
+            // A coefficient's slot is its enclosure, the nearest f32 first.
+            let c = super::slot_read(p, &format!("{t}.{first}"), &format!("{t}.{second}"), None);
+            let added = self.emit_constant(out, &c.expr, &format!("{t}.{first}"), hook);
             let z = match h.vars[2] {
                 Some(v) => v,
                 None => self.emit_constant(out, &format!("{p}_const(1.0)"), "1.0", hook),

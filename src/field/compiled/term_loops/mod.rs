@@ -447,8 +447,9 @@ pub fn slot_expr_at(p: &str, q: &str, at: &str, point_first: bool) -> SlotRead {
 
 /// A constant from its rounded value `first` (the scalar domain's layout)
 /// or from its enclosure's two ends: `ordered`, the enclosure as a
-/// `vec2<f32>`, where they are (lo, hi); else `first` is the nearer.
-fn slot_read(p: &str, first: &str, second: &str, ordered: Option<String>) -> SlotRead {
+/// `vec2<f32>`, where they are (lo, hi); else `first` is the nearer (as
+/// in a Horner loop's table).
+pub(super) fn slot_read(p: &str, first: &str, second: &str, ordered: Option<String>) -> SlotRead {
     let point = (p == "s" || ordered.is_none()).then(|| first.to_string());
     let pair = ordered.unwrap_or_else(|| format!("vec2<f32>(min({first}, {second}), max({first}, {second}))"));
     let expr = match p {
